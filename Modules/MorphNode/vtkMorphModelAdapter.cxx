@@ -1,0 +1,494 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "vtkMorphModelAdapter.h"
+
+#include "morphnode/Error.h"
+
+#include "vtkAbstractArray.h"
+#include "vtkDataArray.h"
+#include "vtkDoubleArray.h"
+#include "vtkFieldData.h"
+#include "vtkFloatArray.h"
+#include "vtkPointData.h"
+#include "vtkPointSet.h"
+#include "vtkPoints.h"
+#include "vtkSMPTools.h"
+#include "vtkStringArray.h"
+#include "vtkTable.h"
+#include "vtkVariant.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+namespace vtkMorphModelAdapter
+{
+namespace
+{
+using morphnode::AttributeRole;
+using morphnode::InputError;
+
+std::string TargetArrayName(size_t k, const char* what)
+{
+  return "target" + std::to_string(k) + "_" + what;
+}
+
+bool IsIntegerType(int vtkType)
+{
+  return vtkType != VTK_FLOAT && vtkType != VTK_DOUBLE;
+}
+
+/// Values of a data array as T, tuple-major.
+template <typename T>
+std::vector<T> ValuesOf(vtkDataArray* array)
+{
+  const vtkIdType n = array->GetNumberOfTuples();
+  const int c = array->GetNumberOfComponents();
+  std::vector<T> values(static_cast<size_t>(n) * c);
+  for (vtkIdType t = 0; t < n; ++t)
+  {
+    for (int j = 0; j < c; ++j)
+    {
+      values[static_cast<size_t>(t) * c + j] = static_cast<T>(array->GetComponent(t, j));
+    }
+  }
+  return values;
+}
+
+/// Adds an attribute whose storage type follows the VTK array (float stays float).
+/// `targetValues(i)` gives target i's array (absolute or delta, as `relative` says).
+template <typename GetTarget>
+void AddAttribute(BuiltModel& built, const std::string& name, AttributeRole role,
+  vtkDataArray* neutral, size_t numTargets, bool relative, double sparseCoverage,
+  GetTarget targetArray)
+{
+  const int c = neutral->GetNumberOfComponents();
+  auto fill = [&](auto& attribute) {
+    using T = typename std::decay_t<decltype(attribute.GetNeutral())>::value_type;
+    attribute.SetNeutral(ValuesOf<T>(neutral).data());
+    if (IsIntegerType(neutral->GetDataType()))
+    {
+      attribute.SetClampRange(neutral->GetDataTypeMin(), neutral->GetDataTypeMax());
+    }
+    for (size_t i = 1; i < numTargets; ++i)
+    {
+      const std::vector<T> values = ValuesOf<T>(targetArray(i));
+      if (relative)
+      {
+        attribute.AddRelativeTarget(values.data(), sparseCoverage);
+      }
+      else
+      {
+        attribute.AddAbsoluteTarget(values.data(), sparseCoverage);
+      }
+    }
+  };
+  if (neutral->GetDataType() == VTK_FLOAT)
+  {
+    fill(built.Model.AddAttribute<float>(name, role, c));
+  }
+  else
+  {
+    fill(built.Model.AddAttribute<double>(name, role, c));
+  }
+}
+
+AttributeRole RoleOf(vtkPointSet* neutral, vtkDataArray* array)
+{
+  if (array == neutral->GetPointData()->GetNormals())
+  {
+    return AttributeRole::Normal;
+  }
+  // Colours and any other integer array: clamped to the type's range, so that the
+  // conversion back to the array's type is always defined.
+  return IsIntegerType(array->GetDataType()) ? AttributeRole::Color : AttributeRole::Generic;
+}
+
+vtkDataArray* NormalsOf(vtkPointSet* input)
+{
+  vtkPointData* pd = input->GetPointData();
+  if (vtkDataArray* n = pd->GetNormals())
+  {
+    return n;
+  }
+  for (const char* name : { "Normal", "Normals", "NORMAL" })
+  {
+    vtkDataArray* n = pd->GetArray(name);
+    if (n && n->GetNumberOfComponents() == 3)
+    {
+      return n;
+    }
+  }
+  return nullptr;
+}
+
+std::vector<std::string> NamesFrom(vtkPointSet* neutral, const std::vector<vtkPointSet*>& all,
+  size_t numTargets)
+{
+  if (auto* names = vtkStringArray::SafeDownCast(
+        neutral->GetFieldData()->GetAbstractArray(TargetNamesArray)))
+  {
+    if (static_cast<size_t>(names->GetNumberOfValues()) != numTargets)
+    {
+      std::ostringstream msg;
+      msg << "field data '" << TargetNamesArray << "' has " << names->GetNumberOfValues()
+          << " names for " << numTargets << " targets (neutral first)";
+      throw InputError(msg.str());
+    }
+    std::vector<std::string> result;
+    for (vtkIdType i = 0; i < names->GetNumberOfValues(); ++i)
+    {
+      result.push_back(names->GetValue(i));
+    }
+    return result;
+  }
+  std::vector<std::string> result = morphnode::DefaultTargetNames(numTargets);
+  for (size_t i = 0; i < all.size() && i < numTargets; ++i)
+  {
+    auto* name = vtkStringArray::SafeDownCast(
+      all[i]->GetFieldData()->GetAbstractArray(TargetNameArray));
+    if (name && name->GetNumberOfValues() > 0 && !name->GetValue(0).empty())
+    {
+      result[i] = name->GetValue(0);
+    }
+  }
+  return result;
+}
+
+void CheckNeutral(vtkPointSet* neutral)
+{
+  if (!neutral)
+  {
+    throw InputError("no input: connect the neutral (and the targets) to port 0");
+  }
+  if (neutral->GetNumberOfPoints() == 0 || !neutral->GetPoints())
+  {
+    throw InputError("the neutral target has no points");
+  }
+}
+
+void CheckUniqueNames(const std::vector<std::string>& names)
+{
+  for (size_t i = 0; i < names.size(); ++i)
+  {
+    for (size_t j = i + 1; j < names.size(); ++j)
+    {
+      if (names[i] == names[j])
+      {
+        throw InputError("two targets are named '" + names[i] + "'; target names must be unique");
+      }
+    }
+  }
+}
+} // namespace
+
+bool HasRelativeTargets(vtkPointSet* input)
+{
+  return input && input->GetPointData()->GetAbstractArray("target0_position") != nullptr;
+}
+
+BuiltModel BuildFromAbsoluteTargets(const std::vector<vtkPointSet*>& inputs, double sparseCoverage)
+{
+  vtkPointSet* neutral = inputs.empty() ? nullptr : inputs[0];
+  CheckNeutral(neutral);
+  const vtkIdType numPoints = neutral->GetNumberOfPoints();
+  for (size_t i = 1; i < inputs.size(); ++i)
+  {
+    if (!inputs[i])
+    {
+      std::ostringstream msg;
+      msg << "target " << i << " (connection " << i << " of port 0) is not a vtkPointSet";
+      throw InputError(msg.str());
+    }
+    if (inputs[i]->GetNumberOfPoints() != numPoints)
+    {
+      std::ostringstream msg;
+      msg << "target " << i << " has " << inputs[i]->GetNumberOfPoints()
+          << " points, the neutral has " << numPoints << "; all targets need the same points";
+      throw InputError(msg.str());
+    }
+    if (HasRelativeTargets(inputs[i]))
+    {
+      throw InputError("target arrays (target<k>_position) on a Java3D-style target: use either "
+                       "several absolute targets or one input with relative target arrays");
+    }
+  }
+  if (HasRelativeTargets(neutral) && inputs.size() > 1)
+  {
+    throw InputError("the neutral carries target<k>_position arrays but more targets are connected; "
+                     "use one form of targets only");
+  }
+
+  const size_t n = inputs.size();
+  BuiltModel built{ morphnode::MorphModel(static_cast<size_t>(numPoints)), {}, {} };
+  built.Model.SetTargetNames(NamesFrom(neutral, inputs, n));
+  CheckUniqueNames(built.Model.GetTargetNames());
+
+  AddAttribute(built, "Points", AttributeRole::Position, neutral->GetPoints()->GetData(), n,
+    false, sparseCoverage, [&](size_t i) { return inputs[i]->GetPoints()->GetData(); });
+  built.Bindings.push_back({ "", neutral->GetPoints()->GetData(), false });
+
+  vtkPointData* pd = neutral->GetPointData();
+  for (int a = 0; a < pd->GetNumberOfArrays(); ++a)
+  {
+    vtkDataArray* array = pd->GetArray(a);
+    if (!array || !array->GetName())
+    {
+      continue;
+    }
+    const std::string name = array->GetName();
+    bool onAll = true;
+    for (size_t i = 1; i < n && onAll; ++i)
+    {
+      vtkDataArray* other = inputs[i]->GetPointData()->GetArray(name.c_str());
+      onAll = other && other->GetNumberOfComponents() == array->GetNumberOfComponents() &&
+        other->GetNumberOfTuples() == numPoints;
+    }
+    if (!onAll || array->GetNumberOfTuples() != numPoints)
+    {
+      continue; // passed through from the neutral
+    }
+    const AttributeRole role = RoleOf(neutral, array);
+    AddAttribute(built, name, role, array, n, false, sparseCoverage,
+      [&](size_t i) { return inputs[i]->GetPointData()->GetArray(name.c_str()); });
+    built.Bindings.push_back({ name, array, role == AttributeRole::Normal });
+  }
+  built.Model.Validate();
+  return built;
+}
+
+BuiltModel BuildFromRelativeTargets(vtkPointSet* input, double sparseCoverage)
+{
+  CheckNeutral(input);
+  const vtkIdType numPoints = input->GetNumberOfPoints();
+  vtkPointData* pd = input->GetPointData();
+
+  size_t numDeltas = 0;
+  while (pd->GetAbstractArray(TargetArrayName(numDeltas, "position").c_str()))
+  {
+    ++numDeltas;
+  }
+  auto deltaArray = [&](size_t k, const char* what) -> vtkDataArray* {
+    const std::string name = TargetArrayName(k, what);
+    vtkAbstractArray* abstract = pd->GetAbstractArray(name.c_str());
+    if (!abstract)
+    {
+      return nullptr;
+    }
+    vtkDataArray* array = vtkDataArray::SafeDownCast(abstract);
+    if (!array || array->GetNumberOfComponents() != 3 || array->GetNumberOfTuples() != numPoints)
+    {
+      std::ostringstream msg;
+      msg << "target array '" << name << "' must be numeric with 3 components and " << numPoints
+          << " tuples (one per point)";
+      if (abstract)
+      {
+        msg << "; it has " << abstract->GetNumberOfComponents() << " components and "
+            << abstract->GetNumberOfTuples() << " tuples";
+      }
+      throw InputError(msg.str());
+    }
+    return array;
+  };
+  for (size_t k = 0; k < numDeltas; ++k)
+  {
+    deltaArray(k, "position");
+  }
+  for (int a = 0; a < pd->GetNumberOfArrays(); ++a)
+  {
+    const char* name = pd->GetArrayName(a);
+    if (name && std::string(name).rfind("target", 0) == 0 && std::string(name).find('_') != std::string::npos)
+    {
+      const std::string s(name);
+      const size_t underscore = s.find('_');
+      const std::string digits = s.substr(6, underscore - 6);
+      if (!digits.empty() && std::all_of(digits.begin(), digits.end(), ::isdigit))
+      {
+        if (std::stoul(digits) >= numDeltas)
+        {
+          std::ostringstream msg;
+          msg << "target array '" << s << "' has no matching target" << digits
+              << "_position (targets must be numbered 0.." << numDeltas << " without gaps)";
+          throw InputError(msg.str());
+        }
+      }
+    }
+  }
+
+  const size_t n = numDeltas + 1;
+  BuiltModel built{ morphnode::MorphModel(static_cast<size_t>(numPoints)), {}, {} };
+  built.Model.SetTargetNames(NamesFrom(input, { input }, n));
+  CheckUniqueNames(built.Model.GetTargetNames());
+
+  AddAttribute(built, "Points", AttributeRole::Position, input->GetPoints()->GetData(), n, true,
+    sparseCoverage, [&](size_t i) { return deltaArray(i - 1, "position"); });
+  built.Bindings.push_back({ "", input->GetPoints()->GetData(), false });
+
+  vtkDataArray* normals = NormalsOf(input);
+  bool normalDeltas = normals && numDeltas > 0;
+  for (size_t k = 0; k < numDeltas && normalDeltas; ++k)
+  {
+    normalDeltas = deltaArray(k, "normal") != nullptr;
+  }
+  if (normalDeltas)
+  {
+    AddAttribute(built, normals->GetName(), AttributeRole::Normal, normals, n, true,
+      sparseCoverage, [&](size_t i) { return deltaArray(i - 1, "normal"); });
+    built.Bindings.push_back({ normals->GetName(), normals, true });
+  }
+
+  for (int a = 0; a < pd->GetNumberOfArrays(); ++a)
+  {
+    const char* name = pd->GetArrayName(a);
+    if (!name)
+    {
+      continue;
+    }
+    const std::string s(name);
+    const size_t underscore = s.find('_');
+    if (s.rfind("target", 0) == 0 && underscore != std::string::npos && underscore > 6 &&
+      std::all_of(s.begin() + 6, s.begin() + static_cast<long>(underscore), ::isdigit))
+    {
+      built.ConsumedArrays.push_back(s);
+    }
+  }
+  built.Model.Validate();
+  return built;
+}
+
+std::vector<double> WeightsFromTable(
+  vtkTable* table, const morphnode::MorphModel& model, int& matched)
+{
+  const size_t n = model.GetNumberOfTargets();
+  std::vector<double> weights(n, 0.0);
+  matched = 0;
+  if (table->GetNumberOfRows() < 1)
+  {
+    throw InputError("the weights table on port 1 has no rows");
+  }
+  bool neutralGiven = false;
+  for (vtkIdType c = 0; c < table->GetNumberOfColumns(); ++c)
+  {
+    const char* name = table->GetColumnName(c);
+    const int target = name ? model.FindTarget(name) : -1;
+    if (target < 0)
+    {
+      continue;
+    }
+    bool ok = false;
+    const double w = table->GetValue(0, c).ToDouble(&ok);
+    if (!ok)
+    {
+      throw InputError(std::string("the weights table's column '") + name + "' is not numeric");
+    }
+    weights[static_cast<size_t>(target)] = w;
+    neutralGiven = neutralGiven || target == 0;
+    ++matched;
+  }
+  if (!neutralGiven)
+  {
+    double others = 0.0;
+    for (size_t i = 1; i < n; ++i)
+    {
+      others += weights[i];
+    }
+    weights[0] = std::max(0.0, 1.0 - others);
+  }
+  return weights;
+}
+
+vtkSmartPointer<vtkStringArray> MakeNamesArray(
+  const char* arrayName, const std::vector<std::string>& names)
+{
+  auto array = vtkSmartPointer<vtkStringArray>::New();
+  array->SetName(arrayName);
+  array->SetNumberOfValues(static_cast<vtkIdType>(names.size()));
+  for (size_t i = 0; i < names.size(); ++i)
+  {
+    array->SetValue(static_cast<vtkIdType>(i), names[i]);
+  }
+  return array;
+}
+
+vtkSmartPointer<vtkDataArray> MakeDoubleArray(const char* arrayName, const std::vector<double>& values)
+{
+  auto array = vtkSmartPointer<vtkDoubleArray>::New();
+  array->SetName(arrayName);
+  array->SetNumberOfValues(static_cast<vtkIdType>(values.size()));
+  std::copy(values.begin(), values.end(), array->GetPointer(0));
+  return array;
+}
+
+void Blend(const BuiltModel& built, const std::vector<double>& weights,
+  vtkSmartPointer<vtkDataArray>& points, std::vector<vtkSmartPointer<vtkDataArray>>& arrays)
+{
+  const morphnode::MorphModel& model = built.Model;
+  const vtkIdType numPoints = static_cast<vtkIdType>(model.GetNumberOfPoints());
+  const size_t numAttributes = model.GetNumberOfAttributes();
+
+  // Output arrays of the original types; blending writes straight into them when the
+  // types agree (float/double), through a double scratch buffer otherwise.
+  std::vector<vtkSmartPointer<vtkDataArray>> outputs(numAttributes);
+  std::vector<std::vector<double>> scratch(numAttributes);
+  std::vector<void*> targets(numAttributes, nullptr);
+  for (size_t a = 0; a < numAttributes; ++a)
+  {
+    vtkDataArray* prototype = built.Bindings[a].Prototype;
+    vtkSmartPointer<vtkDataArray> out;
+    out.TakeReference(prototype->NewInstance());
+    out->SetName(prototype->GetName());
+    out->SetNumberOfComponents(prototype->GetNumberOfComponents());
+    out->SetNumberOfTuples(numPoints);
+    outputs[a] = out;
+    const bool storedAsFloat =
+      std::holds_alternative<morphnode::MorphAttribute<float>>(model.GetAttribute(a));
+    if (storedAsFloat && vtkFloatArray::SafeDownCast(out))
+    {
+      targets[a] = vtkFloatArray::SafeDownCast(out)->GetPointer(0);
+    }
+    else if (!storedAsFloat && vtkDoubleArray::SafeDownCast(out))
+    {
+      targets[a] = vtkDoubleArray::SafeDownCast(out)->GetPointer(0);
+    }
+    else
+    {
+      scratch[a].resize(static_cast<size_t>(numPoints) * out->GetNumberOfComponents());
+      targets[a] = scratch[a].data();
+    }
+  }
+
+  vtkSMPTools::For(0, numPoints, 1024, [&](vtkIdType begin, vtkIdType end) {
+    for (size_t a = 0; a < numAttributes; ++a)
+    {
+      std::visit(
+        [&](const auto& attribute) {
+          using T = typename std::decay_t<decltype(attribute.GetNeutral())>::value_type;
+          attribute.Blend(weights.data(), weights.size(), static_cast<T*>(targets[a]),
+            static_cast<size_t>(begin), static_cast<size_t>(end));
+        },
+        model.GetAttribute(a));
+    }
+  });
+
+  for (size_t a = 0; a < numAttributes; ++a)
+  {
+    if (scratch[a].empty())
+    {
+      continue;
+    }
+    vtkDataArray* out = outputs[a];
+    const int c = out->GetNumberOfComponents();
+    const bool integer = IsIntegerType(out->GetDataType());
+    for (vtkIdType t = 0; t < numPoints; ++t)
+    {
+      for (int j = 0; j < c; ++j)
+      {
+        const double v = scratch[a][static_cast<size_t>(t) * c + j];
+        out->SetComponent(t, j, integer ? std::round(v) : v);
+      }
+    }
+  }
+
+  points = outputs[0];
+  arrays.assign(outputs.begin() + 1, outputs.end());
+}
+} // namespace vtkMorphModelAdapter

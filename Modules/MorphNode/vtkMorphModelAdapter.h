@@ -1,0 +1,85 @@
+// SPDX-License-Identifier: BSD-3-Clause
+/**
+ * @file   vtkMorphModelAdapter.h
+ * @brief  Conversions between VTK data and the core's morphnode::MorphModel (private).
+ *
+ * The one place that knows how VTK data maps onto morph targets: the Java3D form
+ * (one absolute vtkPointSet per target) and the glTF form (one vtkPointSet with
+ * `target<k>_position` / `target<k>_normal` delta arrays), target names, and writing
+ * blended attributes back into VTK arrays of the original types. Every function throws
+ * morphnode::InputError for bad input; callers turn that into vtkErrorMacro.
+ */
+
+#ifndef vtkMorphModelAdapter_h
+#define vtkMorphModelAdapter_h
+
+#include "morphnode/MorphModel.h"
+
+#include "vtkSmartPointer.h"
+
+#include <string>
+#include <vector>
+
+class vtkDataArray;
+class vtkFieldData;
+class vtkPointSet;
+class vtkStringArray;
+class vtkTable;
+
+namespace vtkMorphModelAdapter
+{
+/// Field-data names the module reads and writes.
+constexpr const char* TargetNamesArray = "TargetNames";
+constexpr const char* TargetNameArray = "TargetName";
+constexpr const char* EffectiveWeightsArray = "EffectiveWeights";
+constexpr const char* ActiveTargetCountArray = "ActiveTargetCount";
+constexpr const char* ErrorBoundArray = "ErrorBound";
+constexpr const char* DistNormArray = "DistNorm";
+constexpr const char* AnimatedRegionArray = "AnimatedRegion";
+constexpr const char* DistancePrefix = "Distance_";
+
+/// A blended attribute and where it lives in VTK.
+struct AttributeBinding
+{
+  std::string ArrayName; ///< empty for the points
+  vtkSmartPointer<vtkDataArray> Prototype; ///< type and layout of the output array
+  bool IsNormals = false;
+};
+
+struct BuiltModel
+{
+  morphnode::MorphModel Model;
+  /// Parallel to Model's attributes.
+  std::vector<AttributeBinding> Bindings;
+  /// glTF form: point arrays of the input that must not reach the output.
+  std::vector<std::string> ConsumedArrays;
+};
+
+/// True if the point set carries glTF-style target arrays (`target0_position`).
+bool HasRelativeTargets(vtkPointSet* input);
+
+/// Java3D form: inputs[0] is the neutral, the others absolute targets.
+BuiltModel BuildFromAbsoluteTargets(const std::vector<vtkPointSet*>& inputs, double sparseCoverage);
+/// glTF form: one point set with `target<k>_position` (and `target<k>_normal`) deltas.
+BuiltModel BuildFromRelativeTargets(vtkPointSet* input, double sparseCoverage);
+
+/// Requested weights (neutral first) from the first row of a table whose columns are
+/// named after targets. Columns naming no target are ignored; targets not named get 0;
+/// an unnamed neutral gets max(0, 1 - sum of the others). `matched` counts the columns used.
+std::vector<double> WeightsFromTable(
+  vtkTable* table, const morphnode::MorphModel& model, int& matched);
+
+/// A vtkStringArray holding the names.
+vtkSmartPointer<vtkStringArray> MakeNamesArray(
+  const char* arrayName, const std::vector<std::string>& names);
+/// A one-tuple-per-value vtkDoubleArray.
+vtkSmartPointer<vtkDataArray> MakeDoubleArray(const char* arrayName, const std::vector<double>& values);
+
+/// Blends every attribute of `built` with absolute `weights`, in parallel over points,
+/// into new arrays: the points (returned through `points`) and named point arrays
+/// (returned in `arrays`, parallel to the bindings with a name).
+void Blend(const BuiltModel& built, const std::vector<double>& weights,
+  vtkSmartPointer<vtkDataArray>& points, std::vector<vtkSmartPointer<vtkDataArray>>& arrays);
+} // namespace vtkMorphModelAdapter
+
+#endif

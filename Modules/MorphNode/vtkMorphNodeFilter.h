@@ -1,0 +1,257 @@
+// SPDX-License-Identifier: BSD-3-Clause
+/**
+ * @class   vtkMorphNodeFilter
+ * @brief   blends morph targets by weights, like Java3D's Morph node, with the
+ *          weight optimizer of Berner (WSCG 2004) and an error-bounded one
+ *
+ * Targets arrive on input port 0 in one of two forms:
+ *
+ * - Java3D style: several connections (AddInputConnection(0, ...)), each an absolute
+ *   geometry (any vtkPointSet). Connection 0 is the neutral. All targets have the same
+ *   number of points; cells come from the neutral.
+ * - glTF style: one vtkPointSet carrying relative targets as point-data arrays
+ *   `target<k>_position` (and `target<k>_normal`), as vtkGLTFReader produces with
+ *   ApplyDeformationsToGeometry off. Target 0 is the base mesh, `target<k>_*` target k+1.
+ *
+ * Target names come from a field-data string array `TargetNames` on the neutral (one
+ * per target, neutral first); else, in the Java3D form, from a one-value string array
+ * `TargetName` on each connection; else `Neutral`, `target0`, `target1`, ...
+ *
+ * Weights: SetWeight / SetWeightByName (Java3D's default is [1, 0, 0, ...]), or a
+ * vtkTable on the optional input port 1 whose columns are named after targets (first
+ * row used; columns naming no target are ignored, e.g. head pose). With a table, targets
+ * it does not name get 0, and when it does not name the neutral, the neutral gets
+ * max(0, 1 - sum of the others). Time (TIME_STEPS, UPDATE_TIME_STEP) flows through
+ * port 1, so a temporal weight source animates the face.
+ *
+ * Weight modes (see morphnode::WeightMode): Strict (Java3D: |sum - 1| > 1e-4 is an
+ * error), Normalize (default: divide by the sum), Relative (glTF: neutral +
+ * sum w_i (target_i - neutral), no constraint). Every mode resolves to absolute weights
+ * summing to 1, and the optimizer (see morphnode::WeightOptimizer) then zeroes small
+ * weights and hands their weight on.
+ *
+ * Output: the neutral's structure (topology and cell data shared, not copied), with the
+ * blended points and every point-data array that all targets carry with the same name
+ * and component count: positions, normals (renormalized), texture coordinates, colours
+ * (clamped to their type's range), other numeric arrays. Field data
+ * `EffectiveWeights` (one double per target, the weights actually used),
+ * `ActiveTargetCount` (non-neutral targets with a non-zero weight), `ErrorBound` (the
+ * optimizer's bound on any vertex's deviation from the unoptimized result) and
+ * `TargetNames`. With GenerateDistanceArrays, point data `AnimatedRegion` and
+ * `Distance_<target>` (the paper's Figure 4) and field data `DistNorm` (its Table 1).
+ *
+ * Work follows the active targets (a zero weight costs nothing) and runs in parallel
+ * over points with vtkSMPTools. Bad input (no input, mismatched point counts, NaN
+ * weights, unknown names, ...) is reported with vtkErrorMacro and gives an empty output;
+ * the inputs are never modified.
+ *
+ * @sa morphnode::ResolveWeights morphnode::WeightOptimizer vtkGLTFReader
+ */
+
+#ifndef vtkMorphNodeFilter_h
+#define vtkMorphNodeFilter_h
+
+#include "vtkMorphNodeModule.h" // For export macro
+#include "vtkPointSetAlgorithm.h"
+
+#include <memory> // For std::unique_ptr
+
+class vtkDoubleArray;
+
+class VTKMORPHNODE_EXPORT vtkMorphNodeFilter : public vtkPointSetAlgorithm
+{
+public:
+  static vtkMorphNodeFilter* New();
+  vtkTypeMacro(vtkMorphNodeFilter, vtkPointSetAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  /// Weight modes; values match morphnode::WeightMode.
+  enum WeightModes
+  {
+    STRICT = 0,
+    NORMALIZE = 1,
+    RELATIVE = 2
+  };
+
+  /// Redistribution strategies of the optimizer; values match morphnode::Redistribution.
+  enum RedistributionStrategies
+  {
+    MAXIMUM = 0,
+    REMAINING = 1,
+    NEUTRAL = 2
+  };
+
+  /**
+   * Connect the weights (a vtkTable) to port 1.
+   */
+  void SetWeightsConnection(vtkAlgorithmOutput* output);
+
+  ///@{
+  /**
+   * Targets of the current input, neutral first. Known once the input data exists
+   * (after the upstream pipeline or this filter has been updated); in the Java3D form
+   * the count is the number of connections.
+   */
+  int GetNumberOfTargets();
+  const char* GetTargetName(int index);
+  /// -1 if no target has that name.
+  int GetTargetIndex(const char* name);
+  ///@}
+
+  ///@{
+  /**
+   * Requested weights. Index 0 is the neutral. Indices and names are checked when the
+   * filter executes (an unknown one is an error then). Setting the value a weight
+   * already has does not modify the filter.
+   */
+  void SetWeight(int index, double weight);
+  double GetWeight(int index);
+  void SetWeightByName(const char* name, double weight);
+  double GetWeightByName(const char* name);
+  /// Back to Java3D's default weights [1, 0, 0, ...].
+  void ResetWeights();
+  ///@}
+
+  /**
+   * Weights actually used by the last execution (after mode and optimizer); 0 before.
+   */
+  double GetEffectiveWeight(int index);
+  /**
+   * Non-neutral targets with a non-zero effective weight in the last execution.
+   */
+  vtkGetMacro(ActiveTargetCount, int);
+  /**
+   * The optimizer's bound on the distance of any vertex from the unoptimized result,
+   * in the last execution (0 without optimizer).
+   */
+  vtkGetMacro(ErrorBound, double);
+
+  ///@{
+  /**
+   * Weight mode; default NORMALIZE.
+   */
+  vtkSetClampMacro(WeightMode, int, STRICT, RELATIVE);
+  vtkGetMacro(WeightMode, int);
+  void SetWeightModeToStrict() { this->SetWeightMode(STRICT); }
+  void SetWeightModeToNormalize() { this->SetWeightMode(NORMALIZE); }
+  void SetWeightModeToRelative() { this->SetWeightMode(RELATIVE); }
+  const char* GetWeightModeAsString();
+  ///@}
+
+  ///@{
+  /**
+   * The paper's fixed threshold th_fix: absolute weights below it become 0 and their
+   * weight is handed on by the redistribution strategy. 0 (default) turns it off.
+   */
+  vtkSetClampMacro(Threshold, double, 0.0, 1.0);
+  vtkGetMacro(Threshold, double);
+  ///@}
+
+  ///@{
+  /**
+   * Where pruned weight goes: MAXIMUM (the largest remaining weight, the paper's
+   * strategy 1), REMAINING (all remaining weights in proportion, strategy 2; default),
+   * NEUTRAL (the neutral: no geometric side effect, beyond the paper).
+   */
+  vtkSetClampMacro(RedistributionStrategy, int, MAXIMUM, NEUTRAL);
+  vtkGetMacro(RedistributionStrategy, int);
+  void SetRedistributionStrategyToMaximum() { this->SetRedistributionStrategy(MAXIMUM); }
+  void SetRedistributionStrategyToRemaining() { this->SetRedistributionStrategy(REMAINING); }
+  void SetRedistributionStrategyToNeutral() { this->SetRedistributionStrategy(NEUTRAL); }
+  const char* GetRedistributionStrategyAsString();
+  ///@}
+
+  ///@{
+  /**
+   * The paper's improved method: per-target threshold th_adj = th_fix * (1 - dist_norm),
+   * so targets that move the face a lot stay longer. Default off.
+   */
+  vtkSetMacro(AdjustThreshold, bool);
+  vtkGetMacro(AdjustThreshold, bool);
+  vtkBooleanMacro(AdjustThreshold, bool);
+  ///@}
+
+  ///@{
+  /**
+   * Guarantee that no vertex moves by more than this (model units) from the
+   * unoptimized result. Alone, prunes as much as that allows. 0 (default) = off.
+   */
+  vtkSetClampMacro(MaxVertexError, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(MaxVertexError, double);
+  ///@}
+
+  ///@{
+  /**
+   * At most this many non-neutral active targets, chosen by geometric contribution
+   * (weight times the target's largest displacement). 0 (default) = no budget.
+   */
+  vtkSetClampMacro(MaxActiveTargets, int, 0, VTK_INT_MAX);
+  vtkGetMacro(MaxActiveTargets, int);
+  ///@}
+
+  ///@{
+  /**
+   * Hysteresis in [0, 1): a target active in the previous execution is pruned only
+   * below threshold * (1 - Hysteresis), so it does not flicker. Default 0.
+   */
+  vtkSetClampMacro(Hysteresis, double, 0.0, 0.99);
+  vtkGetMacro(Hysteresis, double);
+  /// Forget which targets were active (e.g. after a jump in time).
+  void ResetHysteresis();
+  ///@}
+
+  ///@{
+  /**
+   * Add per-vertex distance arrays (`Distance_<target>`, `AnimatedRegion`) and the field
+   * data `DistNorm`. Default off.
+   */
+  vtkSetMacro(GenerateDistanceArrays, bool);
+  vtkGetMacro(GenerateDistanceArrays, bool);
+  vtkBooleanMacro(GenerateDistanceArrays, bool);
+  ///@}
+
+  ///@{
+  /**
+   * Targets moving at most this fraction of the points store their deltas sparsely.
+   * Default morphnode::MorphModel::DefaultSparseCoverage.
+   */
+  vtkSetClampMacro(SparseCoverage, double, 0.0, 1.0);
+  vtkGetMacro(SparseCoverage, double);
+  ///@}
+
+  /**
+   * Normalized distances dist_norm of the targets (the paper's Table 1), neutral first,
+   * from the last execution. The array is owned by the filter.
+   */
+  vtkDoubleArray* GetDistNorm();
+
+protected:
+  vtkMorphNodeFilter();
+  ~vtkMorphNodeFilter() override;
+
+  int FillInputPortInformation(int port, vtkInformation* info) override;
+  int ExecuteInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+  int WeightMode = NORMALIZE;
+  double Threshold = 0.0;
+  int RedistributionStrategy = REMAINING;
+  bool AdjustThreshold = false;
+  double MaxVertexError = 0.0;
+  int MaxActiveTargets = 0;
+  double Hysteresis = 0.0;
+  bool GenerateDistanceArrays = false;
+  double SparseCoverage;
+
+  int ActiveTargetCount = 0;
+  double ErrorBound = 0.0;
+
+private:
+  vtkMorphNodeFilter(const vtkMorphNodeFilter&) = delete;
+  void operator=(const vtkMorphNodeFilter&) = delete;
+
+  struct vtkInternals;
+  std::unique_ptr<vtkInternals> Internals;
+};
+
+#endif
