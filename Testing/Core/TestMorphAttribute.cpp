@@ -1,0 +1,190 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "morphnode/Distances.h"
+#include "morphnode/Error.h"
+#include "morphnode/MorphAttribute.h"
+#include "morphnode/MorphModel.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+using namespace morphnode;
+
+namespace
+{
+// A reference blend, written as plainly as possible: sum_i w_i * G_i over absolute shapes.
+std::vector<double> NaiveAbsoluteBlend(
+  const std::vector<std::vector<double>>& shapes, const std::vector<double>& w)
+{
+  std::vector<double> out(shapes[0].size(), 0.0);
+  for (size_t i = 0; i < shapes.size(); ++i)
+  {
+    for (size_t k = 0; k < out.size(); ++k)
+    {
+      out[k] += w[i] * shapes[i][k];
+    }
+  }
+  return out;
+}
+} // namespace
+
+class MorphAttributeStorage : public ::testing::TestWithParam<double>
+{
+};
+
+TEST_P(MorphAttributeStorage, BlendEqualsNaiveJava3DBlend)
+{
+  const double sparseCoverage = GetParam();
+  const size_t numPoints = 257;
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::vector<std::vector<double>> shapes(5, std::vector<double>(numPoints * 3));
+  for (auto& v : shapes[0])
+  {
+    v = u(rng);
+  }
+  for (size_t i = 1; i < shapes.size(); ++i)
+  {
+    shapes[i] = shapes[0];
+    // Each target moves a different fraction of the points.
+    for (size_t p = 0; p < numPoints; ++p)
+    {
+      if ((p * i) % 7 < i)
+      {
+        for (int c = 0; c < 3; ++c)
+        {
+          shapes[i][p * 3 + c] += u(rng);
+        }
+      }
+    }
+  }
+  MorphAttribute<double> attribute("Points", AttributeRole::Position, 3, numPoints);
+  attribute.SetNeutral(shapes[0].data());
+  for (size_t i = 1; i < shapes.size(); ++i)
+  {
+    attribute.AddAbsoluteTarget(shapes[i].data(), sparseCoverage);
+  }
+  const std::vector<double> w = { 0.1, 0.2, 0.0, 0.3, 0.4 };
+  std::vector<double> out(numPoints * 3, -99.0);
+  // Two ranges, as a parallel caller would split them.
+  attribute.Blend(w.data(), w.size(), out.data(), 0, 100);
+  attribute.Blend(w.data(), w.size(), out.data(), 100, numPoints);
+  const auto expected = NaiveAbsoluteBlend(shapes, w);
+  for (size_t k = 0; k < out.size(); ++k)
+  {
+    ASSERT_NEAR(out[k], expected[k], 1e-12) << "value " << k;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(DenseAndSparse, MorphAttributeStorage, ::testing::Values(0.0, 0.5, 1.0));
+
+TEST(MorphAttribute, ChoosesSparseStoragePerTargetByCoverage)
+{
+  const size_t numPoints = 100;
+  std::vector<float> neutral(numPoints * 3, 0.0f);
+  std::vector<float> few(neutral), many(neutral);
+  few[3 * 10] = 1.0f;
+  for (size_t p = 0; p < 80; ++p)
+  {
+    many[3 * p + 1] = 2.0f;
+  }
+  MorphAttribute<float> a("Points", AttributeRole::Position, 3, numPoints);
+  a.SetNeutral(neutral.data());
+  a.AddAbsoluteTarget(few.data(), 0.3);
+  a.AddAbsoluteTarget(many.data(), 0.3);
+  EXPECT_TRUE(a.GetTarget(1).IsSparse());
+  EXPECT_EQ(a.GetTarget(1).GetNumberOfMovedPoints(), 1u);
+  EXPECT_FALSE(a.GetTarget(2).IsSparse());
+  EXPECT_EQ(a.GetTarget(2).GetNumberOfMovedPoints(), 80u);
+  EXPECT_DOUBLE_EQ(a.GetTarget(2).GetMaxNorm(), 2.0);
+  EXPECT_DOUBLE_EQ(a.GetTarget(2).GetSumNorm(), 160.0);
+}
+
+TEST(MorphAttribute, RenormalizesNormals)
+{
+  const float up[3] = { 0.f, 0.f, 1.f };
+  const float side[3] = { 1.f, 0.f, 0.f };
+  MorphAttribute<float> n("Normals", AttributeRole::Normal, 3, 1);
+  n.SetNeutral(up);
+  n.AddAbsoluteTarget(side, 0.0);
+  const double w[2] = { 0.5, 0.5 };
+  float out[3];
+  n.Blend(w, 2, out, 0, 1);
+  EXPECT_NEAR(out[0], std::sqrt(0.5), 1e-6);
+  EXPECT_NEAR(out[2], std::sqrt(0.5), 1e-6);
+  EXPECT_NEAR(std::hypot(out[0], out[1], out[2]), 1.0, 1e-6);
+}
+
+TEST(MorphAttribute, ClampsColors)
+{
+  const double black[3] = { 0, 0, 0 };
+  const double white[3] = { 255, 255, 255 };
+  MorphAttribute<double> c("Colors", AttributeRole::Color, 3, 1);
+  c.SetClampRange(0, 255);
+  c.SetNeutral(black);
+  c.AddAbsoluteTarget(white, 0.0);
+  const double w[2] = { -0.5, 1.5 }; // relative-mode overshoot
+  double out[3];
+  c.Blend(w, 2, out, 0, 1);
+  EXPECT_EQ(out[0], 255.0);
+}
+
+TEST(MorphAttribute, ZeroWeightTargetsAreNotRead)
+{
+  const double neutral[3] = { 1, 2, 3 };
+  const double target[3] = { 4, 5, 6 };
+  MorphAttribute<double> a("Points", AttributeRole::Position, 3, 1);
+  a.SetNeutral(neutral);
+  a.AddAbsoluteTarget(target, 0.0);
+  // A NaN weight would poison the result if the zero-weight path read the target.
+  const double w[2] = { 1.0, 0.0 };
+  double out[3];
+  a.Blend(w, 2, out, 0, 1);
+  EXPECT_EQ(out[0], 1.0);
+}
+
+TEST(MorphAttribute, RejectsNonFiniteTargets)
+{
+  const double neutral[3] = { 0, 0, 0 };
+  const double bad[3] = { 0, std::nan(""), 0 };
+  MorphAttribute<double> a("Points", AttributeRole::Position, 3, 1);
+  a.SetNeutral(neutral);
+  EXPECT_THROW(a.AddAbsoluteTarget(bad, 0.0), InputError);
+}
+
+TEST(Distances, NormalizedDistancesAndAnimatedRegion)
+{
+  // Three points; target 1 moves point 0 by 1; target 2 moves points 1 and 2 by 2.
+  const double neutral[9] = { 0, 0, 0, 1, 0, 0, 2, 0, 0 };
+  double t1[9], t2[9];
+  std::copy(neutral, neutral + 9, t1);
+  std::copy(neutral, neutral + 9, t2);
+  t1[1] += 1.0;
+  t2[5] += 2.0;
+  t2[8] -= 2.0;
+  MorphModel model(3);
+  model.SetTargetNames({ "Neutral", "a", "b" });
+  auto& p = model.AddAttribute<double>("Points", AttributeRole::Position, 3);
+  p.SetNeutral(neutral);
+  p.AddAbsoluteTarget(t1, 0.5);
+  p.AddAbsoluteTarget(t2, 0.5);
+  const TargetDistances d = model.ComputeDistances();
+  EXPECT_DOUBLE_EQ(d.DistMorph[1], 1.0);
+  EXPECT_DOUBLE_EQ(d.DistMorph[2], 4.0);
+  EXPECT_DOUBLE_EQ(d.DistNorm[0], 0.0);
+  EXPECT_DOUBLE_EQ(d.DistNorm[1], 0.25);
+  EXPECT_DOUBLE_EQ(d.DistNorm[2], 1.0);
+  EXPECT_DOUBLE_EQ(d.MaxDisplacement[2], 2.0);
+  EXPECT_EQ(model.ComputeAnimatedRegion(), (std::vector<double>{ 1.0, 2.0, 2.0 }));
+  EXPECT_EQ(model.ComputePointDistances(1), (std::vector<double>{ 1.0, 0.0, 0.0 }));
+}
+
+TEST(MorphModel, ValidateCatchesMissingTargets)
+{
+  MorphModel model(1);
+  model.SetTargetNames({ "Neutral", "a" });
+  const double v[3] = { 0, 0, 0 };
+  model.AddAttribute<double>("Points", AttributeRole::Position, 3).SetNeutral(v);
+  EXPECT_THROW(model.Validate(), InputError);
+}

@@ -1,0 +1,284 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "morphnode/Error.h"
+#include "morphnode/MorphModel.h"
+#include "morphnode/WeightOptimizer.h"
+#include "morphnode/Weights.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numeric>
+#include <random>
+
+using namespace morphnode;
+
+namespace
+{
+TargetDistances Metrics(std::vector<double> distNorm, std::vector<double> maxDisplacement)
+{
+  TargetDistances d;
+  d.DistMorph = distNorm;
+  d.DistNorm = std::move(distNorm);
+  d.MaxDisplacement = std::move(maxDisplacement);
+  return d;
+}
+
+WeightOptimizer Make(OptimizerSettings s, const TargetDistances& d)
+{
+  WeightOptimizer o;
+  o.SetSettings(s);
+  o.SetTargetDistances(d);
+  return o;
+}
+
+void ExpectWeights(const std::vector<double>& got, const std::vector<double>& expected)
+{
+  ASSERT_EQ(got.size(), expected.size());
+  for (size_t i = 0; i < got.size(); ++i)
+  {
+    EXPECT_NEAR(got[i], expected[i], 1e-12) << "weight " << i;
+  }
+}
+
+double Sum(const std::vector<double>& w)
+{
+  return std::accumulate(w.begin(), w.end(), 0.0);
+}
+
+const TargetDistances Flat = Metrics({ 0, 1, 0.5, 0.8 }, { 0, 1, 2, 4 });
+} // namespace
+
+TEST(WeightOptimizer, OffLeavesWeightsAlone)
+{
+  auto o = Make({}, Flat);
+  ExpectWeights(o.Optimize({ 0.5, 0.3, 0.15, 0.05 }), { 0.5, 0.3, 0.15, 0.05 });
+  EXPECT_EQ(o.GetLastErrorBound(), 0.0);
+}
+
+TEST(WeightOptimizer, FixedThresholdToMaximum)
+{
+  OptimizerSettings s;
+  s.Threshold = 0.1;
+  s.Strategy = Redistribution::Maximum;
+  auto o = Make(s, Flat);
+  // 0.05 < 0.1 is pruned and goes to the largest weight, the neutral's 0.5.
+  ExpectWeights(o.Optimize({ 0.5, 0.3, 0.15, 0.05 }), { 0.55, 0.3, 0.15, 0.0 });
+  // The largest can be a target: 0.05 + 0.08 go to target 1.
+  ExpectWeights(o.Optimize({ 0.27, 0.6, 0.08, 0.05 }), { 0.27, 0.73, 0.0, 0.0 });
+}
+
+TEST(WeightOptimizer, FixedThresholdToRemaining)
+{
+  OptimizerSettings s;
+  s.Threshold = 0.1;
+  s.Strategy = Redistribution::Remaining;
+  auto o = Make(s, Flat);
+  // 0.05 spread over 0.5, 0.3, 0.15 in proportion: each scaled by 1 / 0.95.
+  ExpectWeights(o.Optimize({ 0.5, 0.3, 0.15, 0.05 }), { 0.5 / 0.95, 0.3 / 0.95, 0.15 / 0.95, 0.0 });
+  // Error bound: |0.3/0.95 - 0.3| * 1 + |0.15/0.95 - 0.15| * 2 + 0.05 * 4.
+  EXPECT_NEAR(o.GetLastErrorBound(), 0.3 * 0.05 / 0.95 + 0.15 * 0.05 / 0.95 * 2 + 0.2, 1e-12);
+}
+
+TEST(WeightOptimizer, NeutralRedistributionHasNoGeometricCostBeyondThePrunedTargets)
+{
+  OptimizerSettings s;
+  s.Threshold = 0.1;
+  s.Strategy = Redistribution::Neutral;
+  auto o = Make(s, Flat);
+  ExpectWeights(o.Optimize({ 0.5, 0.3, 0.15, 0.05 }), { 0.55, 0.3, 0.15, 0.0 });
+  EXPECT_NEAR(o.GetLastErrorBound(), 0.05 * 4, 1e-12);
+}
+
+TEST(WeightOptimizer, AdjustedThresholdKeepsTargetsThatMoveMuch)
+{
+  OptimizerSettings s;
+  s.Threshold = 0.4;
+  s.Strategy = Redistribution::Remaining;
+  s.AdjustThreshold = true;
+  auto o = Make(s, Flat);
+  // th_adj: neutral 0.4, target1 0.4*(1-1)=0, target2 0.4*0.5=0.2, target3 0.4*0.2=0.08.
+  // 0.15 < 0.2 and 0.05 < 0.08 are pruned; 0.2 goes to 0.5 and 0.3 (scale 1.25).
+  ExpectWeights(o.Optimize({ 0.5, 0.3, 0.15, 0.05 }), { 0.625, 0.375, 0.0, 0.0 });
+
+  s.AdjustThreshold = false;
+  auto fixed = Make(s, Flat);
+  // Without adjustment 0.3 < 0.4 is pruned too: all goes to the neutral.
+  ExpectWeights(fixed.Optimize({ 0.5, 0.3, 0.15, 0.05 }), { 1.0, 0.0, 0.0, 0.0 });
+}
+
+TEST(WeightOptimizer, NeverPrunesTheLargestWeight)
+{
+  OptimizerSettings s;
+  s.Threshold = 0.5;
+  auto o = Make(s, Metrics({ 0, 0.1, 0.1, 0.1, 0.1 }, { 0, 1, 1, 1, 1 }));
+  const auto e = o.Optimize({ 0.1, 0.3, 0.2, 0.2, 0.2 });
+  ExpectWeights(e, { 0.0, 1.0, 0.0, 0.0, 0.0 });
+}
+
+TEST(WeightOptimizer, HysteresisStopsFlicker)
+{
+  OptimizerSettings s;
+  s.Threshold = 0.1;
+  s.Strategy = Redistribution::Maximum;
+  auto plain = Make(s, Flat);
+  s.Hysteresis = 0.5;
+  auto sticky = Make(s, Flat);
+  for (auto* o : { &plain, &sticky })
+  {
+    EXPECT_GT(o->Optimize({ 0.58, 0.3, 0.0, 0.12 })[3], 0.0);
+  }
+  // 0.07 is below 0.1 but above 0.1 * (1 - 0.5): only the sticky one keeps it.
+  EXPECT_EQ(plain.Optimize({ 0.63, 0.3, 0.0, 0.07 })[3], 0.0);
+  EXPECT_NEAR(sticky.Optimize({ 0.63, 0.3, 0.0, 0.07 })[3], 0.07, 1e-12);
+  // Once off, the target needs the full threshold again.
+  EXPECT_EQ(sticky.Optimize({ 0.66, 0.3, 0.0, 0.04 })[3], 0.0);
+  EXPECT_EQ(sticky.Optimize({ 0.63, 0.3, 0.0, 0.07 })[3], 0.0);
+}
+
+TEST(WeightOptimizer, BudgetKeepsLargestGeometricContribution)
+{
+  OptimizerSettings s;
+  s.MaxActiveTargets = 1;
+  s.Strategy = Redistribution::Remaining;
+  auto o = Make(s, Flat);
+  // Equal raw weights; contributions 0.3*1, 0.3*2, 0.3*4: target 3 stays.
+  // Pruned 0.6 goes to 0.1 and 0.3 (scale 2.5).
+  ExpectWeights(o.Optimize({ 0.1, 0.3, 0.3, 0.3 }), { 0.25, 0.0, 0.0, 0.75 });
+  EXPECT_EQ(CountActiveTargets(o.Optimize({ 0.1, 0.3, 0.3, 0.3 })), 1);
+}
+
+TEST(WeightOptimizer, ErrorBoundAlonePrunesCheapestFirst)
+{
+  OptimizerSettings s;
+  s.MaxVertexError = 0.5;
+  s.Strategy = Redistribution::Neutral;
+  auto o = Make(s, Flat);
+  // Costs 0.3*1, 0.2*2, 0.1*4: only target 1 fits in 0.5.
+  ExpectWeights(o.Optimize({ 0.4, 0.3, 0.2, 0.1 }), { 0.7, 0.0, 0.2, 0.1 });
+  EXPECT_NEAR(o.GetLastErrorBound(), 0.3, 1e-12);
+}
+
+TEST(WeightOptimizer, ErrorBoundRestrainsThreshold)
+{
+  OptimizerSettings s;
+  s.Threshold = 0.35;
+  s.Strategy = Redistribution::Neutral;
+  s.MaxVertexError = 0.5;
+  auto o = Make(s, Flat);
+  // The threshold alone would prune 1, 2 and 3 (bound 1.1); the bound restores the most
+  // expensive (3: 0.4, then 2: 0.4) until 0.3 <= 0.5.
+  ExpectWeights(o.Optimize({ 0.4, 0.3, 0.2, 0.1 }), { 0.7, 0.0, 0.2, 0.1 });
+}
+
+TEST(WeightOptimizer, RejectsBadSettingsAndSizes)
+{
+  WeightOptimizer o;
+  OptimizerSettings s;
+  s.Threshold = -0.1;
+  EXPECT_THROW(o.SetSettings(s), InputError);
+  s = {};
+  s.Hysteresis = 1.0;
+  EXPECT_THROW(o.SetSettings(s), InputError);
+  s = {};
+  s.Threshold = 0.2;
+  o.SetSettings(s);
+  o.SetTargetDistances(Flat);
+  EXPECT_THROW(o.Optimize({ 0.5, 0.5 }), InputError);
+}
+
+// Every method keeps the Java3D sum-to-1 rule, and the bound holds on real vertices.
+TEST(WeightOptimizer, SumToOneAndBoundHoldOnRandomWeights)
+{
+  const size_t numPoints = 200, numTargets = 12;
+  std::mt19937 rng(42);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  MorphModel model(numPoints);
+  model.SetTargetNames(DefaultTargetNames(numTargets));
+  auto& p = model.AddAttribute<double>("Points", AttributeRole::Position, 3);
+  std::vector<double> neutral(numPoints * 3);
+  for (auto& v : neutral)
+  {
+    v = u(rng);
+  }
+  p.SetNeutral(neutral.data());
+  for (size_t i = 1; i < numTargets; ++i)
+  {
+    std::vector<double> t(neutral);
+    for (size_t k = 0; k < t.size(); ++k)
+    {
+      if ((k / 3 + i) % 3 == 0)
+      {
+        t[k] += 0.3 * static_cast<double>(i) * u(rng);
+      }
+    }
+    p.AddAbsoluteTarget(t.data(), 0.3);
+  }
+  const TargetDistances d = model.ComputeDistances();
+
+  std::vector<OptimizerSettings> methods;
+  for (Redistribution r : { Redistribution::Maximum, Redistribution::Remaining, Redistribution::Neutral })
+  {
+    for (double th : { 0.1, 0.3, 0.5 })
+    {
+      OptimizerSettings s;
+      s.Threshold = th;
+      s.Strategy = r;
+      methods.push_back(s);
+      s.AdjustThreshold = true;
+      methods.push_back(s);
+    }
+    OptimizerSettings bound;
+    bound.Strategy = r;
+    bound.MaxVertexError = 0.2;
+    methods.push_back(bound);
+    OptimizerSettings budget;
+    budget.Strategy = r;
+    budget.MaxActiveTargets = 3;
+    budget.Hysteresis = 0.3;
+    budget.Threshold = 0.05;
+    methods.push_back(budget);
+  }
+  std::exponential_distribution<double> e(1.0);
+  std::vector<double> ref(numPoints * 3), opt(numPoints * 3);
+  for (const auto& s : methods)
+  {
+    auto o = Make(s, d);
+    for (int frame = 0; frame < 200; ++frame)
+    {
+      std::vector<double> w(numTargets);
+      for (auto& v : w)
+      {
+        v = e(rng) * (u(rng) > 0.3 ? 1.0 : 0.0);
+      }
+      w[0] += 0.01;
+      const double total = Sum(w);
+      for (auto& v : w)
+      {
+        v /= total;
+      }
+      const auto eff = o.Optimize(w);
+      ASSERT_NEAR(Sum(eff), 1.0, 1e-12);
+      for (double v : eff)
+      {
+        ASSERT_GE(v, 0.0);
+      }
+      p.Blend(w.data(), w.size(), ref.data(), 0, numPoints);
+      p.Blend(eff.data(), eff.size(), opt.data(), 0, numPoints);
+      double worst = 0.0;
+      for (size_t q = 0; q < numPoints; ++q)
+      {
+        worst = std::max(worst,
+          std::hypot(ref[3 * q] - opt[3 * q], ref[3 * q + 1] - opt[3 * q + 1], ref[3 * q + 2] - opt[3 * q + 2]));
+      }
+      ASSERT_LE(worst, o.GetLastErrorBound() + 1e-9);
+      if (s.MaxVertexError > 0.0)
+      {
+        ASSERT_LE(o.GetLastErrorBound(), s.MaxVertexError + 1e-12);
+      }
+      if (s.MaxActiveTargets > 0)
+      {
+        ASSERT_LE(CountActiveTargets(eff), s.MaxActiveTargets);
+      }
+    }
+  }
+}
