@@ -1,0 +1,79 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// Helpers shared by the VTK-level tests.
+#ifndef MorphNodeTestUtilities_h
+#define MorphNodeTestUtilities_h
+
+#include "vtkCommand.h"
+#include "vtkNew.h"
+#include "vtkObject.h"
+#include "vtkRenderWindow.h"
+#include "vtkSmartPointer.h"
+#include "vtkTesting.h"
+
+#include <string>
+#include <vector>
+
+namespace morphnode_test
+{
+/// Collects vtkErrorMacro / vtkWarningMacro messages of the objects it observes, so that
+/// tests check for a clear message instead of letting it print.
+class MessageCollector : public vtkCommand
+{
+public:
+  static MessageCollector* New() { return new MessageCollector; }
+  void Execute(vtkObject*, unsigned long event, void* data) override
+  {
+    const std::string text = data ? static_cast<const char*>(data) : "";
+    (event == vtkCommand::ErrorEvent ? this->Errors : this->Warnings).push_back(text);
+  }
+  void Watch(vtkObject* object)
+  {
+    object->AddObserver(vtkCommand::ErrorEvent, this);
+    object->AddObserver(vtkCommand::WarningEvent, this);
+  }
+  bool HasError(const std::string& fragment) const
+  {
+    for (const auto& e : this->Errors)
+    {
+      if (e.find(fragment) != std::string::npos)
+      {
+        return true;
+      }
+    }
+    return false;
+  }
+  std::string AllErrors() const
+  {
+    std::string all;
+    for (const auto& e : this->Errors)
+    {
+      all += e + "\n";
+    }
+    return all;
+  }
+  void Clear()
+  {
+    this->Errors.clear();
+    this->Warnings.clear();
+  }
+  std::vector<std::string> Errors;
+  std::vector<std::string> Warnings;
+};
+
+/// Compares the render window with a baseline PNG (VTK's legacy image metric; 10 is
+/// VTK's usual threshold). On failure the test image lands in `outputDir`; a missing
+/// baseline fails too, after writing the image that would become the baseline.
+inline bool MatchesBaseline(vtkRenderWindow* window, const std::string& baseline,
+  const std::string& outputDir, double threshold = 10.0)
+{
+  vtkNew<vtkTesting> testing;
+  testing->AddArgument("-V");
+  testing->AddArgument(baseline.c_str());
+  testing->AddArgument("-T");
+  testing->AddArgument(outputDir.c_str());
+  testing->SetRenderWindow(window);
+  return testing->RegressionTest(threshold) == vtkTesting::PASSED;
+}
+} // namespace morphnode_test
+
+#endif

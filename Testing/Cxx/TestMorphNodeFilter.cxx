@@ -1,0 +1,571 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// vtkMorphNodeFilter: Java3D and glTF semantics, attributes, pipeline behaviour, bad input.
+#include "vtkMorphNodeFilter.h"
+
+#include "MorphNodeTestUtilities.h"
+
+#include "vtkCallbackCommand.h"
+#include "vtkCellArray.h"
+#include "vtkCellData.h"
+#include "vtkDoubleArray.h"
+#include "vtkFieldData.h"
+#include "vtkFloatArray.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkIntArray.h"
+#include "vtkMath.h"
+#include "vtkPointData.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
+#include "vtkStringArray.h"
+#include "vtkTable.h"
+#include "vtkTableAlgorithm.h"
+#include "vtkTrivialProducer.h"
+#include "vtkUnsignedCharArray.h"
+#include "vtkUnstructuredGrid.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+using morphnode_test::MessageCollector;
+
+namespace
+{
+// A quad of 4 points; `shift` moves every point by (shift, 2 shift, 0); attributes vary
+// with `shift` so that blends are checkable by hand.
+vtkSmartPointer<vtkPolyData> MakeQuad(double shift, bool attributes = true)
+{
+  auto pd = vtkSmartPointer<vtkPolyData>::New();
+  vtkNew<vtkPoints> points; // float points, as most readers give
+  const double base[4][3] = { { 0, 0, 0 }, { 1, 0, 0 }, { 1, 1, 0 }, { 0, 1, 0 } };
+  for (const auto& p : base)
+  {
+    points->InsertNextPoint(p[0] + shift, p[1] + 2 * shift, p[2]);
+  }
+  pd->SetPoints(points);
+  vtkNew<vtkCellArray> polys;
+  const vtkIdType quad[4] = { 0, 1, 2, 3 };
+  polys->InsertNextCell(4, quad);
+  pd->SetPolys(polys);
+  vtkNew<vtkIntArray> cellIds;
+  cellIds->SetName("CellId");
+  cellIds->InsertNextValue(42);
+  pd->GetCellData()->AddArray(cellIds);
+  if (!attributes)
+  {
+    return pd;
+  }
+  vtkNew<vtkFloatArray> normals;
+  normals->SetName("Normals");
+  normals->SetNumberOfComponents(3);
+  vtkNew<vtkFloatArray> tcoords;
+  tcoords->SetName("TCoords");
+  tcoords->SetNumberOfComponents(2);
+  vtkNew<vtkUnsignedCharArray> colors;
+  colors->SetName("Colors");
+  colors->SetNumberOfComponents(3);
+  vtkNew<vtkDoubleArray> temperature;
+  temperature->SetName("Temperature");
+  for (int i = 0; i < 4; ++i)
+  {
+    // Neutral normals +Z; shifted targets tilt them to +X.
+    normals->InsertNextTuple3(shift != 0.0 ? 1.0 : 0.0, 0.0, shift != 0.0 ? 0.0 : 1.0);
+    tcoords->InsertNextTuple2(0.25 * i + shift, shift);
+    colors->InsertNextTuple3(shift != 0.0 ? 250 : 10, 100, 0);
+    temperature->InsertNextValue(20.0 + 10.0 * shift + i);
+  }
+  pd->GetPointData()->SetNormals(normals);
+  pd->GetPointData()->SetTCoords(tcoords);
+  pd->GetPointData()->SetScalars(colors);
+  pd->GetPointData()->AddArray(temperature);
+  return pd;
+}
+
+struct Rig
+{
+  vtkNew<vtkMorphNodeFilter> Filter;
+  vtkNew<MessageCollector> Messages;
+  std::vector<vtkSmartPointer<vtkPolyData>> Targets;
+
+  explicit Rig(std::vector<vtkSmartPointer<vtkPolyData>> targets)
+    : Targets(std::move(targets))
+  {
+    this->Messages->Watch(this->Filter);
+    for (auto& t : this->Targets)
+    {
+      this->Filter->AddInputData(0, t);
+    }
+  }
+  vtkPolyData* Run()
+  {
+    this->Filter->Update();
+    return vtkPolyData::SafeDownCast(this->Filter->GetOutput());
+  }
+};
+
+std::vector<vtkSmartPointer<vtkPolyData>> ThreeQuads()
+{
+  return { MakeQuad(0.0), MakeQuad(1.0), MakeQuad(2.0) };
+}
+
+/// A temporal source of one-row weight tables: at time t, target0 = t / 10.
+class RampWeightsSource : public vtkTableAlgorithm
+{
+public:
+  static RampWeightsSource* New();
+  vtkTypeMacro(RampWeightsSource, vtkTableAlgorithm);
+  int Executions = 0;
+
+protected:
+  RampWeightsSource() { this->SetNumberOfInputPorts(0); }
+  int RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector* out) override
+  {
+    vtkInformation* info = out->GetInformationObject(0);
+    const double steps[] = { 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10 };
+    info->Set(vtkStreamingDemandDrivenPipeline::TIME_STEPS(), steps, 11);
+    const double range[] = { 0, 10 };
+    info->Set(vtkStreamingDemandDrivenPipeline::TIME_RANGE(), range, 2);
+    return 1;
+  }
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector* out) override
+  {
+    ++this->Executions;
+    vtkInformation* info = out->GetInformationObject(0);
+    const double t = info->Has(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP())
+      ? info->Get(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP())
+      : 0.0;
+    vtkTable* table = vtkTable::GetData(out);
+    vtkNew<vtkDoubleArray> target0;
+    target0->SetName("target0");
+    target0->InsertNextValue(t / 10.0);
+    vtkNew<vtkDoubleArray> yaw; // not a target: ignored
+    yaw->SetName("HeadYaw");
+    yaw->InsertNextValue(5.0);
+    table->AddColumn(target0);
+    table->AddColumn(yaw);
+    return 1;
+  }
+};
+vtkStandardNewMacro(RampWeightsSource);
+
+double Field(vtkPolyData* pd, const char* name, int i = 0)
+{
+  auto* a = vtkDataArray::SafeDownCast(pd->GetFieldData()->GetAbstractArray(name));
+  return a ? a->GetComponent(i, 0) : std::numeric_limits<double>::quiet_NaN();
+}
+} // namespace
+
+TEST(MorphNodeFilter, DefaultWeightsShowTheNeutral)
+{
+  Rig rig(ThreeQuads());
+  vtkPolyData* out = rig.Run();
+  ASSERT_EQ(out->GetNumberOfPoints(), 4);
+  double p[3];
+  out->GetPoint(2, p);
+  EXPECT_DOUBLE_EQ(p[0], 1.0);
+  EXPECT_DOUBLE_EQ(p[1], 1.0);
+  EXPECT_EQ(rig.Filter->GetNumberOfTargets(), 3);
+  EXPECT_STREQ(rig.Filter->GetTargetName(0), "Neutral");
+  EXPECT_STREQ(rig.Filter->GetTargetName(2), "target1");
+  EXPECT_EQ(rig.Filter->GetActiveTargetCount(), 0);
+  EXPECT_TRUE(rig.Messages->Errors.empty());
+}
+
+TEST(MorphNodeFilter, StrictModeIsJava3D)
+{
+  Rig rig(ThreeQuads());
+  rig.Filter->SetWeightModeToStrict();
+  rig.Filter->SetWeight(0, 0.5);
+  rig.Filter->SetWeight(2, 0.5);
+  vtkPolyData* out = rig.Run();
+  double p[3];
+  out->GetPoint(0, p);
+  // 0.5 * (0,0,0) + 0.5 * (2,4,0)
+  EXPECT_NEAR(p[0], 1.0, 1e-6);
+  EXPECT_NEAR(p[1], 2.0, 1e-6);
+
+  rig.Filter->SetWeight(1, 0.2); // sum 1.2
+  out = rig.Run();
+  EXPECT_EQ(out->GetNumberOfPoints(), 0);
+  EXPECT_TRUE(rig.Messages->HasError("sum to 1.2")) << rig.Messages->AllErrors();
+}
+
+TEST(MorphNodeFilter, NormalizeModeDividesBySum)
+{
+  Rig rig(ThreeQuads());
+  rig.Filter->SetWeight(0, 1.0);
+  rig.Filter->SetWeight(1, 3.0);
+  vtkPolyData* out = rig.Run();
+  double p[3];
+  out->GetPoint(0, p);
+  EXPECT_NEAR(p[0], 0.75, 1e-6);
+  EXPECT_NEAR(rig.Filter->GetEffectiveWeight(1), 0.75, 1e-12);
+  EXPECT_NEAR(Field(out, "EffectiveWeights", 1), 0.75, 1e-12);
+  EXPECT_EQ(Field(out, "ActiveTargetCount"), 1.0);
+}
+
+TEST(MorphNodeFilter, RelativeModeIsGLTF)
+{
+  Rig rig(ThreeQuads());
+  rig.Filter->SetWeightModeToRelative();
+  rig.Filter->SetWeight(1, 0.5);
+  rig.Filter->SetWeight(2, 0.5);
+  vtkPolyData* out = rig.Run();
+  double p[3];
+  out->GetPoint(0, p);
+  // neutral + 0.5 * (1,2,0) + 0.5 * (2,4,0): no sum-to-1 rule.
+  EXPECT_NEAR(p[0], 1.5, 1e-6);
+  EXPECT_NEAR(p[1], 3.0, 1e-6);
+  EXPECT_NEAR(rig.Filter->GetEffectiveWeight(0), 0.0, 1e-12);
+}
+
+TEST(MorphNodeFilter, BlendsEveryAttributeKind)
+{
+  Rig rig(ThreeQuads());
+  rig.Filter->SetWeight(0, 0.5);
+  rig.Filter->SetWeight(1, 0.5);
+  vtkPolyData* out = rig.Run();
+  vtkPointData* pd = out->GetPointData();
+  ASSERT_NE(pd->GetNormals(), nullptr);
+  ASSERT_NE(pd->GetTCoords(), nullptr);
+  ASSERT_NE(pd->GetScalars(), nullptr);
+  // Normals: halfway between +Z and +X, renormalized.
+  double n[3];
+  pd->GetNormals()->GetTuple(1, n);
+  EXPECT_NEAR(n[0], std::sqrt(0.5), 1e-6);
+  EXPECT_NEAR(n[2], std::sqrt(0.5), 1e-6);
+  EXPECT_NEAR(vtkMath::Norm(n), 1.0, 1e-6);
+  // Texture coordinates: plain blend.
+  EXPECT_NEAR(pd->GetTCoords()->GetComponent(1, 0), 0.25 + 0.5, 1e-6);
+  EXPECT_EQ(pd->GetTCoords()->GetNumberOfComponents(), 2);
+  // Colours keep their type and are rounded: (10 + 250) / 2.
+  EXPECT_TRUE(vtkUnsignedCharArray::SafeDownCast(pd->GetScalars()) != nullptr);
+  EXPECT_EQ(pd->GetScalars()->GetComponent(0, 0), 130.0);
+  // Other numeric arrays.
+  ASSERT_NE(pd->GetArray("Temperature"), nullptr);
+  EXPECT_NEAR(pd->GetArray("Temperature")->GetComponent(3, 0), 23.0 + 5.0, 1e-9);
+  // Cells and topology shared from the neutral, not copied.
+  EXPECT_EQ(out->GetPolys(), rig.Targets[0]->GetPolys());
+  EXPECT_EQ(out->GetCellData()->GetArray("CellId"), rig.Targets[0]->GetCellData()->GetArray("CellId"));
+}
+
+TEST(MorphNodeFilter, ClampsColorsToTheirType)
+{
+  Rig rig(ThreeQuads());
+  rig.Filter->SetWeightModeToRelative();
+  rig.Filter->SetWeight(1, 1.5); // 10 + 1.5 * 240 = 370 -> 255
+  vtkPolyData* out = rig.Run();
+  EXPECT_EQ(out->GetPointData()->GetScalars()->GetComponent(0, 0), 255.0);
+}
+
+TEST(MorphNodeFilter, ArraysNotOnAllTargetsPassThroughFromTheNeutral)
+{
+  auto targets = ThreeQuads();
+  targets[2]->GetPointData()->RemoveArray("Temperature");
+  Rig rig(targets);
+  rig.Filter->SetWeight(0, 0.0);
+  rig.Filter->SetWeight(1, 1.0);
+  vtkPolyData* out = rig.Run();
+  EXPECT_EQ(out->GetPointData()->GetArray("Temperature"),
+    targets[0]->GetPointData()->GetArray("Temperature"));
+}
+
+TEST(MorphNodeFilter, ReExecutesWhenAndOnlyWhenNeeded)
+{
+  Rig rig(ThreeQuads());
+  int executions = 0;
+  vtkNew<vtkCallbackCommand> counter;
+  counter->SetClientData(&executions);
+  counter->SetCallback([](vtkObject*, unsigned long, void* c, void*) { ++*static_cast<int*>(c); });
+  rig.Filter->AddObserver(vtkCommand::EndEvent, counter);
+  rig.Run();
+  EXPECT_EQ(executions, 1);
+  rig.Run();
+  EXPECT_EQ(executions, 1) << "a second Update without a change must not re-execute";
+  rig.Filter->SetWeight(0, 1.0); // the value it already has
+  rig.Run();
+  EXPECT_EQ(executions, 1) << "setting an unchanged weight must not re-execute";
+  rig.Filter->SetWeight(1, 0.3);
+  rig.Run();
+  EXPECT_EQ(executions, 2);
+  rig.Filter->SetThreshold(0.2);
+  rig.Run();
+  EXPECT_EQ(executions, 3);
+  rig.Targets[1]->GetPoints()->SetPoint(0, 9, 9, 9);
+  rig.Targets[1]->Modified();
+  rig.Run();
+  EXPECT_EQ(executions, 4);
+}
+
+TEST(MorphNodeFilter, NeverModifiesItsInputs)
+{
+  auto targets = ThreeQuads();
+  std::vector<vtkMTimeType> before;
+  for (auto& t : targets)
+  {
+    before.push_back(t->GetMTime());
+  }
+  Rig rig(targets);
+  rig.Filter->SetWeight(1, 0.7);
+  rig.Filter->SetGenerateDistanceArrays(true);
+  rig.Run();
+  for (size_t i = 0; i < targets.size(); ++i)
+  {
+    EXPECT_EQ(targets[i]->GetMTime(), before[i]) << "target " << i;
+    EXPECT_EQ(targets[i]->GetPointData()->GetNumberOfArrays(), 4) << "target " << i;
+    EXPECT_EQ(targets[i]->GetFieldData()->GetNumberOfArrays(), 0) << "target " << i;
+  }
+  double p[3];
+  targets[0]->GetPoint(0, p);
+  EXPECT_EQ(p[0], 0.0);
+}
+
+TEST(MorphNodeFilter, NamesAndWeightsByName)
+{
+  auto targets = ThreeQuads();
+  vtkNew<vtkStringArray> names;
+  names->SetName("TargetNames");
+  names->InsertNextValue("Neutral");
+  names->InsertNextValue("O");
+  names->InsertNextValue("A");
+  targets[0]->GetFieldData()->AddArray(names);
+  Rig rig(targets);
+  rig.Filter->SetWeightByName("A", 1.0);
+  rig.Filter->SetWeightByName("Neutral", 0.0);
+  vtkPolyData* out = rig.Run();
+  EXPECT_STREQ(rig.Filter->GetTargetName(2), "A");
+  EXPECT_EQ(rig.Filter->GetTargetIndex("O"), 1);
+  double p[3];
+  out->GetPoint(0, p);
+  EXPECT_NEAR(p[0], 2.0, 1e-6);
+  EXPECT_EQ(rig.Filter->GetWeightByName("A"), 1.0);
+  EXPECT_EQ(rig.Filter->GetWeight(2), 1.0);
+}
+
+TEST(MorphNodeFilter, GLTFFormWithRelativeTargetArrays)
+{
+  auto base = MakeQuad(0.0, false);
+  for (int k = 0; k < 2; ++k)
+  {
+    vtkNew<vtkFloatArray> delta;
+    delta->SetName(("target" + std::to_string(k) + "_position").c_str());
+    delta->SetNumberOfComponents(3);
+    for (int i = 0; i < 4; ++i)
+    {
+      delta->InsertNextTuple3(k == 0 ? 1.0 : 0.0, k == 1 ? 1.0 : 0.0, i == 0 ? 1.0 : 0.0);
+    }
+    base->GetPointData()->AddArray(delta);
+  }
+  vtkNew<vtkMorphNodeFilter> filter;
+  filter->SetInputData(base);
+  filter->SetWeightModeToRelative();
+  filter->SetWeight(1, 0.5);
+  filter->SetWeight(2, 0.25);
+  filter->Update();
+  vtkPolyData* out = vtkPolyData::SafeDownCast(filter->GetOutput());
+  EXPECT_EQ(filter->GetNumberOfTargets(), 3);
+  EXPECT_STREQ(filter->GetTargetName(1), "target0");
+  double p[3];
+  out->GetPoint(0, p);
+  EXPECT_NEAR(p[0], 0.5, 1e-6);
+  EXPECT_NEAR(p[1], 0.25, 1e-6);
+  EXPECT_NEAR(p[2], 0.75, 1e-6);
+  // The target arrays are inputs, not output.
+  EXPECT_EQ(out->GetPointData()->GetArray("target0_position"), nullptr);
+}
+
+TEST(MorphNodeFilter, WeightsFromATableAndTimeFlowThroughPort1)
+{
+  Rig rig(ThreeQuads());
+  vtkNew<RampWeightsSource> ramp;
+  rig.Filter->SetWeightsConnection(ramp->GetOutputPort());
+  rig.Filter->UpdateInformation();
+  vtkInformation* outInfo = rig.Filter->GetOutputInformation(0);
+  ASSERT_TRUE(outInfo->Has(vtkStreamingDemandDrivenPipeline::TIME_STEPS()));
+  EXPECT_EQ(outInfo->Length(vtkStreamingDemandDrivenPipeline::TIME_STEPS()), 11);
+
+  rig.Filter->UpdateTimeStep(4.0);
+  vtkPolyData* out = vtkPolyData::SafeDownCast(rig.Filter->GetOutput());
+  // target0 = 0.4 from the table; the neutral gets 1 - 0.4.
+  EXPECT_NEAR(rig.Filter->GetEffectiveWeight(1), 0.4, 1e-12);
+  EXPECT_NEAR(rig.Filter->GetEffectiveWeight(0), 0.6, 1e-12);
+  double p[3];
+  out->GetPoint(0, p);
+  EXPECT_NEAR(p[0], 0.4, 1e-6);
+  EXPECT_EQ(out->GetInformation()->Get(vtkDataObject::DATA_TIME_STEP()), 4.0);
+
+  rig.Filter->UpdateTimeStep(10.0);
+  EXPECT_NEAR(rig.Filter->GetEffectiveWeight(1), 1.0, 1e-12);
+  EXPECT_TRUE(rig.Messages->Errors.empty()) << rig.Messages->AllErrors();
+}
+
+TEST(MorphNodeFilter, OptimizerAndDistanceArrays)
+{
+  Rig rig(ThreeQuads());
+  rig.Filter->SetWeight(0, 0.55);
+  rig.Filter->SetWeight(1, 0.4);
+  rig.Filter->SetWeight(2, 0.05);
+  rig.Filter->SetThreshold(0.1);
+  rig.Filter->SetRedistributionStrategyToMaximum();
+  rig.Filter->GenerateDistanceArraysOn();
+  vtkPolyData* out = rig.Run();
+  EXPECT_NEAR(rig.Filter->GetEffectiveWeight(0), 0.6, 1e-12);
+  EXPECT_EQ(rig.Filter->GetEffectiveWeight(2), 0.0);
+  EXPECT_EQ(rig.Filter->GetActiveTargetCount(), 1);
+  // Target 2 moves every point by |(2,4,0)|; the bound is 0.05 * that.
+  EXPECT_NEAR(rig.Filter->GetErrorBound(), 0.05 * std::sqrt(20.0), 1e-9);
+  ASSERT_NE(out->GetPointData()->GetArray("AnimatedRegion"), nullptr);
+  EXPECT_NEAR(out->GetPointData()->GetArray("AnimatedRegion")->GetComponent(0, 0), std::sqrt(20.0), 1e-5);
+  ASSERT_NE(out->GetPointData()->GetArray("Distance_target0"), nullptr);
+  EXPECT_NEAR(out->GetPointData()->GetArray("Distance_target0")->GetComponent(3, 0), std::sqrt(5.0), 1e-5);
+  EXPECT_NEAR(rig.Filter->GetDistNorm()->GetValue(1), 0.5, 1e-9);
+  EXPECT_NEAR(Field(out, "DistNorm", 2), 1.0, 1e-9);
+}
+
+TEST(MorphNodeFilter, AcceptsAnyPointSet)
+{
+  vtkNew<vtkMorphNodeFilter> filter;
+  std::vector<vtkSmartPointer<vtkUnstructuredGrid>> grids;
+  for (double shift : { 0.0, 1.0 })
+  {
+    auto quad = MakeQuad(shift);
+    auto grid = vtkSmartPointer<vtkUnstructuredGrid>::New();
+    grid->SetPoints(quad->GetPoints());
+    const vtkIdType ids[4] = { 0, 1, 2, 3 };
+    grid->InsertNextCell(VTK_QUAD, 4, ids);
+    grids.push_back(grid);
+    filter->AddInputData(0, grid);
+  }
+  filter->SetWeight(1, 1.0);
+  filter->SetWeight(0, 0.0);
+  filter->Update();
+  auto* out = vtkUnstructuredGrid::SafeDownCast(filter->GetOutput());
+  ASSERT_NE(out, nullptr);
+  EXPECT_EQ(out->GetNumberOfCells(), 1);
+  EXPECT_NEAR(out->GetPoint(0)[0], 1.0, 1e-6);
+}
+
+// --- bad input: a clear error, an empty output, nothing lost ------------------------
+
+struct BadInput : public ::testing::Test
+{
+  void ExpectError(Rig& rig, const std::string& fragment)
+  {
+    vtkPolyData* out = rig.Run();
+    EXPECT_EQ(out->GetNumberOfPoints(), 0);
+    EXPECT_TRUE(rig.Messages->HasError(fragment))
+      << "expected an error containing '" << fragment << "', got:\n" << rig.Messages->AllErrors();
+    EXPECT_EQ(rig.Filter->GetActiveTargetCount(), 0);
+  }
+};
+
+TEST_F(BadInput, MismatchedPointCounts)
+{
+  auto targets = ThreeQuads();
+  targets[2]->GetPoints()->InsertNextPoint(5, 5, 5);
+  Rig rig(targets);
+  ExpectError(rig, "target 2 has 5 points, the neutral has 4");
+}
+
+TEST_F(BadInput, NaNAndInfiniteWeights)
+{
+  Rig rig(ThreeQuads());
+  rig.Filter->SetWeight(1, std::numeric_limits<double>::quiet_NaN());
+  ExpectError(rig, "weight 1 is nan");
+  rig.Messages->Clear();
+  rig.Filter->SetWeight(1, std::numeric_limits<double>::infinity());
+  ExpectError(rig, "weight 1 is inf");
+}
+
+TEST_F(BadInput, NegativeWeightOutsideRelativeMode)
+{
+  Rig rig(ThreeQuads());
+  rig.Filter->SetWeight(1, -0.5);
+  ExpectError(rig, "negative");
+}
+
+TEST_F(BadInput, IndexOutOfRange)
+{
+  Rig rig(ThreeQuads());
+  rig.Filter->SetWeight(7, 0.5);
+  ExpectError(rig, "target 7, but the input has 3 targets");
+}
+
+TEST_F(BadInput, UnknownName)
+{
+  Rig rig(ThreeQuads());
+  rig.Filter->SetWeightByName("jawOpen", 0.5);
+  ExpectError(rig, "no target has that name");
+}
+
+TEST_F(BadInput, NormalizeSumZero)
+{
+  Rig rig(ThreeQuads());
+  rig.Filter->SetWeight(0, 0.0);
+  ExpectError(rig, "sum to 0");
+}
+
+TEST_F(BadInput, EmptyMesh)
+{
+  Rig rig({ vtkSmartPointer<vtkPolyData>::New() });
+  ExpectError(rig, "no points");
+}
+
+TEST_F(BadInput, TargetArraysOfTheWrongSize)
+{
+  auto base = MakeQuad(0.0, false);
+  vtkNew<vtkFloatArray> delta;
+  delta->SetName("target0_position");
+  delta->SetNumberOfComponents(3);
+  delta->SetNumberOfTuples(3); // one short
+  delta->FillValue(0.f);
+  base->GetPointData()->AddArray(delta);
+  Rig rig({ base });
+  ExpectError(rig, "'target0_position' must be numeric with 3 components and 4 tuples");
+}
+
+TEST_F(BadInput, TargetNamesOfTheWrongCount)
+{
+  auto targets = ThreeQuads();
+  vtkNew<vtkStringArray> names;
+  names->SetName("TargetNames");
+  names->InsertNextValue("Neutral");
+  targets[0]->GetFieldData()->AddArray(names);
+  Rig rig(targets);
+  ExpectError(rig, "has 1 names for 3 targets");
+}
+
+TEST_F(BadInput, RecoversOnceTheInputIsFixed)
+{
+  Rig rig(ThreeQuads());
+  rig.Filter->SetWeight(1, std::numeric_limits<double>::quiet_NaN());
+  rig.Run();
+  rig.Filter->SetWeight(1, 0.5);
+  EXPECT_EQ(rig.Run()->GetNumberOfPoints(), 4);
+}
+
+TEST(MorphNodeFilter, NoInputIsAnErrorNotACrash)
+{
+  vtkNew<vtkMorphNodeFilter> filter;
+  vtkNew<MessageCollector> messages;
+  messages->Watch(filter);
+  messages->Watch(filter->GetExecutive());
+  filter->Update();
+  EXPECT_FALSE(messages->Errors.empty());
+  EXPECT_EQ(filter->GetNumberOfTargets(), 0);
+}
+
+TEST(MorphNodeFilter, PrintSelfShowsSettings)
+{
+  vtkNew<vtkMorphNodeFilter> filter;
+  filter->SetThreshold(0.2);
+  filter->SetWeightByName("A", 0.3);
+  std::ostringstream os;
+  filter->Print(os);
+  EXPECT_NE(os.str().find("Threshold: 0.2"), std::string::npos);
+  EXPECT_NE(os.str().find("A=0.3"), std::string::npos);
+  EXPECT_NE(os.str().find("WeightMode: Normalize"), std::string::npos);
+}
