@@ -1,0 +1,2 @@
+# Readers of faces with morph targets.
+list(APPEND classes vtkMorphTargetReader)
