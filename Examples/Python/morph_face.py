@@ -1,0 +1,114 @@
+#!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
+"""Read a face with morph targets, set weights, optionally optimize, render to a PNG.
+
+    PYTHONPATH=build/lib/python3/dist-packages /usr/bin/python3 Examples/Python/morph_face.py \
+        Data/DefaultFace/default_face.glb --weight O=0.8 --weight BrowsUp=0.5 --png o.png
+"""
+import argparse
+import os
+import sys
+
+from morphnode import vtkMorphNodeFilter, vtkMorphTargetReader
+
+import vtkmodules.vtkInteractionStyle  # noqa: F401  (default interactor style)
+import vtkmodules.vtkRenderingOpenGL2  # noqa: F401  (the render backend)
+from vtkmodules.vtkCommonCore import vtkLookupTable
+from vtkmodules.vtkIOImage import vtkPNGWriter
+from vtkmodules.vtkRenderingAnnotation import vtkScalarBarActor
+from vtkmodules.vtkRenderingCore import (
+    vtkActor,
+    vtkPolyDataMapper,
+    vtkRenderer,
+    vtkRenderWindow,
+    vtkRenderWindowInteractor,
+    vtkWindowToImageFilter,
+)
+
+DEFAULT_FACE = os.path.join(os.path.dirname(__file__), "..", "..", "Data", "DefaultFace", "default_face.glb")
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("face", nargs="?", default=DEFAULT_FACE)
+    parser.add_argument("--weight", action="append", default=[], metavar="NAME=VALUE")
+    parser.add_argument("--mode", choices=["strict", "normalize", "relative"], default="normalize")
+    parser.add_argument("--threshold", type=float, default=0.0)
+    parser.add_argument("--adjust", action="store_true", help="the paper's adjusted threshold")
+    parser.add_argument("--color", help="AnimatedRegion or Distance_<target>")
+    parser.add_argument("--png", help="render offscreen to this file")
+    parser.add_argument("--size", type=int, nargs=2, default=(600, 600))
+    args = parser.parse_args(argv)
+
+    reader = vtkMorphTargetReader()
+    reader.SetFileName(args.face)
+    morph = vtkMorphNodeFilter()
+    morph.SetInputConnection(reader.GetOutputPort())
+    getattr(morph, "SetWeightModeTo" + args.mode.capitalize())()
+    morph.SetThreshold(args.threshold)
+    morph.SetAdjustThreshold(args.adjust)
+    morph.SetGenerateDistanceArrays(bool(args.color))
+    for item in args.weight:
+        name, _, value = item.partition("=")
+        morph.SetWeightByName(name, float(value))
+    morph.Update()
+    face = morph.GetOutput()
+    if face.GetNumberOfPoints() == 0:
+        print("nothing to show (see the errors above)", file=sys.stderr)
+        return 1
+    print(f"{args.face}: {morph.GetNumberOfTargets()} targets, {morph.GetActiveTargetCount()} active, "
+          f"error bound {morph.GetErrorBound():g}")
+
+    mapper = vtkPolyDataMapper()
+    mapper.SetInputData(face)
+    actor = vtkActor()
+    actor.SetMapper(mapper)
+    renderer = vtkRenderer()
+    renderer.SetBackground(0.15, 0.16, 0.2)
+    renderer.AddActor(actor)
+    if args.color:
+        scalars = face.GetPointData().GetArray(args.color)
+        if scalars is None:
+            print(f"no point array {args.color!r}", file=sys.stderr)
+            return 1
+        mapper.SetScalarModeToUsePointFieldData()
+        mapper.SelectColorArray(args.color)
+        mapper.SetScalarRange(scalars.GetRange())
+        still_to_moving = vtkLookupTable()  # blue where the face stays still, red where it moves
+        still_to_moving.SetHueRange(0.667, 0.0)
+        mapper.SetLookupTable(still_to_moving)
+        bar = vtkScalarBarActor()
+        bar.SetLookupTable(mapper.GetLookupTable())
+        bar.SetTitle(args.color)
+        bar.SetMaximumWidthInPixels(90)
+        renderer.AddActor2D(bar)
+    else:
+        actor.GetProperty().SetColor(0.86, 0.72, 0.62)
+        actor.GetProperty().SetSpecular(0.2)
+    window = vtkRenderWindow()
+    window.SetSize(*args.size)
+    window.SetMultiSamples(0)
+    window.AddRenderer(renderer)
+    renderer.ResetCamera()
+    renderer.GetActiveCamera().Zoom(1.4)
+    renderer.ResetCameraClippingRange()
+    if args.png:
+        window.OffScreenRenderingOn()
+        window.Render()
+        grab = vtkWindowToImageFilter()
+        grab.SetInput(window)
+        writer = vtkPNGWriter()
+        writer.SetFileName(args.png)
+        writer.SetInputConnection(grab.GetOutputPort())
+        writer.Write()
+        print("wrote", args.png)
+        return 0
+    interactor = vtkRenderWindowInteractor()
+    interactor.SetRenderWindow(window)
+    window.Render()
+    interactor.Start()
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
