@@ -221,12 +221,20 @@ template <typename T>
 void MorphAttribute<T>::Blend(
   const double* weights, size_t numWeights, T* out, size_t begin, size_t end) const
 {
-  const size_t c = static_cast<size_t>(this->Components);
   end = std::min(end, this->NumPoints);
-  if (begin >= end)
+  // Blocks small enough that the output stays in cache while every active target is
+  // added to it: the deltas stream from memory once, the output is written once.
+  for (size_t block = begin; block < end; block += BlockPoints)
   {
-    return;
+    this->BlendBlock(weights, numWeights, out, block, std::min(block + BlockPoints, end));
   }
+}
+
+template <typename T>
+void MorphAttribute<T>::BlendBlock(
+  const double* weights, size_t numWeights, T* out, size_t begin, size_t end) const
+{
+  const size_t c = static_cast<size_t>(this->Components);
   std::copy(this->Neutral.begin() + begin * c, this->Neutral.begin() + end * c, out + begin * c);
   const size_t n = std::min(numWeights, this->GetNumberOfTargets());
   for (size_t i = 1; i < n; ++i)

@@ -103,7 +103,12 @@ public:
 
   size_t GetMemorySize() const;
 
+  /// Points blended together: the output block stays in cache across targets.
+  static constexpr size_t BlockPoints = 2048;
+
 private:
+  void BlendBlock(const double* weights, size_t numWeights, T* out, size_t begin, size_t end) const;
+
   std::string Name;
   AttributeRole Role;
   int Components;
