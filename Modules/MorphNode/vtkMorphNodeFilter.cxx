@@ -260,6 +260,12 @@ vtkDoubleArray* vtkMorphNodeFilter::GetDistNorm()
 }
 
 //------------------------------------------------------------------------------
+const morphnode::MorphModel* vtkMorphNodeFilter::GetMorphModel()
+{
+  return this->Internals->Built ? &this->Internals->Built->Model : nullptr;
+}
+
+//------------------------------------------------------------------------------
 const char* vtkMorphNodeFilter::GetWeightModeAsString()
 {
   return morphnode::WeightModeName(static_cast<morphnode::WeightMode>(this->WeightMode));

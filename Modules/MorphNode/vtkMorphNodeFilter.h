@@ -57,6 +57,12 @@
 #include <memory> // For std::unique_ptr
 
 class vtkDoubleArray;
+#ifndef __VTK_WRAP__
+namespace morphnode
+{
+class MorphModel;
+}
+#endif
 
 class VTKMORPHNODE_EXPORT vtkMorphNodeFilter : public vtkPointSetAlgorithm
 {
@@ -224,6 +230,14 @@ public:
    * from the last execution. The array is owned by the filter.
    */
   vtkDoubleArray* GetDistNorm();
+
+#ifndef __VTK_WRAP__
+  /**
+   * The core model built from the input by the last execution (nullptr before one, or
+   * after an error): for C++ tools that study the morph beyond the pipeline.
+   */
+  const morphnode::MorphModel* GetMorphModel();
+#endif
 
 protected:
   vtkMorphNodeFilter();
