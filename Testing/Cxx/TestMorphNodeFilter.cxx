@@ -18,6 +18,7 @@
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
+#include "vtkSphereSource.h"
 #include "vtkStringArray.h"
 #include "vtkTable.h"
 #include "vtkTableAlgorithm.h"
@@ -27,6 +28,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -556,6 +558,53 @@ TEST(MorphNodeFilter, NoInputIsAnErrorNotACrash)
   filter->Update();
   EXPECT_FALSE(messages->Errors.empty());
   EXPECT_EQ(filter->GetNumberOfTargets(), 0);
+}
+
+TEST(MorphNodeFilter, HonoursPieceRequests)
+{
+  // Two spheres that split into the same pieces; the morph of piece 0 of 2 is piece 0 of
+  // 2 of the morph.
+  vtkNew<vtkSphereSource> neutral, big;
+  big->SetRadius(2.0);
+  for (auto* s : { neutral.Get(), big.Get() })
+  {
+    s->SetThetaResolution(32);
+    s->SetPhiResolution(16);
+  }
+  vtkNew<vtkMorphNodeFilter> morph;
+  morph->AddInputConnection(0, neutral->GetOutputPort());
+  morph->AddInputConnection(0, big->GetOutputPort());
+  morph->SetWeight(1, 1.0); // normalized: half way between radius 0.5 and 2
+  morph->UpdatePiece(0, 2, 0);
+  auto* piece = vtkPolyData::SafeDownCast(morph->GetOutput());
+  vtkNew<vtkSphereSource> whole;
+  whole->SetThetaResolution(32);
+  whole->SetPhiResolution(16);
+  whole->Update();
+  ASSERT_GT(piece->GetNumberOfPoints(), 0);
+  EXPECT_LT(piece->GetNumberOfPoints(), whole->GetOutput()->GetNumberOfPoints());
+  for (vtkIdType i = 0; i < piece->GetNumberOfPoints(); ++i)
+  {
+    EXPECT_NEAR(vtkMath::Norm(piece->GetPoint(i)), 1.25, 1e-5);
+  }
+}
+
+TEST(MorphNodeFilter, ReportsProgress)
+{
+  Rig rig(ThreeQuads());
+  std::vector<double> progress;
+  vtkNew<vtkCallbackCommand> observer;
+  observer->SetClientData(&progress);
+  observer->SetCallback([](vtkObject*, unsigned long, void* client, void* data) {
+    static_cast<std::vector<double>*>(client)->push_back(*static_cast<double*>(data));
+  });
+  rig.Filter->AddObserver(vtkCommand::ProgressEvent, observer);
+  rig.Filter->SetWeight(1, 0.5);
+  rig.Run();
+  ASSERT_GE(progress.size(), 3u);
+  EXPECT_EQ(progress.front(), 0.0);
+  EXPECT_EQ(progress.back(), 1.0);
+  EXPECT_TRUE(std::is_sorted(progress.begin(), progress.end()));
 }
 
 TEST(MorphNodeFilter, PrintSelfShowsSettings)
