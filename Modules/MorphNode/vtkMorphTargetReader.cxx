@@ -6,6 +6,7 @@
 #include "morphnode/Error.h"
 #include "morphnode/MorphModel.h"
 #include "morphnode/Normals.h"
+#include "morphnode/rig/ObjSet.h"
 
 #include "vtkCellArray.h"
 #include "vtkFieldData.h"
@@ -23,6 +24,7 @@
 #include <nlohmann/json.hpp>
 
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <sstream>
@@ -202,9 +204,14 @@ int vtkMorphTargetReader::RequestData(
     {
       this->ReadGLTF(output);
     }
+    else if (EndsWith(lower, ".obj") || std::filesystem::is_directory(this->FileName))
+    {
+      this->ReadObjSet(output);
+    }
     else
     {
-      throw InputError("'" + this->FileName + "': expected a .glb or .gltf file");
+      throw InputError("'" + this->FileName + "': expected a .glb or .gltf file, an OBJ set's "
+                                              "folder or its neutral .obj");
     }
     this->FinishOutput(output);
   }
@@ -312,6 +319,50 @@ void vtkMorphTargetReader::ReadGLTF(vtkPolyData* output)
 }
 
 //------------------------------------------------------------------------------
+void vtkMorphTargetReader::ReadObjSet(vtkPolyData* output)
+{
+  namespace fs = std::filesystem;
+  fs::path folder = this->FileName;
+  std::string neutral = this->NeutralFileName;
+  if (!fs::is_directory(folder))
+  {
+    neutral = folder.filename().string();
+    folder = folder.parent_path();
+  }
+  else if (neutral.empty())
+  {
+    neutral = fs::exists(folder / "generic_neutral_mesh.obj") ? "generic_neutral_mesh.obj" : "neutral.obj";
+  }
+  const morphnode::ObjSet set = morphnode::ReadObjSetDirectory(folder.string(), neutral);
+  const size_t n = set.GetNumberOfPoints();
+  if (n == 0)
+  {
+    throw InputError("'" + (folder / neutral).string() + "' has no vertices");
+  }
+  vtkNew<vtkFloatArray> coordinates;
+  coordinates->SetNumberOfComponents(3);
+  coordinates->SetNumberOfTuples(static_cast<vtkIdType>(n));
+  std::copy(set.Neutral.Positions.begin(), set.Neutral.Positions.end(), coordinates->GetPointer(0));
+  vtkNew<vtkPoints> points;
+  points->SetData(coordinates);
+  output->SetPoints(points);
+  vtkNew<vtkCellArray> triangles;
+  for (size_t t = 0; t < set.Neutral.GetNumberOfTriangles(); ++t)
+  {
+    const vtkIdType ids[3] = { set.Neutral.Triangles[3 * t], set.Neutral.Triangles[3 * t + 1],
+      set.Neutral.Triangles[3 * t + 2] };
+    triangles->InsertNextCell(3, ids);
+  }
+  output->SetPolys(triangles);
+  this->TargetNames = { "Neutral" };
+  for (size_t k = 0; k < set.GetNumberOfShapes(); ++k)
+  {
+    output->GetPointData()->AddArray(MakeVectors(TargetArray(k, "position").c_str(), set.ComputeDeltas(k)));
+    this->TargetNames.push_back(set.ShapeNames[k]);
+  }
+}
+
+//------------------------------------------------------------------------------
 void vtkMorphTargetReader::FinishOutput(vtkPolyData* output)
 {
   const size_t numPoints = static_cast<size_t>(output->GetNumberOfPoints());
@@ -389,6 +440,7 @@ void vtkMorphTargetReader::PrintSelf(ostream& os, vtkIndent indent)
   this->Superclass::PrintSelf(os, indent);
   os << indent << "FileName: " << this->FileName << "\n";
   os << indent << "MeshName: " << this->MeshName << "\n";
+  os << indent << "NeutralFileName: " << this->NeutralFileName << "\n";
   os << indent << "MeshIndex: " << this->MeshIndex << "\n";
   os << indent << "PrimitiveIndex: " << this->PrimitiveIndex << "\n";
   os << indent << "Scale: " << this->Scale << "\n";

@@ -10,6 +10,10 @@
  *   normal deltas for every target) computed when the file has none, the choice of the
  *   mesh (by name or index) and primitive, and a single vtkPolyData instead of a
  *   multiblock. Node transforms are not applied: the mesh is read in its own frame.
+ * - A set of OBJ files (a folder, or its neutral `.obj`): one neutral plus one file per
+ *   shape with the same vertex order, name = file stem, as ICT-FaceKit and many scanned
+ *   face datasets ship them (see morphnode::ObjSet). Polygons are triangulated; texture
+ *   coordinates are not read (OBJ keeps them per corner, not per vertex).
  *
  * Output: the neutral's geometry with point-data arrays `target<k>_position` (and
  * `target<k>_normal`) holding relative deltas, active normals `Normals`, and field data
@@ -37,7 +41,7 @@ public:
 
   ///@{
   /**
-   * A `.glb` or `.gltf` file.
+   * A `.glb` / `.gltf` file, an OBJ set's folder, or its neutral `.obj`.
    */
   vtkSetStdStringFromCharMacro(FileName);
   vtkGetCharFromStdStringMacro(FileName);
@@ -54,6 +58,15 @@ public:
   vtkGetMacro(MeshIndex, int);
   vtkSetClampMacro(PrimitiveIndex, int, 0, VTK_INT_MAX);
   vtkGetMacro(PrimitiveIndex, int);
+  ///@}
+
+  ///@{
+  /**
+   * OBJ set given as a folder: the neutral's file name (default: `neutral.obj`, or
+   * `generic_neutral_mesh.obj` as ICT-FaceKit names it).
+   */
+  vtkSetStdStringFromCharMacro(NeutralFileName);
+  vtkGetCharFromStdStringMacro(NeutralFileName);
   ///@}
 
   ///@{
@@ -97,6 +110,7 @@ protected:
 
   std::string FileName;
   std::string MeshName;
+  std::string NeutralFileName;
   int MeshIndex = 0;
   int PrimitiveIndex = 0;
   double Scale = 1.0;
@@ -107,6 +121,7 @@ private:
   void operator=(const vtkMorphTargetReader&) = delete;
 
   void ReadGLTF(vtkPolyData* output);
+  void ReadObjSet(vtkPolyData* output);
   void FinishOutput(vtkPolyData* output);
 
   std::vector<std::string> TargetNames;

@@ -14,6 +14,7 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 
@@ -151,4 +152,96 @@ TEST(MorphTargetReader, BadFilesAreClearErrors)
     reader->Update();
     EXPECT_TRUE(messages->HasError("no mesh named 'Body'; meshes: ICTFace")) << messages->AllErrors();
   }
+}
+
+TEST(MorphTargetReader, ObjSetMatchesTheGlbOnSharedTargets)
+{
+  const std::string objFolder = std::string(MORPHNODE_FACEKIT_DIR) + "/obj";
+  if (!HaveIct() || !std::ifstream(objFolder + "/generic_neutral_mesh.obj"))
+  {
+    GTEST_SKIP() << "ICT-FaceKit data not found";
+  }
+  vtkNew<vtkMorphTargetReader> obj, glb;
+  obj->SetFileName(objFolder.c_str());
+  obj->SetScale(0.01); // the OBJ originals are in centimetres, the GLB in metres
+  obj->SetNormalsMode(vtkMorphTargetReader::NORMALS_FROM_FILE);
+  obj->Update();
+  glb->SetFileName(IctGlb.c_str());
+  glb->SetNormalsMode(vtkMorphTargetReader::NORMALS_FROM_FILE);
+  glb->Update();
+  vtkPolyData* o = obj->GetOutput();
+  vtkPolyData* g = glb->GetOutput();
+  ASSERT_EQ(o->GetNumberOfPoints(), 26719);
+  ASSERT_EQ(obj->GetNumberOfTargets(), 6);
+  EXPECT_STREQ(obj->GetTargetName(0), "Neutral");
+
+  // The GLB holds vertices 0..11247 of the OBJ neutral (face, head, neck).
+  double worst = 0.0;
+  for (vtkIdType i = 0; i < g->GetNumberOfPoints(); ++i)
+  {
+    double a[3], b[3];
+    o->GetPoint(i, a);
+    g->GetPoint(i, b);
+    for (int c = 0; c < 3; ++c)
+    {
+      worst = std::max(worst, std::abs(a[c] - b[c]));
+    }
+  }
+  EXPECT_LT(worst, 1e-6) << "neutral positions, metres";
+
+  int compared = 0;
+  for (int k = 1; k < obj->GetNumberOfTargets(); ++k)
+  {
+    const std::string name = obj->GetTargetName(k);
+    int inGlb = -1;
+    for (int j = 1; j < glb->GetNumberOfTargets(); ++j)
+    {
+      if (name == glb->GetTargetName(j))
+      {
+        inGlb = j;
+      }
+    }
+    ASSERT_GE(inGlb, 1) << name << " is not in the GLB";
+    vtkDataArray* od = o->GetPointData()->GetArray(("target" + std::to_string(k - 1) + "_position").c_str());
+    vtkDataArray* gd = g->GetPointData()->GetArray(("target" + std::to_string(inGlb - 1) + "_position").c_str());
+    double deltaWorst = 0.0, largest = 0.0;
+    for (vtkIdType i = 0; i < g->GetNumberOfPoints(); ++i)
+    {
+      for (int c = 0; c < 3; ++c)
+      {
+        deltaWorst = std::max(deltaWorst, std::abs(od->GetComponent(i, c) - gd->GetComponent(i, c)));
+        largest = std::max(largest, std::abs(gd->GetComponent(i, c)));
+      }
+    }
+    // The GLB dropped deltas below 1e-4 cm (1e-6 m).
+    EXPECT_LT(deltaWorst, 2e-6) << name;
+    EXPECT_GT(largest, 1e-3) << name << " hardly moves: the comparison proves nothing";
+    ++compared;
+  }
+  EXPECT_EQ(compared, 5);
+}
+
+TEST(MorphTargetReader, ObjSetWithMismatchedVertexCountNamesTheFile)
+{
+  const std::string folder = std::string(MORPHNODE_TEST_OUTPUT_DIR) + "/objset_bad";
+  std::filesystem::create_directories(folder);
+  std::ofstream(folder + "/neutral.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+  std::ofstream(folder + "/smile.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 1\nf 1 2 3\n";
+  std::ofstream(folder + "/broken.obj") << "v 0 0 0\nv 1 0 0\nf 1 2 3\n";
+  vtkNew<vtkMorphTargetReader> reader;
+  vtkNew<MessageCollector> messages;
+  messages->Watch(reader);
+  reader->SetFileName(folder.c_str());
+  reader->Update();
+  EXPECT_EQ(reader->GetOutput()->GetNumberOfPoints(), 0);
+  EXPECT_TRUE(messages->HasError("broken.obj")) << messages->AllErrors();
+
+  std::filesystem::remove(folder + "/broken.obj");
+  messages->Clear();
+  reader->Modified();
+  reader->Update();
+  EXPECT_EQ(reader->GetOutput()->GetNumberOfPoints(), 3);
+  ASSERT_EQ(reader->GetNumberOfTargets(), 2);
+  EXPECT_STREQ(reader->GetTargetName(1), "smile");
+  EXPECT_NEAR(reader->GetOutput()->GetPointData()->GetArray("target0_position")->GetComponent(2, 2), 1.0, 1e-9);
 }
