@@ -1,0 +1,226 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// The controller against a simulated device: cost models are given, never timed, so the
+// assertions do not depend on the machine.
+#include "morphnode/Error.h"
+#include "morphnode/reduction/FrameBudgetController.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+using morphnode::ControllerDecision;
+using morphnode::ControllerSettings;
+using morphnode::CostModel;
+using morphnode::FrameBudgetController;
+using morphnode::InputError;
+using morphnode::LevelOfDetail;
+
+namespace
+{
+constexpr size_t Targets = 12; // neutral excluded
+
+/// Four nested levels; each target moves 40 % of a level's points.
+std::vector<LevelOfDetail> Levels()
+{
+  const size_t points[] = { 10000, 5000, 2500, 1000 };
+  const double error[] = { 0.0, 0.0002, 0.0005, 0.0012 };
+  std::vector<LevelOfDetail> levels;
+  for (int l = 0; l < 4; ++l)
+  {
+    LevelOfDetail lod;
+    lod.Name = "L" + std::to_string(l);
+    lod.NumberOfPoints = points[l];
+    lod.MovedPoints.assign(Targets + 1, 0.4 * points[l]);
+    lod.MovedPoints[0] = 0.0;
+    lod.Distances.DistMorph.assign(Targets + 1, 1.0);
+    lod.Distances.DistNorm.assign(Targets + 1, 0.0);
+    lod.Distances.MaxDisplacement.assign(Targets + 1, 0.01);
+    for (size_t i = 1; i <= Targets; ++i)
+    {
+      lod.Distances.DistNorm[i] = double(i) / Targets;
+    }
+    lod.Distances.DistNorm[0] = lod.Distances.MaxDisplacement[0] = 0.0;
+    lod.GeometricError = error[l];
+    lod.Cost.Fixed = 20e-6;
+    lod.Cost.PerTargetPoint = 2e-9; // the whole face with all 12 targets: 116 us
+    levels.push_back(lod);
+  }
+  return levels;
+}
+
+/// Speech-like absolute weights: a few targets rise and fall, overlapping; every 150
+/// frames a burst with many targets at once.
+std::vector<std::vector<double>> Track(size_t frames)
+{
+  std::vector<std::vector<double>> track;
+  for (size_t f = 0; f < frames; ++f)
+  {
+    std::vector<double> w(Targets + 1, 0.0);
+    double sum = 0.0;
+    for (size_t i = 1; i <= Targets; ++i)
+    {
+      const double phase = 0.13 * double(f) + 1.7 * double(i);
+      double v = std::max(0.0, std::sin(phase)) * 0.35 * (1.0 + std::sin(0.05 * double(f) * i));
+      if ((f / 150) % 2 == 1)
+      {
+        v = std::max(v, 0.06);
+      }
+      w[i] = v / Targets * 3.0;
+      sum += w[i];
+    }
+    w[0] = 1.0 - sum;
+    track.push_back(w);
+  }
+  return track;
+}
+
+FrameBudgetController Make(double budget)
+{
+  FrameBudgetController c;
+  ControllerSettings s;
+  s.FrameBudget = budget;
+  c.SetSettings(s);
+  for (const auto& l : Levels())
+  {
+    c.AddLevel(l);
+  }
+  return c;
+}
+} // namespace
+
+TEST(FrameBudgetController, GenerousBudgetKeepsTheFullFace)
+{
+  auto c = Make(1e-3);
+  for (const auto& w : Track(600))
+  {
+    const ControllerDecision d = c.Update(w);
+    ASSERT_EQ(d.Level, 0);
+    ASSERT_EQ(d.Threshold, 0.0);
+    ASSERT_EQ(d.Weights, w);
+    ASSERT_TRUE(d.WithinBudget);
+  }
+  EXPECT_EQ(c.GetNumberOfSwitches(), 0u);
+}
+
+TEST(FrameBudgetController, MeetsTightBudgets)
+{
+  for (double budget : { 60e-6, 35e-6, 24e-6 })
+  {
+    auto c = Make(budget);
+    const auto settings = c.GetSettings();
+    size_t over = 0, coarsenings = 0;
+    int previous = 0;
+    double errorSum = 0.0;
+    const auto track = Track(900);
+    for (const auto& w : track)
+    {
+      const ControllerDecision d = c.Update(w);
+      over += d.WithinBudget ? 0 : 1;
+      coarsenings += d.Level > previous ? 1 : 0;
+      previous = d.Level;
+      errorSum += d.PredictedError;
+      double sum = 0.0;
+      for (double x : d.Weights)
+      {
+        sum += x;
+      }
+      ASSERT_NEAR(sum, 1.0, 1e-9);
+      ASSERT_GE(d.Alpha, 0.0);
+      ASSERT_LE(d.Alpha, 1.0);
+    }
+    // Only geomorph transitions towards a coarser level may run over, and they are short.
+    EXPECT_LE(over, coarsenings * size_t(settings.GeomorphFrames)) << "budget " << budget;
+    // Hysteresis: no flicker between levels.
+    EXPECT_LE(c.GetNumberOfSwitches(), 12u) << "budget " << budget;
+    EXPECT_GT(errorSum, 0.0);
+  }
+}
+
+TEST(FrameBudgetController, LessBudgetMeansCoarserOrMorePruned)
+{
+  double previousError = -1.0;
+  for (double budget : { 200e-6, 60e-6, 35e-6, 24e-6 })
+  {
+    auto c = Make(budget);
+    double error = 0.0;
+    for (const auto& w : Track(600))
+    {
+      error += c.Update(w).PredictedError;
+    }
+    EXPECT_GE(error, previousError) << "budget " << budget;
+    previousError = error;
+  }
+}
+
+TEST(FrameBudgetController, TransitionsAreGeomorphs)
+{
+  auto c = Make(24e-6);
+  const int frames = c.GetSettings().GeomorphFrames;
+  int previousLevel = 0;
+  double previousAlpha = 0.0;
+  int previousTowards = -1;
+  for (const auto& w : Track(300))
+  {
+    const ControllerDecision d = c.Update(w);
+    if (d.Level != previousLevel)
+    {
+      // a coarsening lands on the coarse level right after its morph reached (nearly) 1
+      if (d.Level > previousLevel)
+      {
+        EXPECT_EQ(previousTowards, d.Level);
+        EXPECT_GE(previousAlpha, 1.0 - 1.0 / frames - 1e-12);
+      }
+      else
+      {
+        // a refinement starts from the coarse shape
+        EXPECT_EQ(d.MorphTowards, previousLevel);
+        EXPECT_GE(d.Alpha, 1.0 - 1.0 / frames - 1e-12);
+      }
+    }
+    if (d.MorphTowards >= 0 && d.MorphTowards == previousTowards && d.Level == previousLevel)
+    {
+      EXPECT_LE(std::abs(d.Alpha - previousAlpha), 1.0 / frames + 1e-12);
+    }
+    previousLevel = d.Level;
+    previousAlpha = d.Alpha;
+    previousTowards = d.MorphTowards;
+  }
+}
+
+TEST(FrameBudgetController, CostModelFit)
+{
+  std::vector<double> x = { 0, 1000, 5000, 20000 }, y;
+  for (double v : x)
+  {
+    y.push_back(3e-6 + 4e-9 * v);
+  }
+  const CostModel m = CostModel::Fit(x, y);
+  EXPECT_NEAR(m.Fixed, 3e-6, 1e-12);
+  EXPECT_NEAR(m.PerTargetPoint, 4e-9, 1e-15);
+  EXPECT_THROW(CostModel::Fit({ 1.0 }, { 1.0 }), InputError);
+  EXPECT_THROW(CostModel::Fit({ 1.0, 2.0 }, { 1.0 }), InputError);
+  EXPECT_GT(morphnode::DeviceFrameBudget(morphnode::DeviceClass::Desktop),
+    morphnode::DeviceFrameBudget(morphnode::DeviceClass::Embedded));
+}
+
+TEST(FrameBudgetController, BadInputIsReported)
+{
+  FrameBudgetController c;
+  ControllerSettings s;
+  s.FrameBudget = 0.0;
+  EXPECT_THROW(c.SetSettings(s), InputError);
+  s.FrameBudget = 1e-3;
+  s.Thresholds = {};
+  EXPECT_THROW(c.SetSettings(s), InputError);
+  s.Thresholds = { 1.5 };
+  EXPECT_THROW(c.SetSettings(s), InputError);
+  EXPECT_THROW(c.Update({ 1.0 }), InputError); // no levels
+
+  auto levels = Levels();
+  c.AddLevel(levels[0]);
+  EXPECT_THROW(c.AddLevel(levels[0]), InputError); // not coarser
+  levels[1].MovedPoints.pop_back();
+  EXPECT_THROW(c.AddLevel(levels[1]), InputError); // target count
+  EXPECT_THROW(c.Update({ 0.5, 0.5 }), InputError); // weight count
+}
