@@ -1,0 +1,2 @@
+# Behaviour control: the temporal weight source over morphnode::BehaviorController.
+list(APPEND classes vtkBehaviorTimeSource)

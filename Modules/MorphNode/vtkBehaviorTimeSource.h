@@ -1,0 +1,216 @@
+// SPDX-License-Identifier: BSD-3-Clause
+/**
+ * @class   vtkBehaviorTimeSource
+ * @brief   a temporal source of behaviour weights (speech, gestures, moods, looks and
+ *          idle behaviour, Berner WSCG 2004 section 3) for vtkMorphNodeFilter
+ *
+ * A thin adapter over morphnode::BehaviorController (docs/behavior.md): configure it
+ * (seed, frame rate, duration, voice, viseme set), add commands (Say, Gesture, SetMood,
+ * LookAt, SpeakPhonemeFile) or a script (LoadScript), and connect output port 0 to the
+ * weights port of a vtkMorphNodeFilter:
+ *
+ * @code
+ * vtkNew<vtkBehaviorTimeSource> behavior;
+ * behavior->SetSeed(7);
+ * behavior->SetMood("happy", 0.6);
+ * behavior->Say("Hello world", 0.5);
+ * behavior->Gesture("nod", 1.0, 0.8, 0.7);
+ * morph->SetWeightsConnection(behavior->GetOutputPort(0));
+ * morph->UpdateTimeStep(1.25); // the face at t = 1.25 s
+ * @endcode
+ *
+ * Outputs (no inputs):
+ * - port 0: a one-row vtkTable, one vtkDoubleArray column per channel (GetChannelName),
+ *   the behaviour at the requested UPDATE_TIME_STEP (0 when none is requested); the
+ *   table's DATA_TIME_STEP is that time. The information advertises TIME_STEPS (frames
+ *   i / FrameRate, i = 0 .. floor(EffectiveDuration * FrameRate)) and
+ *   TIME_RANGE = [0, EffectiveDuration]; any time may be requested, between steps too.
+ * - port 1: the whole track, one row per frame (the same frames as the time steps), a
+ *   `Time` column first, then the channels: for plots and CSV (vtkDelimitedTextWriter).
+ *
+ * Channels: EyesClosed, BrowsUp, BrowsFright, BrowsAngry, MouthSmile, MouthSad, LookUp,
+ * LookDown, LookLeft, LookRight, HeadYaw, HeadPitch, HeadRoll (degrees), EyeYaw, EyePitch
+ * (degrees), then the viseme channels of the scheduled utterances. Columns that name no
+ * morph target (head pose, gaze angles, `sil`) are ignored by vtkMorphNodeFilter.
+ *
+ * Speech: Say() synthesizes at once with eSpeak NG (morphnode::SpeakText) using the
+ * current Voice, SpeechRate and VisemeSet; changing those later affects later Say()
+ * calls only. The default viseme set is the paper's (PAPER6: A E O S F L and sil), whose
+ * names match the default face's targets. WriteAudio() writes the scheduled utterances'
+ * audio on the track's time axis, so the WAV and the track line up.
+ *
+ * Every setter modifies the source only on a real change; every successful command
+ * modifies it. Bad values, unknown names, eSpeak failures and malformed scripts are
+ * reported with vtkErrorMacro and the command returns false, leaving the source as it
+ * was. Setters that reject a value report an error and keep the previous value.
+ *
+ * @sa vtkMorphNodeFilter morphnode::BehaviorController morphnode::SpeakText
+ */
+
+#ifndef vtkBehaviorTimeSource_h
+#define vtkBehaviorTimeSource_h
+
+#include "vtkMorphNodeModule.h" // For export macro
+#include "vtkTableAlgorithm.h"
+
+#include <memory> // For std::unique_ptr
+
+#ifndef __VTK_WRAP__
+namespace morphnode
+{
+class BehaviorController;
+}
+#endif
+
+class VTKMORPHNODE_EXPORT vtkBehaviorTimeSource : public vtkTableAlgorithm
+{
+public:
+  static vtkBehaviorTimeSource* New();
+  vtkTypeMacro(vtkBehaviorTimeSource, vtkTableAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  /// Viseme sets of Say(); values match morphnode::VisemeSet.
+  enum VisemeSets
+  {
+    OCULUS15 = 0,
+    GERMAN16 = 1,
+    PAPER6 = 2
+  };
+
+  ///@{
+  /**
+   * The random seed of the idle behaviour (default 1): the same seed gives a
+   * bit-identical track, another seed a different one.
+   */
+  void SetSeed(vtkTypeUInt64 seed);
+  vtkTypeUInt64 GetSeed();
+  ///@}
+
+  ///@{
+  /**
+   * Frame rate of the time steps and of the track on port 1, in (0, 1000]; default 30.
+   */
+  void SetFrameRate(double fps);
+  double GetFrameRate();
+  ///@}
+
+  ///@{
+  /**
+   * Length of the track in seconds; 0 (default) = the end of the last command + 1 s, at
+   * least 5 s. GetEffectiveDuration() gives the length actually used.
+   */
+  void SetDuration(double seconds);
+  double GetDuration();
+  double GetEffectiveDuration();
+  ///@}
+
+  ///@{
+  /**
+   * eSpeak NG voice of Say(), e.g. "en" (default), "de", "en-us".
+   */
+  void SetVoice(const char* voice);
+  const char* GetVoice();
+  ///@}
+
+  ///@{
+  /**
+   * Speech rate of Say() in words per minute (eSpeak clamps to [80, 450]); default
+   * eSpeak's 175.
+   */
+  void SetSpeechRate(int wordsPerMinute);
+  int GetSpeechRate();
+  ///@}
+
+  ///@{
+  /**
+   * Viseme set of Say() and SpeakPhonemeFile(); default PAPER6, the paper's A E O S F L.
+   * The string form takes "paper6", "oculus15", "german16" (case-insensitive) and
+   * reports an error for others.
+   */
+  void SetVisemeSet(int set);
+  int GetVisemeSet();
+  void SetVisemeSetToPaper() { this->SetVisemeSet(PAPER6); }
+  void SetVisemeSetToOculus() { this->SetVisemeSet(OCULUS15); }
+  void SetVisemeSetToGerman() { this->SetVisemeSet(GERMAN16); }
+  bool SetVisemeSetFromString(const char* name);
+  const char* GetVisemeSetAsString();
+  ///@}
+
+  ///@{
+  /**
+   * Commands; times in seconds, angles in degrees (yaw > 0 to the face's left, pitch > 0
+   * up). Each returns false and reports an error for bad input, leaving the source
+   * unchanged. A start below 0 for Say and SpeakPhonemeFile queues after the previous
+   * utterance. Gesture: smile, sad, raise_brows, frown, fright, close_eyes, blink, nod,
+   * shake, tilt; duration <= 0 takes the gesture's default; intensity in [0, 1]. Mood:
+   * neutral, happy, sad, angry, afraid, surprised; fade < 0 takes the default (0.8 s).
+   * LookAt: back to the front after `duration`, held until the next look when <= 0.
+   */
+  bool Say(const char* text, double start = -1.0);
+  bool SpeakPhonemeFile(const char* path, double start = -1.0);
+  bool Gesture(const char* name, double start, double duration = 0.0, double intensity = 1.0);
+  bool SetMood(const char* name, double intensity, double start = 0.0, double fade = -1.0);
+  bool LookAt(double yaw, double pitch, double start, double duration = 0.0);
+  /// Removes every command; keeps seed, frame rate, duration and the speech settings.
+  void ClearCommands();
+  ///@}
+
+  ///@{
+  /**
+   * Scripts (docs/behavior.md, text or JSON): settings and commands, all or nothing.
+   * On failure an error with the core's "line N: ..." message, and false.
+   */
+  bool LoadScript(const char* path);
+  bool ParseScript(const char* text);
+  ///@}
+
+  ///@{
+  /**
+   * The output channels, in column order of port 0 (port 1 has `Time` first). They
+   * depend on the scheduled utterances; asking prepares the behaviour if needed.
+   */
+  int GetNumberOfChannels();
+  const char* GetChannelName(int index);
+  /// -1 when there is no such channel.
+  int GetChannelIndex(const char* name);
+  ///@}
+
+  /// Number of scheduled utterances.
+  int GetNumberOfUtterances();
+  /// True when at least one scheduled utterance carries audio (Say does, .pho files not).
+  bool HasAudio();
+
+  /**
+   * Writes a 16-bit mono WAV of the scheduled utterances, mixed at their start times on
+   * the track's time axis (sample 0 = time 0), at least as long as the track. Silence when
+   * nothing with audio is scheduled. False and an error when the file cannot be written.
+   */
+  bool WriteAudio(const char* path);
+
+#ifndef __VTK_WRAP__
+  /**
+   * The core controller (for C++ code that samples it directly or inspects schedules).
+   * Changing it through this reference bypasses Modified(): call Modified() afterwards.
+   */
+  morphnode::BehaviorController& GetController();
+#endif
+
+protected:
+  vtkBehaviorTimeSource();
+  ~vtkBehaviorTimeSource() override;
+
+  int FillOutputPortInformation(int port, vtkInformation* info) override;
+  int RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+private:
+  vtkBehaviorTimeSource(const vtkBehaviorTimeSource&) = delete;
+  void operator=(const vtkBehaviorTimeSource&) = delete;
+
+  bool EnsurePrepared();
+
+  struct vtkInternals;
+  std::unique_ptr<vtkInternals> Internals;
+};
+
+#endif
