@@ -1,0 +1,143 @@
+#!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
+"""Play a behaviour script (docs/behavior.md) on a face with morph targets, offscreen:
+PNG frames, the weight track as CSV and, when the script speaks, the speech as WAV go to
+an output folder; a progress bar goes to stderr.
+
+    PYTHONPATH=build/lib/python3/dist-packages /usr/bin/python3 Examples/Python/play_script.py \
+        Data/scripts/greeting.txt --out greeting-frames
+
+Make a video with
+    ffmpeg -framerate 30 -i greeting-frames/frame_%05d.png -i greeting-frames/speech.wav -shortest out.mp4
+"""
+import argparse
+import math
+import os
+import sys
+
+from morphnode import vtkBehaviorTimeSource, vtkMorphNodeFilter, vtkMorphTargetReader
+
+import vtkmodules.vtkInteractionStyle  # noqa: F401  (default interactor style)
+import vtkmodules.vtkRenderingOpenGL2  # noqa: F401  (the render backend)
+from vtkmodules.vtkIOCore import vtkDelimitedTextWriter
+from vtkmodules.vtkIOImage import vtkPNGWriter
+from vtkmodules.vtkRenderingCore import vtkActor, vtkPolyDataMapper, vtkRenderer, vtkRenderWindow, vtkWindowToImageFilter
+
+DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "Data")
+DEFAULT_SCRIPT = os.path.join(DATA, "scripts", "greeting.txt")
+DEFAULT_FACE = os.path.join(DATA, "DefaultFace", "default_face.glb")
+
+
+def progress(done, total, width=40):
+    filled = done * width // total if total else width
+    sys.stderr.write(f"\r[{'#' * filled}{'.' * (width - filled)}] {done}/{total} frames")
+    if done == total:
+        sys.stderr.write("\n")
+    sys.stderr.flush()
+
+
+def channel(table, name):
+    column = table.GetColumnByName(name)
+    return column.GetValue(0) if column is not None else 0.0
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("script", nargs="?", default=DEFAULT_SCRIPT)
+    parser.add_argument("--face", default=DEFAULT_FACE)
+    parser.add_argument("--out", default="play_script-out")
+    parser.add_argument("--fps", type=float, help="override the script's frame rate")
+    parser.add_argument("--duration", type=float, help="override the script's duration (s)")
+    parser.add_argument("--frames", type=int, help="render only the first N frames")
+    parser.add_argument("--size", type=int, nargs=2, default=(480, 480))
+    parser.add_argument("--voice", help="eSpeak NG voice, e.g. en, de")
+    parser.add_argument("--visemes", choices=["paper6", "oculus15", "german16"])
+    args = parser.parse_args(argv)
+
+    # Speech settings first: Say synthesizes while the script loads.
+    behavior = vtkBehaviorTimeSource()
+    if args.voice:
+        behavior.SetVoice(args.voice)
+    if args.visemes:
+        behavior.SetVisemeSetFromString(args.visemes)
+    if not behavior.LoadScript(args.script):
+        return 1  # the error, with its line number, is printed already
+    if args.fps:
+        behavior.SetFrameRate(args.fps)
+    if args.duration is not None:
+        behavior.SetDuration(args.duration)
+    os.makedirs(args.out, exist_ok=True)
+
+    # The whole track (port 1) as CSV, and the speech lined up with it.
+    csv = vtkDelimitedTextWriter()
+    csv.SetFileName(os.path.join(args.out, "track.csv"))
+    csv.SetInputConnection(behavior.GetOutputPort(1))
+    if not csv.Write():
+        return 1
+    wav = os.path.join(args.out, "speech.wav") if behavior.HasAudio() else None
+    if wav and not behavior.WriteAudio(wav):
+        return 1
+
+    reader = vtkMorphTargetReader()
+    reader.SetFileName(args.face)
+    morph = vtkMorphNodeFilter()
+    morph.SetInputConnection(reader.GetOutputPort())
+    morph.SetWeightsConnection(behavior.GetOutputPort(0))
+    morph.SetWeightModeToRelative()  # the targets add on the neutral
+    morph.UpdateTimeStep(0.0)
+    face = morph.GetOutputDataObject(0)
+    if face is None or face.GetNumberOfPoints() == 0:
+        print("nothing to show (see the errors above)", file=sys.stderr)
+        return 1
+
+    mapper = vtkPolyDataMapper()
+    mapper.SetInputConnection(morph.GetOutputPort())
+    actor = vtkActor()
+    actor.SetMapper(mapper)
+    actor.GetProperty().SetColor(0.86, 0.72, 0.62)
+    actor.GetProperty().SetSpecular(0.2)
+    x0, x1, y0, y1, z0, z1 = face.GetBounds()
+    actor.SetOrigin((x0 + x1) / 2, y0 + 0.25 * (y1 - y0), (z0 + z1) / 2)  # the neck: pivot of the head pose
+    renderer = vtkRenderer()
+    renderer.SetBackground(0.15, 0.16, 0.2)
+    renderer.AddActor(actor)
+    window = vtkRenderWindow()
+    window.SetSize(*args.size)
+    window.SetMultiSamples(0)
+    window.OffScreenRenderingOn()
+    window.AddRenderer(renderer)
+    renderer.ResetCamera()
+    renderer.GetActiveCamera().Zoom(1.3)
+    grab = vtkWindowToImageFilter()
+    grab.SetInput(window)
+    grab.ReadFrontBufferOff()
+    png = vtkPNGWriter()
+    png.SetInputConnection(grab.GetOutputPort())
+
+    rate = behavior.GetFrameRate()
+    frames = int(math.floor(behavior.GetEffectiveDuration() * rate + 1e-9)) + 1
+    if args.frames is not None:
+        frames = max(0, min(frames, args.frames))
+    print(f"{args.script}: {behavior.GetEffectiveDuration():g} s at {rate:g} fps, "
+          f"{behavior.GetNumberOfChannels()} channels -> {args.out}", file=sys.stderr)
+    for f in range(frames):
+        morph.UpdateTimeStep(f / rate)
+        weights = behavior.GetOutputDataObject(0)
+        # Seen from the character: yaw > 0 to its left (about +Y), pitch > 0 up (about -X),
+        # roll > 0 tilts the top to its left (about -Z).
+        actor.SetOrientation(0, 0, 0)
+        actor.RotateY(channel(weights, "HeadYaw"))
+        actor.RotateX(-channel(weights, "HeadPitch"))
+        actor.RotateZ(-channel(weights, "HeadRoll"))
+        renderer.ResetCameraClippingRange()
+        window.Render()
+        grab.Modified()
+        png.SetFileName(os.path.join(args.out, f"frame_{f:05d}.png"))
+        png.Write()
+        progress(f + 1, frames)
+    print(f"wrote {frames} frames, {csv.GetFileName()}" + (f" and {wav}" if wav else ""))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
