@@ -130,6 +130,22 @@ int vtkBehaviorTimeSource::FillOutputPortInformation(int, vtkInformation* info)
 }
 
 //------------------------------------------------------------------------------
+vtkTypeBool vtkBehaviorTimeSource::ProcessRequest(
+  vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  // A request on port 0 (a time step) need not build the whole track of port 1: mark it
+  // as not generated, so it stays out of date and executes when port 1 is asked for.
+  if (request->Has(vtkDemandDrivenPipeline::REQUEST_DATA_NOT_GENERATED()) &&
+    request->Has(vtkDemandDrivenPipeline::FROM_OUTPUT_PORT()) &&
+    request->Get(vtkDemandDrivenPipeline::FROM_OUTPUT_PORT()) == 0)
+  {
+    outputVector->GetInformationObject(1)->Set(vtkDemandDrivenPipeline::DATA_NOT_GENERATED(), 1);
+    return 1;
+  }
+  return this->Superclass::ProcessRequest(request, inputVector, outputVector);
+}
+
+//------------------------------------------------------------------------------
 void vtkBehaviorTimeSource::SetSeed(vtkTypeUInt64 seed)
 {
   if (this->Internals->Controller.GetSeed() != seed)
@@ -492,7 +508,11 @@ int vtkBehaviorTimeSource::RequestData(
   }
   frame->GetInformation()->Set(vtkDataObject::DATA_TIME_STEP(), t);
 
-  // Port 1: the whole track, built once per preparation.
+  // Port 1: the whole track, built once per preparation, when asked for.
+  if (outputVector->GetInformationObject(1)->Get(vtkDemandDrivenPipeline::DATA_NOT_GENERATED()))
+  {
+    return 1;
+  }
   if (!this->Internals->Track)
   {
     const size_t frames = this->Internals->NumberOfFrames();

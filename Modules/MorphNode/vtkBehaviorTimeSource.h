@@ -27,6 +27,8 @@
  *   TIME_RANGE = [0, EffectiveDuration]; any time may be requested, between steps too.
  * - port 1: the whole track, one row per frame (the same frames as the time steps), a
  *   `Time` column first, then the channels: for plots and CSV (vtkDelimitedTextWriter).
+ *   Built only when port 1 itself is updated (a request on port 0 leaves it alone), once
+ *   per change of the behaviour.
  *
  * Channels: EyesClosed, BrowsUp, BrowsFright, BrowsAngry, MouthSmile, MouthSad, LookUp,
  * LookDown, LookLeft, LookRight, HeadYaw, HeadPitch, HeadRoll (degrees), EyeYaw, EyePitch
@@ -200,6 +202,9 @@ protected:
   ~vtkBehaviorTimeSource() override;
 
   int FillOutputPortInformation(int port, vtkInformation* info) override;
+  /// Marks the track (port 1) as not generated when only port 0 is asked for.
+  vtkTypeBool ProcessRequest(
+    vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 

@@ -443,6 +443,20 @@ TEST(BehaviorTimeSource, ExecutesOnlyWhenSomethingChanged)
   idle.Sample(2.0, expected);
   EXPECT_EQ(Value(vtkTable::SafeDownCast(face.Behavior->GetOutputDataObject(0)), "MouthSmile"),
     expected[static_cast<size_t>(idle.FindChannel("MouthSmile"))]);
+
+  // The track (port 1) is built only when port 1 is asked for, then kept.
+  EXPECT_EQ(vtkTable::SafeDownCast(face.Behavior->GetOutputDataObject(1))->GetNumberOfRows(), 0);
+  face.Behavior->Update(1);
+  EXPECT_EQ(source.Count, 6);
+  EXPECT_EQ(vtkTable::SafeDownCast(face.Behavior->GetOutputDataObject(1))->GetNumberOfRows(), 151);
+  face.Behavior->Update(1);
+  face.Morph->UpdateTimeStep(2.0);
+  EXPECT_EQ(source.Count, 6);
+  face.Morph->UpdateTimeStep(2.5); // port 0 runs again; the track stays as it is
+  EXPECT_EQ(source.Count, 7);
+  face.Behavior->Update(1);
+  EXPECT_EQ(source.Count, 7);
+  EXPECT_EQ(vtkTable::SafeDownCast(face.Behavior->GetOutputDataObject(1))->GetNumberOfRows(), 151);
   EXPECT_TRUE(face.Messages->Errors.empty()) << face.Messages->AllErrors();
 }
 
