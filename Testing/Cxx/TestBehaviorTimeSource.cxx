@@ -26,6 +26,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -147,6 +148,10 @@ TEST(BehaviorTimeSource, ChannelsAndOutputs)
   EXPECT_EQ(source->GetChannelIndex("HeadRoll"), 12);
   EXPECT_EQ(source->GetChannelIndex("Nope"), -1);
   EXPECT_STREQ(source->GetVisemeSetAsString(), "paper6");
+  std::ostringstream printed;
+  source->Print(printed);
+  EXPECT_NE(printed.str().find("VisemeSet: paper6"), std::string::npos) << printed.str();
+  EXPECT_NE(printed.str().find("Channels: EyesClosed BrowsUp"), std::string::npos) << printed.str();
 
   vtkTable* frame = At(source, 1.0);
   ASSERT_EQ(frame->GetNumberOfColumns(), 15);
