@@ -91,17 +91,23 @@ std::vector<double> WeightOptimizer::Redistribute(
     }
     case Redistribution::Remaining:
     {
+      // In proportion to the size |w_j| of each remaining weight. For non-negative weights
+      // (the paper's, Java3D's) this is the paper's scaling by 1 + m / S. Scaling by the
+      // *signed* sum S instead explodes as S -> 0: relative (glTF, ARKit) weights often sum
+      // to more than 1, the neutral's absolute weight is then negative, and S = 1 - m can
+      // be ~0 or negative (kept targets scaled by 100x, or flipped). With |w_j| each weight
+      // moves by at most m |w_j| / sum |w|.
       double remaining = 0.0;
       for (size_t i = 0; i < e.size(); ++i)
       {
-        remaining += e[i];
+        remaining += std::abs(e[i]);
       }
       if (remaining > 0.0)
       {
-        const double scale = 1.0 + pruned / remaining;
+        const double share = pruned / remaining;
         for (double& v : e)
         {
-          v *= scale;
+          v += share * std::abs(v);
         }
       }
       else
@@ -247,9 +253,12 @@ std::vector<double> WeightOptimizer::Optimize(const std::vector<double>& w)
     }
     else
     {
-      // Restore the most expensive pruned targets until the bound holds.
+      // Restore the most expensive pruned targets until the bound holds. The neutral is a
+      // candidate too (last: it moves nothing itself): the threshold may have pruned it, and
+      // with Remaining or Maximum its weight then lands on the targets. Restoring every
+      // target but not the neutral could leave B > eps; with everything restored B = 0.
       std::vector<size_t> pruned;
-      for (size_t i = 1; i < n; ++i)
+      for (size_t i = 0; i < n; ++i)
       {
         if (!keep[i] && w[i] != 0.0)
         {
