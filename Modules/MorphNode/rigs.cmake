@@ -1,0 +1,2 @@
+# Face rigs: semantic shapes (visemes, expressions) over a face's own targets.
+list(APPEND classes vtkMorphRigFilter vtkMorphRigBaker)

@@ -1,0 +1,332 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "vtkMorphRigFilter.h"
+
+#include "vtkMorphModelAdapter.h"
+
+#include "morphnode/Error.h"
+#include "morphnode/rig/Rig.h"
+
+#include "vtkAbstractArray.h"
+#include "vtkCompositeDataIterator.h"
+#include "vtkCompositeDataSet.h"
+#include "vtkDataArray.h"
+#include "vtkDataObject.h"
+#include "vtkDoubleArray.h"
+#include "vtkFieldData.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkObjectFactory.h"
+#include "vtkSmartPointer.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
+#include "vtkStringArray.h"
+#include "vtkTable.h"
+#include "vtkVariant.h"
+
+#include <cmath>
+#include <set>
+#include <sstream>
+#include <vector>
+
+vtkStandardNewMacro(vtkMorphRigFilter);
+
+struct vtkMorphRigFilter::vtkInternals
+{
+  /// The rig as read (unbound), the file it came from and when.
+  std::unique_ptr<morphnode::Rig> Rig;
+  std::string LoadedFileName;
+  vtkTimeStamp LoadTime;
+  vtkSmartPointer<vtkStringArray> TargetNames;
+};
+
+namespace
+{
+/// `TargetNames` (neutral first) of a data object, or of the first leaf carrying it.
+vtkStringArray* FindTargetNames(vtkDataObject* face)
+{
+  if (!face)
+  {
+    return nullptr;
+  }
+  if (auto* composite = vtkCompositeDataSet::SafeDownCast(face))
+  {
+    vtkSmartPointer<vtkCompositeDataIterator> it;
+    it.TakeReference(composite->NewIterator());
+    for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem())
+    {
+      if (vtkStringArray* names = FindTargetNames(it->GetCurrentDataObject()))
+      {
+        return names;
+      }
+    }
+    return nullptr;
+  }
+  return face->GetFieldData()
+    ? vtkStringArray::SafeDownCast(
+        face->GetFieldData()->GetAbstractArray(vtkMorphModelAdapter::TargetNamesArray))
+    : nullptr;
+}
+} // namespace
+
+//------------------------------------------------------------------------------
+vtkMorphRigFilter::vtkMorphRigFilter()
+  : Internals(new vtkInternals)
+{
+  this->SetNumberOfInputPorts(2);
+  this->SetNumberOfOutputPorts(1);
+}
+
+//------------------------------------------------------------------------------
+vtkMorphRigFilter::~vtkMorphRigFilter() = default;
+
+//------------------------------------------------------------------------------
+int vtkMorphRigFilter::FillInputPortInformation(int port, vtkInformation* info)
+{
+  if (port == 0)
+  {
+    info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkTable");
+    return 1;
+  }
+  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkDataObject");
+  info->Set(vtkAlgorithm::INPUT_IS_OPTIONAL(), 1);
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+void vtkMorphRigFilter::SetFaceConnection(vtkAlgorithmOutput* output)
+{
+  this->SetInputConnection(1, output);
+}
+
+//------------------------------------------------------------------------------
+void vtkMorphRigFilter::SetTargetNames(vtkStringArray* names)
+{
+  if (!names && !this->Internals->TargetNames)
+  {
+    return;
+  }
+  if (names)
+  {
+    auto copy = vtkSmartPointer<vtkStringArray>::New();
+    copy->DeepCopy(names);
+    copy->SetName(vtkMorphModelAdapter::TargetNamesArray);
+    this->Internals->TargetNames = copy;
+  }
+  else
+  {
+    this->Internals->TargetNames = nullptr;
+  }
+  this->Modified();
+}
+
+//------------------------------------------------------------------------------
+vtkStringArray* vtkMorphRigFilter::GetTargetNames()
+{
+  return this->Internals->TargetNames;
+}
+
+//------------------------------------------------------------------------------
+int vtkMorphRigFilter::GetNumberOfShapes()
+{
+  return this->Internals->Rig ? static_cast<int>(this->Internals->Rig->GetNumberOfShapes()) : 0;
+}
+
+//------------------------------------------------------------------------------
+const char* vtkMorphRigFilter::GetShapeName(int index)
+{
+  if (!this->Internals->Rig || index < 0 || index >= this->GetNumberOfShapes())
+  {
+    return nullptr;
+  }
+  return this->Internals->Rig->GetShapeNames()[static_cast<size_t>(index)].c_str();
+}
+
+//------------------------------------------------------------------------------
+void vtkMorphRigFilter::SetRigFileName(const char* value)
+{
+  const std::string v = value ? value : "";
+  if (v != this->RigFileName)
+  {
+    this->RigFileName = v;
+    this->Modified();
+  }
+}
+
+//------------------------------------------------------------------------------
+int vtkMorphRigFilter::RequestData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkTable* input = vtkTable::GetData(inputVector[0], 0);
+  vtkDataObject* face = vtkDataObject::GetData(inputVector[1], 0);
+  vtkTable* output = vtkTable::GetData(outputVector, 0);
+  output->Initialize();
+  if (!input)
+  {
+    vtkErrorMacro("no weights table on port 0");
+    return 0;
+  }
+  vtkInternals& internals = *this->Internals;
+  try
+  {
+    // Read the rig only when the file name changed or the filter was modified.
+    if (this->RigFileName.empty())
+    {
+      throw morphnode::InputError("no rig file: call SetRigFileName()");
+    }
+    if (!internals.Rig || internals.LoadedFileName != this->RigFileName ||
+      this->vtkObject::GetMTime() > internals.LoadTime.GetMTime())
+    {
+      internals.Rig.reset();
+      internals.Rig.reset(new morphnode::Rig(morphnode::Rig::LoadFile(this->RigFileName)));
+      internals.LoadedFileName = this->RigFileName;
+      internals.LoadTime.Modified();
+    }
+    morphnode::Rig& rig = *internals.Rig;
+
+    // The face's relative targets (no neutral).
+    std::vector<std::string> targets;
+    vtkStringArray* names = FindTargetNames(face);
+    if (face && !names)
+    {
+      throw morphnode::InputError(std::string("the face on port 1 has no field data '") +
+        vtkMorphModelAdapter::TargetNamesArray + "' (neutral first)");
+    }
+    if (!names)
+    {
+      names = internals.TargetNames;
+    }
+    if (names)
+    {
+      for (vtkIdType i = 1; i < names->GetNumberOfValues(); ++i)
+      {
+        targets.push_back(names->GetValue(i));
+      }
+    }
+    else
+    {
+      targets = rig.GetDeclaredTargets();
+      if (targets.empty())
+      {
+        throw morphnode::InputError("no target names: connect the face to port 1, call "
+                                    "SetTargetNames() or use a rig with a 'targets' list");
+      }
+    }
+    try
+    {
+      rig.Bind(targets);
+    }
+    catch (const std::exception& e)
+    {
+      throw morphnode::InputError(std::string(e.what()) +
+        (names ? " (target names are taken neutral first: the first one is skipped)" : ""));
+    }
+
+    // Columns: shape columns (numeric), face-target columns (dropped), others.
+    const vtkIdType rows = input->GetNumberOfRows();
+    std::set<std::string> targetSet(targets.begin(), targets.end());
+    std::vector<std::pair<size_t, vtkAbstractArray*>> shapeColumns;
+    std::vector<vtkAbstractArray*> otherColumns;
+    for (vtkIdType c = 0; c < input->GetNumberOfColumns(); ++c)
+    {
+      vtkAbstractArray* column = input->GetColumn(c);
+      const char* name = column ? column->GetName() : nullptr;
+      const int shape = name ? rig.FindShape(name) : -1;
+      if (shape >= 0)
+      {
+        if (!vtkDataArray::SafeDownCast(column) || column->GetNumberOfComponents() != 1)
+        {
+          throw morphnode::InputError(
+            std::string("the weights column '") + name + "' is not a numeric one-component array");
+        }
+        shapeColumns.emplace_back(static_cast<size_t>(shape), column);
+      }
+      else if (name && targetSet.count(name))
+      {
+        continue; // the expanded value wins
+      }
+      else if (this->PassOtherColumns)
+      {
+        otherColumns.push_back(column);
+      }
+    }
+
+    std::vector<vtkSmartPointer<vtkDoubleArray>> outColumns(targets.size());
+    for (size_t t = 0; t < targets.size(); ++t)
+    {
+      outColumns[t] = vtkSmartPointer<vtkDoubleArray>::New();
+      outColumns[t]->SetName(targets[t].c_str());
+      outColumns[t]->SetNumberOfValues(rows);
+    }
+    std::vector<double> shapeWeights(rig.GetNumberOfShapes());
+    std::vector<double> targetWeights(targets.size());
+    for (vtkIdType r = 0; r < rows; ++r)
+    {
+      std::fill(shapeWeights.begin(), shapeWeights.end(), 0.0);
+      for (const auto& sc : shapeColumns)
+      {
+        const double w = vtkDataArray::SafeDownCast(sc.second)->GetComponent(r, 0);
+        if (!std::isfinite(w))
+        {
+          std::ostringstream msg;
+          msg << "row " << r << " of column '" << sc.second->GetName() << "' is not finite (" << w
+              << ")";
+          throw morphnode::InputError(msg.str());
+        }
+        shapeWeights[sc.first] += w;
+      }
+      rig.Expand(shapeWeights.data(), targetWeights.data());
+      for (size_t t = 0; t < targets.size(); ++t)
+      {
+        outColumns[t]->SetValue(r, targetWeights[t]);
+      }
+    }
+    for (const auto& column : outColumns)
+    {
+      output->AddColumn(column);
+    }
+    for (vtkAbstractArray* column : otherColumns)
+    {
+      output->AddColumn(column);
+    }
+    vtkInformation* outInfo = outputVector->GetInformationObject(0);
+    if (outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP()))
+    {
+      output->GetInformation()->Set(vtkDataObject::DATA_TIME_STEP(),
+        outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP()));
+    }
+  }
+  catch (const std::exception& e)
+  {
+    output->Initialize();
+    vtkErrorMacro(<< e.what());
+    return 1;
+  }
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+void vtkMorphRigFilter::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "RigFileName: " << (this->RigFileName.empty() ? "(none)" : this->RigFileName)
+     << "\n";
+  os << indent << "PassOtherColumns: " << (this->PassOtherColumns ? "On" : "Off") << "\n";
+  os << indent << "TargetNames: ";
+  if (this->Internals->TargetNames)
+  {
+    os << this->Internals->TargetNames->GetNumberOfValues() << " names\n";
+  }
+  else
+  {
+    os << "(none)\n";
+  }
+  os << indent << "Rig: ";
+  if (this->Internals->Rig)
+  {
+    os << this->Internals->Rig->GetName() << ", " << this->Internals->Rig->GetNumberOfShapes()
+       << " shapes (read from " << this->Internals->LoadedFileName << ")\n";
+  }
+  else
+  {
+    os << "(not read)\n";
+  }
+}
