@@ -1,0 +1,203 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// Contact sheets of the paper's 13 morph targets (Table 1 order, each at weight 1): the
+// default face with its own targets, and the ICT face with the paper's shapes baked
+// through the ARKit rig. Offscreen render tests against Testing/Baseline/*.png; run under
+// `xvfb-run -a`. The rendered sheets are also written to the test output directory.
+#include "vtkMorphNodeFilter.h"
+#include "vtkMorphRigBaker.h"
+#include "vtkMorphTargetReader.h"
+
+#include "MorphNodeTestUtilities.h"
+
+#include "vtkActor.h"
+#include "vtkAlgorithmOutput.h"
+#include "vtkCamera.h"
+#include "vtkDataSetMapper.h"
+#include "vtkPNGWriter.h"
+#include "vtkPointSet.h"
+#include "vtkProperty.h"
+#include "vtkRenderWindow.h"
+#include "vtkRenderer.h"
+#include "vtkRendererCollection.h"
+#include "vtkTextActor.h"
+#include "vtkTextProperty.h"
+#include "vtkWindowToImageFilter.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+
+namespace
+{
+const std::string IctGlb = std::string(MORPHNODE_FACEKIT_DIR) + "/ict_face11248_sparse53.glb";
+const std::string ArkitRig = std::string(MORPHNODE_SOURCE_DIR) + "/Data/rigs/arkit.json";
+const std::string DefaultFace =
+  std::string(MORPHNODE_SOURCE_DIR) + "/Data/DefaultFace/default_face.glb";
+const char* const PaperShapes[13] = { "Neutral", "EyesClosed", "BrowsUp", "S", "F",
+  "BrowsFright", "BrowsAngry", "L", "E", "A", "MouthSmile", "MouthSad", "O" };
+constexpr int Columns = 5;
+constexpr int Rows = 3;
+constexpr int CellWidth = 200;
+constexpr int CellHeight = 230;
+
+struct View
+{
+  double Zoom = 1.0;
+  double Elevation = 0.0;
+  double Azimuth = 0.0;
+};
+
+/// Renders the 13 shapes of `face` (a dataset with relative targets named as in Table 1)
+/// into a 5 x 3 grid, one renderer per cell sharing one camera, and compares with the
+/// baseline. Returns the largest point displacement of each shape (neutral first).
+std::vector<double> RenderSheet(
+  vtkAlgorithmOutput* face, const View& view, const std::string& title, const std::string& baseline)
+{
+  vtkNew<vtkRenderWindow> window;
+  window->SetSize(Columns * CellWidth, Rows * CellHeight);
+  window->SetMultiSamples(0);
+  window->OffScreenRenderingOn();
+  vtkNew<vtkCamera> camera;
+  std::vector<vtkSmartPointer<vtkMorphNodeFilter>> keep;
+  std::vector<double> moved;
+  vtkPointSet* neutral = nullptr;
+  for (int cell = 0; cell < Columns * Rows; ++cell)
+  {
+    const int col = cell % Columns;
+    const int row = cell / Columns;
+    vtkNew<vtkRenderer> renderer;
+    renderer->SetViewport(static_cast<double>(col) / Columns,
+      1.0 - static_cast<double>(row + 1) / Rows, static_cast<double>(col + 1) / Columns,
+      1.0 - static_cast<double>(row) / Rows);
+    renderer->SetBackground(0.15, 0.16, 0.2);
+    renderer->SetActiveCamera(camera);
+    window->AddRenderer(renderer);
+    if (cell >= 13)
+    {
+      if (cell == 14)
+      {
+        vtkNew<vtkTextActor> text;
+        text->SetInput(title.c_str());
+        text->GetTextProperty()->SetFontSize(15);
+        text->GetTextProperty()->SetColor(0.8, 0.8, 0.8);
+        text->GetTextProperty()->SetJustificationToRight();
+        text->SetPosition(CellWidth - 10, 10);
+        renderer->AddViewProp(text);
+      }
+      continue;
+    }
+    auto morph = vtkSmartPointer<vtkMorphNodeFilter>::New();
+    morph->SetInputConnection(face);
+    morph->SetWeightModeToRelative();
+    if (cell > 0)
+    {
+      morph->SetWeightByName(PaperShapes[cell], 1.0);
+    }
+    morph->Update();
+    keep.push_back(morph);
+    vtkPointSet* out = vtkPointSet::SafeDownCast(morph->GetOutput());
+    EXPECT_EQ(out->GetNumberOfPoints() > 0, true) << PaperShapes[cell];
+    if (cell == 0)
+    {
+      neutral = out;
+    }
+    double worst = 0.0;
+    for (vtkIdType i = 0; neutral && i < out->GetNumberOfPoints(); ++i)
+    {
+      double p[3], q[3];
+      out->GetPoint(i, p);
+      neutral->GetPoint(i, q);
+      worst = std::max(worst,
+        std::sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) +
+          (p[2] - q[2]) * (p[2] - q[2])));
+    }
+    moved.push_back(worst);
+
+    vtkNew<vtkDataSetMapper> mapper;
+    mapper->SetInputConnection(morph->GetOutputPort());
+    mapper->ScalarVisibilityOff();
+    vtkNew<vtkActor> actor;
+    actor->SetMapper(mapper);
+    actor->GetProperty()->SetColor(0.86, 0.72, 0.62);
+    actor->GetProperty()->SetSpecular(0.2);
+    actor->GetProperty()->SetSpecularPower(20);
+    renderer->AddActor(actor);
+
+    vtkNew<vtkTextActor> label;
+    label->SetInput(PaperShapes[cell]);
+    label->GetTextProperty()->SetFontSize(18);
+    label->GetTextProperty()->SetColor(1.0, 1.0, 1.0);
+    label->GetTextProperty()->BoldOn();
+    label->SetPosition(8, 6);
+    renderer->AddViewProp(label);
+
+    if (cell == 0)
+    {
+      // One camera for all cells, framed on the neutral.
+      renderer->ResetCamera();
+      camera->Azimuth(view.Azimuth);
+      camera->Elevation(view.Elevation);
+      camera->OrthogonalizeViewUp();
+      camera->Zoom(view.Zoom);
+    }
+  }
+  for (int r = 0; r < window->GetRenderers()->GetNumberOfItems(); ++r)
+  {
+    static_cast<vtkRenderer*>(window->GetRenderers()->GetItemAsObject(r))
+      ->ResetCameraClippingRange();
+  }
+  window->Render();
+
+  vtkNew<vtkWindowToImageFilter> grab;
+  grab->SetInput(window);
+  grab->ReadFrontBufferOff();
+  vtkNew<vtkPNGWriter> writer;
+  writer->SetInputConnection(grab->GetOutputPort());
+  const std::string written = std::string(MORPHNODE_TEST_OUTPUT_DIR) + "/" + baseline;
+  writer->SetFileName(written.c_str());
+  writer->Write();
+
+  EXPECT_TRUE(morphnode_test::MatchesBaseline(window,
+    std::string(MORPHNODE_BASELINE_DIR) + "/" + baseline, MORPHNODE_TEST_OUTPUT_DIR))
+    << "rendered sheet: " << written;
+  return moved;
+}
+
+void CheckEveryShapeMoves(const std::vector<double>& moved)
+{
+  ASSERT_EQ(moved.size(), 13u);
+  EXPECT_EQ(moved[0], 0.0);
+  for (size_t i = 1; i < moved.size(); ++i)
+  {
+    EXPECT_GT(moved[i], 0.0) << PaperShapes[i] << " does not move the face";
+  }
+}
+} // namespace
+
+TEST(MorphRigContactSheet, DefaultFace)
+{
+  vtkNew<vtkMorphTargetReader> reader;
+  reader->SetFileName(DefaultFace.c_str());
+  reader->Update();
+  ASSERT_EQ(reader->GetNumberOfTargets(), 13);
+  CheckEveryShapeMoves(RenderSheet(reader->GetOutputPort(), View{ 1.9, 0.0, 20.0 },
+    "default face", "TestRigContactSheetDefaultFace.png"));
+}
+
+TEST(MorphRigContactSheet, IctFaceThroughArkitRig)
+{
+  if (!std::ifstream(IctGlb))
+  {
+    GTEST_SKIP() << "ICT-FaceKit data not found at " << IctGlb;
+  }
+  vtkNew<vtkMorphTargetReader> reader;
+  reader->SetFileName(IctGlb.c_str());
+  vtkNew<vtkMorphRigBaker> baker;
+  baker->SetInputConnection(reader->GetOutputPort());
+  baker->SetRigFileName(ArkitRig.c_str());
+  baker->SetShapeSet("paper");
+  baker->Update();
+  CheckEveryShapeMoves(RenderSheet(baker->GetOutputPort(), View{ 1.6, 5.0, 20.0 },
+    "ICT face, ARKit rig", "TestRigContactSheetIctFace.png"));
+}
