@@ -19,12 +19,14 @@
 ///        |E(v)| <= B = sum_{i>0} |w'_i - w_i| * M_i          (triangle inequality)
 ///    The neutral's weight does not appear: handing weight to the neutral is free.
 ///    Alone, the bound prunes greedily (cheapest |w_i| M_i first) while B <= eps. With a
-///    threshold or budget, it restores the most expensive pruned targets until B <= eps:
-///    the bound always wins over the budget.
+///    threshold or budget, it restores the most expensive pruned targets until B <= eps,
+///    and a pruned neutral last: the bound always wins over the budget.
 /// 4. Redistribution of the pruned weight m = sum of pruned w_i:
 ///    - Maximum (paper's strategy 1): the largest remaining weight gets all of m.
-///    - Remaining (paper's strategy 2, "balanced"): each remaining w_j gets m * w_j / S,
-///      S the sum of the remaining weights, so their ratios are kept.
+///    - Remaining (paper's strategy 2, "balanced"): each remaining w_j gets m * |w_j| / S,
+///      S the sum of the remaining |w_j|. For non-negative weights (the paper's) this keeps
+///      their ratios; with relative weights summing above 1 the neutral's weight is
+///      negative, and sizes instead of signed values keep the shares bounded.
 ///    - Neutral (beyond the paper): w_0 gets m; geometrically this is glTF's "drop small
 ///      weights", whose error is just sum of pruned w_i D_i.
 /// 5. Hysteresis h: a target that was active in the previous frame is pruned only below
