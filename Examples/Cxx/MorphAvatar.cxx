@@ -89,6 +89,7 @@ struct Options
   std::string Video;
   std::string Png;
   std::string Compare;
+  double CompareThreshold = 10.0;
   double At = -1.0;
   bool Overlay = true;
   bool Quiet = false;
@@ -142,6 +143,7 @@ void PrintHelp(std::ostream& os)
         "  --png FILE           write that single frame (default: the last frame)\n"
         "  --compare BASELINE   compare the single frame with a baseline PNG (VTK's image\n"
         "                       comparison); exit code 1 when it differs\n"
+        "  --compare-threshold E  largest accepted image error (default 10, VTK's usual)\n"
         "  --no-overlay         no text overlay\n"
         "  --quiet              no progress bar\n"
         "  --help               this text\n"
@@ -269,6 +271,8 @@ Options ParseArguments(int argc, char* argv[])
       o.Png = next();
     else if (arg == "--compare")
       o.Compare = next();
+    else if (arg == "--compare-threshold")
+      o.CompareThreshold = ParseNumber(arg, next(), 0.0, 1000.0);
     else if (arg == "--at")
       o.At = ParseNumber(arg, next(), 0.0, 24 * 3600.0);
     else if (arg == "--no-overlay")
@@ -668,11 +672,12 @@ int RunOffscreen(Avatar& a)
         : vtksys::SystemTools::GetFilenamePath(vtksys::SystemTools::CollapseFullPath(o.Png));
       vtkNew<vtkTesting> testing;
       testing->AddArgument("-V");
-      testing->AddArgument(o.Compare.c_str());
+      const std::string baseline = vtksys::SystemTools::CollapseFullPath(o.Compare);
+      testing->AddArgument(baseline.c_str());
       testing->AddArgument("-T");
       testing->AddArgument(outDir.c_str());
       testing->SetRenderWindow(window);
-      const int result = testing->RegressionTest(10.0);
+      const int result = testing->RegressionTest(o.CompareThreshold);
       if (result != vtkTesting::PASSED)
       {
         std::cerr << "MorphAvatar: the frame differs from " << o.Compare << " (images in "
