@@ -93,6 +93,8 @@ struct Options
   double At = -1.0;
   bool Overlay = true;
   bool Quiet = false;
+  double ExitAfter = -1.0; // interactive: close after this many seconds (smoke tests)
+  std::string Keys;        // interactive: keys pressed at the start (smoke tests)
 };
 
 const char* const MethodNames[] = { "none", "fixed-maximum", "fixed-remaining", "adjusted",
@@ -146,6 +148,9 @@ void PrintHelp(std::ostream& os)
         "  --compare-threshold E  largest accepted image error (default 10, VTK's usual)\n"
         "  --no-overlay         no text overlay\n"
         "  --quiet              no progress bar\n"
+        "  --exit-after S       interactive: close the window after S seconds and print the\n"
+        "                       frame rate and the last overlay (for smoke tests)\n"
+        "  --keys KEYS          interactive: press these keys at the start, e.g. '4--'\n"
         "  --help               this text\n"
         "\n"
         "Keys (interactive): 0-4 method, +/- threshold (method 4: error bound), space pause,\n"
@@ -275,6 +280,10 @@ Options ParseArguments(int argc, char* argv[])
       o.CompareThreshold = ParseNumber(arg, next(), 0.0, 1000.0);
     else if (arg == "--at")
       o.At = ParseNumber(arg, next(), 0.0, 24 * 3600.0);
+    else if (arg == "--exit-after")
+      o.ExitAfter = ParseNumber(arg, next(), 0.0, 1e6);
+    else if (arg == "--keys")
+      o.Keys = next();
     else if (arg == "--no-overlay")
       o.Overlay = false;
     else if (arg == "--quiet")
@@ -355,6 +364,8 @@ struct Avatar
   double StartTime = 0.0;
   double MeasuredFps = 0.0;
   int FramesSinceMeasure = 0;
+  int FramesRendered = 0;
+  Clock::time_point Launched;
   Clock::time_point MeasureStart;
 
   void ApplyMethod()
@@ -555,6 +566,17 @@ void OnTimer(vtkObject* caller, unsigned long, void* clientData, void*)
   }
   a->Overlay->SetInput(a->OverlayText(false, 0, 0).c_str());
   interactor->Render();
+  ++a->FramesRendered;
+  if (a->Opt.ExitAfter >= 0.0 &&
+    std::chrono::duration<double>(now - a->Launched).count() >= a->Opt.ExitAfter)
+  {
+    const double seconds = std::chrono::duration<double>(Clock::now() - a->Launched).count();
+    std::cout << "rendered " << a->FramesRendered << " frames in " << std::fixed
+              << std::setprecision(2) << seconds << " s (" << std::setprecision(1)
+              << a->FramesRendered / seconds << " fps)\n"
+              << a->Overlay->GetInput() << "\n";
+    interactor->TerminateApp();
+  }
 }
 
 //------------------------------------------------------------------------------
@@ -1019,7 +1041,14 @@ int main(int argc, char* argv[])
   timer->SetClientData(&a);
   interactor->AddObserver(vtkCommand::TimerEvent, timer);
   interactor->CreateRepeatingTimer(5);
-  a.Start = a.MeasureStart = Clock::now();
+  for (char key : o.Keys)
+  {
+    const char sym[2] = { key, '\0' };
+    interactor->SetKeyEventInformation(0, 0, key, 1, key == '+' ? "plus" : key == '-' ? "minus" : sym);
+    interactor->InvokeEvent(vtkCommand::KeyPressEvent);
+    interactor->InvokeEvent(vtkCommand::CharEvent);
+  }
+  a.Start = a.MeasureStart = a.Launched = Clock::now();
   a.Window->Render();
   interactor->Start();
   return 0;

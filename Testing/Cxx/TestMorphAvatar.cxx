@@ -233,3 +233,16 @@ TEST(MorphAvatar, OtherFaceThroughRig)
   EXPECT_EQ(run.ExitCode, 0) << run.Text;
   EXPECT_TRUE(vtksys::SystemTools::FileExists(png));
 }
+
+TEST(MorphAvatar, InteractiveWindowRunsAndKeysSwitchTheMethod)
+{
+  // The window for a second, time in real time; keys 4 (error-bounded), then 2 and + + -
+  // (fixed threshold + remaining, 0.1 + 0.025).
+  const AvatarRun run = RunAvatar("--say 'Hi.' --size 320x320 --exit-after 1 --keys '42++-'");
+  ASSERT_EQ(run.ExitCode, 0) << run.Text;
+  EXPECT_NE(run.Text.find("method 2: fixed threshold + remaining"), std::string::npos) << run.Text;
+  EXPECT_NE(run.Text.find("threshold 0.125"), std::string::npos) << run.Text;
+  int frames = 0;
+  ASSERT_EQ(std::sscanf(run.Text.substr(run.Text.find("rendered")).c_str(), "rendered %d", &frames), 1);
+  EXPECT_GT(frames, 3) << "the timer did not advance the animation";
+}
