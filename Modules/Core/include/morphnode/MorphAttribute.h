@@ -46,6 +46,9 @@ public:
   /// Sum over points of the Euclidean norm of the delta (the paper's dist_morph).
   double GetSumNorm() const { return this->SumNorm; }
 
+  /// Dense storage: numPoints * components deltas; nullptr when sparse.
+  const T* DenseData() const { return this->Sparse ? nullptr : this->Dense.data(); }
+
   /// out[p] += weight * delta[p] for p in [begin, end).
   void AddScaled(T weight, T* out, size_t begin, size_t end) const;
   /// perPoint[p] = |delta[p]| for every point (size numPoints).
