@@ -161,11 +161,11 @@ struct Avatar
     this->Morph->SetMaxVertexError(m.Bounded ? 0.005 * this->Diagonal : 0.0);
   }
 
-  /// Plays `frames` frames of the track: morph seconds, whole-frame seconds, active sum.
-  void Play(const morphnode::WeightTrack& track, size_t frames, double& morph, double& whole, double& active)
+  /// Plays frames [begin, end) of the track, adding morph seconds, whole-frame seconds and
+  /// active targets.
+  void Play(const morphnode::WeightTrack& track, size_t begin, size_t end, double& morph, double& whole, double& active)
   {
-    morph = whole = active = 0.0;
-    for (size_t f = 0; f < frames; ++f)
+    for (size_t f = begin; f < end; ++f)
     {
       const auto t0 = Clock::now();
       const double* w = track.GetFrame(f);
@@ -394,16 +394,26 @@ int main(int argc, char* argv[])
               << " points, " << avatar.Morph->GetNumberOfTargets() << " targets)\n";
     // Warm up: caches, the GL pipeline, the first VBO upload.
     {
-      double a, b, c;
+      double a = 0, b = 0, c = 0;
       avatar.Configure(methods[0]);
-      avatar.Play(track, std::min<size_t>(frames, 25), a, b, c);
+      avatar.Play(track, 0, std::min<size_t>(frames, 25), a, b, c);
+    }
+    // The track is played in chunks of 100 frames, every method on each chunk in turn, so
+    // that a change of machine load over the run hits all methods alike.
+    std::vector<double> morphs(methods.size(), 0.0), wholes(methods.size(), 0.0), actives(methods.size(), 0.0);
+    for (size_t chunk = 0; chunk < frames; chunk += 100)
+    {
+      for (size_t k = 0; k < methods.size(); ++k)
+      {
+        avatar.Configure(methods[k]);
+        avatar.Play(track, chunk, std::min(frames, chunk + 100), morphs[k], wholes[k], actives[k]);
+      }
     }
     double noneMorph = 0.0, noneFrame = 0.0;
-    for (const auto& m : methods)
+    for (size_t k = 0; k < methods.size(); ++k)
     {
-      avatar.Configure(m);
-      double morph = 0.0, whole = 0.0, active = 0.0;
-      avatar.Play(track, frames, morph, whole, active);
+      const Method& m = methods[k];
+      const double morph = morphs[k], whole = wholes[k], active = actives[k];
       Result r;
       r.Face = faceName;
       r.M = m;

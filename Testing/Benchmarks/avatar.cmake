@@ -5,12 +5,12 @@ add_executable(BenchAvatarFrameRate ${CMAKE_CURRENT_LIST_DIR}/BenchAvatarFrameRa
 target_link_libraries(BenchAvatarFrameRate PRIVATE MorphNode::MorphNode MorphNode::Core
   VTK::CommonCore VTK::CommonDataModel VTK::CommonExecutionModel VTK::ChartsCore
   VTK::IOImage VTK::RenderingContext2D VTK::RenderingContextOpenGL2 VTK::RenderingCore
-  VTK::RenderingOpenGL2 VTK::RenderingFreeType VTK::ViewsContext2D)
+  VTK::RenderingOpenGL2 VTK::RenderingFreeType VTK::ViewsContext2D VTK::InteractionStyle)
 target_compile_definitions(BenchAvatarFrameRate PRIVATE
   MORPHNODE_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
   MORPHNODE_FACEKIT_DIR="${MORPHNODE_FACEKIT_DIR}")
 vtk_module_autoinit(TARGETS BenchAvatarFrameRate MODULES VTK::RenderingOpenGL2
-  VTK::RenderingContextOpenGL2 VTK::RenderingFreeType)
+  VTK::RenderingContextOpenGL2 VTK::RenderingFreeType VTK::InteractionStyle)
 find_program(MORPHNODE_XVFB_RUN xvfb-run)
 if (MORPHNODE_XVFB_RUN)
   add_test(NAME BenchAvatarFrameRate.smoke
