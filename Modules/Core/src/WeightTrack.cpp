@@ -118,6 +118,16 @@ WeightTrack WeightTrack::ReadCsv(std::istream& in)
     throw InputError("weight track CSV line 1: expected a header 'time,<channel>,...'");
   }
   std::vector<std::string> channels(header.begin() + 1, header.end());
+  for (const std::string& channel : channels)
+  {
+    // A control character (a second '\r' before the line end, say) would not survive
+    // WriteCsv -> ReadCsv: "a\r" reads back as "a".
+    if (std::any_of(channel.begin(), channel.end(),
+          [](char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7f; }))
+    {
+      throw InputError("weight track CSV line 1: a channel name contains a control character");
+    }
+  }
   std::vector<double> times;
   std::vector<double> values;
   size_t lineNumber = 1;

@@ -70,8 +70,9 @@ Json ParseRejectingDuplicateKeys(const std::string& text, const std::string& sou
   {
     json = Json::parse(text, callback);
   }
-  catch (const Json::parse_error& e)
+  catch (const Json::exception& e)
   {
+    // parse_error, but also out_of_range for a number beyond double ("1e999").
     Fail(source, std::string("is not valid JSON: ") + e.what());
   }
   if (!duplicate.empty())

@@ -84,6 +84,22 @@ const std::string& GetString(const json& object, const char* key, const std::str
   return it->get_ref<const std::string&>();
 }
 
+// json::value() throws json::type_error (not InputError) when the key holds a non-string.
+std::string GetOptionalString(
+  const json& object, const char* key, const std::string& fallback, const std::string& origin)
+{
+  auto it = object.find(key);
+  if (it == object.end())
+  {
+    return fallback;
+  }
+  if (!it->is_string())
+  {
+    throw InputError(origin + ": '" + key + "' must be a string");
+  }
+  return it->get<std::string>();
+}
+
 char ParseShape(const json& value, const std::string& origin, const std::string& what)
 {
   if (!value.is_string() || value.get_ref<const std::string&>().size() != 1 ||
@@ -111,8 +127,8 @@ VisemeMap VisemeMap::FromJson(const std::string& text, const std::string& origin
     throw InputError(origin + ": the top level must be an object");
   }
   VisemeMap map;
-  map.SetName = root.value("set", std::string("custom"));
-  map.Language = root.value("language", std::string());
+  map.SetName = GetOptionalString(root, "set", "custom", origin);
+  map.Language = GetOptionalString(root, "language", std::string(), origin);
 
   const auto visemes = root.find("visemes");
   if (visemes == root.end() || !visemes->is_array() || visemes->empty())
