@@ -2,6 +2,7 @@
 #include "vtkMorphRigBaker.h"
 
 #include "vtkMorphModelAdapter.h"
+#include "vtkMorphRigCache.h"
 
 #include "morphnode/Error.h"
 #include "morphnode/MorphModel.h"
@@ -24,9 +25,7 @@ vtkStandardNewMacro(vtkMorphRigBaker);
 
 struct vtkMorphRigBaker::vtkInternals
 {
-  std::unique_ptr<morphnode::Rig> Rig;
-  std::string LoadedFileName;
-  vtkTimeStamp LoadTime;
+  vtkMorphRigCache Rig;
   vtkSmartPointer<vtkStringArray> ShapeNames;
 };
 
@@ -129,19 +128,7 @@ int vtkMorphRigBaker::RequestData(
   vtkInternals& internals = *this->Internals;
   try
   {
-    if (this->RigFileName.empty())
-    {
-      throw morphnode::InputError("no rig file: call SetRigFileName()");
-    }
-    if (!internals.Rig || internals.LoadedFileName != this->RigFileName ||
-      this->vtkObject::GetMTime() > internals.LoadTime.GetMTime())
-    {
-      internals.Rig.reset();
-      internals.Rig.reset(new morphnode::Rig(morphnode::Rig::LoadFile(this->RigFileName)));
-      internals.LoadedFileName = this->RigFileName;
-      internals.LoadTime.Modified();
-    }
-    morphnode::Rig& rig = *internals.Rig;
+    morphnode::Rig& rig = internals.Rig.Get(this->RigFileName, this->vtkObject::GetMTime());
 
     if (!input)
     {
@@ -241,14 +228,5 @@ void vtkMorphRigBaker::PrintSelf(ostream& os, vtkIndent indent)
     os << " (none)\n";
   }
   os << indent << "SparseCoverage: " << this->SparseCoverage << "\n";
-  os << indent << "Rig: ";
-  if (this->Internals->Rig)
-  {
-    os << this->Internals->Rig->GetName() << ", " << this->Internals->Rig->GetNumberOfShapes()
-       << " shapes (read from " << this->Internals->LoadedFileName << ")\n";
-  }
-  else
-  {
-    os << "(not read)\n";
-  }
+  this->Internals->Rig.Print(os, indent);
 }

@@ -2,6 +2,7 @@
 #include "vtkMorphRigFilter.h"
 
 #include "vtkMorphModelAdapter.h"
+#include "vtkMorphRigCache.h"
 
 #include "morphnode/Error.h"
 #include "morphnode/rig/Rig.h"
@@ -31,10 +32,7 @@ vtkStandardNewMacro(vtkMorphRigFilter);
 
 struct vtkMorphRigFilter::vtkInternals
 {
-  /// The rig as read (unbound), the file it came from and when.
-  std::unique_ptr<morphnode::Rig> Rig;
-  std::string LoadedFileName;
-  vtkTimeStamp LoadTime;
+  vtkMorphRigCache Rig;
   vtkSmartPointer<vtkStringArray> TargetNames;
 };
 
@@ -127,17 +125,19 @@ vtkStringArray* vtkMorphRigFilter::GetTargetNames()
 //------------------------------------------------------------------------------
 int vtkMorphRigFilter::GetNumberOfShapes()
 {
-  return this->Internals->Rig ? static_cast<int>(this->Internals->Rig->GetNumberOfShapes()) : 0;
+  const morphnode::Rig* rig = this->Internals->Rig.GetLoaded();
+  return rig ? static_cast<int>(rig->GetNumberOfShapes()) : 0;
 }
 
 //------------------------------------------------------------------------------
 const char* vtkMorphRigFilter::GetShapeName(int index)
 {
-  if (!this->Internals->Rig || index < 0 || index >= this->GetNumberOfShapes())
+  const morphnode::Rig* rig = this->Internals->Rig.GetLoaded();
+  if (!rig || index < 0 || index >= static_cast<int>(rig->GetNumberOfShapes()))
   {
     return nullptr;
   }
-  return this->Internals->Rig->GetShapeNames()[static_cast<size_t>(index)].c_str();
+  return rig->GetShapeNames()[static_cast<size_t>(index)].c_str();
 }
 
 //------------------------------------------------------------------------------
@@ -167,20 +167,7 @@ int vtkMorphRigFilter::RequestData(
   vtkInternals& internals = *this->Internals;
   try
   {
-    // Read the rig only when the file name changed or the filter was modified.
-    if (this->RigFileName.empty())
-    {
-      throw morphnode::InputError("no rig file: call SetRigFileName()");
-    }
-    if (!internals.Rig || internals.LoadedFileName != this->RigFileName ||
-      this->vtkObject::GetMTime() > internals.LoadTime.GetMTime())
-    {
-      internals.Rig.reset();
-      internals.Rig.reset(new morphnode::Rig(morphnode::Rig::LoadFile(this->RigFileName)));
-      internals.LoadedFileName = this->RigFileName;
-      internals.LoadTime.Modified();
-    }
-    morphnode::Rig& rig = *internals.Rig;
+    morphnode::Rig& rig = internals.Rig.Get(this->RigFileName, this->vtkObject::GetMTime());
 
     // The face's relative targets (no neutral).
     std::vector<std::string> targets;
@@ -319,14 +306,5 @@ void vtkMorphRigFilter::PrintSelf(ostream& os, vtkIndent indent)
   {
     os << "(none)\n";
   }
-  os << indent << "Rig: ";
-  if (this->Internals->Rig)
-  {
-    os << this->Internals->Rig->GetName() << ", " << this->Internals->Rig->GetNumberOfShapes()
-       << " shapes (read from " << this->Internals->LoadedFileName << ")\n";
-  }
-  else
-  {
-    os << "(not read)\n";
-  }
+  this->Internals->Rig.Print(os, indent);
 }
