@@ -28,6 +28,8 @@
 #include "vtkCompositeDataSet.h"
 #include "vtkCoordinate.h"
 #include "vtkDataArray.h"
+#include "vtkDoubleArray.h"
+#include "vtkFieldData.h"
 #include "vtkInteractorStyleTrackballCamera.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
@@ -39,12 +41,14 @@
 #include "vtkRenderWindow.h"
 #include "vtkRenderWindowInteractor.h"
 #include "vtkRenderer.h"
+#include "vtkStringArray.h"
 #include "vtkTable.h"
 #include "vtkTesting.h"
 #include "vtkTextActor.h"
 #include "vtkTextProperty.h"
 #include "vtkTransform.h"
 #include "vtkWindowToImageFilter.h"
+#include "vtkXMLPolyDataWriter.h"
 #include "vtksys/SystemTools.hxx"
 
 #include <algorithm>
@@ -52,6 +56,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <fstream>
 #include <iomanip>
 #include <iostream>
 #include <sstream>
@@ -63,6 +68,98 @@
 namespace
 {
 using Clock = std::chrono::steady_clock;
+
+//------------------------------------------------------------------------------
+/// The morphed face over time as a ParaView time series: FILE.pvd lists FILE/face_*.vtp
+/// with their times; each .vtp carries the morph node's arrays and field data and the
+/// behaviour's weights (field data `BehaviorWeights`, named by `BehaviorChannels`).
+class TimeSeriesWriter
+{
+public:
+  /// Creates the folder beside the .pvd; false (with a message) when it cannot.
+  bool Open(const std::string& pvd)
+  {
+    this->Pvd = pvd;
+    const std::string stem = pvd.substr(0, pvd.size() - 4);
+    this->Folder = vtksys::SystemTools::GetFilenameName(stem);
+    this->FolderPath = stem;
+    if (!vtksys::SystemTools::MakeDirectory(stem))
+    {
+      std::cerr << "MorphAvatar: cannot create the folder " << stem << "\n";
+      return false;
+    }
+    return true;
+  }
+
+  bool Write(vtkPolyData* face, vtkTable* weights, double t, int frame)
+  {
+    vtkNew<vtkPolyData> copy;
+    copy->ShallowCopy(face);
+    vtkNew<vtkFieldData> fieldData;
+    fieldData->ShallowCopy(face->GetFieldData()); // the face's own stays untouched
+    copy->SetFieldData(fieldData);
+    if (weights)
+    {
+      vtkNew<vtkDoubleArray> values;
+      values->SetName("BehaviorWeights");
+      vtkNew<vtkStringArray> channels;
+      channels->SetName("BehaviorChannels");
+      for (vtkIdType c = 0; c < weights->GetNumberOfColumns(); ++c)
+      {
+        channels->InsertNextValue(weights->GetColumnName(c));
+        values->InsertNextValue(weights->GetValue(0, c).ToDouble());
+      }
+      fieldData->AddArray(values);
+      fieldData->AddArray(channels);
+    }
+    vtkNew<vtkDoubleArray> time;
+    time->SetName("TimeValue");
+    time->InsertNextValue(t);
+    fieldData->AddArray(time);
+
+    char name[32];
+    std::snprintf(name, sizeof(name), "face_%05d.vtp", frame);
+    vtkNew<vtkXMLPolyDataWriter> writer;
+    writer->SetInputData(copy);
+    writer->SetFileName((this->FolderPath + "/" + name).c_str());
+    writer->SetDataModeToAppended();
+    writer->EncodeAppendedDataOff();
+    if (writer->Write() != 1)
+    {
+      std::cerr << "\nMorphAvatar: cannot write " << this->FolderPath << "/" << name << "\n";
+      return false;
+    }
+    this->Entries.emplace_back(t, this->Folder + "/" + name);
+    return true;
+  }
+
+  bool Close()
+  {
+    std::ofstream out(this->Pvd);
+    out << "<?xml version=\"1.0\"?>\n"
+        << "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+        << "  <Collection>\n";
+    for (const auto& entry : this->Entries)
+    {
+      out << "    <DataSet timestep=\"" << std::setprecision(9) << entry.first
+          << "\" group=\"\" part=\"0\" file=\"" << entry.second << "\"/>\n";
+    }
+    out << "  </Collection>\n</VTKFile>\n";
+    out.close();
+    if (!out)
+    {
+      std::cerr << "MorphAvatar: cannot write " << this->Pvd << "\n";
+      return false;
+    }
+    std::cout << "wrote " << this->Pvd << " (" << this->Entries.size() << " time steps in "
+              << this->FolderPath << "/)\n";
+    return true;
+  }
+
+private:
+  std::string Pvd, Folder, FolderPath;
+  std::vector<std::pair<double, std::string>> Entries;
+};
 
 //------------------------------------------------------------------------------
 // Options
@@ -87,6 +184,7 @@ struct Options
   bool Offscreen = false;
   std::string FramesDir;
   std::string Video;
+  std::string Pvd; // a ParaView time series: FILE.pvd + FILE/face_*.vtp
   std::string Png;
   std::string Compare;
   double CompareThreshold = 10.0;
@@ -137,10 +235,14 @@ void PrintHelp(std::ostream& os)
         "Output:\n"
         "  --size WxH           window / frame size (default 640x640)\n"
         "  --offscreen          no window: render every frame at the frame rate; needs\n"
-        "                       --frames, --video or --png\n"
+        "                       --frames, --video, --pvd or --png\n"
         "  --frames DIR         write frame_00000.png ... into DIR (created if missing)\n"
         "  --video FILE         write a video: FILE.ogv (Theora, silent) and FILE.wav; with\n"
         "                       ffmpeg on PATH also FILE.mp4 (or .mkv if FILE ends so) with sound\n"
+        "  --pvd FILE.pvd       write the morphed face of every frame as a ParaView time\n"
+        "                       series: FILE.pvd and FILE/face_00000.vtp ..., with distance\n"
+        "                       arrays (AnimatedRegion, Distance_<target>) and the weights\n"
+        "                       (EffectiveWeights, the behaviour's channels) as field data\n"
         "  --at T               render only the frame at time T (with --png / --compare)\n"
         "  --png FILE           write that single frame (default: the last frame)\n"
         "  --compare BASELINE   compare the single frame with a baseline PNG (VTK's image\n"
@@ -272,6 +374,8 @@ Options ParseArguments(int argc, char* argv[])
       o.FramesDir = next();
     else if (arg == "--video")
       o.Video = next();
+    else if (arg == "--pvd")
+      o.Pvd = next();
     else if (arg == "--png")
       o.Png = next();
     else if (arg == "--compare")
@@ -314,19 +418,25 @@ Options ParseArguments(int argc, char* argv[])
   {
     Fail("no baseline '" + o.Compare + "'");
   }
-  if (!o.FramesDir.empty() || !o.Video.empty() || !o.Png.empty() || !o.Compare.empty() ||
-    o.At >= 0.0)
+  if (!o.FramesDir.empty() || !o.Video.empty() || !o.Pvd.empty() || !o.Png.empty() ||
+    !o.Compare.empty() || o.At >= 0.0)
   {
     o.Offscreen = true; // writing files means rendering every frame offscreen
   }
-  if (o.Offscreen && o.FramesDir.empty() && o.Video.empty() && o.Png.empty() &&
-    o.Compare.empty())
+  if (o.Offscreen && o.FramesDir.empty() && o.Video.empty() && o.Pvd.empty() &&
+    o.Png.empty() && o.Compare.empty())
   {
-    Fail("--offscreen needs somewhere to write: --frames DIR, --video FILE or --png FILE");
+    Fail("--offscreen needs somewhere to write: --frames DIR, --video FILE, --pvd FILE or "
+         "--png FILE");
   }
-  if (o.At >= 0.0 && (!o.FramesDir.empty() || !o.Video.empty()))
+  if (o.At >= 0.0 && (!o.FramesDir.empty() || !o.Video.empty() || !o.Pvd.empty()))
   {
-    Fail("--at renders one frame (for --png / --compare); leave out --frames and --video");
+    Fail("--at renders one frame (for --png / --compare); leave out --frames, --video and --pvd");
+  }
+  if (!o.Pvd.empty() &&
+    vtksys::SystemTools::LowerCase(vtksys::SystemTools::GetFilenameLastExtension(o.Pvd)) != ".pvd")
+  {
+    Fail("--pvd takes a file name ending in .pvd, not '" + o.Pvd + "'");
   }
   return o;
 }
@@ -666,7 +776,7 @@ int RunOffscreen(Avatar& a)
   vtkRenderWindow* window = a.Window;
 
   // One frame: --at (or the last frame) to --png and/or compared with --compare.
-  if (o.At >= 0.0 || (o.FramesDir.empty() && o.Video.empty()))
+  if (o.At >= 0.0 || (o.FramesDir.empty() && o.Video.empty() && o.Pvd.empty()))
   {
     const double t = o.At >= 0.0 ? o.At : a.Duration;
     const int frame = static_cast<int>(std::floor(t * a.Fps + 1e-9));
@@ -751,6 +861,12 @@ int RunOffscreen(Avatar& a)
     video->SetQuality(2);
   }
 
+  TimeSeriesWriter series;
+  if (!o.Pvd.empty() && !series.Open(o.Pvd))
+  {
+    return 1;
+  }
+
   ProgressBar progress(frames, !o.Quiet);
   bool videoStarted = false;
   for (int f = 0; f < frames; ++f)
@@ -760,6 +876,12 @@ int RunOffscreen(Avatar& a)
     {
       std::cerr << "\nMorphAvatar: the face could not be morphed at t = " << t
                 << " (see the errors above)\n";
+      return 1;
+    }
+    if (!o.Pvd.empty() &&
+      !series.Write(vtkPolyData::SafeDownCast(a.Morph->GetOutput()),
+        vtkTable::SafeDownCast(a.Behavior->GetOutputDataObject(0)), t, f))
+    {
       return 1;
     }
     a.Overlay->SetInput(a.OverlayText(true, f, frames).c_str());
@@ -797,6 +919,10 @@ int RunOffscreen(Avatar& a)
   if (videoStarted)
   {
     video->End();
+  }
+  if (!o.Pvd.empty() && !series.Close())
+  {
+    return 1;
   }
   if (!o.FramesDir.empty())
   {
@@ -909,6 +1035,8 @@ int main(int argc, char* argv[])
   // blink does not weaken a vowel (RELATIVE mode).
   a.Morph->SetWeightModeToRelative();
   a.Morph->SetHysteresis(o.Hysteresis);
+  // For ParaView: colour by AnimatedRegion or Distance_<target>.
+  a.Morph->SetGenerateDistanceArrays(!o.Pvd.empty());
   if (!o.Rig.empty())
   {
     a.Rig->SetRigFileName(o.Rig.c_str());

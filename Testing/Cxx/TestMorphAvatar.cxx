@@ -3,12 +3,17 @@
 // the render regression of one frame of a fixed-seed script against a baseline, the
 // offscreen mode writing PNG frames, a Theora video and the WAV (with a moving mouth),
 // and clear errors for bad arguments. AvatarRun under `xvfb-run -a`.
+#include "vtkDataArray.h"
+#include "vtkFieldData.h"
 #include "vtkImageData.h"
 #include "vtkNew.h"
 #include "vtkPNGReader.h"
 #include "vtkPointData.h"
+#include "vtkPolyData.h"
+#include "vtkStringArray.h"
 #include "vtkSmartPointer.h"
 #include "vtkUnsignedCharArray.h"
+#include "vtkXMLPolyDataReader.h"
 #include "vtksys/SystemTools.hxx"
 
 #include <gtest/gtest.h>
@@ -17,6 +22,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <regex>
 #include <string>
 #include <sys/wait.h>
 
@@ -245,4 +251,70 @@ TEST(MorphAvatar, InteractiveWindowRunsAndKeysSwitchTheMethod)
   int frames = 0;
   ASSERT_EQ(std::sscanf(run.Text.substr(run.Text.find("rendered")).c_str(), "rendered %d", &frames), 1);
   EXPECT_GT(frames, 3) << "the timer did not advance the animation";
+}
+
+TEST(MorphAvatar, TimeSeriesForParaView)
+{
+  const std::string pvd = Output + "/avatar_series/talk.pvd";
+  vtksys::SystemTools::RemoveADirectory(Output + "/avatar_series");
+  const AvatarRun run =
+    RunAvatar("--say 'Bob, mama!' --duration 1.5 --fps 10 --quiet --pvd '" + pvd + "'");
+  ASSERT_EQ(run.ExitCode, 0) << run.Text;
+
+  // The collection lists every frame with its time, in order.
+  std::ifstream in(pvd);
+  ASSERT_TRUE(in) << pvd;
+  const std::string xml((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::regex entry("<DataSet timestep=\"([^\"]+)\"[^>]*file=\"([^\"]+)\"");
+  std::vector<std::pair<double, std::string>> steps;
+  for (auto it = std::sregex_iterator(xml.begin(), xml.end(), entry); it != std::sregex_iterator(); ++it)
+  {
+    steps.emplace_back(std::stod((*it)[1]), (*it)[2]);
+  }
+  ASSERT_EQ(steps.size(), 16u) << xml;
+
+  double largestMotion = 0.0;
+  vtkSmartPointer<vtkPolyData> first;
+  for (size_t i = 0; i < steps.size(); ++i)
+  {
+    EXPECT_NEAR(steps[i].first, 0.1 * static_cast<double>(i), 1e-9);
+    vtkNew<vtkXMLPolyDataReader> reader;
+    reader->SetFileName((Output + "/avatar_series/" + steps[i].second).c_str());
+    reader->Update();
+    vtkPolyData* face = reader->GetOutput();
+    ASSERT_GT(face->GetNumberOfPoints(), 1000) << steps[i].second;
+    ASSERT_GT(face->GetNumberOfCells(), 1000) << steps[i].second;
+    // Distance maps to colour by, and the weights as field data.
+    EXPECT_NE(face->GetPointData()->GetArray("AnimatedRegion"), nullptr);
+    EXPECT_NE(face->GetPointData()->GetArray("Distance_O"), nullptr);
+    vtkFieldData* fd = face->GetFieldData();
+    ASSERT_NE(fd->GetArray("EffectiveWeights"), nullptr);
+    EXPECT_EQ(fd->GetArray("EffectiveWeights")->GetNumberOfTuples(), 13);
+    vtkDataArray* weights = fd->GetArray("BehaviorWeights");
+    auto* channels = vtkStringArray::SafeDownCast(fd->GetAbstractArray("BehaviorChannels"));
+    ASSERT_NE(weights, nullptr);
+    ASSERT_NE(channels, nullptr);
+    EXPECT_EQ(weights->GetNumberOfTuples(), channels->GetNumberOfValues());
+    EXPECT_EQ(channels->GetValue(0), "EyesClosed");
+    ASSERT_NE(fd->GetArray("TimeValue"), nullptr);
+    EXPECT_NEAR(fd->GetArray("TimeValue")->GetTuple1(0), steps[i].first, 1e-12);
+    if (i == 0)
+    {
+      first = face;
+      continue;
+    }
+    for (vtkIdType p = 0; p < face->GetNumberOfPoints(); ++p)
+    {
+      const double* a = face->GetPoint(p);
+      double b[3];
+      first->GetPoint(p, b);
+      largestMotion = std::max(largestMotion,
+        std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2])));
+    }
+  }
+  EXPECT_GT(largestMotion, 1e-3) << "the face speaks: the series must not be frozen";
+
+  const AvatarRun bad = RunAvatar("--pvd '" + Output + "/x.vtp' --quiet");
+  EXPECT_NE(bad.ExitCode, 0);
+  EXPECT_NE(bad.Text.find("--pvd takes a file name ending in .pvd"), std::string::npos) << bad.Text;
 }
