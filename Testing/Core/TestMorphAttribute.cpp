@@ -101,6 +101,56 @@ TEST(MorphAttribute, ChoosesSparseStoragePerTargetByCoverage)
   EXPECT_DOUBLE_EQ(a.GetTarget(2).GetSumNorm(), 160.0);
 }
 
+TEST(MorphAttribute, ResultDoesNotDependOnStorage)
+{
+  // The same targets stored densely, sparsely, and mixed (as two pieces of one mesh may
+  // store them) blend to the same bits: every point gets its targets in target order.
+  const size_t numPoints = 3000;
+  const size_t numTargets = 11;
+  std::mt19937 random(42);
+  std::uniform_real_distribution<float> value(-1.0f, 1.0f);
+  std::vector<float> neutral(numPoints * 3);
+  for (float& v : neutral)
+  {
+    v = value(random);
+  }
+  std::vector<std::vector<float>> deltas(numTargets, std::vector<float>(numPoints * 3, 0.0f));
+  for (size_t t = 0; t < numTargets; ++t)
+  {
+    for (size_t p = 0; p < numPoints; ++p)
+    {
+      if ((p * 7 + t * 13) % 5 < 2) // 40 % of the points move
+      {
+        for (size_t c = 0; c < 3; ++c)
+        {
+          deltas[t][3 * p + c] = 0.1f * value(random);
+        }
+      }
+    }
+  }
+  std::vector<double> weights(numTargets + 1);
+  for (double& w : weights)
+  {
+    w = 0.05 + 0.9 * (value(random) + 1.0f) / 2.0f;
+  }
+  auto blend = [&](auto coverageOf) {
+    MorphAttribute<float> a("Points", AttributeRole::Position, 3, numPoints);
+    a.SetNeutral(neutral.data());
+    for (size_t t = 0; t < numTargets; ++t)
+    {
+      a.AddRelativeTarget(deltas[t].data(), coverageOf(t));
+    }
+    std::vector<float> out(numPoints * 3);
+    a.Blend(weights.data(), weights.size(), out.data(), 0, numPoints);
+    return out;
+  };
+  const auto dense = blend([](size_t) { return 0.0; });
+  const auto sparse = blend([](size_t) { return 1.0; });
+  const auto mixed = blend([](size_t t) { return t % 3 == 1 ? 1.0 : 0.0; });
+  EXPECT_EQ(dense, sparse);
+  EXPECT_EQ(dense, mixed);
+}
+
 TEST(MorphAttribute, RenormalizesNormals)
 {
   const float up[3] = { 0.f, 0.f, 1.f };

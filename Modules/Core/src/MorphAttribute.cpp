@@ -271,7 +271,10 @@ void MorphAttribute<T>::BlendBlock(
   const size_t c = static_cast<size_t>(this->Components);
   std::copy(this->Neutral.begin() + begin * c, this->Neutral.begin() + end * c, out + begin * c);
   const size_t n = std::min(numWeights, this->GetNumberOfTargets());
-  // Dense targets are gathered four at a time (Axpy4); sparse ones scatter right away.
+  // Dense targets are gathered four at a time (Axpy4); sparse ones scatter. Every element
+  // receives its targets' contributions in target order whatever their storage (pending
+  // dense targets are added before a sparse one), so the result does not depend on which
+  // targets a piece stores sparsely: a point shared by two pieces blends to the same bits.
   const T* dense[4];
   T denseWeights[4];
   int pending = 0;
@@ -286,6 +289,11 @@ void MorphAttribute<T>::BlendBlock(
     const TargetDeltas<T>& target = this->Targets[i - 1];
     if (target.IsSparse())
     {
+      for (int k = 0; k < pending; ++k)
+      {
+        Axpy(denseWeights[k], dense[k], y, count);
+      }
+      pending = 0;
       target.AddScaled(static_cast<T>(weights[i]), out, begin, end);
       continue;
     }
