@@ -22,6 +22,8 @@
 //
 // Every method with an error bound eps also gets the number of frames whose largest
 // vertex error exceeds eps ("frames over bound"): it must be 0.
+#include "ExampleUtilities.h"
+
 #include "vtkMorphNodeFilter.h"
 #include "vtkMorphTargetReader.h"
 
@@ -36,14 +38,12 @@
 #include "vtkContextView.h"
 #include "vtkFloatArray.h"
 #include "vtkNew.h"
-#include "vtkPNGWriter.h"
 #include "vtkPen.h"
 #include "vtkPlot.h"
 #include "vtkRenderWindow.h"
 #include "vtkRenderer.h"
 #include "vtkTable.h"
 #include "vtkTextProperty.h"
-#include "vtkWindowToImageFilter.h"
 
 #include <algorithm>
 #include <cmath>
@@ -57,21 +57,8 @@
 
 namespace
 {
-std::vector<double> ParseList(const std::string& text)
-{
-  std::vector<double> values;
-  std::stringstream ss(text);
-  std::string item;
-  while (std::getline(ss, item, ','))
-  {
-    if (!item.empty())
-    {
-      values.push_back(std::stod(item));
-    }
-  }
-  return values;
-}
-
+using morphnode_examples::WritePng;
+using morphnode_examples::ParseList;
 void Progress(size_t done, size_t total, const std::string& what)
 {
   const int width = 30;
@@ -82,19 +69,6 @@ void Progress(size_t done, size_t total, const std::string& what)
   {
     std::cerr << "\n";
   }
-}
-
-void WritePng(vtkContextView* view, const std::string& file)
-{
-  view->GetRenderWindow()->SetMultiSamples(0);
-  view->GetRenderWindow()->OffScreenRenderingOn();
-  view->GetRenderWindow()->Render();
-  vtkNew<vtkWindowToImageFilter> grab;
-  grab->SetInput(view->GetRenderWindow());
-  vtkNew<vtkPNGWriter> writer;
-  writer->SetFileName(file.c_str());
-  writer->SetInputConnection(grab->GetOutputPort());
-  writer->Write();
 }
 
 /// The paper's Figure 5: one chart per method, a line per target, weight over time.

@@ -13,6 +13,8 @@
 // DIR/speech_track.csv. Writes DIR/reduction.md (tables), DIR/reduction_errors.csv,
 // DIR/reduction_error_vs_budget.png, DIR/reduction_error_over_time.png and
 // DIR/controller.csv.
+#include "ExampleUtilities.h"
+
 #include "vtkAnimationAwareDecimation.h"
 #include "vtkMorphTargetReader.h"
 
@@ -36,7 +38,6 @@
 #include "vtkFloatArray.h"
 #include "vtkGenericCell.h"
 #include "vtkNew.h"
-#include "vtkPNGWriter.h"
 #include "vtkPen.h"
 #include "vtkPlot.h"
 #include "vtkPointData.h"
@@ -50,7 +51,6 @@
 #include "vtkStringArray.h"
 #include "vtkTable.h"
 #include "vtkTextProperty.h"
-#include "vtkWindowToImageFilter.h"
 
 #include <algorithm>
 #include <array>
@@ -68,22 +68,9 @@
 
 namespace
 {
+using morphnode_examples::WritePng;
+using morphnode_examples::ParseList;
 using morphnode::MorphMesh;
-
-std::vector<double> ParseList(const std::string& text)
-{
-  std::vector<double> values;
-  std::stringstream ss(text);
-  std::string item;
-  while (std::getline(ss, item, ','))
-  {
-    if (!item.empty())
-    {
-      values.push_back(std::stod(item));
-    }
-  }
-  return values;
-}
 
 struct Face
 {
@@ -606,19 +593,6 @@ Errors Measure(const std::string& method, double budget, const MorphMesh& full, 
 }
 
 // --- plots -------------------------------------------------------------------------------
-
-void WritePng(vtkContextView* view, const std::string& file)
-{
-  view->GetRenderWindow()->SetMultiSamples(0);
-  view->GetRenderWindow()->OffScreenRenderingOn();
-  view->GetRenderWindow()->Render();
-  vtkNew<vtkWindowToImageFilter> grab;
-  grab->SetInput(view->GetRenderWindow());
-  vtkNew<vtkPNGWriter> writer;
-  writer->SetFileName(file.c_str());
-  writer->SetInputConnection(grab->GetOutputPort());
-  writer->Write();
-}
 
 const unsigned char Colors[3][3] = { { 214, 39, 40 }, { 31, 119, 180 }, { 127, 127, 127 } };
 

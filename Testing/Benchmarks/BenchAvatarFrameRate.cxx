@@ -19,6 +19,8 @@
 // restores pruned targets). Reported per face, method and threshold: frames per second of
 // the morph stage and of the whole frame, mean active targets, and both speed-ups against
 // "none". --smoke plays a handful of frames of one threshold (CI; asserts nothing timed).
+#include "ExampleUtilities.h"
+
 #include "vtkMorphNodeFilter.h"
 #include "vtkMorphRigBaker.h"
 #include "vtkMorphTargetReader.h"
@@ -34,7 +36,6 @@
 #include "vtkContextView.h"
 #include "vtkFloatArray.h"
 #include "vtkNew.h"
-#include "vtkPNGWriter.h"
 #include "vtkPen.h"
 #include "vtkPlot.h"
 #include "vtkPointSet.h"
@@ -42,7 +43,6 @@
 #include "vtkRenderWindow.h"
 #include "vtkRenderer.h"
 #include "vtkTable.h"
-#include "vtkWindowToImageFilter.h"
 
 #include <algorithm>
 #include <chrono>
@@ -56,6 +56,7 @@
 
 namespace
 {
+using morphnode_examples::WritePng;
 using Clock = std::chrono::steady_clock;
 
 struct Method
@@ -187,19 +188,6 @@ struct Avatar
     }
   }
 };
-
-void WritePng(vtkContextView* view, const std::string& file)
-{
-  view->GetRenderWindow()->SetMultiSamples(0);
-  view->GetRenderWindow()->OffScreenRenderingOn();
-  view->GetRenderWindow()->Render();
-  vtkNew<vtkWindowToImageFilter> grab;
-  grab->SetInput(view->GetRenderWindow());
-  vtkNew<vtkPNGWriter> writer;
-  writer->SetFileName(file.c_str());
-  writer->SetInputConnection(grab->GetOutputPort());
-  writer->Write();
-}
 
 /// fps against threshold, a line per method, "none" as a flat line: the paper's Figure 3.
 void Plot(const std::vector<Result>& results, const std::string& face, bool wholeFrame,

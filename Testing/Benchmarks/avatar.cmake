@@ -6,6 +6,8 @@ target_link_libraries(BenchAvatarFrameRate PRIVATE MorphNode::MorphNode MorphNod
   VTK::CommonCore VTK::CommonDataModel VTK::CommonExecutionModel VTK::ChartsCore
   VTK::IOImage VTK::RenderingContext2D VTK::RenderingContextOpenGL2 VTK::RenderingCore
   VTK::RenderingOpenGL2 VTK::RenderingFreeType VTK::ViewsContext2D VTK::InteractionStyle)
+# ExampleUtilities.h (WritePng), shared with the study programs.
+target_include_directories(BenchAvatarFrameRate PRIVATE "${PROJECT_SOURCE_DIR}/Examples/Cxx")
 target_compile_definitions(BenchAvatarFrameRate PRIVATE
   MORPHNODE_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
   MORPHNODE_FACEKIT_DIR="${MORPHNODE_FACEKIT_DIR}")

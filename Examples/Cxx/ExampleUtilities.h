@@ -1,0 +1,50 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// Small helpers the example and study programs share (header-only; not part of the API).
+#ifndef MorphNodeExampleUtilities_h
+#define MorphNodeExampleUtilities_h
+
+#include "vtkContextView.h"
+#include "vtkNew.h"
+#include "vtkPNGWriter.h"
+#include "vtkRenderWindow.h"
+#include "vtkWindowToImageFilter.h"
+
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace morphnode_examples
+{
+/// "0.1,0.2,0.3" -> {0.1, 0.2, 0.3}; empty items are skipped, a bad number throws
+/// std::invalid_argument (std::stod).
+inline std::vector<double> ParseList(const std::string& text)
+{
+  std::vector<double> values;
+  std::stringstream ss(text);
+  std::string item;
+  while (std::getline(ss, item, ','))
+  {
+    if (!item.empty())
+    {
+      values.push_back(std::stod(item));
+    }
+  }
+  return values;
+}
+
+/// Renders a chart view offscreen (no multisampling, so files are reproducible) to a PNG.
+inline void WritePng(vtkContextView* view, const std::string& file)
+{
+  view->GetRenderWindow()->SetMultiSamples(0);
+  view->GetRenderWindow()->OffScreenRenderingOn();
+  view->GetRenderWindow()->Render();
+  vtkNew<vtkWindowToImageFilter> grab;
+  grab->SetInput(view->GetRenderWindow());
+  vtkNew<vtkPNGWriter> writer;
+  writer->SetFileName(file.c_str());
+  writer->SetInputConnection(grab->GetOutputPort());
+  writer->Write();
+}
+} // namespace morphnode_examples
+
+#endif
