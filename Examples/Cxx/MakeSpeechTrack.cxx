@@ -22,6 +22,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cstdint>
 #include <fstream>
 #include <iostream>
@@ -170,7 +171,7 @@ int main(int argc, char* argv[])
       else
         behavior.LookAt(between(-20.0, 20.0), between(-10.0, 10.0), t, between(0.6, 1.5));
     }
-    behavior.SetMood("happy", 0.6, end - 2.0, 1.5); // a warm ending
+    behavior.SetMood("happy", 0.6, std::max(0.0, end - 2.0), 1.5); // a warm ending (short texts too)
     behavior.SetDuration(end + 1.0);
     const morphnode::WeightTrack semantic = behavior.GenerateTrack();
 
