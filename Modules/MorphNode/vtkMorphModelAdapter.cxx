@@ -8,6 +8,7 @@
 #include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
 #include "vtkFloatArray.h"
+#include "vtkDataSetAttributes.h"
 #include "vtkPointData.h"
 #include "vtkPointSet.h"
 #include "vtkPoints.h"
@@ -166,6 +167,56 @@ void CheckNeutral(vtkPointSet* neutral)
   }
 }
 
+/// Works out BuiltModel::PointArrays from the neutral's point data.
+void PlanPointArrays(vtkPointData* pd, BuiltModel& built)
+{
+  built.PointArrays.clear();
+  for (int i = 0; i < pd->GetNumberOfArrays(); ++i)
+  {
+    vtkAbstractArray* array = pd->GetAbstractArray(i);
+    const char* name = array ? array->GetName() : nullptr;
+    if (!array ||
+      (name &&
+        std::find(built.ConsumedArrays.begin(), built.ConsumedArrays.end(), name) !=
+          built.ConsumedArrays.end()))
+    {
+      continue;
+    }
+    OutputArraySource source{ i, -1, pd->IsArrayAnAttribute(i) };
+    for (size_t a = 1; name && a < built.Bindings.size(); ++a)
+    {
+      if (built.Bindings[a].ArrayName == name)
+      {
+        source.Blended = static_cast<int>(a - 1);
+        if (built.Bindings[a].IsNormals)
+        {
+          source.Attribute = vtkDataSetAttributes::NORMALS;
+        }
+      }
+    }
+    built.PointArrays.push_back(source);
+  }
+}
+
+/// `slot` when it has the layout of `prototype` and `holders` references are all it has
+/// (nobody outside the cache holds it), else a new array of that layout in `slot`.
+vtkDataArray* ReuseOrNew(vtkSmartPointer<vtkDataArray>& slot, vtkDataArray* prototype,
+  vtkIdType numTuples, int holders)
+{
+  const bool reusable = slot && slot->GetReferenceCount() == holders &&
+    slot->GetDataType() == prototype->GetDataType() &&
+    slot->GetNumberOfComponents() == prototype->GetNumberOfComponents() &&
+    slot->GetNumberOfTuples() == numTuples;
+  if (!reusable)
+  {
+    slot.TakeReference(prototype->NewInstance());
+    slot->SetName(prototype->GetName());
+    slot->SetNumberOfComponents(prototype->GetNumberOfComponents());
+    slot->SetNumberOfTuples(numTuples);
+  }
+  return slot;
+}
+
 void CheckUniqueNames(const std::vector<std::string>& names)
 {
   for (size_t i = 0; i < names.size(); ++i)
@@ -253,6 +304,7 @@ BuiltModel BuildFromAbsoluteTargets(const std::vector<vtkPointSet*>& inputs, dou
     built.Bindings.push_back({ name, array, role == AttributeRole::Normal });
   }
   built.Model.Validate();
+  PlanPointArrays(pd, built);
   return built;
 }
 
@@ -352,6 +404,7 @@ BuiltModel BuildFromRelativeTargets(vtkPointSet* input, double sparseCoverage)
     }
   }
   built.Model.Validate();
+  PlanPointArrays(pd, built);
   return built;
 }
 
@@ -418,8 +471,7 @@ vtkSmartPointer<vtkDataArray> MakeDoubleArray(const char* arrayName, const std::
   return array;
 }
 
-void Blend(const BuiltModel& built, const std::vector<double>& weights,
-  vtkSmartPointer<vtkDataArray>& points, std::vector<vtkSmartPointer<vtkDataArray>>& arrays)
+void Blend(const BuiltModel& built, const std::vector<double>& weights, BlendOutputs& outputs)
 {
   const morphnode::MorphModel& model = built.Model;
   const vtkIdType numPoints = static_cast<vtkIdType>(model.GetNumberOfPoints());
@@ -427,31 +479,39 @@ void Blend(const BuiltModel& built, const std::vector<double>& weights,
 
   // Output arrays of the original types; blending writes straight into them when the
   // types agree (float/double), through a double scratch buffer otherwise.
-  std::vector<vtkSmartPointer<vtkDataArray>> outputs(numAttributes);
+  std::vector<vtkDataArray*> out(numAttributes);
+  vtkSmartPointer<vtkDataArray> pointData = outputs.Points ? outputs.Points->GetData() : nullptr;
+  const bool pointsFree = outputs.Points && outputs.Points->GetReferenceCount() == 1;
+  // The points' array is held by the vtkPoints and by `pointData` here.
+  out[0] = ReuseOrNew(pointData, built.Bindings[0].Prototype, numPoints, pointsFree ? 2 : 0);
+  if (!pointsFree || outputs.Points->GetData() != out[0])
+  {
+    outputs.Points = vtkSmartPointer<vtkPoints>::New();
+    outputs.Points->SetData(out[0]);
+  }
+  outputs.Arrays.resize(numAttributes - 1);
+  for (size_t a = 1; a < numAttributes; ++a)
+  {
+    out[a] = ReuseOrNew(outputs.Arrays[a - 1], built.Bindings[a].Prototype, numPoints, 1);
+  }
+
   std::vector<std::vector<double>> scratch(numAttributes);
   std::vector<void*> targets(numAttributes, nullptr);
   for (size_t a = 0; a < numAttributes; ++a)
   {
-    vtkDataArray* prototype = built.Bindings[a].Prototype;
-    vtkSmartPointer<vtkDataArray> out;
-    out.TakeReference(prototype->NewInstance());
-    out->SetName(prototype->GetName());
-    out->SetNumberOfComponents(prototype->GetNumberOfComponents());
-    out->SetNumberOfTuples(numPoints);
-    outputs[a] = out;
     const bool storedAsFloat =
       std::holds_alternative<morphnode::MorphAttribute<float>>(model.GetAttribute(a));
-    if (storedAsFloat && vtkFloatArray::SafeDownCast(out))
+    if (storedAsFloat && out[a]->GetDataType() == VTK_FLOAT)
     {
-      targets[a] = vtkFloatArray::SafeDownCast(out)->GetPointer(0);
+      targets[a] = static_cast<vtkFloatArray*>(out[a])->GetPointer(0);
     }
-    else if (!storedAsFloat && vtkDoubleArray::SafeDownCast(out))
+    else if (!storedAsFloat && out[a]->GetDataType() == VTK_DOUBLE)
     {
-      targets[a] = vtkDoubleArray::SafeDownCast(out)->GetPointer(0);
+      targets[a] = static_cast<vtkDoubleArray*>(out[a])->GetPointer(0);
     }
     else
     {
-      scratch[a].resize(static_cast<size_t>(numPoints) * out->GetNumberOfComponents());
+      scratch[a].resize(static_cast<size_t>(numPoints) * out[a]->GetNumberOfComponents());
       targets[a] = scratch[a].data();
     }
   }
@@ -471,24 +531,41 @@ void Blend(const BuiltModel& built, const std::vector<double>& weights,
 
   for (size_t a = 0; a < numAttributes; ++a)
   {
-    if (scratch[a].empty())
+    if (!scratch[a].empty())
+    {
+      const int c = out[a]->GetNumberOfComponents();
+      const bool integer = IsIntegerType(out[a]->GetDataType());
+      for (vtkIdType t = 0; t < numPoints; ++t)
+      {
+        for (int j = 0; j < c; ++j)
+        {
+          const double v = scratch[a][static_cast<size_t>(t) * c + j];
+          out[a]->SetComponent(t, j, integer ? std::round(v) : v);
+        }
+      }
+    }
+    out[a]->Modified(); // written through raw pointers: renderers re-upload on MTime
+  }
+  outputs.Points->Modified();
+}
+
+void AssemblePointData(vtkPointData* neutral, const BuiltModel& built,
+  const BlendOutputs& outputs, vtkPointData* out)
+{
+  for (const OutputArraySource& source : built.PointArrays)
+  {
+    vtkAbstractArray* array = source.Blended >= 0
+      ? outputs.Arrays[static_cast<size_t>(source.Blended)].GetPointer()
+      : neutral->GetAbstractArray(source.NeutralIndex);
+    if (!array)
     {
       continue;
     }
-    vtkDataArray* out = outputs[a];
-    const int c = out->GetNumberOfComponents();
-    const bool integer = IsIntegerType(out->GetDataType());
-    for (vtkIdType t = 0; t < numPoints; ++t)
+    const int index = out->AddArray(array);
+    if (source.Attribute >= 0)
     {
-      for (int j = 0; j < c; ++j)
-      {
-        const double v = scratch[a][static_cast<size_t>(t) * c + j];
-        out->SetComponent(t, j, integer ? std::round(v) : v);
-      }
+      out->SetActiveAttribute(index, source.Attribute);
     }
   }
-
-  points = outputs[0];
-  arrays.assign(outputs.begin() + 1, outputs.end());
 }
 } // namespace vtkMorphModelAdapter

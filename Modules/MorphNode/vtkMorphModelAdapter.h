@@ -22,6 +22,8 @@
 
 class vtkDataArray;
 class vtkFieldData;
+class vtkPointData;
+class vtkPoints;
 class vtkPointSet;
 class vtkStringArray;
 class vtkTable;
@@ -46,6 +48,14 @@ struct AttributeBinding
   bool IsNormals = false;
 };
 
+/// Where one point array of the output comes from.
+struct OutputArraySource
+{
+  int NeutralIndex; ///< index of the array in the neutral's point data
+  int Blended;      ///< index into BlendOutputs::Arrays, or -1: the neutral's array passes
+  int Attribute;    ///< vtkDataSetAttributes attribute type to keep, or -1
+};
+
 struct BuiltModel
 {
   morphnode::MorphModel Model;
@@ -53,6 +63,21 @@ struct BuiltModel
   std::vector<AttributeBinding> Bindings;
   /// glTF form: point arrays of the input that must not reach the output.
   std::vector<std::string> ConsumedArrays;
+  /// The output's point arrays in the neutral's order, worked out once per model so that
+  /// an execution does no lookups by name (53 target arrays made pass-then-remove cost
+  /// more than a speech frame's blend).
+  std::vector<OutputArraySource> PointArrays;
+};
+
+/// The arrays a blend writes, kept from one execution to the next. An array is written
+/// again in place only when nothing but this cache holds it (the pipeline released the
+/// previous output); when anyone else still holds it, a new one is made, so a snapshot
+/// kept downstream never changes under its holder.
+struct BlendOutputs
+{
+  vtkSmartPointer<vtkPoints> Points;
+  /// Parallel to the bindings after the points.
+  std::vector<vtkSmartPointer<vtkDataArray>> Arrays;
 };
 
 /// True if the point set carries glTF-style target arrays (`target0_position`).
@@ -76,10 +101,13 @@ vtkSmartPointer<vtkStringArray> MakeNamesArray(
 vtkSmartPointer<vtkDataArray> MakeDoubleArray(const char* arrayName, const std::vector<double>& values);
 
 /// Blends every attribute of `built` with absolute `weights`, in parallel over points,
-/// into new arrays: the points (returned through `points`) and named point arrays
-/// (returned in `arrays`, parallel to the bindings with a name).
-void Blend(const BuiltModel& built, const std::vector<double>& weights,
-  vtkSmartPointer<vtkDataArray>& points, std::vector<vtkSmartPointer<vtkDataArray>>& arrays);
+/// into `outputs` (reused where no one else holds them, see BlendOutputs).
+void Blend(const BuiltModel& built, const std::vector<double>& weights, BlendOutputs& outputs);
+
+/// Fills `out` with the output's point arrays: the neutral's, each blended one in place of
+/// the array it replaces (same attribute role), target arrays left out.
+void AssemblePointData(vtkPointData* neutral, const BuiltModel& built,
+  const BlendOutputs& outputs, vtkPointData* out);
 } // namespace vtkMorphModelAdapter
 
 #endif

@@ -23,6 +23,9 @@
 #include "vtkStringArray.h"
 #include "vtkTable.h"
 
+#include <algorithm>
+#include <cstring>
+#include <iterator>
 #include <memory>
 #include <optional>
 #include <sstream>
@@ -30,6 +33,13 @@
 #include <vector>
 
 namespace adapter = vtkMorphModelAdapter;
+
+namespace
+{
+/// Field-data arrays the filter writes; a neutral's arrays of these names are replaced.
+const char* const OutputFieldArrays[] = { adapter::TargetNamesArray, adapter::EffectiveWeightsArray,
+  adapter::ActiveTargetCountArray, adapter::ErrorBoundArray, adapter::DistNormArray };
+}
 
 struct vtkMorphNodeFilter::vtkInternals
 {
@@ -50,6 +60,55 @@ struct vtkMorphNodeFilter::vtkInternals
   morphnode::WeightOptimizer Optimizer;
   std::vector<double> EffectiveWeights;
   vtkNew<vtkDoubleArray> DistNorm;
+
+  /// Output arrays kept across executions (see adapter::BlendOutputs).
+  adapter::BlendOutputs Outputs;
+  /// Made once per model, shared by every output.
+  vtkSmartPointer<vtkStringArray> TargetNames;
+  vtkSmartPointer<vtkDoubleArray> DistNormOut;
+  std::vector<vtkSmartPointer<vtkDataArray>> Distances; // built on first request
+  /// Per-execution field data, rewritten in place when no one else holds them.
+  vtkSmartPointer<vtkDataArray> EffectiveWeightsOut, ActiveTargetCountOut, ErrorBoundOut;
+
+  /// The animated region and each target's per-point distance from the neutral.
+  const std::vector<vtkSmartPointer<vtkDataArray>>& DistanceArrays()
+  {
+    if (this->Distances.empty() && this->Built)
+    {
+      const morphnode::MorphModel& model = this->Built->Model;
+      this->Distances.push_back(
+        adapter::MakeDoubleArray(adapter::AnimatedRegionArray, model.ComputeAnimatedRegion()));
+      for (size_t i = 1; i < model.GetNumberOfTargets(); ++i)
+      {
+        const std::string name = adapter::DistancePrefix + model.GetTargetNames()[i];
+        this->Distances.push_back(
+          adapter::MakeDoubleArray(name.c_str(), model.ComputePointDistances(i)));
+      }
+    }
+    return this->Distances;
+  }
+
+  /// `values` in the ArrayT held by `slot`, rewritten in place when only `slot` holds it.
+  template <typename ArrayT>
+  static vtkDataArray* Values(
+    vtkSmartPointer<vtkDataArray>& slot, const char* name, const std::vector<double>& values)
+  {
+    ArrayT* array = ArrayT::SafeDownCast(slot);
+    if (!array || slot->GetReferenceCount() != 1)
+    {
+      auto fresh = vtkSmartPointer<ArrayT>::New();
+      fresh->SetName(name);
+      slot = fresh;
+      array = fresh;
+    }
+    array->SetNumberOfValues(static_cast<vtkIdType>(values.size()));
+    for (size_t i = 0; i < values.size(); ++i)
+    {
+      array->SetValue(static_cast<vtkIdType>(i), static_cast<typename ArrayT::ValueType>(values[i]));
+    }
+    array->Modified();
+    return array;
+  }
 
   void Set(int index, const std::string& name, double weight)
   {
@@ -345,6 +404,13 @@ int vtkMorphNodeFilter::RequestData(
       {
         internals.DistNorm->SetValue(static_cast<vtkIdType>(i), distNorm[i]);
       }
+      // What depends on the model only is made once per model and shared by every output.
+      internals.TargetNames =
+        adapter::MakeNamesArray(adapter::TargetNamesArray, internals.Built->Model.GetTargetNames());
+      internals.DistNormOut = vtkSmartPointer<vtkDoubleArray>::New();
+      internals.DistNormOut->DeepCopy(internals.DistNorm);
+      internals.Distances.clear();
+      internals.Outputs = {};
     }
     const morphnode::MorphModel& model = internals.Built->Model;
     const auto& names = model.GetTargetNames();
@@ -407,81 +473,48 @@ int vtkMorphNodeFilter::RequestData(
     this->UpdateProgress(0.4);
 
     // 4. Blend.
-    vtkSmartPointer<vtkDataArray> points;
-    std::vector<vtkSmartPointer<vtkDataArray>> arrays;
-    adapter::Blend(*internals.Built, effective, points, arrays);
+    adapter::Blend(*internals.Built, effective, internals.Outputs);
     this->UpdateProgress(0.9);
 
     // 5. Output: the neutral's structure, blended arrays in place of the neutral's.
     vtkPointSet* neutral = inputs[0];
     output->CopyStructure(neutral);
-    vtkNew<vtkPoints> outPoints;
-    outPoints->SetData(points);
-    output->SetPoints(outPoints);
-    output->GetPointData()->PassData(neutral->GetPointData());
-    for (const std::string& consumed : internals.Built->ConsumedArrays)
-    {
-      output->GetPointData()->RemoveArray(consumed.c_str());
-    }
-    size_t next = 0;
-    for (size_t a = 1; a < internals.Built->Bindings.size(); ++a, ++next)
-    {
-      const auto& binding = internals.Built->Bindings[a];
-      vtkPointData* pd = output->GetPointData();
-      const bool wasScalars = pd->GetScalars() && binding.ArrayName == pd->GetScalars()->GetName();
-      const bool wasTCoords = pd->GetTCoords() && binding.ArrayName == pd->GetTCoords()->GetName();
-      pd->RemoveArray(binding.ArrayName.c_str());
-      if (binding.IsNormals)
-      {
-        pd->SetNormals(arrays[next]);
-      }
-      else if (wasScalars)
-      {
-        pd->SetScalars(arrays[next]);
-      }
-      else if (wasTCoords)
-      {
-        pd->SetTCoords(arrays[next]);
-      }
-      else
-      {
-        pd->AddArray(arrays[next]);
-      }
-    }
+    output->SetPoints(internals.Outputs.Points);
+    adapter::AssemblePointData(
+      neutral->GetPointData(), *internals.Built, internals.Outputs, output->GetPointData());
     output->GetCellData()->PassData(neutral->GetCellData());
 
     if (this->GenerateDistanceArrays)
     {
-      const auto region = model.ComputeAnimatedRegion();
-      output->GetPointData()->AddArray(adapter::MakeDoubleArray(adapter::AnimatedRegionArray, region));
-      for (size_t i = 1; i < n; ++i)
+      for (vtkDataArray* array : internals.DistanceArrays())
       {
-        const std::string name = adapter::DistancePrefix + names[i];
-        output->GetPointData()->AddArray(
-          adapter::MakeDoubleArray(name.c_str(), model.ComputePointDistances(i)));
+        output->GetPointData()->AddArray(array);
       }
     }
 
     vtkFieldData* fd = output->GetFieldData();
-    fd->PassData(neutral->GetFieldData());
-    for (const char* name : { adapter::TargetNamesArray, adapter::EffectiveWeightsArray,
-           adapter::ActiveTargetCountArray, adapter::ErrorBoundArray, adapter::DistNormArray })
+    vtkFieldData* neutralFD = neutral->GetFieldData();
+    for (int a = 0; a < neutralFD->GetNumberOfArrays(); ++a)
     {
-      fd->RemoveArray(name);
+      vtkAbstractArray* array = neutralFD->GetAbstractArray(a);
+      const char* name = array ? array->GetName() : nullptr;
+      const bool ours = name &&
+        std::any_of(std::begin(OutputFieldArrays), std::end(OutputFieldArrays),
+          [name](const char* own) { return std::strcmp(own, name) == 0; });
+      if (array && !ours)
+      {
+        fd->AddArray(array);
+      }
     }
-    fd->AddArray(adapter::MakeNamesArray(adapter::TargetNamesArray, names));
-    fd->AddArray(adapter::MakeDoubleArray(adapter::EffectiveWeightsArray, effective));
-    vtkNew<vtkIntArray> active;
-    active->SetName(adapter::ActiveTargetCountArray);
-    active->InsertNextValue(morphnode::CountActiveTargets(effective));
-    fd->AddArray(active);
-    fd->AddArray(adapter::MakeDoubleArray(
-      adapter::ErrorBoundArray, { internals.Optimizer.GetLastErrorBound() }));
+    fd->AddArray(internals.TargetNames);
+    fd->AddArray(internals.Values<vtkDoubleArray>(internals.EffectiveWeightsOut, adapter::EffectiveWeightsArray, effective));
+    fd->AddArray(internals.Values<vtkIntArray>(internals.ActiveTargetCountOut, adapter::ActiveTargetCountArray,
+      { static_cast<double>(morphnode::CountActiveTargets(effective)) }));
+    fd->AddArray(internals.Values<vtkDoubleArray>(
+      internals.ErrorBoundOut, adapter::ErrorBoundArray, { internals.Optimizer.GetLastErrorBound() }));
     if (this->GenerateDistanceArrays)
     {
-      vtkNew<vtkDoubleArray> distNorm;
-      distNorm->DeepCopy(internals.DistNorm);
-      fd->AddArray(distNorm);
+      fd->AddArray(internals.DistNormOut);
     }
 
     internals.EffectiveWeights = effective;

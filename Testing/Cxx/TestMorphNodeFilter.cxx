@@ -153,7 +153,7 @@ protected:
 };
 vtkStandardNewMacro(RampWeightsSource);
 
-double Field(vtkPolyData* pd, const char* name, int i = 0)
+double Field(vtkDataObject* pd, const char* name, int i = 0)
 {
   auto* a = vtkDataArray::SafeDownCast(pd->GetFieldData()->GetAbstractArray(name));
   return a ? a->GetComponent(i, 0) : std::numeric_limits<double>::quiet_NaN();
@@ -325,6 +325,57 @@ TEST(MorphNodeFilter, NeverModifiesItsInputs)
   EXPECT_EQ(p[0], 0.0);
 }
 
+TEST(MorphNodeFilter, ReusesItsOutputArraysOnlyWhenNobodyHoldsThem)
+{
+  Rig rig(ThreeQuads());
+  rig.Filter->SetWeightModeToRelative(); // point 1: x = 1 + w1
+  rig.Filter->SetWeight(1, 0.5);
+  vtkPolyData* out = rig.Run();
+  vtkDataArray* points = out->GetPoints()->GetData();
+  vtkDataArray* normals = out->GetPointData()->GetNormals();
+  const vtkMTimeType pointsTime = points->GetMTime();
+
+  // Nobody but the filter holds last step's arrays: they are written again in place (no
+  // allocation per time step), and their MTime moves so renderers upload them again.
+  rig.Filter->SetWeight(1, 0.25);
+  out = rig.Run();
+  EXPECT_EQ(out->GetPoints()->GetData(), points);
+  EXPECT_EQ(out->GetPointData()->GetNormals(), normals);
+  EXPECT_GT(points->GetMTime(), pointsTime);
+  EXPECT_NEAR(out->GetPoint(1)[0], 1.0 + 0.25, 1e-6);
+
+  // A snapshot kept downstream (a shallow copy, as a cache or a Python variable holds)
+  // must not change when the filter runs again.
+  vtkNew<vtkPolyData> snapshot;
+  snapshot->ShallowCopy(out);
+  rig.Filter->SetWeight(1, 1.0);
+  out = rig.Run();
+  EXPECT_NE(out->GetPoints()->GetData(), snapshot->GetPoints()->GetData());
+  EXPECT_NE(out->GetPointData()->GetNormals(), snapshot->GetPointData()->GetNormals());
+  EXPECT_NEAR(snapshot->GetPoint(1)[0], 1.25, 1e-6) << "the held snapshot changed";
+  EXPECT_NEAR(out->GetPoint(1)[0], 2.0, 1e-6);
+  EXPECT_NEAR(Field(snapshot, "EffectiveWeights", 1), 0.25, 1e-12);
+  EXPECT_NEAR(Field(out, "EffectiveWeights", 1), 1.0, 1e-12);
+}
+
+TEST(MorphNodeFilter, OutputArraysKeepTheNeutralsOrderAndRoles)
+{
+  Rig rig(ThreeQuads());
+  rig.Filter->SetWeight(1, 0.5);
+  for (int run = 0; run < 2; ++run) // the second run reuses the arrays
+  {
+    rig.Filter->SetWeight(2, 0.1 * run);
+    vtkPointData* in = rig.Targets[0]->GetPointData();
+    vtkPointData* out = rig.Run()->GetPointData();
+    ASSERT_EQ(out->GetNumberOfArrays(), in->GetNumberOfArrays());
+    for (int a = 0; a < in->GetNumberOfArrays(); ++a)
+    {
+      EXPECT_STREQ(out->GetArrayName(a), in->GetArrayName(a));
+      EXPECT_EQ(out->IsArrayAnAttribute(a), in->IsArrayAnAttribute(a)) << in->GetArrayName(a);
+    }
+  }
+}
+
 TEST(MorphNodeFilter, NamesAndWeightsByName)
 {
   auto targets = ThreeQuads();
@@ -425,6 +476,28 @@ TEST(MorphNodeFilter, OptimizerAndDistanceArrays)
   EXPECT_NEAR(out->GetPointData()->GetArray("Distance_target0")->GetComponent(3, 0), std::sqrt(5.0), 1e-5);
   EXPECT_NEAR(rig.Filter->GetDistNorm()->GetValue(1), 0.5, 1e-9);
   EXPECT_NEAR(Field(out, "DistNorm", 2), 1.0, 1e-9);
+}
+
+TEST(MorphNodeFilter, DistanceArraysFollowTheTargetsNotTheWeights)
+{
+  Rig rig(ThreeQuads());
+  rig.Filter->GenerateDistanceArraysOn();
+  rig.Filter->SetWeight(1, 0.5);
+  vtkDataArray* first = rig.Run()->GetPointData()->GetArray("Distance_target0");
+  ASSERT_NE(first, nullptr);
+  EXPECT_NEAR(first->GetComponent(0, 0), std::sqrt(5.0), 1e-6);
+  // A new weight: the same distances, computed once per set of targets.
+  rig.Filter->SetWeight(1, 0.75);
+  EXPECT_EQ(rig.Run()->GetPointData()->GetArray("Distance_target0"), first);
+  // A moved target: new distances.
+  rig.Targets[1]->GetPoints()->SetPoint(0, 3, 4, 0);
+  rig.Targets[1]->Modified();
+  vtkDataArray* moved = rig.Run()->GetPointData()->GetArray("Distance_target0");
+  ASSERT_NE(moved, nullptr);
+  EXPECT_NEAR(moved->GetComponent(0, 0), 5.0, 1e-6);
+  // Switched off: gone from the output.
+  rig.Filter->GenerateDistanceArraysOff();
+  EXPECT_EQ(rig.Run()->GetPointData()->GetArray("Distance_target0"), nullptr);
 }
 
 TEST(MorphNodeFilter, AcceptsAnyPointSet)
