@@ -9,7 +9,9 @@
 #include "vtkRenderWindow.h"
 #include "vtkWindowToImageFilter.h"
 
+#include <filesystem>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -32,9 +34,16 @@ inline std::vector<double> ParseList(const std::string& text)
   return values;
 }
 
-/// Renders a chart view offscreen (no multisampling, so files are reproducible) to a PNG.
+/// Renders a chart view offscreen (no multisampling, so files are reproducible) to a PNG,
+/// creating the file's folder if needed. Throws std::runtime_error when it cannot write.
 inline void WritePng(vtkContextView* view, const std::string& file)
 {
+  const std::filesystem::path folder = std::filesystem::path(file).parent_path();
+  std::error_code ec;
+  if (!folder.empty())
+  {
+    std::filesystem::create_directories(folder, ec);
+  }
   view->GetRenderWindow()->SetMultiSamples(0);
   view->GetRenderWindow()->OffScreenRenderingOn();
   view->GetRenderWindow()->Render();
@@ -44,6 +53,11 @@ inline void WritePng(vtkContextView* view, const std::string& file)
   writer->SetFileName(file.c_str());
   writer->SetInputConnection(grab->GetOutputPort());
   writer->Write();
+  if (ec || writer->GetErrorCode() != 0)
+  {
+    throw std::runtime_error("cannot write the image '" + file + "'" +
+      (ec ? " (" + ec.message() + ")" : std::string()));
+  }
 }
 } // namespace morphnode_examples
 

@@ -47,6 +47,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <iostream>
@@ -369,6 +370,16 @@ int main(int argc, char* argv[])
     std::cout << "ICT face or rig not found: default face only\n";
   }
 
+  if (!images.empty()) // before minutes of playing, not after
+  {
+    std::error_code ec;
+    std::filesystem::create_directories(images, ec);
+    if (ec)
+    {
+      std::cerr << "error: cannot create the image folder '" << images << "': " << ec.message() << "\n";
+      return 1;
+    }
+  }
   std::vector<Result> results;
   for (const auto& [faceName, file] : faces)
   {
@@ -466,8 +477,16 @@ int main(int argc, char* argv[])
     for (const auto& face : faces)
     {
       const std::string slug = Slug(face.first.substr(0, face.first.find(' ', 4)));
-      Plot(results, face.first, true, thresholds, images + "/figure3_" + slug + "_frame.png");
-      Plot(results, face.first, false, thresholds, images + "/figure3_" + slug + "_morph.png");
+      try
+      {
+        Plot(results, face.first, true, thresholds, images + "/figure3_" + slug + "_frame.png");
+        Plot(results, face.first, false, thresholds, images + "/figure3_" + slug + "_morph.png");
+      }
+      catch (const std::exception& e)
+      {
+        std::cerr << "error: " << e.what() << "\n";
+        return 1;
+      }
     }
   }
   return 0;
