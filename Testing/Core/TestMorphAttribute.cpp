@@ -166,6 +166,56 @@ TEST(MorphAttribute, RenormalizesNormals)
   EXPECT_NEAR(std::hypot(out[0], out[1], out[2]), 1.0, 1e-6);
 }
 
+// The vectorized renormalization must round exactly as the scalar rule it replaced: length
+// in double, its inverse rounded to float, one multiply per component; a zero-length normal
+// (opposite shapes cancelling) stays zero instead of turning into NaN. 1001 points, so the
+// vector loop's tail runs too.
+TEST(MorphAttribute, RenormalizedNormalsMatchTheScalarRuleBitForBit)
+{
+  const size_t numPoints = 1001;
+  std::vector<float> neutral(numPoints * 3), target(numPoints * 3);
+  for (size_t p = 0; p < numPoints; ++p)
+  {
+    const double a = 0.37 * static_cast<double>(p);
+    neutral[3 * p] = static_cast<float>(std::cos(a));
+    neutral[3 * p + 1] = static_cast<float>(std::sin(a));
+    neutral[3 * p + 2] = 0.25f;
+    const bool cancels = p % 97 == 0; // target = -neutral: 0.5 n + 0.5 t = 0
+    for (int c = 0; c < 3; ++c)
+    {
+      target[3 * p + c] = cancels ? -neutral[3 * p + c] : static_cast<float>(std::cos(a * (c + 2)));
+    }
+  }
+  MorphAttribute<float> normals("Normals", AttributeRole::Normal, 3, numPoints);
+  normals.SetNeutral(neutral.data());
+  normals.AddAbsoluteTarget(target.data(), 0.0);
+  const double w[2] = { 0.5, 0.5 };
+  std::vector<float> out(numPoints * 3);
+  normals.Blend(w, 2, out.data(), 0, numPoints);
+
+  for (size_t p = 0; p < numPoints; ++p)
+  {
+    float v[3];
+    double sum = 0.0;
+    for (int c = 0; c < 3; ++c)
+    {
+      v[c] = neutral[3 * p + c];
+      v[c] += 0.5f * (target[3 * p + c] - neutral[3 * p + c]);
+      sum += static_cast<double>(v[c]) * static_cast<double>(v[c]);
+    }
+    const double len = std::sqrt(sum);
+    for (int c = 0; c < 3; ++c)
+    {
+      const float expected = len > 0.0 ? v[c] * static_cast<float>(1.0 / len) : v[c];
+      ASSERT_EQ(out[3 * p + c], expected) << "point " << p << " component " << c;
+    }
+    if (p % 97 == 0)
+    {
+      EXPECT_EQ(std::hypot(out[3 * p], out[3 * p + 1], out[3 * p + 2]), 0.0) << "point " << p;
+    }
+  }
+}
+
 TEST(MorphAttribute, ClampsColors)
 {
   const double black[3] = { 0, 0, 0 };

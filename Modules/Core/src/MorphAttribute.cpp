@@ -41,33 +41,61 @@ namespace
 #define MORPHNODE_KERNEL_CLONES
 #endif
 
+// The kernels below add weighted deltas to y. The first pass over a block reads the neutral
+// instead of y (Start = true), so the neutral is not copied into y in a pass of its own:
+// y = neutral + w d rounds as y = neutral; y += w d does, so the result is the same bits.
 // Kept out of line on purpose: inlined into the loop over targets, GCC 12 -O3 interchanges
 // the two loops and vectorizes over targets with gathers, 6-7x slower.
-template <typename T>
-__attribute__((noinline)) MORPHNODE_KERNEL_CLONES void Axpy(T weight, const T* __restrict x, T* __restrict y, size_t n)
+template <bool Start, typename T>
+__attribute__((noinline)) MORPHNODE_KERNEL_CLONES void Axpy(
+  T weight, const T* __restrict x, const T* __restrict neutral, T* __restrict y, size_t n)
 {
   for (size_t i = 0; i < n; ++i)
   {
-    y[i] += weight * x[i];
+    y[i] = (Start ? neutral[i] : y[i]) + weight * x[i];
   }
 }
 
 // Four targets in one pass over a block: the output is loaded and stored once per four
 // deltas instead of once per delta, and four delta streams are in flight at a time. Each
 // element still receives w0 d0, w1 d1, w2 d2, w3 d3 in that order, as four Axpy calls would.
-template <typename T>
-__attribute__((noinline)) MORPHNODE_KERNEL_CLONES void Axpy4(const T* w, const T* __restrict x0, const T* __restrict x1,
-  const T* __restrict x2, const T* __restrict x3, T* __restrict y, size_t n)
+template <bool Start, typename T>
+__attribute__((noinline)) MORPHNODE_KERNEL_CLONES void Axpy4(const T* w, const T* __restrict x0,
+  const T* __restrict x1, const T* __restrict x2, const T* __restrict x3, const T* __restrict neutral,
+  T* __restrict y, size_t n)
 {
   const T w0 = w[0], w1 = w[1], w2 = w[2], w3 = w[3];
   for (size_t i = 0; i < n; ++i)
   {
-    T v = y[i];
+    T v = Start ? neutral[i] : y[i];
     v += w0 * x0[i];
     v += w1 * x1[i];
     v += w2 * x2[i];
     v += w3 * x3[i];
     y[i] = v;
+  }
+}
+
+// Blended normals back to unit length, for xyz triples. The same arithmetic as the general
+// loop in BlendBlock (length in double, its inverse rounded to T, one multiply per
+// component; a zero or NaN length leaves the normal as it is), written without a branch so
+// that it vectorizes: as a scalar loop of sqrt and divide it took more time than blending
+// the normals (MorphAvatar's default face). GCC vectorizes it only with -fno-math-errno
+// and -fno-trapping-math (Modules/Core/CMakeLists.txt); neither changes a value.
+template <typename T>
+__attribute__((noinline)) MORPHNODE_KERNEL_CLONES void NormalizeTriples(T* __restrict v, size_t count)
+{
+  for (size_t p = 0; p < count; ++p)
+  {
+    const double x = static_cast<double>(v[3 * p]);
+    const double y = static_cast<double>(v[3 * p + 1]);
+    const double z = static_cast<double>(v[3 * p + 2]);
+    const double len = std::sqrt(x * x + y * y + z * z);
+    const double divisor = len > 0.0 ? len : 1.0; // a select, not a branch
+    const T inv = static_cast<T>(1.0 / divisor);
+    v[3 * p] *= inv;
+    v[3 * p + 1] *= inv;
+    v[3 * p + 2] *= inv;
   }
 }
 
@@ -132,7 +160,7 @@ void TargetDeltas<T>::AddScaled(T weight, T* out, size_t begin, size_t end) cons
   const size_t c = static_cast<size_t>(this->Components);
   if (!this->Sparse)
   {
-    Axpy(weight, this->Dense.data() + begin * c, out + begin * c, (end - begin) * c);
+    Axpy<false, T>(weight, this->Dense.data() + begin * c, nullptr, out + begin * c, (end - begin) * c);
     return;
   }
   auto first = std::lower_bound(this->Indices.begin(), this->Indices.end(), begin);
@@ -282,7 +310,6 @@ void MorphAttribute<T>::BlendBlock(
   const double* weights, size_t numWeights, T* out, size_t begin, size_t end) const
 {
   const size_t c = static_cast<size_t>(this->Components);
-  std::copy(this->Neutral.begin() + begin * c, this->Neutral.begin() + end * c, out + begin * c);
   const size_t n = std::min(numWeights, this->GetNumberOfTargets());
   // Dense targets are gathered four at a time (Axpy4); sparse ones scatter. Every element
   // receives its targets' contributions in target order whatever their storage (pending
@@ -292,7 +319,24 @@ void MorphAttribute<T>::BlendBlock(
   T denseWeights[4];
   int pending = 0;
   T* const y = out + begin * c;
+  const T* const neutral = this->Neutral.data() + begin * c;
   const size_t count = (end - begin) * c;
+  bool started = false; // y holds the neutral plus what was added so far
+  const auto flushPending = [&] {
+    for (int k = 0; k < pending; ++k)
+    {
+      if (started)
+      {
+        Axpy<false>(denseWeights[k], dense[k], neutral, y, count);
+      }
+      else
+      {
+        Axpy<true>(denseWeights[k], dense[k], neutral, y, count);
+        started = true;
+      }
+    }
+    pending = 0;
+  };
   for (size_t i = 1; i < n; ++i)
   {
     if (weights[i] == 0.0)
@@ -302,11 +346,12 @@ void MorphAttribute<T>::BlendBlock(
     const TargetDeltas<T>& target = this->Targets[i - 1];
     if (target.IsSparse())
     {
-      for (int k = 0; k < pending; ++k)
+      flushPending();
+      if (!started)
       {
-        Axpy(denseWeights[k], dense[k], y, count);
+        std::copy_n(neutral, count, y);
+        started = true;
       }
-      pending = 0;
       target.AddScaled(static_cast<T>(weights[i]), out, begin, end);
       continue;
     }
@@ -314,15 +359,28 @@ void MorphAttribute<T>::BlendBlock(
     denseWeights[pending] = static_cast<T>(weights[i]);
     if (++pending == 4)
     {
-      Axpy4(denseWeights, dense[0], dense[1], dense[2], dense[3], y, count);
+      if (started)
+      {
+        Axpy4<false>(denseWeights, dense[0], dense[1], dense[2], dense[3], neutral, y, count);
+      }
+      else
+      {
+        Axpy4<true>(denseWeights, dense[0], dense[1], dense[2], dense[3], neutral, y, count);
+        started = true;
+      }
       pending = 0;
     }
   }
-  for (int k = 0; k < pending; ++k)
+  flushPending();
+  if (!started)
   {
-    Axpy(denseWeights[k], dense[k], y, count);
+    std::copy_n(neutral, count, y);
   }
-  if (this->Role == AttributeRole::Normal)
+  if (this->Role == AttributeRole::Normal && c == 3)
+  {
+    NormalizeTriples(y, end - begin);
+  }
+  else if (this->Role == AttributeRole::Normal)
   {
     for (size_t p = begin; p < end; ++p)
     {
