@@ -151,6 +151,65 @@ TEST(MorphAttribute, ResultDoesNotDependOnStorage)
   EXPECT_EQ(dense, mixed);
 }
 
+// Sparse targets keep long runs of consecutive moved points as spans and the rest as single
+// points. Runs of 1 to 40 points (both kinds), blended over point ranges that cut through
+// them at odd places, give the same bits as dense storage blended in one range.
+TEST(MorphAttribute, SparseSpansBlendLikeDenseOverAnyRanges)
+{
+  const size_t numPoints = 2000;
+  std::mt19937 random(7);
+  std::uniform_real_distribution<float> value(-1.0f, 1.0f);
+  std::uniform_int_distribution<size_t> runLength(1, 40), gapLength(1, 25);
+  std::vector<float> neutral(numPoints * 3), deltas(numPoints * 3, 0.0f);
+  for (float& v : neutral)
+  {
+    v = value(random);
+  }
+  size_t spans = 0, singles = 0;
+  for (size_t p = gapLength(random); p < numPoints; p += gapLength(random))
+  {
+    const size_t begin = p, end = std::min(numPoints, p + runLength(random));
+    for (; p < end; ++p)
+    {
+      for (size_t c = 0; c < 3; ++c)
+      {
+        deltas[3 * p + c] = 0.1f * value(random) + 0.2f; // never exactly zero
+      }
+    }
+    const bool span = end - begin >= TargetDeltas<float>::MinSpanPoints;
+    spans += span ? 1 : 0;
+    singles += span ? 0 : end - begin;
+  }
+  const auto build = [&](double coverage) {
+    MorphAttribute<float> a("Points", AttributeRole::Position, 3, numPoints);
+    a.SetNeutral(neutral.data());
+    a.AddRelativeTarget(deltas.data(), coverage);
+    return a;
+  };
+  const MorphAttribute<float> sparse = build(1.0), dense = build(0.0);
+  ASSERT_TRUE(sparse.GetTarget(1).IsSparse());
+  EXPECT_GT(spans, 10u);
+  EXPECT_GT(singles, 10u);
+  EXPECT_EQ(sparse.GetTarget(1).GetNumberOfSpans(), spans);
+  EXPECT_EQ(sparse.GetTarget(1).GetNumberOfSinglePoints(), singles);
+  EXPECT_EQ(dense.GetTarget(1).GetNumberOfSpans() + dense.GetTarget(1).GetNumberOfSinglePoints(), 0u);
+
+  const double w[2] = { 0.3, 0.7 };
+  std::vector<float> expected(numPoints * 3), pieces(numPoints * 3);
+  dense.Blend(w, 2, expected.data(), 0, numPoints);
+  std::uniform_int_distribution<size_t> step(1, 97);
+  for (size_t begin = 0, end = 0; begin < numPoints; begin = end)
+  {
+    end = std::min(numPoints, begin + step(random));
+    sparse.Blend(w, 2, pieces.data(), begin, end);
+  }
+  EXPECT_EQ(pieces, expected);
+
+  std::vector<float> roundTrip(numPoints * 3);
+  sparse.GetTarget(1).ToDense(roundTrip.data());
+  EXPECT_EQ(roundTrip, deltas);
+}
+
 TEST(MorphAttribute, RenormalizesNormals)
 {
   const float up[3] = { 0.f, 0.f, 1.f };

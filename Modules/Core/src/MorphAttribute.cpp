@@ -122,34 +122,48 @@ TargetDeltas<T> TargetDeltas<T>::FromDense(
   TargetDeltas<T> t;
   t.Components = components;
   t.NumPoints = numPoints;
-  std::vector<uint32_t> moved;
+  const size_t c = static_cast<size_t>(components);
+  std::vector<Span> runs; // every run of moved points; First unused here
   for (size_t p = 0; p < numPoints; ++p)
   {
-    const T* d = deltas + p * components;
-    const double n = Norm(d, components);
-    if (n != 0.0)
+    const double n = Norm(deltas + p * c, components);
+    if (n == 0.0)
     {
-      moved.push_back(static_cast<uint32_t>(p));
-      t.SumNorm += n;
-      t.MaxNorm = std::max(t.MaxNorm, n);
+      continue;
     }
+    if (!runs.empty() && size_t(runs.back().Begin) + runs.back().Count == p)
+    {
+      ++runs.back().Count;
+    }
+    else
+    {
+      runs.push_back({ static_cast<uint32_t>(p), 1, 0 });
+    }
+    ++t.MovedPoints;
+    t.SumNorm += n;
+    t.MaxNorm = std::max(t.MaxNorm, n);
   }
-  t.MovedPoints = moved.size();
   t.Sparse = numPoints > 0 &&
-    static_cast<double>(moved.size()) <= sparseCoverage * static_cast<double>(numPoints);
-  if (t.Sparse)
+    static_cast<double>(t.MovedPoints) <= sparseCoverage * static_cast<double>(numPoints);
+  if (!t.Sparse)
   {
-    t.Indices = std::move(moved);
-    t.Values.resize(t.Indices.size() * components);
-    for (size_t k = 0; k < t.Indices.size(); ++k)
-    {
-      std::copy_n(deltas + size_t(t.Indices[k]) * components, components,
-        t.Values.data() + k * components);
-    }
+    t.Dense.assign(deltas, deltas + numPoints * c);
+    return t;
   }
-  else
+  for (const Span& run : runs)
   {
-    t.Dense.assign(deltas, deltas + numPoints * components);
+    const T* first = deltas + size_t(run.Begin) * c;
+    if (run.Count >= MinSpanPoints)
+    {
+      t.Spans.push_back({ run.Begin, run.Count, static_cast<uint32_t>(t.SpanValues.size() / c) });
+      t.SpanValues.insert(t.SpanValues.end(), first, first + size_t(run.Count) * c);
+      continue;
+    }
+    for (uint32_t k = 0; k < run.Count; ++k)
+    {
+      t.Points.push_back(run.Begin + k);
+    }
+    t.PointValues.insert(t.PointValues.end(), first, first + size_t(run.Count) * c);
   }
   return t;
 }
@@ -163,14 +177,25 @@ void TargetDeltas<T>::AddScaled(T weight, T* out, size_t begin, size_t end) cons
     Axpy<false, T>(weight, this->Dense.data() + begin * c, nullptr, out + begin * c, (end - begin) * c);
     return;
   }
-  auto first = std::lower_bound(this->Indices.begin(), this->Indices.end(), begin);
+  // Each moved point is in a span or among the single points, never both, so the order in
+  // which the two are added does not change a bit. Spans may straddle the range's ends.
+  auto span = std::upper_bound(this->Spans.begin(), this->Spans.end(), begin,
+    [](size_t point, const Span& s) { return point < size_t(s.Begin) + s.Count; });
+  for (; span != this->Spans.end() && span->Begin < end; ++span)
+  {
+    const size_t lo = std::max<size_t>(span->Begin, begin);
+    const size_t hi = std::min<size_t>(size_t(span->Begin) + span->Count, end);
+    Axpy<false, T>(weight, this->SpanValues.data() + (span->First + (lo - span->Begin)) * c, nullptr,
+      out + lo * c, (hi - lo) * c);
+  }
+  const uint32_t* idx = this->Points.data();
+  const size_t count = this->Points.size();
+  size_t k = static_cast<size_t>(std::lower_bound(this->Points.begin(), this->Points.end(), begin) - this->Points.begin());
   if (c == 3)
   {
     // The common case (positions, normals) with the component loop unrolled.
-    const uint32_t* idx = this->Indices.data();
-    const size_t count = this->Indices.size();
-    const T* __restrict d = this->Values.data();
-    for (size_t k = static_cast<size_t>(first - this->Indices.begin()); k < count && idx[k] < end; ++k)
+    const T* __restrict d = this->PointValues.data();
+    for (; k < count && idx[k] < end; ++k)
     {
       T* o = out + size_t(idx[k]) * 3;
       o[0] += weight * d[3 * k];
@@ -179,11 +204,10 @@ void TargetDeltas<T>::AddScaled(T weight, T* out, size_t begin, size_t end) cons
     }
     return;
   }
-  for (auto it = first; it != this->Indices.end() && *it < end; ++it)
+  for (; k < count && idx[k] < end; ++k)
   {
-    const size_t k = static_cast<size_t>(it - this->Indices.begin());
-    const T* d = this->Values.data() + k * c;
-    T* o = out + size_t(*it) * c;
+    const T* d = this->PointValues.data() + k * c;
+    T* o = out + size_t(idx[k]) * c;
     for (size_t j = 0; j < c; ++j)
     {
       o[j] += weight * d[j];
@@ -194,18 +218,12 @@ void TargetDeltas<T>::AddScaled(T weight, T* out, size_t begin, size_t end) cons
 template <typename T>
 void TargetDeltas<T>::PointNorms(std::vector<double>& perPoint) const
 {
-  perPoint.assign(this->NumPoints, 0.0);
-  if (!this->Sparse)
+  std::vector<T> dense(this->NumPoints * static_cast<size_t>(this->Components));
+  this->ToDense(dense.data());
+  perPoint.resize(this->NumPoints);
+  for (size_t p = 0; p < this->NumPoints; ++p)
   {
-    for (size_t p = 0; p < this->NumPoints; ++p)
-    {
-      perPoint[p] = Norm(this->Dense.data() + p * this->Components, this->Components);
-    }
-    return;
-  }
-  for (size_t k = 0; k < this->Indices.size(); ++k)
-  {
-    perPoint[this->Indices[k]] = Norm(this->Values.data() + k * this->Components, this->Components);
+    perPoint[p] = Norm(dense.data() + p * static_cast<size_t>(this->Components), this->Components);
   }
 }
 
@@ -219,17 +237,22 @@ void TargetDeltas<T>::ToDense(T* deltas) const
     return;
   }
   std::fill_n(deltas, this->NumPoints * c, T(0));
-  for (size_t k = 0; k < this->Indices.size(); ++k)
+  for (const Span& span : this->Spans)
   {
-    std::copy_n(this->Values.data() + k * c, c, deltas + size_t(this->Indices[k]) * c);
+    std::copy_n(this->SpanValues.data() + size_t(span.First) * c, size_t(span.Count) * c,
+      deltas + size_t(span.Begin) * c);
+  }
+  for (size_t k = 0; k < this->Points.size(); ++k)
+  {
+    std::copy_n(this->PointValues.data() + k * c, c, deltas + size_t(this->Points[k]) * c);
   }
 }
 
 template <typename T>
 size_t TargetDeltas<T>::GetMemorySize() const
 {
-  return this->Dense.size() * sizeof(T) + this->Values.size() * sizeof(T) +
-    this->Indices.size() * sizeof(uint32_t);
+  return (this->Dense.size() + this->SpanValues.size() + this->PointValues.size()) * sizeof(T) +
+    this->Spans.size() * sizeof(Span) + this->Points.size() * sizeof(uint32_t);
 }
 
 template <typename T>
