@@ -508,8 +508,9 @@ int vtkMorphNodeFilter::RequestData(
     }
     fd->AddArray(internals.TargetNames);
     fd->AddArray(internals.Values<vtkDoubleArray>(internals.EffectiveWeightsOut, adapter::EffectiveWeightsArray, effective));
+    const int activeTargets = morphnode::CountActiveTargets(effective);
     fd->AddArray(internals.Values<vtkIntArray>(internals.ActiveTargetCountOut, adapter::ActiveTargetCountArray,
-      { static_cast<double>(morphnode::CountActiveTargets(effective)) }));
+      { static_cast<double>(activeTargets) }));
     fd->AddArray(internals.Values<vtkDoubleArray>(
       internals.ErrorBoundOut, adapter::ErrorBoundArray, { internals.Optimizer.GetLastErrorBound() }));
     if (this->GenerateDistanceArrays)
@@ -518,7 +519,7 @@ int vtkMorphNodeFilter::RequestData(
     }
 
     internals.EffectiveWeights = effective;
-    this->ActiveTargetCount = morphnode::CountActiveTargets(effective);
+    this->ActiveTargetCount = activeTargets;
     this->ErrorBound = internals.Optimizer.GetLastErrorBound();
 
     vtkInformation* outInfo = outputVector->GetInformationObject(0);

@@ -218,12 +218,18 @@ void TargetDeltas<T>::AddScaled(T weight, T* out, size_t begin, size_t end) cons
 template <typename T>
 void TargetDeltas<T>::PointNorms(std::vector<double>& perPoint) const
 {
-  std::vector<T> dense(this->NumPoints * static_cast<size_t>(this->Components));
-  this->ToDense(dense.data());
+  const size_t c = static_cast<size_t>(this->Components);
+  std::vector<T> expanded;
+  if (this->Sparse)
+  {
+    expanded.resize(this->NumPoints * c);
+    this->ToDense(expanded.data());
+  }
+  const T* deltas = this->Sparse ? expanded.data() : this->Dense.data();
   perPoint.resize(this->NumPoints);
   for (size_t p = 0; p < this->NumPoints; ++p)
   {
-    perPoint[p] = Norm(dense.data() + p * static_cast<size_t>(this->Components), this->Components);
+    perPoint[p] = Norm(deltas + p * c, this->Components);
   }
 }
 
@@ -345,6 +351,13 @@ void MorphAttribute<T>::BlendBlock(
   const T* const neutral = this->Neutral.data() + begin * c;
   const size_t count = (end - begin) * c;
   bool started = false; // y holds the neutral plus what was added so far
+  const auto startFromNeutral = [&] {
+    if (!started)
+    {
+      std::copy_n(neutral, count, y);
+      started = true;
+    }
+  };
   const auto flushPending = [&] {
     for (int k = 0; k < pending; ++k)
     {
@@ -370,11 +383,7 @@ void MorphAttribute<T>::BlendBlock(
     if (target.IsSparse())
     {
       flushPending();
-      if (!started)
-      {
-        std::copy_n(neutral, count, y);
-        started = true;
-      }
+      startFromNeutral();
       target.AddScaled(static_cast<T>(weights[i]), out, begin, end);
       continue;
     }
@@ -395,10 +404,7 @@ void MorphAttribute<T>::BlendBlock(
     }
   }
   flushPending();
-  if (!started)
-  {
-    std::copy_n(neutral, count, y);
-  }
+  startFromNeutral(); // no target was active: the neutral itself
   if (this->Role == AttributeRole::Normal && c == 3)
   {
     NormalizeTriples(y, end - begin);
