@@ -14,11 +14,11 @@
 // the face's order. Head and eye angles have no morph target and are left out.
 //
 // The target names come from the GLB's meshes[0].extras.targetNames (no VTK needed).
-#include "morphnode/Error.h"
-#include "morphnode/WeightTrack.h"
-#include "morphnode/behavior/BehaviorController.h"
-#include "morphnode/rig/Rig.h"
-#include "morphnode/speech/Speech.h"
+#include "base/Error.h"
+#include "track/WeightTrack.h"
+#include "behavior/BehaviorController.h"
+#include "rig/Rig.h"
+#include "speech/Speech.h"
 
 #include <nlohmann/json.hpp>
 

@@ -27,9 +27,9 @@
 #include "vtkMorphNodeFilter.h"
 #include "vtkMorphTargetReader.h"
 
-#include "morphnode/Error.h"
-#include "morphnode/MorphModel.h"
-#include "morphnode/OptimizerQuality.h"
+#include "base/Error.h"
+#include "morph/MorphModel.h"
+#include "morph/OptimizerQuality.h"
 
 #include "vtkAxis.h"
 #include "vtkChartLegend.h"

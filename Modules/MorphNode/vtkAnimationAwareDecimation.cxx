@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkAnimationAwareDecimation.h"
 
-#include "morphnode/Error.h"
-#include "morphnode/reduction/AnimationAwareReduction.h"
+#include "base/Error.h"
+#include "reduction/AnimationAwareReduction.h"
 
 #include "vtkCellArray.h"
 #include "vtkCellArrayIterator.h"

@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkBehaviorTimeSource.h"
 
-#include "morphnode/Error.h"
-#include "morphnode/behavior/BehaviorController.h"
-#include "morphnode/speech/Speech.h"
-#include "morphnode/speech/Wav.h"
+#include "base/Error.h"
+#include "behavior/BehaviorController.h"
+#include "speech/Speech.h"
+#include "speech/Wav.h"
 
 #include "vtkDataObject.h"
 #include "vtkDoubleArray.h"

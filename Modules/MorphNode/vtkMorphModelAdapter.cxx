@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkMorphModelAdapter.h"
 
-#include "morphnode/Error.h"
+#include "base/Error.h"
 
 #include "vtkAbstractArray.h"
 #include "vtkDataArray.h"

@@ -13,7 +13,7 @@
 #ifndef vtkMorphModelAdapter_h
 #define vtkMorphModelAdapter_h
 
-#include "morphnode/MorphModel.h"
+#include "morph/MorphModel.h"
 
 #include "vtkSmartPointer.h"
 

@@ -3,9 +3,9 @@
 
 #include "vtkMorphModelAdapter.h"
 
-#include "morphnode/Error.h"
-#include "morphnode/WeightOptimizer.h"
-#include "morphnode/Weights.h"
+#include "base/Error.h"
+#include "morph/WeightOptimizer.h"
+#include "morph/Weights.h"
 
 #include "vtkAlgorithmOutput.h"
 #include "vtkCellData.h"

@@ -4,9 +4,9 @@
 #include "vtkMorphModelAdapter.h"
 #include "vtkMorphRigCache.h"
 
-#include "morphnode/Error.h"
-#include "morphnode/MorphModel.h"
-#include "morphnode/rig/Rig.h"
+#include "base/Error.h"
+#include "morph/MorphModel.h"
+#include "rig/Rig.h"
 
 #include "vtkDataArray.h"
 #include "vtkFieldData.h"

@@ -10,8 +10,8 @@
 #ifndef vtkMorphRigCache_h
 #define vtkMorphRigCache_h
 
-#include "morphnode/Error.h"
-#include "morphnode/rig/Rig.h"
+#include "base/Error.h"
+#include "rig/Rig.h"
 
 #include "vtkIndent.h"
 #include "vtkTimeStamp.h"

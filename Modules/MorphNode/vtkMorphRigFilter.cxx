@@ -4,8 +4,8 @@
 #include "vtkMorphModelAdapter.h"
 #include "vtkMorphRigCache.h"
 
-#include "morphnode/Error.h"
-#include "morphnode/rig/Rig.h"
+#include "base/Error.h"
+#include "rig/Rig.h"
 
 #include "vtkAbstractArray.h"
 #include "vtkCompositeDataIterator.h"

@@ -3,10 +3,10 @@
 
 #include "vtkMorphModelAdapter.h"
 
-#include "morphnode/Error.h"
-#include "morphnode/MorphModel.h"
-#include "morphnode/Normals.h"
-#include "morphnode/rig/ObjSet.h"
+#include "base/Error.h"
+#include "morph/MorphModel.h"
+#include "morph/Normals.h"
+#include "rig/ObjSet.h"
 
 #include "vtkCellArray.h"
 #include "vtkFieldData.h"

@@ -25,7 +25,7 @@
 #include "vtkMorphRigBaker.h"
 #include "vtkMorphTargetReader.h"
 
-#include "morphnode/speech/Speech.h"
+#include "speech/Speech.h"
 
 #include "vtkActor.h"
 #include "vtkAxis.h"

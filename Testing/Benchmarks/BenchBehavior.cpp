@@ -2,8 +2,8 @@
 // The behaviour control's speed: sampling every channel at one time t (the VTK adapter's
 // per-time-step work), building the schedules (Prepare), and a whole track.
 // Target: >= 100,000 samples ("frames") per second on one core; the counter frames/s says.
-#include "morphnode/SpeechTypes.h"
-#include "morphnode/behavior/BehaviorController.h"
+#include "speech/SpeechTypes.h"
+#include "behavior/BehaviorController.h"
 
 #include <benchmark/benchmark.h>
 

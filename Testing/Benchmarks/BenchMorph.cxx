@@ -13,8 +13,8 @@
 #include "vtkMorphNodeFilter.h"
 #include "vtkMorphTargetReader.h"
 
-#include "morphnode/MorphAttribute.h"
-#include "morphnode/MorphModel.h"
+#include "morph/MorphAttribute.h"
+#include "morph/MorphModel.h"
 
 #include "vtkDataArray.h"
 #include "vtkFloatArray.h"

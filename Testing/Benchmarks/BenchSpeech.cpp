@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // Speech benchmarks. The figure that matters is `realtime_factor` of BM_TextToWeightTrack:
 // seconds of speech produced per second of wall time, synthesis included (goal >= 50).
-#include "morphnode/speech/Speech.h"
+#include "speech/Speech.h"
 
 #include <benchmark/benchmark.h>
 

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
-#include "morphnode/Distances.h"
-#include "morphnode/Error.h"
-#include "morphnode/MorphAttribute.h"
-#include "morphnode/MorphModel.h"
+#include "morph/Distances.h"
+#include "base/Error.h"
+#include "morph/MorphAttribute.h"
+#include "morph/MorphModel.h"
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
-#include "morphnode/Error.h"
-#include "morphnode/MorphModel.h"
-#include "morphnode/OptimizerQuality.h"
+#include "base/Error.h"
+#include "morph/MorphModel.h"
+#include "morph/OptimizerQuality.h"
 
 #include <gtest/gtest.h>
 

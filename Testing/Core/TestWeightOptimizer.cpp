@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
-#include "morphnode/Error.h"
-#include "morphnode/MorphModel.h"
-#include "morphnode/WeightOptimizer.h"
-#include "morphnode/Weights.h"
+#include "base/Error.h"
+#include "morph/MorphModel.h"
+#include "morph/WeightOptimizer.h"
+#include "morph/Weights.h"
 
 #include <gtest/gtest.h>
 

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
-#include "morphnode/Error.h"
-#include "morphnode/Weights.h"
+#include "base/Error.h"
+#include "morph/Weights.h"
 
 #include <gtest/gtest.h>
 

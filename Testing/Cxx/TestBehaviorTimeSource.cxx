@@ -7,8 +7,8 @@
 
 #include "MorphNodeTestUtilities.h"
 
-#include "morphnode/behavior/BehaviorController.h"
-#include "morphnode/speech/Speech.h"
+#include "behavior/BehaviorController.h"
+#include "speech/Speech.h"
 
 #include "vtkCallbackCommand.h"
 #include "vtkDelimitedTextWriter.h"

@@ -9,8 +9,8 @@
 #include "vtkMorphNodeFilter.h"
 #include "vtkMorphTargetReader.h"
 
-#include "morphnode/rig/Rig.h"
-#include "morphnode/speech/Speech.h"
+#include "rig/Rig.h"
+#include "speech/Speech.h"
 
 #include "vtkDataArray.h"
 #include "vtkNew.h"

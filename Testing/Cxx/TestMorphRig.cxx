@@ -9,7 +9,7 @@
 
 #include "MorphNodeTestUtilities.h"
 
-#include "morphnode/rig/Rig.h"
+#include "rig/Rig.h"
 
 #include "vtkDataArray.h"
 #include "vtkDoubleArray.h"

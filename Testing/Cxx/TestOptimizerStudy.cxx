@@ -6,11 +6,11 @@
 #include "vtkMorphNodeFilter.h"
 #include "vtkMorphTargetReader.h"
 
-#include "morphnode/MorphModel.h"
-#include "morphnode/OptimizerQuality.h"
-#include "morphnode/behavior/BehaviorController.h"
-#include "morphnode/rig/Rig.h"
-#include "morphnode/speech/Speech.h"
+#include "morph/MorphModel.h"
+#include "morph/OptimizerQuality.h"
+#include "behavior/BehaviorController.h"
+#include "rig/Rig.h"
+#include "speech/Speech.h"
 
 #include "vtkNew.h"
 

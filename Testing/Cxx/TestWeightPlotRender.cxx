@@ -4,7 +4,7 @@
 // baseline PNG. A second seed must not match it. Run under `xvfb-run -a`.
 #include "MorphNodeTestUtilities.h"
 
-#include "morphnode/behavior/BehaviorController.h"
+#include "behavior/BehaviorController.h"
 
 #include "vtkAxis.h"
 #include "vtkChartLegend.h"

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // Fuzz target: the OBJ reader (ParseObj). Whatever it accepts must be a consistent mesh:
 // finite coordinates, every triangle corner's indices in range.
-#include "morphnode/Error.h"
-#include "morphnode/rig/ObjSet.h"
+#include "base/Error.h"
+#include "rig/ObjSet.h"
 
 #include <cmath>
 #include <cstdint>

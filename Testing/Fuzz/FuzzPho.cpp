@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // Fuzz target: the MBROLA .pho reader, and the writer on whatever it accepts.
-#include "morphnode/Error.h"
-#include "morphnode/speech/Pho.h"
+#include "base/Error.h"
+#include "speech/Pho.h"
 
 #include <cmath>
 #include <cstdint>

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // Fuzz target: Rhubarb JSON reader, the writer on whatever it accepts, and the conversion
 // of the cues to a viseme track.
-#include "morphnode/Error.h"
-#include "morphnode/speech/Rhubarb.h"
+#include "base/Error.h"
+#include "speech/Rhubarb.h"
 
 #include <cstdint>
 #include <cstdlib>

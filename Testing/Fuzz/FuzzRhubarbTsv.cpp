@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // Fuzz target: Rhubarb TSV reader, and the writer on whatever it accepts.
-#include "morphnode/Error.h"
-#include "morphnode/speech/Rhubarb.h"
+#include "base/Error.h"
+#include "speech/Rhubarb.h"
 
 #include <cstdint>
 #include <cstdlib>

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // Fuzz target: the rig JSON reader (Rig::LoadString), then binding the rig to exactly the
 // targets it names and expanding all shapes at weight 1.
-#include "morphnode/Error.h"
-#include "morphnode/rig/Rig.h"
+#include "base/Error.h"
+#include "rig/Rig.h"
 
 #include <cstdint>
 #include <cstdlib>

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // Fuzz target: the viseme table reader (VisemeMap::FromJson), then every lookup on the
 // table it built (phonemes, pauses, unknown phonemes, Rhubarb shapes, dominance).
-#include "morphnode/Error.h"
-#include "morphnode/speech/VisemeMap.h"
+#include "base/Error.h"
+#include "speech/VisemeMap.h"
 
 #include <cmath>
 #include <cstdint>

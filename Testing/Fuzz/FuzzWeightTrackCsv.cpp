@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // Fuzz target: the weight track CSV reader (WeightTrack::ReadCsv), and WriteCsv on whatever
 // it accepts: what it writes must read back to the same channels and frame count.
-#include "morphnode/Error.h"
-#include "morphnode/WeightTrack.h"
+#include "base/Error.h"
+#include "track/WeightTrack.h"
 
 #include <cmath>
 #include <cstdint>

@@ -2,10 +2,10 @@
 // libFuzzer target of the behaviour script parser (text and JSON): any input either parses
 // or throws morphnode::InputError; what parses is applied, prepared and sampled, so that
 // nothing the parser accepts can crash the controller either.
-#include "morphnode/Error.h"
-#include "morphnode/SpeechTypes.h"
-#include "morphnode/behavior/BehaviorController.h"
-#include "morphnode/behavior/BehaviorScript.h"
+#include "base/Error.h"
+#include "speech/SpeechTypes.h"
+#include "behavior/BehaviorController.h"
+#include "behavior/BehaviorScript.h"
 
 #include <algorithm>
 #include <cmath>

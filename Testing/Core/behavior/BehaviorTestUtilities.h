@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Shared helpers of the behaviour tests: synthetic utterances with known viseme timing.
-#include "morphnode/SpeechTypes.h"
-#include "morphnode/behavior/BehaviorController.h"
+#include "speech/SpeechTypes.h"
+#include "behavior/BehaviorController.h"
 
 #include <algorithm>
 #include <cmath>

@@ -2,10 +2,10 @@
 // Commands on the blackboard: gestures, moods, looks, speech, and the blending rules.
 #include "BehaviorTestUtilities.h"
 
-#include "morphnode/Error.h"
-#include "morphnode/behavior/BehaviorController.h"
-#include "morphnode/behavior/Random.h"
-#include "morphnode/behavior/Timeline.h"
+#include "base/Error.h"
+#include "behavior/BehaviorController.h"
+#include "behavior/Random.h"
+#include "behavior/Timeline.h"
 
 #include <gtest/gtest.h>
 

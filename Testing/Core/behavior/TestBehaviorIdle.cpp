@@ -2,9 +2,9 @@
 // Idle behaviour: reproducibility, blink statistics, lid curve, saccade law, head motion.
 #include "BehaviorTestUtilities.h"
 
-#include "morphnode/behavior/BehaviorController.h"
-#include "morphnode/behavior/IdleSchedule.h"
-#include "morphnode/behavior/Random.h"
+#include "behavior/BehaviorController.h"
+#include "behavior/IdleSchedule.h"
+#include "behavior/Random.h"
 
 #include <gtest/gtest.h>
 

@@ -2,10 +2,10 @@
 // Behaviour scripts: both formats, line-numbered errors, the example scripts, robustness.
 #include "BehaviorTestUtilities.h"
 
-#include "morphnode/Error.h"
-#include "morphnode/behavior/BehaviorController.h"
-#include "morphnode/behavior/BehaviorScript.h"
-#include "morphnode/behavior/Random.h"
+#include "base/Error.h"
+#include "behavior/BehaviorController.h"
+#include "behavior/BehaviorScript.h"
+#include "behavior/Random.h"
 
 #include <gtest/gtest.h>
 

@@ -3,7 +3,7 @@
 // A synthetic "face" for the reduction tests: a gently curved grid whose lower part (the
 // "mouth") and two small spots (the "eyes") are animated by targets, the rest static.
 
-#include "morphnode/reduction/AnimationAwareReduction.h"
+#include "reduction/AnimationAwareReduction.h"
 
 #include <cmath>
 

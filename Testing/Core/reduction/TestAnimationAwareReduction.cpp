@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "ReductionTestMesh.h"
 
-#include "morphnode/Error.h"
-#include "morphnode/reduction/AnimationAwareReduction.h"
+#include "base/Error.h"
+#include "reduction/AnimationAwareReduction.h"
 
 #include <gtest/gtest.h>
 

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // The controller against a simulated device: cost models are given, never timed, so the
 // assertions do not depend on the machine.
-#include "morphnode/Error.h"
-#include "morphnode/reduction/FrameBudgetController.h"
+#include "base/Error.h"
+#include "budget/FrameBudgetController.h"
 
 #include <gtest/gtest.h>
 

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // The shipped Data/rigs/arkit.json: complete viseme/expression sets, valid against the
 // ICT-FaceKit target names, bilabials that close the lips.
-#include "morphnode/Error.h"
-#include "morphnode/rig/Rig.h"
+#include "base/Error.h"
+#include "rig/Rig.h"
 
 #include <gtest/gtest.h>
 

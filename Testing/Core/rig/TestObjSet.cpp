@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
-#include "morphnode/Error.h"
-#include "morphnode/rig/ObjSet.h"
-#include "morphnode/rig/Rig.h"
+#include "base/Error.h"
+#include "rig/ObjSet.h"
+#include "rig/Rig.h"
 
 #include <gtest/gtest.h>
 

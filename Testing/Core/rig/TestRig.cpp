@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
-#include "morphnode/Error.h"
-#include "morphnode/rig/Rig.h"
+#include "base/Error.h"
+#include "rig/Rig.h"
 
 #include <gtest/gtest.h>
 

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
-#include "morphnode/Error.h"
-#include "morphnode/speech/Coarticulation.h"
-#include "morphnode/speech/Sampa.h"
-#include "morphnode/speech/Speech.h"
+#include "base/Error.h"
+#include "speech/Coarticulation.h"
+#include "speech/Sampa.h"
+#include "speech/Speech.h"
 
 #include <gtest/gtest.h>
 

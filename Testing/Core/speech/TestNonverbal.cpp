@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
-#include "morphnode/speech/Nonverbal.h"
-#include "morphnode/speech/Speech.h"
+#include "speech/Nonverbal.h"
+#include "speech/Speech.h"
 
 #include <gtest/gtest.h>
 

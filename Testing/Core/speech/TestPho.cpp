@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
-#include "morphnode/Error.h"
-#include "morphnode/speech/Pho.h"
+#include "base/Error.h"
+#include "speech/Pho.h"
 
 #include <gtest/gtest.h>
 

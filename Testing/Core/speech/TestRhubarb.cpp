@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
-#include "morphnode/Error.h"
-#include "morphnode/speech/Rhubarb.h"
-#include "morphnode/speech/Speech.h"
+#include "base/Error.h"
+#include "speech/Rhubarb.h"
+#include "speech/Speech.h"
 
 #include <gtest/gtest.h>
 

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
-#include "morphnode/Error.h"
-#include "morphnode/speech/Sampa.h"
-#include "morphnode/speech/SpeechSynthesizer.h"
-#include "morphnode/speech/Wav.h"
+#include "base/Error.h"
+#include "speech/Sampa.h"
+#include "speech/SpeechSynthesizer.h"
+#include "speech/Wav.h"
 
 #include <gtest/gtest.h>
 

@@ -1,6 +1,6 @@
 // Blends two triangles with the installed vtkMorphNodeFilter; exits 0 when the blend is right.
 #include <vtkMorphNodeFilter.h>
-#include <morphnode/Weights.h>
+#include "morph/Weights.h"
 
 #include <vtkCellArray.h>
 #include <vtkNew.h>

@@ -1,0 +1,783 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "behavior/BehaviorController.h"
+
+#include "base/Error.h"
+#include "behavior/Blackboard.h"
+
+#include "base/Text.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <sstream>
+
+namespace morphnode
+{
+namespace
+{
+constexpr double Pi = 3.141592653589793;
+using C = BehaviorChannel;
+
+void CheckRange(double v, double lo, double hi, const char* what)
+{
+  if (!(v >= lo && v <= hi))
+  {
+    std::ostringstream msg;
+    msg << what << " " << v << " is outside [" << lo << ", " << hi << "]";
+    throw InputError(msg.str());
+  }
+}
+
+void CheckStart(double start)
+{
+  CheckRange(start, 0.0, MaxBehaviorTime, "start time");
+}
+
+/// Viseme channels that mean a closed, resting mouth: they do not count as speech activity.
+bool IsSilentViseme(const std::string& name)
+{
+  const std::string n = text::ToLower(name);
+  return n == "sil" || n == "silence" || n == "x" || n == "_" || n == "rest" || n == "neutral";
+}
+
+/// Expression contributions of a mood at intensity 1 (MPEG-4-like, on our semantic shapes):
+/// EyesClosed, BrowsUp, BrowsFright, BrowsAngry, MouthSmile, MouthSad, then head pitch.
+struct MoodExpression
+{
+  double Shapes[Blackboard::NumberOfShapes];
+  double HeadPitch;
+};
+// Happy, Sad, Angry, Afraid, Surprised (the mood vector's order).
+// clang-format off
+const MoodExpression MoodTable[NumberOfMoods] = {
+  { { 0.0,  0.1, 0.0, 0.0, 0.7, 0.0 },  0.0 }, // happy: smile, a touch of brows
+  { { 0.15, 0.0, 0.5, 0.0, 0.0, 0.7 }, -4.0 }, // sad: droopy lids, inner brows, head down
+  { { 0.1,  0.0, 0.0, 0.8, 0.0, 0.2 }, -1.5 }, // angry: brows down, narrowed lids
+  { { 0.0,  0.4, 0.7, 0.0, 0.0, 0.1 },  0.0 }, // afraid: inner and outer brows up
+  { { 0.0,  0.9, 0.0, 0.0, 0.0, 0.0 },  2.0 }  // surprised: brows up, head up
+};
+// clang-format on
+
+/// A 0..1 bump: zero slope at both ends, one per cycle: 0.5 - 0.5 cos(2 pi cycles u).
+double Bumps(double u, double cycles)
+{
+  return 0.5 - 0.5 * std::cos(2.0 * Pi * cycles * u);
+}
+} // namespace
+
+// ------------------------------------------------------------------ configuration
+
+void BehaviorController::SetSeed(uint64_t seed)
+{
+  this->Seed = seed;
+  this->Changed();
+}
+
+void BehaviorController::SetFrameRate(double fps)
+{
+  CheckRange(fps, 1e-3, 1000.0, "frame rate");
+  this->FrameRate = fps;
+  this->Changed();
+}
+
+void BehaviorController::SetDuration(double seconds)
+{
+  CheckRange(seconds, 0.0, MaxBehaviorTime, "duration");
+  this->Duration = seconds;
+  this->Changed();
+}
+
+void BehaviorController::SetParameters(const BehaviorParameters& p)
+{
+  const double big = 1e6;
+  CheckRange(p.BlinkRateRest, 0.1, 600.0, "BlinkRateRest");
+  CheckRange(p.BlinkRateSpeaking, 0.1, 600.0, "BlinkRateSpeaking");
+  CheckRange(p.BlinkIntervalSigma, 0.0, 3.0, "BlinkIntervalSigma");
+  CheckRange(p.BlinkMinInterval, 0.0, big, "BlinkMinInterval");
+  CheckRange(p.BlinkCloseTime, 0.01, 10.0, "BlinkCloseTime");
+  CheckRange(p.BlinkClosedTime, 0.0, 10.0, "BlinkClosedTime");
+  CheckRange(p.BlinkOpenTime, 0.01, 10.0, "BlinkOpenTime");
+  CheckRange(p.SaccadeBase, 0.0, 10.0, "SaccadeBase");
+  CheckRange(p.SaccadePerDegree, 0.0, 1.0, "SaccadePerDegree");
+  CheckRange(p.SaccadeMaxAmplitude, 0.0, 90.0, "SaccadeMaxAmplitude");
+  CheckRange(p.SaccadeRange, 0.0, 90.0, "SaccadeRange");
+  CheckRange(p.FixationMean, 0.05, big, "FixationMean");
+  CheckRange(p.FixationSigma, 0.0, 3.0, "FixationSigma");
+  CheckRange(p.FixationMin, 0.05, big, "FixationMin");
+  CheckRange(p.HeadYawAmplitude, 0.0, 90.0, "HeadYawAmplitude");
+  CheckRange(p.HeadPitchAmplitude, 0.0, 90.0, "HeadPitchAmplitude");
+  CheckRange(p.HeadRollAmplitude, 0.0, 90.0, "HeadRollAmplitude");
+  CheckRange(p.IdleSmileInterval, -big, big, "IdleSmileInterval");
+  CheckRange(p.IdleSmileIntensity, 0.0, 1.0, "IdleSmileIntensity");
+  CheckRange(p.HeadShareOfGaze, 0.0, 1.0, "HeadShareOfGaze");
+  CheckRange(p.HeadGazeTime, 0.0, 10.0, "HeadGazeTime");
+  CheckRange(p.EyeYawRange, 1.0, 90.0, "EyeYawRange");
+  CheckRange(p.EyePitchRange, 1.0, 90.0, "EyePitchRange");
+  CheckRange(p.NodAmplitude, -90.0, 90.0, "NodAmplitude");
+  CheckRange(p.ShakeAmplitude, -90.0, 90.0, "ShakeAmplitude");
+  CheckRange(p.TiltAmplitude, -90.0, 90.0, "TiltAmplitude");
+  CheckRange(p.SpeechNodAmplitude, -90.0, 90.0, "SpeechNodAmplitude");
+  CheckRange(p.MoodFadeTime, 0.0, 60.0, "MoodFadeTime");
+  CheckRange(p.SpeechExpressionDamping, 0.0, 1.0, "SpeechExpressionDamping");
+  this->Parameters = p;
+  this->Changed();
+}
+
+void BehaviorController::SetSynthesizer(Synthesizer synthesizer)
+{
+  this->Synthesize = std::move(synthesizer);
+}
+
+void BehaviorController::SetPhonemeFileLoader(PhonemeFileLoader loader)
+{
+  this->LoadPhonemes = std::move(loader);
+}
+
+// ------------------------------------------------------------------ commands
+
+void BehaviorController::Say(const std::string& text, double start)
+{
+  if (!this->Synthesize)
+  {
+    throw InputError("say: no synthesizer is set (BehaviorController::SetSynthesizer)");
+  }
+  this->AddUtterance(this->Synthesize(text), start);
+}
+
+void BehaviorController::Speak(const Utterance& utterance, double start)
+{
+  this->AddUtterance(utterance, start);
+}
+
+void BehaviorController::SpeakPhonemeFile(const std::string& path, double start)
+{
+  if (!this->LoadPhonemes)
+  {
+    throw InputError(
+      "phonemes: no phoneme file loader is set (BehaviorController::SetPhonemeFileLoader)");
+  }
+  this->AddUtterance(this->LoadPhonemes(path), start);
+}
+
+void BehaviorController::AddUtterance(Utterance u, double start)
+{
+  if (start < 0.0 && std::isfinite(start))
+  {
+    start = 0.0; // AfterPrevious
+    for (const auto& s : this->Utterances)
+    {
+      start = std::max(start, s.End);
+    }
+  }
+  CheckStart(start);
+  CheckRange(u.Duration, 0.0, MaxBehaviorTime, "utterance duration");
+  const WeightTrack& v = u.Visemes;
+  for (const auto& name : v.GetChannels())
+  {
+    for (const auto& base : C::Names())
+    {
+      if (name == base)
+      {
+        throw InputError("viseme channel '" + name + "' has the name of a behaviour channel");
+      }
+    }
+  }
+  for (size_t f = 0; f < v.GetNumberOfFrames(); ++f)
+  {
+    for (size_t c = 0; c < v.GetNumberOfChannels(); ++c)
+    {
+      if (!std::isfinite(v.GetValue(f, c)))
+      {
+        throw InputError("viseme track: a value that is not finite");
+      }
+    }
+  }
+  const double trackLength = v.GetNumberOfFrames() > 1
+    ? static_cast<double>(v.GetNumberOfFrames() - 1) / v.GetFrameRate()
+    : 0.0;
+  CheckRange(trackLength, 0.0, MaxBehaviorTime, "viseme track length");
+  for (const auto& cue : u.Cues)
+  {
+    CheckRange(cue.Start, 0.0, MaxBehaviorTime, "cue start");
+    CheckRange(cue.Duration, 0.0, MaxBehaviorTime, "cue duration");
+    CheckRange(cue.Intensity, 0.0, 1.0, "cue intensity");
+  }
+  ScheduledUtterance s;
+  s.Start = start;
+  s.End = start + std::max(u.Duration, trackLength);
+  s.Speech = std::move(u);
+  this->Utterances.push_back(std::move(s));
+  this->Changed();
+}
+
+void BehaviorController::Gesture(const std::string& name,
+  double start,
+  double duration,
+  double intensity)
+{
+  this->Gesture(ParseGestureName(name), start, duration, intensity);
+}
+
+void BehaviorController::Gesture(GestureKind kind, double start, double duration, double intensity)
+{
+  CheckStart(start);
+  CheckRange(duration, -MaxBehaviorTime, MaxBehaviorTime, "gesture duration");
+  CheckRange(intensity, 0.0, 1.0, "gesture intensity");
+  ScheduledGesture g;
+  g.Kind = kind;
+  g.Start = start;
+  g.Duration = duration > 0.0 ? duration : DefaultGestureDuration(kind);
+  g.Intensity = intensity;
+  g.Sync = GestureSync(g, this->Parameters);
+  this->Gestures.push_back(g);
+  this->Changed();
+}
+
+SyncPoints BehaviorController::GestureSync(const ScheduledGesture& g, const BehaviorParameters& p)
+{
+  switch (g.Kind)
+  {
+    case GestureKind::CloseEyes: // closes like a blink, opens a little slower
+      return SyncPoints::Make(g.Start, g.Duration, p.BlinkCloseTime, 0.25);
+    case GestureKind::Blink: // a blink keeps its own lid curve
+      return SyncPoints::Make(g.Start, BlinkLength(p), p.BlinkCloseTime, p.BlinkOpenTime);
+    case GestureKind::Nod:
+    case GestureKind::Shake:
+    case GestureKind::Tilt:
+      return SyncPoints::Make(g.Start, g.Duration, 0.2, 0.2);
+    default:
+      return SyncPoints::Make(g.Start, g.Duration, 0.3, 0.4);
+  }
+}
+
+void BehaviorController::SetMood(const std::string& name,
+  double intensity,
+  double start,
+  double fade)
+{
+  this->SetMood(ParseMoodName(name), intensity, start, fade);
+}
+
+void BehaviorController::SetMood(MoodKind mood, double intensity, double start, double fade)
+{
+  CheckStart(start);
+  CheckRange(intensity, 0.0, 1.0, "mood intensity");
+  CheckRange(fade, -MaxBehaviorTime, MaxBehaviorTime, "mood fade");
+  this->Moods.push_back({ mood, intensity, start, fade });
+  this->Changed();
+}
+
+void BehaviorController::LookAt(double yaw, double pitch, double start, double duration)
+{
+  CheckRange(yaw, -90.0, 90.0, "look yaw");
+  CheckRange(pitch, -90.0, 90.0, "look pitch");
+  CheckStart(start);
+  CheckRange(duration, -MaxBehaviorTime, MaxBehaviorTime, "look duration");
+  this->Looks.push_back({ yaw, pitch, start, duration, this->Looks.size() });
+  this->Changed();
+}
+
+void BehaviorController::ClearCommands()
+{
+  this->Gestures.clear();
+  this->Utterances.clear();
+  this->Moods.clear();
+  this->Looks.clear();
+  this->Changed();
+}
+
+// ------------------------------------------------------------------ scripts
+
+void BehaviorController::Apply(const BehaviorScript& script)
+{
+  // All or nothing: a bad line leaves this controller as it was.
+  BehaviorController next = *this;
+  if (script.Seed)
+  {
+    next.SetSeed(*script.Seed);
+  }
+  if (script.FrameRate)
+  {
+    next.SetFrameRate(*script.FrameRate);
+  }
+  if (script.Duration)
+  {
+    next.SetDuration(*script.Duration);
+  }
+  for (const BehaviorCommand& c : script.Commands)
+  {
+    try
+    {
+      switch (c.Type)
+      {
+        case BehaviorCommand::Kind::Say:
+          next.Say(c.Text, c.Start);
+          break;
+        case BehaviorCommand::Kind::Phonemes:
+        {
+          const bool relative = !c.Text.empty() && c.Text[0] != '/';
+          next.SpeakPhonemeFile(relative ? script.BaseDirectory + c.Text : c.Text, c.Start);
+          break;
+        }
+        case BehaviorCommand::Kind::Gesture:
+          next.Gesture(c.Text, c.Start, c.Duration, c.Intensity);
+          break;
+        case BehaviorCommand::Kind::Mood:
+          next.SetMood(c.Text, c.Intensity, c.Start, c.Fade);
+          break;
+        case BehaviorCommand::Kind::Look:
+          next.LookAt(c.Yaw, c.Pitch, c.Start, c.Duration);
+          break;
+      }
+    }
+    catch (const InputError& e)
+    {
+      throw InputError("line " + std::to_string(c.Line) + ": " + e.what());
+    }
+  }
+  *this = std::move(next);
+}
+
+void BehaviorController::LoadScript(const std::string& path)
+{
+  const BehaviorScript script = LoadBehaviorScript(path);
+  try
+  {
+    this->Apply(script);
+  }
+  catch (const InputError& e)
+  {
+    throw InputError(path + ": " + e.what());
+  }
+}
+
+void BehaviorController::ParseScript(const std::string& text)
+{
+  this->Apply(ParseBehaviorScript(text));
+}
+
+// ------------------------------------------------------------------ preparation
+
+void BehaviorController::BuildChannels()
+{
+  this->ChannelNames = C::Names();
+  this->VisemeChannelMaps.clear();
+  for (const auto& u : this->Utterances)
+  {
+    std::vector<int> map;
+    for (const auto& name : u.Speech.Visemes.GetChannels())
+    {
+      auto it = std::find(this->ChannelNames.begin(), this->ChannelNames.end(), name);
+      if (it == this->ChannelNames.end())
+      {
+        it = this->ChannelNames.insert(this->ChannelNames.end(), name);
+      }
+      map.push_back(static_cast<int>(it - this->ChannelNames.begin()));
+    }
+    this->VisemeChannelMaps.push_back(std::move(map));
+  }
+  this->SilentChannel.assign(this->ChannelNames.size(), 0);
+  for (size_t c = C::NumberOfBaseChannels; c < this->ChannelNames.size(); ++c)
+  {
+    this->SilentChannel[c] = IsSilentViseme(this->ChannelNames[c]);
+  }
+}
+
+void BehaviorController::BuildGaze()
+{
+  const BehaviorParameters& p = this->Parameters;
+  std::vector<LookCommand> looks = this->Looks;
+  std::sort(looks.begin(), looks.end(), [](const LookCommand& a, const LookCommand& b) {
+    return a.Start < b.Start || (a.Start == b.Start && a.Order < b.Order);
+  });
+  this->EyeGazeTrack.Clear();
+  this->HeadGazeTrack.Clear();
+  double fromYaw = 0.0, fromPitch = 0.0; // where the previous look left the gaze
+  for (size_t i = 0; i < looks.size(); ++i)
+  {
+    const LookCommand& l = looks[i];
+    // The eyes jump like a saccade; the head follows slower and takes its share.
+    const double jump = std::hypot(l.Yaw - fromYaw, l.Pitch - fromPitch);
+    this->EyeGazeTrack.Add(l.Start, SaccadeDuration(p, jump), { l.Yaw, l.Pitch, 1.0 });
+    this->HeadGazeTrack.Add(
+      l.Start, p.HeadGazeTime, { p.HeadShareOfGaze * l.Yaw, p.HeadShareOfGaze * l.Pitch });
+    fromYaw = l.Yaw, fromPitch = l.Pitch;
+    const double end = l.Start + l.Duration;
+    const bool returns = l.Duration > 0.0 && (i + 1 == looks.size() || looks[i + 1].Start > end);
+    if (returns)
+    {
+      this->EyeGazeTrack.Add(
+        end, SaccadeDuration(p, std::hypot(l.Yaw, l.Pitch)), { 0.0, 0.0, 0.0 });
+      this->HeadGazeTrack.Add(end, p.HeadGazeTime, { 0.0, 0.0 });
+      fromYaw = fromPitch = 0.0;
+    }
+  }
+  this->EyeGazeTrack.Finalize();
+  this->HeadGazeTrack.Finalize();
+}
+
+void BehaviorController::BuildBlinks(const std::vector<std::pair<double, double>>& closedEyes)
+{
+  const BehaviorParameters& p = this->Parameters;
+  const double length = BlinkLength(p);
+  // Closed spans merged and sorted, so that each blink is checked by one binary search.
+  std::vector<std::pair<double, double>> closed = closedEyes;
+  std::sort(closed.begin(), closed.end());
+  std::vector<std::pair<double, double>> merged;
+  for (const auto& c : closed)
+  {
+    if (!merged.empty() && c.first <= merged.back().second)
+    {
+      merged.back().second = std::max(merged.back().second, c.second);
+    }
+    else
+    {
+      merged.push_back(c);
+    }
+  }
+  auto underClosedEyes = [&](double start) {
+    // The first span ending after the blink starts is the only one it can overlap.
+    auto it = std::upper_bound(merged.begin(), merged.end(), start,
+      [](double v, const std::pair<double, double>& c) { return v < c.second; });
+    return it != merged.end() && start + length > it->first;
+  };
+  std::vector<BlinkEvent> blinks;
+  for (const BlinkEvent& b : this->Idle.Blinks)
+  {
+    if (!underClosedEyes(b.Start))
+    {
+      blinks.push_back(b);
+    }
+  }
+  for (const ScheduledCue& cue : this->Cues)
+  {
+    if (cue.Kind == NonverbalCue::Kind::Blink && !underClosedEyes(cue.Sync.Start))
+    {
+      blinks.push_back({ cue.Sync.Start, 1.0 });
+    }
+  }
+  for (const ScheduledGesture& g : this->Gestures)
+  {
+    if (g.Kind == GestureKind::Blink)
+    {
+      blinks.push_back({ g.Sync.Start, g.Intensity }); // explicit: merged, never dropped
+    }
+  }
+  std::stable_sort(blinks.begin(), blinks.end(), [](const BlinkEvent& a, const BlinkEvent& b) {
+    return a.Start < b.Start;
+  });
+  this->Idle.Blinks = std::move(blinks);
+  std::vector<std::pair<double, double>> spans;
+  for (const BlinkEvent& b : this->Idle.Blinks)
+  {
+    spans.emplace_back(b.Start, b.Start + length);
+  }
+  this->BlinkIndex.Build(spans);
+}
+
+void BehaviorController::Prepare()
+{
+  const BehaviorParameters& p = this->Parameters;
+  for (auto& g : this->Gestures)
+  {
+    g.Sync = GestureSync(g, p);
+  }
+  if (this->Duration > 0.0)
+  {
+    this->EffectiveDuration = this->Duration;
+  }
+  else
+  {
+    double last = 0.0;
+    for (const auto& g : this->Gestures)
+    {
+      last = std::max(last, g.Sync.End);
+    }
+    for (const auto& u : this->Utterances)
+    {
+      last = std::max(last, u.End);
+      for (const auto& cue : u.Speech.Cues)
+      {
+        last = std::max(last, u.Start + cue.Start + cue.Duration);
+      }
+    }
+    for (const auto& m : this->Moods)
+    {
+      last = std::max(last, m.Start + std::max(m.Fade, p.MoodFadeTime));
+    }
+    for (const auto& l : this->Looks)
+    {
+      last = std::max(last, l.Start + std::max(l.Duration, 0.0) + p.HeadGazeTime);
+    }
+    this->EffectiveDuration = std::max(5.0, last + 1.0);
+  }
+
+  this->BuildChannels();
+
+  // Speech: its intervals (blinks come faster) and its cues on the absolute time axis.
+  std::vector<std::pair<double, double>> speaking, utteranceSpans, cueSpans;
+  this->Cues.clear();
+  for (const auto& u : this->Utterances)
+  {
+    speaking.emplace_back(u.Start, u.End);
+    utteranceSpans.emplace_back(u.Start, u.End);
+    for (const NonverbalCue& cue : u.Speech.Cues)
+    {
+      const double start = u.Start + cue.Start;
+      ScheduledCue s;
+      s.Kind = cue.Type;
+      s.Intensity = cue.Intensity;
+      switch (cue.Type)
+      {
+        case NonverbalCue::Kind::BrowRaise:
+          s.Sync = SyncPoints::Make(start, std::max(cue.Duration, 0.3), 0.1, 0.15);
+          break;
+        case NonverbalCue::Kind::Nod:
+          s.Sync = SyncPoints::Make(start, std::max(cue.Duration, 0.4), 0.0, 0.0);
+          break;
+        case NonverbalCue::Kind::Relax:
+          s.Sync = SyncPoints::Make(start, std::max(cue.Duration, 0.3), 0.15, 0.15);
+          break;
+        case NonverbalCue::Kind::Blink:
+          s.Sync = SyncPoints::Make(start, BlinkLength(p), p.BlinkCloseTime, p.BlinkOpenTime);
+          break;
+      }
+      this->Cues.push_back(s);
+      cueSpans.emplace_back(s.Sync.Start, s.Sync.End);
+    }
+  }
+
+  this->Idle = IdleSchedule::Generate(p, this->Seed, this->EffectiveDuration, speaking);
+
+  std::vector<std::pair<double, double>> closedEyes, gestureSpans, smileSpans;
+  for (const auto& g : this->Gestures)
+  {
+    gestureSpans.emplace_back(g.Sync.Start, g.Sync.End);
+    if (g.Kind == GestureKind::CloseEyes)
+    {
+      closedEyes.emplace_back(g.Sync.Start, g.Sync.End);
+    }
+  }
+  this->BuildBlinks(closedEyes);
+  for (const auto& s : this->Idle.Smiles)
+  {
+    smileSpans.emplace_back(s.Start, s.Start + s.Duration);
+  }
+  this->GestureIndex.Build(gestureSpans);
+  this->UtteranceIndex.Build(utteranceSpans);
+  this->CueIndex.Build(cueSpans);
+  this->SmileIndex.Build(smileSpans);
+
+  // Moods: one at a time; each change fades from the current state.
+  this->MoodTrack.Clear();
+  for (const auto& m : this->Moods)
+  {
+    std::array<double, NumberOfMoods> target{};
+    if (m.Mood != MoodKind::Neutral)
+    {
+      target[static_cast<int>(m.Mood) - 1] = m.Intensity;
+    }
+    this->MoodTrack.Add(m.Start, m.Fade < 0.0 ? p.MoodFadeTime : m.Fade, target);
+  }
+  this->MoodTrack.Finalize();
+
+  this->BuildGaze();
+  this->Prepared = true;
+}
+
+int BehaviorController::FindChannel(const std::string& name) const
+{
+  auto it = std::find(this->ChannelNames.begin(), this->ChannelNames.end(), name);
+  return it == this->ChannelNames.end() ? -1 : static_cast<int>(it - this->ChannelNames.begin());
+}
+
+// ------------------------------------------------------------------ sampling
+
+void BehaviorController::Sample(double t, double* out) const
+{
+  if (!this->Prepared)
+  {
+    throw InputError("BehaviorController: call Prepare() after changing the behaviour");
+  }
+  if (!std::isfinite(t))
+  {
+    throw InputError("BehaviorController: sample time is not finite");
+  }
+  const BehaviorParameters& p = this->Parameters;
+  const size_t channels = this->ChannelNames.size();
+  std::fill(out, out + channels, 0.0);
+  Blackboard bb;
+
+  // Background: mood.
+  double mood[NumberOfMoods];
+  this->MoodTrack.Evaluate(t, mood);
+  for (int m = 0; m < NumberOfMoods; ++m)
+  {
+    for (int s = 0; s < Blackboard::NumberOfShapes; ++s)
+    {
+      bb.Background[s] += mood[m] * MoodTable[m].Shapes[s];
+    }
+    bb.HeadBackground[1] += mood[m] * MoodTable[m].HeadPitch;
+  }
+  const double happy = mood[0];
+  const double negative = std::max({ mood[1], mood[2], mood[3] });
+
+  // Background: idle behaviour.
+  double smile = 0.0;
+  this->SmileIndex.ForEachCandidate(t, [&](uint32_t i) {
+    const IdleSmileEvent& e = this->Idle.Smiles[i];
+    const double x = (t - e.Start) / e.Duration;
+    if (x > 0.0 && x < 1.0)
+    {
+      smile = std::max(smile, e.Intensity * Smoothstep(std::min(x, 1.0 - x) / 0.4));
+    }
+  });
+  // Happiness makes idle smiles broader; a negative mood holds them back.
+  bb.Background[C::MouthSmile] += smile * (1.0 + happy) * (1.0 - negative);
+  this->Idle.Head.Evaluate(t, bb.HeadIdle.data());
+  this->Idle.GazeOffset(t, bb.Saccade[0], bb.Saccade[1]);
+  this->BlinkIndex.ForEachCandidate(t, [&](uint32_t i) {
+    const BlinkEvent& b = this->Idle.Blinks[i];
+    bb.Blink = std::max(bb.Blink, b.Amplitude * BlinkLidCurve(p, t - b.Start));
+  });
+
+  // Speech: visemes straight to the mouth channels (overlapping utterances: maximum).
+  this->UtteranceIndex.ForEachCandidate(t, [&](uint32_t i) {
+    const ScheduledUtterance& u = this->Utterances[i];
+    const WeightTrack& v = u.Speech.Visemes;
+    const size_t frames = v.GetNumberOfFrames();
+    const double f = (t - u.Start) * v.GetFrameRate();
+    if (frames == 0 || !(f >= 0.0) || f > static_cast<double>(frames - 1))
+    {
+      return;
+    }
+    const size_t f0 = static_cast<size_t>(f);
+    const size_t f1 = std::min(f0 + 1, frames - 1);
+    const double a = f - static_cast<double>(f0);
+    const double* r0 = v.GetFrame(f0);
+    const double* r1 = v.GetFrame(f1);
+    const std::vector<int>& map = this->VisemeChannelMaps[i];
+    for (size_t c = 0; c < map.size(); ++c)
+    {
+      double& o = out[map[c]];
+      o = std::max(o, r0[c] + a * (r1[c] - r0[c]));
+    }
+  });
+  double activity = 0.0;
+  for (size_t c = C::NumberOfBaseChannels; c < channels; ++c)
+  {
+    activity += this->SilentChannel[c] ? 0.0 : out[c];
+  }
+  bb.SpeechActivity = activity;
+
+  // Speech: cues.
+  this->CueIndex.ForEachCandidate(t, [&](uint32_t i) {
+    const ScheduledCue& cue = this->Cues[i];
+    const double e = cue.Sync.Envelope(t);
+    switch (cue.Kind)
+    {
+      case NonverbalCue::Kind::BrowRaise:
+        bb.Speech[C::BrowsUp] += 0.6 * cue.Intensity * e;
+        break;
+      case NonverbalCue::Kind::Relax:
+        bb.Relax = std::max(bb.Relax, cue.Intensity * e);
+        break;
+      case NonverbalCue::Kind::Nod:
+        if (e > 0.0)
+        {
+          const double u = (t - cue.Sync.Start) / (cue.Sync.End - cue.Sync.Start);
+          bb.HeadSpeech[1] -= p.SpeechNodAmplitude * cue.Intensity * Bumps(u, 1.0);
+        }
+        break;
+      case NonverbalCue::Kind::Blink: // played from the blink list
+        break;
+    }
+  });
+
+  // Explicit gestures.
+  this->GestureIndex.ForEachCandidate(t, [&](uint32_t i) {
+    const ScheduledGesture& g = this->Gestures[i];
+    const double e = g.Sync.Envelope(t);
+    if (!(e > 0.0))
+    {
+      return;
+    }
+    const double span = g.Sync.End - g.Sync.Start;
+    const double u = (t - g.Sync.Start) / span;
+    auto own = [&](int group) { bb.Ownership[group] = std::max(bb.Ownership[group], e); };
+    switch (g.Kind)
+    {
+      case GestureKind::Smile:
+        bb.Explicit[C::MouthSmile] += g.Intensity * e;
+        own(Blackboard::ExpressionGroup);
+        break;
+      case GestureKind::Sad:
+        bb.Explicit[C::MouthSad] += g.Intensity * e;
+        own(Blackboard::ExpressionGroup);
+        break;
+      case GestureKind::RaiseBrows:
+        bb.Explicit[C::BrowsUp] += g.Intensity * e;
+        own(Blackboard::BrowsGroup);
+        break;
+      case GestureKind::Frown:
+        bb.Explicit[C::BrowsAngry] += g.Intensity * e;
+        own(Blackboard::BrowsGroup);
+        break;
+      case GestureKind::Fright:
+        bb.Explicit[C::BrowsFright] += g.Intensity * e;
+        own(Blackboard::BrowsGroup);
+        break;
+      case GestureKind::CloseEyes:
+        bb.CloseEyes = std::max(bb.CloseEyes, g.Intensity * e);
+        break;
+      case GestureKind::Nod: // down and up, about one nod per half second
+        bb.HeadExplicit[1] -=
+          p.NodAmplitude * g.Intensity * Bumps(u, std::max(1.0, std::round(span / 0.5)));
+        own(Blackboard::HeadGroup);
+        break;
+      case GestureKind::Shake: // left-right swings in a smooth window
+        bb.HeadExplicit[0] += p.ShakeAmplitude * g.Intensity * std::sin(Pi * u) *
+          std::sin(2.0 * Pi * std::max(1.0, std::round(span / 0.4)) * u);
+        own(Blackboard::HeadGroup);
+        break;
+      case GestureKind::Tilt:
+        bb.HeadExplicit[2] += p.TiltAmplitude * g.Intensity * e;
+        own(Blackboard::HeadGroup);
+        break;
+      case GestureKind::Blink: // played from the blink list
+        break;
+    }
+  });
+
+  // Explicit gaze.
+  double eye[3], head[2];
+  this->EyeGazeTrack.Evaluate(t, eye);
+  this->HeadGazeTrack.Evaluate(t, head);
+  bb.Gaze = { eye[0], eye[1] };
+  bb.Ownership[Blackboard::GazeGroup] = eye[2];
+  bb.HeadGaze = { head[0], head[1], 0.0 };
+
+  bb.Resolve(p, out);
+}
+
+void BehaviorController::Sample(double t, std::vector<double>& out) const
+{
+  out.resize(this->ChannelNames.size());
+  this->Sample(t, out.data());
+}
+
+WeightTrack BehaviorController::GenerateTrack()
+{
+  this->Prepare();
+  WeightTrack track(this->ChannelNames, this->FrameRate);
+  const size_t frames =
+    static_cast<size_t>(std::floor(this->EffectiveDuration * this->FrameRate + 1e-9)) + 1;
+  std::vector<double> row(this->ChannelNames.size());
+  for (size_t f = 0; f < frames; ++f)
+  {
+    this->Sample(track.GetTime(f), row.data());
+    track.AppendFrame(row.data());
+  }
+  return track;
+}
+} // namespace morphnode

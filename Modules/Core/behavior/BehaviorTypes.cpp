@@ -1,0 +1,228 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "behavior/BehaviorTypes.h"
+
+#include "base/Error.h"
+
+#include <algorithm>
+#include <cctype>
+
+namespace morphnode
+{
+namespace
+{
+const char* const ChannelNames[BehaviorChannel::NumberOfBaseChannels] = { "EyesClosed",
+  "BrowsUp",
+  "BrowsFright",
+  "BrowsAngry",
+  "MouthSmile",
+  "MouthSad",
+  "LookUp",
+  "LookDown",
+  "LookLeft",
+  "LookRight",
+  "HeadYaw",
+  "HeadPitch",
+  "HeadRoll",
+  "EyeYaw",
+  "EyePitch" };
+
+/// Lower case without '_', '-' and blanks: "Raise_Brows" and "raise-brows" are one name.
+std::string Canonical(const std::string& name)
+{
+  std::string out;
+  for (char c : name)
+  {
+    if (c != '_' && c != '-' && c != ' ')
+    {
+      out += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    }
+  }
+  return out;
+}
+
+/// Quotes a user-given name for an error message, cut so that a huge input stays readable.
+std::string Quoted(const std::string& name)
+{
+  return "'" + (name.size() > 64 ? name.substr(0, 64) + "..." : name) + "'";
+}
+
+struct Alias
+{
+  const char* Name;
+  int Value;
+};
+
+const Alias GestureAliases[] = { { "smile", int(GestureKind::Smile) },
+  { "sad", int(GestureKind::Sad) },
+  { "nod", int(GestureKind::Nod) },
+  { "shake", int(GestureKind::Shake) },
+  { "headshake", int(GestureKind::Shake) },
+  { "tilt", int(GestureKind::Tilt) },
+  { "raisebrows", int(GestureKind::RaiseBrows) },
+  { "browsup", int(GestureKind::RaiseBrows) },
+  { "browraise", int(GestureKind::RaiseBrows) },
+  { "raiseeyebrows", int(GestureKind::RaiseBrows) },
+  { "frown", int(GestureKind::Frown) },
+  { "browsangry", int(GestureKind::Frown) },
+  { "fright", int(GestureKind::Fright) },
+  { "browsfright", int(GestureKind::Fright) },
+  { "closeeyes", int(GestureKind::CloseEyes) },
+  { "eyesclosed", int(GestureKind::CloseEyes) },
+  { "blink", int(GestureKind::Blink) } };
+
+const Alias MoodAliases[] = { { "neutral", int(MoodKind::Neutral) },
+  { "happy", int(MoodKind::Happy) },
+  { "joy", int(MoodKind::Happy) },
+  { "sad", int(MoodKind::Sad) },
+  { "sadness", int(MoodKind::Sad) },
+  { "angry", int(MoodKind::Angry) },
+  { "anger", int(MoodKind::Angry) },
+  { "afraid", int(MoodKind::Afraid) },
+  { "fear", int(MoodKind::Afraid) },
+  { "surprised", int(MoodKind::Surprised) },
+  { "surprise", int(MoodKind::Surprised) } };
+} // namespace
+
+const char* BehaviorChannel::Name(int id)
+{
+  return id >= 0 && id < NumberOfBaseChannels ? ChannelNames[id] : nullptr;
+}
+
+const std::vector<std::string>& BehaviorChannel::Names()
+{
+  static const std::vector<std::string> names(ChannelNames, ChannelNames + NumberOfBaseChannels);
+  return names;
+}
+
+GestureKind ParseGestureName(const std::string& name)
+{
+  const std::string key = Canonical(name);
+  for (const auto& a : GestureAliases)
+  {
+    if (key == a.Name)
+    {
+      return static_cast<GestureKind>(a.Value);
+    }
+  }
+  throw InputError("unknown gesture " + Quoted(name) +
+    " (known: smile, sad, nod, shake, tilt, raise_brows, frown, fright, close_eyes, blink)");
+}
+
+const char* GestureName(GestureKind kind)
+{
+  switch (kind)
+  {
+    case GestureKind::Smile:
+      return "smile";
+    case GestureKind::Sad:
+      return "sad";
+    case GestureKind::Nod:
+      return "nod";
+    case GestureKind::Shake:
+      return "shake";
+    case GestureKind::Tilt:
+      return "tilt";
+    case GestureKind::RaiseBrows:
+      return "raise_brows";
+    case GestureKind::Frown:
+      return "frown";
+    case GestureKind::Fright:
+      return "fright";
+    case GestureKind::CloseEyes:
+      return "close_eyes";
+    case GestureKind::Blink:
+      return "blink";
+  }
+  return "?";
+}
+
+double DefaultGestureDuration(GestureKind kind)
+{
+  switch (kind)
+  {
+    case GestureKind::Nod:
+      return 0.8;
+    case GestureKind::Shake:
+      return 1.2;
+    case GestureKind::Blink:
+      return 0.35;
+    case GestureKind::RaiseBrows:
+      return 1.0;
+    case GestureKind::CloseEyes:
+      return 2.0;
+    default:
+      return 1.5;
+  }
+}
+
+MoodKind ParseMoodName(const std::string& name)
+{
+  const std::string key = Canonical(name);
+  for (const auto& a : MoodAliases)
+  {
+    if (key == a.Name)
+    {
+      return static_cast<MoodKind>(a.Value);
+    }
+  }
+  throw InputError(
+    "unknown mood " + Quoted(name) + " (known: neutral, happy, sad, angry, afraid, surprised)");
+}
+
+const char* MoodName(MoodKind kind)
+{
+  switch (kind)
+  {
+    case MoodKind::Neutral:
+      return "neutral";
+    case MoodKind::Happy:
+      return "happy";
+    case MoodKind::Sad:
+      return "sad";
+    case MoodKind::Angry:
+      return "angry";
+    case MoodKind::Afraid:
+      return "afraid";
+    case MoodKind::Surprised:
+      return "surprised";
+  }
+  return "?";
+}
+
+SyncPoints SyncPoints::Make(double start, double duration, double attack, double release)
+{
+  duration = std::max(0.0, duration);
+  attack = std::max(0.0, attack);
+  release = std::max(0.0, release);
+  if (attack + release > duration && attack + release > 0.0)
+  {
+    const double scale = duration / (attack + release);
+    attack *= scale;
+    release *= scale;
+  }
+  SyncPoints s;
+  s.Start = start;
+  s.End = start + duration;
+  s.Ready = s.StrokeStart = start + attack;
+  s.Relax = s.StrokeEnd = std::max(s.Ready, s.End - release);
+  s.Stroke = 0.5 * (s.StrokeStart + s.StrokeEnd);
+  return s;
+}
+
+double SyncPoints::Envelope(double t) const
+{
+  if (!(t >= this->Start) || !(t <= this->End))
+  {
+    return 0.0;
+  }
+  if (t < this->Ready)
+  {
+    return Smoothstep((t - this->Start) / (this->Ready - this->Start));
+  }
+  if (t <= this->Relax)
+  {
+    return 1.0;
+  }
+  return Smoothstep((this->End - t) / (this->End - this->Relax));
+}
+} // namespace morphnode

@@ -1,0 +1,343 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "budget/FrameBudgetController.h"
+
+#include "base/Error.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+namespace morphnode
+{
+CostModel CostModel::Fit(const std::vector<double>& x, const std::vector<double>& y)
+{
+  if (x.size() != y.size() || x.size() < 2)
+  {
+    throw InputError("CostModel::Fit needs at least two (target points, seconds) samples of "
+                     "matching sizes, got " +
+      std::to_string(x.size()) + " and " + std::to_string(y.size()) + ".");
+  }
+  const double n = static_cast<double>(x.size());
+  double sx = 0.0, sy = 0.0, sxx = 0.0, sxy = 0.0;
+  for (size_t i = 0; i < x.size(); ++i)
+  {
+    sx += x[i];
+    sy += y[i];
+    sxx += x[i] * x[i];
+    sxy += x[i] * y[i];
+  }
+  CostModel m;
+  const double det = n * sxx - sx * sx;
+  if (det > 0.0)
+  {
+    m.PerTargetPoint = std::max(0.0, (n * sxy - sx * sy) / det);
+    m.Fixed = std::max(0.0, (sy - m.PerTargetPoint * sx) / n);
+  }
+  else
+  {
+    m.Fixed = std::max(0.0, sy / n); // all samples at one x: no slope to fit
+  }
+  return m;
+}
+
+double DeviceFrameBudget(DeviceClass device)
+{
+  switch (device)
+  {
+    case DeviceClass::Desktop:
+      return 0.002;
+    case DeviceClass::Laptop:
+      return 0.001;
+    case DeviceClass::Mobile:
+      return 0.0004;
+    case DeviceClass::Embedded:
+      return 0.00015;
+  }
+  return 0.001;
+}
+
+const char* DeviceClassName(DeviceClass device)
+{
+  switch (device)
+  {
+    case DeviceClass::Desktop:
+      return "desktop";
+    case DeviceClass::Laptop:
+      return "laptop";
+    case DeviceClass::Mobile:
+      return "mobile";
+    case DeviceClass::Embedded:
+      return "embedded";
+  }
+  return "unknown";
+}
+
+std::vector<double> MovedPointsPerTarget(const std::vector<std::vector<float>>& positionDeltas)
+{
+  std::vector<double> moved(positionDeltas.size() + 1, 0.0);
+  for (size_t k = 0; k < positionDeltas.size(); ++k)
+  {
+    const auto& d = positionDeltas[k];
+    size_t count = 0;
+    for (size_t p = 0; p + 2 < d.size(); p += 3)
+    {
+      count += (d[p] != 0.0f || d[p + 1] != 0.0f || d[p + 2] != 0.0f) ? 1 : 0;
+    }
+    moved[k + 1] = static_cast<double>(count);
+  }
+  return moved;
+}
+
+void FrameBudgetController::SetSettings(const ControllerSettings& s)
+{
+  if (!std::isfinite(s.FrameBudget) || s.FrameBudget <= 0.0)
+  {
+    throw InputError("FrameBudgetController: the frame budget must be a positive number of "
+                     "seconds, got " +
+      std::to_string(s.FrameBudget) + ".");
+  }
+  if (s.Thresholds.empty())
+  {
+    throw InputError("FrameBudgetController: no candidate thresholds.");
+  }
+  for (double t : s.Thresholds)
+  {
+    if (!std::isfinite(t) || t < 0.0 || t > 1.0)
+    {
+      throw InputError("FrameBudgetController: thresholds must lie in [0, 1], got " +
+        std::to_string(t) + ".");
+    }
+  }
+  if (!(s.LevelHysteresis >= 0.0 && s.LevelHysteresis < 1.0) ||
+    !(s.OptimizerHysteresis >= 0.0 && s.OptimizerHysteresis < 1.0))
+  {
+    throw InputError("FrameBudgetController: hysteresis must lie in [0, 1).");
+  }
+  if (s.MinFramesPerLevel < 0 || s.GeomorphFrames < 0)
+  {
+    throw InputError("FrameBudgetController: frame counts must be >= 0.");
+  }
+  this->Settings = s;
+  // Rebuild the optimizers for the new thresholds.
+  std::vector<LevelOfDetail> levels;
+  levels.swap(this->Levels);
+  this->Optimizers.clear();
+  for (const auto& level : levels)
+  {
+    this->AddLevel(level);
+  }
+}
+
+void FrameBudgetController::AddLevel(const LevelOfDetail& level)
+{
+  if (!this->Levels.empty())
+  {
+    const auto& first = this->Levels.front();
+    if (level.MovedPoints.size() != first.MovedPoints.size())
+    {
+      throw InputError("FrameBudgetController: level '" + level.Name + "' has " +
+        std::to_string(level.MovedPoints.size()) + " targets, the first level " +
+        std::to_string(first.MovedPoints.size()) + ".");
+    }
+    if (level.NumberOfPoints >= this->Levels.back().NumberOfPoints)
+    {
+      throw InputError("FrameBudgetController: level '" + level.Name +
+        "' is not coarser than the previous one; add levels finest first.");
+    }
+  }
+  if (level.Distances.MaxDisplacement.size() != level.MovedPoints.size())
+  {
+    throw InputError("FrameBudgetController: level '" + level.Name +
+      "' has distances for " + std::to_string(level.Distances.MaxDisplacement.size()) +
+      " targets and moved points for " + std::to_string(level.MovedPoints.size()) + ".");
+  }
+  std::vector<WeightOptimizer> optimizers(this->Settings.Thresholds.size());
+  for (size_t t = 0; t < optimizers.size(); ++t)
+  {
+    OptimizerSettings os;
+    os.Threshold = this->Settings.Thresholds[t];
+    os.Strategy = this->Settings.Strategy;
+    os.AdjustThreshold = this->Settings.AdjustThreshold;
+    os.Hysteresis = this->Settings.OptimizerHysteresis;
+    optimizers[t].SetSettings(os);
+    optimizers[t].SetTargetDistances(level.Distances);
+  }
+  this->Levels.push_back(level);
+  this->Optimizers.push_back(std::move(optimizers));
+  this->Reset(0);
+}
+
+void FrameBudgetController::Reset(int level)
+{
+  this->Current = std::clamp(level, 0, std::max(0, static_cast<int>(this->Levels.size()) - 1));
+  this->Streak = 0;
+  this->StreakDirection = 0;
+  this->MorphFrom = -1;
+  this->MorphFrame = 0;
+  this->Switches = 0;
+  for (auto& perLevel : this->Optimizers)
+  {
+    for (auto& o : perLevel)
+    {
+      o.ResetHistory();
+    }
+  }
+}
+
+FrameBudgetController::Candidate FrameBudgetController::Evaluate(
+  size_t level, const std::vector<double>& weights, double budget)
+{
+  const LevelOfDetail& lod = this->Levels[level];
+  Candidate best, cheapest;
+  bool haveBest = false, haveCheapest = false;
+  for (size_t t = 0; t < this->Settings.Thresholds.size(); ++t)
+  {
+    Candidate c;
+    c.Threshold = this->Settings.Thresholds[t];
+    c.Weights = this->Optimizers[level][t].Optimize(weights);
+    double targetPoints = 0.0;
+    for (size_t i = 1; i < c.Weights.size(); ++i)
+    {
+      if (c.Weights[i] != 0.0)
+      {
+        ++c.Active;
+        targetPoints += lod.MovedPoints[i];
+      }
+    }
+    c.Seconds = lod.Cost.Predict(targetPoints);
+    c.Error = lod.GeometricError +
+      WeightOptimizer::ErrorBound(weights, c.Weights, lod.Distances.MaxDisplacement);
+    if (c.Seconds <= budget && (!haveBest || c.Error < best.Error))
+    {
+      best = c;
+      haveBest = true;
+    }
+    if (!haveCheapest || c.Seconds < cheapest.Seconds)
+    {
+      cheapest = c;
+      haveCheapest = true;
+    }
+  }
+  return haveBest ? best : cheapest;
+}
+
+ControllerDecision FrameBudgetController::Update(const std::vector<double>& weights)
+{
+  if (this->Levels.empty())
+  {
+    throw InputError("FrameBudgetController: no levels of detail.");
+  }
+  if (weights.size() != this->Levels.front().MovedPoints.size())
+  {
+    throw InputError("FrameBudgetController: got " + std::to_string(weights.size()) +
+      " weights for " + std::to_string(this->Levels.front().MovedPoints.size()) + " targets.");
+  }
+  const double budget = this->Settings.FrameBudget;
+  const int last = static_cast<int>(this->Levels.size()) - 1;
+  // Every level's optimizers see every frame, so their hysteresis histories stay current.
+  std::vector<Candidate> candidates(this->Levels.size());
+  for (size_t l = 0; l < this->Levels.size(); ++l)
+  {
+    candidates[l] = this->Evaluate(l, weights, budget);
+  }
+
+  // Start a transition when none is running.
+  if (this->MorphFrom < 0)
+  {
+    const Candidate& here = candidates[this->Current];
+    const double keep = 1.0 - this->Settings.LevelHysteresis;
+    // Where would we rather be? Coarser: at once when the budget is broken at every
+    // threshold, else when the coarser level is clearly better (less error within budget).
+    // Finer: when it fits with a margin and is clearly better.
+    int direction = 0;
+    bool forced = false;
+    if (here.Seconds > budget && this->Current < last)
+    {
+      direction = +1;
+      forced = true;
+    }
+    else if (this->Current < last && candidates[this->Current + 1].Seconds <= budget &&
+      candidates[this->Current + 1].Error < keep * here.Error)
+    {
+      direction = +1;
+    }
+    else if (this->Current > 0 && candidates[this->Current - 1].Seconds <= keep * budget &&
+      candidates[this->Current - 1].Error < keep * here.Error)
+    {
+      direction = -1;
+    }
+    this->Streak = (direction != 0 && direction == this->StreakDirection) ? this->Streak + 1 : 1;
+    this->StreakDirection = direction;
+    if (direction != 0 && (forced || this->Streak >= this->Settings.MinFramesPerLevel))
+    {
+      this->Streak = 0;
+      this->StreakDirection = 0;
+      if (this->Settings.GeomorphFrames == 0)
+      {
+        this->Current += direction;
+        ++this->Switches;
+      }
+      else if (direction > 0)
+      {
+        this->MorphFrom = this->Current; // coarsen: the fine level slides onto the coarse one
+        this->MorphFrame = 0;
+      }
+      else
+      {
+        // refine: take the fine topology at once, shaped like the coarse level, and slide
+        // out of it
+        this->MorphFrom = this->Current;
+        this->MorphFrame = 0;
+        --this->Current;
+        ++this->Switches;
+      }
+    }
+  }
+
+  ControllerDecision d;
+  int shown = this->Current;
+  if (this->MorphFrom >= 0)
+  {
+    // Both directions display the finer level (Current) while it slides.
+    const bool coarsening = this->MorphFrom == this->Current;
+    const int fine = this->Current;
+    shown = fine;
+    const double step =
+      static_cast<double>(this->MorphFrame + 1) / static_cast<double>(this->Settings.GeomorphFrames);
+    d.MorphTowards = fine + 1;
+    d.Alpha = coarsening ? step : 1.0 - step;
+    ++this->MorphFrame;
+    if (this->MorphFrame >= this->Settings.GeomorphFrames)
+    {
+      if (coarsening)
+      {
+        ++this->Current;
+        ++this->Switches;
+      }
+      this->MorphFrom = -1;
+      if (d.Alpha >= 1.0)
+      {
+        // The last frame of a coarsening shows the coarse shape: show it as the coarse level.
+        shown = this->Current;
+        d.MorphTowards = -1;
+        d.Alpha = 0.0;
+      }
+    }
+  }
+  const Candidate& c = candidates[shown];
+  d.Level = shown;
+  d.Threshold = c.Threshold;
+  d.Weights = c.Weights;
+  d.ActiveTargets = c.Active;
+  d.PredictedSeconds = c.Seconds;
+  d.PredictedError = c.Error;
+  if (d.MorphTowards >= 0)
+  {
+    const double coarseError = this->Levels[d.MorphTowards].GeometricError;
+    d.PredictedError += d.Alpha * std::max(0.0, coarseError - this->Levels[shown].GeometricError);
+  }
+  d.WithinBudget = d.PredictedSeconds <= budget;
+  return d;
+}
+} // namespace morphnode

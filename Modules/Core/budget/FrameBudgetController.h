@@ -1,0 +1,169 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#pragma once
+/// @file FrameBudgetController.h
+/// @brief Scalable avatars: per frame, the level of detail and the optimizer threshold
+/// that keep the morph stage within a frame-time budget with the least error.
+///
+/// Each level (the full face and its reductions, finest first, each nested in the previous
+/// one) has a measured cost model
+///
+///     seconds = Fixed + PerTargetPoint * sum over active targets of the points they move
+///
+/// (the morph blends only active targets, and each over the points it moves; with dense
+/// targets that is "active targets x points"), calibrated by timing real blends
+/// (CostModel::Fit), and a geometric error (e.g. its RMS surface distance over a weight
+/// track, from the reduction study). For every level and candidate threshold the
+/// controller runs the paper's optimizer (adjusted threshold, remaining redistribution,
+/// hysteresis) on the frame's weights, predicts time and error,
+///
+///     error = level error + optimizer bound (sum |w'_i - w_i| M_i, see WeightOptimizer)
+///
+/// and picks the least error among the candidates within the budget (the cheapest when none
+/// is). The threshold may change every frame; the level only with hysteresis: at once to
+/// the next coarser level when the current one cannot meet the budget at any threshold;
+/// otherwise to a neighbour level only when its error (within the budget, for a finer one
+/// within (1 - LevelHysteresis) of it) is below (1 - LevelHysteresis) times the current
+/// one's for MinFramesPerLevel frames in a row. Levels change one step at a time.
+///
+/// No popping: a switch is a geomorph over GeomorphFrames frames (Hoppe 1997). The finer
+/// of the two levels is displayed while every point slides between its own position and
+/// that of the coarser level's point it collapses into (both blended by the same
+/// weights, so the morph animates on during the transition); at the coarse end the fine
+/// mesh has exactly the coarse mesh's shape and the topology switches invisibly. See
+/// morphnode::Geomorph. During a transition the finer level's cost is paid; the controller
+/// then raises its threshold to stay within budget where it can.
+
+#include "morph/Distances.h"
+#include "morph/WeightOptimizer.h"
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace morphnode
+{
+/// seconds = Fixed + PerTargetPoint * (moved points summed over active targets).
+struct CostModel
+{
+  double Fixed = 0.0;
+  double PerTargetPoint = 0.0;
+
+  double Predict(double targetPoints) const { return this->Fixed + this->PerTargetPoint * targetPoints; }
+  /// Least-squares fit to measurements; both clamped to >= 0.
+  /// Throws InputError for fewer than two samples or mismatched sizes.
+  static CostModel Fit(const std::vector<double>& targetPoints, const std::vector<double>& seconds);
+};
+
+/// Device classes and the morph stage's share of a frame: a rule of thumb to start from
+/// when no budget is measured.
+enum class DeviceClass
+{
+  Desktop, ///< 2 ms of a 60 Hz frame
+  Laptop,  ///< 1 ms
+  Mobile,  ///< 0.4 ms
+  Embedded ///< 0.15 ms
+};
+double DeviceFrameBudget(DeviceClass device);
+const char* DeviceClassName(DeviceClass device);
+
+struct LevelOfDetail
+{
+  std::string Name;
+  size_t NumberOfPoints = 0;
+  /// Points each target moves at this level (neutral first, entry 0 unused).
+  std::vector<double> MovedPoints;
+  /// Distances of the level's targets (for the optimizer's adjusted threshold and bound).
+  TargetDistances Distances;
+  /// The level's own geometric error in model units (0 for the full face).
+  double GeometricError = 0.0;
+  CostModel Cost;
+  /// Level point -> point of the next coarser level it collapses into (in this level's
+  /// ids), for the geomorph; empty for the coarsest level.
+  std::vector<uint32_t> RepresentativeInThisLevel;
+  /// Coarser level point -> this level's point (the coarser level's OriginalPointIds when it
+  /// was reduced from this one); empty for the coarsest level.
+  std::vector<uint32_t> CoarserToThis;
+};
+
+struct ControllerSettings
+{
+  double FrameBudget = 0.001; ///< seconds for the morph stage
+  std::vector<double> Thresholds = { 0.0, 0.05, 0.1, 0.2, 0.3, 0.5 };
+  Redistribution Strategy = Redistribution::Remaining;
+  bool AdjustThreshold = true;
+  double OptimizerHysteresis = 0.2;
+  /// A neighbour level must beat the current one's error by this fraction (a finer one
+  /// must also fit in (1 - LevelHysteresis) * budget)...
+  double LevelHysteresis = 0.15;
+  /// ... for this many frames in a row.
+  int MinFramesPerLevel = 20;
+  int GeomorphFrames = 8;
+};
+
+struct ControllerDecision
+{
+  int Level = 0;               ///< the level whose topology is displayed
+  double Threshold = 0.0;      ///< optimizer threshold used at that level
+  std::vector<double> Weights; ///< effective absolute weights (neutral first)
+  int ActiveTargets = 0;
+  double PredictedSeconds = 0.0;
+  double PredictedError = 0.0; ///< level error + optimizer bound
+  bool WithinBudget = true;
+  /// Geomorph in progress: display Level's mesh morphed by Alpha towards Level + 1
+  /// (Alpha 0 = Level's own shape, 1 = Level + 1's shape). -1 when none.
+  int MorphTowards = -1;
+  double Alpha = 0.0;
+};
+
+class FrameBudgetController
+{
+public:
+  /// Throws InputError for a budget <= 0, no thresholds, a threshold outside [0, 1],
+  /// or hysteresis outside [0, 1).
+  void SetSettings(const ControllerSettings& settings);
+  const ControllerSettings& GetSettings() const { return this->Settings; }
+
+  /// Finest first. Throws InputError when the target count differs from the first level's
+  /// or a level is not coarser than the previous one. Resets the controller.
+  void AddLevel(const LevelOfDetail& level);
+  size_t GetNumberOfLevels() const { return this->Levels.size(); }
+  const LevelOfDetail& GetLevel(size_t i) const { return this->Levels.at(i); }
+
+  /// Starts again at `level` with no transition and no history.
+  void Reset(int level = 0);
+
+  /// Decides one frame from absolute weights (neutral first, summing to 1).
+  /// Throws InputError when there is no level or the weight count is wrong.
+  ControllerDecision Update(const std::vector<double>& absoluteWeights);
+
+  int GetCurrentLevel() const { return this->Current; }
+  size_t GetNumberOfSwitches() const { return this->Switches; }
+
+private:
+  struct Candidate
+  {
+    double Threshold = 0.0;
+    std::vector<double> Weights;
+    int Active = 0;
+    double Seconds = 0.0;
+    double Error = 0.0;
+  };
+  /// Best candidate of a level: least error within `budget`, else the cheapest.
+  Candidate Evaluate(size_t level, const std::vector<double>& weights, double budget);
+
+  ControllerSettings Settings;
+  std::vector<LevelOfDetail> Levels;
+  /// One optimizer per level and threshold, so each keeps its own hysteresis history.
+  std::vector<std::vector<WeightOptimizer>> Optimizers;
+  int Current = 0;
+  int Streak = 0;          ///< consecutive frames preferring StreakDirection
+  int StreakDirection = 0; ///< +1 coarser, -1 finer, 0 stay
+  int MorphFrom = -1; ///< transition: the level we come from
+  int MorphFrame = 0;
+  size_t Switches = 0;
+};
+
+/// Points each target moves (non-zero delta), neutral first with 0: a level's MovedPoints.
+std::vector<double> MovedPointsPerTarget(const std::vector<std::vector<float>>& positionDeltas);
+} // namespace morphnode

@@ -1,0 +1,113 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "morph/MorphModel.h"
+
+#include "base/Error.h"
+
+#include <sstream>
+
+namespace morphnode
+{
+int MorphModel::FindTarget(const std::string& name) const
+{
+  for (size_t i = 0; i < this->TargetNames.size(); ++i)
+  {
+    if (this->TargetNames[i] == name)
+    {
+      return static_cast<int>(i);
+    }
+  }
+  return -1;
+}
+
+int MorphModel::GetPositionAttribute() const
+{
+  for (size_t i = 0; i < this->Attributes.size(); ++i)
+  {
+    const bool isPosition = std::visit(
+      [](const auto& a) { return a.GetRole() == AttributeRole::Position; }, this->Attributes[i]);
+    if (isPosition)
+    {
+      return static_cast<int>(i);
+    }
+  }
+  return -1;
+}
+
+void MorphModel::Validate() const
+{
+  if (this->TargetNames.empty())
+  {
+    throw InputError("the morph model has no targets, not even a neutral");
+  }
+  for (const auto& any : this->Attributes)
+  {
+    std::visit(
+      [&](const auto& a) {
+        if (a.GetNumberOfTargets() != this->TargetNames.size())
+        {
+          std::ostringstream msg;
+          msg << "attribute '" << a.GetName() << "' has " << a.GetNumberOfTargets()
+              << " targets, the model has " << this->TargetNames.size();
+          throw InputError(msg.str());
+        }
+      },
+      any);
+  }
+}
+
+TargetDistances MorphModel::ComputeDistances() const
+{
+  const int p = this->GetPositionAttribute();
+  if (p < 0)
+  {
+    const size_t n = this->TargetNames.size();
+    return TargetDistances{ std::vector<double>(n, 0.0), std::vector<double>(n, 0.0),
+      std::vector<double>(n, 0.0) };
+  }
+  return std::visit([](const auto& a) { return morphnode::ComputeTargetDistances(a); },
+    this->Attributes[static_cast<size_t>(p)]);
+}
+
+std::vector<double> MorphModel::ComputePointDistances(size_t target) const
+{
+  const int p = this->GetPositionAttribute();
+  if (p < 0 || target == 0 || target >= this->TargetNames.size())
+  {
+    return std::vector<double>(this->NumPoints, 0.0);
+  }
+  return std::visit([&](const auto& a) { return morphnode::ComputePointDistances(a, target); },
+    this->Attributes[static_cast<size_t>(p)]);
+}
+
+std::vector<double> MorphModel::ComputeAnimatedRegion() const
+{
+  const int p = this->GetPositionAttribute();
+  if (p < 0)
+  {
+    return std::vector<double>(this->NumPoints, 0.0);
+  }
+  return std::visit([](const auto& a) { return morphnode::ComputeAnimatedRegion(a); },
+    this->Attributes[static_cast<size_t>(p)]);
+}
+
+size_t MorphModel::GetMemorySize() const
+{
+  size_t bytes = 0;
+  for (const auto& any : this->Attributes)
+  {
+    bytes += std::visit([](const auto& a) { return a.GetMemorySize(); }, any);
+  }
+  return bytes;
+}
+
+std::vector<std::string> DefaultTargetNames(size_t numTargets)
+{
+  std::vector<std::string> names;
+  names.reserve(numTargets);
+  for (size_t i = 0; i < numTargets; ++i)
+  {
+    names.push_back(i == 0 ? "Neutral" : "target" + std::to_string(i - 1));
+  }
+  return names;
+}
+} // namespace morphnode

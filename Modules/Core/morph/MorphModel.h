@@ -1,0 +1,68 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#pragma once
+/// @file MorphModel.h
+/// @brief A morphable mesh: named targets (neutral first) and the attributes they morph.
+
+#include "morph/Distances.h"
+#include "morph/MorphAttribute.h"
+
+#include <string>
+#include <variant>
+#include <vector>
+
+namespace morphnode
+{
+using AnyMorphAttribute = std::variant<MorphAttribute<float>, MorphAttribute<double>>;
+
+class MorphModel
+{
+public:
+  /// Coverage at or below which a target's deltas are stored sparsely. Measured on the
+  /// ICT face and synthetic meshes (see docs/benchmarks.md): sparse scatter costs about
+  /// 3x a dense axpy per moved point, so it pays off below roughly a third of the points.
+  static constexpr double DefaultSparseCoverage = 0.3;
+
+  explicit MorphModel(size_t numPoints = 0)
+    : NumPoints(numPoints)
+  {
+  }
+
+  size_t GetNumberOfPoints() const { return this->NumPoints; }
+  /// Neutral included.
+  size_t GetNumberOfTargets() const { return this->TargetNames.size(); }
+  void SetTargetNames(std::vector<std::string> names) { this->TargetNames = std::move(names); }
+  const std::vector<std::string>& GetTargetNames() const { return this->TargetNames; }
+  /// -1 when no target has that name.
+  int FindTarget(const std::string& name) const;
+
+  template <typename T>
+  MorphAttribute<T>& AddAttribute(const std::string& name, AttributeRole role, int components)
+  {
+    this->Attributes.emplace_back(
+      std::in_place_type<MorphAttribute<T>>, name, role, components, this->NumPoints);
+    return std::get<MorphAttribute<T>>(this->Attributes.back());
+  }
+  size_t GetNumberOfAttributes() const { return this->Attributes.size(); }
+  const AnyMorphAttribute& GetAttribute(size_t i) const { return this->Attributes.at(i); }
+  /// Index of the first Position attribute, -1 if none.
+  int GetPositionAttribute() const;
+
+  /// Throws InputError unless every attribute has one delta set per non-neutral target.
+  void Validate() const;
+
+  /// Distances of the Position attribute (all zero without one).
+  TargetDistances ComputeDistances() const;
+  std::vector<double> ComputePointDistances(size_t target) const;
+  std::vector<double> ComputeAnimatedRegion() const;
+
+  size_t GetMemorySize() const;
+
+private:
+  size_t NumPoints;
+  std::vector<std::string> TargetNames;
+  std::vector<AnyMorphAttribute> Attributes;
+};
+
+/// Default target names: "Neutral", "target0", "target1", ... (glTF's target<k> naming).
+std::vector<std::string> DefaultTargetNames(size_t numTargets);
+} // namespace morphnode

@@ -1,0 +1,107 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "morph/Weights.h"
+
+#include "base/Error.h"
+
+#include <cmath>
+#include <sstream>
+
+namespace morphnode
+{
+const char* WeightModeName(WeightMode mode)
+{
+  switch (mode)
+  {
+    case WeightMode::Strict:
+      return "Strict";
+    case WeightMode::Normalize:
+      return "Normalize";
+    case WeightMode::Relative:
+      return "Relative";
+  }
+  return "Unknown";
+}
+
+std::vector<double> ResolveWeights(WeightMode mode, const std::vector<double>& requested)
+{
+  if (requested.empty())
+  {
+    throw InputError("no weights: the morph node needs at least the neutral target");
+  }
+  for (size_t i = 0; i < requested.size(); ++i)
+  {
+    const double w = requested[i];
+    if (!std::isfinite(w))
+    {
+      std::ostringstream msg;
+      msg << "weight " << i << " is " << w << "; weights must be finite numbers";
+      throw InputError(msg.str());
+    }
+    if (w < 0.0 && mode != WeightMode::Relative)
+    {
+      std::ostringstream msg;
+      msg << "weight " << i << " is negative (" << w << "); only Relative mode accepts negative weights";
+      throw InputError(msg.str());
+    }
+  }
+
+  std::vector<double> absolute(requested);
+  switch (mode)
+  {
+    case WeightMode::Strict:
+    {
+      double sum = 0.0;
+      for (double w : requested)
+      {
+        sum += w;
+      }
+      if (std::abs(sum - 1.0) > StrictTolerance)
+      {
+        std::ostringstream msg;
+        msg << "Strict weight mode: the weights sum to " << sum
+            << ", not 1 (tolerance " << StrictTolerance << ", as in Java3D's Morph node)";
+        throw InputError(msg.str());
+      }
+      break;
+    }
+    case WeightMode::Normalize:
+    {
+      double sum = 0.0;
+      for (double w : requested)
+      {
+        sum += w;
+      }
+      if (!(sum > 0.0))
+      {
+        throw InputError("Normalize weight mode: the weights sum to 0; nothing to normalize");
+      }
+      for (double& w : absolute)
+      {
+        w /= sum;
+      }
+      break;
+    }
+    case WeightMode::Relative:
+    {
+      double others = 0.0;
+      for (size_t i = 1; i < requested.size(); ++i)
+      {
+        others += requested[i];
+      }
+      absolute[0] = 1.0 - others;
+      break;
+    }
+  }
+  return absolute;
+}
+
+int CountActiveTargets(const std::vector<double>& absolute)
+{
+  int count = 0;
+  for (size_t i = 1; i < absolute.size(); ++i)
+  {
+    count += absolute[i] != 0.0 ? 1 : 0;
+  }
+  return count;
+}
+} // namespace morphnode

@@ -1,2 +1,0 @@
-# Readers of faces with morph targets.
-list(APPEND classes vtkMorphTargetReader)

@@ -1,1 +1,0 @@
-morphnode_add_vtk_test(TestMorphTargetReader ${CMAKE_CURRENT_LIST_DIR}/TestMorphTargetReader.cxx LABELS readers)
