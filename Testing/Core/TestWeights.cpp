@@ -51,8 +51,22 @@ TEST(Weights, RejectsNonFiniteAndNegativeWeights)
     EXPECT_THROW(ResolveWeights(mode, { 1.0, inf }), InputError) << WeightModeName(mode);
     EXPECT_THROW(ResolveWeights(mode, {}), InputError) << WeightModeName(mode);
   }
-  EXPECT_THROW(ResolveWeights(WeightMode::Strict, { 1.5, -0.5 }), InputError);
   EXPECT_THROW(ResolveWeights(WeightMode::Normalize, { 1.5, -0.5 }), InputError);
+  EXPECT_THROW(ResolveWeights(WeightMode::Normalize, { -0.1, 0.6, 0.5 }), InputError);
+}
+
+// Java3D's Morph checks only that the weights sum to 1 (within 1e-4): a negative neutral,
+// 1 - sum of expression weights summing above 1, is accepted there and so in Strict mode.
+TEST(Weights, StrictAcceptsNegativeWeightsSummingToOneAsJava3DDoes)
+{
+  const std::vector<double> negativeNeutral{ -0.2, 0.7, 0.5 };
+  EXPECT_EQ(ResolveWeights(WeightMode::Strict, negativeNeutral), negativeNeutral);
+  const std::vector<double> negativeTargets{ 1.3, -0.1, -0.2 };
+  EXPECT_EQ(ResolveWeights(WeightMode::Strict, negativeTargets), negativeTargets);
+  EXPECT_NO_THROW(ResolveWeights(WeightMode::Strict, { 1.5, -0.5 }));
+  // The sum rule still holds for them: off by 2e-4 is an error.
+  EXPECT_THROW(ResolveWeights(WeightMode::Strict, { 1.3, -0.1, -0.1998 }), InputError);
+  EXPECT_THROW(ResolveWeights(WeightMode::Strict, { -0.2, 0.7, 0.5002 }), InputError);
 }
 
 TEST(Weights, ErrorMessagesNameTheWeight)

@@ -37,10 +37,13 @@ std::vector<double> ResolveWeights(WeightMode mode, const std::vector<double>& r
       msg << "weight " << i << " is " << w << "; weights must be finite numbers";
       throw InputError(msg.str());
     }
-    if (w < 0.0 && mode != WeightMode::Relative)
+    // Java3D's Morph checks only the sum, so Strict accepts negative weights (a negative
+    // neutral is common when expression weights sum above 1); Normalize cannot divide them.
+    if (w < 0.0 && mode == WeightMode::Normalize)
     {
       std::ostringstream msg;
-      msg << "weight " << i << " is negative (" << w << "); only Relative mode accepts negative weights";
+      msg << "weight " << i << " is negative (" << w
+          << "); Normalize mode needs weights >= 0 (Strict and Relative accept negative ones)";
       throw InputError(msg.str());
     }
   }

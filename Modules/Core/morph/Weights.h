@@ -15,6 +15,8 @@ namespace morphnode
 enum class WeightMode
 {
   /// Java3D Morph: weights are used as given; |sum - 1| > StrictTolerance is an error.
+  /// Like Java3D, only the sum is checked: negative weights are accepted (e.g. the
+  /// neutral's 1 - sum when expression weights sum above 1).
   Strict,
   /// Weights are divided by their sum; a sum <= 0 is an error. The default.
   Normalize,
@@ -31,7 +33,7 @@ const char* WeightModeName(WeightMode mode);
 
 /// Resolves requested weights (neutral first) to absolute weights summing to 1.
 /// Throws InputError for: an empty vector, NaN or infinite weights, negative weights
-/// (Strict, Normalize), a sum off 1 (Strict), a sum <= 0 (Normalize).
+/// (Normalize only), a sum off 1 (Strict), a sum <= 0 (Normalize).
 std::vector<double> ResolveWeights(WeightMode mode, const std::vector<double>& requested);
 
 /// Number of non-neutral targets with a non-zero weight: the targets that cost work.
