@@ -28,7 +28,7 @@
 #include "vtkMorphTargetReader.h"
 
 #include "base/Error.h"
-#include "morph/MorphModel.h"
+#include "morph/MorphMesh.h"
 #include "morph/OptimizerQuality.h"
 
 #include "vtkAxis.h"
@@ -286,7 +286,7 @@ int main(int argc, char* argv[])
     morph->SetInputConnection(reader->GetOutputPort());
     morph->SetWeightModeToRelative();
     morph->Update();
-    const morphnode::MorphModel* model = morph->GetMorphModel();
+    const morphnode::MorphMesh* model = morph->GetMorphModel();
     if (!model || model->GetPositionAttribute() < 0)
     {
       std::cerr << "could not read a face from " << face << "\n";

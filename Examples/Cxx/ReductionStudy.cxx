@@ -70,11 +70,11 @@ namespace
 {
 using morphnode_examples::WritePng;
 using morphnode_examples::ParseList;
-using morphnode::MorphMesh;
+using morphnode::ReductionMesh;
 
 struct Face
 {
-  MorphMesh Mesh;
+  ReductionMesh Mesh;
   std::vector<std::string> Names; // neutral first
 };
 
@@ -303,7 +303,7 @@ morphnode::WeightTrack MakeSpeechTrack(const std::vector<std::string>& names, do
 
 struct Reduced
 {
-  MorphMesh Mesh;
+  ReductionMesh Mesh;
   /// Reduced point -> nearest original point (exact origin for the halfedge collapses).
   std::vector<uint32_t> Source;
   bool ExactPoints = true;
@@ -313,7 +313,7 @@ double MotionWeight = 1.0;
 double BoundaryWeight = 1.0;
 bool PoseQuadrics = true;
 
-Reduced ReduceOpenMesh(const MorphMesh& mesh, size_t triangles, double weight)
+Reduced ReduceOpenMesh(const ReductionMesh& mesh, size_t triangles, double weight)
 {
   morphnode::ReductionSettings s;
   s.MotionWeight = MotionWeight;
@@ -344,7 +344,7 @@ vtkSmartPointer<vtkPolyData> ToPolyData(const float* positions, size_t np, const
 }
 
 /// VTK's quadric decimation of the neutral; targets by the nearest original vertex.
-Reduced ReduceVTK(const MorphMesh& mesh, size_t triangles)
+Reduced ReduceVTK(const ReductionMesh& mesh, size_t triangles)
 {
   auto neutral = ToPolyData(mesh.Positions.data(), mesh.GetNumberOfPoints(), mesh.Triangles);
   vtkNew<vtkQuadricDecimation> decimation;
@@ -385,7 +385,7 @@ Reduced ReduceVTK(const MorphMesh& mesh, size_t triangles)
 
 // --- errors ------------------------------------------------------------------------------
 
-void Animate(const MorphMesh& mesh, const double* relative, std::vector<float>& out)
+void Animate(const ReductionMesh& mesh, const double* relative, std::vector<float>& out)
 {
   out = mesh.Positions;
   for (size_t k = 0; k < mesh.PositionDeltas.size(); ++k)
@@ -413,7 +413,7 @@ struct Correspondence
   std::vector<std::array<float, 3>> Weights;
 };
 
-Correspondence Correspond(const MorphMesh& full, const MorphMesh& reduced)
+Correspondence Correspond(const ReductionMesh& full, const ReductionMesh& reduced)
 {
   auto poly = ToPolyData(reduced.Positions.data(), reduced.GetNumberOfPoints(), reduced.Triangles);
   vtkNew<vtkStaticCellLocator> locator;
@@ -478,7 +478,7 @@ void SurfaceDistances(const std::vector<float>& full, const std::vector<float>& 
   }
 }
 
-Errors Measure(const std::string& method, double budget, const MorphMesh& full, const Reduced& r,
+Errors Measure(const std::string& method, double budget, const ReductionMesh& full, const Reduced& r,
   const morphnode::WeightTrack& track, size_t stride, const std::vector<bool>& animatedRegion)
 {
   Errors e;
@@ -717,7 +717,7 @@ void PlotOverTime(const std::vector<Errors>& all, const std::vector<std::string>
 
 struct Level
 {
-  MorphMesh Mesh;
+  ReductionMesh Mesh;
   std::vector<uint32_t> ToFull;      // level point -> full point
   std::vector<uint32_t> ToPrevious;  // level point -> previous level's point
   std::vector<uint32_t> Representatives; // previous level point -> this level's point
@@ -827,7 +827,7 @@ int main(int argc, char* argv[])
   {
     std::filesystem::create_directories(outDir);
     const Face face = LoadFace(facePath);
-    const MorphMesh& full = face.Mesh;
+    const ReductionMesh& full = face.Mesh;
     std::cerr << "face: " << full.GetNumberOfPoints() << " points, " << full.GetNumberOfTriangles()
               << " triangles, " << full.GetNumberOfTargets() << " targets\n";
 

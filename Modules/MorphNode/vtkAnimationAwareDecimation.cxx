@@ -68,9 +68,9 @@ std::vector<float> ToFloats(vtkDataArray* array)
 }
 
 /// The core's view of the input; throws InputError for anything it cannot represent.
-morphnode::MorphMesh ToMorphMesh(vtkPolyData* input)
+morphnode::ReductionMesh ToMorphMesh(vtkPolyData* input)
 {
-  morphnode::MorphMesh mesh;
+  morphnode::ReductionMesh mesh;
   const vtkIdType np = input->GetNumberOfPoints();
   if (np == 0 || !input->GetPoints())
   {
@@ -167,7 +167,7 @@ int vtkAnimationAwareDecimation::RequestData(
   }
   try
   {
-    const morphnode::MorphMesh mesh = ToMorphMesh(input);
+    const morphnode::ReductionMesh mesh = ToMorphMesh(input);
     morphnode::ReductionSettings settings;
     settings.AnimationWeight = this->AnimationWeight;
     settings.PoseQuadrics = this->PoseQuadrics;

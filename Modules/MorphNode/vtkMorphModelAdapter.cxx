@@ -270,7 +270,7 @@ BuiltModel BuildFromAbsoluteTargets(const std::vector<vtkPointSet*>& inputs, dou
   }
 
   const size_t n = inputs.size();
-  BuiltModel built{ morphnode::MorphModel(static_cast<size_t>(numPoints)), {}, {} };
+  BuiltModel built{ morphnode::MorphMesh(static_cast<size_t>(numPoints)), {}, {} };
   built.Model.SetTargetNames(NamesFrom(neutral, inputs, n));
   CheckUniqueNames(built.Model.GetTargetNames());
 
@@ -367,7 +367,7 @@ BuiltModel BuildFromRelativeTargets(vtkPointSet* input, double sparseCoverage)
   }
 
   const size_t n = numDeltas + 1;
-  BuiltModel built{ morphnode::MorphModel(static_cast<size_t>(numPoints)), {}, {} };
+  BuiltModel built{ morphnode::MorphMesh(static_cast<size_t>(numPoints)), {}, {} };
   built.Model.SetTargetNames(NamesFrom(input, { input }, n));
   CheckUniqueNames(built.Model.GetTargetNames());
 
@@ -409,7 +409,7 @@ BuiltModel BuildFromRelativeTargets(vtkPointSet* input, double sparseCoverage)
 }
 
 std::vector<double> WeightsFromTable(
-  vtkTable* table, const morphnode::MorphModel& model, int& matched)
+  vtkTable* table, const morphnode::MorphMesh& model, int& matched)
 {
   const size_t n = model.GetNumberOfTargets();
   std::vector<double> weights(n, 0.0);
@@ -473,7 +473,7 @@ vtkSmartPointer<vtkDataArray> MakeDoubleArray(const char* arrayName, const std::
 
 void Blend(const BuiltModel& built, const std::vector<double>& weights, BlendOutputs& outputs)
 {
-  const morphnode::MorphModel& model = built.Model;
+  const morphnode::MorphMesh& model = built.Model;
   const vtkIdType numPoints = static_cast<vtkIdType>(model.GetNumberOfPoints());
   const size_t numAttributes = model.GetNumberOfAttributes();
 

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 /**
  * @file   vtkMorphModelAdapter.h
- * @brief  Conversions between VTK data and the core's morphnode::MorphModel (private).
+ * @brief  Conversions between VTK data and the core's morphnode::MorphMesh (private).
  *
  * The one place that knows how VTK data maps onto morph targets: the Java3D form
  * (one absolute vtkPointSet per target) and the glTF form (one vtkPointSet with
@@ -13,7 +13,7 @@
 #ifndef vtkMorphModelAdapter_h
 #define vtkMorphModelAdapter_h
 
-#include "morph/MorphModel.h"
+#include "morph/MorphMesh.h"
 
 #include "vtkSmartPointer.h"
 
@@ -58,7 +58,7 @@ struct OutputArraySource
 
 struct BuiltModel
 {
-  morphnode::MorphModel Model;
+  morphnode::MorphMesh Model;
   /// Parallel to Model's attributes.
   std::vector<AttributeBinding> Bindings;
   /// glTF form: point arrays of the input that must not reach the output.
@@ -92,7 +92,7 @@ BuiltModel BuildFromRelativeTargets(vtkPointSet* input, double sparseCoverage);
 /// named after targets. Columns naming no target are ignored; targets not named get 0;
 /// an unnamed neutral gets max(0, 1 - sum of the others). `matched` counts the columns used.
 std::vector<double> WeightsFromTable(
-  vtkTable* table, const morphnode::MorphModel& model, int& matched);
+  vtkTable* table, const morphnode::MorphMesh& model, int& matched);
 
 /// A vtkStringArray holding the names.
 vtkSmartPointer<vtkStringArray> MakeNamesArray(

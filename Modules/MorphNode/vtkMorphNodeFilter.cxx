@@ -75,7 +75,7 @@ struct vtkMorphNodeFilter::vtkInternals
   {
     if (this->Distances.empty() && this->Built)
     {
-      const morphnode::MorphModel& model = this->Built->Model;
+      const morphnode::MorphMesh& model = this->Built->Model;
       this->Distances.push_back(
         adapter::MakeDoubleArray(adapter::AnimatedRegionArray, model.ComputeAnimatedRegion()));
       for (size_t i = 1; i < model.GetNumberOfTargets(); ++i)
@@ -146,7 +146,7 @@ vtkStandardNewMacro(vtkMorphNodeFilter);
 
 //------------------------------------------------------------------------------
 vtkMorphNodeFilter::vtkMorphNodeFilter()
-  : SparseCoverage(morphnode::MorphModel::DefaultSparseCoverage)
+  : SparseCoverage(morphnode::MorphMesh::DefaultSparseCoverage)
   , Internals(new vtkInternals)
 {
   this->SetNumberOfInputPorts(2);
@@ -319,7 +319,7 @@ vtkDoubleArray* vtkMorphNodeFilter::GetDistNorm()
 }
 
 //------------------------------------------------------------------------------
-const morphnode::MorphModel* vtkMorphNodeFilter::GetMorphModel()
+const morphnode::MorphMesh* vtkMorphNodeFilter::GetMorphModel()
 {
   return this->Internals->Built ? &this->Internals->Built->Model : nullptr;
 }
@@ -412,7 +412,7 @@ int vtkMorphNodeFilter::RequestData(
       internals.Distances.clear();
       internals.Outputs = {};
     }
-    const morphnode::MorphModel& model = internals.Built->Model;
+    const morphnode::MorphMesh& model = internals.Built->Model;
     const auto& names = model.GetTargetNames();
     const size_t n = model.GetNumberOfTargets();
     this->UpdateProgress(0.3);

@@ -60,7 +60,7 @@ class vtkDoubleArray;
 #ifndef __VTK_WRAP__
 namespace morphnode
 {
-class MorphModel;
+class MorphMesh;
 }
 #endif
 
@@ -219,7 +219,7 @@ public:
   ///@{
   /**
    * Targets moving at most this fraction of the points store their deltas sparsely.
-   * Default morphnode::MorphModel::DefaultSparseCoverage.
+   * Default morphnode::MorphMesh::DefaultSparseCoverage.
    */
   vtkSetClampMacro(SparseCoverage, double, 0.0, 1.0);
   vtkGetMacro(SparseCoverage, double);
@@ -236,7 +236,7 @@ public:
    * The core model built from the input by the last execution (nullptr before one, or
    * after an error): for C++ tools that study the morph beyond the pipeline.
    */
-  const morphnode::MorphModel* GetMorphModel();
+  const morphnode::MorphMesh* GetMorphModel();
 #endif
 
 protected:

@@ -5,7 +5,7 @@
 #include "vtkMorphRigCache.h"
 
 #include "base/Error.h"
-#include "morph/MorphModel.h"
+#include "morph/MorphMesh.h"
 #include "rig/Rig.h"
 
 #include "vtkDataArray.h"
@@ -58,7 +58,7 @@ vtkSmartPointer<vtkDataArray> DeltaArray(const morphnode::MorphAttribute<T>& att
 
 //------------------------------------------------------------------------------
 vtkMorphRigBaker::vtkMorphRigBaker()
-  : SparseCoverage(morphnode::MorphModel::DefaultSparseCoverage)
+  : SparseCoverage(morphnode::MorphMesh::DefaultSparseCoverage)
   , Internals(new vtkInternals)
 {
 }
@@ -159,7 +159,7 @@ int vtkMorphRigBaker::RequestData(
 
     const vtkMorphModelAdapter::BuiltModel built =
       vtkMorphModelAdapter::BuildFromRelativeTargets(input, this->SparseCoverage);
-    const morphnode::MorphModel baked = rig.BakeModel(built.Model, shapes);
+    const morphnode::MorphMesh baked = rig.BakeModel(built.Model, shapes);
     const size_t numShapes = baked.GetNumberOfTargets() - 1;
 
     output->ShallowCopy(input);

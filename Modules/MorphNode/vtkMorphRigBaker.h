@@ -76,7 +76,7 @@ public:
   ///@{
   /**
    * Targets moving at most this fraction of the points are stored sparsely while baking
-   * (no effect on the result). Default morphnode::MorphModel::DefaultSparseCoverage.
+   * (no effect on the result). Default morphnode::MorphMesh::DefaultSparseCoverage.
    */
   vtkSetClampMacro(SparseCoverage, double, 0.0, 1.0);
   vtkGetMacro(SparseCoverage, double);

@@ -4,7 +4,7 @@
 #include "vtkMorphModelAdapter.h"
 
 #include "base/Error.h"
-#include "morph/MorphModel.h"
+#include "morph/MorphMesh.h"
 #include "morph/Normals.h"
 #include "rig/ObjSet.h"
 

@@ -14,7 +14,7 @@
 #include "vtkMorphTargetReader.h"
 
 #include "morph/MorphAttribute.h"
-#include "morph/MorphModel.h"
+#include "morph/MorphMesh.h"
 
 #include "vtkDataArray.h"
 #include "vtkFloatArray.h"
@@ -500,7 +500,7 @@ int main(int argc, char* argv[])
   std::cout << "Face: " << faceName << " (" << ict.NumPoints << " points, " << ict.Deltas.size()
             << " targets)\n";
 
-  const MorphAttribute<float> kernel = BuildAttribute(ict, morphnode::MorphModel::DefaultSparseCoverage);
+  const MorphAttribute<float> kernel = BuildAttribute(ict, morphnode::MorphMesh::DefaultSparseCoverage);
   std::vector<float> out(ict.NumPoints * 3), ref(ict.NumPoints * 3);
 
   // Absolute shapes for the Java3D baseline; VTK arrays for VTK's loop.
@@ -618,7 +618,7 @@ int main(int argc, char* argv[])
       doubled.Deltas.push_back(ict.Deltas[k]);
       doubled.Names.push_back(ict.Names[k] + "_copy");
     }
-    const MorphAttribute<float> big = BuildAttribute(doubled, morphnode::MorphModel::DefaultSparseCoverage);
+    const MorphAttribute<float> big = BuildAttribute(doubled, morphnode::MorphMesh::DefaultSparseCoverage);
     const std::vector<size_t> active = SpeechTargets(ict);
     const std::vector<double> w1 = Weights(ict.Deltas.size(), active);
     const std::vector<double> w2 = Weights(doubled.Deltas.size(), active);
@@ -730,8 +730,8 @@ int main(int argc, char* argv[])
     }
     const auto crossing = [](const Crossing& c) { return c.At < 0 ? std::string("none below 100 %") : "about " + Format(c.At * 100) + " %"; };
     report.Text << "\nCrossover (sparse as fast as dense): scattered " << crossing(crossScattered) << ", in runs "
-                << crossing(crossRuns) << " of the points moved; MorphModel::DefaultSparseCoverage = "
-                << morphnode::MorphModel::DefaultSparseCoverage * 100 << " %.\n";
+                << crossing(crossRuns) << " of the points moved; MorphMesh::DefaultSparseCoverage = "
+                << morphnode::MorphMesh::DefaultSparseCoverage * 100 << " %.\n";
     std::cout << "crossover: scattered " << crossing(crossScattered) << ", in runs " << crossing(crossRuns) << "\n";
   }
 

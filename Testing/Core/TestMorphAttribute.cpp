@@ -2,7 +2,7 @@
 #include "morph/Distances.h"
 #include "base/Error.h"
 #include "morph/MorphAttribute.h"
-#include "morph/MorphModel.h"
+#include "morph/MorphMesh.h"
 
 #include <gtest/gtest.h>
 
@@ -322,7 +322,7 @@ TEST(Distances, NormalizedDistancesAndAnimatedRegion)
   t1[1] += 1.0;
   t2[5] += 2.0;
   t2[8] -= 2.0;
-  MorphModel model(3);
+  MorphMesh model(3);
   model.SetTargetNames({ "Neutral", "a", "b" });
   auto& p = model.AddAttribute<double>("Points", AttributeRole::Position, 3);
   p.SetNeutral(neutral);
@@ -339,9 +339,9 @@ TEST(Distances, NormalizedDistancesAndAnimatedRegion)
   EXPECT_EQ(model.ComputePointDistances(1), (std::vector<double>{ 1.0, 0.0, 0.0 }));
 }
 
-TEST(MorphModel, ValidateCatchesMissingTargets)
+TEST(MorphMesh, ValidateCatchesMissingTargets)
 {
-  MorphModel model(1);
+  MorphMesh model(1);
   model.SetTargetNames({ "Neutral", "a" });
   const double v[3] = { 0, 0, 0 };
   model.AddAttribute<double>("Points", AttributeRole::Position, 3).SetNeutral(v);

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "base/Error.h"
-#include "morph/MorphModel.h"
+#include "morph/MorphMesh.h"
 #include "morph/OptimizerQuality.h"
 
 #include <gtest/gtest.h>

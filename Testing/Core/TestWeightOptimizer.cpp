@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "base/Error.h"
-#include "morph/MorphModel.h"
+#include "morph/MorphMesh.h"
 #include "morph/WeightOptimizer.h"
 #include "morph/Weights.h"
 
@@ -192,7 +192,7 @@ TEST(WeightOptimizer, SumToOneAndBoundHoldOnRandomWeights)
   const size_t numPoints = 200, numTargets = 12;
   std::mt19937 rng(42);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
-  MorphModel model(numPoints);
+  MorphMesh model(numPoints);
   model.SetTargetNames(DefaultTargetNames(numTargets));
   auto& p = model.AddAttribute<double>("Points", AttributeRole::Position, 3);
   std::vector<double> neutral(numPoints * 3);

@@ -6,7 +6,7 @@
 #include "vtkMorphNodeFilter.h"
 #include "vtkMorphTargetReader.h"
 
-#include "morph/MorphModel.h"
+#include "morph/MorphMesh.h"
 #include "morph/OptimizerQuality.h"
 #include "behavior/BehaviorController.h"
 #include "rig/Rig.h"
@@ -44,7 +44,7 @@ protected:
     Morph->SetInputConnection(Reader->GetOutputPort());
     Morph->SetWeightModeToRelative();
     Morph->Update();
-    const morphnode::MorphModel* model = Morph->GetMorphModel();
+    const morphnode::MorphMesh* model = Morph->GetMorphModel();
     ASSERT_NE(model, nullptr);
     ASSERT_GE(model->GetPositionAttribute(), 0);
     Positions = std::get_if<morphnode::MorphAttribute<float>>(

@@ -81,7 +81,7 @@ public:
   {
   }
 
-  void Configure(const MorphMesh* morph, double weight, bool poseQuadrics, double motionWeight)
+  void Configure(const ReductionMesh* morph, double weight, bool poseQuadrics, double motionWeight)
   {
     this->Morph = morph;
     this->Weight = weight;
@@ -240,7 +240,7 @@ private:
     return pose + this->MotionWeight * (this->Area[v0] + this->Area[v1]) * e * e;
   }
 
-  const MorphMesh* Morph = nullptr;
+  const ReductionMesh* Morph = nullptr;
   double Weight = 0.0;
   double MotionWeight = 1.0;
 public:
@@ -253,7 +253,7 @@ private:
   std::vector<double> MotionBound;
 };
 
-void Validate(const MorphMesh& mesh, const ReductionSettings& settings)
+void Validate(const ReductionMesh& mesh, const ReductionSettings& settings)
 {
   if (mesh.Positions.empty() || mesh.Positions.size() % 3 != 0)
   {
@@ -318,7 +318,7 @@ void Validate(const MorphMesh& mesh, const ReductionSettings& settings)
 }
 } // namespace
 
-ReductionResult ReduceAnimationAware(const MorphMesh& input, const ReductionSettings& settings)
+ReductionResult ReduceAnimationAware(const ReductionMesh& input, const ReductionSettings& settings)
 {
   Validate(input, settings);
   const size_t np = input.GetNumberOfPoints();

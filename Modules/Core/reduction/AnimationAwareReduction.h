@@ -45,7 +45,7 @@
 namespace morphnode
 {
 /// A triangle mesh with relative morph targets, in flat arrays.
-struct MorphMesh
+struct ReductionMesh
 {
   std::vector<float> Positions;    ///< neutral, NumberOfPoints * 3
   std::vector<uint32_t> Triangles; ///< NumberOfTriangles * 3 point ids
@@ -78,7 +78,7 @@ struct ReductionSettings
 
 struct ReductionResult
 {
-  MorphMesh Mesh;
+  ReductionMesh Mesh;
   /// Reduced point -> original point (the reduced point has its position and deltas).
   std::vector<uint32_t> OriginalPointIds;
   /// Original point -> reduced point it was collapsed into (itself when kept): Hoppe's
@@ -92,7 +92,7 @@ struct ReductionResult
 /// Throws InputError for: no points or no triangles, point ids out of range, a delta array
 /// of the wrong size, a budget of 0 or not below the mesh's size, a negative or non-finite
 /// weight, and non-manifold input OpenMesh cannot represent.
-ReductionResult ReduceAnimationAware(const MorphMesh& mesh, const ReductionSettings& settings);
+ReductionResult ReduceAnimationAware(const ReductionMesh& mesh, const ReductionSettings& settings);
 
 /// Per-point values of any attribute (`components` per point) gathered through
 /// OriginalPointIds: the reduced mesh's copy of an attribute or of a target's deltas.

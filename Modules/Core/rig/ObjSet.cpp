@@ -283,9 +283,9 @@ std::vector<float> ObjSet::ComputeDeltas(size_t shape) const
   return deltas;
 }
 
-MorphModel ObjSet::ToMorphModel(double sparseCoverage) const
+MorphMesh ObjSet::ToMorphModel(double sparseCoverage) const
 {
-  MorphModel model(this->GetNumberOfPoints());
+  MorphMesh model(this->GetNumberOfPoints());
   std::vector<std::string> names{ "Neutral" };
   names.insert(names.end(), this->ShapeNames.begin(), this->ShapeNames.end());
   model.SetTargetNames(names);

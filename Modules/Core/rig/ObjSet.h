@@ -12,7 +12,7 @@
 /// the other statements of the format (l p vp curves), which a face does not use.
 /// Malformed lines throw InputError with the file name and line number.
 
-#include "morph/MorphModel.h"
+#include "morph/MorphMesh.h"
 
 #include <cstddef>
 #include <cstdint>
@@ -61,7 +61,7 @@ struct ObjSet
   std::vector<float> ComputeDeltas(size_t shape) const;
   /// A morph model with targets "Neutral" + ShapeNames and one float Position attribute
   /// (deltas stored sparsely where a shape moves few vertices).
-  MorphModel ToMorphModel(double sparseCoverage = MorphModel::DefaultSparseCoverage) const;
+  MorphMesh ToMorphModel(double sparseCoverage = MorphMesh::DefaultSparseCoverage) const;
 };
 
 /// Reads a neutral OBJ and shape OBJs; each shape is named after its file stem. Throws

@@ -332,7 +332,7 @@ void Rig::Bind(const std::vector<std::string>& faceTargetNames)
   std::unordered_map<std::string, size_t> index;
   for (size_t t = 0; t < faceTargetNames.size(); ++t)
   {
-    // First occurrence wins, as in MorphModel::FindTarget.
+    // First occurrence wins, as in MorphMesh::FindTarget.
     index.emplace(faceTargetNames[t], t);
   }
   this->RowStart.assign(1, 0);
@@ -351,7 +351,7 @@ void Rig::Bind(const std::vector<std::string>& faceTargetNames)
   this->Bound = true;
 }
 
-void Rig::Bind(const MorphModel& model)
+void Rig::Bind(const MorphMesh& model)
 {
   const auto& names = model.GetTargetNames();
   if (names.empty())
@@ -498,7 +498,7 @@ std::vector<size_t> Rig::ResolveShapes(const std::vector<std::string>& shapeName
   return shapes;
 }
 
-MorphModel Rig::BakeModel(const MorphModel& model, const std::vector<std::string>& shapeNames)
+MorphMesh Rig::BakeModel(const MorphMesh& model, const std::vector<std::string>& shapeNames)
 {
   model.Validate();
   this->Bind(model);
@@ -506,7 +506,7 @@ MorphModel Rig::BakeModel(const MorphModel& model, const std::vector<std::string
   const size_t numTargets = this->BoundTargetNames.size();
   const size_t numPoints = model.GetNumberOfPoints();
 
-  MorphModel baked(numPoints);
+  MorphMesh baked(numPoints);
   std::vector<std::string> names{ "Neutral" };
   for (size_t s : shapes)
   {
@@ -543,7 +543,7 @@ MorphModel Rig::BakeModel(const MorphModel& model, const std::vector<std::string
         for (size_t s : shapes)
         {
           this->BakeShape(s, pointers.data(), numValues, shapeDeltas.data());
-          out.AddRelativeTarget(shapeDeltas.data(), MorphModel::DefaultSparseCoverage);
+          out.AddRelativeTarget(shapeDeltas.data(), MorphMesh::DefaultSparseCoverage);
         }
       },
       model.GetAttribute(a));

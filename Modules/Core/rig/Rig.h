@@ -12,7 +12,7 @@
 /// - Bake: the face's target deltas -> one delta set per semantic shape, once, so that the
 ///   morph node runs the paper's own target set (13 targets) on the real face.
 
-#include "morph/MorphModel.h"
+#include "morph/MorphMesh.h"
 
 #include <cstddef>
 #include <map>
@@ -65,9 +65,9 @@ public:
   /// Validates, then resolves target names to indices into `faceTargetNames`: Expand and
   /// Bake work on that order from then on.
   void Bind(const std::vector<std::string>& faceTargetNames);
-  /// Binds to a MorphModel's targets: its target 0 is the neutral and is skipped, so
+  /// Binds to a MorphMesh's targets: its target 0 is the neutral and is skipped, so
   /// index k of Expand's output is the model's target k + 1.
-  void Bind(const MorphModel& model);
+  void Bind(const MorphMesh& model);
   bool IsBound() const { return this->Bound; }
   /// Length of Expand's output and of Bake's input: the bound face's target count.
   size_t GetNumberOfBoundTargets() const { return this->BoundTargetNames.size(); }
@@ -94,7 +94,7 @@ public:
   /// Bakes every attribute of a model (positions, normals, ...) into a new model whose
   /// targets are "Neutral" followed by `shapeNames` (all shapes when empty). Binds the rig
   /// to the model first. Colour clamp ranges are not carried over.
-  MorphModel BakeModel(const MorphModel& model, const std::vector<std::string>& shapeNames = {});
+  MorphMesh BakeModel(const MorphMesh& model, const std::vector<std::string>& shapeNames = {});
 
 private:
   void RequireBound(const char* what) const;

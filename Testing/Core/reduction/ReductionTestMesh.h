@@ -15,9 +15,9 @@ inline float Height(float x, float y)
 }
 
 /// n x n points on [0, 1]^2.
-inline morphnode::MorphMesh MakeFace(int n = 41)
+inline morphnode::ReductionMesh MakeFace(int n = 41)
 {
-  morphnode::MorphMesh mesh;
+  morphnode::ReductionMesh mesh;
   const float h = 1.0f / static_cast<float>(n - 1);
   for (int j = 0; j < n; ++j)
   {

@@ -13,7 +13,7 @@
 #include <string>
 
 using morphnode::InputError;
-using morphnode::MorphMesh;
+using morphnode::ReductionMesh;
 using morphnode::ReduceAnimationAware;
 using morphnode::ReductionResult;
 using morphnode::ReductionSettings;
@@ -29,7 +29,7 @@ ReductionSettings Budget(size_t triangles, double weight)
 }
 
 /// Largest motion of each point over all targets (morphnode::ComputeAnimatedRegion).
-std::vector<double> Region(const MorphMesh& mesh)
+std::vector<double> Region(const ReductionMesh& mesh)
 {
   std::vector<double> region(mesh.GetNumberOfPoints(), 0.0);
   for (const auto& d : mesh.PositionDeltas)
@@ -57,7 +57,7 @@ size_t KeptAnimated(const ReductionResult& r, const std::vector<double>& region,
 
 TEST(AnimationAwareReduction, TargetsAreCarriedExactly)
 {
-  const MorphMesh mesh = reductiontest::MakeFace();
+  const ReductionMesh mesh = reductiontest::MakeFace();
   for (double weight : { 0.0, 1.0 })
   {
     const size_t budget = mesh.GetNumberOfTriangles() / 4;
@@ -96,7 +96,7 @@ TEST(AnimationAwareReduction, TargetsAreCarriedExactly)
 
 TEST(AnimationAwareReduction, GatherCarriesAnyAttribute)
 {
-  const MorphMesh mesh = reductiontest::MakeFace(11);
+  const ReductionMesh mesh = reductiontest::MakeFace(11);
   const ReductionResult r =
     ReduceAnimationAware(mesh, Budget(mesh.GetNumberOfTriangles() / 2, 1.0));
   std::vector<double> uv(2 * mesh.GetNumberOfPoints());
@@ -117,7 +117,7 @@ TEST(AnimationAwareReduction, GatherCarriesAnyAttribute)
 
 TEST(AnimationAwareReduction, KeepsMoreOfTheAnimatedRegions)
 {
-  const MorphMesh mesh = reductiontest::MakeFace();
+  const ReductionMesh mesh = reductiontest::MakeFace();
   const auto region = Region(mesh);
   const double animated = 0.2 * *std::max_element(region.begin(), region.end());
   size_t animatedPoints = 0;
@@ -145,7 +145,7 @@ TEST(AnimationAwareReduction, WeightZeroIsPlainQuadricDecimation)
 {
   // The module with weight 0 would compute ModQuadricT's cost; weight 0 uses ModQuadricT
   // itself. Without targets the animation terms vanish, so both must agree.
-  MorphMesh mesh = reductiontest::MakeFace(21);
+  ReductionMesh mesh = reductiontest::MakeFace(21);
   mesh.PositionDeltas.clear();
   const auto a = ReduceAnimationAware(mesh, Budget(mesh.GetNumberOfTriangles() / 3, 0.0));
   const auto b = ReduceAnimationAware(mesh, Budget(mesh.GetNumberOfTriangles() / 3, 1.0));
@@ -154,7 +154,7 @@ TEST(AnimationAwareReduction, WeightZeroIsPlainQuadricDecimation)
 
 TEST(AnimationAwareReduction, GeomorphEndsOnTheReducedShape)
 {
-  const MorphMesh mesh = reductiontest::MakeFace(21);
+  const ReductionMesh mesh = reductiontest::MakeFace(21);
   const auto r = ReduceAnimationAware(mesh, Budget(mesh.GetNumberOfTriangles() / 3, 1.0));
   const size_t np = mesh.GetNumberOfPoints();
   std::vector<uint32_t> rep(np);
@@ -204,9 +204,9 @@ TEST(AnimationAwareReduction, GeomorphEndsOnTheReducedShape)
 
 TEST(AnimationAwareReduction, BadInputIsReported)
 {
-  const MorphMesh good = reductiontest::MakeFace(11);
+  const ReductionMesh good = reductiontest::MakeFace(11);
   const size_t half = good.GetNumberOfTriangles() / 2;
-  auto message = [](const MorphMesh& m, const ReductionSettings& s) {
+  auto message = [](const ReductionMesh& m, const ReductionSettings& s) {
     try
     {
       ReduceAnimationAware(m, s);
@@ -217,11 +217,11 @@ TEST(AnimationAwareReduction, BadInputIsReported)
     }
     return std::string("no error");
   };
-  MorphMesh noTriangles = good;
+  ReductionMesh noTriangles = good;
   noTriangles.Triangles.clear();
   EXPECT_NE(message(noTriangles, Budget(10, 1.0)).find("no triangles"), std::string::npos);
 
-  MorphMesh noPoints;
+  ReductionMesh noPoints;
   EXPECT_NE(message(noPoints, Budget(10, 1.0)).find("no points"), std::string::npos);
 
   EXPECT_NE(message(good, Budget(good.GetNumberOfTriangles(), 1.0)).find("budget"), std::string::npos);
@@ -232,17 +232,17 @@ TEST(AnimationAwareReduction, BadInputIsReported)
   EXPECT_NE(message(good, pointBudget).find("point budget"), std::string::npos);
   EXPECT_NE(message(good, ReductionSettings()).find("no budget"), std::string::npos);
 
-  MorphMesh mismatched = good;
+  ReductionMesh mismatched = good;
   mismatched.PositionDeltas[2].pop_back();
   EXPECT_NE(message(mismatched, Budget(half, 1.0)).find("target 2 has"), std::string::npos);
 
-  MorphMesh outOfRange = good;
+  ReductionMesh outOfRange = good;
   outOfRange.Triangles[7] = 100000;
   EXPECT_NE(message(outOfRange, Budget(half, 1.0)).find("point id 100000"), std::string::npos);
 
   EXPECT_NE(message(good, Budget(half, -1.0)).find("animation weight"), std::string::npos);
 
-  MorphMesh nonManifold = good;
+  ReductionMesh nonManifold = good;
   // a third triangle on the edge (0, 1)
   nonManifold.Positions.insert(nonManifold.Positions.end(), { 0.05f, 0.0f, 1.0f });
   for (auto& d : nonManifold.PositionDeltas)
@@ -253,7 +253,7 @@ TEST(AnimationAwareReduction, BadInputIsReported)
   nonManifold.Triangles.insert(nonManifold.Triangles.end(), { 0, 1, extra, 1, 0, extra });
   EXPECT_NE(message(nonManifold, Budget(half, 1.0)).find("non-manifold"), std::string::npos);
 
-  MorphMesh degenerate = good;
+  ReductionMesh degenerate = good;
   degenerate.Triangles.insert(degenerate.Triangles.end(), { 3, 3, 4 });
   const auto r = ReduceAnimationAware(degenerate, Budget(half, 1.0));
   EXPECT_EQ(r.DroppedDegenerateTriangles, 1u);

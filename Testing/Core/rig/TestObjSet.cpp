@@ -120,7 +120,7 @@ TEST(ObjSet, ShapesAreNamedByStemAndMustMatchTheNeutral)
   EXPECT_EQ(set.FindShape("x"), -1);
   const auto deltas = set.ComputeDeltas(0);
   EXPECT_EQ(deltas, (std::vector<float>{ 0, 0, 0, 0, 0, 0, 0, 0, 0.5f, 0, 0, 0.5f }));
-  const MorphModel model = set.ToMorphModel();
+  const MorphMesh model = set.ToMorphModel();
   EXPECT_EQ(model.GetTargetNames(), (std::vector<std::string>{ "Neutral", "liftUp" }));
   EXPECT_NO_THROW(model.Validate());
   EXPECT_NEAR(model.ComputeDistances().DistMorph[1], 1.0, 1e-6);
@@ -161,7 +161,7 @@ TEST(ObjSet, IctFaceKitOriginals)
   EXPECT_EQ(set.ShapeNames, (std::vector<std::string>{ "browInnerUp_L", "eyeBlink_L", "jawOpen",
                               "mouthFunnel", "mouthSmile_L" }));
 
-  const MorphModel model = set.ToMorphModel();
+  const MorphMesh model = set.ToMorphModel();
   const TargetDistances distances = model.ComputeDistances();
   // Every shape moves the face; jawOpen moves the most of these five (it drags the chin).
   const size_t jaw = static_cast<size_t>(model.FindTarget("jawOpen"));
@@ -183,7 +183,7 @@ TEST(ObjSet, IctFaceKitOriginals)
 
   // A rig baked on the real face: O = 0.35 jawOpen + 0.6 mouthFunnel, vertex by vertex.
   Rig rig = Rig::LoadString(R"({"name": "t", "shapes": {"O": {"jawOpen": 0.35, "mouthFunnel": 0.6}}})");
-  const MorphModel baked = rig.BakeModel(model);
+  const MorphMesh baked = rig.BakeModel(model);
   ASSERT_EQ(baked.GetTargetNames(), (std::vector<std::string>{ "Neutral", "O" }));
   std::vector<float> o(set.GetNumberOfPoints() * 3);
   std::get<MorphAttribute<float>>(baked.GetAttribute(0)).GetTarget(1).ToDense(o.data());

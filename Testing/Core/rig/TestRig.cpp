@@ -177,7 +177,7 @@ TEST(Rig, BakeCombinesTargetDeltasLinearly)
 TEST(Rig, BakeModelGivesTheSameGeometryAsExpandWithinZeroOne)
 {
   // A 3-point face with 4 relative targets.
-  MorphModel face(3);
+  MorphMesh face(3);
   face.SetTargetNames({ "Neutral", "eyeBlink_L", "mouthFunnel", "jawOpen", "cheekPuff_L" });
   auto& positions = face.AddAttribute<float>("Position", AttributeRole::Position, 3);
   const std::vector<float> neutral = { 0, 0, 0, 1, 0, 0, 0, 1, 0 };
@@ -192,7 +192,7 @@ TEST(Rig, BakeModelGivesTheSameGeometryAsExpandWithinZeroOne)
     positions.AddRelativeTarget(deltas.data(), 0.0);
   }
   Rig rig = Rig::LoadString(SmallRig);
-  const MorphModel baked = rig.BakeModel(face, { "O", "A" });
+  const MorphMesh baked = rig.BakeModel(face, { "O", "A" });
   EXPECT_EQ(baked.GetTargetNames(), (std::vector<std::string>{ "Neutral", "O", "A" }));
   ASSERT_EQ(baked.GetNumberOfAttributes(), 1u);
   const auto& bakedPositions = std::get<MorphAttribute<float>>(baked.GetAttribute(0));

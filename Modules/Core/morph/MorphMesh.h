@@ -1,11 +1,14 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
-/// @file MorphModel.h
-/// @brief A morphable mesh: named targets (neutral first) and the attributes they morph.
+/// @file MorphMesh.h
+/// @brief A mesh with named morph targets: target names (neutral first), the per-point
+/// attributes they morph and, optionally, the triangles. The one mesh-with-targets type
+/// of the core: the morph node, rigs, OBJ sets and the reduction all use it.
 
 #include "morph/Distances.h"
 #include "morph/MorphAttribute.h"
 
+#include <cstdint>
 #include <string>
 #include <variant>
 #include <vector>
@@ -14,7 +17,7 @@ namespace morphnode
 {
 using AnyMorphAttribute = std::variant<MorphAttribute<float>, MorphAttribute<double>>;
 
-class MorphModel
+class MorphMesh
 {
 public:
   /// Coverage at or below which a target's deltas are stored sparsely. Measured on the
@@ -22,7 +25,7 @@ public:
   /// 3x a dense axpy per moved point, so it pays off below roughly a third of the points.
   static constexpr double DefaultSparseCoverage = 0.3;
 
-  explicit MorphModel(size_t numPoints = 0)
+  explicit MorphMesh(size_t numPoints = 0)
     : NumPoints(numPoints)
   {
   }
@@ -47,7 +50,8 @@ public:
   /// Index of the first Position attribute, -1 if none.
   int GetPositionAttribute() const;
 
-  /// Throws InputError unless every attribute has one delta set per non-neutral target.
+  /// Throws InputError unless every attribute has one delta set per non-neutral target and
+  /// the triangles (if any) are whole and reference existing points.
   void Validate() const;
 
   /// Distances of the Position attribute (all zero without one).
@@ -55,12 +59,20 @@ public:
   std::vector<double> ComputePointDistances(size_t target) const;
   std::vector<double> ComputeAnimatedRegion() const;
 
+  /// Optional topology: triangles as 3 point ids each (empty = points only; the morph
+  /// node needs none, OBJ sets and the reduction do). Validate() checks the ids.
+  void SetTriangles(std::vector<uint32_t> triangles) { this->Triangles = std::move(triangles); }
+  const std::vector<uint32_t>& GetTriangles() const { return this->Triangles; }
+  size_t GetNumberOfTriangles() const { return this->Triangles.size() / 3; }
+  bool HasTriangles() const { return !this->Triangles.empty(); }
+
   size_t GetMemorySize() const;
 
 private:
   size_t NumPoints;
   std::vector<std::string> TargetNames;
   std::vector<AnyMorphAttribute> Attributes;
+  std::vector<uint32_t> Triangles;
 };
 
 /// Default target names: "Neutral", "target0", "target1", ... (glTF's target<k> naming).

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
-#include "morph/MorphModel.h"
+#include "morph/MorphMesh.h"
 
 #include "base/Error.h"
 
@@ -7,7 +7,7 @@
 
 namespace morphnode
 {
-int MorphModel::FindTarget(const std::string& name) const
+int MorphMesh::FindTarget(const std::string& name) const
 {
   for (size_t i = 0; i < this->TargetNames.size(); ++i)
   {
@@ -19,7 +19,7 @@ int MorphModel::FindTarget(const std::string& name) const
   return -1;
 }
 
-int MorphModel::GetPositionAttribute() const
+int MorphMesh::GetPositionAttribute() const
 {
   for (size_t i = 0; i < this->Attributes.size(); ++i)
   {
@@ -33,7 +33,7 @@ int MorphModel::GetPositionAttribute() const
   return -1;
 }
 
-void MorphModel::Validate() const
+void MorphMesh::Validate() const
 {
   if (this->TargetNames.empty())
   {
@@ -53,9 +53,24 @@ void MorphModel::Validate() const
       },
       any);
   }
+  if (this->Triangles.size() % 3 != 0)
+  {
+    throw InputError("the mesh's triangle list has " + std::to_string(this->Triangles.size()) +
+      " point ids, not a multiple of 3");
+  }
+  for (size_t i = 0; i < this->Triangles.size(); ++i)
+  {
+    if (this->Triangles[i] >= this->NumPoints)
+    {
+      std::ostringstream msg;
+      msg << "triangle " << i / 3 << " uses point " << this->Triangles[i] << ", the mesh has "
+          << this->NumPoints << " points";
+      throw InputError(msg.str());
+    }
+  }
 }
 
-TargetDistances MorphModel::ComputeDistances() const
+TargetDistances MorphMesh::ComputeDistances() const
 {
   const int p = this->GetPositionAttribute();
   if (p < 0)
@@ -68,7 +83,7 @@ TargetDistances MorphModel::ComputeDistances() const
     this->Attributes[static_cast<size_t>(p)]);
 }
 
-std::vector<double> MorphModel::ComputePointDistances(size_t target) const
+std::vector<double> MorphMesh::ComputePointDistances(size_t target) const
 {
   const int p = this->GetPositionAttribute();
   if (p < 0 || target == 0 || target >= this->TargetNames.size())
@@ -79,7 +94,7 @@ std::vector<double> MorphModel::ComputePointDistances(size_t target) const
     this->Attributes[static_cast<size_t>(p)]);
 }
 
-std::vector<double> MorphModel::ComputeAnimatedRegion() const
+std::vector<double> MorphMesh::ComputeAnimatedRegion() const
 {
   const int p = this->GetPositionAttribute();
   if (p < 0)
@@ -90,14 +105,14 @@ std::vector<double> MorphModel::ComputeAnimatedRegion() const
     this->Attributes[static_cast<size_t>(p)]);
 }
 
-size_t MorphModel::GetMemorySize() const
+size_t MorphMesh::GetMemorySize() const
 {
   size_t bytes = 0;
   for (const auto& any : this->Attributes)
   {
     bytes += std::visit([](const auto& a) { return a.GetMemorySize(); }, any);
   }
-  return bytes;
+  return bytes + this->Triangles.size() * sizeof(uint32_t);
 }
 
 std::vector<std::string> DefaultTargetNames(size_t numTargets)
