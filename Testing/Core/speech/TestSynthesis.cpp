@@ -2,7 +2,7 @@
 #include "base/Error.h"
 #include "speech/Sampa.h"
 #include "speech/SpeechSynthesizer.h"
-#include "speech/Wav.h"
+#include "audio/AudioFile.h"
 
 #include <gtest/gtest.h>
 

@@ -1,0 +1,45 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#pragma once
+/// @file AudioBuffer.h
+/// @brief Sampled sound in memory: interleaved float samples in [-1, 1] at a rate, with
+/// the conversions every user needs (mono mix, 16-bit samples, duration).
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace morphnode
+{
+struct AudioBuffer
+{
+  /// Interleaved: frame f, channel c at Samples[f * Channels + c]. Nominally in [-1, 1].
+  std::vector<float> Samples;
+  int SampleRate = 0; ///< frames per second
+  int Channels = 0;
+
+  /// Number of frames (samples per channel); 0 when Channels <= 0.
+  size_t GetFrameCount() const
+  {
+    return this->Channels > 0 ? this->Samples.size() / static_cast<size_t>(this->Channels) : 0;
+  }
+  /// Seconds; 0 when the rate is not set.
+  double GetDuration() const
+  {
+    return this->SampleRate > 0 ? static_cast<double>(this->GetFrameCount()) / this->SampleRate : 0.0;
+  }
+  bool IsEmpty() const { return this->GetFrameCount() == 0; }
+};
+
+/// The average of the channels, one float per frame (a mono buffer is returned as is).
+/// InputError when Channels <= 0 or the sample count is not a multiple of it.
+AudioBuffer MixToMono(const AudioBuffer& audio);
+
+/// Mono 16-bit samples (mixed, clipped to the 16-bit range, rounded).
+std::vector<int16_t> ToInt16Mono(const AudioBuffer& audio);
+
+/// A mono buffer from 16-bit samples (/ 32768).
+AudioBuffer FromInt16Mono(const std::vector<int16_t>& samples, int sampleRate);
+
+/// Root mean square of the samples (all channels); 0 for an empty buffer.
+double RootMeanSquare(const AudioBuffer& audio);
+} // namespace morphnode
