@@ -766,18 +766,39 @@ void BehaviorController::Sample(double t, std::vector<double>& out) const
   this->Sample(t, out.data());
 }
 
-WeightTrack BehaviorController::GenerateTrack()
+size_t BehaviorController::GetNumberOfFrames() const
 {
-  this->Prepare();
+  return NumberOfFrames(this->EffectiveDuration, this->FrameRate);
+}
+
+WeightTrack BehaviorController::SampleTrack() const
+{
+  if (!this->Prepared)
+  {
+    throw InputError("BehaviorController: call Prepare() after changing the behaviour");
+  }
+  const size_t frames = this->GetNumberOfFrames();
+  const size_t channels = this->ChannelNames.size();
+  if (channels > 0 && frames > MaxTrackValues / channels)
+  {
+    std::ostringstream msg;
+    msg << "a track of " << frames << " frames x " << channels << " channels is more than "
+        << MaxTrackValues << " values: sample the behaviour one time at a time instead";
+    throw InputError(msg.str());
+  }
   WeightTrack track(this->ChannelNames, this->FrameRate);
-  const size_t frames =
-    static_cast<size_t>(std::floor(this->EffectiveDuration * this->FrameRate + 1e-9)) + 1;
-  std::vector<double> row(this->ChannelNames.size());
+  std::vector<double> row(channels);
   for (size_t f = 0; f < frames; ++f)
   {
-    this->Sample(track.GetTime(f), row.data());
+    this->Sample(this->GetFrameTime(f), row.data());
     track.AppendFrame(row.data());
   }
   return track;
+}
+
+WeightTrack BehaviorController::GenerateTrack()
+{
+  this->Prepare();
+  return this->SampleTrack();
 }
 } // namespace morphnode

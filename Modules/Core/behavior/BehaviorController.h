@@ -6,7 +6,8 @@
 /// synchronized on a Blackboard, sampled as a fixed set of channels at any time.
 ///
 /// Use: configure (seed, frame rate, duration, parameters, synthesizer), add commands (or
-/// a script), Prepare(), then Sample(t, out) as often as needed, or GenerateTrack().
+/// a script), Prepare(), then Sample(t, out) as often as needed, or SampleTrack() for every
+/// frame (GenerateTrack() = Prepare() + SampleTrack()).
 /// Prepare() fixes the channel set (the base channels, then the viseme channels of the
 /// scheduled utterances) and precomputes every schedule, so Sample() is cheap, const and
 /// allocation-free. Any later change needs a new Prepare() (GenerateTrack() calls it).
@@ -23,6 +24,7 @@
 #include "track/WeightTrack.h"
 #include "behavior/BehaviorScript.h"
 #include "behavior/BehaviorTypes.h"
+#include "behavior/Frames.h"
 #include "behavior/IdleSchedule.h"
 #include "behavior/Timeline.h"
 
@@ -121,7 +123,14 @@ public:
   /// Throws InputError if not prepared since the last change.
   void Sample(double t, double* out) const;
   void Sample(double t, std::vector<double>& out) const;
-  /// Prepares and samples frames 0 .. floor(duration * fps) at the frame rate.
+  /// The frames of the prepared behaviour (behavior/Frames.h): t_i = GetFrameTime(i) =
+  /// i / GetFrameRate(), i = 0 .. floor(GetEffectiveDuration() * GetFrameRate()).
+  size_t GetNumberOfFrames() const;
+  double GetFrameTime(size_t frame) const { return FrameTime(frame, this->FrameRate); }
+  /// Samples the prepared behaviour at each of its frames. InputError if not prepared since
+  /// the last change, or when the track would hold more than MaxTrackValues values.
+  WeightTrack SampleTrack() const;
+  /// Prepare(), then SampleTrack().
   WeightTrack GenerateTrack();
 
   // ---- inspection ------------------------------------------------------------------
