@@ -10,6 +10,7 @@
 #include <cmath>
 #include <istream>
 #include <ostream>
+#include <sstream>
 
 namespace morphnode
 {
@@ -96,6 +97,26 @@ std::vector<MouthCue> ReadRhubarbTsv(std::istream& in, double endTime)
     cues.back().End = endTime;
   }
   return cues;
+}
+
+std::vector<MouthCue> ParseRhubarb(const std::string& text)
+{
+  std::istringstream in(text);
+  const std::string_view content = Trim(text);
+  return !content.empty() && content.front() == '{' ? ReadRhubarbJson(in) : ReadRhubarbTsv(in);
+}
+
+std::vector<MouthCue> ReadRhubarbFile(const std::string& path)
+{
+  const std::string text = text::ReadFile(path, "rhubarb file");
+  try
+  {
+    return ParseRhubarb(text);
+  }
+  catch (const InputError& e)
+  {
+    throw InputError(path + ": " + e.what());
+  }
 }
 
 void WriteRhubarbTsv(std::ostream& out, const std::vector<MouthCue>& cues)

@@ -44,6 +44,12 @@ std::vector<MouthCue> ReadRhubarbJson(std::istream& in);
 void WriteRhubarbJson(std::ostream& out, const std::vector<MouthCue>& cues,
   const std::string& soundFile = "", double duration = -1.0);
 
+/// Reads either export: JSON when the first non-blank character is '{', else TSV (the last
+/// TSV cue then has zero length, as Rhubarb ends with an X). InputError as the readers.
+std::vector<MouthCue> ParseRhubarb(const std::string& text);
+/// Same from a file; InputError naming the file when it cannot be opened or is malformed.
+std::vector<MouthCue> ReadRhubarbFile(const std::string& path);
+
 /// The dominant viseme of each frame as a shape; equal neighbours merge. Cues shorter than
 /// `minimumDuration` merge into the previous cue, except closures (A), which Rhubarb too
 /// keeps however short they are.

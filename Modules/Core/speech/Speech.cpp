@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 namespace morphnode
 {
@@ -81,9 +82,14 @@ Utterance SpeakText(const std::string& text, const SpeechOptions& options)
     SelectVisemeMap(options), options);
 }
 
+Utterance UtteranceFromPhonemes(std::vector<TimedPhoneme> phonemes, const SpeechOptions& options)
+{
+  return BuildUtterance(std::move(phonemes), {}, 22050, SelectVisemeMap(options), options);
+}
+
 Utterance LoadPhoUtterance(const std::string& path, const SpeechOptions& options)
 {
-  return BuildUtterance(ReadPhoFile(path), {}, 22050, SelectVisemeMap(options), options);
+  return UtteranceFromPhonemes(ReadPhoFile(path), options);
 }
 
 Utterance UtteranceFromMouthCues(const std::vector<MouthCue>& cues, const SpeechOptions& options)

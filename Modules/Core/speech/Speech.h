@@ -46,6 +46,9 @@ Utterance BuildUtterance(std::vector<TimedPhoneme> phonemes, std::vector<int16_t
 /// Text -> utterance: SpeechSynthesizer, then BuildUtterance. InputError when eSpeak fails.
 Utterance SpeakText(const std::string& text, const SpeechOptions& options = {});
 
+/// SAMPA phonemes (e.g. ParsePho's) -> utterance without audio (BuildUtterance at 22050 Hz).
+Utterance UtteranceFromPhonemes(std::vector<TimedPhoneme> phonemes, const SpeechOptions& options = {});
+
 /// A .pho file -> utterance without audio.
 Utterance LoadPhoUtterance(const std::string& path, const SpeechOptions& options = {});
 
