@@ -225,4 +225,87 @@ double SyncPoints::Envelope(double t) const
   }
   return Smoothstep((this->End - t) / (this->End - this->Relax));
 }
+
+// ------------------------------------------------------------------ parameters by name
+
+namespace
+{
+struct ParameterField
+{
+  const char* Name;
+  double BehaviorParameters::*Field;
+};
+
+#define MORPHNODE_PARAMETER(name) { #name, &BehaviorParameters::name }
+const ParameterField ParameterFields[] = { MORPHNODE_PARAMETER(BlinkRateRest),
+  MORPHNODE_PARAMETER(BlinkRateSpeaking),
+  MORPHNODE_PARAMETER(BlinkIntervalSigma),
+  MORPHNODE_PARAMETER(BlinkMinInterval),
+  MORPHNODE_PARAMETER(BlinkCloseTime),
+  MORPHNODE_PARAMETER(BlinkClosedTime),
+  MORPHNODE_PARAMETER(BlinkOpenTime),
+  MORPHNODE_PARAMETER(SaccadeBase),
+  MORPHNODE_PARAMETER(SaccadePerDegree),
+  MORPHNODE_PARAMETER(SaccadeMaxAmplitude),
+  MORPHNODE_PARAMETER(SaccadeRange),
+  MORPHNODE_PARAMETER(FixationMean),
+  MORPHNODE_PARAMETER(FixationSigma),
+  MORPHNODE_PARAMETER(FixationMin),
+  MORPHNODE_PARAMETER(HeadYawAmplitude),
+  MORPHNODE_PARAMETER(HeadPitchAmplitude),
+  MORPHNODE_PARAMETER(HeadRollAmplitude),
+  MORPHNODE_PARAMETER(IdleSmileInterval),
+  MORPHNODE_PARAMETER(IdleSmileIntensity),
+  MORPHNODE_PARAMETER(HeadShareOfGaze),
+  MORPHNODE_PARAMETER(HeadGazeTime),
+  MORPHNODE_PARAMETER(EyeYawRange),
+  MORPHNODE_PARAMETER(EyePitchRange),
+  MORPHNODE_PARAMETER(NodAmplitude),
+  MORPHNODE_PARAMETER(ShakeAmplitude),
+  MORPHNODE_PARAMETER(TiltAmplitude),
+  MORPHNODE_PARAMETER(SpeechNodAmplitude),
+  MORPHNODE_PARAMETER(MoodFadeTime),
+  MORPHNODE_PARAMETER(SpeechExpressionDamping) };
+#undef MORPHNODE_PARAMETER
+// Every field is in the table (all fields are doubles).
+static_assert(sizeof(ParameterFields) / sizeof(ParameterFields[0]) * sizeof(double) ==
+    sizeof(BehaviorParameters),
+  "BehaviorParameters has a field that is not in ParameterFields");
+
+const ParameterField& FindParameter(const std::string& name)
+{
+  const std::string key = Canonical(name);
+  for (const ParameterField& p : ParameterFields)
+  {
+    if (Canonical(p.Name) == key)
+    {
+      return p;
+    }
+  }
+  throw InputError("unknown behaviour parameter " + Quoted(name));
+}
+} // namespace
+
+const std::vector<std::string>& BehaviorParameterNames()
+{
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> out;
+    for (const ParameterField& p : ParameterFields)
+    {
+      out.emplace_back(p.Name);
+    }
+    return out;
+  }();
+  return names;
+}
+
+double GetBehaviorParameter(const BehaviorParameters& parameters, const std::string& name)
+{
+  return parameters.*(FindParameter(name).Field);
+}
+
+void SetBehaviorParameter(BehaviorParameters& parameters, const std::string& name, double value)
+{
+  parameters.*(FindParameter(name).Field) = value;
+}
 } // namespace morphnode

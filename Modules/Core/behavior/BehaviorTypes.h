@@ -149,4 +149,13 @@ struct BehaviorParameters
   double MoodFadeTime = 0.8;            ///< seconds (smoothstep) when a mood changes
   double SpeechExpressionDamping = 0.7; ///< MouthSmile/MouthSad *= 1 - this * speech activity
 };
+
+/// The parameters by name, for bindings and files: the field names above in declaration
+/// order ("BlinkRateRest", ..., "SpeechExpressionDamping").
+const std::vector<std::string>& BehaviorParameterNames();
+/// The field of that name (names are matched as gestures are: case, '_' and '-' do not
+/// matter). InputError naming an unknown parameter. The ranges are checked by
+/// BehaviorController::SetParameters.
+double GetBehaviorParameter(const BehaviorParameters& parameters, const std::string& name);
+void SetBehaviorParameter(BehaviorParameters& parameters, const std::string& name, double value);
 } // namespace morphnode

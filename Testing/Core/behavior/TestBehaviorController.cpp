@@ -477,3 +477,46 @@ TEST(BehaviorController, RelaxCueSoftensTheBrows)
   EXPECT_NEAR(At(b, 2.5, "BrowsUp"), 0.45, 1e-9); // halved in the pause
   EXPECT_NEAR(At(b, 3.5, "BrowsUp"), 0.9, 1e-9);
 }
+
+TEST(BehaviorParameters, EveryFigureByName)
+{
+  const auto& names = BehaviorParameterNames();
+  ASSERT_EQ(names.size(), sizeof(BehaviorParameters) / sizeof(double));
+  EXPECT_EQ(names.front(), "BlinkRateRest");
+  EXPECT_EQ(names.back(), "SpeechExpressionDamping");
+  BehaviorParameters p;
+  EXPECT_EQ(GetBehaviorParameter(p, "BlinkRateRest"), 17.0);
+  EXPECT_EQ(GetBehaviorParameter(p, "blink_rate_speaking"), 26.0); // matched like gestures
+  EXPECT_EQ(GetBehaviorParameter(p, "HeadShareOfGaze"), 0.4);
+  // Each name reaches its own field: set them all to distinct values and read them back.
+  for (size_t i = 0; i < names.size(); ++i)
+  {
+    SetBehaviorParameter(p, names[i], 1000.0 + static_cast<double>(i));
+  }
+  for (size_t i = 0; i < names.size(); ++i)
+  {
+    EXPECT_EQ(GetBehaviorParameter(p, names[i]), 1000.0 + static_cast<double>(i)) << names[i];
+  }
+  EXPECT_EQ(p.BlinkRateRest, 1000.0);
+  EXPECT_EQ(p.SpeechExpressionDamping, 1000.0 + static_cast<double>(names.size() - 1));
+  try
+  {
+    GetBehaviorParameter(p, "BlinkSpeed");
+    FAIL() << "an unknown parameter was found";
+  }
+  catch (const InputError& e)
+  {
+    EXPECT_NE(std::string(e.what()).find("'BlinkSpeed'"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(SetBehaviorParameter(p, "", 1.0), InputError);
+
+  // The controller checks the values (the faster blinking shows in the track).
+  BehaviorController b;
+  BehaviorParameters fast = b.GetParameters();
+  SetBehaviorParameter(fast, "BlinkRateRest", 60.0);
+  b.SetParameters(fast);
+  EXPECT_EQ(b.GetParameters().BlinkRateRest, 60.0);
+  SetBehaviorParameter(fast, "BlinkRateRest", -1.0);
+  EXPECT_THROW(b.SetParameters(fast), InputError);
+  EXPECT_EQ(b.GetParameters().BlinkRateRest, 60.0);
+}
