@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "speech/Nonverbal.h"
 #include "speech/Speech.h"
+#include "MorphNodeTestSkips.h"
 
 #include <gtest/gtest.h>
 
@@ -104,6 +105,7 @@ TEST(Nonverbal, WithoutPitchOnlyPausesAndEndsCount)
 
 TEST(Nonverbal, SynthesizedSpeechGetsCues)
 {
+  MORPHNODE_SKIP_WITHOUT_ESPEAK();
   SpeechOptions options;
   options.Voice = "en";
   const Utterance u = SpeakText("This is really important. Please listen to me carefully.", options);

@@ -2,6 +2,7 @@
 #include "base/Error.h"
 #include "speech/Rhubarb.h"
 #include "speech/Speech.h"
+#include "MorphNodeTestSkips.h"
 
 #include <gtest/gtest.h>
 
@@ -105,6 +106,7 @@ TEST(Rhubarb, MalformedInputIsRejected)
 
 TEST(Rhubarb, VisemesToShapesAndBack)
 {
+  MORPHNODE_SKIP_WITHOUT_ESPEAK();
   // Each viseme set maps every viseme to a shape and every shape to a viseme.
   for (VisemeSet set : { VisemeSet::Oculus15, VisemeSet::German16, VisemeSet::Paper6 })
   {

@@ -3,6 +3,7 @@
 #include "speech/Sampa.h"
 #include "speech/SpeechSynthesizer.h"
 #include "audio/AudioFile.h"
+#include "MorphNodeTestSkips.h"
 
 #include <gtest/gtest.h>
 
@@ -35,6 +36,7 @@ uint32_t Read32(const std::string& bytes, size_t at)
 
 TEST(Synthesis, HelloWorldMatchesEspeakReferenceTimings)
 {
+  MORPHNODE_SKIP_WITHOUT_ESPEAK();
   SpeechSynthesizer synthesizer("en");
   const SynthesisResult r = synthesizer.Synthesize("Hello world");
   // REFERENCE.md, measured with eSpeak NG 1.51: h 11, @ 62, l 123, oU 196, w 316, 3: 441,
@@ -83,6 +85,7 @@ TEST(Synthesis, HelloWorldMatchesEspeakReferenceTimings)
 
 TEST(Synthesis, WavFileHoldsTheSamples)
 {
+  MORPHNODE_SKIP_WITHOUT_ESPEAK();
   const SynthesisResult r = SpeechSynthesizer("en").Synthesize("Hello world");
   const std::string path = std::string(MORPHNODE_TEST_OUTPUT_DIR) + "/speech_hello.wav";
   WriteWavFile(path, r.Audio, r.SampleRate);
@@ -105,6 +108,7 @@ TEST(Synthesis, WavFileHoldsTheSamples)
 
 TEST(Synthesis, GermanIsNormalizedToSampa)
 {
+  MORPHNODE_SKIP_WITHOUT_ESPEAK();
   const SynthesisResult r = SpeechSynthesizer("de").Synthesize("Guten Tag, schöne Pfeifen, Bücher und Äpfel.");
   const auto names = Names(r.Phonemes);
   auto has = [&](const char* n) { return std::find(names.begin(), names.end(), n) != names.end(); };
@@ -125,6 +129,7 @@ TEST(Synthesis, GermanIsNormalizedToSampa)
 
 TEST(Synthesis, EnglishInventoryIsCovered)
 {
+  MORPHNODE_SKIP_WITHOUT_ESPEAK();
   const SynthesisResult r = SpeechSynthesizer("en").Synthesize(
     "The quick brown fox jumps over the lazy dog. Bottles, pleasure, church, judge, hair, poor, "
     "car, boy, bird, cat, hot, cup, put, say, my, now, go, toy, year, about, happy.");
@@ -164,6 +169,7 @@ TEST(Synthesis, NormalizationTable)
 
 TEST(Synthesis, RateIsClampedAndChangesTheTempo)
 {
+  MORPHNODE_SKIP_WITHOUT_ESPEAK();
   SpeechSynthesizer synthesizer("en", 1000);
   EXPECT_EQ(synthesizer.GetRate(), SpeechSynthesizer::MaximumRate);
   synthesizer.SetRate(10);
@@ -177,6 +183,7 @@ TEST(Synthesis, RateIsClampedAndChangesTheTempo)
 
 TEST(Synthesis, UnknownVoiceAndMissingDataAreInputErrors)
 {
+  MORPHNODE_SKIP_WITHOUT_ESPEAK();
   SpeechSynthesizer synthesizer("no-such-voice-xyz");
   EXPECT_THROW(synthesizer.Synthesize("hello"), InputError);
   SpeechSynthesizer noData("en");
@@ -196,6 +203,7 @@ TEST(Synthesis, UnknownVoiceAndMissingDataAreInputErrors)
 
 TEST(Synthesis, ConcurrentCallsAreSerialized)
 {
+  MORPHNODE_SKIP_WITHOUT_ESPEAK();
   const SynthesisResult reference = SpeechSynthesizer("de").Synthesize("Guten Morgen");
   std::vector<SynthesisResult> results(4);
   std::vector<std::thread> threads;
