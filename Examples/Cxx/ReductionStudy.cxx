@@ -70,7 +70,45 @@ namespace
 {
 using morphnode_examples::WritePng;
 using morphnode_examples::ParseList;
-using morphnode::ReductionMesh;
+
+/// The face in flat arrays, as the study measures it.
+struct ReductionMesh
+{
+  std::vector<float> Positions;    ///< neutral, NumberOfPoints * 3
+  std::vector<uint32_t> Triangles; ///< NumberOfTriangles * 3 point ids
+  /// Position deltas, one array of NumberOfPoints * 3 per target (neutral excluded).
+  std::vector<std::vector<float>> PositionDeltas;
+
+  size_t GetNumberOfPoints() const { return this->Positions.size() / 3; }
+  size_t GetNumberOfTriangles() const { return this->Triangles.size() / 3; }
+  size_t GetNumberOfTargets() const { return this->PositionDeltas.size(); }
+};
+
+morphnode::MorphMesh ToMorphMesh(const ReductionMesh& flat)
+{
+  morphnode::MorphMesh mesh(flat.GetNumberOfPoints());
+  mesh.SetTargetNames(morphnode::DefaultTargetNames(flat.GetNumberOfTargets() + 1));
+  auto& positions = mesh.AddAttribute<float>("Position", morphnode::AttributeRole::Position, 3);
+  positions.SetNeutral(flat.Positions.data());
+  for (const auto& d : flat.PositionDeltas)
+  {
+    positions.AddRelativeTarget(d.data(), morphnode::MorphMesh::DefaultSparseCoverage);
+  }
+  mesh.SetTriangles(flat.Triangles);
+  return mesh;
+}
+
+ReductionMesh FromMorphMesh(const morphnode::MorphMesh& mesh)
+{
+  const auto& positions = std::get<morphnode::MorphAttribute<float>>(mesh.GetAttribute(0));
+  ReductionMesh flat{ positions.GetNeutral(), mesh.GetTriangles(), {} };
+  for (size_t k = 1; k < positions.GetNumberOfTargets(); ++k)
+  {
+    flat.PositionDeltas.emplace_back(flat.Positions.size());
+    positions.GetTarget(k).ToDense(flat.PositionDeltas.back().data());
+  }
+  return flat;
+}
 
 struct Face
 {
@@ -321,8 +359,8 @@ Reduced ReduceOpenMesh(const ReductionMesh& mesh, size_t triangles, double weigh
   s.PoseQuadrics = PoseQuadrics;
   s.TargetTriangles = triangles;
   s.AnimationWeight = weight;
-  auto r = morphnode::ReduceAnimationAware(mesh, s);
-  return { std::move(r.Mesh), std::move(r.OriginalPointIds), true };
+  auto r = morphnode::ReduceAnimationAware(ToMorphMesh(mesh), s);
+  return { FromMorphMesh(r.Mesh), std::move(r.OriginalPointIds), true };
 }
 
 vtkSmartPointer<vtkPolyData> ToPolyData(const float* positions, size_t np, const std::vector<uint32_t>& tris)
@@ -947,9 +985,9 @@ int main(int argc, char* argv[])
       morphnode::ReductionSettings s;
       s.TargetTriangles = static_cast<size_t>(std::round(b * full.GetNumberOfTriangles()));
       s.AnimationWeight = weight;
-      auto r = morphnode::ReduceAnimationAware(prev.Mesh, s);
+      auto r = morphnode::ReduceAnimationAware(ToMorphMesh(prev.Mesh), s);
       Level next;
-      next.Mesh = std::move(r.Mesh);
+      next.Mesh = FromMorphMesh(r.Mesh);
       next.ToPrevious = r.OriginalPointIds;
       next.Representatives = r.Representatives;
       for (uint32_t id : r.OriginalPointIds)

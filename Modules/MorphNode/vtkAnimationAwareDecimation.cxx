@@ -68,9 +68,10 @@ std::vector<float> ToFloats(vtkDataArray* array)
 }
 
 /// The core's view of the input; throws InputError for anything it cannot represent.
-morphnode::ReductionMesh ToMorphMesh(vtkPolyData* input)
+morphnode::MorphMesh ToMorphMesh(vtkPolyData* input)
 {
-  morphnode::ReductionMesh mesh;
+  std::vector<uint32_t> triangles;
+  std::vector<std::vector<float>> deltas;
   const vtkIdType np = input->GetNumberOfPoints();
   if (np == 0 || !input->GetPoints())
   {
@@ -80,7 +81,7 @@ morphnode::ReductionMesh ToMorphMesh(vtkPolyData* input)
   {
     throw InputError("the input has triangle strips; convert them with vtkTriangleFilter first");
   }
-  mesh.Positions = ToFloats(input->GetPoints()->GetData());
+  const std::vector<float> positions = ToFloats(input->GetPoints()->GetData());
 
   vtkCellArray* polys = input->GetPolys();
   auto it = vtk::TakeSmartPointer(polys->NewIterator());
@@ -96,10 +97,10 @@ morphnode::ReductionMesh ToMorphMesh(vtkPolyData* input)
     }
     for (int c = 0; c < 3; ++c)
     {
-      mesh.Triangles.push_back(static_cast<uint32_t>(ids[c]));
+      triangles.push_back(static_cast<uint32_t>(ids[c]));
     }
   }
-  if (mesh.Triangles.empty())
+  if (triangles.empty())
   {
     throw InputError("the input has no triangles");
   }
@@ -136,18 +137,27 @@ morphnode::ReductionMesh ToMorphMesh(vtkPolyData* input)
         std::to_string(array->GetNumberOfComponents()) + " components; expected " +
         std::to_string(np) + " tuples of 3");
     }
-    mesh.PositionDeltas.push_back(ToFloats(array));
+    deltas.push_back(ToFloats(array));
     ++expected;
   }
   if (vtkAbstractArray* names = input->GetFieldData()->GetAbstractArray("TargetNames"))
   {
-    if (names->GetNumberOfValues() != static_cast<vtkIdType>(mesh.PositionDeltas.size() + 1))
+    if (names->GetNumberOfValues() != static_cast<vtkIdType>(deltas.size() + 1))
     {
       throw InputError("field data TargetNames has " + std::to_string(names->GetNumberOfValues()) +
-        " names, but the input has " + std::to_string(mesh.PositionDeltas.size()) +
+        " names, but the input has " + std::to_string(deltas.size()) +
         " targets plus the neutral");
     }
   }
+  morphnode::MorphMesh mesh(static_cast<size_t>(np));
+  mesh.SetTargetNames(morphnode::DefaultTargetNames(deltas.size() + 1));
+  auto& attribute = mesh.AddAttribute<float>("Points", morphnode::AttributeRole::Position, 3);
+  attribute.SetNeutral(positions.data());
+  for (const auto& d : deltas)
+  {
+    attribute.AddRelativeTarget(d.data(), morphnode::MorphMesh::DefaultSparseCoverage);
+  }
+  mesh.SetTriangles(std::move(triangles));
   return mesh;
 }
 } // namespace
@@ -167,7 +177,7 @@ int vtkAnimationAwareDecimation::RequestData(
   }
   try
   {
-    const morphnode::ReductionMesh mesh = ToMorphMesh(input);
+    const morphnode::MorphMesh mesh = ToMorphMesh(input);
     morphnode::ReductionSettings settings;
     settings.AnimationWeight = this->AnimationWeight;
     settings.PoseQuadrics = this->PoseQuadrics;
@@ -204,12 +214,12 @@ int vtkAnimationAwareDecimation::RequestData(
     input->GetPoints()->GetData()->GetTuples(from, points->GetData());
 
     vtkNew<vtkCellArray> polys;
+    const std::vector<uint32_t>& triangles = result.Mesh.GetTriangles();
     polys->AllocateExact(static_cast<vtkIdType>(result.Mesh.GetNumberOfTriangles()),
-      static_cast<vtkIdType>(result.Mesh.Triangles.size()));
+      static_cast<vtkIdType>(triangles.size()));
     for (size_t t = 0; t < result.Mesh.GetNumberOfTriangles(); ++t)
     {
-      const vtkIdType tri[3] = { result.Mesh.Triangles[3 * t], result.Mesh.Triangles[3 * t + 1],
-        result.Mesh.Triangles[3 * t + 2] };
+      const vtkIdType tri[3] = { triangles[3 * t], triangles[3 * t + 1], triangles[3 * t + 2] };
       polys->InsertNextCell(3, tri);
     }
 

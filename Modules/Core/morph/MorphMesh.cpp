@@ -63,8 +63,8 @@ void MorphMesh::Validate() const
     if (this->Triangles[i] >= this->NumPoints)
     {
       std::ostringstream msg;
-      msg << "triangle " << i / 3 << " uses point " << this->Triangles[i] << ", the mesh has "
-          << this->NumPoints << " points";
+      msg << "triangle " << i / 3 << " uses point id " << this->Triangles[i]
+          << ", but the mesh has " << this->NumPoints << " points";
       throw InputError(msg.str());
     }
   }

@@ -15,6 +15,7 @@
 #include <cfloat>
 #include <cmath>
 #include <string>
+#include <variant>
 
 namespace morphnode
 {
@@ -69,19 +70,48 @@ public:
   std::vector<uint32_t> CollapsedInto;
 };
 
-/// The priority module of the animation-aware reduction (see the header for the cost).
-template <class MeshT>
+/// What the collapse costs read of the mesh: the neutral positions and every target's dense
+/// position deltas, flat (3 per point), in the Position attribute's own type.
+template <typename T>
+struct FlatPositions
+{
+  const std::vector<T>& Positions;
+  std::vector<std::vector<T>> PositionDeltas; // one per target, neutral excluded
+
+  FlatPositions(const MorphAttribute<T>& attribute)
+    : Positions(attribute.GetNeutral())
+  {
+    for (size_t k = 1; k < attribute.GetNumberOfTargets(); ++k)
+    {
+      this->PositionDeltas.emplace_back(this->Positions.size());
+      attribute.GetTarget(k).ToDense(this->PositionDeltas.back().data());
+    }
+  }
+  size_t GetNumberOfPoints() const { return this->Positions.size() / 3; }
+  size_t GetNumberOfTargets() const { return this->PositionDeltas.size(); }
+};
+
+/// The priority module of the animation-aware reduction (see the header for the cost), for
+/// positions of type T.
+template <class MeshT, typename T>
 class ModAnimationQuadricT : public OpenMesh::Decimater::ModBaseT<MeshT>
 {
 public:
-  DECIMATING_MODULE(ModAnimationQuadricT, MeshT, AnimationQuadric);
+  // DECIMATING_MODULE(ModAnimationQuadricT, MeshT, AnimationQuadric), which allows only the
+  // mesh as template parameter.
+  using Self = ModAnimationQuadricT<MeshT, T>;
+  using Handle = OpenMesh::Decimater::ModHandleT<Self>;
+  using Base = OpenMesh::Decimater::ModBaseT<MeshT>;
+  using Mesh = typename Base::Mesh;
+  using CollapseInfo = typename Base::CollapseInfo;
+  DECIMATER_MODNAME(AnimationQuadric)
 
   explicit ModAnimationQuadricT(MeshT& mesh)
     : Base(mesh, false)
   {
   }
 
-  void Configure(const ReductionMesh* morph, double weight, bool poseQuadrics, double motionWeight)
+  void Configure(const FlatPositions<T>* morph, double weight, bool poseQuadrics, double motionWeight)
   {
     this->Morph = morph;
     this->Weight = weight;
@@ -98,7 +128,7 @@ public:
     this->Area.assign(nv, 0.0);
     this->MotionBound.assign(nv, 0.0);
     const auto& P = this->Morph->Positions;
-    auto point = [&](uint32_t v, const float* delta) {
+    auto point = [&](uint32_t v, const T* delta) {
       OpenMesh::Vec3d p(P[3 * v], P[3 * v + 1], P[3 * v + 2]);
       if (delta)
       {
@@ -125,7 +155,7 @@ public:
       }
       for (size_t k = 0; k < nk; ++k)
       {
-        const float* d = this->Morph->PositionDeltas[k].data();
+        const T* d = this->Morph->PositionDeltas[k].data();
         const Quadric qk = FaceQuadric(point(ids[0], d), point(ids[1], d), point(ids[2], d), nullptr);
         for (uint32_t id : ids)
         {
@@ -138,7 +168,7 @@ public:
     // so that contours the animation opens and closes do not erode.
     for (size_t k = 0; k < nk && this->BoundaryWeight > 0.0; ++k)
     {
-      const float* d = this->Morph->PositionDeltas[k].data();
+      const T* d = this->Morph->PositionDeltas[k].data();
       for (const auto heh : Base::mesh().halfedges())
       {
         if (!Base::mesh().is_boundary(heh))
@@ -231,7 +261,7 @@ private:
       {
         Quadric q = this->Poses[v0 * nk + k];
         q += this->Poses[v1 * nk + k];
-        const float* d = this->Morph->PositionDeltas[k].data();
+        const T* d = this->Morph->PositionDeltas[k].data();
         const OpenMesh::Vec3d pk = p1 + OpenMesh::Vec3d(d[3 * v1], d[3 * v1 + 1], d[3 * v1 + 2]);
         pose = std::max(pose, q(pk));
       }
@@ -240,7 +270,7 @@ private:
     return pose + this->MotionWeight * (this->Area[v0] + this->Area[v1]) * e * e;
   }
 
-  const ReductionMesh* Morph = nullptr;
+  const FlatPositions<T>* Morph = nullptr;
   double Weight = 0.0;
   double MotionWeight = 1.0;
 public:
@@ -253,43 +283,39 @@ private:
   std::vector<double> MotionBound;
 };
 
-void Validate(const ReductionMesh& mesh, const ReductionSettings& settings)
+/// The Position attribute the collapses are chosen on; throws InputError for a mesh the
+/// reduction cannot work on.
+const AnyMorphAttribute& Validate(const MorphMesh& mesh, const ReductionSettings& settings)
 {
-  if (mesh.Positions.empty() || mesh.Positions.size() % 3 != 0)
-  {
-    throw InputError("Reduction: the mesh has no points, or the position array (" +
-      std::to_string(mesh.Positions.size()) + " values) is not a multiple of 3.");
-  }
-  if (mesh.Triangles.empty() || mesh.Triangles.size() % 3 != 0)
-  {
-    throw InputError("Reduction: the mesh has no triangles, or the triangle array (" +
-      std::to_string(mesh.Triangles.size()) + " ids) is not a multiple of 3.");
-  }
   const size_t np = mesh.GetNumberOfPoints();
-  for (size_t i = 0; i < mesh.Triangles.size(); ++i)
+  if (np == 0)
   {
-    if (mesh.Triangles[i] >= np)
-    {
-      throw InputError("Reduction: triangle " + std::to_string(i / 3) + " uses point id " +
-        std::to_string(mesh.Triangles[i]) + ", but the mesh has " + std::to_string(np) + " points.");
-    }
+    throw InputError("Reduction: the mesh has no points.");
   }
-  for (size_t k = 0; k < mesh.PositionDeltas.size(); ++k)
+  const int position = mesh.GetPositionAttribute();
+  const AnyMorphAttribute* positions =
+    position < 0 ? nullptr : &mesh.GetAttribute(static_cast<size_t>(position));
+  if (!positions ||
+    std::visit([](const auto& a) { return a.GetNumberOfComponents(); }, *positions) != 3)
   {
-    if (mesh.PositionDeltas[k].size() != mesh.Positions.size())
-    {
-      throw InputError("Reduction: target " + std::to_string(k) + " has " +
-        std::to_string(mesh.PositionDeltas[k].size()) + " delta values, expected " +
-        std::to_string(mesh.Positions.size()) + " (3 per point).");
-    }
+    throw InputError("Reduction: the mesh has no Position attribute of 3 components.");
   }
-  for (float x : mesh.Positions)
+  if (!mesh.HasTriangles())
   {
-    if (!std::isfinite(x))
-    {
-      throw InputError("Reduction: the neutral positions contain NaN or infinity.");
-    }
+    throw InputError("Reduction: the mesh has no triangles.");
   }
+  mesh.Validate();
+  std::visit(
+    [](const auto& a) {
+      for (const auto x : a.GetNeutral())
+      {
+        if (!std::isfinite(x))
+        {
+          throw InputError("Reduction: the neutral positions contain NaN or infinity.");
+        }
+      }
+    },
+    *positions);
   if (!std::isfinite(settings.AnimationWeight) || settings.AnimationWeight < 0.0)
   {
     throw InputError("Reduction: the animation weight must be finite and >= 0, got " +
@@ -315,12 +341,43 @@ void Validate(const ReductionMesh& mesh, const ReductionSettings& settings)
   {
     throw InputError("Reduction: no budget; set TargetTriangles or TargetPoints.");
   }
+  return *positions;
 }
-} // namespace
 
-ReductionResult ReduceAnimationAware(const ReductionMesh& input, const ReductionSettings& settings)
+/// The reduced mesh: every attribute of `input` gathered through `ids`.
+MorphMesh GatherMesh(const MorphMesh& input, const std::vector<uint32_t>& ids,
+  std::vector<uint32_t> triangles, double sparseCoverage)
 {
-  Validate(input, settings);
+  const size_t np = input.GetNumberOfPoints();
+  MorphMesh out(ids.size());
+  out.SetTargetNames(input.GetTargetNames());
+  for (size_t a = 0; a < input.GetNumberOfAttributes(); ++a)
+  {
+    std::visit(
+      [&](const auto& attribute) {
+        using T = typename std::decay_t<decltype(attribute.GetNeutral())>::value_type;
+        const int nc = attribute.GetNumberOfComponents();
+        auto& reduced = out.AddAttribute<T>(attribute.GetName(), attribute.GetRole(), nc);
+        reduced.SetNeutral(GatherPoints(attribute.GetNeutral(), nc, np, ids).data());
+        std::vector<T> dense(np * static_cast<size_t>(nc));
+        for (size_t k = 1; k < attribute.GetNumberOfTargets(); ++k)
+        {
+          attribute.GetTarget(k).ToDense(dense.data());
+          reduced.AddRelativeTarget(GatherPoints(dense, nc, np, ids).data(), sparseCoverage);
+        }
+      },
+      input.GetAttribute(a));
+  }
+  out.SetTriangles(std::move(triangles));
+  return out;
+}
+
+template <typename T>
+ReductionResult Reduce(const MorphMesh& morph, const MorphAttribute<T>& positions,
+  const ReductionSettings& settings)
+{
+  const FlatPositions<T> input(positions);
+  const std::vector<uint32_t>& triangles = morph.GetTriangles();
   const size_t np = input.GetNumberOfPoints();
 
   ReductionResult result;
@@ -337,9 +394,9 @@ ReductionResult ReduceAnimationAware(const ReductionMesh& input, const Reduction
       Mesh::Point(input.Positions[3 * v], input.Positions[3 * v + 1], input.Positions[3 * v + 2]));
   }
   size_t rejected = 0;
-  for (size_t t = 0; t < input.GetNumberOfTriangles(); ++t)
+  for (size_t t = 0; t < morph.GetNumberOfTriangles(); ++t)
   {
-    const uint32_t* ids = &input.Triangles[3 * t];
+    const uint32_t* ids = &triangles[3 * t];
     if (ids[0] == ids[1] || ids[1] == ids[2] || ids[0] == ids[2])
     {
       ++result.DroppedDegenerateTriangles;
@@ -370,7 +427,7 @@ ReductionResult ReduceAnimationAware(const ReductionMesh& input, const Reduction
   // module (OpenMesh allows exactly one) with the same neutral quadric plus the animation
   // terms.
   OpenMesh::Decimater::ModQuadricT<Mesh>::Handle plain;
-  typename ModAnimationQuadricT<Mesh>::Handle animated;
+  typename ModAnimationQuadricT<Mesh, T>::Handle animated;
   if (settings.AnimationWeight > 0.0)
   {
     decimater.add(animated);
@@ -429,6 +486,8 @@ ReductionResult ReduceAnimationAware(const ReductionMesh& input, const Reduction
     }
     result.Representatives[v] = reducedId[r];
   }
+  std::vector<uint32_t> reducedTriangles;
+  reducedTriangles.reserve(3 * mesh.n_faces());
   for (const auto fh : mesh.faces())
   {
     if (mesh.status(fh).deleted())
@@ -437,16 +496,19 @@ ReductionResult ReduceAnimationAware(const ReductionMesh& input, const Reduction
     }
     for (const auto vh : mesh.fv_range(fh))
     {
-      result.Mesh.Triangles.push_back(reducedId[vh.idx()]);
+      reducedTriangles.push_back(reducedId[vh.idx()]);
     }
   }
-  const auto& ids = result.OriginalPointIds;
-  result.Mesh.Positions = GatherPoints(input.Positions, 3, np, ids);
-  for (const auto& deltas : input.PositionDeltas)
-  {
-    result.Mesh.PositionDeltas.push_back(GatherPoints(deltas, 3, np, ids));
-  }
+  result.Mesh = GatherMesh(
+    morph, result.OriginalPointIds, std::move(reducedTriangles), settings.SparseCoverage);
   return result;
+}
+} // namespace
+
+ReductionResult ReduceAnimationAware(const MorphMesh& mesh, const ReductionSettings& settings)
+{
+  return std::visit([&](const auto& positions) { return Reduce(mesh, positions, settings); },
+    Validate(mesh, settings));
 }
 
 template <typename T>

@@ -37,6 +37,8 @@
 /// A binary module refuses collapses that flip a neutral face normal by more than
 /// MaxNormalDeviation degrees, in both the plain and the animation-aware reduction.
 
+#include "morph/MorphMesh.h"
+
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -44,19 +46,6 @@
 
 namespace morphnode
 {
-/// A triangle mesh with relative morph targets, in flat arrays.
-struct ReductionMesh
-{
-  std::vector<float> Positions;    ///< neutral, NumberOfPoints * 3
-  std::vector<uint32_t> Triangles; ///< NumberOfTriangles * 3 point ids
-  /// Position deltas, one array of NumberOfPoints * 3 per target (neutral excluded).
-  std::vector<std::vector<float>> PositionDeltas;
-
-  size_t GetNumberOfPoints() const { return this->Positions.size() / 3; }
-  size_t GetNumberOfTriangles() const { return this->Triangles.size() / 3; }
-  size_t GetNumberOfTargets() const { return this->PositionDeltas.size(); }
-};
-
 struct ReductionSettings
 {
   /// Stop at this many triangles (0: use TargetPoints).
@@ -74,11 +63,17 @@ struct ReductionSettings
   double BoundaryWeight = 1.0;
   /// Largest change of a neutral face normal a collapse may cause, degrees (0 = no check).
   double MaxNormalDeviation = 60.0;
+  /// Storage of the reduced mesh's deltas (MorphAttribute::AddRelativeTarget); no effect on
+  /// any value.
+  double SparseCoverage = MorphMesh::DefaultSparseCoverage;
 };
 
 struct ReductionResult
 {
-  ReductionMesh Mesh;
+  /// The reduced mesh: its triangles, the input's target names and every attribute of the
+  /// input (neutral and deltas) gathered through OriginalPointIds, in its own type. Colour
+  /// clamp ranges are not carried over.
+  MorphMesh Mesh;
   /// Reduced point -> original point (the reduced point has its position and deltas).
   std::vector<uint32_t> OriginalPointIds;
   /// Original point -> reduced point it was collapsed into (itself when kept): Hoppe's
@@ -88,11 +83,14 @@ struct ReductionResult
   size_t DroppedDegenerateTriangles = 0;
 };
 
-/// Reduces `mesh` to the settings' budget.
-/// Throws InputError for: no points or no triangles, point ids out of range, a delta array
-/// of the wrong size, a budget of 0 or not below the mesh's size, a negative or non-finite
-/// weight, and non-manifold input OpenMesh cannot represent.
-ReductionResult ReduceAnimationAware(const ReductionMesh& mesh, const ReductionSettings& settings);
+/// Reduces `mesh` to the settings' budget. The collapses are chosen on the mesh's triangles
+/// and its (first) Position attribute, 3 components of float or double, with its targets'
+/// deltas; every attribute is carried over.
+/// Throws InputError for: no points, no Position attribute of 3 components, no triangles,
+/// an invalid mesh (MorphMesh::Validate: point ids out of range, an attribute with the wrong
+/// number of targets), non-finite neutral positions, a budget of 0 or not below the mesh's
+/// size, a negative or non-finite weight, and non-manifold input OpenMesh cannot represent.
+ReductionResult ReduceAnimationAware(const MorphMesh& mesh, const ReductionSettings& settings);
 
 /// Per-point values of any attribute (`components` per point) gathered through
 /// OriginalPointIds: the reduced mesh's copy of an attribute or of a target's deltas.

@@ -3,9 +3,11 @@
 // A synthetic "face" for the reduction tests: a gently curved grid whose lower part (the
 // "mouth") and two small spots (the "eyes") are animated by targets, the rest static.
 
+#include "morph/MorphMesh.h"
 #include "reduction/AnimationAwareReduction.h"
 
 #include <cmath>
+#include <variant>
 
 namespace reductiontest
 {
@@ -14,10 +16,51 @@ inline float Height(float x, float y)
   return 0.05f * std::sin(3.0f * x) * std::cos(2.0f * y) + 0.02f * std::sin(7.0f * x + 3.0f * y);
 }
 
-/// n x n points on [0, 1]^2.
-inline morphnode::ReductionMesh MakeFace(int n = 41)
+/// The face in flat arrays, to build variants of it (bad input) from.
+struct FlatFace
 {
-  morphnode::ReductionMesh mesh;
+  std::vector<float> Positions;    ///< 3 per point
+  std::vector<uint32_t> Triangles; ///< 3 per triangle
+  std::vector<std::vector<float>> PositionDeltas; ///< 3 per point, one array per target
+
+  size_t GetNumberOfPoints() const { return this->Positions.size() / 3; }
+
+  /// Targets "Neutral", "target0", ...; one float Position attribute.
+  morphnode::MorphMesh ToMesh() const
+  {
+    morphnode::MorphMesh mesh(this->GetNumberOfPoints());
+    mesh.SetTargetNames(morphnode::DefaultTargetNames(this->PositionDeltas.size() + 1));
+    auto& positions =
+      mesh.AddAttribute<float>("Position", morphnode::AttributeRole::Position, 3);
+    positions.SetNeutral(this->Positions.data());
+    for (const auto& d : this->PositionDeltas)
+    {
+      positions.AddRelativeTarget(d.data(), morphnode::MorphMesh::DefaultSparseCoverage);
+    }
+    mesh.SetTriangles(this->Triangles);
+    return mesh;
+  }
+};
+
+/// The float Position attribute of a mesh.
+inline const morphnode::MorphAttribute<float>& PositionsOf(const morphnode::MorphMesh& mesh)
+{
+  return std::get<morphnode::MorphAttribute<float>>(
+    mesh.GetAttribute(static_cast<size_t>(mesh.GetPositionAttribute())));
+}
+
+/// Dense position deltas of target `target` (1-based: 0 is the neutral).
+inline std::vector<float> DeltasOf(const morphnode::MorphMesh& mesh, size_t target)
+{
+  std::vector<float> d(3 * mesh.GetNumberOfPoints());
+  PositionsOf(mesh).GetTarget(target).ToDense(d.data());
+  return d;
+}
+
+/// n x n points on [0, 1]^2.
+inline FlatFace MakeFlatFace(int n = 41)
+{
+  FlatFace mesh;
   const float h = 1.0f / static_cast<float>(n - 1);
   for (int j = 0; j < n; ++j)
   {
@@ -64,5 +107,10 @@ inline morphnode::ReductionMesh MakeFace(int n = 41)
   }
   mesh.PositionDeltas = { jaw, smile, blinkL, blinkR };
   return mesh;
+}
+
+inline morphnode::MorphMesh MakeFace(int n = 41)
+{
+  return MakeFlatFace(n).ToMesh();
 }
 } // namespace reductiontest

@@ -13,7 +13,7 @@
 #include <string>
 
 using morphnode::InputError;
-using morphnode::ReductionMesh;
+using morphnode::MorphMesh;
 using morphnode::ReduceAnimationAware;
 using morphnode::ReductionResult;
 using morphnode::ReductionSettings;
@@ -29,11 +29,12 @@ ReductionSettings Budget(size_t triangles, double weight)
 }
 
 /// Largest motion of each point over all targets (morphnode::ComputeAnimatedRegion).
-std::vector<double> Region(const ReductionMesh& mesh)
+std::vector<double> Region(const MorphMesh& mesh)
 {
   std::vector<double> region(mesh.GetNumberOfPoints(), 0.0);
-  for (const auto& d : mesh.PositionDeltas)
+  for (size_t t = 1; t < mesh.GetNumberOfTargets(); ++t)
   {
+    const std::vector<float> d = reductiontest::DeltasOf(mesh, t);
     for (size_t p = 0; p < region.size(); ++p)
     {
       region[p] = std::max(region[p],
@@ -57,7 +58,8 @@ size_t KeptAnimated(const ReductionResult& r, const std::vector<double>& region,
 
 TEST(AnimationAwareReduction, TargetsAreCarriedExactly)
 {
-  const ReductionMesh mesh = reductiontest::MakeFace();
+  const MorphMesh mesh = reductiontest::MakeFace();
+  const auto& positions = reductiontest::PositionsOf(mesh).GetNeutral();
   for (double weight : { 0.0, 1.0 })
   {
     const size_t budget = mesh.GetNumberOfTriangles() / 4;
@@ -67,18 +69,29 @@ TEST(AnimationAwareReduction, TargetsAreCarriedExactly)
     EXPECT_LE(r.Mesh.GetNumberOfTriangles(), budget);
     EXPECT_GT(r.Mesh.GetNumberOfTriangles(), budget - 4);
     ASSERT_EQ(r.Mesh.GetNumberOfTargets(), mesh.GetNumberOfTargets());
+    EXPECT_EQ(r.Mesh.GetTargetNames(), mesh.GetTargetNames());
+    ASSERT_NO_THROW(r.Mesh.Validate());
     EXPECT_TRUE(std::is_sorted(r.OriginalPointIds.begin(), r.OriginalPointIds.end()));
+    const auto& reducedPositions = reductiontest::PositionsOf(r.Mesh).GetNeutral();
+    for (size_t t = 1; t < mesh.GetNumberOfTargets(); ++t)
+    {
+      const std::vector<float> full = reductiontest::DeltasOf(mesh, t);
+      const std::vector<float> reduced = reductiontest::DeltasOf(r.Mesh, t);
+      for (size_t k = 0; k < np; ++k)
+      {
+        for (int c = 0; c < 3; ++c)
+        {
+          ASSERT_EQ(reduced[3 * k + c], full[3 * r.OriginalPointIds[k] + c])
+            << "target " << t << " reduced point " << k;
+        }
+      }
+    }
     for (size_t k = 0; k < np; ++k)
     {
       const uint32_t o = r.OriginalPointIds[k];
       for (int c = 0; c < 3; ++c)
       {
-        ASSERT_EQ(r.Mesh.Positions[3 * k + c], mesh.Positions[3 * o + c]);
-        for (size_t t = 0; t < mesh.GetNumberOfTargets(); ++t)
-        {
-          ASSERT_EQ(r.Mesh.PositionDeltas[t][3 * k + c], mesh.PositionDeltas[t][3 * o + c])
-            << "target " << t << " reduced point " << k;
-        }
+        ASSERT_EQ(reducedPositions[3 * k + c], positions[3 * o + c]);
       }
       // a kept point represents itself
       ASSERT_EQ(r.Representatives[o], k);
@@ -88,7 +101,7 @@ TEST(AnimationAwareReduction, TargetsAreCarriedExactly)
     {
       ASSERT_LT(rep, np);
     }
-    std::set<uint32_t> used(r.Mesh.Triangles.begin(), r.Mesh.Triangles.end());
+    std::set<uint32_t> used(r.Mesh.GetTriangles().begin(), r.Mesh.GetTriangles().end());
     ASSERT_LT(*used.rbegin(), np);
     EXPECT_EQ(used.size(), np); // a grid has no isolated points, nor does its reduction
   }
@@ -96,7 +109,7 @@ TEST(AnimationAwareReduction, TargetsAreCarriedExactly)
 
 TEST(AnimationAwareReduction, GatherCarriesAnyAttribute)
 {
-  const ReductionMesh mesh = reductiontest::MakeFace(11);
+  const MorphMesh mesh = reductiontest::MakeFace(11);
   const ReductionResult r =
     ReduceAnimationAware(mesh, Budget(mesh.GetNumberOfTriangles() / 2, 1.0));
   std::vector<double> uv(2 * mesh.GetNumberOfPoints());
@@ -117,7 +130,7 @@ TEST(AnimationAwareReduction, GatherCarriesAnyAttribute)
 
 TEST(AnimationAwareReduction, KeepsMoreOfTheAnimatedRegions)
 {
-  const ReductionMesh mesh = reductiontest::MakeFace();
+  const MorphMesh mesh = reductiontest::MakeFace();
   const auto region = Region(mesh);
   const double animated = 0.2 * *std::max_element(region.begin(), region.end());
   size_t animatedPoints = 0;
@@ -145,8 +158,9 @@ TEST(AnimationAwareReduction, WeightZeroIsPlainQuadricDecimation)
 {
   // The module with weight 0 would compute ModQuadricT's cost; weight 0 uses ModQuadricT
   // itself. Without targets the animation terms vanish, so both must agree.
-  ReductionMesh mesh = reductiontest::MakeFace(21);
-  mesh.PositionDeltas.clear();
+  auto flat = reductiontest::MakeFlatFace(21);
+  flat.PositionDeltas.clear();
+  const MorphMesh mesh = flat.ToMesh();
   const auto a = ReduceAnimationAware(mesh, Budget(mesh.GetNumberOfTriangles() / 3, 0.0));
   const auto b = ReduceAnimationAware(mesh, Budget(mesh.GetNumberOfTriangles() / 3, 1.0));
   EXPECT_EQ(a.OriginalPointIds, b.OriginalPointIds);
@@ -154,25 +168,26 @@ TEST(AnimationAwareReduction, WeightZeroIsPlainQuadricDecimation)
 
 TEST(AnimationAwareReduction, GeomorphEndsOnTheReducedShape)
 {
-  const ReductionMesh mesh = reductiontest::MakeFace(21);
+  const MorphMesh mesh = reductiontest::MakeFace(21);
   const auto r = ReduceAnimationAware(mesh, Budget(mesh.GetNumberOfTriangles() / 3, 1.0));
   const size_t np = mesh.GetNumberOfPoints();
+  const std::vector<float>& positions = reductiontest::PositionsOf(mesh).GetNeutral();
   std::vector<uint32_t> rep(np);
   for (size_t v = 0; v < np; ++v)
   {
     rep[v] = r.OriginalPointIds[r.Representatives[v]];
   }
   std::vector<float> out(3 * np);
-  morphnode::Geomorph(mesh.Positions.data(), np, rep, 1.0, out.data());
+  morphnode::Geomorph(positions.data(), np, rep, 1.0, out.data());
   for (size_t v = 0; v < np; ++v)
   {
     for (int c = 0; c < 3; ++c)
     {
-      ASSERT_FLOAT_EQ(out[3 * v + c], mesh.Positions[3 * rep[v] + c]);
+      ASSERT_FLOAT_EQ(out[3 * v + c], positions[3 * rep[v] + c]);
     }
   }
-  morphnode::Geomorph(mesh.Positions.data(), np, rep, 0.0, out.data());
-  EXPECT_EQ(out, mesh.Positions);
+  morphnode::Geomorph(positions.data(), np, rep, 0.0, out.data());
+  EXPECT_EQ(out, positions);
   // Every triangle of the fine mesh at alpha 1 is degenerate or a triangle of the reduced
   // mesh: the shapes are identical.
   std::set<std::array<uint32_t, 3>> reduced;
@@ -181,7 +196,7 @@ TEST(AnimationAwareReduction, GeomorphEndsOnTheReducedShape)
     std::array<uint32_t, 3> tri;
     for (int c = 0; c < 3; ++c)
     {
-      tri[c] = r.OriginalPointIds[r.Mesh.Triangles[3 * t + c]];
+      tri[c] = r.OriginalPointIds[r.Mesh.GetTriangles()[3 * t + c]];
     }
     std::rotate(tri.begin(), std::min_element(tri.begin(), tri.end()), tri.end());
     reduced.insert(tri);
@@ -191,7 +206,7 @@ TEST(AnimationAwareReduction, GeomorphEndsOnTheReducedShape)
     std::array<uint32_t, 3> tri;
     for (int c = 0; c < 3; ++c)
     {
-      tri[c] = rep[mesh.Triangles[3 * t + c]];
+      tri[c] = rep[mesh.GetTriangles()[3 * t + c]];
     }
     if (tri[0] == tri[1] || tri[1] == tri[2] || tri[0] == tri[2])
     {
@@ -204,9 +219,10 @@ TEST(AnimationAwareReduction, GeomorphEndsOnTheReducedShape)
 
 TEST(AnimationAwareReduction, BadInputIsReported)
 {
-  const ReductionMesh good = reductiontest::MakeFace(11);
+  const auto flat = reductiontest::MakeFlatFace(11);
+  const MorphMesh good = flat.ToMesh();
   const size_t half = good.GetNumberOfTriangles() / 2;
-  auto message = [](const ReductionMesh& m, const ReductionSettings& s) {
+  auto message = [](const MorphMesh& m, const ReductionSettings& s) {
     try
     {
       ReduceAnimationAware(m, s);
@@ -217,12 +233,17 @@ TEST(AnimationAwareReduction, BadInputIsReported)
     }
     return std::string("no error");
   };
-  ReductionMesh noTriangles = good;
+  auto noTriangles = flat;
   noTriangles.Triangles.clear();
-  EXPECT_NE(message(noTriangles, Budget(10, 1.0)).find("no triangles"), std::string::npos);
+  EXPECT_NE(message(noTriangles.ToMesh(), Budget(10, 1.0)).find("no triangles"), std::string::npos);
 
-  ReductionMesh noPoints;
-  EXPECT_NE(message(noPoints, Budget(10, 1.0)).find("no points"), std::string::npos);
+  EXPECT_NE(message(MorphMesh(), Budget(10, 1.0)).find("no points"), std::string::npos);
+
+  MorphMesh noPositions(good.GetNumberOfPoints());
+  noPositions.SetTargetNames({ "Neutral" });
+  noPositions.AddAttribute<float>("uv", morphnode::AttributeRole::Generic, 2);
+  noPositions.SetTriangles(good.GetTriangles());
+  EXPECT_NE(message(noPositions, Budget(half, 1.0)).find("no Position attribute"), std::string::npos);
 
   EXPECT_NE(message(good, Budget(good.GetNumberOfTriangles(), 1.0)).find("budget"), std::string::npos);
   EXPECT_NE(message(good, Budget(good.GetNumberOfTriangles() + 100, 1.0)).find("must be below"),
@@ -232,17 +253,24 @@ TEST(AnimationAwareReduction, BadInputIsReported)
   EXPECT_NE(message(good, pointBudget).find("point budget"), std::string::npos);
   EXPECT_NE(message(good, ReductionSettings()).find("no budget"), std::string::npos);
 
-  ReductionMesh mismatched = good;
-  mismatched.PositionDeltas[2].pop_back();
-  EXPECT_NE(message(mismatched, Budget(half, 1.0)).find("target 2 has"), std::string::npos);
+  MorphMesh mismatched = good;
+  auto names = good.GetTargetNames();
+  names.push_back("extra");
+  mismatched.SetTargetNames(names);
+  EXPECT_NE(message(mismatched, Budget(half, 1.0)).find("has 5 targets, the model has 6"),
+    std::string::npos);
 
-  ReductionMesh outOfRange = good;
+  auto outOfRange = flat;
   outOfRange.Triangles[7] = 100000;
-  EXPECT_NE(message(outOfRange, Budget(half, 1.0)).find("point id 100000"), std::string::npos);
+  EXPECT_NE(message(outOfRange.ToMesh(), Budget(half, 1.0)).find("point id 100000"), std::string::npos);
+
+  auto notFinite = flat;
+  notFinite.Positions[5] = std::nanf("");
+  EXPECT_NE(message(notFinite.ToMesh(), Budget(half, 1.0)).find("NaN"), std::string::npos);
 
   EXPECT_NE(message(good, Budget(half, -1.0)).find("animation weight"), std::string::npos);
 
-  ReductionMesh nonManifold = good;
+  auto nonManifold = flat;
   // a third triangle on the edge (0, 1)
   nonManifold.Positions.insert(nonManifold.Positions.end(), { 0.05f, 0.0f, 1.0f });
   for (auto& d : nonManifold.PositionDeltas)
@@ -251,10 +279,65 @@ TEST(AnimationAwareReduction, BadInputIsReported)
   }
   const uint32_t extra = static_cast<uint32_t>(nonManifold.GetNumberOfPoints() - 1);
   nonManifold.Triangles.insert(nonManifold.Triangles.end(), { 0, 1, extra, 1, 0, extra });
-  EXPECT_NE(message(nonManifold, Budget(half, 1.0)).find("non-manifold"), std::string::npos);
+  EXPECT_NE(message(nonManifold.ToMesh(), Budget(half, 1.0)).find("non-manifold"), std::string::npos);
 
-  ReductionMesh degenerate = good;
+  auto degenerate = flat;
   degenerate.Triangles.insert(degenerate.Triangles.end(), { 3, 3, 4 });
-  const auto r = ReduceAnimationAware(degenerate, Budget(half, 1.0));
+  const auto r = ReduceAnimationAware(degenerate.ToMesh(), Budget(half, 1.0));
   EXPECT_EQ(r.DroppedDegenerateTriangles, 1u);
+}
+
+TEST(AnimationAwareReduction, DoublePositionsAndEveryAttributeAreCarried)
+{
+  // The same face in double, with a second attribute (normals-like, 3 components) and a
+  // 2-component one: the collapses are the same as in float (the costs are computed in
+  // double either way), and every attribute is gathered in its own type.
+  const auto flat = reductiontest::MakeFlatFace(21);
+  const MorphMesh single = flat.ToMesh();
+  const size_t np = flat.GetNumberOfPoints();
+  MorphMesh twice(np);
+  twice.SetTargetNames(single.GetTargetNames());
+  // (AddAttribute's reference holds only until the next AddAttribute.)
+  auto& positions = twice.AddAttribute<double>("Position", morphnode::AttributeRole::Position, 3);
+  std::vector<double> neutral(flat.Positions.begin(), flat.Positions.end());
+  positions.SetNeutral(neutral.data());
+  for (const auto& d : flat.PositionDeltas)
+  {
+    const std::vector<double> dd(d.begin(), d.end());
+    positions.AddRelativeTarget(dd.data(), 0.3);
+  }
+  auto& uv = twice.AddAttribute<float>("uv", morphnode::AttributeRole::Generic, 2);
+  std::vector<float> uvNeutral(2 * np), uvDelta(2 * np);
+  for (size_t p = 0; p < np; ++p)
+  {
+    uvNeutral[2 * p] = float(p);
+    uvNeutral[2 * p + 1] = -float(p);
+    uvDelta[2 * p] = p % 7 == 0 ? 0.5f : 0.0f;
+  }
+  uv.SetNeutral(uvNeutral.data());
+  for (size_t k = 0; k < flat.PositionDeltas.size(); ++k)
+  {
+    uv.AddRelativeTarget(uvDelta.data(), 0.3);
+  }
+  twice.SetTriangles(flat.Triangles);
+
+  const auto budget = Budget(single.GetNumberOfTriangles() / 3, ReductionSettings().AnimationWeight);
+  const auto a = ReduceAnimationAware(single, budget);
+  const auto b = ReduceAnimationAware(twice, budget);
+  EXPECT_EQ(a.OriginalPointIds, b.OriginalPointIds);
+  EXPECT_EQ(a.Mesh.GetTriangles(), b.Mesh.GetTriangles());
+  ASSERT_EQ(b.Mesh.GetNumberOfAttributes(), 2u);
+  const auto& reducedUv = std::get<morphnode::MorphAttribute<float>>(b.Mesh.GetAttribute(1));
+  EXPECT_EQ(reducedUv.GetName(), "uv");
+  std::vector<float> reducedDelta(2 * b.Mesh.GetNumberOfPoints());
+  reducedUv.GetTarget(2).ToDense(reducedDelta.data());
+  for (size_t k = 0; k < b.OriginalPointIds.size(); ++k)
+  {
+    const uint32_t o = b.OriginalPointIds[k];
+    ASSERT_EQ(reducedUv.GetNeutral()[2 * k], float(o));
+    ASSERT_EQ(reducedDelta[2 * k], uvDelta[2 * o]);
+    const auto& reducedPositions =
+      std::get<morphnode::MorphAttribute<double>>(b.Mesh.GetAttribute(0)).GetNeutral();
+    ASSERT_EQ(reducedPositions[3 * k + 1], neutral[3 * o + 1]);
+  }
 }
