@@ -1,0 +1,192 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "speech/TimingFiles.h"
+
+#include "base/Error.h"
+#include "base/Text.h"
+#include "speech/Pho.h"
+#include "speech/Sampa.h"
+#include "speech/SpeechMarks.h"
+#include "speech/TextGrid.h"
+
+#include <sstream>
+
+namespace morphnode
+{
+namespace
+{
+bool EndsWith(const std::string& s, const std::string& suffix)
+{
+  return s.size() >= suffix.size() &&
+    text::ToLower(s.substr(s.size() - suffix.size())) == text::ToLower(suffix);
+}
+
+std::string LanguageOf(const SpeechOptions& speech)
+{
+  return speech.Language.empty() ? speech.Voice : speech.Language;
+}
+
+std::vector<TimedPhoneme> PhonemesFrom(TimingFormat format, const std::string& bytes,
+  const std::string& language, const TimingFileOptions& options)
+{
+  switch (format)
+  {
+    case TimingFormat::Pho:
+      return ParsePho(bytes);
+    case TimingFormat::TextGrid:
+    {
+      TextGridPhoneOptions o;
+      o.TierName = options.TierName;
+      o.Alphabet = options.Alphabet;
+      o.Language = language;
+      return TextGridPhonemes(ParseTextGrid(bytes), o);
+    }
+    case TimingFormat::SpeechMarks:
+    {
+      SpeechMarkOptions o;
+      o.Alphabet = options.Alphabet;
+      o.Language = language;
+      return ParseSpeechMarks(bytes, o).Phonemes;
+    }
+    default:
+      break;
+  }
+  throw InputError("a Rhubarb file holds mouth shapes, not phonemes");
+}
+} // namespace
+
+const char* TimingFormatName(TimingFormat format)
+{
+  switch (format)
+  {
+    case TimingFormat::Pho:
+      return "pho";
+    case TimingFormat::RhubarbTsv:
+      return "rhubarb-tsv";
+    case TimingFormat::RhubarbJson:
+      return "rhubarb-json";
+    case TimingFormat::TextGrid:
+      return "textgrid";
+    case TimingFormat::SpeechMarks:
+      return "speech-marks";
+    case TimingFormat::Auto:
+      break;
+  }
+  return "auto";
+}
+
+TimingFormat ParseTimingFormat(const std::string& name)
+{
+  const std::string n = text::ToLower(name);
+  for (TimingFormat f : { TimingFormat::Auto, TimingFormat::Pho, TimingFormat::RhubarbTsv,
+         TimingFormat::RhubarbJson, TimingFormat::TextGrid, TimingFormat::SpeechMarks })
+  {
+    if (n == TimingFormatName(f))
+    {
+      return f;
+    }
+  }
+  throw InputError("unknown timing format " + text::Quote(name) +
+    " (auto, pho, rhubarb-tsv, rhubarb-json, textgrid, speech-marks)");
+}
+
+TimingFormat GuessTimingFormat(const std::string& path, const std::string& bytes)
+{
+  if (EndsWith(path, ".pho"))
+  {
+    return TimingFormat::Pho;
+  }
+  if (EndsWith(path, ".textgrid"))
+  {
+    return TimingFormat::TextGrid;
+  }
+  if (EndsWith(path, ".marks") || EndsWith(path, ".jsonl"))
+  {
+    return TimingFormat::SpeechMarks;
+  }
+  if (EndsWith(path, ".tsv"))
+  {
+    return TimingFormat::RhubarbTsv;
+  }
+  // By content: a TextGrid (possibly UTF-16) names its class near the top; Rhubarb JSON is
+  // one object with mouthCues; speech marks are objects with "time" and "type", one a line.
+  const std::string head = bytes.substr(0, 512);
+  std::string ascii; // UTF-16 text with its zero bytes removed, for the sniffing only
+  for (char c : head)
+  {
+    if (c != '\0')
+    {
+      ascii += c;
+    }
+  }
+  if (ascii.find("ooTextFile") != std::string::npos || ascii.find("ooBinaryFile") != std::string::npos)
+  {
+    return TimingFormat::TextGrid;
+  }
+  if (bytes.find("\"mouthCues\"") != std::string::npos)
+  {
+    return TimingFormat::RhubarbJson;
+  }
+  if (ascii.find("\"time\"") != std::string::npos && ascii.find("\"type\"") != std::string::npos)
+  {
+    return TimingFormat::SpeechMarks;
+  }
+  if (EndsWith(path, ".json"))
+  {
+    return TimingFormat::RhubarbJson;
+  }
+  const std::string_view first = text::Trim(head.substr(0, head.find('\n')));
+  const auto tokens = text::SplitWhitespace(first);
+  double number = 0.0;
+  if (tokens.size() == 2 && text::ParseNumber(tokens[0], number) && tokens[1].size() == 1)
+  {
+    return TimingFormat::RhubarbTsv;
+  }
+  if (!tokens.empty() && tokens.size() >= 2 && text::ParseNumber(tokens[1], number))
+  {
+    return TimingFormat::Pho;
+  }
+  throw InputError("'" + path + "': cannot tell the timing format (use the extension .pho, "
+    ".tsv, .json, .TextGrid or .marks, or name the format)");
+}
+
+std::vector<TimedPhoneme> LoadTimedPhonemes(const std::string& path, const std::string& language,
+  const TimingFileOptions& options)
+{
+  const std::string bytes = text::ReadFile(path, "timing file");
+  try
+  {
+    const TimingFormat format =
+      options.Format == TimingFormat::Auto ? GuessTimingFormat(path, bytes) : options.Format;
+    return PhonemesFrom(format, bytes, language, options);
+  }
+  catch (const InputError& e)
+  {
+    const std::string what = e.what();
+    throw InputError(what.rfind("'" + path + "'", 0) == 0 ? what : "'" + path + "': " + what);
+  }
+}
+
+Utterance LoadTimingFile(const std::string& path, const SpeechOptions& speech,
+  const TimingFileOptions& options)
+{
+  const std::string bytes = text::ReadFile(path, "timing file");
+  try
+  {
+    const TimingFormat format =
+      options.Format == TimingFormat::Auto ? GuessTimingFormat(path, bytes) : options.Format;
+    if (format == TimingFormat::RhubarbTsv || format == TimingFormat::RhubarbJson)
+    {
+      std::istringstream in(bytes);
+      const std::vector<MouthCue> cues =
+        format == TimingFormat::RhubarbTsv ? ReadRhubarbTsv(in) : ReadRhubarbJson(in);
+      return UtteranceFromMouthCues(cues, speech);
+    }
+    return UtteranceFromPhonemes(PhonemesFrom(format, bytes, LanguageOf(speech), options), speech);
+  }
+  catch (const InputError& e)
+  {
+    const std::string what = e.what();
+    throw InputError(what.rfind("'" + path + "'", 0) == 0 ? what : "'" + path + "': " + what);
+  }
+}
+} // namespace morphnode
