@@ -24,11 +24,20 @@ const char* WeightModeName(WeightMode mode)
 
 std::vector<double> ResolveWeights(WeightMode mode, const std::vector<double>& requested)
 {
-  if (requested.empty())
+  std::vector<double> absolute;
+  ResolveWeights(mode, requested.data(), requested.size(), absolute);
+  return absolute;
+}
+
+void ResolveWeights(
+  WeightMode mode, const double* requested, size_t count, std::vector<double>& absolute)
+{
+  if (count == 0)
   {
     throw InputError("no weights: the morph node needs at least the neutral target");
   }
-  for (size_t i = 0; i < requested.size(); ++i)
+  double sum = 0.0;
+  for (size_t i = 0; i < count; ++i)
   {
     const double w = requested[i];
     if (!std::isfinite(w))
@@ -46,18 +55,13 @@ std::vector<double> ResolveWeights(WeightMode mode, const std::vector<double>& r
           << "); Normalize mode needs weights >= 0 (Strict and Relative accept negative ones)";
       throw InputError(msg.str());
     }
+    sum += w;
   }
 
-  std::vector<double> absolute(requested);
+  absolute.assign(requested, requested + count);
   switch (mode)
   {
     case WeightMode::Strict:
-    {
-      double sum = 0.0;
-      for (double w : requested)
-      {
-        sum += w;
-      }
       if (std::abs(sum - 1.0) > StrictTolerance)
       {
         std::ostringstream msg;
@@ -66,14 +70,7 @@ std::vector<double> ResolveWeights(WeightMode mode, const std::vector<double>& r
         throw InputError(msg.str());
       }
       break;
-    }
     case WeightMode::Normalize:
-    {
-      double sum = 0.0;
-      for (double w : requested)
-      {
-        sum += w;
-      }
       if (!(sum > 0.0))
       {
         throw InputError("Normalize weight mode: the weights sum to 0; nothing to normalize");
@@ -83,11 +80,10 @@ std::vector<double> ResolveWeights(WeightMode mode, const std::vector<double>& r
         w /= sum;
       }
       break;
-    }
     case WeightMode::Relative:
     {
       double others = 0.0;
-      for (size_t i = 1; i < requested.size(); ++i)
+      for (size_t i = 1; i < count; ++i)
       {
         others += requested[i];
       }
@@ -95,7 +91,6 @@ std::vector<double> ResolveWeights(WeightMode mode, const std::vector<double>& r
       break;
     }
   }
-  return absolute;
 }
 
 int CountActiveTargets(const std::vector<double>& absolute)

@@ -35,6 +35,10 @@ const char* WeightModeName(WeightMode mode);
 /// Throws InputError for: an empty vector, NaN or infinite weights, negative weights
 /// (Normalize only), a sum off 1 (Strict), a sum <= 0 (Normalize).
 std::vector<double> ResolveWeights(WeightMode mode, const std::vector<double>& requested);
+/// The same into `absolute` (resized to `count`), so that a caller resolving weights every
+/// frame allocates nothing once `absolute` has the capacity.
+void ResolveWeights(
+  WeightMode mode, const double* requested, size_t count, std::vector<double>& absolute);
 
 /// Number of non-neutral targets with a non-zero weight: the targets that cost work.
 int CountActiveTargets(const std::vector<double>& absolute);
