@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// Tests of the MorphAvatar application (Examples/Cxx/MorphAvatar.cxx), run as a program:
+// Tests of the MorphAvatar application (Modules/Applications/MorphAvatar), run as a program:
 // the render regression of one frame of a fixed-seed script against a baseline, the
 // offscreen mode writing PNG frames, a Theora video and the WAV (with a moving mouth),
 // and clear errors for bad arguments. AvatarRun under `xvfb-run -a`.
@@ -182,24 +182,29 @@ TEST(MorphAvatar, BadArgumentsFailClearly)
     const char* Arguments;
     const char* Message;
   } cases[] = {
-    { "--size 12", "--size expects WxH" },
-    { "--size 640x", "--size expects WxH" },
-    { "--method 7", "--method expects" },
-    { "--threshold 2", "--threshold must be in [0, 1]" },
-    { "--threshold abc", "--threshold expects a number" },
-    { "--fps 0", "--fps must be in" },
-    { "--seed -3", "--seed expects an unsigned integer" },
-    { "--script /nonexistent/script.txt", "no script file" },
-    { "--face /nonexistent/face.glb", "no face" },
-    { "--frobnicate", "unknown argument '--frobnicate'" },
+    { "--size 12", "--size: expects WxH" },
+    { "--size 640x", "--size: expects WxH" },
+    { "--method 7", "--method: unknown optimizer method '7' (known: 0|none, 1|fixed-maximum" },
+    { "--method fixed+maximum", "--method: unknown optimizer method" }, // one spelling
+    { "--threshold 2", "--threshold: must be in [0, 1]" },
+    { "--threshold abc", "--threshold: expects a number" },
+    { "--fps 0", "--fps: must be in" },
+    { "--seed -3", "--seed: expects an unsigned integer" },
+    { "--say ' '", "--say: needs a non-empty text" },
+    { "--script /nonexistent/script.txt", "--script: File does not exist" },
+    { "--face /nonexistent/face.glb", "--face: Path does not exist" },
+    { "--frobnicate", "not expected: --frobnicate" },
     { "--offscreen", "--offscreen needs somewhere to write" },
-    { "--duration", "--duration needs a value" },
+    { "--duration", "--duration: 1 required" },
     { "--visemes klingon --png x.png", "--visemes expects" },
+    { "--pvd x.vtp", "--pvd takes a file name ending in .pvd" },
+    { "--at 1 --frames x", "--at renders one frame" },
   };
   for (const auto& c : cases)
   {
     const AvatarRun run = RunAvatar(c.Arguments);
-    EXPECT_NE(run.ExitCode, 0) << c.Arguments;
+    EXPECT_EQ(run.ExitCode, 2) << c.Arguments << " gave:\n" << run.Text;
+    EXPECT_NE(run.Text.find("(see MorphAvatar --help)"), std::string::npos) << c.Arguments;
     EXPECT_NE(run.Text.find(c.Message), std::string::npos)
       << c.Arguments << " gave:\n" << run.Text;
   }

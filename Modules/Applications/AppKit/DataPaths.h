@@ -1,0 +1,20 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#pragma once
+/// @file DataPaths.h
+/// @brief Where the programs find the project's data (Data/: the default face, rigs,
+/// scripts) and the ICT-FaceKit data (MORPHNODE_FACEKIT_DIR), as configured by CMake.
+
+#include <string>
+
+namespace morphnode
+{
+namespace appkit
+{
+/// The project's Data folder, e.g. DataPath("DefaultFace/default_face.glb").
+std::string DataPath(const std::string& relative);
+/// A file of the ICT-FaceKit data folder (it may be absent: callers check).
+std::string FaceKitPath(const std::string& relative);
+/// Data/DefaultFace/default_face.glb.
+std::string DefaultFace();
+} // namespace appkit
+} // namespace morphnode

@@ -1,0 +1,285 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "Avatar.h"
+
+#include "DataPaths.h"
+#include "HeadPoseTransform.h"
+#include "OptimizerSetup.h"
+
+#include "behavior/HeadPose.h"
+
+#include "vtkCamera.h"
+#include "vtkCompositeDataIterator.h"
+#include "vtkCompositeDataSet.h"
+#include "vtkCoordinate.h"
+#include "vtkProperty.h"
+#include "vtkSmartPointer.h"
+#include "vtkTable.h"
+#include "vtkTextProperty.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+#include <sstream>
+
+namespace morphavatar
+{
+namespace appkit = morphnode::appkit;
+
+namespace
+{
+/// The first polydata of the reader's output (a composite dataset or a polydata).
+vtkPolyData* FirstPolyData(vtkDataObject* data)
+{
+  if (auto* poly = vtkPolyData::SafeDownCast(data))
+  {
+    return poly;
+  }
+  if (auto* composite = vtkCompositeDataSet::SafeDownCast(data))
+  {
+    vtkSmartPointer<vtkCompositeDataIterator> it;
+    it.TakeReference(composite->NewIterator());
+    for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem())
+    {
+      if (auto* poly = vtkPolyData::SafeDownCast(it->GetCurrentDataObject()))
+      {
+        return poly;
+      }
+    }
+  }
+  return nullptr;
+}
+} // namespace
+
+bool Avatar::SetUpBehavior()
+{
+  const Options& o = this->Opt;
+  vtkBehaviorTimeSource* behavior = this->Behavior;
+  behavior->SetVoice(o.Voice.c_str());
+  if (!behavior->SetVisemeSetFromString(o.Visemes.c_str()))
+  {
+    FailUsage("--visemes expects paper6, oculus15 or german16; got '" + o.Visemes + "'");
+  }
+  if (!o.Script.empty() && !behavior->LoadScript(o.Script.c_str()))
+  {
+    std::cerr << "MorphAvatar: cannot load the script " << o.Script << " (see above)\n";
+    return false;
+  }
+  if (!o.Say.empty() && !behavior->Say(o.Say.c_str(), o.Script.empty() ? 0.5 : -1.0))
+  {
+    std::cerr << "MorphAvatar: cannot say '" << o.Say << "' with voice '" << o.Voice
+              << "' (see above; `espeak-ng --voices` lists the voices)\n";
+    return false;
+  }
+  if (o.SeedSet)
+  {
+    behavior->SetSeed(o.Seed);
+  }
+  if (o.Fps > 0.0)
+  {
+    behavior->SetFrameRate(o.Fps);
+  }
+  if (o.Duration >= 0.0)
+  {
+    behavior->SetDuration(o.Duration);
+  }
+  this->Fps = behavior->GetFrameRate();
+  this->Duration = behavior->GetEffectiveDuration();
+  return true;
+}
+
+bool Avatar::SetUpFace()
+{
+  const Options& o = this->Opt;
+  this->FaceFile = o.Face.empty() ? appkit::DefaultFace() : o.Face;
+  this->Reader->SetFileName(this->FaceFile.c_str());
+  this->Morph->SetInputConnection(this->Reader->GetOutputPort());
+  // The behaviour's channels are glTF-style weights: each adds its target's deltas, so a
+  // blink does not weaken a vowel (RELATIVE mode).
+  this->Morph->SetWeightModeToRelative();
+  // For ParaView: colour by AnimatedRegion or Distance_<target>.
+  this->Morph->SetGenerateDistanceArrays(!o.Pvd.empty());
+  if (!o.Rig.empty())
+  {
+    this->Rig->SetRigFileName(o.Rig.c_str());
+    this->Rig->SetInputConnection(this->Behavior->GetOutputPort(0));
+    this->Rig->SetFaceConnection(this->Reader->GetOutputPort());
+    this->Morph->SetWeightsConnection(this->Rig->GetOutputPort());
+  }
+  else
+  {
+    this->Morph->SetWeightsConnection(this->Behavior->GetOutputPort(0));
+  }
+  this->Reader->Update();
+  vtkPolyData* neutral = FirstPolyData(this->Reader->GetOutputDataObject(0));
+  if (!neutral || neutral->GetNumberOfPoints() == 0)
+  {
+    std::cerr << "MorphAvatar: cannot read a face from " << this->FaceFile << " (see above)\n";
+    return false;
+  }
+  neutral->GetBounds(this->Bounds);
+  const double* b = this->Bounds;
+  this->Diagonal = std::sqrt((b[1] - b[0]) * (b[1] - b[0]) + (b[3] - b[2]) * (b[3] - b[2]) +
+    (b[5] - b[4]) * (b[5] - b[4]));
+  if (!(this->Diagonal > 0.0))
+  {
+    this->Diagonal = 1.0;
+  }
+  this->Pivot = morphnode::HeadPivot(this->Bounds);
+  this->Method = o.Method;
+  this->Threshold = o.Threshold;
+  this->MaxError = o.MaxError >= 0.0 ? o.MaxError : 0.005 * this->Diagonal;
+  this->ApplyMethod();
+  if (!this->Update(0.0))
+  {
+    std::cerr << "MorphAvatar: the face could not be morphed (see the errors above)\n";
+    return false;
+  }
+  if (o.Rig.empty())
+  {
+    // Without a rig the channels must name the face's targets.
+    int matched = 0;
+    for (int c = 0; c < this->Behavior->GetNumberOfChannels(); ++c)
+    {
+      matched += this->Morph->GetTargetIndex(this->Behavior->GetChannelName(c)) >= 0 ? 1 : 0;
+    }
+    if (matched == 0)
+    {
+      std::cerr << "MorphAvatar: no behaviour channel names a target of " << this->FaceFile
+                << "; give a rig with --rig (e.g. Data/rigs/arkit.json)\n";
+      return false;
+    }
+  }
+  return true;
+}
+
+void Avatar::SetUpScene()
+{
+  const Options& o = this->Opt;
+  this->Mapper->SetInputData(this->Display);
+  this->Mapper->ScalarVisibilityOff();
+  this->Actor->SetMapper(this->Mapper);
+  this->Actor->SetUserTransform(this->HeadPose);
+  this->Actor->GetProperty()->SetColor(0.86, 0.72, 0.62);
+  this->Actor->GetProperty()->SetSpecular(0.2);
+  this->Actor->GetProperty()->SetSpecularPower(20);
+  this->Renderer->SetBackground(0.15, 0.16, 0.2);
+  this->Renderer->SetBackground2(0.32, 0.34, 0.42);
+  this->Renderer->GradientBackgroundOn();
+  this->Renderer->AddActor(this->Actor);
+
+  vtkTextProperty* text = this->Overlay->GetTextProperty();
+  text->SetFontFamilyToCourier();
+  text->SetFontSize(std::max(10, o.Height / 40));
+  text->SetColor(0.95, 0.95, 0.85);
+  text->SetBackgroundColor(0.0, 0.0, 0.0);
+  text->SetBackgroundOpacity(0.45);
+  text->SetVerticalJustificationToTop();
+  this->Overlay->GetPositionCoordinate()->SetCoordinateSystemToNormalizedViewport();
+  this->Overlay->SetPosition(0.012, 0.988);
+  this->Overlay->SetVisibility(o.Overlay);
+  this->Renderer->AddActor2D(this->Overlay);
+
+  // The sentence (or the script's name) at the bottom, like the paper's sentence choice.
+  std::string caption = !o.Script.empty() ? std::filesystem::path(o.Script).filename().string() : "";
+  if (!o.Say.empty())
+  {
+    caption += (caption.empty() ? "\"" : " + \"") + o.Say + "\"";
+  }
+  this->Caption->SetInput(caption.c_str());
+  vtkTextProperty* captionText = this->Caption->GetTextProperty();
+  captionText->SetFontSize(std::max(10, o.Height / 36));
+  captionText->SetColor(1.0, 1.0, 1.0);
+  captionText->SetJustificationToCentered();
+  captionText->SetItalic(true);
+  this->Caption->GetPositionCoordinate()->SetCoordinateSystemToNormalizedViewport();
+  this->Caption->SetPosition(0.5, 0.02);
+  this->Caption->SetVisibility(o.Overlay);
+  this->Renderer->AddActor2D(this->Caption);
+
+  this->Window->SetSize(o.Width, o.Height);
+  this->Window->SetMultiSamples(0);
+  this->Window->AddRenderer(this->Renderer);
+  this->Window->SetWindowName("MorphAvatar");
+  const double* b = this->Bounds;
+  const double d = this->Diagonal;
+  this->Renderer->ResetCamera(this->Bounds);
+  this->Renderer->GetActiveCamera()->Zoom(1.3);
+  this->Renderer->ResetCameraClippingRange(
+    b[0] - d, b[1] + d, b[2] - d, b[3] + d, b[4] - d, b[5] + d);
+}
+
+void Avatar::ApplyMethod()
+{
+  morphnode::OptimizerSettings s =
+    morphnode::MakeOptimizerSettings(this->Method, this->Threshold, this->MaxError);
+  s.Hysteresis = this->Opt.Hysteresis;
+  appkit::ApplyOptimizerSettings(this->Morph, s);
+}
+
+bool Avatar::Update(double t)
+{
+  this->Time = t;
+  if (!this->Morph->UpdateTimeStep(t))
+  {
+    return false;
+  }
+  auto* face = vtkPolyData::SafeDownCast(this->Morph->GetOutput());
+  if (!face || face->GetNumberOfPoints() == 0)
+  {
+    return false;
+  }
+  this->Display->ShallowCopy(face);
+  auto* weights = vtkTable::SafeDownCast(this->Behavior->GetOutputDataObject(0));
+  appkit::SetHeadPose(this->HeadPose, appkit::ReadHeadAngles(weights), this->Pivot);
+  return true;
+}
+
+std::string Avatar::OverlayText(bool offscreen, int frame, int frames) const
+{
+  using morphnode::OptimizerPreset;
+  std::ostringstream os;
+  os << std::fixed;
+  if (offscreen)
+  {
+    os << std::setprecision(1) << this->Fps << " fps   frame " << frame << " / " << frames;
+  }
+  else
+  {
+    os << std::setprecision(1) << this->MeasuredFps << " fps" << (this->Paused ? "   (paused)" : "");
+  }
+  os << "\nmethod " << static_cast<int>(this->Method) << ": "
+     << morphnode::OptimizerPresetLabel(this->Method) << "\n";
+  switch (this->Method)
+  {
+    case OptimizerPreset::FixedMaximum:
+    case OptimizerPreset::FixedRemaining:
+    case OptimizerPreset::Adjusted:
+      os << "threshold " << std::setprecision(3) << this->Threshold << "\n";
+      break;
+    case OptimizerPreset::ErrorBounded:
+      os << "max vertex error " << std::setprecision(2) << 100.0 * this->MaxError / this->Diagonal
+         << " % of the face\n";
+      break;
+    case OptimizerPreset::None:
+      os << "threshold -\n";
+      break;
+  }
+  const int targets = std::max(0, this->Morph->GetNumberOfTargets() - 1);
+  os << "active targets " << this->Morph->GetActiveTargetCount() << " / " << targets
+     << "   error bound " << std::setprecision(2)
+     << 100.0 * this->Morph->GetErrorBound() / this->Diagonal << " %\n";
+  os << "t = " << std::setprecision(2) << this->Time << " s / " << this->Duration << " s";
+  if (!offscreen)
+  {
+    os << "\nkeys: 0-4 method  +/- threshold  space pause  r restart  q quit";
+  }
+  return os.str();
+}
+
+int Avatar::NumberOfFrames() const
+{
+  return static_cast<int>(std::floor(this->Duration * this->Fps + 1e-9)) + 1;
+}
+} // namespace morphavatar

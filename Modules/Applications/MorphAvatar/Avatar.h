@@ -1,0 +1,94 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#pragma once
+/// @file Avatar.h
+/// @brief MorphAvatar's scene: the pipeline
+///
+///   vtkBehaviorTimeSource -> [vtkMorphRigFilter] -> vtkMorphNodeFilter (weights port 1)
+///                         -> mapper; HeadYaw/Pitch/Roll -> head pose transform on the actor
+///
+/// the actors (face, overlay, caption) and the window, and the two ways to run it.
+
+#include "AvatarOptions.h"
+
+#include "vtkActor.h"
+#include "vtkBehaviorTimeSource.h"
+#include "vtkMorphNodeFilter.h"
+#include "vtkMorphRigFilter.h"
+#include "vtkMorphTargetReader.h"
+#include "vtkNew.h"
+#include "vtkPolyData.h"
+#include "vtkPolyDataMapper.h"
+#include "vtkRenderWindow.h"
+#include "vtkRenderer.h"
+#include "vtkTextActor.h"
+#include "vtkTransform.h"
+
+#include <array>
+#include <chrono>
+#include <string>
+
+namespace morphavatar
+{
+using Clock = std::chrono::steady_clock;
+
+struct Avatar
+{
+  Options Opt;
+  vtkNew<vtkBehaviorTimeSource> Behavior;
+  vtkNew<vtkMorphTargetReader> Reader;
+  vtkNew<vtkMorphRigFilter> Rig;
+  vtkNew<vtkMorphNodeFilter> Morph;
+  vtkNew<vtkPolyData> Display;
+  vtkNew<vtkPolyDataMapper> Mapper;
+  vtkNew<vtkActor> Actor;
+  vtkNew<vtkTransform> HeadPose;
+  vtkNew<vtkRenderer> Renderer;
+  vtkNew<vtkRenderWindow> Window;
+  vtkNew<vtkTextActor> Overlay;
+  vtkNew<vtkTextActor> Caption;
+  std::string FaceFile;
+  std::array<double, 3> Pivot{ 0, 0, 0 };
+  double Bounds[6] = { 0, 1, 0, 1, 0, 1 };
+  double Diagonal = 1.0;
+  double Duration = 5.0;
+  double Fps = 30.0;
+  morphnode::OptimizerPreset Method = morphnode::OptimizerPreset::Adjusted;
+  double Threshold = 0.1;
+  double MaxError = 0.0;
+  double Time = 0.0;
+
+  // Interactive clock
+  bool Paused = false;
+  Clock::time_point Start;
+  double StartTime = 0.0;
+  double MeasuredFps = 0.0;
+  int FramesSinceMeasure = 0;
+  int FramesRendered = 0;
+  Clock::time_point Launched;
+  Clock::time_point MeasureStart;
+
+  /// The behaviour from the options (script, sentence, seed, timing). False with a
+  /// message on stderr when it cannot be made.
+  bool SetUpBehavior();
+  /// The face, the rig, the morph filter and the optimizer. False with a message.
+  bool SetUpFace();
+  /// The actors, the overlay, the caption and the window.
+  void SetUpScene();
+
+  /// The optimizer of Method, Threshold and MaxError (and the option's hysteresis) on the
+  /// morph filter.
+  void ApplyMethod();
+  /// Brings the face to time t: weights, blend, head pose. False on error.
+  bool Update(double t);
+  /// The overlay: frame rate, method, threshold or bound, active targets, time.
+  std::string OverlayText(bool offscreen, int frame, int frames) const;
+  /// Number of frames from 0 to the duration at the frame rate.
+  int NumberOfFrames() const;
+};
+
+/// A window where time runs in real time and keys switch the optimizer.
+int RunInteractive(Avatar& avatar);
+/// Every frame at the frame rate to PNG frames, a video and/or a time series; or one frame
+/// to a PNG and/or compared with a baseline.
+int RunOffscreen(Avatar& avatar);
+} // namespace morphavatar

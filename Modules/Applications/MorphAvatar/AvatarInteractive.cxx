@@ -1,0 +1,154 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// MorphAvatar's interactive mode: a window where time runs in real time; keys switch the
+// optimizer (0-4 method, +/- threshold or error bound), pause, restart, hide the overlay.
+#include "Avatar.h"
+
+#include "vtkCallbackCommand.h"
+#include "vtkInteractorStyleTrackballCamera.h"
+#include "vtkObjectFactory.h"
+#include "vtkRenderWindowInteractor.h"
+
+#include <algorithm>
+#include <iomanip>
+#include <iostream>
+
+namespace morphavatar
+{
+namespace
+{
+class AvatarStyle : public vtkInteractorStyleTrackballCamera
+{
+public:
+  static AvatarStyle* New();
+  vtkTypeMacro(AvatarStyle, vtkInteractorStyleTrackballCamera);
+  Avatar* Scene = nullptr;
+
+  void OnChar() override
+  {
+    // Our keys must not reach the default handling ('3' is stereo, 'r' resets the camera).
+    const char key = this->Interactor->GetKeyCode();
+    if (std::string("01234+-=r o").find(key) != std::string::npos && key != '\0')
+    {
+      return;
+    }
+    this->Superclass::OnChar();
+  }
+
+  void OnKeyPress() override
+  {
+    Avatar& a = *this->Scene;
+    const std::string sym = this->Interactor->GetKeySym() ? this->Interactor->GetKeySym() : "";
+    const char key = this->Interactor->GetKeyCode();
+    const bool bounded = a.Method == morphnode::OptimizerPreset::ErrorBounded;
+    if (key >= '0' && key <= '4')
+    {
+      a.Method = static_cast<morphnode::OptimizerPreset>(key - '0');
+    }
+    else if (key == '+' || key == '=' || sym == "plus" || sym == "KP_Add" || sym == "equal")
+    {
+      if (bounded)
+        a.MaxError *= 1.25;
+      else
+        a.Threshold = std::min(1.0, a.Threshold + 0.025);
+    }
+    else if (key == '-' || sym == "minus" || sym == "KP_Subtract")
+    {
+      if (bounded)
+        a.MaxError /= 1.25;
+      else
+        a.Threshold = std::max(0.0, a.Threshold - 0.025);
+    }
+    else if (key == ' ' || sym == "space")
+    {
+      const double now = a.Time;
+      a.Paused = !a.Paused;
+      a.Start = Clock::now();
+      a.StartTime = now;
+    }
+    else if (key == 'r')
+    {
+      a.Start = Clock::now();
+      a.StartTime = 0.0;
+    }
+    else if (key == 'o')
+    {
+      a.Overlay->SetVisibility(!a.Overlay->GetVisibility());
+    }
+    else
+    {
+      this->Superclass::OnKeyPress();
+      return;
+    }
+    a.ApplyMethod();
+  }
+};
+vtkStandardNewMacro(AvatarStyle);
+
+void OnTimer(vtkObject* caller, unsigned long, void* clientData, void*)
+{
+  auto* a = static_cast<Avatar*>(clientData);
+  auto* interactor = static_cast<vtkRenderWindowInteractor*>(caller);
+  const auto now = Clock::now();
+  double t = a->StartTime;
+  if (!a->Paused)
+  {
+    t += std::chrono::duration<double>(now - a->Start).count();
+    if (t > a->Duration) // loop
+    {
+      a->Start = now;
+      a->StartTime = 0.0;
+      a->Morph->ResetHysteresis();
+      t = 0.0;
+    }
+  }
+  a->Update(t);
+  ++a->FramesSinceMeasure;
+  const double since = std::chrono::duration<double>(now - a->MeasureStart).count();
+  if (since >= 0.5)
+  {
+    a->MeasuredFps = a->FramesSinceMeasure / since;
+    a->FramesSinceMeasure = 0;
+    a->MeasureStart = now;
+  }
+  a->Overlay->SetInput(a->OverlayText(false, 0, 0).c_str());
+  interactor->Render();
+  ++a->FramesRendered;
+  if (a->Opt.ExitAfter >= 0.0 &&
+    std::chrono::duration<double>(now - a->Launched).count() >= a->Opt.ExitAfter)
+  {
+    const double seconds = std::chrono::duration<double>(Clock::now() - a->Launched).count();
+    std::cout << "rendered " << a->FramesRendered << " frames in " << std::fixed
+              << std::setprecision(2) << seconds << " s (" << std::setprecision(1)
+              << a->FramesRendered / seconds << " fps)\n"
+              << a->Overlay->GetInput() << "\n";
+    interactor->TerminateApp();
+  }
+}
+} // namespace
+
+int RunInteractive(Avatar& a)
+{
+  vtkNew<vtkRenderWindowInteractor> interactor;
+  interactor->SetRenderWindow(a.Window);
+  vtkNew<AvatarStyle> style;
+  style->Scene = &a;
+  interactor->SetInteractorStyle(style);
+  interactor->Initialize();
+  vtkNew<vtkCallbackCommand> timer;
+  timer->SetCallback(OnTimer);
+  timer->SetClientData(&a);
+  interactor->AddObserver(vtkCommand::TimerEvent, timer);
+  interactor->CreateRepeatingTimer(5);
+  for (char key : a.Opt.Keys)
+  {
+    const char sym[2] = { key, '\0' };
+    interactor->SetKeyEventInformation(0, 0, key, 1, key == '+' ? "plus" : key == '-' ? "minus" : sym);
+    interactor->InvokeEvent(vtkCommand::KeyPressEvent);
+    interactor->InvokeEvent(vtkCommand::CharEvent);
+  }
+  a.Start = a.MeasureStart = a.Launched = Clock::now();
+  a.Window->Render();
+  interactor->Start();
+  return 0;
+}
+} // namespace morphavatar

@@ -1,0 +1,178 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "AvatarOptions.h"
+
+#include "CommandLine.h"
+
+#include <filesystem>
+
+namespace morphavatar
+{
+namespace appkit = morphnode::appkit;
+
+namespace
+{
+const char* const Name = "MorphAvatar";
+
+CLI::App& App()
+{
+  static CLI::App app(
+    "MorphAvatar: a talking face with morph targets (Berner, WSCG 2004, Figure 6). An avatar\n"
+    "speaks a sentence or plays a behaviour script with idle behaviour; the optimizer is\n"
+    "switched by keys; offscreen it renders PNG frames, a video with sound, a ParaView time\n"
+    "series or one frame compared with a baseline (docs/avatar.md).",
+    Name);
+  return app;
+}
+} // namespace
+
+void FailUsage(const std::string& message)
+{
+  appkit::FailUsage(App(), message);
+}
+
+Options ParseOptions(int argc, char* argv[])
+{
+  Options o;
+  CLI::App& app = App();
+  app.get_formatter()->column_width(28);
+  app.footer("Keys (interactive): 0-4 method, +/- threshold (method 4: error bound), space pause,\n"
+             "  r restart, o overlay on/off, q quit; mouse: rotate/zoom the camera.");
+
+  const std::string say = "What it says and does";
+  app.add_option("--say", o.Say,
+       "speak TEXT (eSpeak NG) at 0.5 s, after the script's speech if a script is given; "
+       "default: a short greeting when there is no script")
+    ->type_name("TEXT")
+    ->check(CLI::Validator(
+      [](std::string& s) -> std::string {
+        return s.find_first_not_of(" \t\n") == std::string::npos ? "needs a non-empty text" : "";
+      },
+      std::string()))
+    ->group(say);
+  app.add_option("--voice", o.Voice, "eSpeak NG voice of --say and the script")
+    ->capture_default_str()
+    ->group(say);
+  app.add_option("--visemes", o.Visemes, "viseme set: paper6 (A E O S F L), oculus15, german16")
+    ->capture_default_str()
+    ->group(say);
+  app.add_option("--script", o.Script, "a behaviour script (docs/behavior.md), e.g. Data/scripts/greeting.txt")
+    ->check(CLI::ExistingFile)
+    ->group(say);
+  app.add_option("--seed", o.Seed, "seed of the idle behaviour (default 1 or the script's)")
+    ->check(appkit::UnsignedInteger())
+    ->group(say);
+  appkit::AddNumberOption(app, "--duration", o.Duration, 0.0, 24 * 3600.0,
+    "length in seconds (default: the script's, else the end of the last command + 1 s, at least 5 s)")
+    ->default_str("")
+    ->group(say);
+  appkit::AddNumberOption(app, "--fps", o.Fps, 1.0, 240.0,
+    "frame rate of the track and the offscreen frames, in [1, 240] (default 30 or the script's)")
+    ->default_str("")
+    ->group(say);
+
+  const std::string face = "The face";
+  app.add_option("--face", o.Face,
+       "a face with morph targets (glTF/GLB, OBJ set); default the project's default face "
+       "(its targets match the channels)")
+    ->check(CLI::ExistingPath)
+    ->group(face);
+  app.add_option("--rig", o.Rig,
+       "a rig (docs/rigs.md, e.g. Data/rigs/arkit.json) mapping the channels onto the face's own targets")
+    ->check(CLI::ExistingFile)
+    ->group(face);
+
+  const std::string optimizer = "The optimizer (keys 0-4 and +/- switch them while it runs)";
+  appkit::AddOptimizerPresetOption(app, "--method", o.Method, appkit::OptimizerPresetChoices())
+    ->group(optimizer);
+  appkit::AddNumberOption(app, "--threshold", o.Threshold, 0.0, 1.0, "th_fix of methods 1-3, in [0, 1]")
+    ->group(optimizer);
+  appkit::AddNumberOption(app, "--max-error", o.MaxError, 0.0, 1e30,
+    "vertex error bound of method 4 in model units (default 0.5 % of the face's bounding-box diagonal)")
+    ->default_str("")
+    ->group(optimizer);
+  appkit::AddNumberOption(app, "--hysteresis", o.Hysteresis, 0.0, 0.99,
+    "in [0, 0.99]: keeps active targets a little longer")
+    ->group(optimizer);
+
+  const std::string output = "Output";
+  appkit::AddSizeOption(app, "--size", o.Width, o.Height, "window / frame size")->group(output);
+  app.add_flag("--offscreen", o.Offscreen,
+       "no window: render every frame at the frame rate; needs --frames, --video, --pvd or --png")
+    ->group(output);
+  app.add_option("--frames", o.FramesDir, "write frame_00000.png ... into DIR (created if missing)")
+    ->type_name("DIR")
+    ->group(output);
+  app.add_option("--video", o.Video,
+       "write a video: FILE.ogv (Theora, silent) and FILE.wav; with ffmpeg on PATH also FILE.mp4 "
+       "(or .mkv if FILE ends so) with sound")
+    ->type_name("FILE")
+    ->group(output);
+  app.add_option("--pvd", o.Pvd,
+       "write the morphed face of every frame as a ParaView time series: FILE.pvd and "
+       "FILE/face_00000.vtp ..., with distance arrays (AnimatedRegion, Distance_<target>) and "
+       "the weights (EffectiveWeights, the behaviour's channels) as field data")
+    ->type_name("FILE.pvd")
+    ->group(output);
+  appkit::AddNumberOption(app, "--at", o.At, 0.0, 24 * 3600.0,
+    "render only the frame at time T (with --png / --compare)")
+    ->default_str("")
+    ->group(output);
+  app.add_option("--png", o.Png, "write that single frame (default: the last frame)")
+    ->type_name("FILE")
+    ->group(output);
+  app.add_option("--compare", o.Compare,
+       "compare the single frame with a baseline PNG (VTK's image comparison); exit code 1 when it differs")
+    ->check(CLI::ExistingFile)
+    ->group(output);
+  appkit::AddNumberOption(app, "--compare-threshold", o.CompareThreshold, 0.0, 1000.0,
+    "largest accepted image error (VTK's usual 10)")
+    ->group(output);
+  app.add_flag("--no-overlay", "no text overlay")->group(output);
+  app.add_flag("--quiet", o.Quiet, "no progress bar")->group(output);
+  appkit::AddNumberOption(app, "--exit-after", o.ExitAfter, 0.0, 1e6,
+    "interactive: close the window after S seconds and print the frame rate and the last "
+    "overlay (for smoke tests)")
+    ->default_str("")
+    ->group(output);
+  app.add_option("--keys", o.Keys, "interactive: press these keys at the start, e.g. '4--'")
+    ->group(output);
+
+  appkit::ParseCommandLine(app, argc, argv);
+  o.Overlay = app.count("--no-overlay") == 0;
+  o.SeedSet = app.count("--seed") > 0;
+
+  if (o.Say.empty() && o.Script.empty())
+  {
+    o.Say = o.Voice.rfind("de", 0) == 0 ? "Hallo! Ich bin ein Avatar mit Morph-Targets."
+                                        : "Hello! I am an avatar made of morph targets.";
+  }
+  if (!o.FramesDir.empty() || !o.Video.empty() || !o.Pvd.empty() || !o.Png.empty() ||
+    !o.Compare.empty() || o.At >= 0.0)
+  {
+    o.Offscreen = true; // writing files means rendering every frame offscreen
+  }
+  if (o.Offscreen && o.FramesDir.empty() && o.Video.empty() && o.Pvd.empty() &&
+    o.Png.empty() && o.Compare.empty())
+  {
+    FailUsage("--offscreen needs somewhere to write: --frames DIR, --video FILE, --pvd FILE or "
+              "--png FILE");
+  }
+  if (o.At >= 0.0 && (!o.FramesDir.empty() || !o.Video.empty() || !o.Pvd.empty()))
+  {
+    FailUsage("--at renders one frame (for --png / --compare); leave out --frames, --video and --pvd");
+  }
+  if (!o.Pvd.empty())
+  {
+    std::string ext = std::filesystem::path(o.Pvd).extension().string();
+    for (char& c : ext)
+    {
+      c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    }
+    if (ext != ".pvd")
+    {
+      FailUsage("--pvd takes a file name ending in .pvd, not '" + o.Pvd + "'");
+    }
+  }
+  return o;
+}
+} // namespace morphavatar

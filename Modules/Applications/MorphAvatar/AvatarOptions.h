@@ -1,0 +1,49 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#pragma once
+/// @file AvatarOptions.h
+/// @brief MorphAvatar's command line (docs/avatar.md lists the options).
+
+#include "morph/OptimizerPresets.h"
+
+#include <string>
+
+namespace morphavatar
+{
+struct Options
+{
+  std::string Face; // empty: the project's default face
+  std::string Rig;
+  std::string Say;
+  std::string Voice = "en";
+  std::string Visemes = "paper6";
+  std::string Script;
+  double Duration = -1.0; // < 0: the script's, else automatic
+  double Fps = -1.0;      // < 0: the script's, else 30
+  int Width = 640;
+  int Height = 640;
+  morphnode::OptimizerPreset Method = morphnode::OptimizerPreset::Adjusted;
+  double Threshold = 0.1;
+  double MaxError = -1.0; // < 0: 0.5 % of the face's diagonal
+  double Hysteresis = 0.0;
+  bool SeedSet = false;
+  unsigned long long Seed = 1;
+  bool Offscreen = false;
+  std::string FramesDir;
+  std::string Video;
+  std::string Pvd; // a ParaView time series: FILE.pvd + FILE/face_*.vtp
+  std::string Png;
+  std::string Compare;
+  double CompareThreshold = 10.0;
+  double At = -1.0;
+  bool Overlay = true;
+  bool Quiet = false;
+  double ExitAfter = -1.0; // interactive: close after this many seconds (smoke tests)
+  std::string Keys;        // interactive: keys pressed at the start (smoke tests)
+};
+
+/// Reads the command line; --help and usage errors exit (0 and 2).
+Options ParseOptions(int argc, char* argv[]);
+
+/// A usage error found later (e.g. an unknown viseme set): prints it and exits with 2.
+[[noreturn]] void FailUsage(const std::string& message);
+} // namespace morphavatar

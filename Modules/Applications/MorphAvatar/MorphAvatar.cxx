@@ -1,0 +1,46 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// MorphAvatar: the running system of Berner (WSCG 2004, Figure 6). An avatar speaks a
+// sentence or plays a behaviour script, with idle behaviour (blinks, saccades, head
+// micro-motion); the weight optimizer can be switched while it runs, and an overlay shows
+// the frame rate, the method, the threshold and the active targets.
+//
+// Interactive (a window, time runs in real time):
+//   MorphAvatar --say "Hello, how are you?"
+//   MorphAvatar --script Data/scripts/greeting.txt
+// Offscreen (every frame at the frame rate, to PNG frames and/or a video with sound):
+//   MorphAvatar --script Data/scripts/greeting.txt --offscreen --frames out/ --video out/greeting.ogv
+// One frame, compared with a baseline (the render regression test):
+//   MorphAvatar --script ... --at 1.5 --png frame.png --compare Testing/Baseline/TestMorphAvatar.png
+//
+// The files: AvatarOptions (the command line), Avatar (the pipeline and the scene),
+// AvatarInteractive and AvatarOffscreen (the two modes). `MorphAvatar --help` lists every
+// option; docs/avatar.md describes them.
+#include "Avatar.h"
+
+#include <cstdlib>
+#include <iostream>
+
+int main(int argc, char* argv[])
+{
+  using namespace morphavatar;
+  Avatar a;
+  a.Opt = ParseOptions(argc, argv);
+  if (!std::getenv("DISPLAY"))
+  {
+    std::cerr << "MorphAvatar: no X display (DISPLAY is not set). VTK renders through X, "
+                 "offscreen too: run under `xvfb-run -a MorphAvatar ...`.\n";
+    return 2;
+  }
+  if (!a.SetUpBehavior() || !a.SetUpFace())
+  {
+    return 1;
+  }
+  a.SetUpScene();
+  if (!a.Opt.Quiet)
+  {
+    std::cout << a.FaceFile << ": " << a.Morph->GetNumberOfTargets() << " targets; behaviour "
+              << a.Duration << " s at " << a.Fps << " fps, " << a.Behavior->GetNumberOfChannels()
+              << " channels, " << a.Behavior->GetNumberOfUtterances() << " utterance(s)\n";
+  }
+  return a.Opt.Offscreen ? RunOffscreen(a) : RunInteractive(a);
+}
