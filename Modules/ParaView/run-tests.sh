@@ -2,7 +2,8 @@
 # Configure and build the MorphNode ParaView plugin, then run its tests without a GUI:
 #   1. TestMorphNodePlugin.py       pvbatch, one process, screenshot (under xvfb-run
 #                                   when there is no X display)
-#   2. TestMorphNodeDistributed.py  pvbatch on one rank (reference), then
+#   2. TestMorphNodeProxies.py      pvbatch: every class's proxy through its properties
+#   3. TestMorphNodeDistributed.py  pvbatch on one rank (reference), then
 #                                   mpiexec -n 2 pvbatch, compared with it
 # Exits non-zero when the build or a test fails; a test whose data is missing is
 # reported as skipped (and fails under CI, i.e. when CI is set and not "false").
@@ -92,7 +93,12 @@ timeout -k 10 "$test_timeout" "${x11[@]}" pvbatch --force-offscreen-rendering \
   --png "$out/morphnode-animated-region.png"
 record TestMorphNodePlugin $?
 
-# --- 2. the face split across two MPI ranks ------------------------------------------------
+# --- 2. every class's proxy, driven through its properties --------------------------------
+say "TestMorphNodeProxies (pvbatch)"
+timeout -k 10 "$test_timeout" pvbatch "$here/Testing/TestMorphNodeProxies.py" --plugin "$plugin"
+record TestMorphNodeProxies $?
+
+# --- 3. the face split across two MPI ranks ------------------------------------------------
 say "TestMorphNodeDistributed (pvbatch, 1 rank: the reference)"
 reference="$out/distributed-one-rank.npz"
 rm -f "$reference"
