@@ -13,6 +13,7 @@
 #include <cstring>
 #include <filesystem>
 #include <mutex>
+#include <tuple>
 
 namespace morphnode
 {
@@ -31,6 +32,8 @@ struct Collector
 {
   std::vector<int16_t> Samples;
   std::vector<std::pair<std::string, int>> Events; // eSpeak name, audio position in ms
+  // Word events: character position (1-based), length in characters, audio position in ms.
+  std::vector<std::tuple<int, int, int>> Words;
 };
 
 // Not through the events' user_data: the last audio chunk may come with no event at all.
@@ -44,6 +47,10 @@ int SynthCallback(short* wav, int count, espeak_EVENT* events)
       // id.string holds up to 8 bytes, zero-terminated only when shorter.
       const size_t length = strnlen(e->id.string, sizeof(e->id.string));
       collector->Events.emplace_back(std::string(e->id.string, length), e->audio_position);
+    }
+    else if (e->type == espeakEVENT_WORD)
+    {
+      collector->Words.emplace_back(e->text_position, e->length, e->audio_position);
     }
   }
   if (collector && wav && count > 0)
@@ -102,6 +109,48 @@ void EnsureEngine(const std::string& dataPath)
 
 #endif
 
+/// eSpeak's word events as words: character positions -> UTF-8 byte ranges of the text; a
+/// word ends at the next word's start or at the next pause, whichever comes first.
+std::vector<SynthesizedWord> WordsOf(const std::string& text,
+  const std::vector<std::tuple<int, int, int>>& events, const std::vector<TimedPhoneme>& phonemes,
+  double duration)
+{
+  std::vector<size_t> characterStart; // byte offset of each character
+  for (size_t i = 0; i < text.size(); ++i)
+  {
+    if ((static_cast<unsigned char>(text[i]) & 0xC0) != 0x80)
+    {
+      characterStart.push_back(i);
+    }
+  }
+  characterStart.push_back(text.size());
+  std::vector<SynthesizedWord> words;
+  for (size_t k = 0; k < events.size(); ++k)
+  {
+    const auto [position, length, ms] = events[k];
+    SynthesizedWord w;
+    const size_t first = position > 0 ? static_cast<size_t>(position - 1) : 0;
+    const size_t last = first + static_cast<size_t>(std::max(length, 0));
+    if (first < characterStart.size() && last < characterStart.size() && last > first)
+    {
+      w.Text = text.substr(characterStart[first], characterStart[last] - characterStart[first]);
+    }
+    w.Start = ms / 1000.0;
+    double end = k + 1 < events.size() ? std::get<2>(events[k + 1]) / 1000.0 : duration;
+    for (const TimedPhoneme& p : phonemes)
+    {
+      if (IsPausePhoneme(p.Sampa) && p.Start > w.Start + 1e-9 && p.Start < end)
+      {
+        end = p.Start;
+        break;
+      }
+    }
+    w.Duration = std::max(0.0, end - w.Start);
+    words.push_back(std::move(w));
+  }
+  return words;
+}
+
 // The pitch range searched (speech F0 lies well inside).
 constexpr double MinimumPitchHz = 60.0;
 constexpr double MaximumPitchHz = 500.0;
@@ -155,9 +204,11 @@ SynthesisResult SpeechSynthesizer::Synthesize(const std::string& text) const
   }
   result.Audio = std::move(collector.Samples);
   auto& events = collector.Events;
+  const auto& words = collector.Words;
 #else
   (void)text;
   std::vector<std::pair<std::string, int>> events;
+  std::vector<std::tuple<int, int, int>> words;
   throw InputError("this MorphNode was built without eSpeak NG (MORPHNODE_ENABLE_ESPEAK=OFF): "
                    "speech synthesis is not available; use .pho, Rhubarb or timed phonemes");
 #endif
@@ -197,6 +248,7 @@ SynthesisResult SpeechSynthesizer::Synthesize(const std::string& text) const
   {
     AttachPitch(result.Phonemes, result.Audio, result.SampleRate);
   }
+  result.Words = WordsOf(text, words, result.Phonemes, result.Duration);
   return result;
 }
 

@@ -16,6 +16,14 @@
 
 namespace morphnode
 {
+/// A word of the text with the time eSpeak starts speaking it.
+struct SynthesizedWord
+{
+  std::string Text;      ///< UTF-8, as in the input text
+  double Start = 0.0;    ///< seconds
+  double Duration = 0.0; ///< until the next word or the next pause, whichever comes first
+};
+
 struct SynthesisResult
 {
   /// eSpeak's phoneme events as they came: eSpeak names, start = audio_position, each
@@ -27,6 +35,7 @@ struct SynthesisResult
   std::vector<int16_t> Audio; ///< mono, 16 bit
   int SampleRate = 22050;
   double Duration = 0.0; ///< seconds of audio
+  std::vector<SynthesizedWord> Words; ///< eSpeak's word events, in order
 };
 
 class SpeechSynthesizer
