@@ -2,9 +2,12 @@
 #include "vtkBehaviorTimeSource.h"
 
 #include "base/Error.h"
+#include "behavior/BehaviorAudio.h"
 #include "behavior/BehaviorController.h"
+#include "behavior/Frames.h"
+#include "speech/Pho.h"
+#include "speech/Rhubarb.h"
 #include "speech/Speech.h"
-#include "speech/Wav.h"
 
 #include "vtkDataObject.h"
 #include "vtkDoubleArray.h"
@@ -18,40 +21,52 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdint>
 #include <exception>
 #include <limits>
+#include <memory>
 #include <string>
 #include <vector>
+
+namespace
+{
+/// The speech settings of the commands. The controller's synthesizer and phoneme loader
+/// share them (not the source), so a copy of the controller stays safe after the source is
+/// deleted; Owner (the source, for warnings) is null then.
+struct SpeechSettings
+{
+  std::string Voice = "en";
+  int Rate = morphnode::SpeechSynthesizer::DefaultRate;
+  int VisemeSet = vtkBehaviorTimeSource::PAPER6;
+  std::string VisemeTable;
+  vtkBehaviorTimeSource* Owner = nullptr;
+
+  morphnode::SpeechOptions Options() const
+  {
+    morphnode::SpeechOptions options;
+    options.Voice = this->Voice;
+    options.Rate = this->Rate;
+    options.Visemes = static_cast<morphnode::VisemeSet>(this->VisemeSet);
+    options.VisemeTablePath = this->VisemeTable;
+    // Problems that are no errors (unknown phonemes) become VTK warnings.
+    vtkBehaviorTimeSource* owner = this->Owner;
+    options.Warn = [owner](const std::string& message) {
+      if (owner)
+      {
+        vtkWarningWithObjectMacro(owner, << message);
+      }
+    };
+    return options;
+  }
+};
+} // namespace
 
 struct vtkBehaviorTimeSource::vtkInternals
 {
   morphnode::BehaviorController Controller;
-  std::string Voice = "en";
-  int SpeechRate = morphnode::SpeechSynthesizer::DefaultRate;
-  int VisemeSet = vtkBehaviorTimeSource::PAPER6;
+  std::shared_ptr<SpeechSettings> Speech = std::make_shared<SpeechSettings>();
 
   /// The track of port 1, built once per preparation (null when stale).
   vtkSmartPointer<vtkTable> Track;
-
-  morphnode::SpeechOptions Options(vtkBehaviorTimeSource* self) const
-  {
-    morphnode::SpeechOptions options;
-    options.Voice = this->Voice;
-    options.Rate = this->SpeechRate;
-    options.Visemes = static_cast<morphnode::VisemeSet>(this->VisemeSet);
-    // Problems that are no errors (unknown phonemes) become VTK warnings.
-    options.Warn = [self](const std::string& message) { vtkWarningWithObjectMacro(self, << message); };
-    return options;
-  }
-
-  /// Frames 0 .. floor(duration * fps), as morphnode::BehaviorController::GenerateTrack.
-  size_t NumberOfFrames() const
-  {
-    return static_cast<size_t>(std::floor(
-             this->Controller.GetEffectiveDuration() * this->Controller.GetFrameRate() + 1e-9)) +
-      1;
-  }
 };
 
 vtkStandardNewMacro(vtkBehaviorTimeSource);
@@ -104,21 +119,26 @@ vtkBehaviorTimeSource::vtkBehaviorTimeSource()
 {
   this->SetNumberOfInputPorts(0);
   this->SetNumberOfOutputPorts(2);
-  // The synthesizer and the phoneme loader read the speech settings when called, so they
-  // always use the current voice, rate and viseme set.
+  // The synthesizer and the phoneme loader (of Say, SpeakPhonemeFile and the scripts) read
+  // the speech settings when called, so they always use the current voice, rate and table.
+  auto& speech = this->Internals->Speech;
+  speech->Owner = this;
   this->Internals->Controller.SetSynthesizer(
-    [this](const std::string& text) { return morphnode::SpeakText(text, this->Internals->Options(this)); });
-  this->Internals->Controller.SetPhonemeFileLoader([this](const std::string& path) {
-    return morphnode::LoadPhoUtterance(path, this->Internals->Options(this));
-  });
+    [speech](const std::string& text) { return morphnode::SpeakText(text, speech->Options()); });
+  this->Internals->Controller.SetPhonemeFileLoader(
+    [speech](const std::string& path) { return morphnode::LoadPhoUtterance(path, speech->Options()); });
 }
 
 //------------------------------------------------------------------------------
-vtkBehaviorTimeSource::~vtkBehaviorTimeSource() = default;
+vtkBehaviorTimeSource::~vtkBehaviorTimeSource()
+{
+  this->Internals->Speech->Owner = nullptr;
+}
 
 //------------------------------------------------------------------------------
-morphnode::BehaviorController& vtkBehaviorTimeSource::GetController()
+const morphnode::BehaviorController& vtkBehaviorTimeSource::GetController()
 {
+  this->EnsurePrepared();
   return this->Internals->Controller;
 }
 
@@ -216,16 +236,16 @@ void vtkBehaviorTimeSource::SetVoice(const char* voice)
     vtkErrorMacro(<< "SetVoice: an eSpeak voice name is needed, e.g. \"en\" or \"de\"");
     return;
   }
-  if (v != this->Internals->Voice)
+  if (v != this->Internals->Speech->Voice)
   {
-    this->Internals->Voice = v;
+    this->Internals->Speech->Voice = v;
     this->Modified();
   }
 }
 
 const char* vtkBehaviorTimeSource::GetVoice()
 {
-  return this->Internals->Voice.c_str();
+  return this->Internals->Speech->Voice.c_str();
 }
 
 //------------------------------------------------------------------------------
@@ -233,16 +253,16 @@ void vtkBehaviorTimeSource::SetSpeechRate(int wordsPerMinute)
 {
   const int rate = std::min(std::max(wordsPerMinute, morphnode::SpeechSynthesizer::MinimumRate),
     morphnode::SpeechSynthesizer::MaximumRate);
-  if (rate != this->Internals->SpeechRate)
+  if (rate != this->Internals->Speech->Rate)
   {
-    this->Internals->SpeechRate = rate;
+    this->Internals->Speech->Rate = rate;
     this->Modified();
   }
 }
 
 int vtkBehaviorTimeSource::GetSpeechRate()
 {
-  return this->Internals->SpeechRate;
+  return this->Internals->Speech->Rate;
 }
 
 //------------------------------------------------------------------------------
@@ -253,16 +273,16 @@ void vtkBehaviorTimeSource::SetVisemeSet(int set)
     vtkErrorMacro(<< "SetVisemeSet: " << set << " is no viseme set (OCULUS15 = 0, GERMAN16 = 1, PAPER6 = 2)");
     return;
   }
-  if (set != this->Internals->VisemeSet)
+  if (set != this->Internals->Speech->VisemeSet)
   {
-    this->Internals->VisemeSet = set;
+    this->Internals->Speech->VisemeSet = set;
     this->Modified();
   }
 }
 
 int vtkBehaviorTimeSource::GetVisemeSet()
 {
-  return this->Internals->VisemeSet;
+  return this->Internals->Speech->VisemeSet;
 }
 
 bool vtkBehaviorTimeSource::SetVisemeSetFromString(const char* name)
@@ -280,7 +300,101 @@ bool vtkBehaviorTimeSource::SetVisemeSetFromString(const char* name)
 
 const char* vtkBehaviorTimeSource::GetVisemeSetAsString()
 {
-  return morphnode::VisemeSetName(static_cast<morphnode::VisemeSet>(this->Internals->VisemeSet));
+  return morphnode::VisemeSetName(static_cast<morphnode::VisemeSet>(this->Internals->Speech->VisemeSet));
+}
+
+//------------------------------------------------------------------------------
+bool vtkBehaviorTimeSource::SetVisemeTableFileName(const char* path)
+{
+  const std::string p = Str(path);
+  if (p == this->Internals->Speech->VisemeTable)
+  {
+    return true;
+  }
+  std::string message;
+  if (!p.empty() && !Guarded(this, [&]() { morphnode::VisemeMap::Load(p); }, message))
+  {
+    vtkErrorMacro(<< "SetVisemeTableFileName: " << message);
+    return false;
+  }
+  this->Internals->Speech->VisemeTable = p;
+  this->Modified();
+  return true;
+}
+
+const char* vtkBehaviorTimeSource::GetVisemeTableFileName()
+{
+  return this->Internals->Speech->VisemeTable.c_str();
+}
+
+//------------------------------------------------------------------------------
+int vtkBehaviorTimeSource::GetNumberOfBehaviorParameters()
+{
+  return static_cast<int>(morphnode::BehaviorParameterNames().size());
+}
+
+const char* vtkBehaviorTimeSource::GetBehaviorParameterName(int index)
+{
+  const auto& names = morphnode::BehaviorParameterNames();
+  if (index < 0 || index >= static_cast<int>(names.size()))
+  {
+    vtkErrorMacro(<< "GetBehaviorParameterName: no parameter " << index << " (there are "
+                  << names.size() << ")");
+    return nullptr;
+  }
+  return names[static_cast<size_t>(index)].c_str();
+}
+
+bool vtkBehaviorTimeSource::SetBehaviorParameter(const char* name, double value)
+{
+  morphnode::BehaviorParameters parameters = this->Internals->Controller.GetParameters();
+  std::string message;
+  if (!Guarded(this, [&]() { morphnode::SetBehaviorParameter(parameters, Str(name), value); }, message))
+  {
+    vtkErrorMacro(<< "SetBehaviorParameter: " << message);
+    return false;
+  }
+  return this->SetBehaviorParameters(parameters);
+}
+
+double vtkBehaviorTimeSource::GetBehaviorParameter(const char* name)
+{
+  double value = std::numeric_limits<double>::quiet_NaN();
+  std::string message;
+  if (!Guarded(this,
+        [&]() { value = morphnode::GetBehaviorParameter(this->Internals->Controller.GetParameters(), Str(name)); },
+        message))
+  {
+    vtkErrorMacro(<< "GetBehaviorParameter: " << message);
+  }
+  return value;
+}
+
+bool vtkBehaviorTimeSource::SetBehaviorParameters(const morphnode::BehaviorParameters& parameters)
+{
+  const auto& current = this->Internals->Controller.GetParameters();
+  bool same = true;
+  for (const auto& name : morphnode::BehaviorParameterNames())
+  {
+    // Compared bit for bit as the setters compare (NaN is rejected by the range checks).
+    same = same &&
+      morphnode::GetBehaviorParameter(current, name) == morphnode::GetBehaviorParameter(parameters, name);
+  }
+  if (same)
+  {
+    return true;
+  }
+  MORPHNODE_COMMAND("SetBehaviorParameters", this->Internals->Controller.SetParameters(parameters));
+}
+
+const morphnode::BehaviorParameters& vtkBehaviorTimeSource::GetBehaviorParameters()
+{
+  return this->Internals->Controller.GetParameters();
+}
+
+void vtkBehaviorTimeSource::ResetBehaviorParameters()
+{
+  this->SetBehaviorParameters(morphnode::BehaviorParameters());
 }
 
 //------------------------------------------------------------------------------
@@ -292,6 +406,35 @@ bool vtkBehaviorTimeSource::Say(const char* text, double start)
 bool vtkBehaviorTimeSource::SpeakPhonemeFile(const char* path, double start)
 {
   MORPHNODE_COMMAND("SpeakPhonemeFile", this->Internals->Controller.SpeakPhonemeFile(Str(path), start));
+}
+
+bool vtkBehaviorTimeSource::SpeakPhonemes(const char* pho, double start)
+{
+  MORPHNODE_COMMAND("SpeakPhonemes",
+    this->Internals->Controller.Speak(
+      morphnode::UtteranceFromPhonemes(morphnode::ParsePho(Str(pho)), this->Internals->Speech->Options()),
+      start));
+}
+
+bool vtkBehaviorTimeSource::SpeakRhubarbFile(const char* path, double start)
+{
+  MORPHNODE_COMMAND("SpeakRhubarbFile",
+    this->Internals->Controller.Speak(
+      morphnode::UtteranceFromMouthCues(morphnode::ReadRhubarbFile(Str(path)), this->Internals->Speech->Options()),
+      start));
+}
+
+bool vtkBehaviorTimeSource::SpeakRhubarbCues(const char* cues, double start)
+{
+  MORPHNODE_COMMAND("SpeakRhubarbCues",
+    this->Internals->Controller.Speak(
+      morphnode::UtteranceFromMouthCues(morphnode::ParseRhubarb(Str(cues)), this->Internals->Speech->Options()),
+      start));
+}
+
+bool vtkBehaviorTimeSource::Speak(const morphnode::Utterance& utterance, double start)
+{
+  MORPHNODE_COMMAND("Speak", this->Internals->Controller.Speak(utterance, start));
 }
 
 bool vtkBehaviorTimeSource::Gesture(const char* name, double start, double duration, double intensity)
@@ -366,9 +509,58 @@ int vtkBehaviorTimeSource::GetChannelIndex(const char* name)
   return this->EnsurePrepared() ? this->Internals->Controller.FindChannel(Str(name)) : -1;
 }
 
+vtkIdType vtkBehaviorTimeSource::GetNumberOfFrames()
+{
+  if (!this->EnsurePrepared())
+  {
+    return 0;
+  }
+  return static_cast<vtkIdType>(this->Internals->Controller.GetNumberOfFrames());
+}
+
+double vtkBehaviorTimeSource::GetFrameTime(vtkIdType frame)
+{
+  const vtkIdType frames = this->GetNumberOfFrames();
+  if (frame < 0 || frame >= frames)
+  {
+    vtkErrorMacro(<< "GetFrameTime: no frame " << frame << " (there are " << frames << ")");
+    return -1.0;
+  }
+  return this->Internals->Controller.GetFrameTime(static_cast<size_t>(frame));
+}
+
+vtkIdType vtkBehaviorTimeSource::GetMaximumNumberOfTimeSteps()
+{
+  return vtkIdType(1) << 22;
+}
+
 int vtkBehaviorTimeSource::GetNumberOfUtterances()
 {
   return static_cast<int>(this->Internals->Controller.GetUtterances().size());
+}
+
+double vtkBehaviorTimeSource::GetUtteranceStart(int index)
+{
+  const auto& utterances = this->Internals->Controller.GetUtterances();
+  if (index < 0 || index >= static_cast<int>(utterances.size()))
+  {
+    vtkErrorMacro(<< "GetUtteranceStart: no utterance " << index << " (there are "
+                  << utterances.size() << ")");
+    return -1.0;
+  }
+  return utterances[static_cast<size_t>(index)].Start;
+}
+
+double vtkBehaviorTimeSource::GetUtteranceEnd(int index)
+{
+  const auto& utterances = this->Internals->Controller.GetUtterances();
+  if (index < 0 || index >= static_cast<int>(utterances.size()))
+  {
+    vtkErrorMacro(<< "GetUtteranceEnd: no utterance " << index << " (there are "
+                  << utterances.size() << ")");
+    return -1.0;
+  }
+  return utterances[static_cast<size_t>(index)].End;
 }
 
 bool vtkBehaviorTimeSource::HasAudio()
@@ -390,57 +582,8 @@ bool vtkBehaviorTimeSource::WriteAudio(const char* path)
   {
     return false;
   }
-  const auto& utterances = this->Internals->Controller.GetUtterances();
-  int rate = 0;
-  double end = this->Internals->Controller.GetEffectiveDuration();
-  for (const auto& u : utterances)
-  {
-    if (!u.Speech.Audio.empty() && u.Speech.SampleRate > 0)
-    {
-      rate = std::max(rate, u.Speech.SampleRate);
-      end = std::max(end, u.Start + static_cast<double>(u.Speech.Audio.size()) / u.Speech.SampleRate);
-    }
-  }
-  if (rate == 0)
-  {
-    rate = 22050; // eSpeak NG's rate
-  }
-  if (!(end * rate < static_cast<double>(std::numeric_limits<int32_t>::max())))
-  {
-    vtkErrorMacro(<< "WriteAudio: " << end << " s of audio is too long for a WAV file");
-    return false;
-  }
-  const size_t n = static_cast<size_t>(std::ceil(end * rate - 1e-9));
-  std::vector<int32_t> mix(n, 0);
-  for (const auto& u : utterances)
-  {
-    const auto& audio = u.Speech.Audio;
-    if (audio.empty() || u.Speech.SampleRate <= 0)
-    {
-      continue;
-    }
-    // Sample i of the output is at time i / rate; resample (nearest) if the rates differ.
-    const double ratio = static_cast<double>(u.Speech.SampleRate) / rate;
-    const double first = std::round(u.Start * rate);
-    const size_t count = static_cast<size_t>(std::floor(audio.size() / ratio));
-    for (size_t j = 0; j < count; ++j)
-    {
-      const double i = first + static_cast<double>(j);
-      if (i < 0 || i >= static_cast<double>(n))
-      {
-        continue;
-      }
-      const size_t source = std::min(audio.size() - 1, static_cast<size_t>(std::lround(j * ratio)));
-      mix[static_cast<size_t>(i)] += audio[source];
-    }
-  }
-  std::vector<int16_t> samples(n);
-  for (size_t i = 0; i < n; ++i)
-  {
-    samples[i] = static_cast<int16_t>(std::min(32767, std::max(-32768, mix[i])));
-  }
   std::string message;
-  if (!Guarded(this, [&]() { morphnode::WriteWavFile(Str(path), samples, rate); }, message))
+  if (!Guarded(this, [&]() { morphnode::WriteBehaviorAudio(Str(path), this->Internals->Controller); }, message))
   {
     vtkErrorMacro(<< "WriteAudio: " << message);
     return false;
@@ -460,13 +603,16 @@ int vtkBehaviorTimeSource::RequestInformation(
     return 0;
   }
   const auto& controller = this->Internals->Controller;
-  const size_t frames = this->Internals->NumberOfFrames();
-  std::vector<double> steps(frames);
-  for (size_t f = 0; f < frames; ++f)
+  const size_t frames = controller.GetNumberOfFrames();
+  if (frames <= static_cast<size_t>(GetMaximumNumberOfTimeSteps()))
   {
-    steps[f] = static_cast<double>(f) / controller.GetFrameRate();
+    std::vector<double> steps(frames);
+    for (size_t f = 0; f < frames; ++f)
+    {
+      steps[f] = controller.GetFrameTime(f);
+    }
+    outInfo->Set(vtkStreamingDemandDrivenPipeline::TIME_STEPS(), steps.data(), static_cast<int>(frames));
   }
-  outInfo->Set(vtkStreamingDemandDrivenPipeline::TIME_STEPS(), steps.data(), static_cast<int>(frames));
   double range[2] = { 0.0, controller.GetEffectiveDuration() };
   outInfo->Set(vtkStreamingDemandDrivenPipeline::TIME_RANGE(), range, 2);
   return 1;
@@ -479,25 +625,36 @@ int vtkBehaviorTimeSource::RequestData(
   vtkInformation* frameInfo = outputVector->GetInformationObject(0);
   vtkTable* frame = vtkTable::GetData(outputVector, 0);
   vtkTable* track = vtkTable::GetData(outputVector, 1);
-  if (!frame || !track || !this->EnsurePrepared())
+  if (!frame || !track)
+  {
+    vtkErrorMacro(<< "the outputs are not vtkTables");
+    return 0;
+  }
+  frame->Initialize();
+  const bool trackWanted =
+    !outputVector->GetInformationObject(1)->Get(vtkDemandDrivenPipeline::DATA_NOT_GENERATED());
+  if (trackWanted)
+  {
+    track->Initialize();
+  }
+  if (!this->EnsurePrepared())
   {
     return 0;
   }
   const auto& controller = this->Internals->Controller;
   const auto& names = controller.GetChannelNames();
-  std::vector<double> row(names.size());
 
   // Port 0: the behaviour at the requested time.
   const double t = frameInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP())
     ? frameInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP())
     : 0.0;
+  std::vector<double> row(names.size());
   std::string message;
   if (!Guarded(this, [&]() { controller.Sample(t, row.data()); }, message))
   {
     vtkErrorMacro(<< "cannot sample the behaviour at t = " << t << ": " << message);
     return 0;
   }
-  frame->Initialize();
   for (size_t c = 0; c < names.size(); ++c)
   {
     vtkNew<vtkDoubleArray> column;
@@ -508,41 +665,47 @@ int vtkBehaviorTimeSource::RequestData(
   }
   frame->GetInformation()->Set(vtkDataObject::DATA_TIME_STEP(), t);
 
-  // Port 1: the whole track, built once per preparation, when asked for.
-  if (outputVector->GetInformationObject(1)->Get(vtkDemandDrivenPipeline::DATA_NOT_GENERATED()))
+  // Port 1: the whole track (the core samples it), built once per preparation, when asked for.
+  if (!trackWanted)
   {
+    this->UpdateProgress(1.0);
     return 1;
   }
+  this->UpdateProgress(0.1);
   if (!this->Internals->Track)
   {
-    const size_t frames = this->Internals->NumberOfFrames();
+    morphnode::WeightTrack sampled;
+    if (!Guarded(this, [&]() { sampled = controller.SampleTrack(); }, message))
+    {
+      vtkErrorMacro(<< "cannot build the track: " << message);
+      frame->Initialize();
+      return 0;
+    }
+    const vtkIdType frames = static_cast<vtkIdType>(sampled.GetNumberOfFrames());
     vtkNew<vtkTable> table;
-    std::vector<vtkDoubleArray*> columns;
     vtkNew<vtkDoubleArray> time;
     time->SetName("Time");
-    time->SetNumberOfValues(static_cast<vtkIdType>(frames));
+    time->SetNumberOfValues(frames);
+    for (vtkIdType f = 0; f < frames; ++f)
+    {
+      time->SetValue(f, sampled.GetTime(static_cast<size_t>(f)));
+    }
     table->AddColumn(time);
-    for (const auto& name : names)
+    for (size_t c = 0; c < names.size(); ++c)
     {
       vtkNew<vtkDoubleArray> column;
-      column->SetName(name.c_str());
-      column->SetNumberOfValues(static_cast<vtkIdType>(frames));
-      table->AddColumn(column);
-      columns.push_back(column);
-    }
-    for (size_t f = 0; f < frames; ++f)
-    {
-      const double tf = static_cast<double>(f) / controller.GetFrameRate();
-      controller.Sample(tf, row.data());
-      time->SetValue(static_cast<vtkIdType>(f), tf);
-      for (size_t c = 0; c < names.size(); ++c)
+      column->SetName(names[c].c_str());
+      column->SetNumberOfValues(frames);
+      for (vtkIdType f = 0; f < frames; ++f)
       {
-        columns[c]->SetValue(static_cast<vtkIdType>(f), row[c]);
+        column->SetValue(f, sampled.GetValue(static_cast<size_t>(f), c));
       }
+      table->AddColumn(column);
     }
     this->Internals->Track = table;
   }
   track->ShallowCopy(this->Internals->Track);
+  this->UpdateProgress(1.0);
   return 1;
 }
 
@@ -554,14 +717,36 @@ void vtkBehaviorTimeSource::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Seed: " << controller.GetSeed() << "\n";
   os << indent << "FrameRate: " << controller.GetFrameRate() << "\n";
   os << indent << "Duration: " << controller.GetDuration() << "\n";
-  os << indent << "Voice: " << this->Internals->Voice << "\n";
-  os << indent << "SpeechRate: " << this->Internals->SpeechRate << "\n";
+  os << indent << "Voice: " << this->Internals->Speech->Voice << "\n";
+  os << indent << "SpeechRate: " << this->Internals->Speech->Rate << "\n";
   os << indent << "VisemeSet: " << this->GetVisemeSetAsString() << "\n";
+  os << indent << "VisemeTableFileName: "
+     << (this->Internals->Speech->VisemeTable.empty() ? "(none)" : this->Internals->Speech->VisemeTable)
+     << "\n";
+  os << indent << "BehaviorParameters:";
+  const morphnode::BehaviorParameters defaults;
+  int changed = 0;
+  for (const auto& name : morphnode::BehaviorParameterNames())
+  {
+    const double value = morphnode::GetBehaviorParameter(controller.GetParameters(), name);
+    if (value != morphnode::GetBehaviorParameter(defaults, name))
+    {
+      os << " " << name << "=" << value;
+      ++changed;
+    }
+  }
+  os << (changed ? "\n" : " (defaults)\n");
   os << indent << "Utterances: " << controller.GetUtterances().size() << "\n";
+  for (const auto& u : controller.GetUtterances())
+  {
+    os << indent.GetNextIndent() << "[" << u.Start << ", " << u.End << "] s"
+       << (u.Speech.Audio.empty() ? "" : ", with audio") << "\n";
+  }
   os << indent << "Gestures: " << controller.GetGestures().size() << "\n";
   if (controller.IsPrepared())
   {
     os << indent << "EffectiveDuration: " << controller.GetEffectiveDuration() << "\n";
+    os << indent << "NumberOfFrames: " << controller.GetNumberOfFrames() << "\n";
     os << indent << "Channels:";
     for (const auto& name : controller.GetChannelNames())
     {

@@ -5,9 +5,9 @@
  *          idle behaviour, Berner WSCG 2004 section 3) for vtkMorphNodeFilter
  *
  * A thin adapter over morphnode::BehaviorController (docs/behavior.md): configure it
- * (seed, frame rate, duration, voice, viseme set), add commands (Say, Gesture, SetMood,
- * LookAt, SpeakPhonemeFile) or a script (LoadScript), and connect output port 0 to the
- * weights port of a vtkMorphNodeFilter:
+ * (seed, frame rate, duration, voice, viseme set, behaviour parameters), add commands (Say,
+ * SpeakPhonemeFile, SpeakRhubarbFile, Gesture, SetMood, LookAt) or a script (LoadScript),
+ * and connect output port 0 to the weights port of a vtkMorphNodeFilter:
  *
  * @code
  * vtkNew<vtkBehaviorTimeSource> behavior;
@@ -22,13 +22,17 @@
  * Outputs (no inputs):
  * - port 0: a one-row vtkTable, one vtkDoubleArray column per channel (GetChannelName),
  *   the behaviour at the requested UPDATE_TIME_STEP (0 when none is requested); the
- *   table's DATA_TIME_STEP is that time. The information advertises TIME_STEPS (frames
- *   i / FrameRate, i = 0 .. floor(EffectiveDuration * FrameRate)) and
- *   TIME_RANGE = [0, EffectiveDuration]; any time may be requested, between steps too.
+ *   table's DATA_TIME_STEP is that time. The information advertises TIME_STEPS (the
+ *   frames GetFrameTime(i) = i / FrameRate, i = 0 .. floor(EffectiveDuration * FrameRate),
+ *   morphnode::NumberOfFrames; left out beyond GetMaximumNumberOfTimeSteps() frames: the
+ *   time is continuous) and TIME_RANGE = [0, EffectiveDuration]; any time may be
+ *   requested, between steps too.
  * - port 1: the whole track, one row per frame (the same frames as the time steps), a
  *   `Time` column first, then the channels: for plots and CSV (vtkDelimitedTextWriter).
  *   Built only when port 1 itself is updated (a request on port 0 leaves it alone), once
- *   per change of the behaviour.
+ *   per change of the behaviour (morphnode::BehaviorController::SampleTrack). A track of
+ *   more than morphnode::MaxTrackValues values is an error: RequestData returns 0 and both
+ *   outputs are empty.
  *
  * Channels: EyesClosed, BrowsUp, BrowsFright, BrowsAngry, MouthSmile, MouthSad, LookUp,
  * LookDown, LookLeft, LookRight, HeadYaw, HeadPitch, HeadRoll (degrees), EyeYaw, EyePitch
@@ -36,15 +40,24 @@
  * morph target (head pose, gaze angles, `sil`) are ignored by vtkMorphNodeFilter.
  *
  * Speech: Say() synthesizes at once with eSpeak NG (morphnode::SpeakText) using the
- * current Voice, SpeechRate and VisemeSet; changing those later affects later Say()
- * calls only. The default viseme set is the paper's (PAPER6: A E O S F L and sil), whose
- * names match the default face's targets. WriteAudio() writes the scheduled utterances'
- * audio on the track's time axis, so the WAV and the track line up.
+ * current Voice, SpeechRate and VisemeSet (or VisemeTableFileName); changing those later
+ * affects later commands only. Lip sync made elsewhere comes in without audio: MBROLA
+ * `.pho` phonemes (SpeakPhonemeFile, SpeakPhonemes) through the same viseme table, and
+ * Rhubarb Lip Sync mouth cues (SpeakRhubarbFile, SpeakRhubarbCues; TSV or JSON) through
+ * the table's shape entries. The default viseme set is the paper's (PAPER6: A E O S F L
+ * and sil), whose names match the default face's targets. WriteAudio() writes the
+ * scheduled utterances' audio on the track's time axis (morphnode::WriteBehaviorAudio),
+ * so the WAV and the track line up.
  *
  * Every setter modifies the source only on a real change; every successful command
- * modifies it. Bad values, unknown names, eSpeak failures and malformed scripts are
- * reported with vtkErrorMacro and the command returns false, leaving the source as it
- * was. Setters that reject a value report an error and keep the previous value.
+ * modifies it. Bad values, unknown names, unreadable or malformed files, eSpeak failures
+ * and malformed scripts are reported with vtkErrorMacro and the command returns false,
+ * leaving the source as it was. Setters that reject a value report an error and keep the
+ * previous value.
+ *
+ * C++ code may read the core controller (GetController(), const) and schedule a
+ * morphnode::Utterance it built itself (Speak); every change goes through this class, so
+ * the modification time is always right.
  *
  * @sa vtkMorphNodeFilter morphnode::BehaviorController morphnode::SpeakText
  */
@@ -61,6 +74,8 @@
 namespace morphnode
 {
 class BehaviorController;
+struct BehaviorParameters;
+struct Utterance;
 }
 #endif
 
@@ -125,7 +140,7 @@ public:
 
   ///@{
   /**
-   * Viseme set of Say() and SpeakPhonemeFile(); default PAPER6, the paper's A E O S F L.
+   * Viseme set of the speech commands; default PAPER6, the paper's A E O S F L.
    * The string form takes "paper6", "oculus15", "german16" (case-insensitive) and
    * reports an error for others.
    */
@@ -140,16 +155,51 @@ public:
 
   ///@{
   /**
+   * A viseme table file (docs/speech.md, e.g. one of Data/speech/visemes_*.json adapted to
+   * a face) used by the speech commands instead of the built-in table of VisemeSet;
+   * nullptr or "" (default) = the built-in one. The file is checked when set: one that
+   * cannot be read is an error, returns false and keeps the previous table.
+   */
+  bool SetVisemeTableFileName(const char* path);
+  const char* GetVisemeTableFileName();
+  ///@}
+
+  ///@{
+  /**
+   * The figures of the idle behaviour, gestures and gaze (morphnode::BehaviorParameters,
+   * docs/behavior.md) by name, e.g. "BlinkRateRest" (blinks per minute), "HeadShareOfGaze".
+   * Names are matched as gestures are (case, '_' and '-' do not matter). An unknown name
+   * or a value out of the parameter's range is an error: Set returns false and changes
+   * nothing, Get returns NaN.
+   */
+  int GetNumberOfBehaviorParameters();
+  const char* GetBehaviorParameterName(int index);
+  bool SetBehaviorParameter(const char* name, double value);
+  double GetBehaviorParameter(const char* name);
+  /// Back to the published and chosen defaults.
+  void ResetBehaviorParameters();
+  ///@}
+
+  ///@{
+  /**
    * Commands; times in seconds, angles in degrees (yaw > 0 to the face's left, pitch > 0
    * up). Each returns false and reports an error for bad input, leaving the source
-   * unchanged. A start below 0 for Say and SpeakPhonemeFile queues after the previous
-   * utterance. Gesture: smile, sad, raise_brows, frown, fright, close_eyes, blink, nod,
-   * shake, tilt; duration <= 0 takes the gesture's default; intensity in [0, 1]. Mood:
-   * neutral, happy, sad, angry, afraid, surprised; fade < 0 takes the default (0.8 s).
-   * LookAt: back to the front after `duration`, held until the next look when <= 0.
+   * unchanged. A start below 0 for the speech commands queues after the previous
+   * utterance. Say: text through eSpeak NG, with audio. SpeakPhonemeFile / SpeakPhonemes:
+   * an MBROLA .pho file / .pho text (SAMPA phonemes with durations), no audio.
+   * SpeakRhubarbFile / SpeakRhubarbCues: Rhubarb Lip Sync's mouth cues as a file / text,
+   * TSV (`start<TAB>shape` lines) or JSON (`{"mouthCues": [...]}`), told apart by the first
+   * character; no audio (play the recording Rhubarb analysed alongside). Gesture: smile,
+   * sad, raise_brows, frown, fright, close_eyes, blink, nod, shake, tilt; duration <= 0
+   * takes the gesture's default; intensity in [0, 1]. Mood: neutral, happy, sad, angry,
+   * afraid, surprised; fade < 0 takes the default (0.8 s). LookAt: back to the front after
+   * `duration`, held until the next look when <= 0.
    */
   bool Say(const char* text, double start = -1.0);
   bool SpeakPhonemeFile(const char* path, double start = -1.0);
+  bool SpeakPhonemes(const char* pho, double start = -1.0);
+  bool SpeakRhubarbFile(const char* path, double start = -1.0);
+  bool SpeakRhubarbCues(const char* cues, double start = -1.0);
   bool Gesture(const char* name, double start, double duration = 0.0, double intensity = 1.0);
   bool SetMood(const char* name, double intensity, double start = 0.0, double fade = -1.0);
   bool LookAt(double yaw, double pitch, double start, double duration = 0.0);
@@ -177,9 +227,31 @@ public:
   int GetChannelIndex(const char* name);
   ///@}
 
-  /// Number of scheduled utterances.
+  ///@{
+  /**
+   * The frames of the track (port 1) and of TIME_STEPS: GetNumberOfFrames() frames at
+   * GetFrameTime(i) = i / FrameRate, i = 0 .. floor(EffectiveDuration * FrameRate). Use
+   * them to render every frame. GetFrameTime is -1 (and an error) outside the frames.
+   */
+  vtkIdType GetNumberOfFrames();
+  double GetFrameTime(vtkIdType frame);
+  ///@}
+
+  /// TIME_STEPS are advertised up to this many frames: 4194304 (24 h at 48 fps).
+  static vtkIdType GetMaximumNumberOfTimeSteps();
+
+  ///@{
+  /**
+   * The scheduled utterances in the order they were added: their start and end in seconds
+   * (the end of the longer of the sound and the visemes), e.g. to place a gesture after a
+   * Say() queued with start -1. -1 (and an error) for an index out of range.
+   */
   int GetNumberOfUtterances();
-  /// True when at least one scheduled utterance carries audio (Say does, .pho files not).
+  double GetUtteranceStart(int index);
+  double GetUtteranceEnd(int index);
+  ///@}
+  /// True when at least one scheduled utterance carries audio (Say does, .pho files and
+  /// Rhubarb cues not).
   bool HasAudio();
 
   /**
@@ -191,10 +263,22 @@ public:
 
 #ifndef __VTK_WRAP__
   /**
-   * The core controller (for C++ code that samples it directly or inspects schedules).
-   * Changing it through this reference bypasses Modified(): call Modified() afterwards.
+   * The core controller, read-only (for C++ code that samples it directly or inspects the
+   * schedules), prepared unless preparing failed (then with an error). Changes go through
+   * the methods of this class, which keep the modification time right. A copy keeps this
+   * source's speech settings for its own Say() calls, also after the source is deleted.
    */
-  morphnode::BehaviorController& GetController();
+  const morphnode::BehaviorController& GetController();
+
+  /// Schedules an utterance built by C++ code (morphnode::Utterance, e.g. from
+  /// morphnode::BuildUtterance with audio of its own); as the other speech commands.
+  bool Speak(const morphnode::Utterance& utterance, double start = -1.0);
+
+  ///@{
+  /// All behaviour parameters at once; false and an error for a value out of range.
+  bool SetBehaviorParameters(const morphnode::BehaviorParameters& parameters);
+  const morphnode::BehaviorParameters& GetBehaviorParameters();
+  ///@}
 #endif
 
 protected:

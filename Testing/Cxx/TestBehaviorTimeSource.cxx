@@ -7,15 +7,20 @@
 
 #include "MorphNodeTestUtilities.h"
 
+#include "behavior/BehaviorAudio.h"
 #include "behavior/BehaviorController.h"
+#include "speech/Pho.h"
+#include "speech/Rhubarb.h"
 #include "speech/Speech.h"
 
 #include "vtkCallbackCommand.h"
 #include "vtkDelimitedTextWriter.h"
 #include "vtkDoubleArray.h"
+#include "vtkExecutive.h"
 #include "vtkInformation.h"
 #include "vtkPointSet.h"
 #include "vtkPoints.h"
+#include "vtkSmartPointer.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkTable.h"
 
@@ -37,6 +42,7 @@ namespace
 const std::string SourceDir = MORPHNODE_SOURCE_DIR;
 const std::string OutputDir = MORPHNODE_TEST_OUTPUT_DIR;
 const std::string DefaultFace = SourceDir + "/Data/DefaultFace/default_face.glb";
+const std::string Corpus = SourceDir + "/Testing/Fuzz/corpus/";
 
 /// The same commands on the VTK source and on a core controller.
 template <typename Behavior>
@@ -106,6 +112,51 @@ struct Wav
   int SampleRate = 0;
   std::vector<int16_t> Samples;
 };
+
+/// The options of the source's speech commands with its default settings.
+morphnode::SpeechOptions PaperOptions()
+{
+  morphnode::SpeechOptions options;
+  options.Voice = "en";
+  options.Visemes = morphnode::VisemeSet::Paper6;
+  return options;
+}
+
+/// Port 1 of the source equals the core controller's SampleTrack(), bit for bit.
+void ExpectTrackEqualsCore(vtkBehaviorTimeSource* source, morphnode::BehaviorController& core)
+{
+  core.Prepare();
+  const morphnode::WeightTrack expected = core.SampleTrack();
+  vtkTable* track = Track(source);
+  ASSERT_EQ(track->GetNumberOfRows(), static_cast<vtkIdType>(expected.GetNumberOfFrames()));
+  ASSERT_EQ(track->GetNumberOfColumns(), static_cast<vtkIdType>(expected.GetNumberOfChannels() + 1));
+  for (size_t c = 0; c < expected.GetNumberOfChannels(); ++c)
+  {
+    auto* column = vtkDoubleArray::SafeDownCast(track->GetColumn(static_cast<vtkIdType>(c + 1)));
+    ASSERT_NE(column, nullptr);
+    ASSERT_EQ(std::string(column->GetName()), expected.GetChannels()[c]);
+    for (size_t f = 0; f < expected.GetNumberOfFrames(); ++f)
+    {
+      ASSERT_EQ(column->GetValue(static_cast<vtkIdType>(f)), expected.GetValue(f, c))
+        << expected.GetChannels()[c] << " at frame " << f;
+    }
+  }
+}
+
+/// The largest value of a column of the track over [from, to] seconds.
+double Peak(vtkTable* track, const char* column, double from = 0.0, double to = 1e9)
+{
+  double peak = 0.0;
+  for (vtkIdType r = 0; r < track->GetNumberOfRows(); ++r)
+  {
+    const double t = Value(track, "Time", r);
+    if (t >= from && t <= to)
+    {
+      peak = std::max(peak, Value(track, column, r));
+    }
+  }
+  return peak;
+}
 
 Wav ReadWav(const std::string& path)
 {
@@ -584,4 +635,318 @@ TEST(BehaviorTimeSource, PaperVisemesDriveTheDefaultFace)
   }
   EXPECT_GE(activeFrames, 4);
   EXPECT_TRUE(face.Messages->Errors.empty()) << face.Messages->AllErrors();
+}
+
+TEST(BehaviorTimeSource, RhubarbCuesFromFilesAndText)
+{
+  vtkNew<vtkBehaviorTimeSource> source;
+  vtkNew<MessageCollector> messages;
+  messages->Watch(source);
+  morphnode::BehaviorController core;
+  const morphnode::SpeechOptions options = PaperOptions();
+
+  // A TSV export (the fuzz corpus seed) at 1 s, a JSON export queued after it.
+  vtkMTimeType mtime = source->GetMTime();
+  ASSERT_TRUE(source->SpeakRhubarbFile((Corpus + "rhubarb_tsv/sample.tsv").c_str(), 1.0))
+    << messages->AllErrors();
+  EXPECT_GT(source->GetMTime(), mtime);
+  core.Speak(morphnode::UtteranceFromMouthCues(
+               morphnode::ReadRhubarbFile(Corpus + "rhubarb_tsv/sample.tsv"), options), 1.0);
+  mtime = source->GetMTime();
+  ASSERT_TRUE(source->SpeakRhubarbFile((Corpus + "rhubarb_json/sample.json").c_str()))
+    << messages->AllErrors();
+  EXPECT_GT(source->GetMTime(), mtime);
+  core.Speak(morphnode::UtteranceFromMouthCues(
+    morphnode::ReadRhubarbFile(Corpus + "rhubarb_json/sample.json"), options));
+  // The same cues as text, TSV and JSON.
+  ASSERT_TRUE(source->SpeakRhubarbCues("0.0\tX\n0.1\tD\n0.5\tX\n", 4.0)) << messages->AllErrors();
+  core.Speak(morphnode::UtteranceFromMouthCues(morphnode::ParseRhubarb("0.0\tX\n0.1\tD\n0.5\tX\n"), options), 4.0);
+  const char* json = R"({"mouthCues": [{"start": 0, "end": 0.1, "value": "X"},
+    {"start": 0.1, "end": 0.4, "value": "A"}, {"start": 0.4, "end": 0.5, "value": "X"}]})";
+  ASSERT_TRUE(source->SpeakRhubarbCues(json, 5.0)) << messages->AllErrors();
+  core.Speak(morphnode::UtteranceFromMouthCues(morphnode::ParseRhubarb(json), options), 5.0);
+
+  ASSERT_EQ(source->GetNumberOfUtterances(), 4);
+  EXPECT_FALSE(source->HasAudio()); // cues carry no sound
+  EXPECT_EQ(source->GetUtteranceStart(0), 1.0);
+  EXPECT_NEAR(source->GetUtteranceEnd(0), 1.85, 1e-9); // the last TSV cue starts at 0.85
+  EXPECT_EQ(source->GetUtteranceStart(1), source->GetUtteranceEnd(0)); // queued after it
+  EXPECT_EQ(source->GetUtteranceStart(3), 5.0);
+  // The paper's visemes drive the mouth: bit for bit what the core makes of the cues.
+  ExpectTrackEqualsCore(source, core);
+  vtkTable* track = Track(source);
+  EXPECT_GT(Peak(track, "A", 4.15, 4.45), 0.5) << "Rhubarb D (wide open) on the A target";
+  EXPECT_LT(Peak(track, "A", 0.0, 0.9), 0.01) << "nothing before the first cues";
+  EXPECT_TRUE(messages->Errors.empty()) << messages->AllErrors();
+
+  // Bad files and text: an error naming the problem, false, nothing changed.
+  mtime = source->GetMTime();
+  const struct
+  {
+    std::string Path, Fragment;
+  } bad[] = {
+    { Corpus + "rhubarb_tsv/decreasing.tsv", "before the previous cue" },
+    { Corpus + "rhubarb_json/end_before_start.json", "ends before it starts" },
+    { Corpus + "rhubarb_json/huge_end.json", "duration" },
+    { Corpus + "rhubarb_tsv/huge.tsv", "rhubarb" },
+    { OutputDir + "/no such file.tsv", "cannot be opened" },
+    { Corpus + "pho/hello.pho", "rhubarb tsv line 1" },
+  };
+  for (const auto& b : bad)
+  {
+    messages->Clear();
+    EXPECT_FALSE(source->SpeakRhubarbFile(b.Path.c_str(), 0.0)) << b.Path;
+    EXPECT_TRUE(messages->HasError("SpeakRhubarbFile")) << messages->AllErrors();
+    EXPECT_TRUE(messages->HasError(b.Fragment)) << b.Path << ": " << messages->AllErrors();
+  }
+  messages->Clear();
+  EXPECT_FALSE(source->SpeakRhubarbCues("0.0\tQ\n", 0.0));
+  EXPECT_FALSE(source->SpeakRhubarbCues("{\"mouthCues\": [", 0.0));
+  EXPECT_FALSE(source->SpeakRhubarbCues(nullptr, 0.0)); // no cues at all
+  EXPECT_TRUE(messages->HasError("no mouth cues")) << messages->AllErrors();
+  EXPECT_FALSE(source->SpeakRhubarbFile(nullptr, 0.0));
+  EXPECT_FALSE(source->SpeakRhubarbCues("0.0\tA\n", -HUGE_VAL)); // a start that is no time
+  EXPECT_EQ(messages->Errors.size(), 5u) << messages->AllErrors();
+  EXPECT_EQ(source->GetNumberOfUtterances(), 4);
+  EXPECT_EQ(source->GetMTime(), mtime) << "a rejected command modified the source";
+}
+
+TEST(BehaviorTimeSource, PhonemesFromPhoFilesAndText)
+{
+  vtkNew<vtkBehaviorTimeSource> source;
+  vtkNew<MessageCollector> messages;
+  messages->Watch(source);
+  morphnode::BehaviorController core;
+  const morphnode::SpeechOptions options = PaperOptions();
+
+  ASSERT_TRUE(source->SpeakPhonemeFile((Corpus + "pho/hello.pho").c_str(), 0.5)) << messages->AllErrors();
+  core.Speak(morphnode::LoadPhoUtterance(Corpus + "pho/hello.pho", options), 0.5);
+  const std::string pho = "; a comment\n_ 50\nh 60\nA: 200 50 120\n_ 100\n";
+  const vtkMTimeType mtime = source->GetMTime();
+  ASSERT_TRUE(source->SpeakPhonemes(pho.c_str())) << messages->AllErrors(); // after hello
+  EXPECT_GT(source->GetMTime(), mtime);
+  core.Speak(morphnode::UtteranceFromPhonemes(morphnode::ParsePho(pho), options));
+  ASSERT_EQ(source->GetNumberOfUtterances(), 2);
+  EXPECT_EQ(source->GetUtteranceStart(1), source->GetUtteranceEnd(0));
+  EXPECT_FALSE(source->HasAudio());
+  ExpectTrackEqualsCore(source, core);
+  const double start = source->GetUtteranceStart(1);
+  EXPECT_GT(Peak(Track(source), "A", start + 0.11, start + 0.31), 0.5) << "the long A: opens the mouth";
+
+  // Bad phonemes: errors with the line, nothing changed.
+  const vtkMTimeType before = source->GetMTime();
+  messages->Clear();
+  EXPECT_FALSE(source->SpeakPhonemeFile((Corpus + "pho/odd_pitch.pho").c_str(), 0.0));
+  EXPECT_TRUE(messages->HasError("pho line 1")) << messages->AllErrors();
+  EXPECT_FALSE(source->SpeakPhonemes("_ 50\nb -3\n", 0.0));
+  EXPECT_TRUE(messages->HasError("pho line 2")) << messages->AllErrors();
+  EXPECT_FALSE(source->SpeakPhonemeFile((OutputDir + "/missing.pho").c_str(), 0.0));
+  EXPECT_TRUE(messages->HasError("missing.pho")) << messages->AllErrors();
+  EXPECT_EQ(messages->Errors.size(), 3u) << messages->AllErrors();
+  EXPECT_EQ(source->GetNumberOfUtterances(), 2);
+  EXPECT_EQ(source->GetMTime(), before);
+}
+
+TEST(BehaviorTimeSource, VisemeTableFileChangesTheChannelsOfLaterSpeech)
+{
+  vtkNew<vtkBehaviorTimeSource> source;
+  vtkNew<MessageCollector> messages;
+  messages->Watch(source);
+  EXPECT_STREQ(source->GetVisemeTableFileName(), "");
+  vtkMTimeType mtime = source->GetMTime();
+  EXPECT_FALSE(source->SetVisemeTableFileName((OutputDir + "/no_table.json").c_str()));
+  EXPECT_TRUE(messages->HasError("SetVisemeTableFileName")) << messages->AllErrors();
+  EXPECT_STREQ(source->GetVisemeTableFileName(), "");
+  EXPECT_EQ(source->GetMTime(), mtime);
+  messages->Clear();
+
+  // The Oculus table as a file while the set says PAPER6: the file wins.
+  const std::string table = SourceDir + "/Data/speech/visemes_oculus15_en.json";
+  ASSERT_TRUE(source->SetVisemeTableFileName(table.c_str())) << messages->AllErrors();
+  EXPECT_EQ(source->GetVisemeTableFileName(), table);
+  EXPECT_GT(source->GetMTime(), mtime);
+  mtime = source->GetMTime();
+  EXPECT_TRUE(source->SetVisemeTableFileName(table.c_str())); // the same: no change
+  EXPECT_EQ(source->GetMTime(), mtime);
+  ASSERT_TRUE(source->SpeakPhonemes("_ 50\np 80\nA: 200\n_ 50\n", 0.0)) << messages->AllErrors();
+  EXPECT_GE(source->GetChannelIndex("PP"), 15);
+  EXPECT_GE(source->GetChannelIndex("aa"), 15);
+  EXPECT_EQ(source->GetChannelIndex("A"), -1);
+  std::ostringstream printed;
+  source->Print(printed);
+  EXPECT_NE(printed.str().find("VisemeTableFileName: " + table), std::string::npos) << printed.str();
+
+  // Back to the built-in table of the set.
+  ASSERT_TRUE(source->SetVisemeTableFileName(nullptr));
+  ASSERT_TRUE(source->SpeakPhonemes("_ 50\np 80\nA: 200\n_ 50\n", 1.0));
+  EXPECT_GE(source->GetChannelIndex("A"), 15);
+  EXPECT_TRUE(messages->Errors.empty()) << messages->AllErrors();
+}
+
+TEST(BehaviorTimeSource, BehaviorParametersByName)
+{
+  vtkNew<vtkBehaviorTimeSource> source;
+  vtkNew<MessageCollector> messages;
+  messages->Watch(source);
+  ASSERT_EQ(source->GetNumberOfBehaviorParameters(), 29);
+  EXPECT_STREQ(source->GetBehaviorParameterName(0), "BlinkRateRest");
+  EXPECT_EQ(source->GetBehaviorParameterName(29), nullptr);
+  EXPECT_TRUE(messages->HasError("no parameter 29")) << messages->AllErrors();
+  messages->Clear();
+  EXPECT_EQ(source->GetBehaviorParameter("BlinkRateRest"), 17.0);
+  EXPECT_EQ(source->GetBehaviorParameter("head_share_of_gaze"), 0.4);
+  std::ostringstream printed;
+  source->Print(printed);
+  EXPECT_NE(printed.str().find("BehaviorParameters: (defaults)"), std::string::npos) << printed.str();
+
+  source->SetDuration(60.0);
+  auto blinks = [&]() {
+    vtkTable* track = Track(source);
+    int count = 0;
+    for (vtkIdType r = 1; r < track->GetNumberOfRows(); ++r)
+    {
+      count += Value(track, "EyesClosed", r) > 0.5 && Value(track, "EyesClosed", r - 1) <= 0.5;
+    }
+    return count;
+  };
+  const int rest = blinks();
+  vtkMTimeType mtime = source->GetMTime();
+  ASSERT_TRUE(source->SetBehaviorParameter("BlinkRateRest", 40.0)) << messages->AllErrors();
+  EXPECT_GT(source->GetMTime(), mtime);
+  EXPECT_EQ(source->GetBehaviorParameter("BlinkRateRest"), 40.0);
+  EXPECT_EQ(source->GetBehaviorParameters().BlinkRateRest, 40.0);
+  const int fast = blinks();
+  EXPECT_GT(fast, rest + 10) << rest << " blinks a minute at 17/min, " << fast << " at 40/min";
+  printed.str("");
+  source->Print(printed);
+  EXPECT_NE(printed.str().find("BehaviorParameters: BlinkRateRest=40"), std::string::npos) << printed.str();
+
+  // The same value: no change. Unknown names and values out of range: errors, no change.
+  mtime = source->GetMTime();
+  EXPECT_TRUE(source->SetBehaviorParameter("BlinkRateRest", 40.0));
+  EXPECT_FALSE(source->SetBehaviorParameter("BlinkSpeed", 3.0));
+  EXPECT_TRUE(messages->HasError("'BlinkSpeed'")) << messages->AllErrors();
+  EXPECT_FALSE(source->SetBehaviorParameter("BlinkRateRest", -1.0));
+  EXPECT_TRUE(messages->HasError("BlinkRateRest")) << messages->AllErrors();
+  EXPECT_FALSE(source->SetBehaviorParameter("EyeYawRange", std::nan("")));
+  EXPECT_TRUE(std::isnan(source->GetBehaviorParameter("nope")));
+  EXPECT_EQ(messages->Errors.size(), 4u) << messages->AllErrors();
+  EXPECT_EQ(source->GetBehaviorParameter("BlinkRateRest"), 40.0);
+  EXPECT_EQ(source->GetMTime(), mtime);
+  source->ResetBehaviorParameters();
+  EXPECT_GT(source->GetMTime(), mtime);
+  EXPECT_EQ(source->GetBehaviorParameter("BlinkRateRest"), 17.0);
+  EXPECT_EQ(blinks(), rest);
+}
+
+TEST(BehaviorTimeSource, FramesAndTimeStepsAreTheCoreFrames)
+{
+  vtkNew<vtkBehaviorTimeSource> source;
+  vtkNew<MessageCollector> messages;
+  messages->Watch(source);
+  source->SetFrameRate(24.0);
+  source->SetDuration(2.3);
+  ASSERT_EQ(source->GetNumberOfFrames(), 56); // floor(2.3 * 24) + 1 = 55 + 1
+  EXPECT_EQ(source->GetNumberOfFrames(), static_cast<vtkIdType>(morphnode::NumberOfFrames(2.3, 24.0)));
+  source->UpdateInformation();
+  vtkInformation* info = source->GetOutputInformation(0);
+  ASSERT_EQ(info->Length(vtkStreamingDemandDrivenPipeline::TIME_STEPS()), 56);
+  const double* steps = info->Get(vtkStreamingDemandDrivenPipeline::TIME_STEPS());
+  for (vtkIdType i = 0; i < 56; ++i)
+  {
+    ASSERT_EQ(steps[i], source->GetFrameTime(i));
+    ASSERT_EQ(steps[i], morphnode::FrameTime(static_cast<size_t>(i), 24.0));
+  }
+  vtkTable* track = Track(source);
+  ASSERT_EQ(track->GetNumberOfRows(), 56);
+  for (vtkIdType i = 0; i < 56; ++i)
+  {
+    ASSERT_EQ(Value(track, "Time", i), steps[i]);
+  }
+  EXPECT_TRUE(messages->Errors.empty()) << messages->AllErrors();
+  EXPECT_EQ(source->GetFrameTime(56), -1.0);
+  EXPECT_EQ(source->GetFrameTime(-1), -1.0);
+  EXPECT_EQ(messages->Errors.size(), 2u);
+}
+
+TEST(BehaviorTimeSource, ATrackTooLargeIsAnErrorWithEmptyOutputs)
+{
+  vtkNew<vtkBehaviorTimeSource> source;
+  vtkNew<MessageCollector> messages;
+  messages->Watch(source);
+  source->SetFrameRate(1000.0);
+  source->SetDuration(86400.0); // 86.4 million frames: sampled one time at a time only
+  EXPECT_EQ(source->GetNumberOfFrames(), 86400001);
+  source->UpdateInformation();
+  vtkInformation* info = source->GetOutputInformation(0);
+  EXPECT_FALSE(info->Has(vtkStreamingDemandDrivenPipeline::TIME_STEPS())) << "86 million time steps";
+  ASSERT_TRUE(info->Has(vtkStreamingDemandDrivenPipeline::TIME_RANGE()));
+  EXPECT_EQ(info->Get(vtkStreamingDemandDrivenPipeline::TIME_RANGE())[1], 86400.0);
+
+  // Port 0 at any time works.
+  vtkTable* frame = At(source, 43200.25);
+  EXPECT_EQ(frame->GetNumberOfColumns(), 15);
+  EXPECT_TRUE(messages->Errors.empty()) << messages->AllErrors();
+  // Port 1: RequestData fails with an error, and both outputs are empty.
+  EXPECT_EQ(source->GetExecutive()->Update(1), 0);
+  EXPECT_TRUE(messages->HasError("one time at a time")) << messages->AllErrors();
+  EXPECT_EQ(vtkTable::SafeDownCast(source->GetOutputDataObject(0))->GetNumberOfColumns(), 0);
+  EXPECT_EQ(vtkTable::SafeDownCast(source->GetOutputDataObject(1))->GetNumberOfColumns(), 0);
+  // A shorter behaviour recovers.
+  messages->Clear();
+  source->SetDuration(2.0);
+  EXPECT_EQ(Track(source)->GetNumberOfRows(), 2001);
+  EXPECT_EQ(At(source, 1.0)->GetNumberOfColumns(), 15);
+  EXPECT_TRUE(messages->Errors.empty()) << messages->AllErrors();
+}
+
+TEST(BehaviorTimeSource, ControllerIsReadOnlyAndChangesGoThroughTheSource)
+{
+  auto source = vtkSmartPointer<vtkBehaviorTimeSource>::New();
+  vtkNew<MessageCollector> messages;
+  messages->Watch(source);
+  ExecutionCounter executions(source);
+  source->Gesture("smile", 1.0);
+  // GetController() is const and prepared: C++ code samples it directly.
+  const morphnode::BehaviorController& controller = source->GetController();
+  ASSERT_TRUE(controller.IsPrepared());
+  std::vector<double> row;
+  controller.Sample(1.5, row);
+  EXPECT_EQ(row[static_cast<size_t>(controller.FindChannel("MouthSmile"))], Value(At(source, 1.5), "MouthSmile"));
+  EXPECT_EQ(executions.Count, 1);
+  // Asking for the same time again, or reading the controller, runs nothing.
+  At(source, 1.5);
+  source->GetController();
+  EXPECT_EQ(executions.Count, 1);
+
+  // An utterance built in C++ (with sound) goes through Speak: modified, re-executed.
+  morphnode::Utterance u = morphnode::UtteranceFromPhonemes(morphnode::ParsePho("_ 50\nA: 300\n_ 50\n"), PaperOptions());
+  u.Audio.assign(static_cast<size_t>(0.4 * 22050), int16_t(1000));
+  u.SampleRate = 22050;
+  const vtkMTimeType mtime = source->GetMTime();
+  ASSERT_TRUE(source->Speak(u, 2.0)) << messages->AllErrors();
+  EXPECT_GT(source->GetMTime(), mtime);
+  EXPECT_TRUE(source->HasAudio());
+  EXPECT_GT(Value(At(source, 2.2), "A"), 0.5);
+  EXPECT_EQ(executions.Count, 2);
+  const std::string wav = OutputDir + "/TestBehaviorTimeSource_speak.wav";
+  ASSERT_TRUE(source->WriteAudio(wav.c_str())) << messages->AllErrors();
+  const Wav written = ReadWav(wav);
+  const morphnode::AudioBuffer mix = morphnode::MixBehaviorAudio(source->GetController());
+  EXPECT_EQ(written.Samples, morphnode::ToInt16Mono(mix)) << "WriteAudio writes the core's mix";
+  EXPECT_EQ(written.Samples[44100], 1000); // t = 2.0 s
+  EXPECT_FALSE(source->WriteAudio("/nonexistent/folder/speech.wav"));
+  EXPECT_TRUE(messages->HasError("WriteAudio")) << messages->AllErrors();
+
+  // A copy of the controller keeps working after the source is gone.
+  morphnode::BehaviorController copy = source->GetController();
+  source = nullptr;
+  copy.Prepare();
+  copy.Sample(2.2, row);
+  EXPECT_GT(row[static_cast<size_t>(copy.FindChannel("A"))], 0.5);
+  if (morphnode::SpeechSynthesizer::IsAvailable())
+  {
+    copy.Say("Hi", 3.0); // through the source's speech settings, kept by the copy
+    EXPECT_EQ(copy.GetUtterances().size(), 2u);
+  }
 }

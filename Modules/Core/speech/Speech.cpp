@@ -84,6 +84,10 @@ Utterance SpeakText(const std::string& text, const SpeechOptions& options)
 
 Utterance UtteranceFromPhonemes(std::vector<TimedPhoneme> phonemes, const SpeechOptions& options)
 {
+  if (phonemes.empty())
+  {
+    throw InputError("no phonemes to speak");
+  }
   return BuildUtterance(std::move(phonemes), {}, 22050, SelectVisemeMap(options), options);
 }
 
@@ -94,6 +98,10 @@ Utterance LoadPhoUtterance(const std::string& path, const SpeechOptions& options
 
 Utterance UtteranceFromMouthCues(const std::vector<MouthCue>& cues, const SpeechOptions& options)
 {
+  if (cues.empty())
+  {
+    throw InputError("no mouth cues to speak");
+  }
   const VisemeMap map = SelectVisemeMap(options);
   Utterance u;
   u.Duration = cues.empty() ? 0.0 : cues.back().End;

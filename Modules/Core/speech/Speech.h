@@ -47,12 +47,14 @@ Utterance BuildUtterance(std::vector<TimedPhoneme> phonemes, std::vector<int16_t
 Utterance SpeakText(const std::string& text, const SpeechOptions& options = {});
 
 /// SAMPA phonemes (e.g. ParsePho's) -> utterance without audio (BuildUtterance at 22050 Hz).
+/// InputError when there are none.
 Utterance UtteranceFromPhonemes(std::vector<TimedPhoneme> phonemes, const SpeechOptions& options = {});
 
-/// A .pho file -> utterance without audio.
+/// A .pho file -> utterance without audio (UtteranceFromPhonemes).
 Utterance LoadPhoUtterance(const std::string& path, const SpeechOptions& options = {});
 
 /// Rhubarb cues -> utterance without audio: Phonemes empty, Visemes blended from the cues,
-/// no nonverbal cues (shapes carry no pitch or pauses worth reading).
+/// no nonverbal cues (shapes carry no pitch or pauses worth reading). InputError when there
+/// are no cues.
 Utterance UtteranceFromMouthCues(const std::vector<MouthCue>& cues, const SpeechOptions& options = {});
 } // namespace morphnode

@@ -86,4 +86,9 @@ TEST(SpeechFiles, CuesAndPhonemesBecomeUtterancesWithoutAudio)
     open = std::max(open, fromText.Visemes.GetValue(f, static_cast<size_t>(a)));
   }
   EXPECT_GT(open, 0.5) << "the long A: opens the mouth";
+
+  // Nothing to say is an error, not an empty utterance.
+  EXPECT_THROW(UtteranceFromPhonemes(ParsePho("; only a comment\n"), options), InputError);
+  EXPECT_THROW(LoadPhoUtterance(Write("empty.pho", ""), options), InputError);
+  EXPECT_THROW(UtteranceFromMouthCues(ParseRhubarb(""), options), InputError);
 }
