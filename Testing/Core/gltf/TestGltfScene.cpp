@@ -836,3 +836,29 @@ TEST(GltfScene, MissingFileIsAnInputError)
 {
   EXPECT_THROW(LoadGltfScene("/nonexistent/face.glb"), InputError);
 }
+
+TEST(GltfScene, FuzzSeedsLoadAndDamagedOnesAreRejected)
+{
+  // The seed corpus of FuzzGltf (Testing/Fuzz/tools/MakeGltfSeeds.cpp): good seeds must
+  // reach the end of the loader, the damaged ones (regression inputs) must be refused.
+  const std::filesystem::path folder = std::filesystem::path(MORPHNODE_SOURCE_DIR) / "Testing/Fuzz/corpus/gltf";
+  size_t good = 0, damaged = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(folder))
+  {
+    const std::string name = entry.path().filename().string();
+    std::ifstream in(entry.path(), std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (name.rfind("damaged-", 0) == 0 || name.rfind("crash-", 0) == 0)
+    {
+      EXPECT_FALSE(ErrorOf(bytes).empty()) << name;
+      ++damaged;
+    }
+    else if (name.rfind("found-", 0) != 0)
+    {
+      EXPECT_FALSE(Load(bytes).Parts.empty()) << name;
+      ++good;
+    }
+  }
+  EXPECT_GE(good, 8u);
+  EXPECT_GE(damaged, 4u);
+}
