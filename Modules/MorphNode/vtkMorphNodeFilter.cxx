@@ -4,8 +4,8 @@
 #include "vtkMorphModelAdapter.h"
 
 #include "base/Error.h"
-#include "morph/WeightOptimizer.h"
-#include "morph/Weights.h"
+#include "morph/MorphNode.h"
+#include "morph/OptimizerPresets.h"
 
 #include "vtkAlgorithmOutput.h"
 #include "vtkCellData.h"
@@ -24,41 +24,79 @@
 #include "vtkTable.h"
 
 #include <algorithm>
+#include <cstdint>
 #include <cstring>
 #include <iterator>
 #include <memory>
-#include <optional>
 #include <sstream>
+#include <string>
 #include <utility>
 #include <vector>
 
 namespace adapter = vtkMorphModelAdapter;
+
+// The VTK enums are the core's, value for value.
+static_assert(vtkMorphNodeFilter::STRICT == static_cast<int>(morphnode::WeightMode::Strict) &&
+    vtkMorphNodeFilter::NORMALIZE == static_cast<int>(morphnode::WeightMode::Normalize) &&
+    vtkMorphNodeFilter::RELATIVE == static_cast<int>(morphnode::WeightMode::Relative),
+  "vtkMorphNodeFilter::WeightModes must match morphnode::WeightMode");
+static_assert(vtkMorphNodeFilter::MAXIMUM == static_cast<int>(morphnode::Redistribution::Maximum) &&
+    vtkMorphNodeFilter::REMAINING == static_cast<int>(morphnode::Redistribution::Remaining) &&
+    vtkMorphNodeFilter::NEUTRAL == static_cast<int>(morphnode::Redistribution::Neutral),
+  "vtkMorphNodeFilter::RedistributionStrategies must match morphnode::Redistribution");
+static_assert(vtkMorphNodeFilter::OPTIMIZER_NONE == static_cast<int>(morphnode::OptimizerPreset::None) &&
+    vtkMorphNodeFilter::OPTIMIZER_FIXED_MAXIMUM ==
+      static_cast<int>(morphnode::OptimizerPreset::FixedMaximum) &&
+    vtkMorphNodeFilter::OPTIMIZER_FIXED_REMAINING ==
+      static_cast<int>(morphnode::OptimizerPreset::FixedRemaining) &&
+    vtkMorphNodeFilter::OPTIMIZER_ADJUSTED == static_cast<int>(morphnode::OptimizerPreset::Adjusted) &&
+    vtkMorphNodeFilter::OPTIMIZER_ERROR_BOUNDED ==
+      static_cast<int>(morphnode::OptimizerPreset::ErrorBounded) &&
+    vtkMorphNodeFilter::OPTIMIZER_ERROR_BOUNDED + 1 == morphnode::NumberOfOptimizerPresets,
+  "vtkMorphNodeFilter::OptimizerPresets must match morphnode::OptimizerPreset");
 
 namespace
 {
 /// Field-data arrays the filter writes; a neutral's arrays of these names are replaced.
 const char* const OutputFieldArrays[] = { adapter::TargetNamesArray, adapter::EffectiveWeightsArray,
   adapter::ActiveTargetCountArray, adapter::ErrorBoundArray, adapter::DistNormArray };
+
+bool SameWeight(double a, double b)
+{
+  return a == b || (a != a && b != b); // NaN set twice is no change either
+}
 }
 
 struct vtkMorphNodeFilter::vtkInternals
 {
-  /// A weight set by index or by name; applied in the order they were set.
-  struct Assignment
+  /// Requested weights, by index and by name; the one set last wins for a target (Order).
+  struct Request
   {
-    int Index; // -1 when set by name
-    std::string Name;
-    double Weight;
+    double Weight = 0.0;
+    uint64_t Order = 0; // 0: not set
   };
-  std::vector<Assignment> Assignments;
+  struct NamedRequest
+  {
+    std::string Name;
+    Request Value;
+    int Index = -1;                  // resolved against the model of generation Resolved
+    uint64_t Resolved = 0;
+  };
+  std::vector<Request> ByIndex;
+  std::vector<NamedRequest> ByName;
+  uint64_t Orders = 0;
 
-  /// The model built from the current input, and what it was built from.
-  std::optional<adapter::BuiltModel> Built;
-  std::vector<std::pair<vtkDataObject*, vtkMTimeType>> BuiltFrom;
+  /// The model built from the current input (shared with Node), and what it was built from.
+  std::shared_ptr<const adapter::BuiltModel> Built;
+  uint64_t Generation = 0; // counts the models built
+  std::vector<vtkPointSet*> Inputs;
+  std::vector<std::pair<vtkDataObject*, vtkMTimeType>> From, BuiltFrom;
   double BuiltSparseCoverage = -1.0;
 
-  morphnode::WeightOptimizer Optimizer;
-  std::vector<double> EffectiveWeights;
+  morphnode::MorphNode Node;
+  bool Valid = false; // the last execution succeeded
+  std::vector<double> Requested;
+  std::vector<uint64_t> RequestOrder;
   vtkNew<vtkDoubleArray> DistNorm;
 
   /// Output arrays kept across executions (see adapter::BlendOutputs).
@@ -69,6 +107,200 @@ struct vtkMorphNodeFilter::vtkInternals
   std::vector<vtkSmartPointer<vtkDataArray>> Distances; // built on first request
   /// Per-execution field data, rewritten in place when no one else holds them.
   vtkSmartPointer<vtkDataArray> EffectiveWeightsOut, ActiveTargetCountOut, ErrorBoundOut;
+
+  const std::vector<std::string>& Names() const
+  {
+    static const std::vector<std::string> none;
+    return this->Built ? this->Built->Model.GetTargetNames() : none;
+  }
+
+  /// Requested weight of target `index`; names resolve against the current model.
+  double Get(int index) const
+  {
+    Request r{ index == 0 ? 1.0 : 0.0, 0 };
+    if (index >= 0 && static_cast<size_t>(index) < this->ByIndex.size() &&
+      this->ByIndex[static_cast<size_t>(index)].Order)
+    {
+      r = this->ByIndex[static_cast<size_t>(index)];
+    }
+    const auto& names = this->Names();
+    if (index >= 0 && static_cast<size_t>(index) < names.size())
+    {
+      for (const NamedRequest& n : this->ByName)
+      {
+        if (n.Value.Order > r.Order && n.Name == names[static_cast<size_t>(index)])
+        {
+          r = n.Value;
+        }
+      }
+    }
+    return r.Weight;
+  }
+
+  void SetByIndex(size_t index, double weight)
+  {
+    if (index >= this->ByIndex.size())
+    {
+      this->ByIndex.resize(index + 1);
+    }
+    this->ByIndex[index] = { weight, ++this->Orders };
+  }
+
+  void SetByName(const std::string& name, double weight)
+  {
+    for (NamedRequest& n : this->ByName)
+    {
+      if (n.Name == name)
+      {
+        n.Value = { weight, ++this->Orders };
+        return;
+      }
+    }
+    this->ByName.push_back({ name, { weight, ++this->Orders }, -1, 0 });
+  }
+
+  /// Rebuilds the model when an input or the storage choice changed.
+  void UpdateModel(vtkMorphNodeFilter* self)
+  {
+    this->From.clear();
+    for (vtkPointSet* input : this->Inputs)
+    {
+      this->From.emplace_back(input, input ? input->GetMTime() : 0);
+    }
+    if (this->Built && this->From == this->BuiltFrom &&
+      this->BuiltSparseCoverage == self->SparseCoverage)
+    {
+      return;
+    }
+    this->Built.reset();
+    this->Node.SetMesh(nullptr);
+    this->BuiltFrom.clear();
+    if (this->Inputs.empty())
+    {
+      throw morphnode::InputError("no input: connect the neutral (and the targets) to port 0");
+    }
+    self->UpdateProgress(0.0);
+    auto built = std::make_shared<adapter::BuiltModel>(
+      this->Inputs.size() == 1 && adapter::HasRelativeTargets(this->Inputs[0])
+        ? adapter::BuildFromRelativeTargets(this->Inputs[0], self->SparseCoverage)
+        : adapter::BuildFromAbsoluteTargets(this->Inputs, self->SparseCoverage));
+    this->Node.SetMesh(std::shared_ptr<const morphnode::MorphMesh>(built, &built->Model));
+    this->Built = std::move(built);
+    ++this->Generation;
+    this->BuiltFrom = this->From;
+    this->BuiltSparseCoverage = self->SparseCoverage;
+    // What depends on the model only is made once per model and shared by every output.
+    const auto& distNorm = this->Node.GetTargetDistances().DistNorm;
+    this->DistNorm->SetNumberOfValues(static_cast<vtkIdType>(distNorm.size()));
+    std::copy(distNorm.begin(), distNorm.end(), this->DistNorm->GetPointer(0));
+    this->TargetNames = adapter::MakeNamesArray(adapter::TargetNamesArray, this->Names());
+    this->DistNormOut = vtkSmartPointer<vtkDoubleArray>::New();
+    this->DistNormOut->DeepCopy(this->DistNorm);
+    this->Distances.clear();
+    this->Outputs = {};
+  }
+
+  /// Requested weights (neutral first): the table on port 1, else the assignments.
+  void GatherRequested(vtkMorphNodeFilter* self, vtkTable* table)
+  {
+    const morphnode::MorphMesh& model = this->Built->Model;
+    const size_t n = model.GetNumberOfTargets();
+    if (table)
+    {
+      int matched = 0;
+      this->Requested = adapter::WeightsFromTable(table, model, matched);
+      if (matched == 0 && table->GetNumberOfColumns() > 0)
+      {
+        vtkWarningWithObjectMacro(self, << "the weights table on port 1 names none of the " << n
+                                        << " targets; showing the neutral");
+      }
+      return;
+    }
+    this->Requested.assign(n, 0.0);
+    this->Requested[0] = 1.0;
+    this->RequestOrder.assign(n, 0);
+    // Errors in the order the weights were set, as a user would read them.
+    const NamedRequest* unknown = nullptr;
+    size_t outOfRange = 0;
+    uint64_t unknownOrder = 0, outOfRangeOrder = 0;
+    for (size_t i = 0; i < this->ByIndex.size(); ++i)
+    {
+      const Request& r = this->ByIndex[i];
+      if (r.Order && i >= n && (!outOfRangeOrder || r.Order < outOfRangeOrder))
+      {
+        outOfRange = i;
+        outOfRangeOrder = r.Order;
+      }
+      else if (r.Order && i < n)
+      {
+        this->Requested[i] = r.Weight;
+        this->RequestOrder[i] = r.Order;
+      }
+    }
+    for (NamedRequest& named : this->ByName)
+    {
+      if (named.Resolved != this->Generation)
+      {
+        named.Index = model.FindTarget(named.Name);
+        named.Resolved = this->Generation;
+      }
+      if (named.Index < 0)
+      {
+        if (!unknown || named.Value.Order < unknownOrder)
+        {
+          unknown = &named;
+          unknownOrder = named.Value.Order;
+        }
+        continue;
+      }
+      const size_t i = static_cast<size_t>(named.Index);
+      if (named.Value.Order > this->RequestOrder[i])
+      {
+        this->Requested[i] = named.Value.Weight;
+        this->RequestOrder[i] = named.Value.Order;
+      }
+    }
+    std::ostringstream msg;
+    if (outOfRangeOrder && (!unknown || outOfRangeOrder < unknownOrder))
+    {
+      msg << "a weight is set for target " << outOfRange << ", but the input has " << n
+          << " targets (0.." << n - 1 << ", neutral first)";
+      throw morphnode::InputError(msg.str());
+    }
+    if (unknown)
+    {
+      msg << "a weight is set for target '" << unknown->Name
+          << "', but no target has that name; targets:";
+      for (const auto& name : model.GetTargetNames())
+      {
+        msg << " " << name;
+      }
+      throw morphnode::InputError(msg.str());
+    }
+  }
+
+  /// The node's settings from the filter's.
+  void ApplySettings(vtkMorphNodeFilter* self)
+  {
+    morphnode::OptimizerSettings settings;
+    if (self->OptimizerPreset >= 0)
+    {
+      settings = morphnode::MakeOptimizerSettings(
+        static_cast<morphnode::OptimizerPreset>(self->OptimizerPreset), self->Threshold,
+        self->MaxVertexError);
+    }
+    else
+    {
+      settings.Threshold = self->Threshold;
+      settings.Strategy = static_cast<morphnode::Redistribution>(self->RedistributionStrategy);
+      settings.AdjustThreshold = self->AdjustThreshold;
+      settings.MaxVertexError = self->MaxVertexError;
+    }
+    settings.MaxActiveTargets = self->MaxActiveTargets;
+    settings.Hysteresis = self->Hysteresis;
+    this->Node.SetOptimizerSettings(settings);
+    this->Node.SetWeightMode(static_cast<morphnode::WeightMode>(self->WeightMode));
+  }
 
   /// The animated region and each target's per-point distance from the neutral.
   const std::vector<vtkSmartPointer<vtkDataArray>>& DistanceArrays()
@@ -89,9 +321,8 @@ struct vtkMorphNodeFilter::vtkInternals
   }
 
   /// `values` in the ArrayT held by `slot`, rewritten in place when only `slot` holds it.
-  template <typename ArrayT>
-  static vtkDataArray* Values(
-    vtkSmartPointer<vtkDataArray>& slot, const char* name, const std::vector<double>& values)
+  template <typename ArrayT, typename Range>
+  static vtkDataArray* Values(vtkSmartPointer<vtkDataArray>& slot, const char* name, const Range& values)
   {
     ArrayT* array = ArrayT::SafeDownCast(slot);
     if (!array || slot->GetReferenceCount() != 1)
@@ -101,44 +332,56 @@ struct vtkMorphNodeFilter::vtkInternals
       slot = fresh;
       array = fresh;
     }
-    array->SetNumberOfValues(static_cast<vtkIdType>(values.size()));
-    for (size_t i = 0; i < values.size(); ++i)
+    array->SetNumberOfValues(static_cast<vtkIdType>(std::size(values)));
+    vtkIdType i = 0;
+    for (const auto value : values)
     {
-      array->SetValue(static_cast<vtkIdType>(i), static_cast<typename ArrayT::ValueType>(values[i]));
+      array->SetValue(i++, static_cast<typename ArrayT::ValueType>(value));
     }
     array->Modified();
     return array;
   }
 
-  void Set(int index, const std::string& name, double weight)
+  /// The neutral's structure, blended arrays in place of the neutral's, field data.
+  void AssembleOutput(vtkMorphNodeFilter* self, vtkPointSet* neutral, vtkPointSet* output)
   {
-    for (auto it = this->Assignments.begin(); it != this->Assignments.end(); ++it)
+    output->CopyStructure(neutral);
+    output->SetPoints(this->Outputs.Points);
+    adapter::AssemblePointData(neutral->GetPointData(), *this->Built, this->Outputs, output->GetPointData());
+    output->GetCellData()->PassData(neutral->GetCellData());
+    if (self->GenerateDistanceArrays)
     {
-      if (it->Index == index && it->Name == name)
+      for (vtkDataArray* array : this->DistanceArrays())
       {
-        this->Assignments.erase(it);
-        break;
+        output->GetPointData()->AddArray(array);
       }
     }
-    this->Assignments.push_back({ index, name, weight });
-  }
-
-  /// Requested weight of target `index` from the assignments; names are resolved with
-  /// `names` (may be empty before the first execution).
-  double Requested(int index, const std::vector<std::string>& names) const
-  {
-    double w = index == 0 ? 1.0 : 0.0;
-    for (const auto& a : this->Assignments)
+    vtkFieldData* fd = output->GetFieldData();
+    vtkFieldData* neutralFD = neutral->GetFieldData();
+    for (int a = 0; a < neutralFD->GetNumberOfArrays(); ++a)
     {
-      const bool byIndex = a.Index == index;
-      const bool byName = a.Index < 0 && index >= 0 && static_cast<size_t>(index) < names.size() &&
-        names[static_cast<size_t>(index)] == a.Name;
-      if (byIndex || byName)
+      vtkAbstractArray* array = neutralFD->GetAbstractArray(a);
+      const char* name = array ? array->GetName() : nullptr;
+      const bool ours = name &&
+        std::any_of(std::begin(OutputFieldArrays), std::end(OutputFieldArrays),
+          [name](const char* own) { return std::strcmp(own, name) == 0; });
+      if (array && !ours)
       {
-        w = a.Weight;
+        fd->AddArray(array);
       }
     }
-    return w;
+    const morphnode::MorphNode& node = this->Node;
+    fd->AddArray(this->TargetNames);
+    fd->AddArray(Values<vtkDoubleArray>(
+      this->EffectiveWeightsOut, adapter::EffectiveWeightsArray, node.GetEffectiveWeights()));
+    const int active[] = { node.GetActiveTargetCount() };
+    fd->AddArray(Values<vtkIntArray>(this->ActiveTargetCountOut, adapter::ActiveTargetCountArray, active));
+    const double bound[] = { node.GetErrorBound() };
+    fd->AddArray(Values<vtkDoubleArray>(this->ErrorBoundOut, adapter::ErrorBoundArray, bound));
+    if (self->GenerateDistanceArrays)
+    {
+      fd->AddArray(this->DistNormOut);
+    }
   }
 };
 
@@ -205,12 +448,10 @@ int vtkMorphNodeFilter::GetNumberOfTargets()
 //------------------------------------------------------------------------------
 const char* vtkMorphNodeFilter::GetTargetName(int index)
 {
-  if (!this->Internals->Built || index < 0 ||
-    index >= static_cast<int>(this->Internals->Built->Model.GetNumberOfTargets()))
-  {
-    return nullptr;
-  }
-  return this->Internals->Built->Model.GetTargetNames()[static_cast<size_t>(index)].c_str();
+  const auto& names = this->Internals->Names();
+  return index >= 0 && static_cast<size_t>(index) < names.size()
+    ? names[static_cast<size_t>(index)].c_str()
+    : nullptr;
 }
 
 //------------------------------------------------------------------------------
@@ -231,12 +472,9 @@ void vtkMorphNodeFilter::SetWeight(int index, double weight)
     vtkErrorMacro(<< "SetWeight: target index " << index << " is negative");
     return;
   }
-  const auto& names = this->Internals->Built ? this->Internals->Built->Model.GetTargetNames()
-                                             : std::vector<std::string>();
-  const double current = this->Internals->Requested(index, names);
-  const bool same = current == weight || (current != current && weight != weight);
-  this->Internals->Set(index, std::string(), weight);
-  if (!same)
+  const double current = this->Internals->Get(index);
+  this->Internals->SetByIndex(static_cast<size_t>(index), weight);
+  if (!SameWeight(current, weight))
   {
     this->Modified();
   }
@@ -245,9 +483,7 @@ void vtkMorphNodeFilter::SetWeight(int index, double weight)
 //------------------------------------------------------------------------------
 double vtkMorphNodeFilter::GetWeight(int index)
 {
-  const auto& names = this->Internals->Built ? this->Internals->Built->Model.GetTargetNames()
-                                             : std::vector<std::string>();
-  return this->Internals->Requested(index, names);
+  return this->Internals->Get(index);
 }
 
 //------------------------------------------------------------------------------
@@ -259,8 +495,8 @@ void vtkMorphNodeFilter::SetWeightByName(const char* name, double weight)
     return;
   }
   const double current = this->GetWeightByName(name);
-  this->Internals->Set(-1, name, weight);
-  if (!(current == weight || (current != current && weight != weight)))
+  this->Internals->SetByName(name, weight);
+  if (!SameWeight(current, weight))
   {
     this->Modified();
   }
@@ -278,23 +514,24 @@ double vtkMorphNodeFilter::GetWeightByName(const char* name)
   {
     return this->GetWeight(index);
   }
-  double w = 0.0; // not yet resolvable: the last value set by that name
-  for (const auto& a : this->Internals->Assignments)
+  for (const auto& named : this->Internals->ByName) // not yet resolvable: the value set
   {
-    if (a.Index < 0 && a.Name == name)
+    if (named.Name == name)
     {
-      w = a.Weight;
+      return named.Value.Weight;
     }
   }
-  return w;
+  return 0.0;
 }
 
 //------------------------------------------------------------------------------
 void vtkMorphNodeFilter::ResetWeights()
 {
-  if (!this->Internals->Assignments.empty())
+  vtkInternals& internals = *this->Internals;
+  if (!internals.ByIndex.empty() || !internals.ByName.empty())
   {
-    this->Internals->Assignments.clear();
+    internals.ByIndex.clear();
+    internals.ByName.clear();
     this->Modified();
   }
 }
@@ -302,14 +539,94 @@ void vtkMorphNodeFilter::ResetWeights()
 //------------------------------------------------------------------------------
 double vtkMorphNodeFilter::GetEffectiveWeight(int index)
 {
-  const auto& w = this->Internals->EffectiveWeights;
-  return index >= 0 && static_cast<size_t>(index) < w.size() ? w[static_cast<size_t>(index)] : 0.0;
+  const auto& w = this->Internals->Node.GetEffectiveWeights();
+  return this->Internals->Valid && index >= 0 && static_cast<size_t>(index) < w.size()
+    ? w[static_cast<size_t>(index)]
+    : 0.0;
 }
 
 //------------------------------------------------------------------------------
 void vtkMorphNodeFilter::ResetHysteresis()
 {
-  this->Internals->Optimizer.ResetHistory();
+  this->Internals->Node.ResetHistory();
+}
+
+//------------------------------------------------------------------------------
+void vtkMorphNodeFilter::SetOptimizerPreset(int preset)
+{
+  preset = std::max<int>(OPTIMIZER_CUSTOM, std::min<int>(preset, OPTIMIZER_ERROR_BOUNDED));
+  if (preset >= 0)
+  {
+    // The preset's own strategy and adjustment, so that the getters tell what is used.
+    const morphnode::OptimizerSettings s =
+      morphnode::MakeOptimizerSettings(static_cast<morphnode::OptimizerPreset>(preset), 0.0, 0.0);
+    if (this->RedistributionStrategy != static_cast<int>(s.Strategy) ||
+      this->AdjustThreshold != s.AdjustThreshold)
+    {
+      this->RedistributionStrategy = static_cast<int>(s.Strategy);
+      this->AdjustThreshold = s.AdjustThreshold;
+      this->Modified();
+    }
+  }
+  if (this->OptimizerPreset != preset)
+  {
+    this->OptimizerPreset = preset;
+    this->Modified();
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkMorphNodeFilter::SetOptimizerPresetByName(const char* name)
+{
+  if (!name)
+  {
+    vtkErrorMacro(<< "SetOptimizerPresetByName: no name");
+    return;
+  }
+  if (std::strcmp(name, "custom") == 0)
+  {
+    this->SetOptimizerPreset(OPTIMIZER_CUSTOM);
+    return;
+  }
+  try
+  {
+    this->SetOptimizerPreset(static_cast<int>(morphnode::ParseOptimizerPreset(name)));
+  }
+  catch (const std::exception& e)
+  {
+    vtkErrorMacro(<< "SetOptimizerPresetByName: " << e.what() << " or custom");
+  }
+}
+
+//------------------------------------------------------------------------------
+const char* vtkMorphNodeFilter::GetOptimizerPresetAsString()
+{
+  return this->OptimizerPreset >= 0
+    ? morphnode::OptimizerPresetName(static_cast<morphnode::OptimizerPreset>(this->OptimizerPreset))
+    : "custom";
+}
+
+//------------------------------------------------------------------------------
+void vtkMorphNodeFilter::SetRedistributionStrategy(int strategy)
+{
+  strategy = std::max<int>(MAXIMUM, std::min<int>(strategy, NEUTRAL));
+  if (this->RedistributionStrategy != strategy)
+  {
+    this->RedistributionStrategy = strategy;
+    this->OptimizerPreset = OPTIMIZER_CUSTOM;
+    this->Modified();
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkMorphNodeFilter::SetAdjustThreshold(bool adjust)
+{
+  if (this->AdjustThreshold != adjust)
+  {
+    this->AdjustThreshold = adjust;
+    this->OptimizerPreset = OPTIMIZER_CUSTOM;
+    this->Modified();
+  }
 }
 
 //------------------------------------------------------------------------------
@@ -322,6 +639,12 @@ vtkDoubleArray* vtkMorphNodeFilter::GetDistNorm()
 const morphnode::MorphMesh* vtkMorphNodeFilter::GetMorphModel()
 {
   return this->Internals->Built ? &this->Internals->Built->Model : nullptr;
+}
+
+//------------------------------------------------------------------------------
+const morphnode::MorphNode* vtkMorphNodeFilter::GetMorphNode()
+{
+  return &this->Internals->Node;
 }
 
 //------------------------------------------------------------------------------
@@ -362,191 +685,59 @@ int vtkMorphNodeFilter::RequestData(
 {
   vtkPointSet* output = vtkPointSet::GetData(outputVector, 0);
   vtkInternals& internals = *this->Internals;
-  internals.EffectiveWeights.clear();
+  internals.Valid = false;
   this->ActiveTargetCount = 0;
   this->ErrorBound = 0.0;
-
-  const int numConnections = inputVector[0]->GetNumberOfInformationObjects();
-  std::vector<vtkPointSet*> inputs;
-  for (int i = 0; i < numConnections; ++i)
-  {
-    inputs.push_back(vtkPointSet::GetData(inputVector[0], i));
-  }
-  vtkTable* weightsTable = vtkTable::GetData(inputVector[1], 0);
-
   try
   {
-    // 1. The model: rebuilt only when an input or the storage choice changed.
-    std::vector<std::pair<vtkDataObject*, vtkMTimeType>> from;
-    for (vtkPointSet* input : inputs)
+    // 1. The mesh, rebuilt only when an input or the storage choice changed.
+    internals.Inputs.clear();
+    for (int i = 0; i < inputVector[0]->GetNumberOfInformationObjects(); ++i)
     {
-      from.emplace_back(input, input ? input->GetMTime() : 0);
+      internals.Inputs.push_back(vtkPointSet::GetData(inputVector[0], i));
     }
-    if (!internals.Built || from != internals.BuiltFrom ||
-      internals.BuiltSparseCoverage != this->SparseCoverage)
-    {
-      internals.Built.reset();
-      internals.BuiltFrom.clear();
-      if (inputs.empty())
-      {
-        throw morphnode::InputError("no input: connect the neutral (and the targets) to port 0");
-      }
-      this->UpdateProgress(0.0);
-      internals.Built = inputs.size() == 1 && adapter::HasRelativeTargets(inputs[0])
-        ? adapter::BuildFromRelativeTargets(inputs[0], this->SparseCoverage)
-        : adapter::BuildFromAbsoluteTargets(inputs, this->SparseCoverage);
-      internals.BuiltFrom = from;
-      internals.BuiltSparseCoverage = this->SparseCoverage;
-      internals.Optimizer.SetTargetDistances(internals.Built->Model.ComputeDistances());
-      const auto& distNorm = internals.Optimizer.GetTargetDistances().DistNorm;
-      internals.DistNorm->SetNumberOfValues(static_cast<vtkIdType>(distNorm.size()));
-      for (size_t i = 0; i < distNorm.size(); ++i)
-      {
-        internals.DistNorm->SetValue(static_cast<vtkIdType>(i), distNorm[i]);
-      }
-      // What depends on the model only is made once per model and shared by every output.
-      internals.TargetNames =
-        adapter::MakeNamesArray(adapter::TargetNamesArray, internals.Built->Model.GetTargetNames());
-      internals.DistNormOut = vtkSmartPointer<vtkDoubleArray>::New();
-      internals.DistNormOut->DeepCopy(internals.DistNorm);
-      internals.Distances.clear();
-      internals.Outputs = {};
-    }
-    const morphnode::MorphMesh& model = internals.Built->Model;
-    const auto& names = model.GetTargetNames();
-    const size_t n = model.GetNumberOfTargets();
+    internals.UpdateModel(this);
     this->UpdateProgress(0.3);
 
-    // 2. Requested weights: the table on port 1, else the assignments.
-    std::vector<double> requested(n);
-    if (weightsTable)
-    {
-      int matched = 0;
-      requested = adapter::WeightsFromTable(weightsTable, model, matched);
-      if (matched == 0 && weightsTable->GetNumberOfColumns() > 0)
-      {
-        vtkWarningMacro(<< "the weights table on port 1 names none of the " << n
-                        << " targets; showing the neutral");
-      }
-    }
-    else
-    {
-      for (const auto& a : internals.Assignments)
-      {
-        if (a.Index >= static_cast<int>(n))
-        {
-          std::ostringstream msg;
-          msg << "a weight is set for target " << a.Index << ", but the input has " << n
-              << " targets (0.." << n - 1 << ", neutral first)";
-          throw morphnode::InputError(msg.str());
-        }
-        if (a.Index < 0 && model.FindTarget(a.Name) < 0)
-        {
-          std::ostringstream msg;
-          msg << "a weight is set for target '" << a.Name << "', but no target has that name; "
-              << "targets:";
-          for (const auto& name : names)
-          {
-            msg << " " << name;
-          }
-          throw morphnode::InputError(msg.str());
-        }
-      }
-      for (size_t i = 0; i < n; ++i)
-      {
-        requested[i] = internals.Requested(static_cast<int>(i), names);
-      }
-    }
-
-    // 3. Weight rules, then the optimizer.
-    const std::vector<double> absolute =
-      morphnode::ResolveWeights(static_cast<morphnode::WeightMode>(this->WeightMode), requested);
-    morphnode::OptimizerSettings settings;
-    settings.Threshold = this->Threshold;
-    settings.Strategy = static_cast<morphnode::Redistribution>(this->RedistributionStrategy);
-    settings.AdjustThreshold = this->AdjustThreshold;
-    settings.MaxVertexError = this->MaxVertexError;
-    settings.MaxActiveTargets = this->MaxActiveTargets;
-    settings.Hysteresis = this->Hysteresis;
-    internals.Optimizer.SetSettings(settings);
-    const std::vector<double> effective = internals.Optimizer.Optimize(absolute);
+    // 2. Weight rules and the optimizer: the core node.
+    internals.GatherRequested(this, vtkTable::GetData(inputVector[1], 0));
+    internals.ApplySettings(this);
+    internals.Node.SetWeights(internals.Requested);
     this->UpdateProgress(0.4);
 
-    // 4. Blend.
-    adapter::Blend(*internals.Built, effective, internals.Outputs);
+    // 3. The blend, in parallel over points, into arrays of the input's types.
+    adapter::Blend(*internals.Built, internals.Node.GetEffectiveWeights(), internals.Outputs);
     this->UpdateProgress(0.9);
 
-    // 5. Output: the neutral's structure, blended arrays in place of the neutral's.
-    vtkPointSet* neutral = inputs[0];
-    output->CopyStructure(neutral);
-    output->SetPoints(internals.Outputs.Points);
-    adapter::AssemblePointData(
-      neutral->GetPointData(), *internals.Built, internals.Outputs, output->GetPointData());
-    output->GetCellData()->PassData(neutral->GetCellData());
-
-    if (this->GenerateDistanceArrays)
-    {
-      for (vtkDataArray* array : internals.DistanceArrays())
-      {
-        output->GetPointData()->AddArray(array);
-      }
-    }
-
-    vtkFieldData* fd = output->GetFieldData();
-    vtkFieldData* neutralFD = neutral->GetFieldData();
-    for (int a = 0; a < neutralFD->GetNumberOfArrays(); ++a)
-    {
-      vtkAbstractArray* array = neutralFD->GetAbstractArray(a);
-      const char* name = array ? array->GetName() : nullptr;
-      const bool ours = name &&
-        std::any_of(std::begin(OutputFieldArrays), std::end(OutputFieldArrays),
-          [name](const char* own) { return std::strcmp(own, name) == 0; });
-      if (array && !ours)
-      {
-        fd->AddArray(array);
-      }
-    }
-    fd->AddArray(internals.TargetNames);
-    fd->AddArray(internals.Values<vtkDoubleArray>(internals.EffectiveWeightsOut, adapter::EffectiveWeightsArray, effective));
-    const int activeTargets = morphnode::CountActiveTargets(effective);
-    fd->AddArray(internals.Values<vtkIntArray>(internals.ActiveTargetCountOut, adapter::ActiveTargetCountArray,
-      { static_cast<double>(activeTargets) }));
-    fd->AddArray(internals.Values<vtkDoubleArray>(
-      internals.ErrorBoundOut, adapter::ErrorBoundArray, { internals.Optimizer.GetLastErrorBound() }));
-    if (this->GenerateDistanceArrays)
-    {
-      fd->AddArray(internals.DistNormOut);
-    }
-
-    internals.EffectiveWeights = effective;
-    this->ActiveTargetCount = activeTargets;
-    this->ErrorBound = internals.Optimizer.GetLastErrorBound();
-
+    // 4. The output: the neutral's structure with the blended arrays and field data.
+    internals.AssembleOutput(this, internals.Inputs[0], output);
     vtkInformation* outInfo = outputVector->GetInformationObject(0);
     if (outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP()))
     {
       output->GetInformation()->Set(vtkDataObject::DATA_TIME_STEP(),
         outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP()));
     }
+    internals.Valid = true;
+    this->ActiveTargetCount = internals.Node.GetActiveTargetCount();
+    this->ErrorBound = internals.Node.GetErrorBound();
     this->UpdateProgress(1.0);
+    return 1;
   }
   catch (const std::exception& e)
   {
     vtkErrorMacro(<< e.what());
     output->Initialize();
-    internals.EffectiveWeights.clear();
-    this->ActiveTargetCount = 0;
-    this->ErrorBound = 0.0;
-    return 1;
+    return 0;
   }
-  return 1;
 }
 
 //------------------------------------------------------------------------------
 void vtkMorphNodeFilter::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
+  const vtkInternals& internals = *this->Internals;
   os << indent << "WeightMode: " << this->GetWeightModeAsString() << "\n";
+  os << indent << "OptimizerPreset: " << this->GetOptimizerPresetAsString() << "\n";
   os << indent << "Threshold: " << this->Threshold << "\n";
   os << indent << "RedistributionStrategy: " << this->GetRedistributionStrategyAsString() << "\n";
   os << indent << "AdjustThreshold: " << (this->AdjustThreshold ? "On" : "Off") << "\n";
@@ -555,28 +746,27 @@ void vtkMorphNodeFilter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Hysteresis: " << this->Hysteresis << "\n";
   os << indent << "GenerateDistanceArrays: " << (this->GenerateDistanceArrays ? "On" : "Off") << "\n";
   os << indent << "SparseCoverage: " << this->SparseCoverage << "\n";
-  os << indent << "NumberOfTargets: "
-     << (this->Internals->Built ? static_cast<int>(this->Internals->Built->Model.GetNumberOfTargets()) : 0)
-     << "\n";
+  os << indent << "NumberOfTargets: " << internals.Names().size() << "\n";
   os << indent << "Weights (requested):";
-  for (const auto& a : this->Internals->Assignments)
+  for (size_t i = 0; i < internals.ByIndex.size(); ++i)
   {
-    os << " ";
-    if (a.Index >= 0)
+    if (internals.ByIndex[i].Order)
     {
-      os << a.Index;
+      os << " " << i << "=" << internals.ByIndex[i].Weight;
     }
-    else
-    {
-      os << a.Name;
-    }
-    os << "=" << a.Weight;
+  }
+  for (const auto& named : internals.ByName)
+  {
+    os << " " << named.Name << "=" << named.Value.Weight;
   }
   os << "\n";
   os << indent << "EffectiveWeights:";
-  for (double w : this->Internals->EffectiveWeights)
+  if (internals.Valid)
   {
-    os << " " << w;
+    for (double w : internals.Node.GetEffectiveWeights())
+    {
+      os << " " << w;
+    }
   }
   os << "\n";
   os << indent << "ActiveTargetCount: " << this->ActiveTargetCount << "\n";

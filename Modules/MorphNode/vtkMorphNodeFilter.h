@@ -25,10 +25,14 @@
  * port 1, so a temporal weight source animates the face.
  *
  * Weight modes (see morphnode::WeightMode): Strict (Java3D: |sum - 1| > 1e-4 is an
- * error), Normalize (default: divide by the sum), Relative (glTF: neutral +
- * sum w_i (target_i - neutral), no constraint). Every mode resolves to absolute weights
- * summing to 1, and the optimizer (see morphnode::WeightOptimizer) then zeroes small
- * weights and hands their weight on.
+ * error; negative weights, such as a neutral of 1 - sum below 0, are accepted as Java3D
+ * does), Normalize (default: divide by the sum; negative weights are an error), Relative
+ * (glTF: neutral + sum w_i (target_i - neutral), no constraint). Every mode resolves to
+ * absolute weights summing to 1, and the optimizer (see morphnode::WeightOptimizer) then
+ * zeroes small weights and hands their weight on. The optimizer's method is picked by a
+ * preset (SetOptimizerPreset, SetOptimizerPresetByName: none, fixed-maximum,
+ * fixed-remaining, adjusted, error-bounded, see morphnode::OptimizerPreset) or by the
+ * individual settings.
  *
  * Output: the neutral's structure (topology and cell data shared, not copied), with the
  * blended points and every point-data array that all targets carry with the same name
@@ -40,12 +44,14 @@
  * `TargetNames`. With GenerateDistanceArrays, point data `AnimatedRegion` and
  * `Distance_<target>` (the paper's Figure 4) and field data `DistNorm` (its Table 1).
  *
+ * The algorithm is the core's morphnode::MorphNode; this class adapts VTK data to it.
  * Work follows the active targets (a zero weight costs nothing) and runs in parallel
  * over points with vtkSMPTools. Bad input (no input, mismatched point counts, NaN
- * weights, unknown names, ...) is reported with vtkErrorMacro and gives an empty output;
- * the inputs are never modified.
+ * weights, unknown names, ...) is reported with vtkErrorMacro, gives an empty output and
+ * makes the update fail (Update() and UpdateTimeStep() return 0); the inputs are never
+ * modified.
  *
- * @sa morphnode::ResolveWeights morphnode::WeightOptimizer vtkGLTFReader
+ * @sa morphnode::MorphNode morphnode::ResolveWeights morphnode::WeightOptimizer vtkGLTFReader
  */
 
 #ifndef vtkMorphNodeFilter_h
@@ -61,6 +67,7 @@ class vtkDoubleArray;
 namespace morphnode
 {
 class MorphMesh;
+class MorphNode;
 }
 #endif
 
@@ -85,6 +92,18 @@ public:
     MAXIMUM = 0,
     REMAINING = 1,
     NEUTRAL = 2
+  };
+
+  /// Optimizer presets; values match morphnode::OptimizerPreset, OPTIMIZER_CUSTOM means the
+  /// individual settings.
+  enum OptimizerPresets
+  {
+    OPTIMIZER_CUSTOM = -1,
+    OPTIMIZER_NONE = 0,
+    OPTIMIZER_FIXED_MAXIMUM = 1,
+    OPTIMIZER_FIXED_REMAINING = 2,
+    OPTIMIZER_ADJUSTED = 3,
+    OPTIMIZER_ERROR_BOUNDED = 4
   };
 
   /**
@@ -146,8 +165,31 @@ public:
 
   ///@{
   /**
+   * The optimizer's method by preset (see morphnode::OptimizerPreset): OPTIMIZER_NONE,
+   * OPTIMIZER_FIXED_MAXIMUM and OPTIMIZER_FIXED_REMAINING (the paper's fixed threshold
+   * th_fix = Threshold, strategies 1 and 2), OPTIMIZER_ADJUSTED (the paper's adjusted
+   * threshold), OPTIMIZER_ERROR_BOUNDED (no vertex farther than MaxVertexError from the
+   * unoptimized result). A preset uses Threshold and MaxVertexError as set (the threshold
+   * is kept, though unused, while the preset needs none) and sets RedistributionStrategy
+   * and AdjustThreshold to its own; MaxActiveTargets and Hysteresis apply on top of any
+   * method. OPTIMIZER_CUSTOM (default) uses the individual settings below; changing
+   * RedistributionStrategy or AdjustThreshold switches to it.
+   */
+  virtual void SetOptimizerPreset(int preset);
+  vtkGetMacro(OptimizerPreset, int);
+  /// A preset by its name ("none", "fixed-maximum", "fixed-remaining", "adjusted",
+  /// "error-bounded", case-insensitive, or "0".."4"), or "custom". An unknown name is an
+  /// error and changes nothing.
+  void SetOptimizerPresetByName(const char* name);
+  /// The preset's name, or "custom".
+  const char* GetOptimizerPresetAsString();
+  ///@}
+
+  ///@{
+  /**
    * The paper's fixed threshold th_fix: absolute weights below it become 0 and their
    * weight is handed on by the redistribution strategy. 0 (default) turns it off.
+   * Used by the threshold presets too.
    */
   vtkSetClampMacro(Threshold, double, 0.0, 1.0);
   vtkGetMacro(Threshold, double);
@@ -157,9 +199,10 @@ public:
   /**
    * Where pruned weight goes: MAXIMUM (the largest remaining weight, the paper's
    * strategy 1), REMAINING (all remaining weights in proportion, strategy 2; default),
-   * NEUTRAL (the neutral: no geometric side effect, beyond the paper).
+   * NEUTRAL (the neutral: no geometric side effect, beyond the paper). A change switches
+   * the optimizer to OPTIMIZER_CUSTOM.
    */
-  vtkSetClampMacro(RedistributionStrategy, int, MAXIMUM, NEUTRAL);
+  virtual void SetRedistributionStrategy(int strategy);
   vtkGetMacro(RedistributionStrategy, int);
   void SetRedistributionStrategyToMaximum() { this->SetRedistributionStrategy(MAXIMUM); }
   void SetRedistributionStrategyToRemaining() { this->SetRedistributionStrategy(REMAINING); }
@@ -170,9 +213,10 @@ public:
   ///@{
   /**
    * The paper's improved method: per-target threshold th_adj = th_fix * (1 - dist_norm),
-   * so targets that move the face a lot stay longer. Default off.
+   * so targets that move the face a lot stay longer. Default off. A change switches the
+   * optimizer to OPTIMIZER_CUSTOM.
    */
-  vtkSetMacro(AdjustThreshold, bool);
+  virtual void SetAdjustThreshold(bool adjust);
   vtkGetMacro(AdjustThreshold, bool);
   vtkBooleanMacro(AdjustThreshold, bool);
   ///@}
@@ -181,6 +225,7 @@ public:
   /**
    * Guarantee that no vertex moves by more than this (model units) from the
    * unoptimized result. Alone, prunes as much as that allows. 0 (default) = off.
+   * Used by the error-bounded preset too.
    */
   vtkSetClampMacro(MaxVertexError, double, 0.0, VTK_DOUBLE_MAX);
   vtkGetMacro(MaxVertexError, double);
@@ -237,6 +282,12 @@ public:
    * after an error): for C++ tools that study the morph beyond the pipeline.
    */
   const morphnode::MorphMesh* GetMorphModel();
+  /**
+   * The core morph node of the last execution (its mesh, settings, effective weights):
+   * valid while the filter lives; its mesh is nullptr before an execution and after input
+   * that could not be made into a mesh.
+   */
+  const morphnode::MorphNode* GetMorphNode();
 #endif
 
 protected:
@@ -248,6 +299,7 @@ protected:
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
   int WeightMode = NORMALIZE;
+  int OptimizerPreset = OPTIMIZER_CUSTOM;
   double Threshold = 0.0;
   int RedistributionStrategy = REMAINING;
   bool AdjustThreshold = false;

@@ -96,6 +96,7 @@ struct Rig
     : Targets(std::move(targets))
   {
     this->Messages->Watch(this->Filter);
+    this->Messages->Watch(this->Filter->GetExecutive()); // its "returned failure" report
     for (auto& t : this->Targets)
     {
       this->Filter->AddInputData(0, t);
@@ -193,6 +194,119 @@ TEST(MorphNodeFilter, StrictModeIsJava3D)
   out = rig.Run();
   EXPECT_EQ(out->GetNumberOfPoints(), 0);
   EXPECT_TRUE(rig.Messages->HasError("sum to 1.2")) << rig.Messages->AllErrors();
+}
+
+// Java3D's Morph checks only that the weights sum to 1 within 1e-4; a negative neutral
+// (expression weights summing above 1) or negative targets are accepted, in Strict as there.
+TEST(MorphNodeFilter, StrictModeAcceptsNegativeWeightsSummingToOne)
+{
+  Rig rig(ThreeQuads());
+  rig.Filter->SetWeightModeToStrict();
+  const double negativeTargets[3] = { 1.3, -0.1, -0.2 };
+  for (int i = 0; i < 3; ++i)
+  {
+    rig.Filter->SetWeight(i, negativeTargets[i]);
+  }
+  EXPECT_EQ(rig.Filter->UpdateTimeStep(0.0), 1);
+  double p[3];
+  rig.Filter->GetOutput()->GetPoint(0, p);
+  // -0.1 (1,2,0) - 0.2 (2,4,0)
+  EXPECT_NEAR(p[0], -0.5, 1e-6);
+  EXPECT_NEAR(p[1], -1.0, 1e-6);
+  EXPECT_EQ(rig.Filter->GetEffectiveWeight(2), -0.2);
+
+  const double negativeNeutral[3] = { -0.2, 0.7, 0.5 };
+  for (int i = 0; i < 3; ++i)
+  {
+    rig.Filter->SetWeight(i, negativeNeutral[i]);
+  }
+  EXPECT_EQ(rig.Filter->UpdateTimeStep(0.0), 1);
+  rig.Filter->GetOutput()->GetPoint(0, p);
+  // 0.7 (1,2,0) + 0.5 (2,4,0)
+  EXPECT_NEAR(p[0], 1.7, 1e-6);
+  EXPECT_NEAR(p[1], 3.4, 1e-6);
+  EXPECT_EQ(rig.Filter->GetActiveTargetCount(), 2);
+  EXPECT_TRUE(rig.Messages->Errors.empty()) << rig.Messages->AllErrors();
+
+  // Off by 2e-4: refused as Java3D refuses it.
+  rig.Filter->SetWeight(2, 0.5002);
+  EXPECT_EQ(rig.Filter->UpdateTimeStep(0.0), 0);
+  EXPECT_EQ(rig.Filter->GetOutput()->GetNumberOfPoints(), 0);
+  EXPECT_TRUE(rig.Messages->HasError("sum to 1.0002")) << rig.Messages->AllErrors();
+
+  // Normalize still refuses negative weights.
+  rig.Filter->SetWeight(2, 0.5);
+  rig.Filter->SetWeightModeToNormalize();
+  EXPECT_EQ(rig.Filter->UpdateTimeStep(0.0), 0);
+  EXPECT_TRUE(rig.Messages->HasError("negative")) << rig.Messages->AllErrors();
+}
+
+TEST(MorphNodeFilter, OptimizerPresets)
+{
+  Rig rig(ThreeQuads());
+  rig.Filter->SetWeight(0, 0.55);
+  rig.Filter->SetWeight(1, 0.4);
+  rig.Filter->SetWeight(2, 0.05);
+  rig.Filter->SetThreshold(0.1);
+  rig.Filter->SetMaxVertexError(0.5);
+  EXPECT_EQ(rig.Filter->GetOptimizerPreset(), vtkMorphNodeFilter::OPTIMIZER_CUSTOM);
+  EXPECT_STREQ(rig.Filter->GetOptimizerPresetAsString(), "custom");
+
+  // fixed-maximum: the threshold, pruned weight to the largest (the neutral's 0.55).
+  rig.Filter->SetOptimizerPreset(vtkMorphNodeFilter::OPTIMIZER_FIXED_MAXIMUM);
+  EXPECT_EQ(rig.Filter->GetRedistributionStrategy(), vtkMorphNodeFilter::MAXIMUM);
+  EXPECT_FALSE(rig.Filter->GetAdjustThreshold());
+  rig.Run();
+  EXPECT_NEAR(rig.Filter->GetEffectiveWeight(0), 0.6, 1e-12);
+  EXPECT_EQ(rig.Filter->GetEffectiveWeight(2), 0.0);
+  EXPECT_STREQ(rig.Filter->GetOptimizerPresetAsString(), "fixed-maximum");
+
+  // none: the threshold is kept but unused, so is the error bound.
+  rig.Filter->SetOptimizerPresetByName("none");
+  EXPECT_EQ(rig.Filter->GetOptimizerPreset(), vtkMorphNodeFilter::OPTIMIZER_NONE);
+  rig.Run();
+  EXPECT_EQ(rig.Filter->GetEffectiveWeight(2), 0.05);
+  EXPECT_EQ(rig.Filter->GetActiveTargetCount(), 2);
+  EXPECT_EQ(rig.Filter->GetThreshold(), 0.1);
+
+  // error-bounded (any case): MaxVertexError, pruned weight to the neutral. Target 2
+  // costs 0.05 |(2,4,0)| = 0.22 <= 0.5, target 1 0.4 |(1,2,0)| = 0.89 > 0.5.
+  rig.Filter->SetOptimizerPresetByName("Error-Bounded");
+  EXPECT_EQ(rig.Filter->GetOptimizerPreset(), vtkMorphNodeFilter::OPTIMIZER_ERROR_BOUNDED);
+  EXPECT_EQ(rig.Filter->GetRedistributionStrategy(), vtkMorphNodeFilter::NEUTRAL);
+  rig.Run();
+  EXPECT_EQ(rig.Filter->GetEffectiveWeight(2), 0.0);
+  EXPECT_EQ(rig.Filter->GetEffectiveWeight(1), 0.4);
+  EXPECT_NEAR(rig.Filter->GetEffectiveWeight(0), 0.6, 1e-12);
+  EXPECT_LE(rig.Filter->GetErrorBound(), 0.5);
+
+  // adjusted, by number: th_adj = th_fix (1 - dist_norm); target 2 has dist_norm 1.
+  rig.Filter->SetOptimizerPresetByName("3");
+  EXPECT_EQ(rig.Filter->GetOptimizerPreset(), vtkMorphNodeFilter::OPTIMIZER_ADJUSTED);
+  EXPECT_TRUE(rig.Filter->GetAdjustThreshold());
+  EXPECT_EQ(rig.Filter->GetRedistributionStrategy(), vtkMorphNodeFilter::REMAINING);
+  rig.Run();
+  EXPECT_EQ(rig.Filter->GetEffectiveWeight(2), 0.05);
+
+  // An unknown name is an error and changes nothing.
+  rig.Filter->SetOptimizerPresetByName("fastest");
+  EXPECT_TRUE(rig.Messages->HasError("unknown optimizer method")) << rig.Messages->AllErrors();
+  EXPECT_EQ(rig.Filter->GetOptimizerPreset(), vtkMorphNodeFilter::OPTIMIZER_ADJUSTED);
+
+  // An individual method setting switches to the individual settings, the preset's kept.
+  rig.Filter->SetRedistributionStrategyToMaximum();
+  EXPECT_EQ(rig.Filter->GetOptimizerPreset(), vtkMorphNodeFilter::OPTIMIZER_CUSTOM);
+  EXPECT_TRUE(rig.Filter->GetAdjustThreshold());
+  rig.Filter->SetOptimizerPresetByName("custom");
+  EXPECT_EQ(rig.Filter->GetOptimizerPreset(), vtkMorphNodeFilter::OPTIMIZER_CUSTOM);
+
+  // A preset already in effect does not modify the filter.
+  rig.Filter->SetOptimizerPreset(vtkMorphNodeFilter::OPTIMIZER_FIXED_REMAINING);
+  const vtkMTimeType before = rig.Filter->GetMTime();
+  rig.Filter->SetOptimizerPreset(vtkMorphNodeFilter::OPTIMIZER_FIXED_REMAINING);
+  rig.Filter->SetRedistributionStrategyToRemaining();
+  EXPECT_EQ(rig.Filter->GetMTime(), before);
+  EXPECT_EQ(rig.Filter->GetOptimizerPreset(), vtkMorphNodeFilter::OPTIMIZER_FIXED_REMAINING);
 }
 
 TEST(MorphNodeFilter, NormalizeModeDividesBySum)
@@ -611,6 +725,39 @@ TEST_F(BadInput, TargetNamesOfTheWrongCount)
   targets[0]->GetFieldData()->AddArray(names);
   Rig rig(targets);
   ExpectError(rig, "has 1 names for 3 targets");
+}
+
+// A failed update is a failure for the pipeline too: UpdateTimeStep() returns 0 and the
+// output is empty, whatever the fault.
+TEST_F(BadInput, UpdateTimeStepReportsFailure)
+{
+  {
+    Rig rig(ThreeQuads());
+    rig.Filter->SetWeight(1, 0.5);
+    EXPECT_EQ(rig.Filter->UpdateTimeStep(0.0), 1);
+    EXPECT_EQ(rig.Filter->GetOutput()->GetNumberOfPoints(), 4);
+    rig.Filter->SetWeight(1, std::numeric_limits<double>::quiet_NaN());
+    EXPECT_EQ(rig.Filter->UpdateTimeStep(0.0), 0);
+    EXPECT_EQ(rig.Filter->GetOutput()->GetNumberOfPoints(), 0);
+    EXPECT_TRUE(rig.Messages->HasError("weight 1 is nan")) << rig.Messages->AllErrors();
+    EXPECT_EQ(rig.Filter->GetEffectiveWeight(0), 0.0);
+  }
+  {
+    Rig rig(ThreeQuads());
+    rig.Filter->SetWeightByName("jawOpen", 0.5);
+    EXPECT_EQ(rig.Filter->UpdateTimeStep(0.0), 0);
+    EXPECT_EQ(rig.Filter->GetOutput()->GetNumberOfPoints(), 0);
+    EXPECT_TRUE(rig.Messages->HasError("no target has that name")) << rig.Messages->AllErrors();
+  }
+  {
+    auto targets = ThreeQuads();
+    targets[2]->GetPoints()->InsertNextPoint(5, 5, 5);
+    Rig rig(targets);
+    EXPECT_EQ(rig.Filter->UpdateTimeStep(0.0), 0);
+    EXPECT_EQ(rig.Filter->GetOutput()->GetNumberOfPoints(), 0);
+    EXPECT_EQ(rig.Filter->GetNumberOfTargets(), 3); // the connections; nothing was built
+    EXPECT_TRUE(rig.Messages->HasError("target 2 has 5 points")) << rig.Messages->AllErrors();
+  }
 }
 
 TEST_F(BadInput, RecoversOnceTheInputIsFixed)

@@ -70,6 +70,7 @@ class TestMorphNodePython(unittest.TestCase):
 
     def test_strict_mode_error_gives_empty_output(self):
         errors = Errors(self.morph)
+        Errors(self.morph.GetExecutive())  # the failed update's report, kept off the console
         self.morph.SetWeightModeToStrict()
         self.morph.SetWeight(1, 0.5)  # sum 1.5
         self.morph.Update()
@@ -99,6 +100,32 @@ class TestMorphNodePython(unittest.TestCase):
         self.assertAlmostEqual(self.morph.GetEffectiveWeight(0), 0.6)
         self.assertEqual(self.morph.GetRedistributionStrategyAsString(), "Maximum")
         self.assertGreater(self.morph.GetErrorBound(), 0.0)
+
+    def test_optimizer_presets(self):
+        self.morph.SetWeight(0, 0.55)
+        self.morph.SetWeight(1, 0.4)
+        self.morph.SetWeight(2, 0.05)
+        self.morph.SetThreshold(0.1)
+        self.morph.SetOptimizerPresetByName("fixed-maximum")
+        self.assertEqual(self.morph.GetOptimizerPreset(), vtkMorphNodeFilter.OPTIMIZER_FIXED_MAXIMUM)
+        self.assertEqual(self.morph.GetOptimizerPresetAsString(), "fixed-maximum")
+        self.assertEqual(self.morph.UpdateTimeStep(0.0), 1)
+        self.assertEqual(self.morph.GetEffectiveWeight(2), 0.0)
+        self.morph.SetOptimizerPreset(vtkMorphNodeFilter.OPTIMIZER_NONE)
+        self.morph.Update()
+        self.assertAlmostEqual(self.morph.GetEffectiveWeight(2), 0.05)
+        errors = Errors(self.morph)
+        self.morph.SetOptimizerPresetByName("fastest")
+        self.assertTrue(any("unknown optimizer method" in m for m in errors.messages), errors.messages)
+        self.assertEqual(self.morph.GetOptimizerPresetAsString(), "none")
+
+    def test_failed_update_reports_failure(self):
+        errors = Errors(self.morph)
+        Errors(self.morph.GetExecutive())  # keeps the executive's report off the console
+        self.morph.SetWeight(1, float("nan"))
+        self.assertEqual(self.morph.UpdateTimeStep(0.0), 0)
+        self.assertEqual(self.morph.GetOutput().GetNumberOfPoints(), 0)
+        self.assertTrue(any("weight 1 is nan" in m for m in errors.messages), errors.messages)
 
 
 if __name__ == "__main__":
