@@ -1,5 +1,7 @@
 # SPDX-License-Identifier: BSD-3-Clause
-"""vtkBehaviorTimeSource from Python: the default face animated through UpdateTimeStep."""
+"""vtkBehaviorTimeSource from Python: the default face animated through UpdateTimeStep; lip sync
+made elsewhere (Rhubarb cues, MBROLA .pho) driven into it; frames, parameters, viseme tables."""
+import json
 import os
 import tempfile
 import unittest
@@ -13,6 +15,7 @@ from vtkmodules.vtkCommonExecutionModel import vtkStreamingDemandDrivenPipeline
 SOURCE_DIR = os.environ.get("MORPHNODE_SOURCE_DIR", os.path.join(os.path.dirname(__file__), "..", ".."))
 DEFAULT_FACE = os.path.join(SOURCE_DIR, "Data", "DefaultFace", "default_face.glb")
 OUTPUT_DIR = os.environ.get("MORPHNODE_TEST_OUTPUT_DIR", tempfile.gettempdir())
+CORPUS = os.path.join(SOURCE_DIR, "Testing", "Fuzz", "corpus")
 
 
 class Errors:
@@ -33,6 +36,12 @@ def column(table, name, row=0):
     if array is None:
         raise KeyError(name)
     return array.GetValue(row)
+
+
+def peak(track, name, start, end):
+    """The largest value of a track column over [start, end] seconds."""
+    return max(column(track, name, r) for r in range(track.GetNumberOfRows())
+               if start <= column(track, "Time", r) <= end)
 
 
 class TestBehaviorTimeSource(unittest.TestCase):
@@ -134,6 +143,110 @@ class TestBehaviorTimeSource(unittest.TestCase):
         self.morph.UpdateTimeStep(0.4)
         mouth = sum(self.morph.GetEffectiveWeight(self.morph.GetTargetIndex(v)) for v in "AEOSFL")
         self.assertGreater(mouth, 0.1)
+
+    def test_rhubarb_cues_from_python(self):
+        """Rhubarb Lip Sync's output (as Python makes or reads it) drives the mouth."""
+        b = self.behavior
+        b.SetDuration(6)
+        # TSV written by Python (as `rhubarb -f tsv` would), JSON as a string.
+        tsv = os.path.join(OUTPUT_DIR, "TestBehaviorTimeSourcePython_cues.tsv")
+        with open(tsv, "w") as f:
+            f.write("0.00\tX\n0.10\tD\n0.50\tB\n0.80\tX\n")
+        before = b.GetMTime()
+        self.assertTrue(b.SpeakRhubarbFile(tsv, 1.0))
+        self.assertGreater(b.GetMTime(), before)
+        cues = {"metadata": {"soundFile": "hello.wav", "duration": 0.6},
+                "mouthCues": [{"start": 0.0, "end": 0.1, "value": "X"},
+                              {"start": 0.1, "end": 0.5, "value": "E"},
+                              {"start": 0.5, "end": 0.6, "value": "X"}]}
+        self.assertTrue(b.SpeakRhubarbCues(json.dumps(cues), 3.0))
+        self.assertTrue(b.SpeakRhubarbFile(os.path.join(CORPUS, "rhubarb_json", "sample.json")))  # queued
+        self.assertEqual(b.GetNumberOfUtterances(), 3)
+        self.assertEqual((b.GetUtteranceStart(0), b.GetUtteranceEnd(0)), (1.0, 1.8))
+        self.assertAlmostEqual(b.GetUtteranceStart(2), 3.6)
+        self.assertFalse(b.HasAudio())
+
+        b.Update(1)
+        track = b.GetOutputDataObject(1)
+        # The paper's table: Rhubarb D (open) -> A, B (clenched) -> S, E (rounded) -> O.
+        self.assertGreater(peak(track, "A", 1.15, 1.45), 0.5)
+        self.assertGreater(peak(track, "S", 1.55, 1.75), 0.5)
+        self.assertGreater(peak(track, "O", 3.15, 3.45), 0.5)
+        self.assertLess(peak(track, "A", 0.0, 0.9), 0.01)
+        # ... and through UpdateTimeStep onto the face's targets.
+        self.morph.UpdateTimeStep(1.3)
+        self.assertGreater(self.morph.GetEffectiveWeight(self.morph.GetTargetIndex("A")), 0.5)
+
+        # Bad cues: False, an error naming the problem, the source unchanged.
+        before = b.GetMTime()
+        self.assertFalse(b.SpeakRhubarbFile(os.path.join(CORPUS, "rhubarb_tsv", "decreasing.tsv")))
+        self.assertFalse(b.SpeakRhubarbCues('{"mouthCues": [{"start": 0.5, "end": 0.2, "value": "A"}]}'))
+        self.assertFalse(b.SpeakRhubarbFile(os.path.join(OUTPUT_DIR, "no_such_cues.tsv")))
+        self.assertFalse(b.SpeakRhubarbCues(""))
+        messages = self.behavior_errors.messages
+        self.assertEqual(len(messages), 4, messages)
+        self.assertIn("decreasing.tsv", messages[0])
+        self.assertIn("ends before it starts", messages[1])
+        self.assertIn("cannot be opened", messages[2])
+        self.assertIn("no mouth cues", messages[3])
+        self.assertEqual(b.GetMTime(), before)
+        self.assertEqual(b.GetNumberOfUtterances(), 3)
+        messages.clear()
+
+    def test_pho_from_python(self):
+        """MBROLA .pho phonemes, as a file and as text, drive the mouth."""
+        b = self.behavior
+        self.assertTrue(b.SpeakPhonemeFile(os.path.join(CORPUS, "pho", "hello.pho"), 0.5))
+        pho = "\n".join(["_ 50", "h 60", "A: 250 50 120", "_ 100"])  # English SAMPA
+        self.assertTrue(b.SpeakPhonemes(pho))  # after hello
+        self.assertEqual(b.GetNumberOfUtterances(), 2)
+        start = b.GetUtteranceStart(1)
+        self.assertEqual(start, b.GetUtteranceEnd(0))
+        # 0.46 s of phonemes; the end is the viseme track's last frame when that is later.
+        self.assertTrue(0.46 - 1e-9 <= b.GetUtteranceEnd(1) - start < 0.5, b.GetUtteranceEnd(1) - start)
+        b.Update(1)
+        track = b.GetOutputDataObject(1)
+        self.assertGreater(peak(track, "A", start + 0.12, start + 0.35), 0.5)
+        self.assertGreater(peak(track, "O", 0.5, start), 0.3)  # "hello" rounds the lips
+
+        before = b.GetMTime()
+        self.assertFalse(b.SpeakPhonemes("a 80 50"))  # an odd pitch list
+        self.assertFalse(b.SpeakPhonemeFile(os.path.join(OUTPUT_DIR, "missing.pho")))
+        self.assertIn("pho line 1", self.behavior_errors.messages[0])
+        self.assertEqual(len(self.behavior_errors.messages), 2)
+        self.assertEqual(b.GetMTime(), before)
+        self.behavior_errors.messages.clear()
+
+    def test_frames_parameters_and_viseme_table(self):
+        b = self.behavior
+        b.SetFrameRate(24)
+        b.SetDuration(2.3)
+        self.assertEqual(b.GetNumberOfFrames(), 56)
+        b.UpdateInformation()
+        steps = b.GetOutputInformation(0).Get(vtkStreamingDemandDrivenPipeline.TIME_STEPS())
+        self.assertEqual(list(steps), [b.GetFrameTime(i) for i in range(b.GetNumberOfFrames())])
+
+        names = [b.GetBehaviorParameterName(i) for i in range(b.GetNumberOfBehaviorParameters())]
+        self.assertIn("BlinkRateRest", names)
+        self.assertEqual(b.GetBehaviorParameter("BlinkRateRest"), 17.0)
+        before = b.GetMTime()
+        self.assertTrue(b.SetBehaviorParameter("BlinkRateRest", 30.0))
+        self.assertGreater(b.GetMTime(), before)
+        self.assertEqual(b.GetBehaviorParameter("blink_rate_rest"), 30.0)
+        self.assertFalse(b.SetBehaviorParameter("BlinkRateRest", 1e6))
+        self.assertEqual(b.GetBehaviorParameter("BlinkRateRest"), 30.0)
+        b.ResetBehaviorParameters()
+        self.assertEqual(b.GetBehaviorParameter("BlinkRateRest"), 17.0)
+
+        table = os.path.join(SOURCE_DIR, "Data", "speech", "visemes_oculus15_en.json")
+        self.assertTrue(b.SetVisemeTableFileName(table))
+        self.assertTrue(b.SpeakPhonemes("_ 50\np 80\nA: 200\n_ 50", 0.2))
+        channels = [b.GetChannelName(i) for i in range(b.GetNumberOfChannels())]
+        self.assertIn("PP", channels)
+        self.assertFalse(b.SetVisemeTableFileName(os.path.join(OUTPUT_DIR, "no_table.json")))
+        self.assertEqual(b.GetVisemeTableFileName(), table)
+        self.assertEqual(len(self.behavior_errors.messages), 2, self.behavior_errors.messages)
+        self.behavior_errors.messages.clear()
 
 
 if __name__ == "__main__":
