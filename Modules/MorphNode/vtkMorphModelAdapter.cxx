@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkMorphModelAdapter.h"
 
+#include "vtkMorphTargetArrays.h"
+
 #include "base/Error.h"
 
 #include "vtkAbstractArray.h"
@@ -28,69 +30,25 @@ namespace
 using morphnode::AttributeRole;
 using morphnode::InputError;
 
-std::string TargetArrayName(size_t k, const char* what)
-{
-  return "target" + std::to_string(k) + "_" + what;
-}
+namespace arrays = vtkMorphTargetArrays;
 
 bool IsIntegerType(int vtkType)
 {
   return vtkType != VTK_FLOAT && vtkType != VTK_DOUBLE;
 }
 
-/// Values of a data array as T, tuple-major.
-template <typename T>
-std::vector<T> ValuesOf(vtkDataArray* array)
-{
-  const vtkIdType n = array->GetNumberOfTuples();
-  const int c = array->GetNumberOfComponents();
-  std::vector<T> values(static_cast<size_t>(n) * c);
-  for (vtkIdType t = 0; t < n; ++t)
-  {
-    for (int j = 0; j < c; ++j)
-    {
-      values[static_cast<size_t>(t) * c + j] = static_cast<T>(array->GetComponent(t, j));
-    }
-  }
-  return values;
-}
-
-/// Adds an attribute whose storage type follows the VTK array (float stays float).
-/// `targetValues(i)` gives target i's array (absolute or delta, as `relative` says).
+/// Adds an attribute from the neutral's array and every other input's array of that name
+/// (absolute targets).
 template <typename GetTarget>
 void AddAttribute(BuiltModel& built, const std::string& name, AttributeRole role,
-  vtkDataArray* neutral, size_t numTargets, bool relative, double sparseCoverage,
-  GetTarget targetArray)
+  vtkDataArray* neutral, size_t numTargets, double sparseCoverage, GetTarget targetArray)
 {
-  const int c = neutral->GetNumberOfComponents();
-  auto fill = [&](auto& attribute) {
-    using T = typename std::decay_t<decltype(attribute.GetNeutral())>::value_type;
-    attribute.SetNeutral(ValuesOf<T>(neutral).data());
-    if (IsIntegerType(neutral->GetDataType()))
-    {
-      attribute.SetClampRange(neutral->GetDataTypeMin(), neutral->GetDataTypeMax());
-    }
-    for (size_t i = 1; i < numTargets; ++i)
-    {
-      const std::vector<T> values = ValuesOf<T>(targetArray(i));
-      if (relative)
-      {
-        attribute.AddRelativeTarget(values.data(), sparseCoverage);
-      }
-      else
-      {
-        attribute.AddAbsoluteTarget(values.data(), sparseCoverage);
-      }
-    }
-  };
-  if (neutral->GetDataType() == VTK_FLOAT)
+  std::vector<vtkDataArray*> targets;
+  for (size_t i = 1; i < numTargets; ++i)
   {
-    fill(built.Model.AddAttribute<float>(name, role, c));
+    targets.push_back(targetArray(i));
   }
-  else
-  {
-    fill(built.Model.AddAttribute<double>(name, role, c));
-  }
+  arrays::AddAttribute(built.Model, name, role, neutral, targets, false, sparseCoverage);
 }
 
 AttributeRole RoleOf(vtkPointSet* neutral, vtkDataArray* array)
@@ -104,43 +62,12 @@ AttributeRole RoleOf(vtkPointSet* neutral, vtkDataArray* array)
   return IsIntegerType(array->GetDataType()) ? AttributeRole::Color : AttributeRole::Generic;
 }
 
-vtkDataArray* NormalsOf(vtkPointSet* input)
-{
-  vtkPointData* pd = input->GetPointData();
-  if (vtkDataArray* n = pd->GetNormals())
-  {
-    return n;
-  }
-  for (const char* name : { "Normal", "Normals", "NORMAL" })
-  {
-    vtkDataArray* n = pd->GetArray(name);
-    if (n && n->GetNumberOfComponents() == 3)
-    {
-      return n;
-    }
-  }
-  return nullptr;
-}
-
 std::vector<std::string> NamesFrom(vtkPointSet* neutral, const std::vector<vtkPointSet*>& all,
   size_t numTargets)
 {
-  if (auto* names = vtkStringArray::SafeDownCast(
-        neutral->GetFieldData()->GetAbstractArray(TargetNamesArray)))
+  if (neutral->GetFieldData()->GetAbstractArray(TargetNamesArray))
   {
-    if (static_cast<size_t>(names->GetNumberOfValues()) != numTargets)
-    {
-      std::ostringstream msg;
-      msg << "field data '" << TargetNamesArray << "' has " << names->GetNumberOfValues()
-          << " names for " << numTargets << " targets (neutral first)";
-      throw InputError(msg.str());
-    }
-    std::vector<std::string> result;
-    for (vtkIdType i = 0; i < names->GetNumberOfValues(); ++i)
-    {
-      result.push_back(names->GetValue(i));
-    }
-    return result;
+    return arrays::GetTargetNames(neutral->GetFieldData(), numTargets);
   }
   std::vector<std::string> result = morphnode::DefaultTargetNames(numTargets);
   for (size_t i = 0; i < all.size() && i < numTargets; ++i)
@@ -217,24 +144,11 @@ vtkDataArray* ReuseOrNew(vtkSmartPointer<vtkDataArray>& slot, vtkDataArray* prot
   return slot;
 }
 
-void CheckUniqueNames(const std::vector<std::string>& names)
-{
-  for (size_t i = 0; i < names.size(); ++i)
-  {
-    for (size_t j = i + 1; j < names.size(); ++j)
-    {
-      if (names[i] == names[j])
-      {
-        throw InputError("two targets are named '" + names[i] + "'; target names must be unique");
-      }
-    }
-  }
-}
 } // namespace
 
 bool HasRelativeTargets(vtkPointSet* input)
 {
-  return input && input->GetPointData()->GetAbstractArray("target0_position") != nullptr;
+  return arrays::HasTargets(input);
 }
 
 BuiltModel BuildFromAbsoluteTargets(const std::vector<vtkPointSet*>& inputs, double sparseCoverage)
@@ -272,10 +186,11 @@ BuiltModel BuildFromAbsoluteTargets(const std::vector<vtkPointSet*>& inputs, dou
   const size_t n = inputs.size();
   BuiltModel built{ morphnode::MorphMesh(static_cast<size_t>(numPoints)), {}, {} };
   built.Model.SetTargetNames(NamesFrom(neutral, inputs, n));
-  CheckUniqueNames(built.Model.GetTargetNames());
+  arrays::CheckUniqueNames(built.Model.GetTargetNames());
 
-  AddAttribute(built, "Points", AttributeRole::Position, neutral->GetPoints()->GetData(), n,
-    false, sparseCoverage, [&](size_t i) { return inputs[i]->GetPoints()->GetData(); });
+  AddAttribute(built, arrays::PointsAttributeName, AttributeRole::Position,
+    neutral->GetPoints()->GetData(), n, sparseCoverage,
+    [&](size_t i) { return inputs[i]->GetPoints()->GetData(); });
   built.Bindings.push_back({ "", neutral->GetPoints()->GetData(), false });
 
   vtkPointData* pd = neutral->GetPointData();
@@ -299,7 +214,7 @@ BuiltModel BuildFromAbsoluteTargets(const std::vector<vtkPointSet*>& inputs, dou
       continue; // passed through from the neutral
     }
     const AttributeRole role = RoleOf(neutral, array);
-    AddAttribute(built, name, role, array, n, false, sparseCoverage,
+    AddAttribute(built, name, role, array, n, sparseCoverage,
       [&](size_t i) { return inputs[i]->GetPointData()->GetArray(name.c_str()); });
     built.Bindings.push_back({ name, array, role == AttributeRole::Normal });
   }
@@ -311,100 +226,17 @@ BuiltModel BuildFromAbsoluteTargets(const std::vector<vtkPointSet*>& inputs, dou
 BuiltModel BuildFromRelativeTargets(vtkPointSet* input, double sparseCoverage)
 {
   CheckNeutral(input);
-  const vtkIdType numPoints = input->GetNumberOfPoints();
-  vtkPointData* pd = input->GetPointData();
-
-  size_t numDeltas = 0;
-  while (pd->GetAbstractArray(TargetArrayName(numDeltas, "position").c_str()))
-  {
-    ++numDeltas;
-  }
-  auto deltaArray = [&](size_t k, const char* what) -> vtkDataArray* {
-    const std::string name = TargetArrayName(k, what);
-    vtkAbstractArray* abstract = pd->GetAbstractArray(name.c_str());
-    if (!abstract)
-    {
-      return nullptr;
-    }
-    vtkDataArray* array = vtkDataArray::SafeDownCast(abstract);
-    if (!array || array->GetNumberOfComponents() != 3 || array->GetNumberOfTuples() != numPoints)
-    {
-      std::ostringstream msg;
-      msg << "target array '" << name << "' must be numeric with 3 components and " << numPoints
-          << " tuples (one per point)";
-      if (abstract)
-      {
-        msg << "; it has " << abstract->GetNumberOfComponents() << " components and "
-            << abstract->GetNumberOfTuples() << " tuples";
-      }
-      throw InputError(msg.str());
-    }
-    return array;
-  };
-  for (size_t k = 0; k < numDeltas; ++k)
-  {
-    deltaArray(k, "position");
-  }
-  for (int a = 0; a < pd->GetNumberOfArrays(); ++a)
-  {
-    const char* name = pd->GetArrayName(a);
-    if (name && std::string(name).rfind("target", 0) == 0 && std::string(name).find('_') != std::string::npos)
-    {
-      const std::string s(name);
-      const size_t underscore = s.find('_');
-      const std::string digits = s.substr(6, underscore - 6);
-      if (!digits.empty() && std::all_of(digits.begin(), digits.end(), ::isdigit))
-      {
-        if (std::stoul(digits) >= numDeltas)
-        {
-          std::ostringstream msg;
-          msg << "target array '" << s << "' has no matching target" << digits
-              << "_position (targets must be numbered 0.." << numDeltas << " without gaps)";
-          throw InputError(msg.str());
-        }
-      }
-    }
-  }
-
-  const size_t n = numDeltas + 1;
-  BuiltModel built{ morphnode::MorphMesh(static_cast<size_t>(numPoints)), {}, {} };
-  built.Model.SetTargetNames(NamesFrom(input, { input }, n));
-  CheckUniqueNames(built.Model.GetTargetNames());
-
-  AddAttribute(built, "Points", AttributeRole::Position, input->GetPoints()->GetData(), n, true,
-    sparseCoverage, [&](size_t i) { return deltaArray(i - 1, "position"); });
+  arrays::ReadOptions options;
+  options.SparseCoverage = sparseCoverage;
+  arrays::MeshFromVTK read = arrays::ToMorphMesh(input, options);
+  BuiltModel built{ std::move(read.Mesh), {}, std::move(read.TargetArrays) };
   built.Bindings.push_back({ "", input->GetPoints()->GetData(), false });
-
-  vtkDataArray* normals = NormalsOf(input);
-  bool normalDeltas = normals && numDeltas > 0;
-  for (size_t k = 0; k < numDeltas && normalDeltas; ++k)
+  if (read.Normals)
   {
-    normalDeltas = deltaArray(k, "normal") != nullptr;
+    built.Bindings.push_back({ read.Normals->GetName() ? read.Normals->GetName() : "",
+      read.Normals, true });
   }
-  if (normalDeltas)
-  {
-    AddAttribute(built, normals->GetName(), AttributeRole::Normal, normals, n, true,
-      sparseCoverage, [&](size_t i) { return deltaArray(i - 1, "normal"); });
-    built.Bindings.push_back({ normals->GetName(), normals, true });
-  }
-
-  for (int a = 0; a < pd->GetNumberOfArrays(); ++a)
-  {
-    const char* name = pd->GetArrayName(a);
-    if (!name)
-    {
-      continue;
-    }
-    const std::string s(name);
-    const size_t underscore = s.find('_');
-    if (s.rfind("target", 0) == 0 && underscore != std::string::npos && underscore > 6 &&
-      std::all_of(s.begin() + 6, s.begin() + static_cast<long>(underscore), ::isdigit))
-    {
-      built.ConsumedArrays.push_back(s);
-    }
-  }
-  built.Model.Validate();
-  PlanPointArrays(pd, built);
+  PlanPointArrays(input->GetPointData(), built);
   return built;
 }
 
@@ -452,14 +284,7 @@ std::vector<double> WeightsFromTable(
 vtkSmartPointer<vtkStringArray> MakeNamesArray(
   const char* arrayName, const std::vector<std::string>& names)
 {
-  auto array = vtkSmartPointer<vtkStringArray>::New();
-  array->SetName(arrayName);
-  array->SetNumberOfValues(static_cast<vtkIdType>(names.size()));
-  for (size_t i = 0; i < names.size(); ++i)
-  {
-    array->SetValue(static_cast<vtkIdType>(i), names[i]);
-  }
-  return array;
+  return arrays::MakeNamesArray(arrayName, names);
 }
 
 vtkSmartPointer<vtkDataArray> MakeDoubleArray(const char* arrayName, const std::vector<double>& values)
@@ -533,16 +358,7 @@ void Blend(const BuiltModel& built, const std::vector<double>& weights, BlendOut
   {
     if (!scratch[a].empty())
     {
-      const int c = out[a]->GetNumberOfComponents();
-      const bool integer = IsIntegerType(out[a]->GetDataType());
-      for (vtkIdType t = 0; t < numPoints; ++t)
-      {
-        for (int j = 0; j < c; ++j)
-        {
-          const double v = scratch[a][static_cast<size_t>(t) * c + j];
-          out[a]->SetComponent(t, j, integer ? std::round(v) : v);
-        }
-      }
+      arrays::CopyToArray(scratch[a].data(), out[a]); // integer types rounded
     }
     out[a]->Modified(); // written through raw pointers: renderers re-upload on MTime
   }

@@ -3,15 +3,17 @@
  * @file   vtkMorphModelAdapter.h
  * @brief  Conversions between VTK data and the core's morphnode::MorphMesh (private).
  *
- * The one place that knows how VTK data maps onto morph targets: the Java3D form
- * (one absolute vtkPointSet per target) and the glTF form (one vtkPointSet with
- * `target<k>_position` / `target<k>_normal` delta arrays), target names, and writing
+ * The morph node's side of VTK data: the Java3D form (one absolute vtkPointSet per target)
+ * and the glTF form (one vtkPointSet with relative target arrays, read through
+ * vtkMorphTargetArrays, which owns that convention), weights from tables, and writing
  * blended attributes back into VTK arrays of the original types. Every function throws
  * morphnode::InputError for bad input; callers turn that into vtkErrorMacro.
  */
 
 #ifndef vtkMorphModelAdapter_h
 #define vtkMorphModelAdapter_h
+
+#include "vtkMorphTargetArrays.h"
 
 #include "morph/MorphMesh.h"
 
@@ -31,7 +33,7 @@ class vtkTable;
 namespace vtkMorphModelAdapter
 {
 /// Field-data names the module reads and writes.
-constexpr const char* TargetNamesArray = "TargetNames";
+constexpr const char* TargetNamesArray = vtkMorphTargetArrays::TargetNamesArray;
 constexpr const char* TargetNameArray = "TargetName";
 constexpr const char* EffectiveWeightsArray = "EffectiveWeights";
 constexpr const char* ActiveTargetCountArray = "ActiveTargetCount";
@@ -80,12 +82,12 @@ struct BlendOutputs
   std::vector<vtkSmartPointer<vtkDataArray>> Arrays;
 };
 
-/// True if the point set carries glTF-style target arrays (`target0_position`).
+/// True if the point set carries glTF-style target arrays (vtkMorphTargetArrays::HasTargets).
 bool HasRelativeTargets(vtkPointSet* input);
 
 /// Java3D form: inputs[0] is the neutral, the others absolute targets.
 BuiltModel BuildFromAbsoluteTargets(const std::vector<vtkPointSet*>& inputs, double sparseCoverage);
-/// glTF form: one point set with `target<k>_position` (and `target<k>_normal`) deltas.
+/// glTF form: one point set with relative target arrays (vtkMorphTargetArrays::ToMorphMesh).
 BuiltModel BuildFromRelativeTargets(vtkPointSet* input, double sparseCoverage);
 
 /// Requested weights (neutral first) from the first row of a table whose columns are
