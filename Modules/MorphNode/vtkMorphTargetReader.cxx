@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkMorphTargetReader.h"
 
-#include "vtkMorphModelAdapter.h"
+#include "vtkMorphTargetArrays.h"
 
 #include "base/Error.h"
 #include "morph/MorphMesh.h"
@@ -115,50 +115,13 @@ GLTFFile ReadGLTFFile(const std::string& fileName)
   return file;
 }
 
-std::vector<uint32_t> Triangles(vtkPolyData* mesh)
-{
-  std::vector<uint32_t> triangles;
-  vtkCellArray* polys = mesh->GetPolys();
-  vtkNew<vtkIdList> ids;
-  for (polys->InitTraversal(); polys->GetNextCell(ids);)
-  {
-    for (vtkIdType k = 1; k + 1 < ids->GetNumberOfIds(); ++k) // fan
-    {
-      triangles.push_back(static_cast<uint32_t>(ids->GetId(0)));
-      triangles.push_back(static_cast<uint32_t>(ids->GetId(k)));
-      triangles.push_back(static_cast<uint32_t>(ids->GetId(k + 1)));
-    }
-  }
-  return triangles;
-}
+namespace arrays = vtkMorphTargetArrays;
+using arrays::Kind;
 
-std::vector<float> FloatValues(vtkDataArray* array)
+vtkSmartPointer<vtkDataArray> MakeVectors(const std::string& name, const std::vector<float>& values)
 {
-  std::vector<float> values(static_cast<size_t>(array->GetNumberOfValues()));
-  for (vtkIdType t = 0; t < array->GetNumberOfTuples(); ++t)
-  {
-    for (int c = 0; c < array->GetNumberOfComponents(); ++c)
-    {
-      values[static_cast<size_t>(t * array->GetNumberOfComponents() + c)] =
-        static_cast<float>(array->GetComponent(t, c));
-    }
-  }
-  return values;
-}
-
-vtkSmartPointer<vtkFloatArray> MakeVectors(const char* name, const std::vector<float>& values)
-{
-  auto array = vtkSmartPointer<vtkFloatArray>::New();
-  array->SetName(name);
-  array->SetNumberOfComponents(3);
-  array->SetNumberOfTuples(static_cast<vtkIdType>(values.size() / 3));
-  std::copy(values.begin(), values.end(), array->GetPointer(0));
-  return array;
-}
-
-std::string TargetArray(size_t k, const char* what)
-{
-  return "target" + std::to_string(k) + "_" + what;
+  return arrays::NewArray(
+    VTK_FLOAT, name.c_str(), 3, static_cast<vtkIdType>(values.size() / 3), values.data());
 }
 } // namespace
 
@@ -285,11 +248,7 @@ void vtkMorphTargetReader::ReadGLTF(vtkPolyData* output)
   }
   output->ShallowCopy(geometry);
 
-  size_t numTargets = 0;
-  while (output->GetPointData()->GetArray(TargetArray(numTargets, "position").c_str()))
-  {
-    ++numTargets;
-  }
+  const size_t numTargets = arrays::CountTargets(output->GetPointData(), output->GetNumberOfPoints());
   std::vector<std::string> names = morphnode::DefaultTargetNames(numTargets + 1);
   const auto& extras = meshes[meshIndex].value("extras", nlohmann::json::object());
   if (extras.contains("targetNames"))
@@ -333,33 +292,9 @@ void vtkMorphTargetReader::ReadObjSet(vtkPolyData* output)
   {
     neutral = fs::exists(folder / "generic_neutral_mesh.obj") ? "generic_neutral_mesh.obj" : "neutral.obj";
   }
-  const morphnode::ObjSet set = morphnode::ReadObjSetDirectory(folder.string(), neutral);
-  const size_t n = set.GetNumberOfPoints();
-  if (n == 0)
-  {
-    throw InputError("'" + (folder / neutral).string() + "' has no vertices");
-  }
-  vtkNew<vtkFloatArray> coordinates;
-  coordinates->SetNumberOfComponents(3);
-  coordinates->SetNumberOfTuples(static_cast<vtkIdType>(n));
-  std::copy(set.Neutral.Positions.begin(), set.Neutral.Positions.end(), coordinates->GetPointer(0));
-  vtkNew<vtkPoints> points;
-  points->SetData(coordinates);
-  output->SetPoints(points);
-  vtkNew<vtkCellArray> triangles;
-  for (size_t t = 0; t < set.Neutral.GetNumberOfTriangles(); ++t)
-  {
-    const vtkIdType ids[3] = { set.Neutral.Triangles[3 * t], set.Neutral.Triangles[3 * t + 1],
-      set.Neutral.Triangles[3 * t + 2] };
-    triangles->InsertNextCell(3, ids);
-  }
-  output->SetPolys(triangles);
-  this->TargetNames = { "Neutral" };
-  for (size_t k = 0; k < set.GetNumberOfShapes(); ++k)
-  {
-    output->GetPointData()->AddArray(MakeVectors(TargetArray(k, "position").c_str(), set.ComputeDeltas(k)));
-    this->TargetNames.push_back(set.ShapeNames[k]);
-  }
+  const morphnode::MorphMesh set = morphnode::ReadObjSetDirectory(folder.string(), neutral);
+  output->ShallowCopy(arrays::ToPolyData(set));
+  this->TargetNames = set.GetTargetNames();
 }
 
 //------------------------------------------------------------------------------
@@ -371,25 +306,22 @@ void vtkMorphTargetReader::FinishOutput(vtkPolyData* output)
 
   if (this->Scale != 1.0)
   {
-    vtkNew<vtkPoints> scaled;
-    scaled->DeepCopy(output->GetPoints());
-    for (vtkIdType i = 0; i < scaled->GetNumberOfPoints(); ++i)
-    {
-      double p[3];
-      scaled->GetPoint(i, p);
-      scaled->SetPoint(i, p[0] * this->Scale, p[1] * this->Scale, p[2] * this->Scale);
-    }
-    output->SetPoints(scaled);
+    // New arrays: the geometry's may be shared with the glTF loader.
+    auto scaled = [&](vtkDataArray* array) {
+      std::vector<double> values = arrays::ToVector<double>(array);
+      for (double& v : values)
+      {
+        v *= this->Scale;
+      }
+      return arrays::NewArray(array->GetDataType(), array->GetName(),
+        array->GetNumberOfComponents(), array->GetNumberOfTuples(), values.data());
+    };
+    vtkNew<vtkPoints> points;
+    points->SetData(scaled(output->GetPoints()->GetData()));
+    output->SetPoints(points);
     for (size_t k = 0; k < numTargets; ++k)
     {
-      const std::string name = TargetArray(k, "position");
-      std::vector<float> d = FloatValues(pd->GetArray(name.c_str()));
-      for (float& v : d)
-      {
-        v = static_cast<float>(v * this->Scale);
-      }
-      pd->RemoveArray(name.c_str());
-      pd->AddArray(MakeVectors(name.c_str(), d));
+      pd->AddArray(scaled(arrays::GetDeltas(pd, k, Kind::Position, output->GetNumberOfPoints())));
     }
   }
 
@@ -399,14 +331,14 @@ void vtkMorphTargetReader::FinishOutput(vtkPolyData* output)
   bool complete = baseNormals != nullptr;
   for (size_t k = 0; k < numTargets && complete; ++k)
   {
-    complete = pd->GetArray(TargetArray(k, "normal").c_str()) != nullptr;
+    complete = arrays::GetDeltas(pd, k, Kind::Normal, output->GetNumberOfPoints()) != nullptr;
   }
   const bool compute = this->NormalsMode == NORMALS_ALWAYS ||
     (this->NormalsMode == NORMALS_WHEN_MISSING && !complete);
   if (compute)
   {
-    const std::vector<uint32_t> triangles = Triangles(output);
-    const std::vector<float> base = FloatValues(output->GetPoints()->GetData());
+    const std::vector<uint32_t> triangles = arrays::GetTriangles(output, true);
+    const std::vector<float> base = arrays::ToVector<float>(output->GetPoints()->GetData());
     const std::vector<float> normals =
       morphnode::ComputeVertexNormals(base.data(), numPoints, triangles.data(), triangles.size() / 3);
     if (baseNormals && baseNormals->GetName())
@@ -416,10 +348,11 @@ void vtkMorphTargetReader::FinishOutput(vtkPolyData* output)
     pd->SetNormals(MakeVectors("Normals", normals));
     for (size_t k = 0; k < numTargets; ++k)
     {
-      const std::string name = TargetArray(k, "normal");
-      const std::vector<float> delta = FloatValues(pd->GetArray(TargetArray(k, "position").c_str()));
+      const std::string name = arrays::ArrayName(k, Kind::Normal);
+      const std::vector<float> delta = arrays::ToVector<float>(
+        arrays::GetDeltas(pd, k, Kind::Position, output->GetNumberOfPoints()));
       pd->RemoveArray(name.c_str());
-      pd->AddArray(MakeVectors(name.c_str(),
+      pd->AddArray(MakeVectors(name,
         morphnode::ComputeNormalDeltas(base.data(), delta.data(), normals, numPoints,
           triangles.data(), triangles.size() / 3)));
     }
@@ -429,9 +362,7 @@ void vtkMorphTargetReader::FinishOutput(vtkPolyData* output)
     pd->SetNormals(baseNormals);
   }
 
-  output->GetFieldData()->RemoveArray(vtkMorphModelAdapter::TargetNamesArray);
-  output->GetFieldData()->AddArray(
-    vtkMorphModelAdapter::MakeNamesArray(vtkMorphModelAdapter::TargetNamesArray, this->TargetNames));
+  arrays::SetTargetNames(output->GetFieldData(), this->TargetNames);
 }
 
 //------------------------------------------------------------------------------

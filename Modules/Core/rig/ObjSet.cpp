@@ -266,43 +266,15 @@ ObjMesh ReadObj(const std::string& path)
   return ParseObj(in, path);
 }
 
-int ObjSet::FindShape(const std::string& name) const
+MorphMesh ReadObjSet(const std::string& neutralPath, const std::vector<std::string>& shapePaths,
+  double sparseCoverage)
 {
-  const auto it = std::find(this->ShapeNames.begin(), this->ShapeNames.end(), name);
-  return it == this->ShapeNames.end() ? -1 : static_cast<int>(it - this->ShapeNames.begin());
-}
-
-std::vector<float> ObjSet::ComputeDeltas(size_t shape) const
-{
-  const std::vector<float>& positions = this->ShapePositions.at(shape);
-  std::vector<float> deltas(positions.size());
-  for (size_t i = 0; i < positions.size(); ++i)
-  {
-    deltas[i] = positions[i] - this->Neutral.Positions[i];
-  }
-  return deltas;
-}
-
-MorphMesh ObjSet::ToMorphModel(double sparseCoverage) const
-{
-  MorphMesh model(this->GetNumberOfPoints());
+  ObjMesh neutral = ReadObj(neutralPath);
+  MorphMesh set(neutral.GetNumberOfPoints());
   std::vector<std::string> names{ "Neutral" };
-  names.insert(names.end(), this->ShapeNames.begin(), this->ShapeNames.end());
-  model.SetTargetNames(names);
-  auto& positions = model.AddAttribute<float>("Position", AttributeRole::Position, 3);
-  positions.SetNeutral(this->Neutral.Positions.data());
-  for (const auto& shape : this->ShapePositions)
-  {
-    positions.AddAbsoluteTarget(shape.data(), sparseCoverage);
-  }
-  return model;
-}
-
-ObjSet ReadObjSet(const std::string& neutralPath, const std::vector<std::string>& shapePaths)
-{
-  ObjSet set;
-  set.Neutral = ReadObj(neutralPath);
   std::set<std::string> stems;
+  auto& positions = set.AddAttribute<float>("Position", AttributeRole::Position, 3);
+  positions.SetNeutral(neutral.Positions.data());
   for (const std::string& path : shapePaths)
   {
     const std::string name = Stem(path);
@@ -311,21 +283,24 @@ ObjSet ReadObjSet(const std::string& neutralPath, const std::vector<std::string>
       throw InputError("OBJ set: shape file '" + path + "' has the same name '" + name +
         "' as another shape file");
     }
-    ObjMesh shape = ReadObj(path);
-    if (shape.GetNumberOfPoints() != set.Neutral.GetNumberOfPoints())
+    const ObjMesh shape = ReadObj(path);
+    if (shape.GetNumberOfPoints() != neutral.GetNumberOfPoints())
     {
       throw InputError("OBJ set: shape file '" + path + "' has " +
         std::to_string(shape.GetNumberOfPoints()) + " vertices, the neutral '" + neutralPath +
-        "' has " + std::to_string(set.Neutral.GetNumberOfPoints()) +
+        "' has " + std::to_string(neutral.GetNumberOfPoints()) +
         " (shapes must share the neutral's vertex order)");
     }
-    set.ShapeNames.push_back(name);
-    set.ShapePositions.push_back(std::move(shape.Positions));
+    names.push_back(name);
+    positions.AddAbsoluteTarget(shape.Positions.data(), sparseCoverage);
   }
+  set.SetTargetNames(std::move(names));
+  set.SetTriangles(std::move(neutral.Triangles));
   return set;
 }
 
-ObjSet ReadObjSetDirectory(const std::string& directory, const std::string& neutralFileName)
+MorphMesh ReadObjSetDirectory(
+  const std::string& directory, const std::string& neutralFileName, double sparseCoverage)
 {
   namespace fs = std::filesystem;
   std::error_code error;
@@ -348,6 +323,6 @@ ObjSet ReadObjSetDirectory(const std::string& directory, const std::string& neut
     }
   }
   std::sort(shapes.begin(), shapes.end());
-  return ReadObjSet(neutral.string(), shapes);
+  return ReadObjSet(neutral.string(), shapes, sparseCoverage);
 }
 } // namespace morphnode

@@ -3,7 +3,7 @@
 /// @file ObjSet.h
 /// @brief Wavefront OBJ meshes and "OBJ sets": a neutral OBJ plus one OBJ per shape with
 /// the same vertex order, the usual way scanned blend-shape faces (ICT-FaceKit, many
-/// sculpting tools) are exchanged.
+/// sculpting tools) are exchanged. An OBJ set is read into a MorphMesh.
 ///
 /// Supported statements: `v x y z [w]` (extra colour components are ignored), `vt u [v [w]]`,
 /// `vn x y z`, `f` with corners `v`, `v/vt`, `v//vn`, `v/vt/vn` (1-based or negative
@@ -46,28 +46,15 @@ ObjMesh ParseObj(std::istream& in, const std::string& sourceName);
 /// Reads an OBJ file. Throws InputError when it cannot be opened or is malformed.
 ObjMesh ReadObj(const std::string& path);
 
-/// A neutral mesh and its shapes: absolute positions in the neutral's vertex order.
-struct ObjSet
-{
-  ObjMesh Neutral;
-  std::vector<std::string> ShapeNames;              ///< file stems
-  std::vector<std::vector<float>> ShapePositions;   ///< absolute, 3 per vertex
-
-  size_t GetNumberOfPoints() const { return this->Neutral.GetNumberOfPoints(); }
-  size_t GetNumberOfShapes() const { return this->ShapeNames.size(); }
-  /// -1 when no shape has that name.
-  int FindShape(const std::string& name) const;
-  /// shape - neutral, 3 per vertex (the relative, glTF-style form).
-  std::vector<float> ComputeDeltas(size_t shape) const;
-  /// A morph model with targets "Neutral" + ShapeNames and one float Position attribute
-  /// (deltas stored sparsely where a shape moves few vertices).
-  MorphMesh ToMorphModel(double sparseCoverage = MorphMesh::DefaultSparseCoverage) const;
-};
-
-/// Reads a neutral OBJ and shape OBJs; each shape is named after its file stem. Throws
-/// InputError naming the file when a shape's vertex count differs from the neutral's, or
-/// when two shapes share a stem.
-ObjSet ReadObjSet(const std::string& neutralPath, const std::vector<std::string>& shapePaths);
+/// Reads an OBJ set: a neutral OBJ and shape OBJs with the neutral's vertex order, into a
+/// mesh with targets "Neutral" followed by the shapes' file stems, one float Position
+/// attribute "Position" (each shape stored as shape - neutral; sparsely where a shape moves
+/// at most `sparseCoverage` of the vertices) and the neutral's triangles. Throws InputError
+/// naming the file when a shape's vertex count differs from the neutral's, or when two
+/// shapes share a stem.
+MorphMesh ReadObjSet(const std::string& neutralPath, const std::vector<std::string>& shapePaths,
+  double sparseCoverage = MorphMesh::DefaultSparseCoverage);
 /// Every `*.obj` of `directory` except the neutral is a shape, in file-name order.
-ObjSet ReadObjSetDirectory(const std::string& directory, const std::string& neutralFileName);
+MorphMesh ReadObjSetDirectory(const std::string& directory, const std::string& neutralFileName,
+  double sparseCoverage = MorphMesh::DefaultSparseCoverage);
 } // namespace morphnode

@@ -548,6 +548,7 @@ MorphMesh Rig::BakeModel(const MorphMesh& model, const std::vector<std::string>&
       },
       model.GetAttribute(a));
   }
+  baked.SetTriangles(model.GetTriangles());
   return baked;
 }
 } // namespace morphnode

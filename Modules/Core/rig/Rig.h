@@ -93,7 +93,7 @@ public:
 
   /// Bakes every attribute of a model (positions, normals, ...) into a new model whose
   /// targets are "Neutral" followed by `shapeNames` (all shapes when empty). Binds the rig
-  /// to the model first. Colour clamp ranges are not carried over.
+  /// to the model first. The triangles are carried over; colour clamp ranges are not.
   MorphMesh BakeModel(const MorphMesh& model, const std::vector<std::string>& shapeNames = {});
 
 private:

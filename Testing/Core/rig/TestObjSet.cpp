@@ -14,6 +14,16 @@ using namespace morphnode;
 
 namespace
 {
+/// Dense position deltas of target `target` (neutral = 0) of an OBJ set.
+std::vector<float> Deltas(const MorphMesh& set, int target)
+{
+  std::vector<float> deltas(3 * set.GetNumberOfPoints());
+  std::get<MorphAttribute<float>>(set.GetAttribute(0))
+    .GetTarget(static_cast<size_t>(target))
+    .ToDense(deltas.data());
+  return deltas;
+}
+
 ObjMesh Parse(const std::string& text, const std::string& name = "test.obj")
 {
   std::istringstream in(text);
@@ -114,14 +124,17 @@ TEST(ObjSet, ShapesAreNamedByStemAndMustMatchTheNeutral)
   ScratchDir dir("small");
   const std::string neutral = dir.Write("neutral.obj", Square);
   const std::string up = dir.Write("liftUp.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0.5\nv 0 1 0.5\nf 1 2 3 4\n");
-  const ObjSet set = ReadObjSet(neutral, { up });
-  EXPECT_EQ(set.ShapeNames, (std::vector<std::string>{ "liftUp" }));
-  EXPECT_EQ(set.FindShape("liftUp"), 0);
-  EXPECT_EQ(set.FindShape("x"), -1);
-  const auto deltas = set.ComputeDeltas(0);
-  EXPECT_EQ(deltas, (std::vector<float>{ 0, 0, 0, 0, 0, 0, 0, 0, 0.5f, 0, 0, 0.5f }));
-  const MorphMesh model = set.ToMorphModel();
+  const MorphMesh model = ReadObjSet(neutral, { up });
   EXPECT_EQ(model.GetTargetNames(), (std::vector<std::string>{ "Neutral", "liftUp" }));
+  EXPECT_EQ(model.FindTarget("liftUp"), 1);
+  EXPECT_EQ(model.FindTarget("x"), -1);
+  EXPECT_EQ(Deltas(model, 1), (std::vector<float>{ 0, 0, 0, 0, 0, 0, 0, 0, 0.5f, 0, 0, 0.5f }));
+  ASSERT_EQ(model.GetNumberOfAttributes(), 1u);
+  EXPECT_EQ(model.GetPositionAttribute(), 0);
+  EXPECT_EQ(std::get<MorphAttribute<float>>(model.GetAttribute(0)).GetNeutral(),
+    ReadObj(neutral).Positions);
+  // the neutral's square, fan-triangulated
+  EXPECT_EQ(model.GetTriangles(), (std::vector<uint32_t>{ 0, 1, 2, 0, 2, 3 }));
   EXPECT_NO_THROW(model.Validate());
   EXPECT_NEAR(model.ComputeDistances().DistMorph[1], 1.0, 1e-6);
 
@@ -140,8 +153,8 @@ TEST(ObjSet, ShapesAreNamedByStemAndMustMatchTheNeutral)
   // Directory form: every other *.obj is a shape, in name order.
   dir.Write("another.obj", Square);
   std::filesystem::remove(bad);
-  const ObjSet fromDir = ReadObjSetDirectory(dir.Str(), "neutral.obj");
-  EXPECT_EQ(fromDir.ShapeNames, (std::vector<std::string>{ "another", "liftUp" }));
+  const MorphMesh fromDir = ReadObjSetDirectory(dir.Str(), "neutral.obj");
+  EXPECT_EQ(fromDir.GetTargetNames(), (std::vector<std::string>{ "Neutral", "another", "liftUp" }));
   EXPECT_THROW(ReadObjSetDirectory(dir.Str(), "missing.obj"), InputError);
 }
 
@@ -152,16 +165,16 @@ TEST(ObjSet, IctFaceKitOriginals)
   {
     GTEST_SKIP() << "ICT-FaceKit OBJ folder not found at " << dir;
   }
-  const ObjSet set = ReadObjSetDirectory(dir, "generic_neutral_mesh.obj");
-  EXPECT_EQ(set.GetNumberOfPoints(), 26719u);
-  EXPECT_EQ(set.Neutral.NumberOfPolygons, 26384u);
+  const ObjMesh neutral = ReadObj(dir + "/generic_neutral_mesh.obj");
+  EXPECT_EQ(neutral.NumberOfPolygons, 26384u);
+  EXPECT_EQ(neutral.TexCoords.size(), 2u * 28911u);
+  const MorphMesh model = ReadObjSetDirectory(dir, "generic_neutral_mesh.obj");
+  EXPECT_EQ(model.GetNumberOfPoints(), 26719u);
   // 25,836 quads and 548 triangles.
-  EXPECT_EQ(set.Neutral.GetNumberOfTriangles(), 2u * 25836u + 548u);
-  EXPECT_EQ(set.Neutral.TexCoords.size(), 2u * 28911u);
-  EXPECT_EQ(set.ShapeNames, (std::vector<std::string>{ "browInnerUp_L", "eyeBlink_L", "jawOpen",
-                              "mouthFunnel", "mouthSmile_L" }));
+  EXPECT_EQ(model.GetNumberOfTriangles(), 2u * 25836u + 548u);
+  EXPECT_EQ(model.GetTargetNames(), (std::vector<std::string>{ "Neutral", "browInnerUp_L",
+                                      "eyeBlink_L", "jawOpen", "mouthFunnel", "mouthSmile_L" }));
 
-  const MorphMesh model = set.ToMorphModel();
   const TargetDistances distances = model.ComputeDistances();
   // Every shape moves the face; jawOpen moves the most of these five (it drags the chin).
   const size_t jaw = static_cast<size_t>(model.FindTarget("jawOpen"));
@@ -172,23 +185,23 @@ TEST(ObjSet, IctFaceKitOriginals)
   }
   // eyeBlink_L moves the left lid: a small fraction of the vertices by more than 0.1 mm
   // (the scan's shapes carry sub-micrometre noise everywhere else).
-  const auto blink = set.ComputeDeltas(static_cast<size_t>(set.FindShape("eyeBlink_L")));
+  const auto blink = Deltas(model, model.FindTarget("eyeBlink_L"));
   size_t movedBlink = 0;
-  for (size_t p = 0; p < set.GetNumberOfPoints(); ++p)
+  for (size_t p = 0; p < model.GetNumberOfPoints(); ++p)
   {
     movedBlink += std::hypot(blink[3 * p], blink[3 * p + 1], blink[3 * p + 2]) > 0.01 ? 1 : 0;
   }
   EXPECT_GT(movedBlink, 100u);
-  EXPECT_LT(movedBlink, set.GetNumberOfPoints() / 5);
+  EXPECT_LT(movedBlink, model.GetNumberOfPoints() / 5);
 
   // A rig baked on the real face: O = 0.35 jawOpen + 0.6 mouthFunnel, vertex by vertex.
   Rig rig = Rig::LoadString(R"({"name": "t", "shapes": {"O": {"jawOpen": 0.35, "mouthFunnel": 0.6}}})");
   const MorphMesh baked = rig.BakeModel(model);
   ASSERT_EQ(baked.GetTargetNames(), (std::vector<std::string>{ "Neutral", "O" }));
-  std::vector<float> o(set.GetNumberOfPoints() * 3);
-  std::get<MorphAttribute<float>>(baked.GetAttribute(0)).GetTarget(1).ToDense(o.data());
-  const auto jawDeltas = set.ComputeDeltas(static_cast<size_t>(set.FindShape("jawOpen")));
-  const auto funnelDeltas = set.ComputeDeltas(static_cast<size_t>(set.FindShape("mouthFunnel")));
+  EXPECT_EQ(baked.GetTriangles(), model.GetTriangles());
+  const std::vector<float> o = Deltas(baked, 1);
+  const auto jawDeltas = Deltas(model, model.FindTarget("jawOpen"));
+  const auto funnelDeltas = Deltas(model, model.FindTarget("mouthFunnel"));
   double maxError = 0.0;
   for (size_t v = 0; v < o.size(); ++v)
   {
