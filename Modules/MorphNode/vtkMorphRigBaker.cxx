@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkMorphRigBaker.h"
 
-#include "vtkMorphModelAdapter.h"
 #include "vtkMorphRigCache.h"
+#include "vtkMorphTargetArrays.h"
 
 #include "base/Error.h"
 #include "morph/MorphMesh.h"
@@ -28,33 +28,6 @@ struct vtkMorphRigBaker::vtkInternals
   vtkMorphRigCache Rig;
   vtkSmartPointer<vtkStringArray> ShapeNames;
 };
-
-namespace
-{
-/// A new array of `prototype`'s type holding one dense delta set of a baked attribute.
-template <typename T>
-vtkSmartPointer<vtkDataArray> DeltaArray(const morphnode::MorphAttribute<T>& attribute,
-  size_t target, vtkDataArray* prototype, const std::string& name)
-{
-  const size_t numPoints = attribute.GetNumberOfPoints();
-  const int c = attribute.GetNumberOfComponents();
-  std::vector<T> deltas(numPoints * static_cast<size_t>(c));
-  attribute.GetTarget(target).ToDense(deltas.data());
-  vtkSmartPointer<vtkDataArray> array;
-  array.TakeReference(prototype->NewInstance());
-  array->SetName(name.c_str());
-  array->SetNumberOfComponents(c);
-  array->SetNumberOfTuples(static_cast<vtkIdType>(numPoints));
-  for (size_t p = 0; p < numPoints; ++p)
-  {
-    for (int j = 0; j < c; ++j)
-    {
-      array->SetComponent(static_cast<vtkIdType>(p), j, static_cast<double>(deltas[p * c + j]));
-    }
-  }
-  return array;
-}
-} // namespace
 
 //------------------------------------------------------------------------------
 vtkMorphRigBaker::vtkMorphRigBaker()
@@ -134,10 +107,11 @@ int vtkMorphRigBaker::RequestData(
     {
       throw morphnode::InputError("no input: connect a face with relative targets to port 0");
     }
-    if (!vtkMorphModelAdapter::HasRelativeTargets(input))
+    if (!vtkMorphTargetArrays::HasTargets(input))
     {
-      throw morphnode::InputError("the input has no relative targets (point array "
-                                  "'target0_position'): read the face with vtkMorphTargetReader");
+      throw morphnode::InputError("the input has no relative targets (point array '" +
+        vtkMorphTargetArrays::ArrayName(0, vtkMorphTargetArrays::Kind::Position) +
+        "'): read the face with vtkMorphTargetReader");
     }
 
     std::vector<std::string> shapes;
@@ -157,51 +131,33 @@ int vtkMorphRigBaker::RequestData(
       shapes = rig.GetShapeNames();
     }
 
-    const vtkMorphModelAdapter::BuiltModel built =
-      vtkMorphModelAdapter::BuildFromRelativeTargets(input, this->SparseCoverage);
-    const morphnode::MorphMesh baked = rig.BakeModel(built.Model, shapes);
-    const size_t numShapes = baked.GetNumberOfTargets() - 1;
+    namespace arrays = vtkMorphTargetArrays;
+    arrays::ReadOptions options;
+    options.SparseCoverage = this->SparseCoverage;
+    const arrays::MeshFromVTK face = arrays::ToMorphMesh(input, options);
+    this->UpdateProgress(0.3);
+    const morphnode::MorphMesh baked = rig.BakeModel(face.Mesh, shapes);
+    this->UpdateProgress(0.8);
 
+    // The baked targets replace the face's, in the types of the face's target arrays.
+    vtkPointData* inPD = input->GetPointData();
+    const vtkIdType numPoints = input->GetNumberOfPoints();
+    auto typeOf = [&](arrays::Kind kind) {
+      vtkDataArray* first = arrays::GetDeltas(inPD, 0, kind, numPoints);
+      return first ? first->GetDataType() : -1;
+    };
     output->ShallowCopy(input);
     vtkPointData* pd = output->GetPointData();
-    for (const std::string& name : built.ConsumedArrays)
-    {
-      pd->RemoveArray(name.c_str());
-    }
-    // Attributes are parallel to the bindings: points first, then the normals (if any).
-    vtkPointData* inPD = input->GetPointData();
-    for (size_t a = 0; a < baked.GetNumberOfAttributes(); ++a)
-    {
-      const bool isNormals = built.Bindings[a].IsNormals;
-      const char* what = a == 0 ? "position" : (isNormals ? "normal" : nullptr);
-      if (!what)
-      {
-        continue;
-      }
-      vtkDataArray* prototype = inPD->GetArray((std::string("target0_") + what).c_str());
-      if (!prototype)
-      {
-        prototype = built.Bindings[a].Prototype;
-      }
-      for (size_t k = 0; k < numShapes; ++k)
-      {
-        const std::string name = "target" + std::to_string(k) + "_" + what;
-        std::visit(
-          [&](const auto& attribute) {
-            pd->AddArray(DeltaArray(attribute, k + 1, prototype, name));
-          },
-          baked.GetAttribute(a));
-      }
-    }
-    output->GetFieldData()->RemoveArray(vtkMorphModelAdapter::TargetNamesArray);
-    output->GetFieldData()->AddArray(vtkMorphModelAdapter::MakeNamesArray(
-      vtkMorphModelAdapter::TargetNamesArray, baked.GetTargetNames()));
+    arrays::RemoveTargetArrays(pd);
+    arrays::AddTargetArrays(
+      baked, pd, typeOf(arrays::Kind::Position), typeOf(arrays::Kind::Normal));
+    arrays::SetTargetNames(output->GetFieldData(), baked.GetTargetNames());
   }
   catch (const std::exception& e)
   {
     output->Initialize();
     vtkErrorMacro(<< e.what());
-    return 1;
+    return 0;
   }
   return 1;
 }

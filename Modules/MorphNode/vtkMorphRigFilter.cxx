@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkMorphRigFilter.h"
 
-#include "vtkMorphModelAdapter.h"
 #include "vtkMorphRigCache.h"
+#include "vtkMorphTargetArrays.h"
 
 #include "base/Error.h"
 #include "rig/Rig.h"
@@ -60,7 +60,7 @@ vtkStringArray* FindTargetNames(vtkDataObject* face)
   }
   return face->GetFieldData()
     ? vtkStringArray::SafeDownCast(
-        face->GetFieldData()->GetAbstractArray(vtkMorphModelAdapter::TargetNamesArray))
+        face->GetFieldData()->GetAbstractArray(vtkMorphTargetArrays::TargetNamesArray))
     : nullptr;
 }
 } // namespace
@@ -106,7 +106,7 @@ void vtkMorphRigFilter::SetTargetNames(vtkStringArray* names)
   {
     auto copy = vtkSmartPointer<vtkStringArray>::New();
     copy->DeepCopy(names);
-    copy->SetName(vtkMorphModelAdapter::TargetNamesArray);
+    copy->SetName(vtkMorphTargetArrays::TargetNamesArray);
     this->Internals->TargetNames = copy;
   }
   else
@@ -175,7 +175,7 @@ int vtkMorphRigFilter::RequestData(
     if (face && !names)
     {
       throw morphnode::InputError(std::string("the face on port 1 has no field data '") +
-        vtkMorphModelAdapter::TargetNamesArray + "' (neutral first)");
+        vtkMorphTargetArrays::TargetNamesArray + "' (neutral first)");
     }
     if (!names)
     {
@@ -285,7 +285,7 @@ int vtkMorphRigFilter::RequestData(
   {
     output->Initialize();
     vtkErrorMacro(<< e.what());
-    return 1;
+    return 0;
   }
   return 1;
 }

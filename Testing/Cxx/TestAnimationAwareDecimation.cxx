@@ -272,7 +272,7 @@ TEST(AnimationAwareDecimation, BadInputGivesErrorsAndEmptyOutput)
   {
     vtkSmartPointer<vtkPolyData> mismatched = SmallMesh();
     mismatched->GetPointData()->GetArray("target1_position")->SetNumberOfTuples(20);
-    ExpectError(mismatched, "expected 25 tuples of 3");
+    ExpectError(mismatched, "must be numeric with 3 components and 25 tuples");
   }
   {
     vtkSmartPointer<vtkPolyData> gap = SmallMesh();
@@ -283,6 +283,6 @@ TEST(AnimationAwareDecimation, BadInputGivesErrorsAndEmptyOutput)
     vtkSmartPointer<vtkPolyData> names = SmallMesh();
     vtkStringArray::SafeDownCast(names->GetFieldData()->GetAbstractArray("TargetNames"))
       ->InsertNextValue("c");
-    ExpectError(names, "TargetNames has 4 names");
+    ExpectError(names, "'TargetNames' has 4 names for 3 targets");
   }
 }
