@@ -7,6 +7,8 @@
 
 #include "MorphNodeTestUtilities.h"
 
+#include "audio/AudioFile.h"
+#include "base/Error.h"
 #include "behavior/BehaviorAudio.h"
 #include "behavior/BehaviorController.h"
 #include "speech/Pho.h"
@@ -107,12 +109,6 @@ struct ExecutionCounter
   }
 };
 
-struct Wav
-{
-  int SampleRate = 0;
-  std::vector<int16_t> Samples;
-};
-
 /// The options of the source's speech commands with its default settings.
 morphnode::SpeechOptions PaperOptions()
 {
@@ -158,29 +154,24 @@ double Peak(vtkTable* track, const char* column, double from = 0.0, double to = 
   return peak;
 }
 
+/// A WAV file as 16-bit mono samples (audio/AudioFile.h reads it); empty when unreadable.
+struct Wav
+{
+  int SampleRate = 0;
+  std::vector<int16_t> Samples;
+};
 Wav ReadWav(const std::string& path)
 {
-  std::ifstream in(path, std::ios::binary);
-  std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   Wav wav;
-  if (bytes.size() < 44 || std::string(bytes.data(), 4) != "RIFF" ||
-    std::string(bytes.data() + 36, 4) != "data")
+  try
   {
-    return wav;
+    const morphnode::AudioBuffer audio = morphnode::ReadAudioFile(path);
+    wav.SampleRate = audio.SampleRate;
+    wav.Samples = morphnode::ToInt16Mono(audio);
   }
-  auto u32 = [&](size_t at) {
-    return static_cast<uint32_t>(static_cast<unsigned char>(bytes[at])) |
-      static_cast<uint32_t>(static_cast<unsigned char>(bytes[at + 1])) << 8 |
-      static_cast<uint32_t>(static_cast<unsigned char>(bytes[at + 2])) << 16 |
-      static_cast<uint32_t>(static_cast<unsigned char>(bytes[at + 3])) << 24;
-  };
-  wav.SampleRate = static_cast<int>(u32(24));
-  const size_t n = std::min<size_t>(u32(40), bytes.size() - 44) / 2;
-  wav.Samples.resize(n);
-  for (size_t i = 0; i < n; ++i)
+  catch (const morphnode::InputError& e)
   {
-    wav.Samples[i] = static_cast<int16_t>(static_cast<uint16_t>(static_cast<unsigned char>(bytes[44 + 2 * i])) |
-      static_cast<uint16_t>(static_cast<unsigned char>(bytes[45 + 2 * i])) << 8);
+    ADD_FAILURE() << e.what();
   }
   return wav;
 }
