@@ -12,7 +12,7 @@
  *   multiblock. Node transforms are not applied: the mesh is read in its own frame.
  * - A set of OBJ files (a folder, or its neutral `.obj`): one neutral plus one file per
  *   shape with the same vertex order, name = file stem, as ICT-FaceKit and many scanned
- *   face datasets ship them (see morphnode::ObjSet). Polygons are triangulated; texture
+ *   face datasets ship them (see morphnode::ReadObjSet). Polygons are triangulated; texture
  *   coordinates are not read (OBJ keeps them per corner, not per vertex).
  *
  * Output: the neutral's geometry with point-data arrays `target<k>_position` (and
