@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "base/Error.h"
 #include "morph/MorphMesh.h"
+#include "morph/OptimizerPresets.h"
 #include "morph/OptimizerQuality.h"
 
 #include <gtest/gtest.h>
@@ -48,8 +49,17 @@ TEST(OptimizerQuality, MeasuresErrorAgainstTheUnoptimizedBlend)
   }
   const WeightTrack absolute = ToAbsoluteWeights(relative, DefaultTargetNames(6));
   ASSERT_EQ(absolute.GetNumberOfChannels(), 6u);
-  const auto methods = StudyMethods({ 0.1, 0.3 }, { 0.05 }, { 2 });
-  ASSERT_EQ(methods.size(), 1u + 2 * 3 + 1 + 1);
+  // Every optimizer method (morph/OptimizerPresets.h) and a budget.
+  std::vector<OptimizerMethod> methods;
+  for (int p = 0; p < NumberOfOptimizerPresets; ++p)
+  {
+    const auto preset = static_cast<OptimizerPreset>(p);
+    methods.push_back({ OptimizerPresetName(preset), MakeOptimizerSettings(preset, 0.3, 0.05) });
+  }
+  OptimizerSettings budget;
+  budget.MaxActiveTargets = 2;
+  budget.Strategy = Redistribution::Neutral;
+  methods.push_back({ "budget 2", budget });
   for (const auto& method : methods)
   {
     const auto frames = MeasureOptimizerQuality(face, d, absolute, method);

@@ -1,24 +1,26 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// The optimizer study's claims, checked on a long speech-driven animation of the ICT face
+// The optimizer study's claims, checked on its long speech-driven animation of the ICT face
 // (docs/optimizer-study.md): Data/scripts/long-text.txt spoken with eSpeak NG, seeded
-// behaviour on top, expanded through the ARKit rig (as Examples/Cxx/MakeSpeechTrack does).
-// Skipped when the ICT face is absent.
+// behaviour on top, expanded through the ARKit rig (the track of MakeSpeechTrack,
+// Modules/Applications/Tools/SpeechTrack.h). Skipped when the ICT face is absent. Also the
+// study's methods, named by the optimizer presets.
 #include "vtkMorphNodeFilter.h"
 #include "vtkMorphTargetReader.h"
 
 #include "morph/MorphMesh.h"
+#include "SpeechTrack.h"
+#include "StudyMethods.h"
+
+#include "base/Text.h"
+#include "morph/OptimizerPresets.h"
 #include "morph/OptimizerQuality.h"
-#include "behavior/BehaviorController.h"
 #include "rig/Rig.h"
-#include "speech/Speech.h"
 
 #include "vtkNew.h"
 
 #include <gtest/gtest.h>
 
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <memory>
 #include <string>
 #include <vector>
@@ -52,64 +54,16 @@ protected:
     ASSERT_NE(Positions, nullptr);
     Distances = model->ComputeDistances();
 
-    std::ifstream in(std::string(MORPHNODE_SOURCE_DIR) + "/Data/scripts/long-text.txt");
-    ASSERT_TRUE(in);
-    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    for (char& c : text)
-    {
-      c = c == '\n' ? ' ' : c;
-    }
+    // The study's track (Modules/Applications/Tools/SpeechTrack.h, as MakeSpeechTrack
+    // writes it with its defaults): the long text, seed 2004, 30 fps.
+    morphnode::study::SpeechTrackOptions options;
+    options.Text = morphnode::text::ReadFile(std::string(MORPHNODE_SOURCE_DIR) + "/Data/scripts/long-text.txt");
     morphnode::Rig rig = morphnode::Rig::LoadFile(std::string(MORPHNODE_SOURCE_DIR) + "/Data/rigs/arkit.json");
     rig.Bind(*model);
-    morphnode::BehaviorController behavior;
-    behavior.SetSeed(2004);
-    behavior.SetFrameRate(30.0);
-    behavior.SetSynthesizer([](const std::string& t) { return morphnode::SpeakText(t); });
-    behavior.SetMood("happy", 0.3, 0.0);
-    behavior.Say(text, 0.6);
-    const double end = behavior.GetUtterances().back().End;
-    // A brow raise, a smile, a frown and a glance every few seconds.
-    for (double t = 1.5; t < end - 1.0; t += 2.5)
-    {
-      switch (static_cast<int>(t) % 4)
-      {
-        case 0:
-          behavior.Gesture("raise_brows", t, 0.9, 0.7);
-          break;
-        case 1:
-          behavior.Gesture("smile", t, 1.8, 0.6);
-          break;
-        case 2:
-          behavior.Gesture("frown", t, 0.8, 0.5);
-          break;
-        default:
-          behavior.LookAt(15.0, 5.0, t, 1.0);
-      }
-    }
-    const morphnode::WeightTrack semantic = behavior.GenerateTrack();
+    const morphnode::WeightTrack semantic = morphnode::study::MakeBehaviorTrack(options);
     ASSERT_GT(semantic.GetNumberOfFrames() / semantic.GetFrameRate(), 30.0) << "not a long animation";
-
-    std::vector<int> shapeOf(semantic.GetNumberOfChannels());
-    for (size_t c = 0; c < shapeOf.size(); ++c)
-    {
-      shapeOf[c] = rig.FindShape(semantic.GetChannels()[c]);
-    }
-    std::vector<std::string> names(model->GetTargetNames().begin() + 1, model->GetTargetNames().end());
-    morphnode::WeightTrack relative(names, semantic.GetFrameRate());
-    std::vector<double> shapes(rig.GetNumberOfShapes()), weights(rig.GetNumberOfBoundTargets());
-    for (size_t f = 0; f < semantic.GetNumberOfFrames(); ++f)
-    {
-      std::fill(shapes.begin(), shapes.end(), 0.0);
-      for (size_t c = 0; c < shapeOf.size(); ++c)
-      {
-        if (shapeOf[c] >= 0)
-        {
-          shapes[static_cast<size_t>(shapeOf[c])] += semantic.GetValue(f, c);
-        }
-      }
-      rig.Expand(shapes.data(), weights.data());
-      relative.AppendFrame(weights);
-    }
+    const std::vector<std::string> names(model->GetTargetNames().begin() + 1, model->GetTargetNames().end());
+    const morphnode::WeightTrack relative = morphnode::study::ExpandThroughRig(semantic, rig, names);
     Absolute = std::make_unique<morphnode::WeightTrack>(
       morphnode::ToAbsoluteWeights(relative, model->GetTargetNames()));
   }
@@ -170,10 +124,9 @@ TEST_F(OptimizerStudy, ErrorBoundHoldsOnEveryFrame)
   std::vector<Case> cases;
   for (double eps : { 0.0005, 0.001, 0.002 })
   {
-    morphnode::OptimizerSettings s; // the bound alone: greedy pruning (neutral)
-    s.MaxVertexError = eps;
-    s.Strategy = morphnode::Redistribution::Neutral;
-    cases.push_back({ "error-bounded " + std::to_string(eps), s });
+    // The bound alone (the error-bounded method): greedy pruning, neutral redistribution.
+    cases.push_back({ "error-bounded " + std::to_string(eps),
+      morphnode::MakeOptimizerSettings(morphnode::OptimizerPreset::ErrorBounded, 0.0, eps) });
   }
   {
     morphnode::OptimizerSettings s; // with a threshold: restoring, paper's redistribution
@@ -181,10 +134,10 @@ TEST_F(OptimizerStudy, ErrorBoundHoldsOnEveryFrame)
     s.AdjustThreshold = true;
     s.Strategy = morphnode::Redistribution::Remaining;
     s.MaxVertexError = 0.001;
-    cases.push_back({ "adjusted+remaining 0.3, eps 1 mm", s });
+    cases.push_back({ "adjusted 0.3, eps 1 mm", s });
     s.AdjustThreshold = false;
     s.Strategy = morphnode::Redistribution::Maximum;
-    cases.push_back({ "fixed+maximum 0.3, eps 1 mm", s });
+    cases.push_back({ "fixed-maximum 0.3, eps 1 mm", s });
   }
   {
     morphnode::OptimizerSettings s; // with a budget and hysteresis: the bound wins
@@ -214,12 +167,11 @@ TEST_F(OptimizerStudy, ErrorBoundHoldsOnEveryFrame)
 
 TEST_F(OptimizerStudy, AdjustedBeatsFixedAtTheSameThreshold)
 {
-  morphnode::OptimizerSettings s;
-  s.Threshold = 0.3;
-  s.Strategy = morphnode::Redistribution::Remaining;
-  const auto fixed = Run("fixed+remaining 0.3", s);
-  s.AdjustThreshold = true;
-  const auto adjusted = Run("adjusted+remaining 0.3", s);
+  using morphnode::OptimizerPreset;
+  const auto fixed =
+    Run("fixed-remaining 0.3", morphnode::MakeOptimizerSettings(OptimizerPreset::FixedRemaining, 0.3, 0.0));
+  const auto adjusted =
+    Run("adjusted 0.3", morphnode::MakeOptimizerSettings(OptimizerPreset::Adjusted, 0.3, 0.0));
   const double fixedError = MeanMaxError(fixed), adjustedError = MeanMaxError(adjusted);
   EXPECT_LT(adjustedError, fixedError) << "mean largest vertex error (m), adjusted against fixed";
   // The triangle-inequality bound B holds for the paper's methods too.
@@ -230,4 +182,47 @@ TEST_F(OptimizerStudy, AdjustedBeatsFixedAtTheSameThreshold)
       ASSERT_LE((*frames)[f].MaxError, (*frames)[f].ErrorBound + FloatSlack) << "frame " << f;
     }
   }
+}
+
+TEST(OptimizerStudyMethods, NamedByThePresets)
+{
+  using morphnode::OptimizerPreset;
+  const auto methods = morphnode::study::StudyMethods({ 0.1, 0.3 }, { 0.05 }, { 2 });
+  ASSERT_EQ(methods.size(), 1u + 2 * 3 + 1 + 1);
+  const struct
+  {
+    const char* Name;
+    OptimizerPreset Preset;
+    double Threshold, Bound;
+  } expected[] = { { "none", OptimizerPreset::None, 0, 0 },
+    { "fixed-maximum 0.1", OptimizerPreset::FixedMaximum, 0.1, 0 },
+    { "fixed-remaining 0.1", OptimizerPreset::FixedRemaining, 0.1, 0 },
+    { "adjusted 0.1", OptimizerPreset::Adjusted, 0.1, 0 },
+    { "fixed-maximum 0.3", OptimizerPreset::FixedMaximum, 0.3, 0 },
+    { "fixed-remaining 0.3", OptimizerPreset::FixedRemaining, 0.3, 0 },
+    { "adjusted 0.3", OptimizerPreset::Adjusted, 0.3, 0 },
+    { "error-bounded 0.05", OptimizerPreset::ErrorBounded, 0, 0.05 } };
+  for (size_t m = 0; m < std::size(expected); ++m)
+  {
+    const auto& e = expected[m];
+    EXPECT_EQ(methods[m].Name, e.Name);
+    const auto s = morphnode::MakeOptimizerSettings(e.Preset, e.Threshold, e.Bound);
+    EXPECT_EQ(methods[m].Settings.Threshold, s.Threshold) << e.Name;
+    EXPECT_EQ(methods[m].Settings.Strategy, s.Strategy) << e.Name;
+    EXPECT_EQ(methods[m].Settings.AdjustThreshold, s.AdjustThreshold) << e.Name;
+    EXPECT_EQ(methods[m].Settings.MaxVertexError, s.MaxVertexError) << e.Name;
+    EXPECT_EQ(morphnode::study::MethodFamily(methods[m].Name),
+      morphnode::OptimizerPresetName(e.Preset));
+  }
+  EXPECT_EQ(methods.back().Name, "budget 2");
+  EXPECT_EQ(methods.back().Settings.MaxActiveTargets, 2);
+  EXPECT_EQ(methods.back().Settings.Strategy, morphnode::Redistribution::Neutral);
+
+  // The sweep: fixed-remaining and adjusted at 0.25 and 0.5 for a step of 0.25.
+  const auto sweep = morphnode::study::SweepMethods(0.25, 0.5);
+  ASSERT_EQ(sweep.size(), 4u);
+  EXPECT_EQ(sweep[0].Name, "fixed-remaining 0.25");
+  EXPECT_EQ(sweep[3].Name, "adjusted 0.5");
+  EXPECT_TRUE(sweep[3].Settings.AdjustThreshold);
+  EXPECT_TRUE(morphnode::study::SweepMethods(0.0).empty());
 }

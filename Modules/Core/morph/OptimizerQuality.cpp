@@ -55,44 +55,6 @@ std::vector<FrameQuality> MeasureOptimizerQuality(const MorphAttribute<float>& p
   return frames;
 }
 
-std::vector<OptimizerMethod> StudyMethods(const std::vector<double>& thresholds,
-  const std::vector<double>& errorBounds, const std::vector<int>& budgets)
-{
-  std::vector<OptimizerMethod> methods{ { "none", {} } };
-  auto label = [](const char* what, double value) {
-    std::ostringstream s;
-    s << what << " " << value;
-    return s.str();
-  };
-  for (double th : thresholds)
-  {
-    OptimizerSettings s;
-    s.Threshold = th;
-    s.Strategy = Redistribution::Maximum;
-    methods.push_back({ label("fixed+maximum", th), s });
-    s.Strategy = Redistribution::Remaining;
-    methods.push_back({ label("fixed+remaining", th), s });
-    s.AdjustThreshold = true;
-    methods.push_back({ label("adjusted+remaining", th), s });
-  }
-  for (double eps : errorBounds)
-  {
-    OptimizerSettings s;
-    s.MaxVertexError = eps;
-    s.Strategy = Redistribution::Neutral;
-    methods.push_back({ label("error-bounded", eps), s });
-  }
-  for (int k : budgets)
-  {
-    OptimizerSettings s;
-    s.MaxActiveTargets = k;
-    s.Strategy = Redistribution::Neutral;
-    s.Hysteresis = 0.25;
-    methods.push_back({ label("budget", k), s });
-  }
-  return methods;
-}
-
 WeightTrack ToAbsoluteWeights(const WeightTrack& relative, const std::vector<std::string>& targetNames)
 {
   std::vector<int> source(targetNames.size(), -1);

@@ -13,10 +13,10 @@
 
 namespace morphnode
 {
-/// One optimization method of the study.
+/// One optimization method: a name for tables and its settings.
 struct OptimizerMethod
 {
-  std::string Name; ///< e.g. "fixed+maximum 0.2"
+  std::string Name; ///< e.g. "fixed-maximum 0.2"
   OptimizerSettings Settings;
 };
 
@@ -36,12 +36,6 @@ struct FrameQuality
 /// unoptimized one. `positions` is the face's position attribute.
 std::vector<FrameQuality> MeasureOptimizerQuality(const MorphAttribute<float>& positions,
   const TargetDistances& distances, const WeightTrack& absoluteWeights, const OptimizerMethod& method);
-
-/// The methods of the study: none; fixed threshold with maximum and remaining
-/// redistribution; adjusted threshold with remaining; for each threshold in `thresholds`;
-/// plus the error-bounded method for each bound and the budget for each count.
-std::vector<OptimizerMethod> StudyMethods(const std::vector<double>& thresholds,
-  const std::vector<double>& errorBounds, const std::vector<int>& budgets);
 
 /// Turns relative (glTF) target weights into absolute weights: a "Neutral" channel first,
 /// 1 - sum of the others. Channels are reordered to `targetNames` (neutral first);

@@ -1,20 +1,22 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // The paper's Table 1 (normalized distances dist_norm of the 13 morph targets) on
 // MorphNode's default face and on the ICT face with the paper's shapes baked through the
-// ARKit rig, side by side with Berner's values. Prints a markdown table.
+// ARKit rig, side by side with Berner's values. Prints a markdown table (docs/rigs.md).
 //
-// usage: RigTable [default_face.glb [ict_face.glb [rig.json]]]
-// (without arguments: the project's default face, ICT-FaceKit from MORPHNODE_FACEKIT_DIR,
-// Data/rigs/arkit.json; a missing ICT face gives an "n/a" column).
+//   RigTable [default_face.glb [ict_face.glb [rig.json]]]
+//
+// Without arguments: the project's default face, ICT-FaceKit from MORPHNODE_FACEKIT_DIR,
+// Data/rigs/arkit.json; a missing ICT face gives an "n/a" column.
+#include "CommandLine.h"
+#include "DataPaths.h"
+
 #include "vtkMorphNodeFilter.h"
 #include "vtkMorphRigBaker.h"
 #include "vtkMorphTargetReader.h"
 
 #include "vtkDoubleArray.h"
-#include "vtkSmartPointer.h"
+#include "vtkNew.h"
 
-#include <algorithm>
-#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <map>
@@ -93,11 +95,17 @@ double Spearman(const std::vector<int>& a, const std::vector<int>& b)
 
 int main(int argc, char* argv[])
 {
-  const std::string defaultFace =
-    argc > 1 ? argv[1] : std::string(MORPHNODE_DATA_DIR) + "/DefaultFace/default_face.glb";
-  const std::string ictFace =
-    argc > 2 ? argv[2] : std::string(MORPHNODE_FACEKIT_DIR) + "/ict_face11248_sparse53.glb";
-  const std::string rig = argc > 3 ? argv[3] : std::string(MORPHNODE_DATA_DIR) + "/rigs/arkit.json";
+  namespace appkit = morphnode::appkit;
+  std::string defaultFace = appkit::DefaultFace();
+  std::string ictFace = appkit::FaceKitPath("ict_face11248_sparse53.glb");
+  std::string rig = appkit::DataPath("rigs/arkit.json");
+  CLI::App app("RigTable: the paper's Table 1 (dist_norm of the 13 targets) on the default face "
+               "and on the ICT face through the ARKit rig, as markdown (docs/rigs.md).",
+    "RigTable");
+  app.add_option("default-face", defaultFace, "the default face")->capture_default_str();
+  app.add_option("ict-face", ictFace, "the ICT face (n/a when missing)")->capture_default_str();
+  app.add_option("rig", rig, "the ARKit rig")->capture_default_str();
+  appkit::ParseCommandLine(app, argc, argv);
 
   const auto ours = DistNorm(defaultFace, "");
   const auto ict = DistNorm(ictFace, rig);
@@ -109,8 +117,7 @@ int main(int argc, char* argv[])
   const bool haveIct = ict.size() == 13;
   if (!haveIct)
   {
-    std::fprintf(stderr, "RigTable: ICT face not available (%s); its column is n/a\n",
-      ictFace.c_str());
+    std::fprintf(stderr, "RigTable: ICT face not available (%s); its column is n/a\n", ictFace.c_str());
   }
 
   std::vector<double> paper, face, scan;
@@ -127,8 +134,7 @@ int main(int argc, char* argv[])
   std::printf("| Neutral | 0 | | 0 | | %s | |\n", haveIct ? "0" : "n/a");
   for (size_t i = 0; i < paper.size(); ++i)
   {
-    std::printf("| %s | %.2f | %d | %.2f | %d |", PaperNames[i + 1], paper[i], rPaper[i], face[i],
-      rFace[i]);
+    std::printf("| %s | %.2f | %d | %.2f | %d |", PaperNames[i + 1], paper[i], rPaper[i], face[i], rFace[i]);
     if (haveIct)
     {
       std::printf(" %.2f | %d |\n", scan[i], rScan[i]);
@@ -141,8 +147,7 @@ int main(int argc, char* argv[])
   std::printf("\nSpearman rank correlation with the paper: default face %.2f", Spearman(rPaper, rFace));
   if (haveIct)
   {
-    std::printf(", ICT face %.2f; between the two faces %.2f", Spearman(rPaper, rScan),
-      Spearman(rFace, rScan));
+    std::printf(", ICT face %.2f; between the two faces %.2f", Spearman(rPaper, rScan), Spearman(rFace, rScan));
   }
   std::printf(".\n");
   return 0;
