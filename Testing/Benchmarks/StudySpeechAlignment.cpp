@@ -13,6 +13,7 @@
 //
 //   StudySpeechAlignment [--quick] [--out DIR]
 // writes DIR/speech-study.md (tables), DIR/boundary-errors.csv, DIR/human-*.csv.
+#include "align/PhonemeRecognizer.h"
 #include "align/TranscriptAligner.h"
 #include "audio/AudioFile.h"
 #include "audio/Resample.h"
@@ -362,7 +363,7 @@ int main(int argc, char** argv)
   errorsCsv << "route,language,error_ms\n";
 
   std::map<std::string, Tally> byLanguage, byCondition;
-  Tally transcript, baseline, shuffled;
+  Tally transcript, baseline, shuffled, recognition, other;
   const auto sentences = quick ? std::vector<Sentence>{ Sentences()[0] } : Sentences();
   uint32_t seed = 1;
   for (const Sentence& s : sentences)
@@ -418,6 +419,47 @@ int main(int argc, char** argv)
         ++transcript.Failures;
         std::cerr << s.Language << " " << c.Variant << " " << conditionName << ": FAILED " << e.what() << "\n";
       }
+      // The route without a transcript (English only).
+      if (s.Language == "en" && IsPhonemeRecognitionAvailable())
+      {
+        try
+        {
+          const auto t0 = std::chrono::steady_clock::now();
+          const PhonemeRecognition r = RecognizePhonemes(recording);
+          const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+          recognition.Agreement.push_back(FrameAgreement(truth.Phonemes, r.Phonemes, map, truth.Duration));
+          const auto errors = BoundaryErrors(truth.Phonemes, r.Phonemes);
+          recognition.Errors.insert(recognition.Errors.end(), errors.begin(), errors.end());
+          recognition.Scores.push_back(static_cast<double>(errors.size()) / std::max<size_t>(1, truth.Phonemes.size() - 1));
+          recognition.AudioSeconds += recording.GetDuration();
+          recognition.ComputeSeconds += seconds;
+          ++recognition.Runs;
+          for (double e : errors)
+          {
+            errorsCsv << "recognition," << s.Language << "," << 1000.0 * e << "\n";
+          }
+        }
+        catch (const InputError& e)
+        {
+          ++recognition.Failures;
+          std::cerr << "recognition FAILED: " << e.what() << "\n";
+        }
+      }
+      // Second control: another sentence of similar length (spoken with this voice).
+      try
+      {
+        const auto& all = Sentences();
+        const size_t index = static_cast<size_t>(&s - &sentences[0]);
+        const std::string wrong = all[(index + 1) % all.size()].Text;
+        const TranscriptAlignment a = AlignTranscript(recording, wrong, options);
+        other.Agreement.push_back(FrameAgreement(truth.Phonemes, a.Phonemes, map, truth.Duration));
+        other.Scores.push_back(a.Score);
+        ++other.Runs;
+      }
+      catch (const InputError&)
+      {
+        ++other.Failures;
+      }
       // Negative control: the same recording, the words shuffled.
       try
       {
@@ -442,6 +484,15 @@ int main(int argc, char** argv)
      << " ms | " << Fixed(Mean(transcript.Scores), 3) << " |\n";
   md << "| linear stretch (no warping, baseline) | " << baseline.Runs << " | " << Percent(Mean(baseline.Agreement))
      << " | " << Ms(Quantile(baseline.Errors, 0.5)) << " ms | " << Ms(Quantile(baseline.Errors, 0.95)) << " ms | |\n";
+  if (recognition.Runs > 0)
+  {
+    md << "| no transcript: PocketSphinx phonemes (English only) | " << recognition.Runs << " | "
+       << Percent(Mean(recognition.Agreement)) << " | " << Ms(Quantile(recognition.Errors, 0.5)) << " ms | "
+       << Ms(Quantile(recognition.Errors, 0.95)) << " ms | (" << Percent(Mean(recognition.Scores))
+       << " of the phonemes found) |\n";
+  }
+  md << "| control: another sentence | " << other.Runs << " (+" << other.Failures << " refused) | "
+     << Percent(Mean(other.Agreement)) << " | | | " << Fixed(Mean(other.Scores), 3) << " |\n";
   md << "| negative control: shuffled transcript | " << shuffled.Runs << " (+" << shuffled.Failures
      << " refused) | " << Percent(Mean(shuffled.Agreement)) << " | | | " << Fixed(Mean(shuffled.Scores), 3) << " |\n\n";
 
@@ -460,12 +511,29 @@ int main(int argc, char** argv)
     md << "| " << name << " | " << t.Runs << " | " << Percent(Mean(t.Agreement)) << " | "
        << Ms(Quantile(t.Errors, 0.5)) << " ms | " << Ms(Quantile(t.Errors, 0.95)) << " ms |\n";
   }
+  md << "\nScores (eSpeak recordings): right transcript 5th percentile " << Fixed(Quantile(transcript.Scores, 0.05), 3)
+     << ", minimum " << Fixed(Quantile(transcript.Scores, 0.0), 3) << "; shuffled transcript 95th percentile "
+     << Fixed(Quantile(shuffled.Scores, 0.95), 3) << ", maximum " << Fixed(Quantile(shuffled.Scores, 1.0), 3)
+     << "; another sentence 95th percentile " << Fixed(Quantile(other.Scores, 0.95), 3) << ", maximum "
+     << Fixed(Quantile(other.Scores, 1.0), 3) << ".\n";
+  const double minimum = TranscriptAlignOptions().MinimumScore;
+  auto below = [minimum](const std::vector<double>& v)
+  { return v.empty() ? NAN : static_cast<double>(std::count_if(v.begin(), v.end(), [minimum](double x) { return x < minimum; })) / v.size(); };
+  md << "With the default MinimumScore " << Fixed(minimum, 2) << ", the warning \"may not match\" is raised for "
+     << Percent(below(transcript.Scores)) << " of the right transcripts, " << Percent(below(other.Scores))
+     << " of the other sentences and " << Percent(below(shuffled.Scores)) << " of the shuffled ones.\n";
   md << "\nSpeed of the transcript route, one core: " << Fixed(transcript.AudioSeconds / transcript.ComputeSeconds, 0)
      << "x real time (" << Fixed(transcript.AudioSeconds, 1) << " s of audio in "
      << Fixed(transcript.ComputeSeconds, 2) << " s). Failures: " << transcript.Failures << ".\n";
+  if (recognition.Runs > 0)
+  {
+    md << "Speed of the recognition route, one core, model loading included: "
+       << Fixed(recognition.AudioSeconds / recognition.ComputeSeconds, 1) << "x real time. Failures: "
+       << recognition.Failures << ".\n";
+  }
 
   // Real speech: LibriVox readings of pocketsphinx-testdata.
-  md << "\n| recording (pocketsphinx-testdata) | duration | score | words | speed |\n| --- | ---: | ---: | ---: | ---: |\n";
+  md << "\n| recording (pocketsphinx-testdata) | duration | score | words | score, shuffled transcript | speed | recognition vs alignment (frames) | recognition speed |\n| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n";
   for (const HumanFile& h : quick ? std::vector<HumanFile>{} : HumanFiles())
   {
     try
@@ -476,8 +544,25 @@ int main(int argc, char** argv)
       const auto t0 = std::chrono::steady_clock::now();
       const TranscriptAlignment a = AlignTranscript(audio, h.Transcript, options);
       const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      double wrongScore = NAN;
+      try
+      {
+        wrongScore = AlignTranscript(audio, Shuffled(h.Transcript, 99), options).Score;
+      }
+      catch (const InputError&)
+      {
+      }
+      std::string versus = "", speed = "";
+      if (IsPhonemeRecognitionAvailable())
+      {
+        const auto t1 = std::chrono::steady_clock::now();
+        const PhonemeRecognition r = RecognizePhonemes(audio);
+        const double s1 = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
+        versus = Percent(FrameAgreement(a.Phonemes, r.Phonemes, VisemeMap::Builtin(VisemeSet::Oculus15, "en"), audio.GetDuration()));
+        speed = Fixed(audio.GetDuration() / s1, 1) + "x";
+      }
       md << "| " << h.Name << " | " << Fixed(audio.GetDuration(), 1) << " s | " << Fixed(a.Score, 3) << " | "
-         << a.Words.size() << " | " << Fixed(audio.GetDuration() / seconds, 0) << "x |\n";
+         << a.Words.size() << " | " << Fixed(wrongScore, 3) << " | " << Fixed(audio.GetDuration() / seconds, 0) << "x | " << versus << " | " << speed << " |\n";
       std::ofstream words(out + "/human-" + h.Name + "-words.csv");
       words << "start,end,word\n";
       for (const auto& w : a.Words)

@@ -43,7 +43,7 @@ struct TranscriptAlignOptions
   double EnergyWeight = 1.5;
   /// Alignments scoring below this are reported as not matching the transcript
   /// (Reliable = false and a warning). Calibrated in docs/speech.md.
-  double MinimumScore = 0.25;
+  double MinimumScore = 0.2;
   /// Called with the fraction done (0..1); returning false cancels with InputError.
   std::function<bool(double)> Progress;
   WarningHandler Warn;

@@ -1,0 +1,186 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// Recordings into utterances by every route (transcript, timing file, recognition), and
+// the PocketSphinx phoneme recognizer on real speech from pocketsphinx-testdata.
+#include "align/PhonemeRecognizer.h"
+#include "align/RecordingSpeech.h"
+#include "audio/AudioFile.h"
+#include "audio/Resample.h"
+#include "base/Error.h"
+#include "speech/Sampa.h"
+#include "speech/SpeechSynthesizer.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+
+using namespace morphnode;
+
+namespace
+{
+const std::string Output = MORPHNODE_TEST_OUTPUT_DIR;
+const std::string LibriVox =
+  "/usr/share/pocketsphinx/test/data/librivox/sense_and_sensibility_01_austen_64kb-0880.wav";
+
+double MaxWeight(const Utterance& u, const std::string& viseme)
+{
+  const int c = u.Visemes.FindChannel(viseme);
+  double m = 0.0;
+  for (size_t f = 0; c >= 0 && f < u.Visemes.GetNumberOfFrames(); ++f)
+  {
+    m = std::max(m, u.Visemes.GetFrame(f)[c]);
+  }
+  return m;
+}
+
+std::string ErrorOf(const std::function<void()>& f)
+{
+  try
+  {
+    f();
+  }
+  catch (const InputError& e)
+  {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+/// "Bob met Pam" by another eSpeak voice, at 44.1 kHz.
+AudioBuffer BobMetPam(SynthesisResult* truth = nullptr)
+{
+  SpeechSynthesizer speaker("en+m3", 150);
+  speaker.SetEstimatePitch(false);
+  const SynthesisResult r = speaker.Synthesize("Bob met Pam by the pool.");
+  if (truth)
+  {
+    *truth = r;
+  }
+  return Resample(FromInt16Mono(r.Audio, r.SampleRate), 44100);
+}
+} // namespace
+
+TEST(RecordingSpeech, TranscriptRouteGivesTheRecordingAFace)
+{
+  if (!IsTranscriptAlignmentAvailable())
+  {
+    GTEST_SKIP() << "built without eSpeak NG";
+  }
+  const AudioBuffer audio = BobMetPam();
+  const std::string path = Output + "/recording_bob.wav";
+  WriteWavFile(path, audio);
+  SpeechOptions speech;
+  RecordingOptions options;
+  options.Transcript = "Bob met Pam by the pool.";
+  double lastProgress = -1.0;
+  options.Progress = [&lastProgress](double f)
+  {
+    lastProgress = f;
+    return true;
+  };
+  RecordingReport report;
+  const Utterance u = SpeakAudioFile(path, speech, options, &report);
+  EXPECT_EQ(report.Route, RecordingRoute::Transcript);
+  EXPECT_TRUE(report.Reliable);
+  EXPECT_EQ(lastProgress, 1.0);
+  EXPECT_EQ(u.SampleRate, 44100); // the recording's own sound, at its own rate
+  EXPECT_GE(u.Audio.size(), audio.GetFrameCount());
+  EXPECT_NEAR(u.Duration, audio.GetDuration(), 0.1);
+  EXPECT_GT(MaxWeight(u, "PP"), 0.99); // b, m, p close the lips
+  EXPECT_GE(report.Words.size(), 5u);
+  EXPECT_FALSE(u.Cues.empty() && u.Phonemes.empty());
+}
+
+TEST(RecordingSpeech, TimingFileRouteAndItsWarnings)
+{
+  const AudioBuffer audio = [] {
+    AudioBuffer a;
+    a.SampleRate = 16000;
+    a.Channels = 1;
+    a.Samples.assign(16000, 0.01f); // one second
+    return a;
+  }();
+  const std::string grid = Output + "/recording_timing.TextGrid";
+  std::ofstream(grid) << "File type = \"ooTextFile\"\nObject class = \"TextGrid\"\n0\n2.5\n<exists>\n1\n"
+                         "\"IntervalTier\"\n\"phones\"\n0\n2.5\n3\n0\n0.2\n\"sil\"\n0.2\n0.5\n\"M\"\n0.5\n2.5\n\"AA1\"\n";
+  SpeechOptions speech;
+  std::vector<std::string> warnings;
+  speech.Warn = CollectWarnings(warnings);
+  RecordingOptions options;
+  options.TimingFile = grid;
+  RecordingReport report;
+  const Utterance u = SpeakRecording(audio, speech, options, &report);
+  EXPECT_EQ(report.Route, RecordingRoute::TimingFile);
+  EXPECT_GT(MaxWeight(u, "PP"), 0.99);
+  EXPECT_GT(MaxWeight(u, "aa"), 0.5);
+  ASSERT_EQ(warnings.size(), 1u); // the timings outlast the recording by 1.5 s
+  EXPECT_NE(warnings[0].find("past the end"), std::string::npos) << warnings[0];
+  options.TimingFile = Output + "/no-such.TextGrid";
+  EXPECT_THROW(SpeakRecording(audio, speech, options), InputError);
+}
+
+TEST(RecordingSpeech, BadInputs)
+{
+  SpeechOptions speech;
+  EXPECT_NE(ErrorOf([&] { SpeakRecording(AudioBuffer{}, speech); }).find("empty"), std::string::npos);
+  EXPECT_THROW(SpeakAudioFile(Output + "/no-such-recording.wav", speech), InputError);
+  // Without a transcript, only English can be recognized.
+  SpeechOptions german;
+  german.Voice = "de";
+  AudioBuffer audio;
+  audio.SampleRate = 16000;
+  audio.Channels = 1;
+  audio.Samples.assign(16000, 0.0f);
+  EXPECT_NE(ErrorOf([&] { SpeakRecording(audio, german); }).find("only English"), std::string::npos);
+  RecordingOptions timing;
+  timing.Route = RecordingRoute::TimingFile;
+  EXPECT_NE(ErrorOf([&] { SpeakRecording(audio, speech, timing); }).find("needs a timing file"), std::string::npos);
+  EXPECT_EQ(ParseRecordingRoute("Recognition"), RecordingRoute::Recognition);
+  EXPECT_THROW(ParseRecordingRoute("guess"), InputError);
+}
+
+TEST(PhonemeRecognition, RealSpeechFromPocketsphinxTestdata)
+{
+  if (!IsPhonemeRecognitionAvailable())
+  {
+    GTEST_SKIP() << "built without PocketSphinx (MORPHNODE_ENABLE_POCKETSPHINX=OFF)";
+  }
+  if (!std::filesystem::exists(LibriVox))
+  {
+    GTEST_SKIP() << "pocketsphinx-testdata is not installed (" << LibriVox << ")";
+  }
+  // "he was not an ill disposed young man"
+  const AudioBuffer audio = ReadAudioFile(LibriVox);
+  const PhonemeRecognition r = RecognizePhonemes(audio);
+  ASSERT_GT(r.Phonemes.size(), 15u);
+  EXPECT_DOUBLE_EQ(r.Phonemes.front().Start, 0.0);
+  for (size_t k = 1; k < r.Phonemes.size(); ++k)
+  {
+    EXPECT_NEAR(r.Phonemes[k].Start, r.Phonemes[k - 1].Start + r.Phonemes[k - 1].Duration, 1e-9);
+  }
+  EXPECT_NEAR(r.Phonemes.back().Start + r.Phonemes.back().Duration, audio.GetDuration(), 0.02);
+  // Sounds that are there: the n of "not"/"an"/"man", the l of "ill", the s/z of "was"/"disposed".
+  auto has = [&](const char* name)
+  { return std::any_of(r.Phonemes.begin(), r.Phonemes.end(), [&](const TimedPhoneme& p) { return p.Sampa == name; }); };
+  EXPECT_TRUE(has("n"));
+  EXPECT_TRUE(has("l"));
+  EXPECT_TRUE(has("s") || has("z"));
+  // The recognizer route of SpeakRecording: the same phonemes, and the recording as sound.
+  RecordingReport report;
+  const Utterance u = SpeakRecording(audio, SpeechOptions{}, RecordingOptions{}, &report);
+  EXPECT_EQ(report.Route, RecordingRoute::Recognition);
+  EXPECT_EQ(u.SampleRate, audio.SampleRate);
+  // Silence: nothing recognized is an error, not an empty face track.
+  AudioBuffer silence;
+  silence.SampleRate = 16000;
+  silence.Channels = 1;
+  silence.Samples.assign(32000, 0.0f);
+  EXPECT_NE(ErrorOf([&] { RecognizePhonemes(silence); }).find("no speech"), std::string::npos);
+  RecognitionOptions wrongModel;
+  wrongModel.ModelDirectory = Output;
+  EXPECT_NE(ErrorOf([&] { RecognizePhonemes(audio, wrongModel); }).find("pocketsphinx-en-us"), std::string::npos);
+  RecognitionOptions cancel;
+  cancel.Progress = [](double) { return false; };
+  EXPECT_NE(ErrorOf([&] { RecognizePhonemes(audio, cancel); }).find("cancelled"), std::string::npos);
+}
