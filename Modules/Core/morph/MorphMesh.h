@@ -9,6 +9,7 @@
 #include "morph/MorphAttribute.h"
 
 #include <cstdint>
+#include <deque>
 #include <string>
 #include <variant>
 #include <vector>
@@ -38,6 +39,8 @@ public:
   /// -1 when no target has that name.
   int FindTarget(const std::string& name) const;
 
+  /// The new attribute, to fill in (SetNeutral, then one Add...Target per non-neutral
+  /// target). The reference stays valid when more attributes are added.
   template <typename T>
   MorphAttribute<T>& AddAttribute(const std::string& name, AttributeRole role, int components)
   {
@@ -71,7 +74,7 @@ public:
 private:
   size_t NumPoints;
   std::vector<std::string> TargetNames;
-  std::vector<AnyMorphAttribute> Attributes;
+  std::deque<AnyMorphAttribute> Attributes; // deque: AddAttribute's references stay valid
   std::vector<uint32_t> Triangles;
 };
 
