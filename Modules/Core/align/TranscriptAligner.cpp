@@ -194,21 +194,44 @@ public:
       }
       last[i] = static_cast<double>(j);
     }
-    // Anchors in seconds: the origin, then per frame its centre and its boundary to the next.
-    this->From.push_back(0.0);
-    this->To.push_back(0.0);
+    // Anchors in seconds: per aligned frame its centre and its boundary to the next.
+    std::vector<std::pair<double, double>> anchors;
     auto time = [&m](double frame) { return m.FrameTime(frame); };
     for (size_t i = 0; i < aRows; ++i)
     {
       const double centre = 0.5 * (first[i] + last[i]);
-      this->Add(time(static_cast<double>(i + aFrom)), time(centre + static_cast<double>(bFrom)));
+      anchors.emplace_back(time(static_cast<double>(i + aFrom)), time(centre + static_cast<double>(bFrom)));
       if (i + 1 < aRows)
       {
         const double boundary = 0.5 * (last[i] + first[i + 1]);
-        this->Add(time(static_cast<double>(i + aFrom) + 0.5), time(boundary + static_cast<double>(bFrom)));
+        anchors.emplace_back(time(static_cast<double>(i + aFrom) + 0.5), time(boundary + static_cast<double>(bFrom)));
       }
     }
-    this->Add(durationA, durationB);
+    // Outside the aligned speech time runs at the synthesis' pace (slope 1; the synthesis
+    // is already at the recording's rate): a quiet onset such as /h/ keeps its length
+    // before the first loud frame instead of stretching over the leading silence.
+    const auto [a0, b0] = anchors.front();
+    this->From.push_back(0.0);
+    this->To.push_back(0.0);
+    if (a0 > b0)
+    {
+      this->Add(a0 - b0, 0.0);
+    }
+    else
+    {
+      this->To.back() = b0 - a0;
+    }
+    for (const auto& [a, b] : anchors)
+    {
+      this->Add(a, b);
+    }
+    const auto [a1, b1] = anchors.back();
+    const double restA = durationA - a1, restB = durationB - b1;
+    if (restA > restB)
+    {
+      this->Add(a1 + std::max(0.0, restB), durationB);
+    }
+    this->Add(durationA, std::min(durationB, b1 + std::max(0.0, restA)));
     this->EndB = durationB;
   }
 
