@@ -239,7 +239,7 @@ public:
   {
     if (t <= this->From.front())
     {
-      return 0.0;
+      return this->To.front();
     }
     const auto it = std::upper_bound(this->From.begin(), this->From.end(), t);
     if (it == this->From.end())

@@ -137,6 +137,16 @@ std::vector<SynthesizedWord> WordsOf(const std::string& text,
     }
     w.Start = ms / 1000.0;
     double end = k + 1 < events.size() ? std::get<2>(events[k + 1]) / 1000.0 : duration;
+    // eSpeak may announce a word before the pause that precedes it: start at its sound.
+    for (const TimedPhoneme& p : phonemes)
+    {
+      if (IsPausePhoneme(p.Sampa) && p.Start <= w.Start + 1e-9 && p.Start + p.Duration > w.Start &&
+        p.Start + p.Duration < end)
+      {
+        w.Start = p.Start + p.Duration;
+        break;
+      }
+    }
     for (const TimedPhoneme& p : phonemes)
     {
       if (IsPausePhoneme(p.Sampa) && p.Start > w.Start + 1e-9 && p.Start < end)
