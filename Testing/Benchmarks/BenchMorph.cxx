@@ -2,22 +2,33 @@
 // The morph-stage benchmark suite: every figure is a ratio of two timings taken in the
 // same run, on the same face and weights.
 //
-//   BenchMorph [--smoke] [--markdown FILE] [--face FILE.glb]
+//   BenchMorph [--smoke] [--markdown FILE] [--face FILE.glb] [--java3d DIR | --no-java3d]
+//             [--java3d-rounds N] [--java3d-only]
 //
 // Baselines: a naive Java3D-style blend (absolute shapes, every target, no skipping);
 // VTK 9.1's glTF morphing loop (vtkGLTFReader's ApplyMorphingToDataArray, replicated:
 // dense, virtual GetTuple per component); a plain hand-written skip-zero loop over flat
 // float arrays; the machine's memory bandwidth (STREAM-like triad, measured here); and
-// the raw kernel under the whole VTK pipeline. --smoke runs every case once, briefly,
-// for CI: it checks that the suite runs, and asserts nothing about time.
+// the raw kernel under the whole VTK pipeline. Against the paper's own engine, Java3D's
+// Morph node runs in the same invocation (RunJava3DMorph.sh next to this file starts the
+// Java3D harness in DIR, a separate JVM process; BenchMorph reads the timings, geometry and
+// exact weights it writes and times vtkMorphNodeFilter on them right after it, round after
+// round); without Java or Java3D that section is skipped with a message. --smoke runs every
+// case once, briefly, for CI (Java3D never): it checks that the suite runs, and asserts
+// nothing about time.
 #include "vtkMorphNodeFilter.h"
 #include "vtkMorphTargetReader.h"
 
+#include "base/Error.h"
+#include "base/Text.h"
 #include "morph/MorphAttribute.h"
 #include "morph/MorphMesh.h"
 
+#include "vtkCellArray.h"
 #include "vtkDataArray.h"
+#include "vtkFieldData.h"
 #include "vtkFloatArray.h"
+#include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
@@ -26,8 +37,11 @@
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
 #include "vtkSMPTools.h"
+#include "vtkStringArray.h"
 
 #include <algorithm>
+#include <cstdint>
+#include <cstdlib>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -35,12 +49,24 @@
 #include <functional>
 #include <iomanip>
 #include <iostream>
+#include <limits>
 #include <memory>
 #include <random>
 #include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
+
+#include <sys/wait.h> // WEXITSTATUS of the Java3D script
+
+// Set by Testing/Benchmarks/CMakeLists.txt: this folder (RunJava3DMorph.sh) and the Java3D
+// harness (--java3d overrides it).
+#ifndef MORPHNODE_BENCHMARK_DIR
+#define MORPHNODE_BENCHMARK_DIR "."
+#endif
+#ifndef MORPHNODE_JAVA3D_HARNESS_DIR
+#define MORPHNODE_JAVA3D_HARNESS_DIR ""
+#endif
 
 using morphnode::AttributeRole;
 using morphnode::MorphAttribute;
@@ -145,9 +171,10 @@ private:
 #define MORPHNODE_BENCH_CLONES
 #endif
 
-/// About the cheapest filter VTK can run: it hands on the input's points and cells, no
-/// arrays. Its Update is the executive's own cost per time step, the floor under any
-/// filter's (vtkMorphNodeFilter's included).
+/// About the cheapest filter VTK can run: it hands on the first input's points and cells,
+/// no arrays. Its Update is the executive's own cost per time step, the floor under any
+/// filter's (vtkMorphNodeFilter's included). Like the morph filter it takes any number of
+/// connections on port 0, so that the floor of the Java3D form (one per geometry) shows.
 class PassPoints : public vtkPointSetAlgorithm
 {
 public:
@@ -155,6 +182,12 @@ public:
   vtkTypeMacro(PassPoints, vtkPointSetAlgorithm);
 
 protected:
+  int FillInputPortInformation(int port, vtkInformation* info) override
+  {
+    this->Superclass::FillInputPortInformation(port, info);
+    info->Set(vtkAlgorithm::INPUT_IS_REPEATABLE(), 1);
+    return 1;
+  }
   int RequestData(vtkInformation*, vtkInformationVector** in, vtkInformationVector* out) override
   {
     vtkPointSet::GetData(out)->CopyStructure(vtkPointSet::GetData(in[0]));
@@ -451,6 +484,11 @@ struct Report
     this->Goals << "| " << what << " | " << Format(value) << " " << unit << " | " << bound << " | "
                 << (pass ? "**pass**" : "**MISS**") << " |\n";
   }
+  /// A goal that could not be measured in this run.
+  void Skipped(const std::string& what, const std::string& bound, const std::string& why)
+  {
+    this->Goals << "| " << what << " | not measured: " << why << " | " << bound << " | skipped |\n";
+  }
   void Row(const std::string& what, double value, const std::string& unit, const std::string& goal = "")
   {
     std::ostringstream v;
@@ -460,18 +498,540 @@ struct Report
               << (goal.empty() ? "" : "   (goal: " + goal + ")") << "\n";
   }
 };
+// --- Java3D's Morph, the paper's engine, side by side -------------------------------
+
+/// The Java3D harness's geometry (face14.bin, little-endian, see the harness's README):
+/// absolute shapes, the neutral first, and the triangles.
+struct Face14
+{
+  size_t NumPoints = 0;
+  std::vector<std::string> Names;
+  std::vector<int32_t> Triangles; // 3 point ids each
+  std::vector<std::vector<float>> Positions, Normals;
+};
+
+Face14 ReadFace14(const std::string& file)
+{
+  const std::string bytes = morphnode::text::ReadFile(file, "Java3D geometry");
+  size_t at = 0;
+  const auto take = [&](void* to, size_t n) {
+    if (n > bytes.size() - at)
+    {
+      throw morphnode::InputError("Java3D geometry '" + file + "' is truncated");
+    }
+    std::memcpy(to, bytes.data() + at, n);
+    at += n;
+  };
+  char magic[8];
+  take(magic, 8);
+  int32_t nv = 0, ntri = 0, nt = 0;
+  take(&nv, 4);
+  take(&ntri, 4);
+  take(&nt, 4);
+  if (std::memcmp(magic, "MORPH14", 7) != 0 || nv <= 0 || ntri <= 0 || nt <= 1 || nt > 1024)
+  {
+    throw morphnode::InputError("'" + file + "' is not a MORPH14 geometry file");
+  }
+  Face14 face;
+  face.NumPoints = static_cast<size_t>(nv);
+  for (int32_t t = 0; t < nt; ++t)
+  {
+    int32_t length = 0;
+    take(&length, 4);
+    if (length < 0 || length > 4096)
+    {
+      throw morphnode::InputError("'" + file + "' has a bad target name");
+    }
+    std::string name(static_cast<size_t>(length), ' ');
+    take(name.data(), name.size());
+    face.Names.push_back(name);
+  }
+  face.Triangles.resize(3 * static_cast<size_t>(ntri));
+  take(face.Triangles.data(), face.Triangles.size() * 4);
+  for (int32_t id : face.Triangles)
+  {
+    if (id < 0 || id >= nv)
+    {
+      throw morphnode::InputError("'" + file + "' has a triangle outside its points");
+    }
+  }
+  for (int32_t t = 0; t < nt; ++t)
+  {
+    std::vector<float> p(3 * face.NumPoints);
+    take(p.data(), p.size() * 4);
+    // Area-weighted vertex normals, as Morph14.java gives them to Java3D (same arithmetic).
+    std::vector<double> n(p.size(), 0.0);
+    for (size_t f = 0; f < face.Triangles.size(); f += 3)
+    {
+      const size_t a = 3 * static_cast<size_t>(face.Triangles[f]);
+      const size_t b = 3 * static_cast<size_t>(face.Triangles[f + 1]);
+      const size_t c = 3 * static_cast<size_t>(face.Triangles[f + 2]);
+      const double ux = p[b] - p[a], uy = p[b + 1] - p[a + 1], uz = p[b + 2] - p[a + 2];
+      const double vx = p[c] - p[a], vy = p[c + 1] - p[a + 1], vz = p[c + 2] - p[a + 2];
+      const double cx = uy * vz - uz * vy, cy = uz * vx - ux * vz, cz = ux * vy - uy * vx;
+      for (size_t v : { a, b, c })
+      {
+        n[v] += cx;
+        n[v + 1] += cy;
+        n[v + 2] += cz;
+      }
+    }
+    std::vector<float> unit(p.size());
+    for (size_t v = 0; v < p.size(); v += 3)
+    {
+      double l = std::sqrt(n[v] * n[v] + n[v + 1] * n[v + 1] + n[v + 2] * n[v + 2]);
+      l = l == 0 ? 1 : l;
+      for (size_t c = 0; c < 3; ++c)
+      {
+        unit[v + c] = static_cast<float>(n[v + c] / l);
+      }
+    }
+    face.Positions.push_back(std::move(p));
+    face.Normals.push_back(std::move(unit));
+  }
+  return face;
+}
+
+/// The harness's weights (weights.bin): speech warm-up, speech timed, all-14 warm-up,
+/// all-14 timed; each frame one weight per geometry, neutral first.
+std::vector<std::vector<std::vector<double>>> ReadJava3DWeights(const std::string& file, size_t numTargets)
+{
+  const std::string bytes = morphnode::text::ReadFile(file, "Java3D weights");
+  std::vector<std::vector<std::vector<double>>> blocks;
+  size_t at = 0;
+  for (int b = 0; b < 4; ++b)
+  {
+    int32_t frames = 0;
+    if (bytes.size() - at < 4)
+    {
+      throw morphnode::InputError("Java3D weights '" + file + "' are truncated");
+    }
+    std::memcpy(&frames, bytes.data() + at, 4);
+    at += 4;
+    const size_t size = static_cast<size_t>(std::max(frames, 0)) * numTargets * 8;
+    if (frames <= 0 || size > bytes.size() - at)
+    {
+      throw morphnode::InputError("Java3D weights '" + file + "' are truncated");
+    }
+    std::vector<std::vector<double>> block(static_cast<size_t>(frames), std::vector<double>(numTargets));
+    for (auto& w : block)
+    {
+      std::memcpy(w.data(), bytes.data() + at, numTargets * 8);
+      at += numTargets * 8;
+    }
+    blocks.push_back(std::move(block));
+  }
+  return blocks;
+}
+
+/// Java3D's median time per Morph.setWeights (ms) of a geometry kind and weight pattern,
+/// from the harness's report, e.g. "indexed/byref (11248)  speech  median   0.313 ...".
+double Java3DMedianMs(const std::string& report, const std::string& kind, const std::string& pattern)
+{
+  std::istringstream in(report);
+  std::string line;
+  while (std::getline(in, line))
+  {
+    if (line.rfind(kind + " ", 0) != 0 || line.find(" " + pattern + " ") == std::string::npos)
+    {
+      continue;
+    }
+    std::istringstream fields(line.substr(line.find("median") + 6));
+    std::string token;
+    double ms = 0.0;
+    if (fields >> token && morphnode::text::ParseNumber(token, ms) && ms > 0.0)
+    {
+      return ms;
+    }
+  }
+  throw morphnode::InputError("the Java3D report has no " + kind + " " + pattern + " median");
+}
+
+/// The first line of `text` starting with `prefix`, or "".
+std::string LineStarting(const std::string& text, const std::string& prefix)
+{
+  std::istringstream in(text);
+  std::string line;
+  while (std::getline(in, line))
+  {
+    if (line.rfind(prefix, 0) == 0)
+    {
+      return line;
+    }
+  }
+  return "";
+}
+
+struct Java3DRun
+{
+  double SpeechMs = 0.0, AllMs = 0.0; // Morph.setWeights, indexed/byref
+  std::string Report;
+};
+
+/// Runs the harness once through RunJava3DMorph.sh. False, with the reason, when it is
+/// skipped (no Java, no Java3D, ...); throws when it fails.
+bool RunJava3D(const std::string& harness, const std::string& face, const std::string& out,
+  Java3DRun& run, std::string& why)
+{
+  const std::string script = std::string(MORPHNODE_BENCHMARK_DIR) + "/RunJava3DMorph.sh";
+  const std::string command = "bash '" + script + "' '" + harness + "' '" + face + "' '" + out +
+    "' 500 300 2> '" + out + ".skip'";
+  const int status = std::system(command.c_str());
+  const int code = status == -1 ? -1 : WEXITSTATUS(status);
+  if (code == 77)
+  {
+    std::ifstream reason(out + ".skip");
+    std::getline(reason, why);
+    return false;
+  }
+  if (code != 0)
+  {
+    throw morphnode::InputError("the Java3D harness failed (exit " + std::to_string(code) + "); see " +
+      out + "/java3d.err and " + out + ".skip");
+  }
+  run.Report = morphnode::text::ReadFile(out + "/java3d.txt", "Java3D report");
+  run.SpeechMs = Java3DMedianMs(run.Report, "indexed/byref", "speech");
+  run.AllMs = Java3DMedianMs(run.Report, "indexed/byref", "all14");
+  return true;
+}
+
+/// vtkMorphNodeFilter on Java3D's geometry, in both of its input forms, and VTK's floor
+/// under each.
+struct Java3DScene
+{
+  Face14 Face;
+  std::vector<std::vector<std::vector<double>>> Weights;
+  vtkSmartPointer<vtkPolyData> OneInput;                 // glTF form: target arrays
+  std::vector<vtkSmartPointer<vtkPolyData>> Geometries;  // Java3D form: one per geometry
+  vtkNew<vtkMorphNodeFilter> Relative, Absolute;
+  vtkNew<PassPoints> FloorOne, FloorAll;
+
+  Java3DScene(Face14 face, std::vector<std::vector<std::vector<double>>> weights)
+    : Face(std::move(face))
+    , Weights(std::move(weights))
+  {
+    const vtkIdType n = static_cast<vtkIdType>(this->Face.NumPoints);
+    const auto floats = [n](const char* name, const std::vector<float>& values) {
+      auto array = vtkSmartPointer<vtkFloatArray>::New();
+      array->SetName(name);
+      array->SetNumberOfComponents(3);
+      array->SetNumberOfTuples(n);
+      std::copy(values.begin(), values.end(), array->GetPointer(0));
+      return array;
+    };
+    vtkNew<vtkCellArray> cells;
+    for (size_t f = 0; f < this->Face.Triangles.size(); f += 3)
+    {
+      const vtkIdType ids[3] = { this->Face.Triangles[f], this->Face.Triangles[f + 1], this->Face.Triangles[f + 2] };
+      cells->InsertNextCell(3, ids);
+    }
+    vtkNew<vtkStringArray> names;
+    names->SetName("TargetNames");
+    for (const auto& name : this->Face.Names)
+    {
+      names->InsertNextValue(name);
+    }
+    for (size_t t = 0; t < this->Face.Positions.size(); ++t)
+    {
+      auto shape = vtkSmartPointer<vtkPolyData>::New();
+      vtkNew<vtkPoints> points;
+      points->SetData(floats(nullptr, this->Face.Positions[t]));
+      shape->SetPoints(points);
+      shape->GetPointData()->SetNormals(floats("Normals", this->Face.Normals[t]));
+      if (t == 0)
+      {
+        shape->SetPolys(cells);
+        shape->GetFieldData()->AddArray(names);
+      }
+      this->Geometries.push_back(shape);
+      this->Absolute->AddInputData(0, shape);
+      this->FloorAll->AddInputData(0, shape);
+    }
+    // The same geometry as deltas (target - neutral, in float as the filter's own
+    // conversion computes them), so both forms blend the same numbers.
+    this->OneInput = vtkSmartPointer<vtkPolyData>::New();
+    this->OneInput->ShallowCopy(this->Geometries[0]);
+    for (size_t t = 1; t < this->Face.Positions.size(); ++t)
+    {
+      std::vector<float> dp(this->Face.Positions[t]), dn(this->Face.Normals[t]);
+      for (size_t i = 0; i < dp.size(); ++i)
+      {
+        dp[i] -= this->Face.Positions[0][i];
+        dn[i] -= this->Face.Normals[0][i];
+      }
+      const std::string k = std::to_string(t - 1);
+      this->OneInput->GetPointData()->AddArray(floats(("target" + k + "_position").c_str(), dp));
+      this->OneInput->GetPointData()->AddArray(floats(("target" + k + "_normal").c_str(), dn));
+    }
+    this->Relative->SetInputData(this->OneInput);
+    this->FloorOne->SetInputData(this->OneInput);
+    for (vtkMorphNodeFilter* filter : { this->Relative.Get(), this->Absolute.Get() })
+    {
+      filter->SetWeightModeToStrict(); // Java3D's rule; its negative neutral weights included
+    }
+  }
+
+  /// One frame as a program drives the node: every weight set, then an update.
+  static void Step(vtkMorphNodeFilter* filter, const std::vector<double>& w)
+  {
+    for (size_t t = 0; t < w.size(); ++t)
+    {
+      filter->SetWeight(static_cast<int>(t), w[t]);
+    }
+    filter->Update();
+  }
+
+  /// Seconds per frame as the harness measures Java3D: a warm-up pass, then every frame
+  /// timed on its own, the median; here the median over `passes` such passes.
+  static double TimeFrames(const std::function<void(const std::vector<double>&)>& step,
+    const std::vector<std::vector<double>>& warmup, const std::vector<std::vector<double>>& timed, int passes)
+  {
+    if (Smoke)
+    {
+      step(timed.front());
+      return 0.0;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(30));
+    for (const auto& w : warmup)
+    {
+      step(w);
+    }
+    std::vector<double> medians;
+    std::vector<double> times(timed.size());
+    for (int pass = 0; pass < passes; ++pass)
+    {
+      for (size_t f = 0; f < timed.size(); ++f)
+      {
+        const auto t0 = std::chrono::steady_clock::now();
+        step(timed[f]);
+        times[f] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      }
+      std::nth_element(times.begin(), times.begin() + static_cast<std::ptrdiff_t>(times.size() / 2), times.end());
+      medians.push_back(times[times.size() / 2]);
+    }
+    std::nth_element(medians.begin(), medians.begin() + static_cast<std::ptrdiff_t>(medians.size() / 2), medians.end());
+    return medians[medians.size() / 2];
+  }
+
+  /// Largest distance of a blended point from Java3D's sum_t w_t G_t (in double).
+  double MaxError(vtkMorphNodeFilter* filter, const std::vector<double>& w) const
+  {
+    Step(filter, w);
+    vtkPointSet* out = vtkPointSet::SafeDownCast(filter->GetOutputDataObject(0));
+    if (!out || static_cast<size_t>(out->GetNumberOfPoints()) != this->Face.NumPoints)
+    {
+      return std::numeric_limits<double>::infinity();
+    }
+    double worst = 0.0;
+    for (size_t i = 0; i < this->Face.NumPoints; ++i)
+    {
+      double p[3];
+      out->GetPoint(static_cast<vtkIdType>(i), p);
+      for (size_t c = 0; c < 3; ++c)
+      {
+        double ref = 0.0;
+        for (size_t t = 0; t < w.size(); ++t)
+        {
+          ref += w[t] * this->Face.Positions[t][3 * i + c];
+        }
+        worst = std::max(worst, std::abs(ref - p[c]));
+      }
+    }
+    return worst;
+  }
+};
+
+/// The Java3D section: rounds of (Java3D's harness, then the morph filter on its
+/// geometry and weights); the goals read the median of the per-round ratios.
+void CompareWithJava3D(Report& report, const std::string& harness, const std::string& face, int rounds)
+{
+  const std::string speechGoal = "ICT 14 geometries with normals, speech frames (Java3D's weights): "
+                                 "Java3D Morph.setWeights / vtkMorphNodeFilter Update (one input)";
+  const std::string allGoal = "ICT 14 geometries with normals, all 14 active: "
+                              "Java3D Morph.setWeights / vtkMorphNodeFilter Update (one input)";
+  report.Text << "\n**Against Java3D's Morph (the paper's engine), same run**\n\n";
+  std::cout << "\nJava3D's Morph, side by side\n";
+  const auto skip = [&](const std::string& why) {
+    std::cout << "Java3D comparison skipped: " << why << "\n";
+    report.Text << "Skipped: " << why << ".\n";
+    report.Skipped(speechGoal, ">= 10 x", why);
+    report.Skipped(allGoal, ">= 15 x", why);
+  };
+  if (harness.empty() && !Smoke)
+  {
+    skip("not asked for (--no-java3d)");
+    return;
+  }
+  if (Smoke)
+  {
+    // The filter's side on a small made-up geometry, so that CI runs its code.
+    Face14 small;
+    small.NumPoints = 4;
+    small.Triangles = { 0, 1, 2, 0, 2, 3 };
+    for (int t = 0; t < 14; ++t)
+    {
+      small.Names.push_back(t == 0 ? "Neutral" : "shape" + std::to_string(t));
+      small.Positions.push_back({ 0, 0, 0, 1, 0, 0, 1, 1, 0.1f * t, 0, 1, 0 });
+      small.Normals.push_back({ 0, 0, 1, 0, 0, 1, 0, 0.1f * t, 1, 0, 0, 1 });
+    }
+    std::vector<double> w(14, 0.1); // the neutral's 1 - 1.3 < 0, as in Java3D's speech frames
+    w[0] = -0.3;
+    Java3DScene scene(small, { { w }, { w }, { w }, { w } });
+    const double error = std::max(scene.MaxError(scene.Relative, w), scene.MaxError(scene.Absolute, w));
+    std::cout << "smoke: the filter on a made-up 14-geometry face, largest error " << error << "\n";
+    if (!(error < 1e-5))
+    {
+      throw morphnode::InputError("the morph filter does not blend Java3D's weights as Java3D does");
+    }
+    skip("smoke run (the Java3D harness takes half a minute a round)");
+    return;
+  }
+  std::string out = "/tmp/BenchMorph-java3d-XXXXXX";
+  if (!mkdtemp(out.data()))
+  {
+    skip("no temporary folder");
+    return;
+  }
+  out += "/run";
+  std::unique_ptr<Java3DScene> scene;
+  struct Round
+  {
+    Java3DRun Java;
+    double Relative[2], Absolute[2], FloorOne[2], FloorAll[2]; // speech, all 14
+  };
+  std::vector<Round> done;
+  for (int r = 0; r < rounds; ++r)
+  {
+    Round round{};
+    std::string why;
+    std::cout << "round " << r + 1 << " of " << rounds << ": Java3D harness ... " << std::flush;
+    if (!RunJava3D(harness, face, out, round.Java, why))
+    {
+      skip(why);
+      return;
+    }
+    std::cout << round.Java.SpeechMs << " / " << round.Java.AllMs << " ms; vtkMorphNodeFilter ... " << std::flush;
+    if (!scene)
+    {
+      Face14 geometry = ReadFace14(out + "/face14.bin");
+      auto weights = ReadJava3DWeights(out + "/weights.bin", geometry.Names.size());
+      scene = std::make_unique<Java3DScene>(std::move(geometry), std::move(weights));
+    }
+    Java3DScene& s = *scene;
+    for (int pattern = 0; pattern < 2; ++pattern)
+    {
+      const auto& warmup = s.Weights[2 * static_cast<size_t>(pattern)];
+      const auto& timed = s.Weights[2 * static_cast<size_t>(pattern) + 1];
+      round.Relative[pattern] = Java3DScene::TimeFrames(
+        [&](const std::vector<double>& w) { Java3DScene::Step(s.Relative, w); }, warmup, timed, 3);
+      round.Absolute[pattern] = Java3DScene::TimeFrames(
+        [&](const std::vector<double>& w) { Java3DScene::Step(s.Absolute, w); }, warmup, timed, 3);
+      round.FloorOne[pattern] = Java3DScene::TimeFrames([&](const std::vector<double>&) {
+        s.FloorOne->Modified();
+        s.FloorOne->Update();
+      }, warmup, timed, 1);
+      round.FloorAll[pattern] = Java3DScene::TimeFrames([&](const std::vector<double>&) {
+        s.FloorAll->Modified();
+        s.FloorAll->Update();
+      }, warmup, timed, 1);
+    }
+    std::cout << round.Relative[0] * 1e6 << " / " << round.Relative[1] * 1e6 << " us\n";
+    done.push_back(round);
+  }
+  Java3DScene& s = *scene;
+  const auto median = [&](const std::function<double(const Round&)>& value) {
+    std::vector<double> v;
+    for (const Round& round : done)
+    {
+      v.push_back(value(round));
+    }
+    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
+    return v[v.size() / 2];
+  };
+  const std::string header = LineStarting(done.back().Java.Report, "Java3D ");
+  const std::string patterns = LineStarting(done.back().Java.Report, "patterns: ");
+  report.Text << "Java3D's harness (" << harness << ", `RunJava3DMorph.sh`, a JVM process started by BenchMorph "
+              << "before each of " << done.size() << " rounds) blends the ICT face's neutral and 13 ARKit shapes, "
+              << s.Face.NumPoints << " points with area-weighted normals, as absolute geometries (indexed, by reference); "
+              << "its time is the median wall time of `Morph.setWeights` per frame (the blend of coordinates and normals "
+              << "without renormalizing them, bounds, change message). Right after it, vtkMorphNodeFilter blends the same "
+              << "geometries with the exact weights Java3D used (Strict mode: Java3D's rule, negative neutral weights "
+              << "included), renormalizing the normals; its time is the median over frames of setting the 14 weights and "
+              << "Update. Ratios are medians of the per-round ratios. " << header << "; " << patterns << ".\n\n"
+              << "| measure | value | goal |\n| --- | --- | --- |\n";
+  const char* tags[2] = { "speech frames", "all 14 active" };
+  for (int p = 0; p < 2; ++p)
+  {
+    const auto javaMs = [p](const Round& r) { return p == 0 ? r.Java.SpeechMs : r.Java.AllMs; };
+    const double ratioOne = median([&](const Round& r) { return javaMs(r) * 1e-3 / r.Relative[p]; });
+    const double ratioAll = median([&](const Round& r) { return javaMs(r) * 1e-3 / r.Absolute[p]; });
+    const std::string bound = p == 0 ? ">= 10 x" : ">= 15 x";
+    const std::string tag = tags[p];
+    report.Row(tag + ": Java3D Morph.setWeights, indexed/byref: time per frame", median(javaMs) * 1e3, "us");
+    report.Row(tag + ": vtkMorphNodeFilter Update, one input (glTF form): time per frame",
+      median([p](const Round& r) { return r.Relative[p]; }) * 1e6, "us");
+    report.Row(tag + ": vtkMorphNodeFilter Update, 14 connections (Java3D form): time per frame",
+      median([p](const Round& r) { return r.Absolute[p]; }) * 1e6, "us");
+    report.Row(tag + ": VTK's floor (a filter passing the points on), one input: time per frame",
+      median([p](const Round& r) { return r.FloorOne[p]; }) * 1e6, "us");
+    report.Row(tag + ": VTK's floor, 14 connections: time per frame",
+      median([p](const Round& r) { return r.FloorAll[p]; }) * 1e6, "us");
+    report.Row(tag + ": Java3D / vtkMorphNodeFilter, one input", ratioOne, "x", bound);
+    report.Row(tag + ": Java3D / vtkMorphNodeFilter, 14 connections", ratioAll, "x");
+    report.Goal(p == 0 ? speechGoal : allGoal, ratioOne, "x", bound, ratioOne >= (p == 0 ? 10.0 : 15.0));
+  }
+  const auto& lastSpeech = s.Weights[1].back();
+  report.Row("last speech frame: largest distance of a point from Java3D's sum w_t G_t, one input",
+    s.MaxError(s.Relative, lastSpeech), "m");
+  report.Row("last speech frame: largest distance of a point from Java3D's sum w_t G_t, 14 connections",
+    s.MaxError(s.Absolute, lastSpeech), "m");
+}
+void WriteMarkdown(const std::string& markdown, const Report& report, const std::string& loadBefore)
+{
+  if (markdown.empty())
+  {
+    return;
+  }
+  std::ofstream md(markdown);
+  md << "<!-- generated by BenchMorph --markdown; do not edit -->\n"
+     << "Machine: " << ReadField("/proc/cpuinfo", "model name") << ", " << std::thread::hardware_concurrency()
+     << " cores; vtkSMPTools backend " << vtkSMPTools::GetBackend() << ". Load average (1/5/15 min) at start "
+     << loadBefore << ", at end " << LoadAverage() << ".\n"
+     << (Smoke ? "\n**Smoke run: the figures below are single untimed calls, not measurements.**\n" : "")
+     << "\n**Goals**\n\n| goal | measured | bound | |\n| --- | --- | --- | --- |\n"
+     << report.Goals.str() << report.Text.str();
+}
 } // namespace
 
 int main(int argc, char* argv[])
 {
   std::string face = std::string(MORPHNODE_FACEKIT_DIR) + "/ict_face11248_sparse53.glb";
   std::string markdown;
+  std::string java3d = MORPHNODE_JAVA3D_HARNESS_DIR;
+  int java3dRounds = 3;
+  bool java3dOnly = false;
   for (int i = 1; i < argc; ++i)
   {
     const std::string arg = argv[i];
     if (arg == "--smoke")
     {
       Smoke = true;
+    }
+    else if (arg == "--java3d" && i + 1 < argc)
+    {
+      java3d = argv[++i];
+    }
+    else if (arg == "--no-java3d")
+    {
+      java3d.clear();
+    }
+    else if (arg == "--java3d-only")
+    {
+      java3dOnly = true;
+    }
+    else if (arg == "--java3d-rounds" && i + 1 < argc && std::atoi(argv[i + 1]) > 0)
+    {
+      java3dRounds = std::atoi(argv[++i]);
     }
     else if (arg == "--markdown" && i + 1 < argc)
     {
@@ -483,7 +1043,8 @@ int main(int argc, char* argv[])
     }
     else
     {
-      std::cerr << "usage: BenchMorph [--smoke] [--markdown FILE] [--face FILE.glb]\n";
+      std::cerr << "usage: BenchMorph [--smoke] [--markdown FILE] [--face FILE.glb] [--java3d DIR | --no-java3d]"
+                   " [--java3d-rounds N] [--java3d-only]\n";
       return 2;
     }
   }
@@ -499,6 +1060,26 @@ int main(int argc, char* argv[])
   const std::string loadBefore = LoadAverage();
   std::cout << "Face: " << faceName << " (" << ict.NumPoints << " points, " << ict.Deltas.size()
             << " targets)\n";
+
+  // Against Java3D's Morph, the paper's engine: its harness runs in a JVM started from here.
+  const auto java3dSection = [&] {
+    try
+    {
+      CompareWithJava3D(report, java3d, face, java3dRounds);
+    }
+    catch (const std::exception& e)
+    {
+      std::cout << "Java3D comparison failed: " << e.what() << "\n";
+      report.Text << "Failed: " << e.what() << ".\n";
+      report.Skipped("Java3D comparison", "", std::string("failed: ") + e.what());
+    }
+  };
+  if (java3dOnly)
+  {
+    java3dSection();
+    WriteMarkdown(markdown, report, loadBefore);
+    return 0;
+  }
 
   const MorphAttribute<float> kernel = BuildAttribute(ict, morphnode::MorphMesh::DefaultSparseCoverage);
   std::vector<float> out(ict.NumPoints * 3), ref(ict.NumPoints * 3);
@@ -609,6 +1190,8 @@ int main(int argc, char* argv[])
     report.Row("vtkMorphNodeFilter Update / core kernel (both vtkSMPTools, 2 threads)", pipelineRatio, "x");
     report.Row("vtkMorphNodeFilter Update / core kernel (1 thread)", pipeline / ours1, "x");
   }
+
+  java3dSection();
 
   // Doubling the number of inactive targets.
   {
@@ -804,16 +1387,6 @@ int main(int argc, char* argv[])
     }
   }
 
-  if (!markdown.empty())
-  {
-    std::ofstream md(markdown);
-    md << "<!-- generated by BenchMorph --markdown; do not edit -->\n"
-       << "Machine: " << ReadField("/proc/cpuinfo", "model name") << ", " << std::thread::hardware_concurrency()
-       << " cores; vtkSMPTools backend " << vtkSMPTools::GetBackend() << ". Load average (1/5/15 min) at start "
-       << loadBefore << ", at end " << LoadAverage() << ".\n"
-       << (Smoke ? "\n**Smoke run: the figures below are single untimed calls, not measurements.**\n" : "")
-       << "\n**Goals**\n\n| goal | measured | bound | |\n| --- | --- | --- | --- |\n"
-       << report.Goals.str() << report.Text.str();
-  }
+  WriteMarkdown(markdown, report, loadBefore);
   return 0;
 }
