@@ -935,6 +935,20 @@ private:
     if (this->Options.ApplyTransforms)
     {
       ApplyTransform(part, part.World);
+      // A finite but huge transform (1e300) can take points past the range of float.
+      auto finite = [](const std::vector<float>& v) {
+        return std::all_of(v.begin(), v.end(), [](float x) { return std::isfinite(x); });
+      };
+      bool ok = finite(part.Positions) && finite(part.Normals);
+      for (const auto& target : part.Targets)
+      {
+        ok = ok && finite(target.PositionDeltas) && finite(target.NormalDeltas);
+      }
+      if (!ok)
+      {
+        throw InputError(this->Source + ": " + Pointer("nodes", n) + ": its world transform takes the points of " +
+          pp + " beyond the range of float");
+      }
     }
     return part;
   }

@@ -567,6 +567,11 @@ const Damage Damages[] = {
       return Json(b, [](json& d) { d["nodes"][1] = { { "mesh", 0 }, { "matrix", { 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 2 } } }; });
     },
     "/nodes/1/matrix: is not an affine transform" },
+  { "matrix taking points beyond float (found by FuzzGltf)",
+    [](Builder& b) {
+      return Json(b, [](json& d) { d["nodes"][1] = { { "mesh", 0 }, { "matrix", { 0, 1, 1e300, 0, -1, 0, 0, 0, 0, 0, 1, 0, 0, 0, 1, 1 } } }; });
+    },
+    "/nodes/1: its world transform takes the points of /meshes/0/primitives/0 beyond the range of float" },
   { "matrix and TRS",
     [](Builder& b) { return Json(b, [](json& d) { d["nodes"][1]["matrix"] = json::array({ 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1 }); }); },
     "/nodes/1/translation: a node with a 'matrix'" },
@@ -710,9 +715,9 @@ const Damage Damages[] = {
       return g;
     },
     "GLB: chunk 1 at byte" },
-  { "BIN chunk claiming its own header's 8 bytes more (tinygltf reads past the input)",
+  { "BIN chunk and buffer claiming the chunk header's 8 bytes more (tinygltf reads past the input)",
     [](Builder& b) {
-      std::string g = b.Glb();
+      std::string g = Json(b, [](json& d) { d["buffers"][0]["byteLength"] = d["buffers"][0]["byteLength"].get<int>() + 8; });
       uint32_t jsonLength;
       std::memcpy(&jsonLength, &g[12], 4);
       uint32_t binLength;

@@ -109,9 +109,12 @@ int main(int argc, char** argv)
 
   // Damaged inputs kept as regression tests (each must be rejected without a crash).
   {
-    // A BIN chunk that claims the 8 bytes of its own header more than the file holds:
-    // tinygltf 2.7 accepts the length and copies past the end of the input.
-    std::string g = quad.Glb();
+    // A BIN chunk that claims the 8 bytes of its own header more than the file holds, and
+    // a buffer as long: tinygltf 2.7 accepts the length and copies past the end of the
+    // input (ASan: heap-buffer-overflow in ParseBuffer).
+    json doc = quad.Finished();
+    doc["buffers"][0]["byteLength"] = doc["buffers"][0]["byteLength"].get<uint32_t>() + 8;
+    std::string g = Builder::MakeGlb(doc.dump(), quad.PaddedBin());
     uint32_t jsonLength, binLength;
     std::memcpy(&jsonLength, &g[12], 4);
     std::memcpy(&binLength, &g[20 + jsonLength], 4);
