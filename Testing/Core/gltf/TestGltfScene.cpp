@@ -6,6 +6,7 @@
 #include "gltf/GltfScene.h"
 
 #include "base/Error.h"
+#include "gltf/GltfMorphMesh.h"
 #include "GltfTestFiles.h"
 
 #include <gtest/gtest.h>
@@ -866,4 +867,27 @@ TEST(GltfScene, FuzzSeedsLoadAndDamagedOnesAreRejected)
   }
   EXPECT_GE(good, 8u);
   EXPECT_GE(damaged, 4u);
+}
+
+TEST(GltfScene, PartAsMorphMesh)
+{
+  const GltfScene scene = Load(gltftest::Quad().Glb());
+  const morphnode::MorphMesh mesh = morphnode::GltfPartToMorphMesh(scene.Parts[0]);
+  EXPECT_EQ(mesh.GetNumberOfPoints(), 4u);
+  EXPECT_EQ(mesh.GetTargetNames(), (std::vector<std::string>{ "Neutral", "Lift", "Raise" }));
+  EXPECT_EQ(mesh.FindTarget("Raise"), 2);
+  EXPECT_EQ(mesh.GetTriangles(), scene.Parts[0].Triangles);
+  ASSERT_EQ(mesh.GetNumberOfAttributes(), 2u);
+  const auto& positions = std::get<morphnode::MorphAttribute<float>>(mesh.GetAttribute(0));
+  EXPECT_EQ(positions.GetNeutral(), scene.Parts[0].Positions);
+  std::vector<float> dense(12);
+  positions.GetTarget(2).ToDense(dense.data());
+  EXPECT_EQ(dense, scene.Parts[0].Targets[1].PositionDeltas);
+  // Blending "Raise" at 1 moves point 2 by its delta.
+  std::vector<float> out(12);
+  const double weights[] = { 0, 0, 1 };
+  positions.Blend(weights, 3, out.data(), 0, 4);
+  EXPECT_NEAR(out[6], scene.Parts[0].Positions[6] - 0.25f, 1e-6);
+  const auto& normals = std::get<morphnode::MorphAttribute<float>>(mesh.GetAttribute(1));
+  EXPECT_EQ(normals.GetRole(), morphnode::AttributeRole::Normal);
 }
