@@ -3,10 +3,15 @@
 // render it (to a window, or offscreen to a PNG), optionally coloured by distance.
 //
 //   MorphFace [face.glb] [--weight NAME=VALUE]... [--mode strict|normalize|relative]
-//             [--threshold T] [--adjust] [--color AnimatedRegion|Distance_<target>]
-//             [--png out.png] [--size W H]
+//             [--method none|fixed-maximum|fixed-remaining|adjusted|error-bounded]
+//             [--threshold T] [--max-error E] [--color AnimatedRegion|Distance_<target>]
+//             [--png out.png] [--size WxH]
 //
 // Example: MorphFace Data/DefaultFace/default_face.glb --weight O=0.8 --weight BrowsUp=0.5 --png o.png
+#include "CommandLine.h"
+#include "DataPaths.h"
+#include "ImageOutput.h"
+
 #include "vtkMorphNodeFilter.h"
 #include "vtkMorphTargetReader.h"
 
@@ -15,7 +20,6 @@
 #include "vtkDataArray.h"
 #include "vtkLookupTable.h"
 #include "vtkNew.h"
-#include "vtkPNGWriter.h"
 #include "vtkPointData.h"
 #include "vtkPolyData.h"
 #include "vtkPolyDataMapper.h"
@@ -24,92 +28,47 @@
 #include "vtkRenderWindowInteractor.h"
 #include "vtkRenderer.h"
 #include "vtkScalarBarActor.h"
-#include "vtkWindowToImageFilter.h"
 
-#include <cstdlib>
 #include <iostream>
+#include <map>
 #include <string>
 
 int main(int argc, char* argv[])
 {
-  std::string face = std::string(MORPHNODE_DATA_DIR) + "/DefaultFace/default_face.glb";
-  std::string png, color, mode = "normalize";
+  namespace appkit = morphnode::appkit;
+  std::string face = appkit::DefaultFace(), png, color, mode = "normalize";
+  std::map<std::string, double> weights;
+  auto method = morphnode::OptimizerPreset::None;
+  double threshold = 0.0, maxError = 0.0;
   int width = 600, height = 600;
-  vtkNew<vtkMorphNodeFilter> morph;
-  for (int i = 1; i < argc; ++i)
-  {
-    const std::string arg = argv[i];
-    auto next = [&]() -> std::string {
-      if (i + 1 >= argc)
-      {
-        std::cerr << arg << " needs a value\n";
-        std::exit(2);
-      }
-      return argv[++i];
-    };
-    if (arg == "--weight")
-    {
-      const std::string w = next();
-      const auto eq = w.find('=');
-      if (eq == std::string::npos)
-      {
-        std::cerr << "--weight expects NAME=VALUE, got " << w << "\n";
-        return 2;
-      }
-      morph->SetWeightByName(w.substr(0, eq).c_str(), std::atof(w.c_str() + eq + 1));
-    }
-    else if (arg == "--mode")
-    {
-      mode = next();
-    }
-    else if (arg == "--threshold")
-    {
-      morph->SetThreshold(std::atof(next().c_str()));
-    }
-    else if (arg == "--adjust")
-    {
-      morph->AdjustThresholdOn();
-    }
-    else if (arg == "--color")
-    {
-      color = next();
-    }
-    else if (arg == "--png")
-    {
-      png = next();
-    }
-    else if (arg == "--size")
-    {
-      width = std::atoi(next().c_str());
-      height = std::atoi(next().c_str());
-    }
-    else if (arg.rfind("--", 0) == 0)
-    {
-      std::cerr << "unknown option " << arg << "\n";
-      return 2;
-    }
-    else
-    {
-      face = arg;
-    }
-  }
-  if (mode == "strict")
-  {
-    morph->SetWeightModeToStrict();
-  }
-  else if (mode == "relative")
-  {
-    morph->SetWeightModeToRelative();
-  }
-  else if (mode != "normalize")
-  {
-    std::cerr << "unknown mode " << mode << "\n";
-    return 2;
-  }
+  CLI::App app("MorphFace: a face with morph targets at the given weights, optionally optimized.", "MorphFace");
+  app.add_option("face", face, "a face with morph targets (glTF/GLB, OBJ set)")->capture_default_str();
+  app.add_option("--weight", weights, "a target's weight, NAME=VALUE (repeatable)")->delimiter('=')->take_all();
+  app.add_option("--mode", mode, "weight mode")
+    ->check(CLI::IsMember({ "strict", "normalize", "relative" }))
+    ->capture_default_str();
+  appkit::AddOptimizerPresetOption(app, "--method", method, appkit::OptimizerPresetChoices());
+  appkit::AddNumberOption(app, "--threshold", threshold, 0.0, 1.0, "th_fix of the threshold methods");
+  appkit::AddNumberOption(app, "--max-error", maxError, 0.0, 1e30, "error bound of error-bounded, model units");
+  app.add_option("--color", color, "colour by AnimatedRegion or Distance_<target>");
+  app.add_option("--png", png, "render offscreen to this file instead of a window");
+  appkit::AddSizeOption(app, "--size", width, height, "window / image size");
+  appkit::ParseCommandLine(app, argc, argv);
 
   vtkNew<vtkMorphTargetReader> reader;
   reader->SetFileName(face.c_str());
+  vtkNew<vtkMorphNodeFilter> morph;
   morph->SetInputConnection(reader->GetOutputPort());
+  for (const auto& [name, weight] : weights)
+  {
+    morph->SetWeightByName(name.c_str(), weight);
+  }
+  morph->SetWeightMode(mode == "strict" ? vtkMorphNodeFilter::STRICT
+      : mode == "relative"               ? vtkMorphNodeFilter::RELATIVE
+                                         : vtkMorphNodeFilter::NORMALIZE);
+  morph->SetThreshold(threshold);
+  morph->SetMaxVertexError(maxError);
+  morph->SetOptimizerPreset(static_cast<int>(method));
   morph->SetGenerateDistanceArrays(!color.empty());
   morph->Update();
   auto* output = vtkPolyData::SafeDownCast(morph->GetOutput());
@@ -166,12 +125,15 @@ int main(int argc, char* argv[])
   {
     window->OffScreenRenderingOn();
     window->Render();
-    vtkNew<vtkWindowToImageFilter> grab;
-    grab->SetInput(window);
-    vtkNew<vtkPNGWriter> writer;
-    writer->SetFileName(png.c_str());
-    writer->SetInputConnection(grab->GetOutputPort());
-    writer->Write();
+    try
+    {
+      appkit::WritePng(window, png);
+    }
+    catch (const std::exception& e)
+    {
+      std::cerr << "MorphFace: " << e.what() << "\n";
+      return 1;
+    }
     std::cout << "wrote " << png << "\n";
     return 0;
   }

@@ -19,6 +19,7 @@ import os
 import sys
 import time
 
+from example_support import ProgressBar, head_pivot, preset, preset_names, set_head_pose, size
 from morphnode import vtkBehaviorTimeSource, vtkMorphNodeFilter, vtkMorphTargetReader
 
 import vtkmodules.vtkInteractionStyle  # noqa: F401  (default interactor style)
@@ -39,29 +40,6 @@ from vtkmodules.vtkRenderingCore import (
 
 DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "Data")
 DEFAULT_FACE = os.path.join(DATA, "DefaultFace", "default_face.glb")
-METHODS = ["none", "fixed-maximum", "fixed-remaining", "adjusted", "error-bounded"]
-LABELS = ["none (all targets)", "fixed threshold + maximum", "fixed threshold + remaining",
-          "adjusted threshold + remaining", "error-bounded"]
-
-
-def size(text):
-    try:
-        w, h = (int(v) for v in text.lower().split("x"))
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expects WxH, e.g. 640x480; got {text!r}")
-    if not (16 <= w <= 8192 and 16 <= h <= 8192):
-        raise argparse.ArgumentTypeError(f"W and H must be in [16, 8192]; got {text!r}")
-    return w, h
-
-
-def method(text):
-    if text.isdigit() and int(text) < len(METHODS):
-        return int(text)
-    if text in METHODS:
-        return METHODS.index(text)
-    raise argparse.ArgumentTypeError(f"expects 0-4 or one of {', '.join(METHODS)}; got {text!r}")
-
-
 def ranged(lo, hi):
     def parse(text):
         try:
@@ -118,8 +96,7 @@ class Avatar:
             raise SystemExit(f"morph_avatar: cannot morph the face {args.face} (see above)")
         b = self.morph.GetOutput().GetBounds()
         self.diagonal = math.dist((b[0], b[2], b[4]), (b[1], b[3], b[5])) or 1.0
-        # The head turns about the top of the neck: centred, a quarter up from the chin.
-        self.pivot = (0.5 * (b[0] + b[1]), b[2] + 0.25 * (b[3] - b[2]), 0.5 * (b[4] + b[5]))
+        self.pivot = head_pivot(b)
         self.max_error = args.max_error if args.max_error is not None else 0.005 * self.diagonal
         self.apply_method()
         self.update(0.0)
@@ -161,11 +138,11 @@ class Avatar:
         self.renderer.ResetCameraClippingRange()
 
     def apply_method(self):
+        """The optimizer preset (morph/OptimizerPresets.h) with the threshold and the bound."""
         m = self.morph
-        m.SetThreshold(self.threshold if self.method in (1, 2, 3) else 0.0)
-        m.SetRedistributionStrategy(m.MAXIMUM if self.method == 1 else m.REMAINING)
-        m.SetAdjustThreshold(self.method == 3)
-        m.SetMaxVertexError(self.max_error if self.method == 4 else 0.0)
+        m.SetThreshold(self.threshold)
+        m.SetMaxVertexError(self.max_error)
+        m.SetOptimizerPreset(self.method)
         m.ResetHysteresis()
 
     def update(self, t):
@@ -177,26 +154,12 @@ class Avatar:
         if face.GetNumberOfPoints() == 0:
             return False
         self.display.ShallowCopy(face)
-        table = self.behavior.GetOutputDataObject(0)
-
-        def channel(name):
-            column = table.GetColumnByName(name)
-            return column.GetValue(0) if column is not None and column.GetNumberOfTuples() else 0.0
-
-        # Yaw > 0 turns to the avatar's left (+X; it looks along +Z), pitch > 0 up, roll > 0
-        # tilts the crown to its left (docs/behavior.md).
         if hasattr(self, "pivot"):
-            p = self.pivot
-            self.pose.Identity()
-            self.pose.Translate(p)
-            self.pose.RotateY(channel("HeadYaw"))
-            self.pose.RotateX(-channel("HeadPitch"))
-            self.pose.RotateZ(-channel("HeadRoll"))
-            self.pose.Translate(-p[0], -p[1], -p[2])
+            set_head_pose(self.pose, self.behavior.GetOutputDataObject(0), self.pivot)
         return True
 
     def overlay_text(self, first_line):
-        lines = [first_line, f"method {self.method}: {LABELS[self.method]}"]
+        lines = [first_line, f"method {self.method}: {self.morph.GetOptimizerPresetAsString()}"]
         if self.method in (1, 2, 3):
             lines.append(f"threshold {self.threshold:.3f}")
         elif self.method == 4:
@@ -231,7 +194,7 @@ class Avatar:
             video.SetFileName(stem + ".ogv")
             video.SetRate(max(1, round(self.fps)))
             video.SetQuality(2)
-        tty, begin, shown = sys.stderr.isatty(), time.monotonic(), -1
+        progress = ProgressBar(frames, enabled=not args.quiet)
         for f in range(frames):
             if not self.update(f / self.fps):
                 print(f"\nmorph_avatar: cannot morph the face at t = {f / self.fps}", file=sys.stderr)
@@ -247,17 +210,7 @@ class Avatar:
                     grab.Update()
                     video.Start()
                 video.Write()
-            done = f + 1
-            percent = 100 * done // frames
-            if not args.quiet and (tty or percent // 10 != shown or done == frames):
-                shown = percent // 10
-                elapsed = time.monotonic() - begin
-                eta = elapsed * (frames - done) / done
-                bar = "#" * (30 * done // frames)
-                line = (f"[{bar:.<30}] {percent:3d}%  {done}/{frames} frames  "
-                        + (f"done in {elapsed:.1f} s" if done == frames else f"ETA {eta:.1f} s"))
-                print(("\r" if tty else "") + line, end="\n" if (done == frames or not tty) else "",
-                      file=sys.stderr, flush=True)
+            progress.show(f + 1)
         if video is not None:
             video.End()
             wav = os.path.splitext(args.video)[0] + ".wav"
@@ -321,7 +274,8 @@ def main(argv=None):
     parser.add_argument("--fps", type=ranged(1.0, 240.0), help="frame rate (default 30)")
     parser.add_argument("--face", default=DEFAULT_FACE, help="a face with morph targets")
     parser.add_argument("--rig", help="a rig mapping the channels onto the face's targets")
-    parser.add_argument("--method", type=method, default=3, help="0-4 or " + ", ".join(METHODS) + " (default 3)")
+    parser.add_argument("--method", type=preset, default=3,
+                        help="0-4 or " + ", ".join(preset_names()) + " (default 3, adjusted)")
     parser.add_argument("--threshold", type=ranged(0.0, 1.0), default=0.1, help="th_fix (default 0.1)")
     parser.add_argument("--max-error", type=ranged(0.0, 1e30), help="method 4's bound, model units")
     parser.add_argument("--size", type=size, default=(640, 640), help="WxH (default 640x640)")

@@ -9,6 +9,7 @@ import argparse
 import os
 import sys
 
+from example_support import preset, preset_names, size
 from morphnode import vtkMorphNodeFilter, vtkMorphTargetReader
 
 import vtkmodules.vtkInteractionStyle  # noqa: F401  (default interactor style)
@@ -33,11 +34,13 @@ def main(argv=None):
     parser.add_argument("face", nargs="?", default=DEFAULT_FACE)
     parser.add_argument("--weight", action="append", default=[], metavar="NAME=VALUE")
     parser.add_argument("--mode", choices=["strict", "normalize", "relative"], default="normalize")
-    parser.add_argument("--threshold", type=float, default=0.0)
-    parser.add_argument("--adjust", action="store_true", help="the paper's adjusted threshold")
+    parser.add_argument("--method", type=preset, default=0,
+                        help="optimizer: 0-4 or " + ", ".join(preset_names()) + " (default none)")
+    parser.add_argument("--threshold", type=float, default=0.0, help="th_fix of the threshold methods")
+    parser.add_argument("--max-error", type=float, default=0.0, help="bound of error-bounded, model units")
     parser.add_argument("--color", help="AnimatedRegion or Distance_<target>")
     parser.add_argument("--png", help="render offscreen to this file")
-    parser.add_argument("--size", type=int, nargs=2, default=(600, 600))
+    parser.add_argument("--size", type=size, default=(600, 600), help="WxH (default 600x600)")
     args = parser.parse_args(argv)
 
     reader = vtkMorphTargetReader()
@@ -46,7 +49,8 @@ def main(argv=None):
     morph.SetInputConnection(reader.GetOutputPort())
     getattr(morph, "SetWeightModeTo" + args.mode.capitalize())()
     morph.SetThreshold(args.threshold)
-    morph.SetAdjustThreshold(args.adjust)
+    morph.SetMaxVertexError(args.max_error)
+    morph.SetOptimizerPreset(args.method)
     morph.SetGenerateDistanceArrays(bool(args.color))
     for item in args.weight:
         name, _, value = item.partition("=")

@@ -15,10 +15,12 @@ import math
 import os
 import sys
 
+from example_support import ProgressBar, head_pivot, set_head_pose, size
 from morphnode import vtkBehaviorTimeSource, vtkMorphNodeFilter, vtkMorphTargetReader
 
 import vtkmodules.vtkInteractionStyle  # noqa: F401  (default interactor style)
 import vtkmodules.vtkRenderingOpenGL2  # noqa: F401  (the render backend)
+from vtkmodules.vtkCommonTransforms import vtkTransform
 from vtkmodules.vtkIOCore import vtkDelimitedTextWriter
 from vtkmodules.vtkIOImage import vtkPNGWriter
 from vtkmodules.vtkRenderingCore import vtkActor, vtkPolyDataMapper, vtkRenderer, vtkRenderWindow, vtkWindowToImageFilter
@@ -26,19 +28,6 @@ from vtkmodules.vtkRenderingCore import vtkActor, vtkPolyDataMapper, vtkRenderer
 DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "Data")
 DEFAULT_SCRIPT = os.path.join(DATA, "scripts", "greeting.txt")
 DEFAULT_FACE = os.path.join(DATA, "DefaultFace", "default_face.glb")
-
-
-def progress(done, total, width=40):
-    filled = done * width // total if total else width
-    sys.stderr.write(f"\r[{'#' * filled}{'.' * (width - filled)}] {done}/{total} frames")
-    if done == total:
-        sys.stderr.write("\n")
-    sys.stderr.flush()
-
-
-def channel(table, name):
-    column = table.GetColumnByName(name)
-    return column.GetValue(0) if column is not None else 0.0
 
 
 def main(argv=None):
@@ -49,7 +38,7 @@ def main(argv=None):
     parser.add_argument("--fps", type=float, help="override the script's frame rate")
     parser.add_argument("--duration", type=float, help="override the script's duration (s)")
     parser.add_argument("--frames", type=int, help="render only the first N frames")
-    parser.add_argument("--size", type=int, nargs=2, default=(480, 480))
+    parser.add_argument("--size", type=size, default=(480, 480), help="WxH (default 480x480)")
     parser.add_argument("--voice", help="eSpeak NG voice, e.g. en, de")
     parser.add_argument("--visemes", choices=["paper6", "oculus15", "german16"])
     args = parser.parse_args(argv)
@@ -96,8 +85,9 @@ def main(argv=None):
     actor.SetMapper(mapper)
     actor.GetProperty().SetColor(0.86, 0.72, 0.62)
     actor.GetProperty().SetSpecular(0.2)
-    x0, x1, y0, y1, z0, z1 = face.GetBounds()
-    actor.SetOrigin((x0 + x1) / 2, y0 + 0.25 * (y1 - y0), (z0 + z1) / 2)  # the neck: pivot of the head pose
+    pose = vtkTransform()  # the head pose channels turn the face about the neck
+    actor.SetUserTransform(pose)
+    pivot = head_pivot(face.GetBounds())
     renderer = vtkRenderer()
     renderer.SetBackground(0.15, 0.16, 0.2)
     renderer.AddActor(actor)
@@ -120,21 +110,16 @@ def main(argv=None):
         frames = max(0, min(frames, args.frames))
     print(f"{args.script}: {behavior.GetEffectiveDuration():g} s at {rate:g} fps, "
           f"{behavior.GetNumberOfChannels()} channels -> {args.out}", file=sys.stderr)
+    progress = ProgressBar(frames)
     for f in range(frames):
         morph.UpdateTimeStep(f / rate)
-        weights = behavior.GetOutputDataObject(0)
-        # Seen from the character: yaw > 0 to its left (about +Y), pitch > 0 up (about -X),
-        # roll > 0 tilts the top to its left (about -Z).
-        actor.SetOrientation(0, 0, 0)
-        actor.RotateY(channel(weights, "HeadYaw"))
-        actor.RotateX(-channel(weights, "HeadPitch"))
-        actor.RotateZ(-channel(weights, "HeadRoll"))
+        set_head_pose(pose, behavior.GetOutputDataObject(0), pivot)
         renderer.ResetCameraClippingRange()
         window.Render()
         grab.Modified()
         png.SetFileName(os.path.join(args.out, f"frame_{f:05d}.png"))
         png.Write()
-        progress(f + 1, frames)
+        progress.show(f + 1)
     print(f"wrote {frames} frames, {csv.GetFileName()}" + (f" and {wav}" if wav else ""))
     return 0
 

@@ -13,18 +13,23 @@
 // is played as fast as possible: SetWeight per channel, vtkMorphNodeFilter Update (the
 // morph stage, optimizer included), then Render and glFinish (the whole frame).
 //
-// Methods: none; and for thresholds 0.1..0.5 fixed+maximum, fixed+remaining,
-// adjusted+remaining (the paper's three) and error-bounded (ours: the adjusted threshold,
-// neutral redistribution, and a vertex-error bound eps = 0.5 % of the face's diagonal that
-// restores pruned targets). Reported per face, method and threshold: frames per second of
-// the morph stage and of the whole frame, mean active targets, and both speed-ups against
-// "none". --smoke plays a handful of frames of one threshold (CI; asserts nothing timed).
-#include "ExampleUtilities.h"
+// Methods, by the optimizer presets (morph/OptimizerPresets.h): none and error-bounded
+// (neutral redistribution within a vertex-error bound eps = 0.5 % of the face's diagonal;
+// no threshold, so a flat line like none); and for thresholds 0.1..0.5 fixed-maximum,
+// fixed-remaining, adjusted (the paper's three) and adjusted-bounded, a combination that is
+// no preset: the adjusted threshold with neutral redistribution, and the bound eps restoring
+// pruned targets. Reported per face, method and threshold: frames per second of the morph
+// stage and of the whole frame, mean active targets, and both speed-ups against "none".
+// --smoke plays a handful of frames of one threshold (CI; asserts nothing timed).
+#include "CommandLine.h"
+#include "ImageOutput.h"
+#include "OptimizerSetup.h"
 
 #include "vtkMorphNodeFilter.h"
 #include "vtkMorphRigBaker.h"
 #include "vtkMorphTargetReader.h"
 
+#include "morph/OptimizerPresets.h"
 #include "speech/Speech.h"
 
 #include "vtkActor.h"
@@ -57,17 +62,22 @@
 
 namespace
 {
-using morphnode_examples::WritePng;
 using Clock = std::chrono::steady_clock;
+using morphnode::OptimizerPreset;
+
+/// The combination of the adjusted threshold and the error bound (no preset).
+const char* const AdjustedBounded = "adjusted-bounded";
 
 struct Method
 {
-  std::string Name; // "none", "fixed+maximum", ...
-  double Threshold = 0.0;
-  int Strategy = vtkMorphNodeFilter::REMAINING;
-  bool Adjust = false;
-  bool Bounded = false;
+  std::string Name; ///< a preset's name, or AdjustedBounded
+  double Threshold = 0.0; ///< 0 for the methods without one (none, error-bounded)
 };
+
+Method PresetMethod(OptimizerPreset preset, double threshold)
+{
+  return { morphnode::OptimizerPresetName(preset), threshold };
+}
 
 struct Result
 {
@@ -157,10 +167,18 @@ struct Avatar
 
   void Configure(const Method& m)
   {
+    const double eps = 0.005 * this->Diagonal;
+    if (m.Name == AdjustedBounded)
+    {
+      morphnode::OptimizerSettings s = morphnode::MakeOptimizerSettings(OptimizerPreset::Adjusted, m.Threshold, 0.0);
+      s.Strategy = morphnode::Redistribution::Neutral;
+      s.MaxVertexError = eps;
+      morphnode::appkit::ApplyOptimizerSettings(this->Morph, s);
+      return;
+    }
     this->Morph->SetThreshold(m.Threshold);
-    this->Morph->SetRedistributionStrategy(m.Strategy);
-    this->Morph->SetAdjustThreshold(m.Adjust);
-    this->Morph->SetMaxVertexError(m.Bounded ? 0.005 * this->Diagonal : 0.0);
+    this->Morph->SetMaxVertexError(eps); // used by error-bounded only
+    this->Morph->SetOptimizerPreset(static_cast<int>(morphnode::ParseOptimizerPreset(m.Name)));
   }
 
   /// Plays frames [begin, end) of the track, adding morph seconds, whole-frame seconds and
@@ -194,9 +212,10 @@ struct Avatar
 void Plot(const std::vector<Result>& results, const std::string& face, bool wholeFrame,
   const std::vector<double>& thresholds, const std::string& file)
 {
-  const char* names[] = { "none", "fixed+maximum", "fixed+remaining", "adjusted+remaining", "error-bounded" };
+  const std::string names[] = { "none", "fixed-maximum", "fixed-remaining", "adjusted", AdjustedBounded,
+    "error-bounded" };
   const unsigned char colors[][3] = { { 0, 0, 0 }, { 228, 26, 28 }, { 55, 126, 184 }, { 77, 175, 74 },
-    { 152, 78, 163 } };
+    { 152, 78, 163 }, { 255, 127, 0 } };
   vtkNew<vtkContextView> view;
   view->GetRenderWindow()->SetSize(800, 500);
   view->GetRenderer()->SetBackground(1, 1, 1);
@@ -208,12 +227,12 @@ void Plot(const std::vector<Result>& results, const std::string& face, bool whol
   chart->GetLegend()->SetHorizontalAlignment(vtkChartLegend::LEFT);
   chart->GetLegend()->SetVerticalAlignment(vtkChartLegend::TOP);
   view->GetScene()->AddItem(chart);
-  for (int m = 0; m < 5; ++m)
+  for (int m = 0; m < 6; ++m)
   {
     vtkNew<vtkTable> table;
     vtkNew<vtkFloatArray> x, y;
     x->SetName("threshold");
-    y->SetName(names[m]);
+    y->SetName(names[m].c_str());
     table->AddColumn(x);
     table->AddColumn(y);
     std::vector<std::pair<double, double>> points;
@@ -224,7 +243,7 @@ void Plot(const std::vector<Result>& results, const std::string& face, bool whol
         continue;
       }
       const double fps = wholeFrame ? r.FrameFps : r.MorphFps;
-      if (m == 0)
+      if (r.M.Threshold == 0.0) // no threshold: a flat line
       {
         points = { { thresholds.front(), fps }, { thresholds.back(), fps } };
       }
@@ -233,7 +252,7 @@ void Plot(const std::vector<Result>& results, const std::string& face, bool whol
         points.emplace_back(r.M.Threshold, fps);
       }
     }
-    if (points.empty())
+    if (points.size() < 2) // a line needs two thresholds (not in --smoke)
     {
       continue;
     }
@@ -247,12 +266,12 @@ void Plot(const std::vector<Result>& results, const std::string& face, bool whol
     line->SetInputData(table, 0, 1);
     line->SetColor(colors[m][0], colors[m][1], colors[m][2], 255);
     line->SetWidth(2.0);
-    if (m == 0)
+    if (m == 0 || m == 5)
     {
       line->GetPen()->SetLineType(vtkPen::DASH_LINE);
     }
   }
-  WritePng(view, file);
+  morphnode::appkit::WritePng(view, file);
 }
 
 std::string Slug(const std::string& face)
@@ -276,50 +295,21 @@ int main(int argc, char* argv[])
   std::string csv, markdown, images;
   double fps = 25.0, seconds = 0.0;
   int width = 640, height = 480;
-  for (int i = 1; i < argc; ++i)
-  {
-    const std::string arg = argv[i];
-    auto next = [&]() -> std::string {
-      if (i + 1 >= argc)
-      {
-        std::cerr << arg << " needs a value\n";
-        std::exit(2);
-      }
-      return argv[++i];
-    };
-    if (arg == "--smoke")
-      smoke = true;
-    else if (arg == "--text")
-      textFile = next();
-    else if (arg == "--fps")
-      fps = std::stod(next());
-    else if (arg == "--seconds")
-      seconds = std::stod(next());
-    else if (arg == "--face")
-      defaultFace = next();
-    else if (arg == "--ict")
-      ictFace = next();
-    else if (arg == "--rig")
-      rig = next();
-    else if (arg == "--csv")
-      csv = next();
-    else if (arg == "--markdown")
-      markdown = next();
-    else if (arg == "--images")
-      images = next();
-    else if (arg == "--size")
-    {
-      const std::string v = next();
-      width = std::stoi(v);
-      height = std::stoi(v.substr(v.find('x') + 1));
-    }
-    else
-    {
-      std::cerr << "usage: BenchAvatarFrameRate [--smoke] [--text FILE] [--fps N] [--seconds S] [--face GLB]\n"
-                   "  [--ict GLB] [--rig JSON] [--csv FILE] [--markdown FILE] [--images DIR] [--size WxH]\n";
-      return 2;
-    }
-  }
+  CLI::App app("BenchAvatarFrameRate: the paper's Figure 3, frame rate against threshold per "
+               "optimizer method for the whole avatar (docs/benchmarks.md). Run under xvfb-run -a.",
+    "BenchAvatarFrameRate");
+  app.add_flag("--smoke", smoke, "a handful of frames of one threshold (CI; nothing timed asserted)");
+  app.add_option("--text", textFile, "what is said")->capture_default_str();
+  morphnode::appkit::AddNumberOption(app, "--fps", fps, 1.0, 240.0, "frame rate of the track");
+  morphnode::appkit::AddNumberOption(app, "--seconds", seconds, 0.0, 86400.0, "play only this much (0: all)");
+  app.add_option("--face", defaultFace, "the default face")->capture_default_str();
+  app.add_option("--ict", ictFace, "the ICT face (skipped when missing)")->capture_default_str();
+  app.add_option("--rig", rig, "the ARKit rig")->capture_default_str();
+  app.add_option("--csv", csv, "write the results as CSV");
+  app.add_option("--markdown", markdown, "write the results as markdown (docs/benchmarks.md)");
+  app.add_option("--images", images, "write the Figure 3 plots into this folder");
+  morphnode::appkit::AddSizeOption(app, "--size", width, height, "offscreen window size");
+  morphnode::appkit::ParseCommandLine(app, argc, argv);
 
   const std::string text = ReadText(textFile);
   if (text.empty())
@@ -351,13 +341,14 @@ int main(int argc, char* argv[])
   {
     thresholds = { 0.3 };
   }
-  std::vector<Method> methods{ { "none", 0.0, vtkMorphNodeFilter::REMAINING, false, false } };
+  std::vector<Method> methods{ PresetMethod(OptimizerPreset::None, 0.0),
+    PresetMethod(OptimizerPreset::ErrorBounded, 0.0) };
   for (double th : thresholds)
   {
-    methods.push_back({ "fixed+maximum", th, vtkMorphNodeFilter::MAXIMUM, false, false });
-    methods.push_back({ "fixed+remaining", th, vtkMorphNodeFilter::REMAINING, false, false });
-    methods.push_back({ "adjusted+remaining", th, vtkMorphNodeFilter::REMAINING, true, false });
-    methods.push_back({ "error-bounded", th, vtkMorphNodeFilter::NEUTRAL, true, true });
+    methods.push_back(PresetMethod(OptimizerPreset::FixedMaximum, th));
+    methods.push_back(PresetMethod(OptimizerPreset::FixedRemaining, th));
+    methods.push_back(PresetMethod(OptimizerPreset::Adjusted, th));
+    methods.push_back({ AdjustedBounded, th });
   }
 
   std::vector<std::pair<std::string, std::string>> faces{ { "default face", defaultFace } };
@@ -428,7 +419,7 @@ int main(int argc, char* argv[])
       r.MorphSpeedup = r.MorphFps / noneMorph;
       r.FrameSpeedup = r.FrameFps / noneFrame;
       results.push_back(r);
-      std::cout << std::left << std::setw(20) << m.Name << std::setw(6) << (m.Name == "none" ? "-" : Fmt(m.Threshold))
+      std::cout << std::left << std::setw(20) << m.Name << std::setw(6) << (m.Threshold == 0.0 ? "-" : Fmt(m.Threshold))
                 << " morph " << std::setw(9) << Fmt(r.MorphFps, 4) << " fps  frame " << std::setw(8) << Fmt(r.FrameFps, 4)
                 << " fps  active " << std::setw(6) << Fmt(r.MeanActive) << " speed-up morph " << std::setw(6)
                 << Fmt(r.MorphSpeedup) << " frame " << Fmt(r.FrameSpeedup) << std::endl;
@@ -455,7 +446,7 @@ int main(int argc, char* argv[])
     }
     md << "\nText: `" << textFile.substr(textFile.find_last_of('/') + 1) << "`, " << Fmt(u.Duration) << " s of speech, "
        << frames << " frames at " << fps << " fps, rendered offscreen at " << width << "x" << height
-       << ". Error-bounded: eps = 0.5 % of the face's diagonal.\n";
+       << ". Error-bounded and adjusted-bounded: eps = 0.5 % of the face's diagonal.\n";
     for (const auto& face : faces)
     {
       md << "\n**" << face.first << "**\n\n"
@@ -465,7 +456,7 @@ int main(int argc, char* argv[])
       {
         if (r.Face == face.first)
         {
-          md << "| " << r.M.Name << " | " << (r.M.Name == "none" ? "-" : Fmt(r.M.Threshold)) << " | " << Fmt(r.MorphFps, 4)
+          md << "| " << r.M.Name << " | " << (r.M.Threshold == 0.0 ? "-" : Fmt(r.M.Threshold)) << " | " << Fmt(r.MorphFps, 4)
              << " | " << Fmt(r.FrameFps, 4) << " | " << Fmt(r.MeanActive) << " | " << Fmt(r.MorphSpeedup) << " x | "
              << Fmt(r.FrameSpeedup) << " x |\n";
         }

@@ -3,7 +3,6 @@
 
 #include "DataPaths.h"
 #include "HeadPoseTransform.h"
-#include "OptimizerSetup.h"
 
 #include "behavior/HeadPose.h"
 
@@ -212,10 +211,12 @@ void Avatar::SetUpScene()
 
 void Avatar::ApplyMethod()
 {
-  morphnode::OptimizerSettings s =
-    morphnode::MakeOptimizerSettings(this->Method, this->Threshold, this->MaxError);
-  s.Hysteresis = this->Opt.Hysteresis;
-  appkit::ApplyOptimizerSettings(this->Morph, s);
+  // The preset (morph/OptimizerPresets.h) reads the threshold and the error bound.
+  this->Morph->SetThreshold(this->Threshold);
+  this->Morph->SetMaxVertexError(this->MaxError);
+  this->Morph->SetHysteresis(this->Opt.Hysteresis);
+  this->Morph->SetOptimizerPreset(static_cast<int>(this->Method));
+  this->Morph->ResetHysteresis();
 }
 
 bool Avatar::Update(double t)
