@@ -162,7 +162,8 @@ json Interesting(std::minstd_rand& rng, const json& current)
     5122, 5123, 5124, 5125, 5126, 5127, 34962, 34963 };
   static const char* const strings[] = { "SCALAR", "VEC2", "VEC3", "VEC4", "MAT2", "MAT3", "MAT4", "POSITION",
     "NORMAL", "COLOR_0", "LINEAR", "STEP", "CUBICSPLINE", "translation", "rotation", "scale", "weights", "",
-    "2.0", "1.0", "data:application/octet-stream;base64,AAAA", "x.bin", "../x.bin" };
+    "2.0", "1.0", "data:application/octet-stream;base64,AAAA", "x.bin", "../x.bin",
+    "KHR_draco_mesh_compression", "KHR_materials_unlit", "data:image/png;base64,AAAA", "a~b/c" };
   switch (rng() % 8)
   {
     case 0:
@@ -233,7 +234,9 @@ void MutateJson(json& root, std::minstd_rand& rng)
       {
         static const char* const keys[] = { "bufferView", "byteOffset", "byteStride", "count", "sparse",
           "indices", "targets", "weights", "matrix", "children", "mesh", "scene", "mode", "material",
-          "normalized", "extras", "rotation", "scale", "translation", "node", "sampler" };
+          "normalized", "extras", "rotation", "scale", "translation", "node", "sampler", "images", "uri",
+          "extensionsRequired", "path", "interpolation", "type", "componentType", "byteLength", "input",
+          "output", "attributes", "POSITION", "NORMAL", "COLOR_0", "targetNames", "baseColorFactor" };
         (*s.Value)[keys[rng() % (sizeof(keys) / sizeof(keys[0]))]] = Interesting(rng, json());
       }
       break;

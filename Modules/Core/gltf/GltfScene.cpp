@@ -222,8 +222,6 @@ public:
     return tinygltf::GetNumComponentsInType(static_cast<uint32_t>(this->Model.accessors.at(accessor).type));
   }
 
-  size_t Count(int accessor) const { return this->Model.accessors.at(static_cast<size_t>(accessor)).count; }
-
   /// The accessor's values as floats (normalized integers converted as glTF says),
   /// components interleaved. `use` says what reads it, for messages.
   std::vector<float> Floats(int index, const std::string& use) const
@@ -232,7 +230,8 @@ public:
     const std::string p = Pointer("accessors", static_cast<size_t>(index));
     const int components = this->Components(index);
     const size_t csize = gltfcheck::ComponentSize(a.componentType);
-    if (components <= 0 || csize == 0)
+    // The check lets only SCALAR and VEC accessors be read (matrices would pad columns).
+    if (components <= 0 || components > 4 || csize == 0)
     {
       this->Fail(p, "unexpected type (internal check)");
     }
@@ -242,23 +241,20 @@ public:
       size_t size = 0;
       const unsigned char* bytes = this->ViewBytes(a.bufferView, size);
       const tinygltf::BufferView& view = this->Model.bufferViews[static_cast<size_t>(a.bufferView)];
-      const uint64_t elementSize = this->ElementSize(a, csize, components);
+      const uint64_t elementSize = csize * static_cast<uint64_t>(components);
       const uint64_t stride = view.byteStride ? view.byteStride : elementSize;
       const uint64_t end = uint64_t(a.byteOffset) + stride * (a.count - 1) + elementSize;
       if (a.count == 0 || end > size)
       {
         this->Fail(p, "the data run past bufferView " + std::to_string(a.bufferView) + " (internal check)");
       }
-      const int columnPad = this->ColumnPad(a, csize);
       for (size_t i = 0; i < a.count; ++i)
       {
         const unsigned char* e = bytes + a.byteOffset + i * stride;
         for (int c = 0; c < components; ++c)
         {
-          const size_t column = columnPad ? static_cast<size_t>(c / columnPad) : 0;
-          const size_t offset = static_cast<size_t>(c) * csize + column * this->ColumnGap(a, csize);
           out[i * static_cast<size_t>(components) + static_cast<size_t>(c)] =
-            static_cast<float>(Component(e + offset, a.componentType, a.normalized));
+            static_cast<float>(Component(e + static_cast<size_t>(c) * csize, a.componentType, a.normalized));
         }
       }
     }
@@ -297,7 +293,6 @@ public:
   /// Unsigned integer values (indices), each below `limit`.
   std::vector<uint32_t> Unsigned(int index, size_t limit, const std::string& use) const
   {
-    const std::vector<float> unused;
     const tinygltf::Accessor& a = this->Model.accessors.at(static_cast<size_t>(index));
     const std::string p = Pointer("accessors", static_cast<size_t>(index));
     const size_t csize = gltfcheck::ComponentSize(a.componentType);
@@ -367,50 +362,6 @@ private:
     }
     size = view.byteLength;
     return data.data() + view.byteOffset;
-  }
-
-  static uint64_t ElementSize(const tinygltf::Accessor& a, size_t csize, int components)
-  {
-    if (a.type == TINYGLTF_TYPE_MAT2 && csize == 1)
-    {
-      return 8;
-    }
-    if (a.type == TINYGLTF_TYPE_MAT3 && csize <= 2)
-    {
-      return csize == 1 ? 12 : 24;
-    }
-    return csize * static_cast<uint64_t>(components);
-  }
-
-  /// Matrices of bytes and shorts pad each column to 4 bytes: rows per column (0: none).
-  static int ColumnPad(const tinygltf::Accessor& a, size_t csize)
-  {
-    if (a.type == TINYGLTF_TYPE_MAT2 && csize == 1)
-    {
-      return 2;
-    }
-    if (a.type == TINYGLTF_TYPE_MAT3 && csize <= 2)
-    {
-      return 3;
-    }
-    return 0;
-  }
-
-  static size_t ColumnGap(const tinygltf::Accessor& a, size_t csize)
-  {
-    if (a.type == TINYGLTF_TYPE_MAT2 && csize == 1)
-    {
-      return 2;
-    }
-    if (a.type == TINYGLTF_TYPE_MAT3 && csize == 1)
-    {
-      return 1;
-    }
-    if (a.type == TINYGLTF_TYPE_MAT3 && csize == 2)
-    {
-      return 2;
-    }
-    return 0;
   }
 
   std::vector<uint32_t> SparseIndices(const tinygltf::Accessor& a, const std::string& p) const

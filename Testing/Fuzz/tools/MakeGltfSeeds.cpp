@@ -107,6 +107,50 @@ int main(int argc, char** argv)
     Write("triangle.gltf", b.GltfWithDataUri());
   }
 
+  {
+    // What is validated but not read: images (in a buffer view and as a data URI),
+    // textures, samplers, cameras, skins, appearance extensions, a custom attribute whose
+    // name needs escaping in a JSON pointer, a channel without a node.
+    Builder b = gltftest::Quad();
+    const int image = b.View(std::vector<uint8_t>{ 0x89, 'P', 'N', 'G' });
+    b.Doc["images"] = { { { "bufferView", image }, { "mimeType", "image/png" } },
+      { { "uri", "data:image/png;base64,iVBORw0K" } } };
+    b.Doc["samplers"] = { json::object() };
+    b.Doc["textures"] = { { { "source", 0 }, { "sampler", 0 } } };
+    b.Doc["cameras"] = { { { "type", "perspective" }, { "perspective", { { "yfov", 0.8 }, { "znear", 0.01 } } } } };
+    b.Doc["nodes"][0]["camera"] = 0;
+    b.Doc["extensionsUsed"] = { "KHR_materials_emissive_strength" };
+    b.Doc["extensionsRequired"] = { "KHR_materials_emissive_strength" };
+    b.Doc["meshes"][0]["primitives"][0]["attributes"]["_MY/ATTR~1"] = 1;
+    b.Doc["animations"][0]["channels"].push_back({ { "sampler", 0 }, { "target", { { "path", "rotation" } } } });
+    Write("unread-parts.glb", b.Glb());
+  }
+  {
+    // Normalized integer outputs (rotation as SHORT, weights as UNSIGNED_BYTE), byte
+    // sparse indices over three points, a sparse index accessor.
+    Builder b = gltftest::Quad();
+    const int rotations = b.Accessor({ { "bufferView", b.View(std::vector<int16_t>{ 0, 0, 0, 32767, 0, 0, 12540, 30273, 0, 0, 23170, 23170 }) },
+      { "componentType", gltftest::Short }, { "normalized", true }, { "count", 3 }, { "type", "VEC4" } });
+    const int weights = b.Accessor({ { "bufferView", b.View(std::vector<uint8_t>{ 0, 0, 255, 0, 0, 255, 0, 0 }) },
+      { "componentType", gltftest::UnsignedByte }, { "normalized", true }, { "count", 6 }, { "type", "SCALAR" } });
+    b.Doc["animations"][0]["samplers"][0]["output"] = rotations;
+    b.Doc["animations"][0]["samplers"][1]["output"] = weights;
+    const int iv = b.View(std::vector<uint8_t>{ 0, 2, 3, 0 });
+    const int vv = b.View(std::vector<float>{ 1, 0, 0, 0, 1, 0, 0, 0, 1 });
+    b.Doc["meshes"][0]["primitives"][0]["targets"][1]["POSITION"] = b.Accessor({ { "componentType", gltftest::Float },
+      { "count", 4 }, { "type", "VEC3" },
+      { "sparse", { { "count", 3 }, { "indices", { { "bufferView", iv }, { "componentType", gltftest::UnsignedByte } } },
+                    { "values", { { "bufferView", vv } } } } } });
+    const int base = b.View(std::vector<uint16_t>{ 0, 1, 2, 0, 2, 3 });
+    const int si = b.View(std::vector<uint16_t>{ 5, 0 });
+    const int sv = b.View(std::vector<uint16_t>{ 1, 0 });
+    b.Doc["meshes"][0]["primitives"][0]["indices"] = b.Accessor({ { "bufferView", base },
+      { "componentType", gltftest::UnsignedShort }, { "count", 6 }, { "type", "SCALAR" },
+      { "sparse", { { "count", 1 }, { "indices", { { "bufferView", si }, { "componentType", gltftest::UnsignedShort } } },
+                    { "values", { { "bufferView", sv } } } } } });
+    Write("normalized-and-sparse.glb", b.Glb());
+  }
+
   // Damaged inputs kept as regression tests (each must be rejected without a crash).
   {
     // A BIN chunk that claims the 8 bytes of its own header more than the file holds, and
