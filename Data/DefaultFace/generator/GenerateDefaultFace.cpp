@@ -1,14 +1,15 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // GenerateDefaultFace: builds MorphNode's own default head and writes it as one glTF 2.0
 // binary (GLB): a scene of parts (head skin, mouth interior, upper and lower teeth, tongue,
-// two eyes, eyelashes, brows, hair), each part that moves carrying the morph targets of
-// Berner's Table 1 under the same names.
+// two eyes, eyelashes, brows, hair, ears), each part that moves carrying the morph targets
+// of Berner's Table 1 under the same names. docs/default-face.md describes the result.
 //
 //   GenerateDefaultFace <output.glb>     (prints the parts, their counts and dist_norm)
 //
 // The head skin is procedural: a "generalized cylinder" of horizontal cross-sections whose
 // rows are spaced by arc length along the front profile (denser over the face), displaced
-// by analytic features (nose, eye sockets, brows, cheekbones, lips, chin, ears). The mouth
+// by analytic features (nose, eye sockets, brows, cheekbones, lips, chin) and pulled in under
+// the jaw to the neck; the ears are their own part, set into its sides. The mouth
 // and the eyes are slits: the grid row at the lip line (and at each eye) has duplicated
 // vertices, one copy for the skin above and one for the skin below, so that lips and lids
 // separate. Behind the lips, two rings of inner lip lead into the dark mouth interior (its
@@ -758,8 +759,8 @@ dvec3 Features(const dvec3& p, double angle)
     SmoothStep(-0.041, -0.037, y);
   const double ridge = ax / NoseWidth(y);
   double nose = rise * (ridge < 1.0 ? std::pow(1.0 - ridge * ridge, 1.6) : 0.0);
-  const double wingR = std::hypot((ax - 0.0112) / 0.0070, (y + 0.0310) / 0.0064);
-  nose = SmoothMax(nose, 0.0082 * Bump(wingR), 0.003);
+  const double wingR = std::hypot((ax - 0.0110) / 0.0064, (y + 0.0300) / 0.0062);
+  nose = SmoothMax(nose, 0.0078 * Bump(wingR), 0.003);
   nose -= 0.0011 * Bump(std::abs(wingR - 1.05) / 0.22) * SmoothStep(-0.037, -0.030, y);
   dz += nose;
   // Eye sockets, brow ridge, brows, cheekbones, cheeks.
@@ -999,7 +1000,8 @@ dvec3 SkinPoint(double y, double angle, Side which, bool mouthSlit, const Pose& 
   }
   if (front > 0.0)
   {
-    p += MouthMotion(which, rest, pose) + BrowMotion(rest, pose);
+    // (The eye slits' copies are ordinary skin for the mouth.)
+    p += MouthMotion(mouthSlit ? which : Side::None, rest, pose) + BrowMotion(rest, pose);
     p = OutsideEyeballs(p);
   }
   return p;
@@ -1090,7 +1092,7 @@ dvec3 SkinTint(const VertexInfo& info, const dvec3& p)
 {
   const dvec3 lips(0.86, 0.62, 0.72);
   const dvec3 innerLips(0.80, 0.50, 0.62);
-  const dvec3 rims(0.97, 0.86, 0.84);
+  const dvec3 rims(0.92, 0.76, 0.74);
   if (info.Type == Kind::InnerLip)
   {
     return innerLips;
@@ -1098,7 +1100,11 @@ dvec3 SkinTint(const VertexInfo& info, const dvec3& p)
   if (info.Type == Kind::LidMargin)
   {
     // The upper lid's rim is where the lashes grow: dark.
-    return info.Which == Side::Upper ? dvec3(0.36, 0.28, 0.26) : rims;
+    // Toward the corners, where the lids nearly meet, the rim lies in shadow.
+    const double lateral = (std::abs(p.x) - EyeCenterX) / EyeHalfWidth;
+    const double corner = SmoothStep(0.3, 0.8, std::abs(lateral));
+    const dvec3 rim = rims + (dvec3(0.60, 0.46, 0.44) - rims) * corner;
+    return info.Which == Side::Upper ? dvec3(0.36, 0.28, 0.26) : rim;
   }
   const double ax = std::abs(p.x);
   const double dy = p.y - MouthY;
@@ -1106,7 +1112,7 @@ dvec3 SkinTint(const VertexInfo& info, const dvec3& p)
   LipHeights(ax, upperH, lowerH);
   const double inside = SmoothStep(MouthCornerX + 0.0025, MouthCornerX - 0.0015, ax);
   double lip;
-  if (info.Which == Side::Upper || (info.Which == Side::None && dy > 0.0))
+  if (info.MouthSlit ? info.Which == Side::Upper : dy > 0.0)
   {
     lip = SmoothStep(0.85 * upperH + 0.0009, 0.85 * upperH - 0.0009, dy);
   }
@@ -1125,7 +1131,7 @@ dvec3 SkinTint(const VertexInfo& info, const dvec3& p)
   tint *= dvec3(1.0, 1.0 - warm, 1.0 - warm);
   const double nostril = Bump(std::hypot((ax - 0.0060) / 0.0036, (p.y + 0.0352) / 0.0024)) * SmoothStep(0.05, 0.08, p.z) *
     SmoothStep(FrontZ(p.y) + 0.001, FrontZ(p.y) + 0.004, p.z);
-  tint *= 1.0 - 0.45 * nostril;
+  tint *= 1.0 - 0.25 * nostril;
   return tint;
 }
 
@@ -1305,7 +1311,7 @@ std::vector<Tooth> TeethLayout(bool upper)
       tooth.Along = along;
       // Upper biting edges just below the lip line (rising slowly toward the molars); the
       // lower incisors bite behind and a little above them.
-      const double edge = upper ? MouthY - 0.0020 + 0.0007 * i : MouthY - 0.0002 + 0.0004 * i;
+      const double edge = upper ? MouthY - 0.0020 + 0.0007 * i : MouthY - 0.0025 + 0.0004 * i;
       c.y = upper ? edge + 0.5 * h : edge - 0.5 * h;
       c -= tooth.Out * (0.5 * thickness[i]);
       tooth.Center = c;
@@ -1322,7 +1328,6 @@ Part MakeTeeth(bool upper)
 {
   Part part;
   part.Name = upper ? "UpperTeeth" : "LowerTeeth";
-  part.Rigid = upper;
   const int perTooth = ToothAround * ToothRings + 2;
   const int count = 2 * TeethPerSide;
   part.VertexCount = static_cast<size_t>(perTooth) * count;
@@ -1451,7 +1456,7 @@ void TongueSection(double u, dvec3& center, double& halfWidth, double& halfHeigh
   halfWidth = 0.0005 + 0.0175 * plan;
   halfHeight = 0.0012 + 0.0048 * std::sqrt(Clamp01(u / 0.25)) + 0.004 * SmoothStep(0.4, 1.0, u);
   // The top of the body a little below the lower teeth's edges, the root lower still.
-  center = dvec3(0.0, MouthY - 0.0075 - 0.006 * SmoothStep(0.5, 1.0, u), tipZ - length * u);
+  center = dvec3(0.0, MouthY - 0.0100 - 0.005 * SmoothStep(0.5, 1.0, u), tipZ - length * u);
 }
 
 std::vector<dvec3> PlaceTongue(const Pose& pose)
@@ -1463,7 +1468,7 @@ std::vector<dvec3> PlaceTongue(const Pose& pose)
     if (pose.TongueTipUp != 0.0)
     {
       const double bend = pose.TongueTipUp * std::pow(Clamp01(1.0 - u / 0.55), 2.0);
-      p.y += 0.0165 * bend;
+      p.y += 0.0250 * bend;
       p.z += 0.0020 * bend;
     }
     // The root follows the jaw less than the tip.
@@ -2489,7 +2494,8 @@ int main(int argc, char* argv[])
     if (part.Translation != dvec3(0.0))
     {
       const dvec3 t = part.Translation * FinalScale;
-      node["translation"] = { Quantize(t.x, 1e-6), Quantize(t.y, 1e-6), Quantize(t.z, 1e-6) };
+      auto micrometres = [](double v) { return std::round(v / 1e-6) * 1e-6; };
+      node["translation"] = { micrometres(t.x), micrometres(t.y), micrometres(t.z) };
     }
     nodes.push_back(node);
     children.push_back(i + 1);
@@ -2501,7 +2507,7 @@ int main(int argc, char* argv[])
       names += std::string(names.empty() ? "" : " ") + targets[t].Name;
     }
     std::printf("%-14s %10zu %9zu %8zu  %s\n", part.Name.c_str(), part.Primitives.size(), partVertices,
-      partTriangles, part.Rigid ? "(rigid)" : names.c_str());
+      partTriangles, part.Rigid ? "(none: rotated for gaze)" : names.c_str());
   }
 
   nlohmann::ordered_json materials = nlohmann::ordered_json::array();

@@ -10,8 +10,9 @@ is coloured by its material's baseColorFactor times its COLOR_0, as glTF defines
     xvfb-run -a python3 preview_head.py Data/DefaultFace/default_head.glb out.png \\
         --poses neutral A O EyesClosed MouthSmile --views front threequarter
 
-makes one picture with a row per view and a column per pose. Needs only VTK's Python module
-(Debian: python3-vtk9).
+makes one picture with a row per view and a column per pose. "gaze:YAW:PITCH" in a pose turns
+the eye nodes (EyeLeft, EyeRight) by yaw toward the character's left and pitch up, in degrees.
+Needs VTK's Python module (Debian: python3-vtk9); --palette also Pillow.
 """
 
 import argparse
@@ -60,17 +61,35 @@ def write_glb(path, document, rest):
 
 
 def parse_pose(text):
-    """'neutral', 'A', 'O=0.6', 'EyesClosed+MouthSmile=0.8' -> (label, {name: weight})."""
+    """'neutral', 'A', 'O=0.6', 'EyesClosed+MouthSmile=0.8', 'gaze:20:-10+A'
+    -> (label, {name: weight}, (yaw, pitch) of the eyes in degrees or None)."""
     weights = {}
+    gaze = None
     if text.lower() != "neutral":
         for item in text.split("+"):
+            if item.startswith("gaze:"):
+                _, yaw, pitch = item.split(":")
+                gaze = (float(yaw), float(pitch))
+                continue
             name, _, value = item.partition("=")
             weights[name] = float(value) if value else 1.0
-    return text, weights
+    return text, weights, gaze
 
 
-def posed_copy(document, rest, weights, directory, index):
+def gaze_rotation(yaw, pitch):
+    """Unit quaternion (x, y, z, w): turn toward +X (the character's left) by yaw, then up
+    by pitch, both in degrees; the eyes look along +Z at rest."""
+    hy, hp = math.radians(yaw) / 2.0, math.radians(-pitch) / 2.0
+    cy, sy, cp, sp = math.cos(hy), math.sin(hy), math.cos(hp), math.sin(hp)
+    return [cy * sp, sy * cp, -sy * sp, cy * cp]
+
+
+def posed_copy(document, rest, weights, gaze, directory, index):
     doc = json.loads(json.dumps(document))
+    if gaze is not None:
+        for node in doc.get("nodes", []):
+            if node.get("name") in ("EyeLeft", "EyeRight"):
+                node["rotation"] = gaze_rotation(*gaze)
     used = set()
     for mesh in doc.get("meshes", []):
         names = mesh.get("extras", {}).get("targetNames", [])
@@ -86,7 +105,7 @@ def posed_copy(document, rest, weights, directory, index):
     return path
 
 
-def actors_for(path, document, culling):
+def actors_for(path, document, culling, hidden=()):
     reader = vtk.vtkGLTFReader()
     reader.SetFileName(path)
     reader.Update()
@@ -107,6 +126,8 @@ def actors_for(path, document, culling):
 
     def make_actor(polydata, mesh_name, primitive_index):
         mesh_index = int(mesh_name.split("_")[-1])
+        if document["meshes"][mesh_index].get("name") in hidden:
+            return None
         primitive = document["meshes"][mesh_index]["primitives"][primitive_index]
         material = materials[primitive["material"]] if "material" in primitive else {}
         pbr = material.get("pbrMetallicRoughness", {})
@@ -143,7 +164,7 @@ def actors_for(path, document, culling):
         return actor
 
     visit(reader.GetOutput(), "")
-    return actors
+    return [a for a in actors if a is not None]
 
 
 def main():
@@ -158,54 +179,62 @@ def main():
     parser.add_argument("--focus", type=float, nargs=3, default=None, metavar=("X", "Y", "Z"),
                         help="point the camera looks at (metres); default: the head's centre")
     parser.add_argument("--labels", action="store_true", help="write the pose under each panel")
+    parser.add_argument("--columns", type=int, default=0, help="panels per row (default: one per pose)")
+    parser.add_argument("--palette", action="store_true", help="write a 256-colour PNG (needs Pillow)")
     parser.add_argument("--culling", action="store_true", help="hide back faces (to check winding)")
+    parser.add_argument("--hide", nargs="+", default=[], metavar="MESH", help="meshes not to draw, e.g. Head Hair")
     parser.add_argument("--headlight", action="store_true", help="one light at the camera, as MorphAvatar")
     args = parser.parse_args()
 
     document, rest = read_glb(args.glb)
     poses = [parse_pose(p) for p in args.poses]
     width, height = args.size
-    columns, rows = len(poses), len(args.views)
+    # One panel per view and pose, views in rows; --columns wraps them into a grid.
+    panels = [(view, pose_index) for view in args.views for pose_index in range(len(poses))]
+    columns = args.columns if args.columns else len(poses)
+    rows = (len(panels) + columns - 1) // columns
     window = vtk.vtkRenderWindow()
     window.SetOffScreenRendering(1)
     window.SetSize(width * columns, height * rows)
     window.SetMultiSamples(8)
     with tempfile.TemporaryDirectory() as directory:
-        for column, (label, weights) in enumerate(poses):
-            path = posed_copy(document, rest, weights, directory, column)
-            for row, view in enumerate(args.views):
-                renderer = vtk.vtkRenderer()
-                renderer.SetViewport(column / columns, 1.0 - (row + 1) / rows, (column + 1) / columns, 1.0 - row / rows)
-                renderer.SetBackground(0.15, 0.16, 0.2)
-                renderer.SetBackground2(0.32, 0.34, 0.42)
-                renderer.GradientBackgroundOn()
-                for actor in actors_for(path, document, args.culling):
-                    renderer.AddActor(actor)
-                if not args.headlight:
-                    kit = vtk.vtkLightKit()
-                    kit.SetKeyLightIntensity(0.85)
-                    kit.AddLightsToRenderer(renderer)
-                camera = renderer.GetActiveCamera()
-                focus = args.focus if args.focus else (0.0, -0.005, 0.0)
-                azimuth, elevation = VIEWS[view]
-                distance = 0.62 / args.zoom
-                a, e = math.radians(azimuth), math.radians(elevation)
-                camera.SetFocalPoint(*focus)
-                camera.SetPosition(focus[0] + distance * math.sin(a) * math.cos(e),
-                                   focus[1] + distance * math.sin(e),
-                                   focus[2] + distance * math.cos(a) * math.cos(e))
-                camera.SetViewUp(0.0, 1.0, 0.0)
-                camera.SetViewAngle(30.0)
-                renderer.ResetCameraClippingRange()
-                if args.labels and row == rows - 1:
-                    text = vtk.vtkTextActor()
-                    text.SetInput(label)
-                    text.GetTextProperty().SetFontSize(max(12, height // 18))
-                    text.GetTextProperty().SetColor(0.95, 0.95, 0.85)
-                    text.GetTextProperty().SetJustificationToCentered()
-                    text.SetPosition(width / 2, 6)
-                    renderer.AddActor2D(text)
-                window.AddRenderer(renderer)
+        paths = [posed_copy(document, rest, weights, gaze, directory, i)
+                 for i, (_, weights, gaze) in enumerate(poses)]
+        for index, (view, pose_index) in enumerate(panels):
+            column, row = index % columns, index // columns
+            label = poses[pose_index][0]
+            renderer = vtk.vtkRenderer()
+            renderer.SetViewport(column / columns, 1.0 - (row + 1) / rows, (column + 1) / columns, 1.0 - row / rows)
+            renderer.SetBackground(0.15, 0.16, 0.2)
+            renderer.SetBackground2(0.32, 0.34, 0.42)
+            renderer.GradientBackgroundOn()
+            for actor in actors_for(paths[pose_index], document, args.culling, args.hide):
+                renderer.AddActor(actor)
+            if not args.headlight:
+                kit = vtk.vtkLightKit()
+                kit.SetKeyLightIntensity(0.85)
+                kit.AddLightsToRenderer(renderer)
+            camera = renderer.GetActiveCamera()
+            focus = args.focus if args.focus else (0.0, -0.005, 0.0)
+            azimuth, elevation = VIEWS[view]
+            distance = 0.62 / args.zoom
+            a, e = math.radians(azimuth), math.radians(elevation)
+            camera.SetFocalPoint(*focus)
+            camera.SetPosition(focus[0] + distance * math.sin(a) * math.cos(e),
+                               focus[1] + distance * math.sin(e),
+                               focus[2] + distance * math.cos(a) * math.cos(e))
+            camera.SetViewUp(0.0, 1.0, 0.0)
+            camera.SetViewAngle(30.0)
+            renderer.ResetCameraClippingRange()
+            if args.labels and (row == rows - 1 or len(args.views) == 1):
+                text = vtk.vtkTextActor()
+                text.SetInput(label)
+                text.GetTextProperty().SetFontSize(max(12, height // 18))
+                text.GetTextProperty().SetColor(0.95, 0.95, 0.85)
+                text.GetTextProperty().SetJustificationToCentered()
+                text.SetPosition(width / 2, 6)
+                renderer.AddActor2D(text)
+            window.AddRenderer(renderer)
         window.Render()
         grab = vtk.vtkWindowToImageFilter()
         grab.SetInput(window)
@@ -215,6 +244,12 @@ def main():
         writer.SetFileName(args.png)
         writer.SetInputConnection(grab.GetOutputPort())
         writer.Write()
+    if args.palette:
+        # Small pictures for the docs: 256 colours, dithered (needs Pillow).
+        from PIL import Image
+        image = Image.open(args.png).convert("RGB")
+        image.quantize(colors=256, method=Image.Quantize.MEDIANCUT,
+                       dither=Image.Dither.FLOYDSTEINBERG).save(args.png, optimize=True)
     return 0
 
 
