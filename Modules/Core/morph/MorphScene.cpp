@@ -1,0 +1,362 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "morph/MorphScene.h"
+
+#include "base/Error.h"
+
+#include <algorithm>
+#include <sstream>
+#include <unordered_map>
+#include <utility>
+
+namespace morphnode
+{
+namespace
+{
+void CheckPiece(const NamedTargetDistances& piece, size_t index)
+{
+  std::ostringstream msg;
+  if (piece.Names.empty())
+  {
+    msg << "piece " << index << " of the model has no targets (not even the neutral)";
+  }
+  else if (piece.DistMorph.size() != piece.Names.size() ||
+    piece.MaxDisplacement.size() != piece.Names.size())
+  {
+    msg << "piece " << index << " of the model has " << piece.Names.size() << " target names but "
+        << piece.DistMorph.size() << " dist_morph and " << piece.MaxDisplacement.size()
+        << " largest displacements";
+  }
+  if (!msg.str().empty())
+  {
+    throw InputError(msg.str());
+  }
+}
+
+/// The scene target index of every name of `names` (neutral first), checking that no name
+/// appears twice and no target is named like `neutral`.
+std::unordered_map<std::string, size_t> IndexNames(
+  const std::vector<std::string>& names, const std::string& what)
+{
+  std::unordered_map<std::string, size_t> index;
+  for (size_t i = 0; i < names.size(); ++i)
+  {
+    if (!index.emplace(names[i], i).second)
+    {
+      std::ostringstream msg;
+      msg << what << " has two targets named '" << names[i] << "'"
+          << (i > 0 && names[i] == names[0] ? " (a target named like the neutral)" : "");
+      throw InputError(msg.str());
+    }
+  }
+  return index;
+}
+} // namespace
+
+NamedTargetDistances CombineTargetDistances(const std::vector<NamedTargetDistances>& pieces)
+{
+  if (pieces.empty())
+  {
+    throw InputError("a model needs at least one piece");
+  }
+  NamedTargetDistances model;
+  std::unordered_map<std::string, size_t> index;
+  for (size_t p = 0; p < pieces.size(); ++p)
+  {
+    const NamedTargetDistances& piece = pieces[p];
+    CheckPiece(piece, p);
+    IndexNames(piece.Names, "piece " + std::to_string(p) + " of the model");
+    if (p == 0)
+    {
+      model.Names.push_back(piece.Names[0]);
+      model.DistMorph.push_back(0.0);
+      model.MaxDisplacement.push_back(0.0);
+      index.emplace(piece.Names[0], 0);
+    }
+    for (size_t k = 1; k < piece.Names.size(); ++k)
+    {
+      auto [it, added] = index.emplace(piece.Names[k], model.Names.size());
+      if (added)
+      {
+        model.Names.push_back(piece.Names[k]);
+        model.DistMorph.push_back(0.0);
+        model.MaxDisplacement.push_back(0.0);
+      }
+      else if (it->second == 0)
+      {
+        std::ostringstream msg;
+        msg << "piece " << p << " of the model has a target named '" << piece.Names[k]
+            << "', the name of the neutral";
+        throw InputError(msg.str());
+      }
+      model.DistMorph[it->second] += piece.DistMorph[k];
+      model.MaxDisplacement[it->second] = std::max(model.MaxDisplacement[it->second], piece.MaxDisplacement[k]);
+    }
+  }
+  return model;
+}
+
+TargetDistances MakeTargetDistances(const NamedTargetDistances& model)
+{
+  CheckPiece(model, 0);
+  const size_t n = model.Names.size();
+  TargetDistances d;
+  d.DistMorph.assign(n, 0.0);
+  d.DistNorm.assign(n, 0.0);
+  d.MaxDisplacement.assign(n, 0.0);
+  // As ComputeTargetDistances: the same operations in the same order, so that one part
+  // gives MorphNode's figures bit for bit.
+  double largest = 0.0;
+  for (size_t i = 1; i < n; ++i)
+  {
+    d.DistMorph[i] = model.DistMorph[i];
+    d.MaxDisplacement[i] = model.MaxDisplacement[i];
+    largest = std::max(largest, d.DistMorph[i]);
+  }
+  if (largest > 0.0)
+  {
+    for (size_t i = 1; i < n; ++i)
+    {
+      d.DistNorm[i] = d.DistMorph[i] / largest;
+    }
+  }
+  return d;
+}
+
+void MorphScene::SetParts(std::vector<std::shared_ptr<const MorphMesh>> parts,
+  const std::vector<std::vector<uint8_t>>& excludedFromSums)
+{
+  this->ClearResult();
+  this->Parts.clear();
+  this->Names.clear();
+  this->PartsDistances = {};
+  this->Optimizer.SetTargetDistances(TargetDistances{});
+  if (parts.empty())
+  {
+    throw InputError("a morph scene needs at least one part");
+  }
+  if (!excludedFromSums.empty() && excludedFromSums.size() != parts.size())
+  {
+    std::ostringstream msg;
+    msg << "the morph scene got point flags for " << excludedFromSums.size() << " parts, but has "
+        << parts.size() << " parts";
+    throw InputError(msg.str());
+  }
+  std::vector<std::unique_ptr<PartState>> states;
+  std::vector<NamedTargetDistances> pieces;
+  for (size_t p = 0; p < parts.size(); ++p)
+  {
+    if (!parts[p])
+    {
+      throw InputError("part " + std::to_string(p) + " of the morph scene is missing");
+    }
+    auto state = std::make_unique<PartState>();
+    state->Node.SetWeightMode(WeightMode::Relative);
+    try
+    {
+      state->Node.SetMesh(parts[p]); // validates, computes the part's distances
+    }
+    catch (const InputError& e)
+    {
+      throw InputError("part " + std::to_string(p) + " of the morph scene: " + e.what());
+    }
+    const MorphMesh& mesh = *parts[p];
+    if (mesh.GetNumberOfTargets() == 0)
+    {
+      throw InputError("part " + std::to_string(p) + " of the morph scene has no target names");
+    }
+    NamedTargetDistances piece;
+    piece.Names = mesh.GetTargetNames();
+    const TargetDistances& own = state->Node.GetTargetDistances();
+    piece.DistMorph = own.DistMorph;
+    piece.MaxDisplacement = own.MaxDisplacement;
+    piece.DistMorph.resize(piece.Names.size(), 0.0); // a mesh without positions moves nothing
+    piece.MaxDisplacement.resize(piece.Names.size(), 0.0);
+    const std::vector<uint8_t>* excluded = excludedFromSums.empty() ? nullptr : &excludedFromSums[p];
+    if (excluded && !excluded->empty())
+    {
+      if (excluded->size() != mesh.GetNumberOfPoints())
+      {
+        std::ostringstream msg;
+        msg << "part " << p << " of the morph scene has " << mesh.GetNumberOfPoints()
+            << " points, but " << excluded->size() << " point flags";
+        throw InputError(msg.str());
+      }
+      if (std::any_of(excluded->begin(), excluded->end(), [](uint8_t f) { return f != 0; }))
+      {
+        // dist_morph over the points this part owns only.
+        for (size_t k = 1; k < piece.Names.size() && mesh.GetPositionAttribute() >= 0; ++k)
+        {
+          const std::vector<double> perPoint = mesh.ComputePointDistances(k);
+          double sum = 0.0;
+          for (size_t i = 0; i < perPoint.size(); ++i)
+          {
+            sum += (*excluded)[i] ? 0.0 : perPoint[i];
+          }
+          piece.DistMorph[k] = sum;
+        }
+      }
+    }
+    pieces.push_back(std::move(piece));
+    state->Mesh = std::move(parts[p]);
+    states.push_back(std::move(state));
+  }
+  NamedTargetDistances combined = CombineTargetDistances(pieces);
+  this->Parts = std::move(states);
+  this->PartsDistances = std::move(combined);
+  this->SetModel(this->PartsDistances);
+}
+
+void MorphScene::SetModel(const NamedTargetDistances& model)
+{
+  this->ClearResult();
+  const TargetDistances distances = MakeTargetDistances(model);
+  const auto index = IndexNames(model.Names, "the model");
+  for (size_t p = 0; p < this->Parts.size(); ++p)
+  {
+    PartState& part = *this->Parts[p];
+    const auto& names = part.Mesh->GetTargetNames();
+    part.Targets.assign(names.size(), 0);
+    for (size_t k = 1; k < names.size(); ++k)
+    {
+      const auto it = index.find(names[k]);
+      if (it == index.end() || it->second == 0)
+      {
+        std::ostringstream msg;
+        msg << "part " << p << " of the morph scene has a target '" << names[k] << "' that the model "
+            << (it == index.end() ? "does not have" : "names like its neutral");
+        throw InputError(msg.str());
+      }
+      part.Targets[k] = it->second;
+    }
+    part.Weights.assign(names.size(), 0.0);
+  }
+  this->Names = model.Names;
+  this->Optimizer.SetTargetDistances(distances);
+}
+
+const MorphMesh& MorphScene::GetPart(size_t part) const
+{
+  this->CheckPart(part);
+  return *this->Parts[part]->Mesh;
+}
+
+int MorphScene::FindTarget(const std::string& name) const
+{
+  const auto it = std::find(this->Names.begin(), this->Names.end(), name);
+  return it == this->Names.end() ? -1 : static_cast<int>(it - this->Names.begin());
+}
+
+const std::vector<size_t>& MorphScene::GetPartTargets(size_t part) const
+{
+  this->CheckPart(part);
+  return this->Parts[part]->Targets;
+}
+
+void MorphScene::SetOptimizerSettings(const OptimizerSettings& settings)
+{
+  this->Optimizer.SetSettings(settings);
+}
+
+void MorphScene::SetOptimizerPreset(OptimizerPreset preset, double threshold, double maxVertexError)
+{
+  OptimizerSettings settings = MakeOptimizerSettings(preset, threshold, maxVertexError);
+  settings.MaxActiveTargets = this->Optimizer.GetSettings().MaxActiveTargets;
+  settings.Hysteresis = this->Optimizer.GetSettings().Hysteresis;
+  this->Optimizer.SetSettings(settings);
+}
+
+void MorphScene::ClearResult()
+{
+  this->Effective.clear();
+  this->ErrorBound = 0.0;
+  this->ActiveTargets = 0;
+  for (auto& part : this->Parts)
+  {
+    part->Moved = false;
+  }
+}
+
+void MorphScene::CheckPart(size_t part) const
+{
+  if (part >= this->Parts.size())
+  {
+    std::ostringstream msg;
+    msg << "the morph scene has no part " << part << " (it has " << this->Parts.size() << ")";
+    throw InputError(msg.str());
+  }
+}
+
+const std::vector<double>& MorphScene::SetWeights(const double* requested, size_t count)
+{
+  this->ClearResult();
+  if (this->Parts.empty())
+  {
+    throw InputError("the morph scene has no parts to blend");
+  }
+  const size_t n = this->Names.size();
+  if (count != n)
+  {
+    std::ostringstream msg;
+    msg << "the morph scene got " << count << " weights for " << n << " targets (neutral first)";
+    throw InputError(msg.str());
+  }
+  // The rule and the optimizer once, for the whole model (as MorphNode::SetWeights; no
+  // allocation per call without optimizer).
+  ResolveWeights(this->Mode, requested, count, this->Absolute);
+  double bound = 0.0;
+  if (this->Optimizer.GetSettings().IsActive())
+  {
+    this->Effective = this->Optimizer.Optimize(this->Absolute);
+    bound = this->Optimizer.GetLastErrorBound();
+  }
+  else
+  {
+    this->Effective.assign(this->Absolute.begin(), this->Absolute.end());
+  }
+  // Each part blends its own targets with their scene weights. In Relative mode the node
+  // uses them as given (its neutral's weight, 1 - their sum, does not enter the blend), so a
+  // part holding every target of the scene blends exactly as a MorphNode given the
+  // effective weights.
+  try
+  {
+    for (auto& partPtr : this->Parts)
+    {
+      PartState& part = *partPtr;
+      part.Moved = false;
+      for (size_t k = 1; k < part.Targets.size(); ++k)
+      {
+        part.Weights[k] = this->Effective[part.Targets[k]];
+        part.Moved = part.Moved || part.Weights[k] != 0.0;
+      }
+      part.Weights[0] = 0.0;
+      part.Node.SetWeights(part.Weights);
+    }
+  }
+  catch (...)
+  {
+    this->ClearResult();
+    throw;
+  }
+  this->ErrorBound = bound;
+  this->ActiveTargets = CountActiveTargets(this->Effective);
+  return this->Effective;
+}
+
+const std::vector<double>& MorphScene::GetPartWeights(size_t part) const
+{
+  this->CheckPart(part);
+  return this->Parts[part]->Node.GetEffectiveWeights();
+}
+
+bool MorphScene::IsPartMoved(size_t part) const
+{
+  this->CheckPart(part);
+  return this->Parts[part]->Moved;
+}
+
+const MorphNode& MorphScene::GetPartNode(size_t part) const
+{
+  this->CheckPart(part);
+  return this->Parts[part]->Node;
+}
+} // namespace morphnode
