@@ -228,6 +228,30 @@ TEST(GltfScene, DefaultFaceLoads)
   EXPECT_EQ(face.BaseColor, (std::array<double, 4>{ { 1, 1, 1, 1 } }));
 }
 
+TEST(GltfScene, DefaultHeadLoadsEveryPart)
+{
+  // The project's own multi-part head (Data/DefaultFace/default_head.glb, docs/default-face.md).
+  const GltfScene scene = LoadGltfScene(std::string(MORPHNODE_SOURCE_DIR) + "/Data/DefaultFace/default_head.glb");
+  size_t primitives = 0;
+  for (const auto& node : scene.Nodes)
+  {
+    if (node.InScene && node.Mesh >= 0)
+    {
+      primitives += scene.Meshes[static_cast<size_t>(node.Mesh)].NumberOfPrimitives;
+    }
+  }
+  EXPECT_GE(scene.Parts.size(), 10u);
+  EXPECT_EQ(scene.Parts.size(), primitives);
+  for (const GltfPart& part : scene.Parts)
+  {
+    EXPECT_FALSE(part.Name.empty());
+    EXPECT_EQ(part.DefaultWeights.size(), part.Targets.size()) << part.Name;
+    const auto& node = scene.Nodes[static_cast<size_t>(part.Node)];
+    // Parts sit at their node: the world matrix's translation is the node's, composed.
+    EXPECT_EQ(part.World, node.World) << part.Name;
+  }
+}
+
 // --- generated scenes ---------------------------------------------------------------------
 
 TEST(GltfScene, QuadReadsEverything)
