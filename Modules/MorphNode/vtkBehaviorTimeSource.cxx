@@ -27,6 +27,12 @@
 #include <string>
 #include <vector>
 
+// The viseme sets of the VTK API are the core's, by value.
+static_assert(vtkBehaviorTimeSource::OCULUS15 == static_cast<int>(morphnode::VisemeSet::Oculus15) &&
+    vtkBehaviorTimeSource::GERMAN16 == static_cast<int>(morphnode::VisemeSet::German16) &&
+    vtkBehaviorTimeSource::PAPER6 == static_cast<int>(morphnode::VisemeSet::Paper6),
+  "vtkBehaviorTimeSource::VisemeSets must match morphnode::VisemeSet");
+
 namespace
 {
 /// The speech settings of the commands. The controller's synthesizer and phoneme loader
