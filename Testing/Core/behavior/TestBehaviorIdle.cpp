@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numeric>
 
@@ -40,20 +41,26 @@ int CountBlinks(const WeightTrack& track)
   return count;
 }
 
-double CoefficientOfVariation(const std::vector<BlinkEvent>& blinks)
+/// Kolmogorov-Smirnov statistic of the log inter-blink intervals against the normal law
+/// N(mu, sigma) that log-normal intervals with the given mean and shape must follow.
+double LogIntervalKolmogorovSmirnov(
+  const std::vector<BlinkEvent>& blinks, double meanInterval, double sigma)
 {
-  std::vector<double> d;
+  std::vector<double> x;
   for (size_t i = 1; i < blinks.size(); ++i)
   {
-    d.push_back(blinks[i].Start - blinks[i - 1].Start);
+    x.push_back(std::log(blinks[i].Start - blinks[i - 1].Start));
   }
-  const double mean = std::accumulate(d.begin(), d.end(), 0.0) / d.size();
-  double var = 0.0;
-  for (double x : d)
+  std::sort(x.begin(), x.end());
+  const double mu = std::log(meanInterval) - 0.5 * sigma * sigma;
+  const double n = static_cast<double>(x.size());
+  double d = 0.0;
+  for (size_t i = 0; i < x.size(); ++i)
   {
-    var += (x - mean) * (x - mean);
+    const double cdf = 0.5 * std::erfc(-(x[i] - mu) / (sigma * std::sqrt(2.0)));
+    d = std::max({ d, std::abs(cdf - i / n), std::abs((i + 1) / n - cdf) });
   }
-  return std::sqrt(var / d.size()) / mean;
+  return d;
 }
 } // namespace
 
@@ -106,8 +113,28 @@ TEST(BehaviorIdle, BlinkRateAtRestOverTenMinutes)
     EXPECT_GE(perMinute, 14.0) << "seed " << seed; // published ~17/min at rest
     EXPECT_LE(perMinute, 20.0) << "seed " << seed;
     EXPECT_EQ(CountBlinks(track), static_cast<int>(b.GetIdleSchedule().Blinks.size()));
-    // Log-normal intervals: irregular, not a metronome.
-    EXPECT_GT(CoefficientOfVariation(b.GetIdleSchedule().Blinks), 0.3);
+  }
+}
+
+// The intervals' shape, not only their spread: at rest, log intervals must follow
+// N(log(mean) - sigma^2 / 2, sigma). Uniform or exponential intervals of the same mean
+// (which a coefficient-of-variation check lets through) give D > 0.15 here.
+TEST(BehaviorIdle, BlinkIntervalsAreLogNormal)
+{
+  for (uint64_t seed : { 1u, 2u, 3u })
+  {
+    BehaviorController b;
+    b.SetSeed(seed);
+    b.SetDuration(3600.0); // an hour at rest: ~1000 intervals
+    b.Prepare();
+    const BehaviorParameters& p = b.GetParameters();
+    const auto& blinks = b.GetIdleSchedule().Blinks;
+    ASSERT_GT(blinks.size(), 800u) << "seed " << seed;
+    const double d =
+      LogIntervalKolmogorovSmirnov(blinks, 60.0 / p.BlinkRateRest, p.BlinkIntervalSigma);
+    // KS critical value at alpha = 0.001: 1.95 / sqrt(n).
+    EXPECT_LT(d, 1.95 / std::sqrt(static_cast<double>(blinks.size() - 1)))
+      << "seed " << seed << ": log blink intervals are not N(mu, " << p.BlinkIntervalSigma << ")";
   }
 }
 
