@@ -75,6 +75,20 @@ std::vector<std::vector<double>> Track(size_t frames)
   return track;
 }
 
+/// What a decision costs on the simulated device, from the test's own level table (not from
+/// the controller's prediction): the displayed level's fixed cost plus the points moved by
+/// every target left active in the decision's weights.
+double SimulatedSeconds(const ControllerDecision& d)
+{
+  const LevelOfDetail level = Levels().at(static_cast<size_t>(d.Level));
+  double targetPoints = 0.0;
+  for (size_t i = 1; i < d.Weights.size(); ++i)
+  {
+    targetPoints += d.Weights[i] != 0.0 ? level.MovedPoints[i] : 0.0;
+  }
+  return level.Cost.Fixed + level.Cost.PerTargetPoint * targetPoints;
+}
+
 FrameBudgetController Make(double budget)
 {
   FrameBudgetController c;
@@ -105,18 +119,25 @@ TEST(FrameBudgetController, GenerousBudgetKeepsTheFullFace)
 
 TEST(FrameBudgetController, MeetsTightBudgets)
 {
+  // The full face with every target costs up to 116 us; each budget below needs pruning
+  // or a coarser level on most frames.
   for (double budget : { 60e-6, 35e-6, 24e-6 })
   {
     auto c = Make(budget);
     const auto settings = c.GetSettings();
-    size_t over = 0, coarsenings = 0;
+    size_t over = 0, claimedOver = 0, coarsenings = 0;
     int previous = 0;
     double errorSum = 0.0;
     const auto track = Track(900);
     for (const auto& w : track)
     {
       const ControllerDecision d = c.Update(w);
-      over += d.WithinBudget ? 0 : 1;
+      // The cost is recomputed from the decision (level and weights) on the simulated
+      // device, so a controller whose prediction or WithinBudget flag is wrong is caught.
+      const double seconds = SimulatedSeconds(d);
+      ASSERT_NEAR(d.PredictedSeconds, seconds, 1e-12);
+      over += seconds <= budget ? 0 : 1;
+      claimedOver += d.WithinBudget ? 0 : 1;
       coarsenings += d.Level > previous ? 1 : 0;
       previous = d.Level;
       errorSum += d.PredictedError;
@@ -129,6 +150,7 @@ TEST(FrameBudgetController, MeetsTightBudgets)
       ASSERT_GE(d.Alpha, 0.0);
       ASSERT_LE(d.Alpha, 1.0);
     }
+    EXPECT_EQ(claimedOver, over) << "budget " << budget;
     // Only geomorph transitions towards a coarser level may run over, and they are short.
     EXPECT_LE(over, coarsenings * size_t(settings.GeomorphFrames)) << "budget " << budget;
     // Hysteresis: no flicker between levels.
@@ -139,8 +161,11 @@ TEST(FrameBudgetController, MeetsTightBudgets)
 
 TEST(FrameBudgetController, LessBudgetMeansCoarserOrMorePruned)
 {
-  double previousError = -1.0;
-  for (double budget : { 200e-6, 60e-6, 35e-6, 24e-6 })
+  // A budget above the full face's cost costs no error at all; every tighter budget costs
+  // strictly more than the previous one (a controller that ignores the budget does not).
+  const double budgets[] = { 200e-6, 60e-6, 35e-6, 24e-6 };
+  std::vector<double> errors;
+  for (double budget : budgets)
   {
     auto c = Make(budget);
     double error = 0.0;
@@ -148,8 +173,12 @@ TEST(FrameBudgetController, LessBudgetMeansCoarserOrMorePruned)
     {
       error += c.Update(w).PredictedError;
     }
-    EXPECT_GE(error, previousError) << "budget " << budget;
-    previousError = error;
+    errors.push_back(error);
+  }
+  EXPECT_EQ(errors[0], 0.0);
+  for (size_t i = 1; i < errors.size(); ++i)
+  {
+    EXPECT_GT(errors[i], errors[i - 1]) << "budget " << budgets[i];
   }
 }
 
