@@ -135,6 +135,47 @@ TEST(WeightOptimizer, HysteresisStopsFlicker)
   EXPECT_EQ(sticky.Optimize({ 0.63, 0.3, 0.0, 0.07 })[3], 0.0);
 }
 
+// Hysteresis lowers the *adjusted* threshold th_fix * (1 - dist_norm_i) by (1 - h), not th_fix.
+TEST(WeightOptimizer, HysteresisLowersTheAdjustedThreshold)
+{
+  OptimizerSettings s;
+  s.Threshold = 0.2;
+  s.AdjustThreshold = true;
+  s.Strategy = Redistribution::Neutral;
+  s.Hysteresis = 0.5;
+  auto o = Make(s, Flat); // target 2: dist_norm 0.5, th_adj 0.1, sticky 0.05
+  EXPECT_NEAR(o.Optimize({ 0.6, 0.28, 0.12, 0.0 })[2], 0.12, 1e-12);
+  // 0.08 < 0.1 but >= 0.05: kept (with hysteresis on th_fix, 0.1, it would go).
+  EXPECT_NEAR(o.Optimize({ 0.64, 0.28, 0.08, 0.0 })[2], 0.08, 1e-12);
+  EXPECT_EQ(o.Optimize({ 0.68, 0.28, 0.04, 0.0 })[2], 0.0);
+  // Forgetting the history asks for the full threshold again.
+  EXPECT_NEAR(o.Optimize({ 0.6, 0.28, 0.12, 0.0 })[2], 0.12, 1e-12);
+  o.ResetHistory();
+  EXPECT_EQ(o.Optimize({ 0.64, 0.28, 0.08, 0.0 })[2], 0.0);
+}
+
+// What the core does with a budget: hysteresis acts in the threshold step only, and it
+// remembers what was *shown*. A target the budget pruned in the last frame was not shown,
+// so it needs the full threshold again (it does not get a lowered one and win the budget).
+// (The budget and the error bound have no hysteresis of their own yet.)
+TEST(WeightOptimizer, HysteresisRemembersWhatTheBudgetLeft)
+{
+  OptimizerSettings s;
+  s.Threshold = 0.1;
+  s.Hysteresis = 0.5;
+  s.MaxActiveTargets = 1;
+  s.Strategy = Redistribution::Neutral;
+  auto o = Make(s, Flat);
+  // Both pass the threshold; contributions 0.6 * 1 > 0.12 * 4: the budget keeps target 1.
+  ExpectWeights(o.Optimize({ 0.28, 0.6, 0.0, 0.12 }), { 0.4, 0.6, 0.0, 0.0 });
+  // Target 3 (0.07) is below 0.1; were it remembered as active (0.05) it would win the
+  // budget (0.28 > 0.2).
+  ExpectWeights(o.Optimize({ 0.73, 0.2, 0.0, 0.07 }), { 0.8, 0.2, 0.0, 0.0 });
+  // A target the budget kept stays sticky within the threshold step.
+  ExpectWeights(o.Optimize({ 0.75, 0.07, 0.0, 0.18 }), { 0.82, 0.0, 0.0, 0.18 });
+  ExpectWeights(o.Optimize({ 0.94, 0.0, 0.0, 0.06 }), { 0.94, 0.0, 0.0, 0.06 });
+}
+
 TEST(WeightOptimizer, BudgetKeepsLargestGeometricContribution)
 {
   OptimizerSettings s;
