@@ -227,7 +227,9 @@ TEST(WeightOptimizer, RejectsBadSettingsAndSizes)
   EXPECT_THROW(o.Optimize({ 0.5, 0.5 }), InputError);
 }
 
-// Every method keeps the Java3D sum-to-1 rule, and the bound holds on real vertices.
+// Every method keeps the Java3D sum-to-1 rule, and the bound holds on real vertices, for
+// absolute weights and for relative (glTF, ARKit) weights summing above 1, whose neutral
+// weight is negative. No kept weight changes sign or moves by more than the pruned mass.
 TEST(WeightOptimizer, SumToOneAndBoundHoldOnRandomWeights)
 {
   const size_t numPoints = 200, numTargets = 12;
@@ -280,46 +282,83 @@ TEST(WeightOptimizer, SumToOneAndBoundHoldOnRandomWeights)
     methods.push_back(budget);
   }
   std::exponential_distribution<double> e(1.0);
+  std::uniform_real_distribution<double> relativeWeight(0.0, 0.45);
   std::vector<double> ref(numPoints * 3), opt(numPoints * 3);
-  for (const auto& s : methods)
+  int negativeNeutralFrames = 0;
+  for (bool relative : { false, true })
   {
-    auto o = Make(s, d);
-    for (int frame = 0; frame < 200; ++frame)
+    for (const auto& s : methods)
     {
-      std::vector<double> w(numTargets);
-      for (auto& v : w)
+      auto o = Make(s, d);
+      for (int frame = 0; frame < 200; ++frame)
       {
-        v = e(rng) * (u(rng) > 0.3 ? 1.0 : 0.0);
-      }
-      w[0] += 0.01;
-      const double total = Sum(w);
-      for (auto& v : w)
-      {
-        v /= total;
-      }
-      const auto eff = o.Optimize(w);
-      ASSERT_NEAR(Sum(eff), 1.0, 1e-12);
-      for (double v : eff)
-      {
-        ASSERT_GE(v, 0.0);
-      }
-      p.Blend(w.data(), w.size(), ref.data(), 0, numPoints);
-      p.Blend(eff.data(), eff.size(), opt.data(), 0, numPoints);
-      double worst = 0.0;
-      for (size_t q = 0; q < numPoints; ++q)
-      {
-        worst = std::max(worst,
-          std::hypot(ref[3 * q] - opt[3 * q], ref[3 * q + 1] - opt[3 * q + 1], ref[3 * q + 2] - opt[3 * q + 2]));
-      }
-      ASSERT_LE(worst, o.GetLastErrorBound() + 1e-9);
-      if (s.MaxVertexError > 0.0)
-      {
-        ASSERT_LE(o.GetLastErrorBound(), s.MaxVertexError + 1e-12);
-      }
-      if (s.MaxActiveTargets > 0)
-      {
-        ASSERT_LE(CountActiveTargets(eff), s.MaxActiveTargets);
+        std::vector<double> w(numTargets);
+        if (relative)
+        {
+          // Relative weights in [0, 0.45] on ~70 % of the targets (sum ~1.7), neutral 1 - sum.
+          double sum = 0.0;
+          for (size_t i = 1; i < numTargets; ++i)
+          {
+            w[i] = u(rng) > -0.4 ? relativeWeight(rng) : 0.0;
+            sum += w[i];
+          }
+          w[0] = 1.0 - sum;
+          negativeNeutralFrames += w[0] < 0.0 ? 1 : 0;
+        }
+        else
+        {
+          for (auto& v : w)
+          {
+            v = e(rng) * (u(rng) > 0.3 ? 1.0 : 0.0);
+          }
+          w[0] += 0.01;
+          const double total = Sum(w);
+          for (auto& v : w)
+          {
+            v /= total;
+          }
+        }
+        const auto eff = o.Optimize(w);
+        ASSERT_NEAR(Sum(eff), 1.0, 1e-12);
+        double prunedMass = 0.0;
+        for (size_t i = 0; i < w.size(); ++i)
+        {
+          prunedMass += eff[i] == 0.0 ? std::abs(w[i]) : 0.0;
+        }
+        for (size_t i = 0; i < w.size(); ++i)
+        {
+          if (i > 0) // targets keep their sign; the neutral may receive weight and change it
+          {
+            ASSERT_GE(eff[i], 0.0) << "target " << i;
+          }
+          if (eff[i] != 0.0)
+          {
+            ASSERT_LE(std::abs(eff[i] - w[i]), prunedMass + 1e-12)
+              << "weight " << i << " (" << w[i] << " -> " << eff[i] << ") moved by more than "
+              << "the pruned mass, " << (relative ? "relative" : "absolute") << " weights, "
+              << RedistributionName(s.Strategy) << " threshold " << s.Threshold;
+          }
+        }
+        p.Blend(w.data(), w.size(), ref.data(), 0, numPoints);
+        p.Blend(eff.data(), eff.size(), opt.data(), 0, numPoints);
+        double worst = 0.0;
+        for (size_t q = 0; q < numPoints; ++q)
+        {
+          worst = std::max(worst,
+            std::hypot(ref[3 * q] - opt[3 * q], ref[3 * q + 1] - opt[3 * q + 1], ref[3 * q + 2] - opt[3 * q + 2]));
+        }
+        ASSERT_LE(worst, o.GetLastErrorBound() + 1e-9);
+        if (s.MaxVertexError > 0.0)
+        {
+          ASSERT_LE(o.GetLastErrorBound(), s.MaxVertexError + 1e-12);
+        }
+        if (s.MaxActiveTargets > 0)
+        {
+          ASSERT_LE(CountActiveTargets(eff), s.MaxActiveTargets);
+        }
       }
     }
   }
+  // Most relative frames really have a negative neutral weight.
+  EXPECT_GT(negativeNeutralFrames, static_cast<int>(methods.size()) * 200 * 3 / 4);
 }
