@@ -1,26 +1,47 @@
 // SPDX-License-Identifier: BSD-3-Clause
 /**
  * @class   vtkMorphTargetReader
- * @brief   reads a face with morph targets into one vtkPolyData ready for vtkMorphNodeFilter
+ * @brief   reads a face or a whole head with morph targets, ready for vtkMorphNodeFilter
  *
  * Sources:
  *
- * - glTF 2.0 (`.gltf`, `.glb`) with morph targets, read with VTK's own glTF loader. Adds
- *   what vtkGLTFReader lacks: target names from `mesh.extras.targetNames`, normals (and
- *   normal deltas for every target) computed when the file has none, the choice of the
- *   mesh (by name or index) and primitive, and a single vtkPolyData instead of a
- *   multiblock. Node transforms are not applied: the mesh is read in its own frame.
+ * - glTF 2.0 (`.gltf`, `.glb`) with morph targets, read by MorphNode's own validated loader
+ *   (morphnode::LoadGltfScene, docs/gltf.md; VTK's vtkGLTFReader is not used: VTK 9.1 reads
+ *   outside its buffers on damaged files and does not zero-fill sparse accessors without a
+ *   bufferView). By default the WHOLE scene: every node that holds a mesh, every primitive,
+ *   node transforms applied (TRS and matrix, nested), into a
+ *   vtkPartitionedDataSetCollection (see below). Selecting one mesh or primitive
+ *   (MeshName, MeshIndex >= 0 or PrimitiveIndex >= 0) gives one vtkPolyData as before:
+ *   that primitive in its node's own frame (node transforms not applied).
  * - A set of OBJ files (a folder, or its neutral `.obj`): one neutral plus one file per
  *   shape with the same vertex order, name = file stem, as ICT-FaceKit and many scanned
  *   face datasets ship them (see morphnode::ReadObjSet). Polygons are triangulated; texture
- *   coordinates are not read (OBJ keeps them per corner, not per vertex).
+ *   coordinates are not read (OBJ keeps them per corner, not per vertex). Always a
+ *   vtkPolyData.
  *
- * Output: the neutral's geometry with point-data arrays `target<k>_position` (and
- * `target<k>_normal`) holding relative deltas, active normals `Normals`, and field data
- * `TargetNames` (neutral first). Bad files are reported with vtkErrorMacro and give an
- * empty output.
+ * Every part (and the one vtkPolyData) carries: points and triangles; point data
+ * `target<k>_position` (and `target<k>_normal`) holding relative deltas, active normals
+ * `Normals` (computed, with every target's normal deltas, when the file lacks them; see
+ * NormalsMode), `COLOR_0` (unsigned char RGBA) when the file has vertex colours; field data
+ * `TargetNames` (neutral first), `PartName`, `NodeName`, `MaterialName` (strings) and
+ * `BaseColor` (the material's linear RGBA base colour factor, 4 doubles).
  *
- * @sa vtkMorphNodeFilter vtkGLTFReader
+ * The scene's output, a vtkPartitionedDataSetCollection (the composite type VTK 9.1 and
+ * ParaView 5.11 recommend for new readers: ParaView shows, colours and selects its parts
+ * by the data assembly, and vtkXMLPartitionedDataSetCollectionWriter writes it as .vtpc),
+ * holds one vtkPartitionedDataSet per part (one primitive of one node, in the scene's
+ * order), each with one vtkPolyData in world space; its metadata NAME() is the part's
+ * name (`Head/M_Face`, `EyeLeft/M_IrisLeft`, `Teeth`). The data assembly mirrors the glTF
+ * node tree (node names made valid XML names), with each part's index on its node. Parts
+ * also carry `NodeOrigin` (3 doubles: their node's origin in world space) and `NodeAxes`
+ * (9 doubles: the node's world x, y and z axes, normalized), so that eyes can be turned
+ * about their own centre. Parts keep their own targets (an eye has none); the collection's
+ * field data `TargetNames` lists every target of the scene by name (neutral first).
+ *
+ * Bad files are reported with vtkErrorMacro (naming the file and the JSON pointer of the
+ * fault) and give an empty output; the update fails.
+ *
+ * @sa vtkMorphNodeFilter morphnode::LoadGltfScene
  */
 
 #ifndef vtkMorphTargetReader_h
@@ -49,16 +70,25 @@ public:
 
   ///@{
   /**
-   * glTF: the mesh to read, by name (wins when set) or index (default 0), and the
-   * primitive of that mesh (default 0).
+   * glTF: one mesh to read instead of the whole scene, by name (wins when set) or index
+   * (default -1: none), and its primitive (default -1: primitive 0 of the chosen mesh).
+   * Any of them set (a name, an index >= 0) makes the output one vtkPolyData, in the
+   * primitive's own node frame, as this reader gave before it read scenes;
+   * PrimitiveIndex alone picks that primitive of mesh 0.
    */
   vtkSetStdStringFromCharMacro(MeshName);
   vtkGetCharFromStdStringMacro(MeshName);
-  vtkSetClampMacro(MeshIndex, int, 0, VTK_INT_MAX);
+  vtkSetClampMacro(MeshIndex, int, -1, VTK_INT_MAX);
   vtkGetMacro(MeshIndex, int);
-  vtkSetClampMacro(PrimitiveIndex, int, 0, VTK_INT_MAX);
+  vtkSetClampMacro(PrimitiveIndex, int, -1, VTK_INT_MAX);
   vtkGetMacro(PrimitiveIndex, int);
   ///@}
+
+  /**
+   * True when the output is (or will be) the whole glTF scene as a
+   * vtkPartitionedDataSetCollection: a glTF file with no mesh or primitive selected.
+   */
+  bool GetReadsWholeScene();
 
   ///@{
   /**
@@ -71,8 +101,8 @@ public:
 
   ///@{
   /**
-   * Scale applied to positions (e.g. 0.01 to read an OBJ set in centimetres as metres).
-   * Default 1.
+   * Scale applied to positions, deltas and node origins (e.g. 0.01 to read an OBJ set in
+   * centimetres as metres). Default 1.
    */
   vtkSetMacro(Scale, double);
   vtkGetMacro(Scale, double);
@@ -90,7 +120,8 @@ public:
 
   ///@{
   /**
-   * Targets read by the last update, neutral first.
+   * Targets read by the last update, neutral first: the one mesh's, or for a scene every
+   * part's by name, in order of first appearance.
    */
   int GetNumberOfTargets() { return static_cast<int>(this->TargetNames.size()); }
   const char* GetTargetName(int index);
@@ -102,17 +133,29 @@ public:
   int GetNumberOfMeshes() { return static_cast<int>(this->MeshNames.size()); }
   const char* GetMeshNameByIndex(int index);
 
+  /**
+   * Parts of the last scene read (one vtkPolyData of the output each), by name; 1 when one
+   * mesh or an OBJ set was read.
+   */
+  int GetNumberOfParts() { return static_cast<int>(this->PartNames.size()); }
+  const char* GetPartName(int index);
+
 protected:
   vtkMorphTargetReader();
   ~vtkMorphTargetReader() override;
 
+  int FillOutputPortInformation(int port, vtkInformation* info) override;
+  vtkTypeBool ProcessRequest(vtkInformation* request, vtkInformationVector** inputVector,
+    vtkInformationVector* outputVector) override;
+  /// Makes the output a vtkPartitionedDataSetCollection or a vtkPolyData (GetReadsWholeScene).
+  virtual int RequestDataObject(vtkInformation*, vtkInformationVector**, vtkInformationVector*);
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
   std::string FileName;
   std::string MeshName;
   std::string NeutralFileName;
-  int MeshIndex = 0;
-  int PrimitiveIndex = 0;
+  int MeshIndex = -1;
+  int PrimitiveIndex = -1;
   double Scale = 1.0;
   int NormalsMode = NORMALS_WHEN_MISSING;
 
@@ -120,12 +163,11 @@ private:
   vtkMorphTargetReader(const vtkMorphTargetReader&) = delete;
   void operator=(const vtkMorphTargetReader&) = delete;
 
-  void ReadGLTF(vtkPolyData* output);
   void ReadObjSet(vtkPolyData* output);
-  void FinishOutput(vtkPolyData* output);
 
   std::vector<std::string> TargetNames;
   std::vector<std::string> MeshNames;
+  std::vector<std::string> PartNames;
 };
 
 #endif

@@ -209,6 +209,7 @@ Face LoadFace(const std::string& file)
 {
   vtkNew<vtkMorphTargetReader> reader;
   reader->SetFileName(file.c_str());
+  reader->SetMeshIndex(0); // one mesh, one vtkPolyData
   reader->SetNormalsMode(vtkMorphTargetReader::NORMALS_FROM_FILE); // positions only
   reader->Update();
   vtkPolyData* pd = reader->GetOutput();

@@ -34,6 +34,7 @@ vtkSmartPointer<vtkPolyData> ReadFace()
 {
   vtkNew<vtkMorphTargetReader> reader;
   reader->SetFileName(FacePath().c_str());
+  reader->SetMeshIndex(0); // one mesh, one vtkPolyData
   reader->Update();
   return reader->GetOutput();
 }

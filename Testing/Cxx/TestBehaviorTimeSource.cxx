@@ -87,6 +87,7 @@ struct Face
   Face()
   {
     this->Reader->SetFileName(DefaultFace.c_str());
+    this->Reader->SetMeshIndex(0); // one mesh, one vtkPolyData
     this->Morph->SetInputConnection(this->Reader->GetOutputPort());
     this->Morph->SetWeightsConnection(this->Behavior->GetOutputPort(0));
     this->Messages->Watch(this->Morph);

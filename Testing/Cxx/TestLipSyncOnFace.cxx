@@ -87,6 +87,7 @@ TEST(LipSyncOnFace, BilabialsCloseAndOpenVowelsOpenTheLips)
   }
   vtkNew<vtkMorphTargetReader> reader;
   reader->SetFileName(IctGlb.c_str());
+  reader->SetMeshIndex(0); // one mesh, one vtkPolyData
   reader->Update();
   vtkPolyData* face = reader->GetOutput();
   std::vector<std::string> names;

@@ -96,6 +96,7 @@ vtkSmartPointer<vtkPolyData> ReadFace(const std::string& file)
 {
   vtkNew<vtkMorphTargetReader> reader;
   reader->SetFileName(file.c_str());
+  reader->SetMeshIndex(0); // one mesh, one vtkPolyData
   reader->Update();
   auto face = vtkSmartPointer<vtkPolyData>::New();
   face->ShallowCopy(reader->GetOutput());
@@ -249,6 +250,7 @@ TEST(MorphRigFilter, NamesFromTheFaceOnPort1DriveTheMorphNode)
   }
   vtkNew<vtkMorphTargetReader> reader;
   reader->SetFileName(IctGlb.c_str());
+  reader->SetMeshIndex(0); // one mesh, one vtkPolyData
 
   vtkNew<vtkMorphRigFilter> rigFilter;
   rigFilter->SetInputData(MakeTable({ { "O", { 0.7 } }, { "MouthSmile", { 0.4 } } }));
@@ -553,6 +555,7 @@ TEST(MorphRigBaker, PaperShapesOnTheIctFaceEqualExpandPlusMorph)
   }
   vtkNew<vtkMorphTargetReader> reader;
   reader->SetFileName(IctGlb.c_str());
+  reader->SetMeshIndex(0); // one mesh, one vtkPolyData
   vtkNew<vtkMorphRigBaker> baker;
   baker->SetInputConnection(reader->GetOutputPort());
   baker->SetRigFileName(ArkitRig.c_str());

@@ -232,6 +232,7 @@ TEST(MorphTargetArrays, ReadsWhatVtkGLTFReaderBuildsForTheDefaultFace)
   // vtkMorphTargetReader on the same file: the same deltas, and the names from the file.
   vtkNew<vtkMorphTargetReader> reader;
   reader->SetFileName(DefaultFace.c_str());
+  reader->SetMeshIndex(0); // one mesh, one vtkPolyData
   reader->Update();
   const arrays::MeshFromVTK named = arrays::ToMorphMesh(reader->GetOutput(), arrays::ReadOptions());
   ASSERT_EQ(named.Mesh.GetNumberOfTargets(), n + 1);

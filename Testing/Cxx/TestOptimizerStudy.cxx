@@ -41,6 +41,7 @@ protected:
     }
     Reader = vtkSmartPointer<vtkMorphTargetReader>::New();
     Reader->SetFileName(Face.c_str());
+    Reader->SetMeshIndex(0); // one mesh, one vtkPolyData
     Reader->SetNormalsMode(vtkMorphTargetReader::NORMALS_FROM_FILE);
     Morph = vtkSmartPointer<vtkMorphNodeFilter>::New();
     Morph->SetInputConnection(Reader->GetOutputPort());
@@ -165,21 +166,60 @@ TEST_F(OptimizerStudy, ErrorBoundHoldsOnEveryFrame)
   }
 }
 
-TEST_F(OptimizerStudy, AdjustedBeatsFixedAtTheSameThreshold)
+// What docs/optimizer-study.md finds, at the same threshold: the adjusted threshold keeps
+// more targets than the fixed one at both 0.3 and 0.5; at 0.3 it has the lower mean
+// largest vertex error (7.31 against 8.09 mm), at 0.5 the *higher* (9.73 against 9.33 mm),
+// although it still keeps more targets (2.00 against 0.88). So "adjusted beats fixed" holds
+// at 0.3 only, and only because it keeps more targets (see the matched comparison there).
+// The figures are checked to 1 %, so a change in either method shows here and in the doc.
+TEST_F(OptimizerStudy, AdjustedAgainstFixedAtTheSameThreshold)
 {
   using morphnode::OptimizerPreset;
-  const auto fixed =
-    Run("fixed-remaining 0.3", morphnode::MakeOptimizerSettings(OptimizerPreset::FixedRemaining, 0.3, 0.0));
-  const auto adjusted =
-    Run("adjusted 0.3", morphnode::MakeOptimizerSettings(OptimizerPreset::Adjusted, 0.3, 0.0));
-  const double fixedError = MeanMaxError(fixed), adjustedError = MeanMaxError(adjusted);
-  EXPECT_LT(adjustedError, fixedError) << "mean largest vertex error (m), adjusted against fixed";
-  // The triangle-inequality bound B holds for the paper's methods too.
-  for (const auto* frames : { &fixed, &adjusted })
+  struct Figures
   {
-    for (size_t f = 0; f < frames->size(); ++f)
+    double Threshold;
+    double FixedActive, AdjustedActive;     // mean active targets
+    double FixedMaxError, AdjustedMaxError; // mean largest vertex error, mm
+  };
+  const Figures study[] = { { 0.3, 2.12, 3.50, 8.085, 7.306 }, { 0.5, 0.88, 2.00, 9.326, 9.733 } };
+  auto meanActive = [](const std::vector<morphnode::FrameQuality>& frames) {
+    double sum = 0.0;
+    for (const auto& q : frames)
     {
-      ASSERT_LE((*frames)[f].MaxError, (*frames)[f].ErrorBound + FloatSlack) << "frame " << f;
+      sum += q.ActiveTargets;
+    }
+    return frames.empty() ? 0.0 : sum / static_cast<double>(frames.size());
+  };
+  for (const Figures& f : study)
+  {
+    const std::string th = std::to_string(f.Threshold).substr(0, 3);
+    const auto fixed = Run("fixed-remaining " + th,
+      morphnode::MakeOptimizerSettings(OptimizerPreset::FixedRemaining, f.Threshold, 0.0));
+    const auto adjusted =
+      Run("adjusted " + th, morphnode::MakeOptimizerSettings(OptimizerPreset::Adjusted, f.Threshold, 0.0));
+    const double fixedError = 1e3 * MeanMaxError(fixed), adjustedError = 1e3 * MeanMaxError(adjusted);
+    EXPECT_NEAR(fixedError, f.FixedMaxError, 0.01 * f.FixedMaxError) << "fixed-remaining " << th;
+    EXPECT_NEAR(adjustedError, f.AdjustedMaxError, 0.01 * f.AdjustedMaxError) << "adjusted " << th;
+    EXPECT_NEAR(meanActive(fixed), f.FixedActive, 0.01) << "fixed-remaining " << th;
+    EXPECT_NEAR(meanActive(adjusted), f.AdjustedActive, 0.01) << "adjusted " << th;
+    // The adjusted threshold keeps more targets at both thresholds...
+    EXPECT_GT(meanActive(adjusted), meanActive(fixed)) << "threshold " << th;
+    // ... and beats the fixed one at 0.3 but not at 0.5.
+    if (f.Threshold < 0.4)
+    {
+      EXPECT_LT(adjustedError, fixedError) << "mean largest vertex error (mm) at " << th;
+    }
+    else
+    {
+      EXPECT_GT(adjustedError, fixedError) << "mean largest vertex error (mm) at " << th;
+    }
+    // The triangle-inequality bound B holds for the paper's methods too.
+    for (const auto* frames : { &fixed, &adjusted })
+    {
+      for (size_t i = 0; i < frames->size(); ++i)
+      {
+        ASSERT_LE((*frames)[i].MaxError, (*frames)[i].ErrorBound + FloatSlack) << "frame " << i;
+      }
     }
   }
 }

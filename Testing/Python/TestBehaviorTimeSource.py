@@ -48,6 +48,7 @@ class TestBehaviorTimeSource(unittest.TestCase):
     def setUp(self):
         self.reader = vtkMorphTargetReader()
         self.reader.SetFileName(DEFAULT_FACE)
+        self.reader.SetMeshIndex(0)  # one mesh, one vtkPolyData
         self.behavior = vtkBehaviorTimeSource()
         self.behavior_errors = Errors(self.behavior)
         self.morph = vtkMorphNodeFilter()

@@ -88,6 +88,7 @@ class TestMorphRig(unittest.TestCase):
         try:
             reader = vtkMorphTargetReader()
             reader.SetFileName(DEFAULT_FACE)
+            reader.SetMeshIndex(0)  # one mesh, one vtkPolyData
             baker = vtkMorphRigBaker()
             baker.SetInputConnection(reader.GetOutputPort())
             baker.SetRigFileName(rig.name)
