@@ -72,12 +72,18 @@ std::vector<VisemeSegment> PhonemesToVisemeSegments(
   segments.reserve(phonemes.size());
   for (const TimedPhoneme& p : phonemes)
   {
-    VisemeSegment s;
-    s.Viseme = map.MapPhoneme(p.Sampa, once);
-    s.Start = p.Start;
-    s.Duration = p.Duration;
-    s.Closure = map.IsClosurePhoneme(p.Sampa);
-    segments.push_back(s);
+    // Diphthongs (and pf) show their visemes in turn, within the phoneme's time.
+    double start = p.Start;
+    for (const VisemePart& part : map.MapPhonemeParts(p.Sampa, once))
+    {
+      VisemeSegment s;
+      s.Viseme = part.Viseme;
+      s.Start = start;
+      s.Duration = p.Duration * part.Fraction;
+      s.Closure = part.Closure;
+      segments.push_back(s);
+      start += s.Duration;
+    }
   }
   return segments;
 }

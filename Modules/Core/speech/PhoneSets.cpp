@@ -248,9 +248,18 @@ std::string IpaToSampa(const std::string& label, const std::string& language)
       xsampa += EncodeUtf8(cp);
     }
   }
-  // Affricates written with a tie are plain pairs now ("t͡ʃ" -> "tS"); drop doubled length.
-  const std::string lang = SpeechLanguageOf(language);
-  return ToLanguageSampa(xsampa, lang);
+  // Affricates written with a tie are plain pairs now ("t͡ʃ" -> "tS"). German and English
+  // get their SAMPA spellings; other languages keep X-SAMPA (the viseme tables find them
+  // by articulation).
+  if (xsampa.empty())
+  {
+    return "_";
+  }
+  if (!HasSampaTables(language) && language != "en" && language != "de")
+  {
+    return xsampa;
+  }
+  return ToLanguageSampa(xsampa, SpeechLanguageOf(language));
 }
 
 PhoneAlphabet GuessPhoneAlphabet(const std::vector<std::string>& labels)

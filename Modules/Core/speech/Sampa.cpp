@@ -2,6 +2,7 @@
 #include "speech/Sampa.h"
 
 #include "base/Text.h"
+#include "speech/PhoneSets.h"
 
 #include <algorithm>
 #include <cctype>
@@ -126,12 +127,17 @@ std::string NormalizeEspeakPhoneme(const std::string& espeakName, const std::str
   return found.empty() ? espeakName : found;
 }
 
-std::vector<TimedPhoneme> NormalizeEspeakPhonemes(
-  const std::vector<TimedPhoneme>& espeakPhonemes, const std::string& language)
+namespace
+{
+/// eSpeak's events with each name converted by `convert`; language switches ("(en)") and
+/// empty pauses dropped, adjacent pauses merged. A name `convert` returns empty joins the
+/// previous phoneme (a modifier eSpeak reported on its own, such as a palatalization mark).
+template <typename Convert>
+std::vector<TimedPhoneme> NormalizeEvents(const std::vector<TimedPhoneme>& events, Convert&& convert)
 {
   std::vector<TimedPhoneme> result;
-  result.reserve(espeakPhonemes.size());
-  for (const TimedPhoneme& e : espeakPhonemes)
+  result.reserve(events.size());
+  for (const TimedPhoneme& e : events)
   {
     if (e.Sampa.size() > 1 && e.Sampa.front() == '(' && e.Sampa.back() == ')')
     {
@@ -143,7 +149,15 @@ std::vector<TimedPhoneme> NormalizeEspeakPhonemes(
       continue;
     }
     TimedPhoneme p = e;
-    p.Sampa = NormalizeEspeakPhoneme(e.Sampa, language);
+    p.Sampa = convert(e.Sampa);
+    if (p.Sampa.empty())
+    {
+      if (!result.empty())
+      {
+        result.back().Duration = std::max(result.back().Duration, e.Start + e.Duration - result.back().Start);
+      }
+      continue;
+    }
     const bool pause = IsPausePhoneme(p.Sampa);
     if (pause && p.Duration <= 0.0)
     {
@@ -158,5 +172,158 @@ std::vector<TimedPhoneme> NormalizeEspeakPhonemes(
     result.push_back(std::move(p));
   }
   return result;
+}
+} // namespace
+
+std::vector<TimedPhoneme> NormalizeEspeakPhonemes(
+  const std::vector<TimedPhoneme>& espeakPhonemes, const std::string& language)
+{
+  return NormalizeEvents(espeakPhonemes,
+    [&language](const std::string& name) { return NormalizeEspeakPhoneme(name, language); });
+}
+
+std::string EspeakMnemonicToXSampa(const std::string& name, const std::string& voice)
+{
+  if (name == "_!")
+  {
+    return "?";
+  }
+  if (name.empty() || IsPausePhoneme(name))
+  {
+    return "_";
+  }
+  // eSpeak's mnemonics follow Kirshenbaum's ASCII IPA; its suffixes: digits, '#', '-', '/'
+  // mark variants, ';' palatalization, '[' dental, '^' palatal (n^ l^), '.' retroflex.
+  std::string m;
+  for (size_t i = 0; i < name.size(); ++i)
+  {
+    const char c = name[i];
+    // eSpeak's variant and syllable marks; a palatalization mark inside (tS;h) too.
+    if (c != '-' && c != '!' && c != '/' && !(c == ';' && i + 1 < name.size()))
+    {
+      m += c;
+    }
+  }
+  while (m.size() > 1 && (std::isdigit(static_cast<unsigned char>(m.back())) || m.back() == '#'))
+  {
+    m.pop_back();
+  }
+  if (m.size() > 1 && m[0] == '?' && std::string("aeiouyAEIOUY@&0369V{").find(m[1]) != std::string::npos)
+  {
+    m.erase(0, 1); // a vowel with a glottal onset (Danish stød)
+  }
+  if (m.size() == 2 && m[0] == m[1] && std::isalpha(static_cast<unsigned char>(m[0])))
+  {
+    m.pop_back(); // a long (geminate) consonant
+  }
+  const bool affricate = m.size() == 3 && (m[0] == 't' || m[0] == 'd') &&
+    std::string("sSzZ").find(m[1]) != std::string::npos;
+  if (m.size() >= 2 && m.back() == 'h' &&
+    (affricate || std::string("ptkcqbdg").find(m[m.size() - 2]) != std::string::npos))
+  {
+    m.pop_back(); // aspiration written as h (ph, tSh, kh)
+  }
+  if (m.size() >= 2 && m.back() == 'R' &&
+    std::string("aeiouyAEIOUY@&0369V{:").find(m[m.size() - 2]) != std::string::npos)
+  {
+    m.back() = '6'; // a vocalized r after a vowel (Luxembourgish eR)
+  }
+  static const std::unordered_map<std::string, std::string> whole = { { "S;", "s\\" },
+    { "Z;", "z\\" }, { "tS;", "ts\\" }, { "dZ;", "dz\\" }, { "ts;", "ts\\" }, { "dz;", "dz\\" },
+    { "n^", "J" }, { "l^", "L" }, { "**", "4" }, { "*", "4" }, { "a#", "6" }, { "TS", "ts" },
+    { "@r", "@`" }, { "tz", "ts" }, { "sx", "x\\" }, { "ng", "N" } };
+  if (const auto it = whole.find(m); it != whole.end())
+  {
+    return it->second;
+  }
+  // Where eSpeak's own IPA output (espeakINITIALIZE_PHONEME_IPA, eSpeak NG 1.51) reads a
+  // mnemonic otherwise than Kirshenbaum: "y" is the unrounded ɨ in these languages.
+  const std::string language = text::ToLower(voice.substr(0, voice.find_first_of("+-")));
+  if ((m == "y" || m == "y:") && (language == "am" || language == "ml" || language == "pl" ||
+                                   (language == "pt" && text::ToLower(voice).rfind("pt-br", 0) != 0)))
+  {
+    return "1" + m.substr(1);
+  }
+  std::string out;
+  for (size_t i = 0; i < m.size(); ++i)
+  {
+    const char c = m[i];
+    const char next = i + 1 < m.size() ? m[i + 1] : '\0';
+    if (next == '.' && std::string("tdnszlr").find(c) != std::string::npos)
+    {
+      out += c;
+      out += '`'; // retroflex
+      ++i;
+      continue;
+    }
+    switch (c)
+    {
+      case '&': out += "{"; break;
+      case '0': out += "Q"; break;
+      case 'Q': out += "G"; break;
+      case 'G': out += "G\\"; break;
+      case 'L': out += "5"; break;
+      case 'M': out += "F"; break;
+      case 'W': out += "9"; break;
+      case 'R': out += "r"; break; // eSpeak's R is mostly a trill (rr), its IPA says r
+      case 'Y': out += "2"; break;
+      case 'H': out += "X\\"; break;
+      case 'P': out += "p\\"; break;
+      case 'J': out += "J\\"; break;
+      case '*': out += "4"; break;
+      case ';': case '[': case '^': case '.': case '#': case '\'': case ',': break;
+      default: out += c; break;
+    }
+  }
+  // Only marks left (a lone length or nasal mark): nothing of its own.
+  const bool hasLetter = std::any_of(out.begin(), out.end(), [](char c)
+    { return std::isalnum(static_cast<unsigned char>(c)) || c == '@' || c == '{' || c == '?' || c == '&'; });
+  return hasLetter ? out : std::string("_");
+}
+
+bool HasSampaTables(const std::string& voice)
+{
+  const std::string prefix = text::ToLower(voice.substr(0, 2));
+  return (prefix == "de" || prefix == "en") && (voice.size() == 2 || voice[2] == '-' || voice[2] == '+' || voice[2] == '_');
+}
+
+std::string NormalizeIpaPhoneme(const std::string& ipaName, const std::string& voice)
+{
+  // eSpeak marks variants with ASCII after the IPA ("ə-"); stress marks carry no shape.
+  std::string name = ipaName;
+  while (!name.empty() && (name.back() == '-' || name.back() == '#' || name.back() == '/' ||
+                            std::isdigit(static_cast<unsigned char>(name.back()))))
+  {
+    name.pop_back();
+  }
+  if (ipaName.empty() || IsPausePhoneme(ipaName))
+  {
+    return "_";
+  }
+  const std::string sampa = IpaToSampa(name, voice);
+  // Nothing left (a lone modifier such as ʲ or ː): it belongs to the previous phoneme.
+  return sampa == "_" ? std::string() : sampa;
+}
+
+std::vector<TimedPhoneme> NormalizeVoicePhonemes(
+  const std::vector<TimedPhoneme>& espeakPhonemes, const std::string& voice)
+{
+  if (HasSampaTables(voice))
+  {
+    return NormalizeEspeakPhonemes(espeakPhonemes, SpeechLanguageOf(voice));
+  }
+  return NormalizeEvents(espeakPhonemes,
+    [&voice](const std::string& name)
+    {
+      const std::string x = EspeakMnemonicToXSampa(name, voice);
+      return x == "_" && !name.empty() && !IsPausePhoneme(name) ? std::string() : x;
+    });
+}
+
+std::vector<TimedPhoneme> NormalizeIpaPhonemes(
+  const std::vector<TimedPhoneme>& ipaPhonemes, const std::string& voice)
+{
+  return NormalizeEvents(ipaPhonemes,
+    [&voice](const std::string& name) { return NormalizeIpaPhoneme(name, voice); });
 }
 } // namespace morphnode

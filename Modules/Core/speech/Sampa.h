@@ -34,4 +34,31 @@ std::string NormalizeEspeakPhoneme(const std::string& espeakName, const std::str
 /// Normalizes every name, merges adjacent pauses and drops pauses of zero length.
 std::vector<TimedPhoneme> NormalizeEspeakPhonemes(
   const std::vector<TimedPhoneme>& espeakPhonemes, const std::string& language);
+
+/// True for German and English voices ("de", "en-us", "en+f2", ...), whose eSpeak mnemonics
+/// this file translates to SAMPA by table. Every other voice reports its phonemes in IPA
+/// (SpeechSynthesizer), which becomes X-SAMPA (NormalizeIpaPhonemes).
+bool HasSampaTables(const std::string& voice);
+
+/// An eSpeak mnemonic of a language without SAMPA tables -> X-SAMPA: Kirshenbaum's ASCII
+/// IPA, which eSpeak's mnemonics follow, differs from X-SAMPA in a few letters (`&` æ, `0`
+/// ɒ, `Q` ɣ, `W` œ, `Y` ø, `L` ɫ, ...) and in eSpeak's suffixes (`n^` ɲ, `t.` ʈ, `S;` ɕ,
+/// variant marks); where eSpeak's own IPA reads a mnemonic otherwise for a language (Polish
+/// "y" is ɨ), the voice decides. Pauses give `_`. Checked against eSpeak's IPA events for
+/// every voice: the same viseme for 95 % of the phonemes (docs/speech.md).
+std::string EspeakMnemonicToXSampa(const std::string& name, const std::string& voice = std::string());
+
+/// One IPA name of eSpeak's IPA events -> X-SAMPA (IpaToSampa): an empty name is a pause
+/// `_`, eSpeak's ASCII variant marks are dropped; a lone modifier (ʲ, ː) gives "" (it joins
+/// the previous phoneme).
+std::string NormalizeIpaPhoneme(const std::string& ipaName, const std::string& voice);
+
+/// eSpeak's events of a voice: NormalizeEspeakPhonemes for German and English voices, else
+/// EspeakMnemonicToXSampa on every name (a lone modifier joins the previous phoneme).
+std::vector<TimedPhoneme> NormalizeVoicePhonemes(
+  const std::vector<TimedPhoneme>& espeakPhonemes, const std::string& voice);
+
+/// NormalizeEspeakPhonemes for IPA events (eSpeak's espeakINITIALIZE_PHONEME_IPA).
+std::vector<TimedPhoneme> NormalizeIpaPhonemes(
+  const std::vector<TimedPhoneme>& ipaPhonemes, const std::string& voice);
 } // namespace morphnode

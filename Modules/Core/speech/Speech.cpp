@@ -18,7 +18,7 @@ VisemeMap SelectVisemeMap(const SpeechOptions& options)
     return VisemeMap::Load(options.VisemeTablePath);
   }
   const std::string& language = options.Language.empty() ? options.Voice : options.Language;
-  return VisemeMap::Builtin(options.Visemes, SpeechLanguageOf(language));
+  return VisemeMap::Builtin(options.Visemes, language); // the voice, named in warnings
 }
 
 Utterance BuildUtterance(std::vector<TimedPhoneme> phonemes, std::vector<int16_t> audio,

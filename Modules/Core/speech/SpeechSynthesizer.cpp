@@ -187,6 +187,28 @@ bool SpeechSynthesizer::IsAvailable()
   return MORPHNODE_HAVE_ESPEAK_NG != 0;
 }
 
+std::vector<std::string> SpeechSynthesizer::ListVoices(const std::string& dataPath)
+{
+  std::vector<std::string> voices;
+#if MORPHNODE_HAVE_ESPEAK_NG
+  std::lock_guard<std::mutex> lock(EngineMutex);
+  EnsureEngine(dataPath);
+  for (const espeak_VOICE** v = espeak_ListVoices(nullptr); v && *v; ++v)
+  {
+    // `languages` is a list of (priority byte, zero-terminated name), ended by a zero byte;
+    // the first name is the language `espeak-ng --voices` shows.
+    const char* languages = (*v)->languages;
+    if (languages && languages[0] && languages[1])
+    {
+      voices.emplace_back(languages + 1);
+    }
+  }
+#else
+  (void)dataPath;
+#endif
+  return voices;
+}
+
 SynthesisResult SpeechSynthesizer::Synthesize(const std::string& text) const
 {
   SynthesisResult result;
@@ -195,7 +217,26 @@ SynthesisResult SpeechSynthesizer::Synthesize(const std::string& text) const
   {
     std::lock_guard<std::mutex> lock(EngineMutex);
     EnsureEngine(this->DataPath);
-    if (this->Voice.empty() || espeak_SetVoiceByName(this->Voice.c_str()) != EE_OK)
+    // By name ("fr", "en+f2", "Afrikaans"), else by language ("en-gb", "fr-fr"), as the
+    // espeak-ng program does.
+    bool voiceSet = !this->Voice.empty() && espeak_SetVoiceByName(this->Voice.c_str()) == EE_OK;
+    if (!voiceSet && !this->Voice.empty())
+    {
+      // A language `espeak-ng --voices` lists, with an optional +variant: the voice's name.
+      const size_t plus = this->Voice.find('+');
+      const std::string language = this->Voice.substr(0, plus);
+      for (const espeak_VOICE** v = espeak_ListVoices(nullptr); v && *v && !voiceSet; ++v)
+      {
+        const char* languages = (*v)->languages;
+        if (languages && languages[0] && language == languages + 1 && (*v)->name)
+        {
+          const std::string name = std::string((*v)->name) +
+            (plus == std::string::npos ? std::string() : this->Voice.substr(plus));
+          voiceSet = espeak_SetVoiceByName(name.c_str()) == EE_OK;
+        }
+      }
+    }
+    if (!voiceSet)
     {
       throw InputError("eSpeak NG has no voice '" + this->Voice + "'");
     }
@@ -236,7 +277,9 @@ SynthesisResult SpeechSynthesizer::Synthesize(const std::string& text) const
     result.EspeakPhonemes.push_back(std::move(p));
   }
 
-  result.Phonemes = NormalizeEspeakPhonemes(result.EspeakPhonemes, SpeechLanguageOf(this->Voice));
+  // German and English through their SAMPA tables; every other language's mnemonics
+  // become X-SAMPA, which the viseme tables read by articulation.
+  result.Phonemes = NormalizeVoicePhonemes(result.EspeakPhonemes, this->Voice);
   // eSpeak starts a few ms into the audio: a pause covers that, so starts match the audio.
   if (!result.Phonemes.empty() && result.Phonemes.front().Start > 0.0)
   {

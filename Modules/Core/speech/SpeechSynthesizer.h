@@ -26,11 +26,12 @@ struct SynthesizedWord
 
 struct SynthesisResult
 {
-  /// eSpeak's phoneme events as they came: eSpeak names, start = audio_position, each
+  /// eSpeak's phoneme events as they came: eSpeak's mnemonics, start = audio_position, each
   /// lasting until the next event (the last one until the end of the audio).
   std::vector<TimedPhoneme> EspeakPhonemes;
-  /// The same in SAMPA (NormalizeEspeakPhonemes), a leading `_` covering the silence
-  /// before the first event; with pitch targets when pitch estimation is on.
+  /// The same in SAMPA (NormalizeVoicePhonemes: German and English by table, X-SAMPA for
+  /// other languages), a leading `_` covering the silence before the first event; with
+  /// pitch targets when pitch estimation is on.
   std::vector<TimedPhoneme> Phonemes;
   std::vector<int16_t> Audio; ///< mono, 16 bit
   int SampleRate = 22050;
@@ -48,6 +49,10 @@ public:
   /// False when MorphNode was built without eSpeak NG (MORPHNODE_ENABLE_ESPEAK=OFF): then
   /// Synthesize throws InputError saying so.
   static bool IsAvailable();
+
+  /// The languages of every voice eSpeak NG has (as `espeak-ng --voices` lists them: "af",
+  /// "en-gb", "fr-fr", "cmn", ...); each works as a voice name. Empty without eSpeak NG.
+  static std::vector<std::string> ListVoices(const std::string& dataPath = std::string());
 
   SpeechSynthesizer() = default;
   explicit SpeechSynthesizer(const std::string& voice, int rate = DefaultRate);

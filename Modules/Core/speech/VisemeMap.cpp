@@ -54,7 +54,29 @@ VisemeMap VisemeMap::Builtin(VisemeSet set, const std::string& language)
   {
     throw InputError("no built-in viseme table '" + key + "'");
   }
-  return FromJson(text, "built-in viseme table " + key);
+  VisemeMap map = FromJson(text, "built-in viseme table " + key);
+  map.Voice = language;
+  if (!HasSampaTables(language) && language != "en" && language != "de" && !language.empty())
+  {
+    // Other languages: the English table, whose phonemes the German table's complete for
+    // the articulatory search (front rounded vowels y 2 9, uvular R, ...).
+    const std::string germanKey = std::string(VisemeSetName(set)) + "_de";
+    if (const char* german = speech_detail::BuiltinVisemeTableJson(germanKey.c_str()))
+    {
+      const VisemeMap de = FromJson(german, "built-in viseme table " + germanKey);
+      for (const auto& [a, v] : de.Described)
+      {
+        const int viseme = map.FindViseme(de.Visemes[static_cast<size_t>(v)]);
+        const bool known = std::any_of(map.Described.begin(), map.Described.end(),
+          [&a](const std::pair<Articulation, int>& d) { return ArticulationDistance(d.first, a) == 0.0; });
+        if (viseme >= 0 && !known)
+        {
+          map.Described.emplace_back(a, viseme);
+        }
+      }
+    }
+  }
+  return map;
 }
 
 VisemeMap VisemeMap::Load(const std::string& path)
@@ -161,6 +183,18 @@ VisemeMap VisemeMap::FromJson(const std::string& text, const std::string& origin
     }
     map.Phonemes[it.key()] = indexOf(it.value().get<std::string>(), "phoneme '" + it.key() + "'");
   }
+  for (const auto& [name, viseme] : map.Phonemes)
+  {
+    const std::vector<std::string> parts = SplitPhone(name);
+    if (parts.size() == 1)
+    {
+      const Articulation a = DescribePhone(parts[0]);
+      if (a.Type == Articulation::Kind::Vowel || a.Type == Articulation::Kind::Consonant)
+      {
+        map.Described.emplace_back(a, viseme);
+      }
+    }
+  }
 
   map.ClosurePhonemes = { "p", "b", "m" };
   if (auto closure = root.find("closurePhonemes"); closure != root.end())
@@ -240,6 +274,43 @@ int VisemeMap::FindViseme(const std::string& name) const
   return it == this->Visemes.end() ? -1 : static_cast<int>(it - this->Visemes.begin());
 }
 
+int VisemeMap::MapByArticulation(const std::string& segment) const
+{
+  const auto it = this->Phonemes.find(segment);
+  if (it != this->Phonemes.end())
+  {
+    return it->second;
+  }
+  const Articulation a = DescribePhone(segment);
+  if (!a.IsKnown())
+  {
+    return -1;
+  }
+  if (a.Type == Articulation::Kind::Pause)
+  {
+    return this->SilenceIndex;
+  }
+  double best = 50.0; // farther than this (a vowel for a consonant): no match
+  int viseme = -1;
+  for (const auto& [b, v] : this->Described)
+  {
+    const double d = ArticulationDistance(a, b);
+    if (d < best)
+    {
+      best = d;
+      viseme = v;
+    }
+  }
+  return viseme;
+}
+
+std::string VisemeMap::WarnUnknown(const std::string& sampa) const
+{
+  return "unknown phoneme '" + sampa + "'" + (this->Voice.empty() ? "" : " (voice " + this->Voice + ")") +
+    " in viseme table " + this->SetName + (this->Language.empty() ? "" : "/" + this->Language) +
+    ": shown as fallback viseme '" + this->GetFallback() + "'";
+}
+
 int VisemeMap::MapPhoneme(const std::string& sampa, const WarningHandler& warn) const
 {
   auto it = this->Phonemes.find(sampa);
@@ -251,19 +322,83 @@ int VisemeMap::MapPhoneme(const std::string& sampa, const WarningHandler& warn) 
   {
     return this->SilenceIndex;
   }
+  const std::vector<std::string> parts = SplitPhone(sampa);
+  if (!parts.empty())
+  {
+    const int viseme = this->MapByArticulation(parts.front());
+    if (viseme >= 0)
+    {
+      return viseme;
+    }
+  }
   if (warn)
   {
-    warn("unknown phoneme '" + sampa + "' in viseme table " + this->SetName +
-      (this->Language.empty() ? "" : "/" + this->Language) + ": shown as fallback viseme '" +
-      this->GetFallback() + "'");
+    warn(this->WarnUnknown(sampa));
   }
   return this->FallbackIndex;
 }
 
+std::vector<VisemePart> VisemeMap::MapPhonemeParts(const std::string& sampa, const WarningHandler& warn) const
+{
+  if (IsPausePhoneme(sampa))
+  {
+    return { { this->SilenceIndex, 1.0, false } };
+  }
+  const std::vector<std::string> parts = SplitPhone(sampa);
+  if (parts.size() >= 2)
+  {
+    std::vector<VisemePart> out;
+    const double fractions2[2] = { 0.6, 0.4 };
+    const double fractions3[3] = { 0.4, 0.3, 0.3 };
+    const bool pf = parts.size() == 2 && parts[0] == "p" && parts[1] == "f";
+    for (size_t k = 0; k < parts.size(); ++k)
+    {
+      const int viseme = this->MapByArticulation(parts[k]);
+      if (viseme < 0)
+      {
+        out.clear();
+        break;
+      }
+      VisemePart part;
+      part.Viseme = viseme;
+      part.Fraction = pf ? (k == 0 ? 0.4 : 0.6) : (parts.size() == 2 ? fractions2[k] : fractions3[k]);
+      part.Closure = this->IsClosurePhoneme(parts[k]);
+      // Equal neighbours are one part (a diphthong whose vowels share a viseme).
+      if (!out.empty() && out.back().Viseme == part.Viseme && out.back().Closure == part.Closure)
+      {
+        out.back().Fraction += part.Fraction;
+        continue;
+      }
+      out.push_back(part);
+    }
+    if (!out.empty())
+    {
+      return out;
+    }
+  }
+  return { { this->MapPhoneme(sampa, warn), 1.0, this->IsClosurePhoneme(sampa) } };
+}
+
+bool VisemeMap::IsKnownPhoneme(const std::string& sampa) const
+{
+  if (this->Phonemes.count(sampa) || IsPausePhoneme(sampa))
+  {
+    return true;
+  }
+  const std::vector<std::string> parts = SplitPhone(sampa);
+  return !parts.empty() && std::all_of(parts.begin(), parts.end(),
+    [this](const std::string& p) { return this->MapByArticulation(p) >= 0; });
+}
+
 bool VisemeMap::IsClosurePhoneme(const std::string& sampa) const
 {
-  return std::find(this->ClosurePhonemes.begin(), this->ClosurePhonemes.end(), sampa) !=
-    this->ClosurePhonemes.end();
+  if (std::find(this->ClosurePhonemes.begin(), this->ClosurePhonemes.end(), sampa) !=
+    this->ClosurePhonemes.end())
+  {
+    return true;
+  }
+  // A phoneme the table lists is a closure only if the table says so.
+  return this->Phonemes.count(sampa) == 0 && DescribePhone(sampa).ClosesLips();
 }
 
 int VisemeMap::GetVisemeOfShape(char shape) const

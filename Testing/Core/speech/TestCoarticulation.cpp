@@ -214,19 +214,38 @@ TEST_P(SpokenTrack, FollowsEspeakPhonemeEvents)
     EXPECT_LE(delay, lead + 1e-3);
     EXPECT_EQ(u.Audio.size(), raw.Audio.size() + static_cast<size_t>(std::lround(delay * u.SampleRate)));
 
-    int closures = 0, openVowels = 0, checked = 0;
-    for (size_t i = 0; i < raw.Phonemes.size(); ++i)
+    // What the track shows in turn: each phoneme, a diphthong as its vowels' visemes, each
+    // over its part of the phoneme's time (VisemeMap::MapPhonemeParts).
+    struct Unit
     {
-      const TimedPhoneme& p = raw.Phonemes[i];
-      if (!spoken(p))
+      std::string Sampa;
+      double Start, Duration;
+      int Viseme;
+      bool Closure;
+    };
+    std::vector<Unit> units;
+    for (const TimedPhoneme& p : raw.Phonemes)
+    {
+      double at = p.Start;
+      for (const VisemePart& part : map.MapPhonemeParts(p.Sampa))
+      {
+        units.push_back({ p.Sampa, at, p.Duration * part.Fraction, part.Viseme, part.Closure });
+        at += p.Duration * part.Fraction;
+      }
+    }
+    int closures = 0, openVowels = 0, checked = 0;
+    for (size_t i = 0; i < units.size(); ++i)
+    {
+      const Unit& p = units[i];
+      if (IsPausePhoneme(p.Sampa))
       {
         continue;
       }
-      const int channel = map.MapPhoneme(p.Sampa);
+      const int channel = p.Viseme;
       // Where this phoneme shows in the track: its audio time, minus the lead.
       const double start = p.Start + delay - lead, end = start + p.Duration;
       const double centre = 0.5 * (start + end);
-      if (map.IsClosurePhoneme(p.Sampa))
+      if (p.Closure)
       {
         EXPECT_GE(PeakNear(track, channel, centre), 0.999) << VisemeSetName(set) << " " << p.Sampa << " at " << p.Start;
         ++closures;
@@ -239,12 +258,12 @@ TEST_P(SpokenTrack, FollowsEspeakPhonemeEvents)
       }
       // Timing: a viseme that no other phoneme near it shares peaks within the phoneme's
       // span, give or take one frame.
-      bool distinct = i > 0 && i + 1 < raw.Phonemes.size();
-      for (size_t j = 0; j < raw.Phonemes.size() && distinct; ++j)
+      bool distinct = i > 0 && i + 1 < units.size();
+      for (size_t j = 0; j < units.size() && distinct; ++j)
       {
-        const TimedPhoneme& q = raw.Phonemes[j];
+        const Unit& q = units[j];
         const bool near = q.Start < p.Start + p.Duration + 4 * frame && q.Start + q.Duration > p.Start - 4 * frame;
-        distinct = j == i || !near || map.MapPhoneme(q.Sampa) != channel;
+        distinct = j == i || !near || q.Viseme != channel;
       }
       if (distinct && p.Duration >= 2 * frame)
       {
