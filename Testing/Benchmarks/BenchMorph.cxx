@@ -45,6 +45,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <functional>
 #include <iomanip>
@@ -951,7 +952,9 @@ void CompareWithJava3D(Report& report, const std::string& harness, const std::st
   };
   const std::string header = LineStarting(done.back().Java.Report, "Java3D ");
   const std::string patterns = LineStarting(done.back().Java.Report, "patterns: ");
-  report.Text << "Java3D's harness (" << harness << ", `RunJava3DMorph.sh`, a JVM process started by BenchMorph "
+  std::error_code ignored;
+  report.Text << "Java3D's harness (" << std::filesystem::weakly_canonical(harness, ignored).string()
+              << ", `RunJava3DMorph.sh`, a JVM process started by BenchMorph "
               << "before each of " << done.size() << " rounds) blends the ICT face's neutral and 13 ARKit shapes, "
               << s.Face.NumPoints << " points with area-weighted normals, as absolute geometries (indexed, by reference); "
               << "its time is the median wall time of `Morph.setWeights` per frame (the blend of coordinates and normals "
