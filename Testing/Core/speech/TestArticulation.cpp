@@ -211,7 +211,7 @@ TEST_P(LipsInLanguage, RoundCloseAndBite)
 INSTANTIATE_TEST_SUITE_P(Languages, LipsInLanguage,
   ::testing::Values(std::make_pair("fr", "Vous avez bu du beau vin, mon ami."),
     std::make_pair("es", "Un buen vino fuerte para Pablo y su amigo."),
-    std::make_pair("it", "Il buon vino fa bene a Paolo, dice il medico."),
+    std::make_pair("it", "Il lupo buono beve vino fuori con Paolo."),
     std::make_pair("pt", "O bom vinho fica para o povo da vila."),
     std::make_pair("nl", "De boer fietst voor de molen met zijn vriend."),
     std::make_pair("pl", "Mój brat pije wodę w fabryce i mówi dużo."),
