@@ -73,6 +73,13 @@ struct vtkBehaviorTimeSource::vtkInternals
 
   /// The track of port 1, built once per preparation (null when stale).
   vtkSmartPointer<vtkTable> Track;
+
+  /// The script properties, and whether they changed since they were applied.
+  std::string ScriptFileName;
+  std::string Script;
+  bool ScriptsChanged = false;
+  /// Why the script properties failed; the source fails until they change.
+  std::string ScriptError;
 };
 
 vtkStandardNewMacro(vtkBehaviorTimeSource);
@@ -476,9 +483,71 @@ void vtkBehaviorTimeSource::ClearCommands()
 }
 
 //------------------------------------------------------------------------------
+void vtkBehaviorTimeSource::SetScriptFileName(const char* path)
+{
+  if (this->Internals->ScriptFileName != Str(path))
+  {
+    this->Internals->ScriptFileName = Str(path);
+    this->Internals->ScriptsChanged = true;
+    this->Modified();
+  }
+}
+
+const char* vtkBehaviorTimeSource::GetScriptFileName()
+{
+  return this->Internals->ScriptFileName.c_str();
+}
+
+void vtkBehaviorTimeSource::SetScript(const char* text)
+{
+  if (this->Internals->Script != Str(text))
+  {
+    this->Internals->Script = Str(text);
+    this->Internals->ScriptsChanged = true;
+    this->Modified();
+  }
+}
+
+const char* vtkBehaviorTimeSource::GetScript()
+{
+  return this->Internals->Script.c_str();
+}
+
+//------------------------------------------------------------------------------
 bool vtkBehaviorTimeSource::EnsurePrepared()
 {
   auto& controller = this->Internals->Controller;
+  if (this->Internals->ScriptsChanged)
+  {
+    // The script properties replace every command, all or nothing.
+    this->Internals->ScriptsChanged = false;
+    this->Internals->ScriptError.clear();
+    controller.ClearCommands();
+    std::string message;
+    const bool ok = Guarded(this,
+      [&]() {
+        if (!this->Internals->ScriptFileName.empty())
+        {
+          controller.LoadScript(this->Internals->ScriptFileName);
+        }
+        if (!this->Internals->Script.empty())
+        {
+          controller.ParseScript(this->Internals->Script);
+        }
+      },
+      message);
+    if (!ok)
+    {
+      controller.ClearCommands();
+      this->Internals->Track = nullptr;
+      this->Internals->ScriptError = message;
+    }
+  }
+  if (!this->Internals->ScriptError.empty())
+  {
+    vtkErrorMacro(<< "the behaviour script: " << this->Internals->ScriptError);
+    return false;
+  }
   if (controller.IsPrepared())
   {
     return true;
@@ -726,6 +795,9 @@ void vtkBehaviorTimeSource::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Voice: " << this->Internals->Speech->Voice << "\n";
   os << indent << "SpeechRate: " << this->Internals->Speech->Rate << "\n";
   os << indent << "VisemeSet: " << this->GetVisemeSetAsString() << "\n";
+  os << indent << "ScriptFileName: "
+     << (this->Internals->ScriptFileName.empty() ? "(none)" : this->Internals->ScriptFileName) << "\n";
+  os << indent << "Script: " << this->Internals->Script.size() << " characters\n";
   os << indent << "VisemeTableFileName: "
      << (this->Internals->Speech->VisemeTable.empty() ? "(none)" : this->Internals->Speech->VisemeTable)
      << "\n";

@@ -218,6 +218,20 @@ public:
 
   ///@{
   /**
+   * Scripts as properties (what ParaView's proxy sets): the behaviour script in a file
+   * and/or as text. When either changes, the next execution replaces every command by the
+   * file's then the text's (commands given by the methods above after that are added to
+   * them). Empty: none. A script that does not parse is an error of the execution, with
+   * the core's "line N: ..." message, and an empty output.
+   */
+  void SetScriptFileName(const char* path);
+  const char* GetScriptFileName();
+  void SetScript(const char* text);
+  const char* GetScript();
+  ///@}
+
+  ///@{
+  /**
    * The output channels, in column order of port 0 (port 1 has `Time` first). They
    * depend on the scheduled utterances; asking prepares the behaviour if needed.
    */

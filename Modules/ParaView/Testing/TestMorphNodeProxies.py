@@ -38,7 +38,8 @@ def run(c, args):
     from paraview import servermanager as sm
 
     t.load_plugin(args.plugin, globals())
-    for proxy in ("MorphRig", "MorphRigBaker", "AnimationAwareDecimation", "MorphNodeFaceReader"):
+    for proxy in ("MorphRig", "MorphRigBaker", "AnimationAwareDecimation", "MorphNodeFaceReader",
+                  "MorphNodeBehaviorTimeSource"):
         c.require(proxy in globals(), "the plugin defines %s" % proxy)
 
     ict = t.face_or_skip(args.face)
@@ -114,6 +115,41 @@ a = vtkDoubleArray(); a.SetName("O"); a.InsertNextValue(1.0); self.GetOutput().A
     p_rig, _ = t.point_arrays(sm.Fetch(morph_rig))
     error = float(np.abs(p_baked - p_rig).max())
     c.check(error < 1e-6, "baked O at 1 = the rig's O at 1 (max difference %.3g)" % error)
+
+
+    # --- the Behavior Time Source: a script as a property, time steps for the animation ----
+    behavior = MorphNodeBehaviorTimeSource()  # noqa: F821
+    behavior.Script = "duration 3\nat 1.0 gesture smile duration 1.5 intensity 1\n"
+    behavior.FrameRate = 10
+    behavior.UpdatePipelineInformation()
+    steps = list(behavior.TimestepValues)
+    c.check(len(steps) == 31 and abs(steps[-1] - 3.0) < 1e-9,
+            "31 time steps over the script's 3 s at 10 per second (got %d)" % len(steps))
+    smile = {}
+    for time in (0.2, 1.75):
+        at = simple.ForceTime(Input=behavior, ForcedTime=time, IgnorePipelineTime=1)
+        table = sm.Fetch(at)
+        column = table.GetColumnByName("MouthSmile")
+        smile[time] = column.GetValue(0) if column is not None else float("nan")
+        simple.Delete(at)
+    c.check(smile[1.75] > 0.3 and smile[0.2] < 0.5 * smile[1.75],
+            "the script's smile shows at 1.75 s, not at 0.2 s (%s)" % smile)
+    # Through the rig onto the ARKit face: the animation moves the mouth corners.
+    rig_behavior = MorphRig(Input=behavior, Face=arkit, RigFileName=ARKIT_RIG)  # noqa: F821
+    animated = MorphNode(Input=arkit, WeightsTable=rig_behavior)  # noqa: F821
+    animated.WeightMode = "Relative"
+    points = {}
+    for time in (0.2, 1.75):
+        at = simple.ForceTime(Input=animated, ForcedTime=time, IgnorePipelineTime=1)
+        points[time], _ = t.point_arrays(sm.Fetch(at))
+        simple.Delete(at)
+    moved = float(np.linalg.norm(points[1.75] - points[0.2], axis=1).max())
+    c.check(moved > 1e-3, "scrubbing time animates the face through the rig (moved %.4g m)" % moved)
+    behavior.Script = "at 1.0 gesture no_such_gesture\n"
+    print("(an error about 'no_such_gesture' is expected here)", flush=True)
+    at = simple.ForceTime(Input=behavior, ForcedTime=1.0, IgnorePipelineTime=1)
+    c.check(sm.Fetch(at).GetNumberOfRows() == 0, "a bad script gives an empty table, no crash")
+    simple.Delete(at)
 
 
 if __name__ == "__main__":
