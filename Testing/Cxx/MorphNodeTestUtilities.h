@@ -10,6 +10,8 @@
 #include "vtkSmartPointer.h"
 #include "vtkTesting.h"
 
+#include <cstdlib>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -73,6 +75,26 @@ inline bool MatchesBaseline(vtkRenderWindow* window, const std::string& baseline
   testing->AddArgument(outputDir.c_str());
   testing->SetRenderWindow(window);
   return testing->RegressionTest(threshold) == vtkTesting::PASSED;
+}
+/// VTK's legacy image error of the render window against a baseline PNG (what
+/// MatchesBaseline compares with its threshold), or -1 when none could be computed. Lets a
+/// test choose a threshold that sees what it is about and prove it with a negative control.
+inline double BaselineError(vtkRenderWindow* window, const std::string& baseline,
+  const std::string& outputDir)
+{
+  vtkNew<vtkTesting> testing;
+  testing->AddArgument("-V");
+  testing->AddArgument(baseline.c_str());
+  testing->AddArgument("-T");
+  testing->AddArgument(outputDir.c_str());
+  testing->SetRenderWindow(window);
+  std::ostringstream os;
+  testing->RegressionTest(1e30, os);
+  const std::string text = os.str();
+  const std::string tag = "name=\"ImageError\"";
+  const size_t at = text.find(tag);
+  const size_t start = at == std::string::npos ? at : text.find('>', at);
+  return start == std::string::npos ? -1.0 : std::atof(text.c_str() + start + 1);
 }
 } // namespace morphnode_test
 
