@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkBehaviorTimeSource.h"
 
+#include "align/RecordingSpeech.h"
 #include "base/Error.h"
 #include "behavior/BehaviorAudio.h"
 #include "behavior/BehaviorController.h"
@@ -8,6 +9,7 @@
 #include "speech/Pho.h"
 #include "speech/Rhubarb.h"
 #include "speech/Speech.h"
+#include "speech/TimingFiles.h"
 
 #include "vtkDataObject.h"
 #include "vtkDoubleArray.h"
@@ -134,12 +136,14 @@ vtkBehaviorTimeSource::vtkBehaviorTimeSource()
   this->SetNumberOfOutputPorts(2);
   // The synthesizer and the phoneme loader (of Say, SpeakPhonemeFile and the scripts) read
   // the speech settings when called, so they always use the current voice, rate and table.
+  // The loader reads every timing file (.pho, Rhubarb, TextGrid, speech marks), so a script's
+  // `phonemes <file>` takes any of them.
   auto& speech = this->Internals->Speech;
   speech->Owner = this;
   this->Internals->Controller.SetSynthesizer(
     [speech](const std::string& text) { return morphnode::SpeakText(text, speech->Options()); });
   this->Internals->Controller.SetPhonemeFileLoader(
-    [speech](const std::string& path) { return morphnode::LoadPhoUtterance(path, speech->Options()); });
+    [speech](const std::string& path) { return morphnode::LoadTimingFile(path, speech->Options()); });
 }
 
 //------------------------------------------------------------------------------
@@ -443,6 +447,37 @@ bool vtkBehaviorTimeSource::SpeakRhubarbCues(const char* cues, double start)
     this->Internals->Controller.Speak(
       morphnode::UtteranceFromMouthCues(morphnode::ParseRhubarb(Str(cues)), this->Internals->Speech->Options()),
       start));
+}
+
+bool vtkBehaviorTimeSource::SpeakTimingFile(const char* path, double start)
+{
+  MORPHNODE_COMMAND("SpeakTimingFile",
+    this->Internals->Controller.Speak(
+      morphnode::LoadTimingFile(Str(path), this->Internals->Speech->Options()), start));
+}
+
+bool vtkBehaviorTimeSource::SpeakAudioFile(const char* path, const char* transcript, double start)
+{
+  morphnode::RecordingOptions recording;
+  recording.Transcript = Str(transcript);
+  MORPHNODE_COMMAND("SpeakAudioFile",
+    this->Internals->Controller.Speak(
+      morphnode::SpeakAudioFile(Str(path), this->Internals->Speech->Options(), recording), start));
+}
+
+bool vtkBehaviorTimeSource::SpeakAudioFileWithTimings(const char* path, const char* timingFile, double start)
+{
+  morphnode::RecordingOptions recording;
+  recording.TimingFile = Str(timingFile);
+  if (recording.TimingFile.empty())
+  {
+    vtkErrorMacro(<< "SpeakAudioFileWithTimings: a timing file is needed (.TextGrid, .marks, .pho, "
+                     ".tsv, .json)");
+    return false;
+  }
+  MORPHNODE_COMMAND("SpeakAudioFileWithTimings",
+    this->Internals->Controller.Speak(
+      morphnode::SpeakAudioFile(Str(path), this->Internals->Speech->Options(), recording), start));
 }
 
 bool vtkBehaviorTimeSource::Speak(const morphnode::Utterance& utterance, double start)

@@ -189,7 +189,14 @@ public:
    * an MBROLA .pho file / .pho text (SAMPA phonemes with durations), no audio.
    * SpeakRhubarbFile / SpeakRhubarbCues: Rhubarb Lip Sync's mouth cues as a file / text,
    * TSV (`start<TAB>shape` lines) or JSON (`{"mouthCues": [...]}`), told apart by the first
-   * character; no audio (play the recording Rhubarb analysed alongside). Gesture: smile,
+   * character; no audio (play the recording Rhubarb analysed alongside). SpeakTimingFile:
+   * any timing file other tools write (morphnode::LoadTimingFile: .pho, Rhubarb TSV/JSON,
+   * Praat TextGrid, Amazon Polly speech marks; by extension, then content), no audio.
+   * SpeakAudioFile: a recording (WAV, FLAC, OGG) with its transcript in the language of
+   * Voice, timed by aligning eSpeak NG's rendering of the transcript (an empty transcript:
+   * English phoneme recognition); the recording is the utterance's audio, so WriteAudio
+   * plays it. SpeakAudioFileWithTimings: a recording timed by a timing file of it
+   * (morphnode::SpeakAudioFile, align/RecordingSpeech.h). Gesture: smile,
    * sad, raise_brows, frown, fright, close_eyes, blink, nod, shake, tilt; duration <= 0
    * takes the gesture's default; intensity in [0, 1]. Mood: neutral, happy, sad, angry,
    * afraid, surprised; fade < 0 takes the default (0.8 s). LookAt: back to the front after
@@ -200,6 +207,9 @@ public:
   bool SpeakPhonemes(const char* pho, double start = -1.0);
   bool SpeakRhubarbFile(const char* path, double start = -1.0);
   bool SpeakRhubarbCues(const char* cues, double start = -1.0);
+  bool SpeakTimingFile(const char* path, double start = -1.0);
+  bool SpeakAudioFile(const char* path, const char* transcript, double start = -1.0);
+  bool SpeakAudioFileWithTimings(const char* path, const char* timingFile, double start = -1.0);
   bool Gesture(const char* name, double start, double duration = 0.0, double intensity = 1.0);
   bool SetMood(const char* name, double intensity, double start = 0.0, double fade = -1.0);
   bool LookAt(double yaw, double pitch, double start, double duration = 0.0);
@@ -264,8 +274,8 @@ public:
   double GetUtteranceStart(int index);
   double GetUtteranceEnd(int index);
   ///@}
-  /// True when at least one scheduled utterance carries audio (Say does, .pho files and
-  /// Rhubarb cues not).
+  /// True when at least one scheduled utterance carries audio (Say and SpeakAudioFile do,
+  /// .pho files, Rhubarb cues and other timing files not).
   bool HasAudio();
 
   /**

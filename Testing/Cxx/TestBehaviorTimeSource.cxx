@@ -14,6 +14,7 @@
 #include "speech/Pho.h"
 #include "speech/Rhubarb.h"
 #include "speech/Speech.h"
+#include "speech/TimingFiles.h"
 
 #include "vtkCallbackCommand.h"
 #include "vtkDelimitedTextWriter.h"
@@ -941,4 +942,135 @@ TEST(BehaviorTimeSource, ControllerIsReadOnlyAndChangesGoThroughTheSource)
     copy.Say("Hi", 3.0); // through the source's speech settings, kept by the copy
     EXPECT_EQ(copy.GetUtterances().size(), 2u);
   }
+}
+
+TEST(BehaviorTimeSource, AnyTimingFileAndScriptsReadingThem)
+{
+  vtkNew<vtkBehaviorTimeSource> source;
+  vtkNew<MessageCollector> messages;
+  messages->Watch(source);
+  morphnode::BehaviorController core;
+  const morphnode::SpeechOptions options = PaperOptions();
+  const std::string textGrid = Corpus + "textgrid/mfa_long.TextGrid";
+  const std::string marks = Corpus + "speech_marks/polly.marks";
+
+  ASSERT_TRUE(source->SpeakTimingFile(textGrid.c_str(), 0.5)) << messages->AllErrors();
+  core.Speak(morphnode::LoadTimingFile(textGrid, options), 0.5);
+  ASSERT_TRUE(source->SpeakTimingFile(marks.c_str())) << messages->AllErrors();
+  core.Speak(morphnode::LoadTimingFile(marks, options));
+  ASSERT_TRUE(source->SpeakTimingFile((Corpus + "rhubarb_json/sample.json").c_str(), 4.0));
+  core.Speak(morphnode::LoadTimingFile(Corpus + "rhubarb_json/sample.json", options), 4.0);
+  ASSERT_TRUE(source->SpeakTimingFile((Corpus + "pho/hello.pho").c_str(), 5.0));
+  core.Speak(morphnode::LoadTimingFile(Corpus + "pho/hello.pho", options), 5.0);
+  EXPECT_EQ(source->GetNumberOfUtterances(), 4);
+  EXPECT_FALSE(source->HasAudio());
+  ExpectTrackEqualsCore(source, core);
+  EXPECT_TRUE(messages->Errors.empty()) << messages->AllErrors();
+
+  // A script's `phonemes` command reads every timing file too (the source's loader).
+  vtkNew<vtkBehaviorTimeSource> scripted;
+  messages->Watch(scripted);
+  const std::string script = "at 0.5 phonemes \"" + textGrid + "\"\nat 4 phonemes \"" + Corpus +
+    "rhubarb_json/sample.json\"\n";
+  ASSERT_TRUE(scripted->ParseScript(script.c_str())) << messages->AllErrors();
+  morphnode::BehaviorController scriptCore;
+  scriptCore.Speak(morphnode::LoadTimingFile(textGrid, options), 0.5);
+  scriptCore.Speak(morphnode::LoadTimingFile(Corpus + "rhubarb_json/sample.json", options), 4.0);
+  ExpectTrackEqualsCore(scripted, scriptCore);
+
+  // Bad timing files: errors naming the file, nothing changed.
+  const vtkMTimeType mtime = source->GetMTime();
+  for (const std::string bad : { Corpus + "textgrid/out_of_order.TextGrid",
+         Corpus + "speech_marks/out_of_order.marks", Corpus + "rhubarb_tsv/decreasing.tsv",
+         OutputDir + "/missing.TextGrid" })
+  {
+    messages->Clear();
+    EXPECT_FALSE(source->SpeakTimingFile(bad.c_str(), 0.0)) << bad;
+    EXPECT_TRUE(messages->HasError("SpeakTimingFile")) << messages->AllErrors();
+    EXPECT_TRUE(messages->HasError(bad)) << messages->AllErrors();
+  }
+  EXPECT_EQ(source->GetNumberOfUtterances(), 4);
+  EXPECT_EQ(source->GetMTime(), mtime);
+}
+
+TEST(BehaviorTimeSource, RecordingsWithTheirTranscriptOrTimings)
+{
+  if (!morphnode::SpeechSynthesizer::IsAvailable())
+  {
+    GTEST_SKIP() << "built without eSpeak NG: no recording to align";
+  }
+  // A "recording": eSpeak NG saying a sentence, as a WAV file.
+  morphnode::SpeechOptions voice = PaperOptions();
+  const morphnode::Utterance spoken = morphnode::SpeakText("Hello world, how are you?", voice);
+  const std::string wav = OutputDir + "/TestBehaviorTimeSource_recording.wav";
+  morphnode::WriteWavFile(wav, spoken.Audio, spoken.SampleRate);
+  const double length = static_cast<double>(spoken.Audio.size()) / spoken.SampleRate;
+
+  vtkNew<vtkBehaviorTimeSource> source;
+  vtkNew<MessageCollector> messages;
+  messages->Watch(source);
+  const vtkMTimeType mtime = source->GetMTime();
+  ASSERT_TRUE(source->SpeakAudioFile(wav.c_str(), "Hello world, how are you?", 1.0)) << messages->AllErrors();
+  EXPECT_GT(source->GetMTime(), mtime);
+  EXPECT_TRUE(source->HasAudio()) << "the recording is the utterance's sound";
+  EXPECT_EQ(source->GetUtteranceStart(0), 1.0);
+  EXPECT_GE(source->GetUtteranceEnd(0), 1.0 + length - 1e-6);
+  EXPECT_LT(source->GetUtteranceEnd(0), 1.0 + length + 0.3);
+
+  // The recording is in the WAV at 1 s, and the mouth moves while it sounds.
+  const std::string out = OutputDir + "/TestBehaviorTimeSource_recording_mix.wav";
+  ASSERT_TRUE(source->WriteAudio(out.c_str())) << messages->AllErrors();
+  const Wav mix = ReadWav(out);
+  ASSERT_EQ(mix.SampleRate, spoken.SampleRate);
+  double first = -1.0, last = -1.0;
+  for (size_t i = 0; i < mix.Samples.size(); ++i)
+  {
+    if (std::abs(static_cast<int>(mix.Samples[i])) > 1000)
+    {
+      last = static_cast<double>(i) / mix.SampleRate;
+      first = first < 0.0 ? last : first;
+    }
+  }
+  ASSERT_GE(first, 1.0);
+  ASSERT_LE(last, 1.0 + length + 0.3);
+  vtkTable* track = Track(source);
+  double inside = 0.0, before = 0.0;
+  for (vtkIdType r = 0; r < track->GetNumberOfRows(); ++r)
+  {
+    const double t = Value(track, "Time", r);
+    double mouth = 0.0;
+    for (const char* viseme : { "A", "E", "O", "S", "F", "L" })
+    {
+      mouth += track->GetColumnByName(viseme) ? Value(track, viseme, r) : 0.0;
+    }
+    if (t >= first && t <= last)
+    {
+      inside = std::max(inside, mouth);
+    }
+    else if (t < first - 0.15)
+    {
+      before = std::max(before, mouth);
+    }
+  }
+  EXPECT_GT(inside, 0.5);
+  EXPECT_LT(before, 0.05);
+
+  // The same recording timed by a timing file of it (its phonemes as .pho).
+  const std::string pho = OutputDir + "/TestBehaviorTimeSource_recording.pho";
+  morphnode::WritePhoFile(pho, spoken.Phonemes);
+  ASSERT_TRUE(source->SpeakAudioFileWithTimings(wav.c_str(), pho.c_str())) << messages->AllErrors();
+  EXPECT_EQ(source->GetNumberOfUtterances(), 2);
+  EXPECT_EQ(source->GetUtteranceStart(1), source->GetUtteranceEnd(0));
+  EXPECT_TRUE(messages->Errors.empty()) << messages->AllErrors();
+
+  // Bad recordings: errors, nothing changed.
+  const vtkMTimeType after = source->GetMTime();
+  EXPECT_FALSE(source->SpeakAudioFile((OutputDir + "/missing.wav").c_str(), "Hello"));
+  EXPECT_FALSE(source->SpeakAudioFile((Corpus + "pho/hello.pho").c_str(), "Hello")); // no sound
+  EXPECT_FALSE(source->SpeakAudioFileWithTimings(wav.c_str(), nullptr));
+  EXPECT_FALSE(source->SpeakAudioFileWithTimings(wav.c_str(), (OutputDir + "/missing.TextGrid").c_str()));
+  EXPECT_EQ(messages->Errors.size(), 4u) << messages->AllErrors();
+  EXPECT_TRUE(messages->HasError("SpeakAudioFileWithTimings: a timing file is needed")) << messages->AllErrors();
+  EXPECT_EQ(source->GetNumberOfUtterances(), 2);
+  EXPECT_EQ(source->GetMTime(), after);
 }
