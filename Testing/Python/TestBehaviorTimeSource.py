@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: BSD-3-Clause
 """vtkBehaviorTimeSource from Python: the default face animated through UpdateTimeStep; lip sync
-made elsewhere (Rhubarb cues, MBROLA .pho) driven into it; frames, parameters, viseme tables."""
+made elsewhere (Rhubarb cues, MBROLA .pho, TextGrid, speech marks, a recording with its
+transcript) driven into it; frames, parameters, viseme tables."""
 import json
 import os
 import tempfile
@@ -216,6 +217,42 @@ class TestBehaviorTimeSource(unittest.TestCase):
         self.assertIn("pho line 1", self.behavior_errors.messages[0])
         self.assertEqual(len(self.behavior_errors.messages), 2)
         self.assertEqual(b.GetMTime(), before)
+        self.behavior_errors.messages.clear()
+
+    def test_timing_files_and_recordings_from_python(self):
+        """Timings from other tools (TextGrid, speech marks) and a recording with its transcript."""
+        b = self.behavior
+        self.assertTrue(b.SpeakTimingFile(os.path.join(CORPUS, "textgrid", "mfa_long.TextGrid"), 0.5))
+        self.assertTrue(b.SpeakTimingFile(os.path.join(CORPUS, "speech_marks", "polly.marks")))
+        self.assertEqual(b.GetNumberOfUtterances(), 2)
+        self.assertFalse(b.HasAudio())
+        b.Update(1)
+        track = b.GetOutputDataObject(1)
+        # "bee moo": the lips close for b and m (sil in the paper's set), then open.
+        self.assertGreater(peak(track, "E", 0.5, 1.5), 0.3)
+        self.assertFalse(b.SpeakTimingFile(os.path.join(CORPUS, "textgrid", "out_of_order.TextGrid")))
+        self.assertIn("out_of_order.TextGrid", self.behavior_errors.messages[-1])
+        self.behavior_errors.messages.clear()
+
+        # A recording: eSpeak's rendering written by another source (sound only).
+        speaker = vtkBehaviorTimeSource()
+        speaker.SetDuration(0.1)
+        if not speaker.Say("Hello world, how are you?", 0.0):
+            self.skipTest("no eSpeak NG in this build")
+        wav = os.path.join(OUTPUT_DIR, "TestBehaviorTimeSourcePython_recording.wav")
+        self.assertTrue(speaker.WriteAudio(wav))
+        length = speaker.GetUtteranceEnd(0)
+        self.assertTrue(b.SpeakAudioFile(wav, "Hello world, how are you?", 3.0))
+        self.assertTrue(b.HasAudio())
+        self.assertEqual(b.GetUtteranceStart(2), 3.0)
+        self.assertAlmostEqual(b.GetUtteranceEnd(2), 3.0 + length, delta=0.3)
+        b.Update(1)
+        track = b.GetOutputDataObject(1)
+        mouth = max(sum(column(track, v, r) for v in "AEOSFL") for r in range(track.GetNumberOfRows())
+                    if 3.1 <= column(track, "Time", r) <= 3.0 + length)
+        self.assertGreater(mouth, 0.5)
+        self.assertFalse(b.SpeakAudioFile(os.path.join(OUTPUT_DIR, "missing.wav"), "Hello"))
+        self.assertEqual(len(self.behavior_errors.messages), 1)
         self.behavior_errors.messages.clear()
 
     def test_frames_parameters_and_viseme_table(self):
