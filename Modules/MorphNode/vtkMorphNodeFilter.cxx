@@ -5,11 +5,13 @@
 #include "vtkMorphTargetArrays.h"
 
 #include "base/Error.h"
-#include "morph/MorphNode.h"
+#include "morph/MorphScene.h"
 #include "morph/OptimizerPresets.h"
 
 #include "vtkAlgorithmOutput.h"
 #include "vtkCellData.h"
+#include "vtkCompositeDataIterator.h"
+#include "vtkCompositeDataSet.h"
 #include "vtkDataObject.h"
 #include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
@@ -17,7 +19,10 @@
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkIntArray.h"
+#include "vtkMultiProcessController.h"
 #include "vtkObjectFactory.h"
+#include "vtkPartitionedDataSet.h"
+#include "vtkPartitionedDataSetCollection.h"
 #include "vtkPointData.h"
 #include "vtkPointSet.h"
 #include "vtkPoints.h"
@@ -25,12 +30,15 @@
 #include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkStringArray.h"
 #include "vtkTable.h"
+#include "vtkUnsignedCharArray.h"
 
 #include <algorithm>
 #include <cstdint>
 #include <cstring>
 #include <iterator>
+#include <limits>
 #include <memory>
+#include <set>
 #include <sstream>
 #include <string>
 #include <utility>
@@ -93,6 +101,186 @@ vtkDataArray* ReuseOrNew(
 constexpr vtkIdType MinPointsPerTask = 2048;
 }
 
+namespace
+{
+/// The processes' exchange of their pieces' figures (SetController): every process sends its
+/// piece (or that it has none, or its error) to every other, and all combine them in process
+/// order, so that they decide exactly alike.
+namespace exchange
+{
+using morphnode::NamedTargetDistances;
+
+std::string Pack(const NamedTargetDistances* piece, const std::string& error)
+{
+  std::string out;
+  if (!error.empty())
+  {
+    return "E" + error;
+  }
+  if (!piece)
+  {
+    return "0";
+  }
+  out.push_back('P');
+  auto put = [&out](const void* p, size_t bytes) { out.append(static_cast<const char*>(p), bytes); };
+  const uint64_t n = piece->Names.size();
+  put(&n, sizeof(n));
+  for (const std::string& name : piece->Names)
+  {
+    const uint64_t length = name.size();
+    put(&length, sizeof(length));
+    out += name;
+  }
+  put(piece->DistMorph.data(), n * sizeof(double));
+  put(piece->MaxDisplacement.data(), n * sizeof(double));
+  return out;
+}
+
+/// 'P' with `piece` filled, '0' (no piece), or 'E' with `error` filled.
+char Unpack(const char* data, size_t size, NamedTargetDistances& piece, std::string& error)
+{
+  if (size == 0)
+  {
+    throw morphnode::InputError("internal: an empty message from another process");
+  }
+  if (data[0] == 'E')
+  {
+    error.assign(data + 1, size - 1);
+    return 'E';
+  }
+  if (data[0] == '0')
+  {
+    return '0';
+  }
+  size_t at = 1;
+  auto get = [&](void* p, size_t bytes) {
+    if (bytes > size - at)
+    {
+      throw morphnode::InputError("internal: a truncated message from another process");
+    }
+    std::memcpy(p, data + at, bytes);
+    at += bytes;
+  };
+  uint64_t n = 0;
+  get(&n, sizeof(n));
+  if (n > size)
+  {
+    throw morphnode::InputError("internal: a garbled message from another process");
+  }
+  piece.Names.resize(n);
+  for (std::string& name : piece.Names)
+  {
+    uint64_t length = 0;
+    get(&length, sizeof(length));
+    if (length > size - at)
+    {
+      throw morphnode::InputError("internal: a truncated message from another process");
+    }
+    name.assign(data + at, length);
+    at += length;
+  }
+  piece.DistMorph.resize(n);
+  piece.MaxDisplacement.resize(n);
+  get(piece.DistMorph.data(), n * sizeof(double));
+  get(piece.MaxDisplacement.data(), n * sizeof(double));
+  return 'P';
+}
+
+/// The whole model's figures: every process's piece, combined in process order. Throws the
+/// first process's error (the same on every process) when any had one.
+NamedTargetDistances Gather(
+  vtkMultiProcessController* controller, const NamedTargetDistances* piece, const std::string& error)
+{
+  const std::string message = Pack(piece, error);
+  const int processes = controller->GetNumberOfProcesses();
+  const long long length = static_cast<long long>(message.size());
+  std::vector<long long> lengths(static_cast<size_t>(processes), 0);
+  if (!controller->AllGather(&length, lengths.data(), 1))
+  {
+    throw morphnode::InputError("the processes could not exchange their targets' figures");
+  }
+  std::vector<vtkIdType> recvLengths(lengths.begin(), lengths.end());
+  std::vector<vtkIdType> offsets(static_cast<size_t>(processes), 0);
+  vtkIdType total = 0;
+  for (int r = 0; r < processes; ++r)
+  {
+    offsets[static_cast<size_t>(r)] = total;
+    total += recvLengths[static_cast<size_t>(r)];
+  }
+  std::vector<char> all(static_cast<size_t>(total));
+  if (!controller->AllGatherV(message.data(), all.data(), length, recvLengths.data(), offsets.data()))
+  {
+    throw morphnode::InputError("the processes could not exchange their targets' figures");
+  }
+  std::vector<NamedTargetDistances> pieces;
+  for (int r = 0; r < processes; ++r)
+  {
+    NamedTargetDistances received;
+    std::string failure;
+    const char kind = Unpack(all.data() + offsets[static_cast<size_t>(r)],
+      static_cast<size_t>(recvLengths[static_cast<size_t>(r)]), received, failure);
+    if (kind == 'E')
+    {
+      throw morphnode::InputError(
+        (r == controller->GetLocalProcessId() ? "" : "process " + std::to_string(r) + ": ") + failure);
+    }
+    if (kind == 'P')
+    {
+      pieces.push_back(std::move(received));
+    }
+  }
+  if (pieces.empty())
+  {
+    throw morphnode::InputError("no process has a point in its input");
+  }
+  return morphnode::CombineTargetDistances(pieces);
+}
+} // namespace exchange
+
+/// Points flagged as duplicates of another piece's (vtkGhostType, DUPLICATEPOINT): left out
+/// of the model's sums. Empty when the data set flags none.
+std::vector<uint8_t> DuplicateFlags(vtkPointSet* input)
+{
+  std::vector<uint8_t> flags;
+  vtkUnsignedCharArray* ghosts = input ? input->GetPointGhostArray() : nullptr;
+  if (!ghosts || ghosts->GetNumberOfTuples() != input->GetNumberOfPoints())
+  {
+    return flags;
+  }
+  bool any = false;
+  flags.resize(static_cast<size_t>(input->GetNumberOfPoints()));
+  for (vtkIdType i = 0; i < input->GetNumberOfPoints(); ++i)
+  {
+    flags[static_cast<size_t>(i)] = (ghosts->GetValue(i) & vtkDataSetAttributes::DUPLICATEPOINT) ? 1 : 0;
+    any = any || flags[static_cast<size_t>(i)];
+  }
+  if (!any)
+  {
+    flags.clear();
+  }
+  return flags;
+}
+
+/// A leaf's name for messages: its metadata NAME, else its flat index.
+std::string LeafName(vtkCompositeDataIterator* it)
+{
+  vtkInformation* meta = it->HasCurrentMetaData() ? it->GetCurrentMetaData() : nullptr;
+  if (meta && meta->Has(vtkCompositeDataSet::NAME()) && meta->Get(vtkCompositeDataSet::NAME()))
+  {
+    return meta->Get(vtkCompositeDataSet::NAME());
+  }
+  return "#" + std::to_string(it->GetCurrentFlatIndex());
+}
+
+vtkSmartPointer<vtkCompositeDataIterator> Leaves(vtkCompositeDataSet* composite)
+{
+  vtkSmartPointer<vtkCompositeDataIterator> it;
+  it.TakeReference(composite->NewIterator());
+  it->SkipEmptyNodesOn();
+  return it;
+}
+} // namespace
+
 struct vtkMorphNodeFilter::vtkInternals
 {
   /// Requested weights, by index and by name; the one set last wins for a target (Order).
@@ -112,40 +300,65 @@ struct vtkMorphNodeFilter::vtkInternals
   std::vector<NamedRequest> ByName;
   uint64_t Orders = 0;
 
-  /// The model built from the current input (shared with Node), and what it was built from.
-  std::shared_ptr<const adapter::BuiltModel> Built;
-  uint64_t Generation = 0; // counts the models built
+  /// One data set of the input (the one input, or a leaf of a composite) with its model
+  /// and the arrays its blend writes.
+  struct Part
+  {
+    vtkPointSet* Input = nullptr; // this execution's data set (the neutral in the Java3D form)
+    std::string Name;             // a leaf's name, for messages
+    std::shared_ptr<const adapter::BuiltModel> Built; // null: an empty leaf, passed through
+    int ScenePart = -1;                               // its part in Scene, -1: none
+    /// Output arrays kept across executions: written again in place only when nothing but
+    /// the filter holds them (the pipeline released the previous output), so that a
+    /// snapshot kept downstream never changes under its holder.
+    adapter::BlendOutputs Outputs;
+    /// Where the blend writes each attribute: the output array itself, or for arrays of
+    /// other types than the attribute's (integers) a buffer copied over afterwards.
+    std::vector<morphnode::AttributeOutput> Where;
+    std::vector<std::vector<float>> FloatScratch;
+    std::vector<std::vector<double>> DoubleScratch;
+    std::vector<vtkSmartPointer<vtkDataArray>> Distances; // built on first request
+    bool Blended = false;                                 // in this execution
+  };
+  std::vector<Part> Parts;
+  bool Composite = false;
+
+  /// This execution's inputs: the connections of port 0 (one form) or a composite's leaves.
   std::vector<vtkPointSet*> Inputs;
+  vtkCompositeDataSet* CompositeInput = nullptr;
+  std::vector<std::pair<vtkPointSet*, std::string>> LeafInputs;
+
+  /// The model: the scene of the parts (targets matched by name, one decision), and what it
+  /// was built from.
+  morphnode::MorphScene Scene;
+  bool HasScene = false; // the scene has parts (a process with an empty piece has none)
+  bool Ready = false;    // a model was built from the current inputs
+  morphnode::MorphMesh NamesModel; // the model's target names only, for lookups by name
+  morphnode::TargetDistances ModelDistances;
+  uint64_t Generation = 0; // counts the models built
   std::vector<std::pair<vtkDataObject*, vtkMTimeType>> From, BuiltFrom;
   double BuiltSparseCoverage = -1.0;
 
-  morphnode::MorphNode Node;
   bool Valid = false; // the last execution succeeded
   std::vector<double> Requested;
   std::vector<uint64_t> RequestOrder;
   vtkNew<vtkDoubleArray> DistNorm;
 
-  /// Output arrays kept across executions: written again in place only when nothing but
-  /// the filter holds them (the pipeline released the previous output), so that a snapshot
-  /// kept downstream never changes under its holder.
-  adapter::BlendOutputs Outputs;
-  /// Where the blend writes each attribute: the output array itself, or for arrays of
-  /// other types than the attribute's (integers) a buffer copied over afterwards.
-  std::vector<morphnode::AttributeOutput> Where;
-  std::vector<std::vector<float>> FloatScratch;
-  std::vector<std::vector<double>> DoubleScratch;
+  /// Blend tasks: point ranges of parts.
+  struct Task
+  {
+    size_t Part;
+    size_t Begin, End;
+  };
+  std::vector<Task> Tasks;
+
   /// Made once per model, shared by every output.
   vtkSmartPointer<vtkStringArray> TargetNames;
   vtkSmartPointer<vtkDoubleArray> DistNormOut;
-  std::vector<vtkSmartPointer<vtkDataArray>> Distances; // built on first request
   /// Per-execution field data, rewritten in place when no one else holds them.
   vtkSmartPointer<vtkDataArray> EffectiveWeightsOut, ActiveTargetCountOut, ErrorBoundOut;
 
-  const std::vector<std::string>& Names() const
-  {
-    static const std::vector<std::string> none;
-    return this->Built ? this->Built->Model.GetTargetNames() : none;
-  }
+  const std::vector<std::string>& Names() const { return this->NamesModel.GetTargetNames(); }
 
   /// Requested weight of target `index`; names resolve against the current model.
   double Get(int index) const
@@ -192,51 +405,209 @@ struct vtkMorphNodeFilter::vtkInternals
     this->ByName.push_back({ name, { weight, ++this->Orders }, -1, 0 });
   }
 
-  /// Rebuilds the model when an input or the storage choice changed.
+  /// This execution's inputs from port 0.
+  void CollectInputs(vtkInformationVector* port0)
+  {
+    this->Inputs.clear();
+    this->LeafInputs.clear();
+    this->CompositeInput = vtkCompositeDataSet::GetData(port0, 0);
+    if (this->CompositeInput)
+    {
+      if (port0->GetNumberOfInformationObjects() > 1)
+      {
+        throw morphnode::InputError("a composite input (a whole head) must be the only connection of "
+                                    "port 0; the Java3D form takes point sets");
+      }
+      // A collection names its partitioned data sets (the reader's parts), not their
+      // partitions; other composites name their leaves.
+      auto* collection = vtkPartitionedDataSetCollection::SafeDownCast(this->CompositeInput);
+      std::vector<std::string> names;
+      for (unsigned int d = 0; collection && d < collection->GetNumberOfPartitionedDataSets(); ++d)
+      {
+        vtkPartitionedDataSet* parts = collection->GetPartitionedDataSet(d);
+        const char* name = collection->HasMetaData(d) && collection->GetMetaData(d)->Has(vtkCompositeDataSet::NAME())
+          ? collection->GetMetaData(d)->Get(vtkCompositeDataSet::NAME())
+          : nullptr;
+        const unsigned int count = parts ? parts->GetNumberOfPartitions() : 0;
+        for (unsigned int i = 0; i < count; ++i)
+        {
+          if (parts->GetPartitionAsDataObject(i))
+          {
+            const std::string part = name ? name : "#" + std::to_string(d);
+            names.push_back(count > 1 ? part + "/" + std::to_string(i) : part);
+          }
+        }
+      }
+      auto it = Leaves(this->CompositeInput);
+      for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem())
+      {
+        const size_t index = this->LeafInputs.size();
+        const std::string name = index < names.size() ? names[index] : LeafName(it);
+        vtkDataObject* leaf = it->GetCurrentDataObject();
+        auto* points = vtkPointSet::SafeDownCast(leaf);
+        if (!points)
+        {
+          throw morphnode::InputError("part '" + name + "' of the composite input is a " +
+            leaf->GetClassName() + "; the morph node blends point sets");
+        }
+        this->LeafInputs.emplace_back(points, name);
+      }
+      return;
+    }
+    for (int i = 0; i < port0->GetNumberOfInformationObjects(); ++i)
+    {
+      this->Inputs.push_back(vtkPointSet::GetData(port0, i));
+    }
+  }
+
+  /// Rebuilds the model when an input or the storage choice changed. In parallel, every
+  /// process takes part in the exchange of a rebuild, whatever its input.
   void UpdateModel(vtkMorphNodeFilter* self)
   {
     this->From.clear();
+    if (this->CompositeInput)
+    {
+      this->From.emplace_back(this->CompositeInput, this->CompositeInput->GetMTime());
+      for (const auto& leaf : this->LeafInputs)
+      {
+        this->From.emplace_back(leaf.first, leaf.first->GetMTime());
+      }
+    }
     for (vtkPointSet* input : this->Inputs)
     {
       this->From.emplace_back(input, input ? input->GetMTime() : 0);
     }
-    if (this->Built && this->From == this->BuiltFrom &&
+    const bool composite = this->CompositeInput != nullptr;
+    if (this->Ready && this->From == this->BuiltFrom && this->Composite == composite &&
       this->BuiltSparseCoverage == self->SparseCoverage)
     {
-      return;
+      return; // the same data set objects, unchanged: the same model
+
     }
-    this->Built.reset();
-    this->Node.SetMesh(nullptr);
+    this->Ready = false;
+    this->HasScene = false;
+    this->Scene = morphnode::MorphScene();
+    this->Parts.clear();
     this->BuiltFrom.clear();
-    if (this->Inputs.empty())
-    {
-      throw morphnode::InputError("no input: connect the neutral (and the targets) to port 0");
-    }
+    this->NamesModel.SetTargetNames({});
+    this->Composite = composite;
+    vtkMultiProcessController* controller = self->Controller;
+    const bool parallel = controller && controller->GetNumberOfProcesses() > 1;
     self->UpdateProgress(0.0);
-    auto built = std::make_shared<adapter::BuiltModel>(
-      this->Inputs.size() == 1 && adapter::HasRelativeTargets(this->Inputs[0])
-        ? adapter::BuildFromRelativeTargets(this->Inputs[0], self->SparseCoverage)
-        : adapter::BuildFromAbsoluteTargets(this->Inputs, self->SparseCoverage));
-    this->Node.SetMesh(std::shared_ptr<const morphnode::MorphMesh>(built, &built->Model));
-    this->Built = std::move(built);
+
+    std::string error;
+    try
+    {
+      std::vector<std::shared_ptr<const morphnode::MorphMesh>> meshes;
+      std::vector<std::vector<uint8_t>> flags;
+      auto addPart = [&](Part part, adapter::BuiltModel built) {
+        auto shared = std::make_shared<adapter::BuiltModel>(std::move(built));
+        part.ScenePart = static_cast<int>(meshes.size());
+        meshes.emplace_back(shared, &shared->Model);
+        flags.push_back(DuplicateFlags(part.Input));
+        part.Built = std::move(shared);
+        this->Parts.push_back(std::move(part));
+      };
+      if (composite)
+      {
+        for (const auto& [leaf, name] : this->LeafInputs)
+        {
+          Part part;
+          part.Input = leaf;
+          part.Name = name;
+          if (leaf->GetNumberOfPoints() == 0)
+          {
+            this->Parts.push_back(std::move(part)); // an empty piece: passes through
+            continue;
+          }
+          try
+          {
+            adapter::BuiltModel built = adapter::HasRelativeTargets(leaf)
+              ? adapter::BuildFromRelativeTargets(leaf, self->SparseCoverage)
+              : adapter::BuildFromAbsoluteTargets({ leaf }, self->SparseCoverage);
+            addPart(std::move(part), std::move(built));
+          }
+          catch (const std::exception& e)
+          {
+            throw morphnode::InputError("part '" + name + "': " + e.what());
+          }
+        }
+        if (meshes.empty() && !parallel)
+        {
+          throw morphnode::InputError("the composite input has no points in any part");
+        }
+      }
+      else if (this->Inputs.empty())
+      {
+        throw morphnode::InputError("no input: connect the neutral (and the targets) to port 0");
+      }
+      else if (parallel && this->Inputs[0] && this->Inputs[0]->GetNumberOfPoints() == 0)
+      {
+        Part part; // an empty piece of the model on this process: passes through
+        part.Input = this->Inputs[0];
+        this->Parts.push_back(std::move(part));
+      }
+      else
+      {
+        Part part;
+        part.Input = this->Inputs[0];
+        addPart(std::move(part),
+          this->Inputs.size() == 1 && adapter::HasRelativeTargets(this->Inputs[0])
+            ? adapter::BuildFromRelativeTargets(this->Inputs[0], self->SparseCoverage)
+            : adapter::BuildFromAbsoluteTargets(this->Inputs, self->SparseCoverage));
+      }
+      if (!meshes.empty())
+      {
+        this->Scene.SetParts(meshes, flags);
+        this->HasScene = true;
+      }
+    }
+    catch (const std::exception& e)
+    {
+      error = e.what();
+      if (error.empty())
+      {
+        error = "the input could not be made into a model";
+      }
+    }
+    if (parallel)
+    {
+      // The whole model's figures, the same on every process.
+      const morphnode::NamedTargetDistances model = exchange::Gather(
+        controller, this->HasScene && error.empty() ? &this->Scene.GetPartsDistances() : nullptr, error);
+      if (this->HasScene)
+      {
+        this->Scene.SetModel(model);
+      }
+      this->NamesModel.SetTargetNames(model.Names);
+      this->ModelDistances = morphnode::MakeTargetDistances(model);
+    }
+    else if (!error.empty())
+    {
+      throw morphnode::InputError(error);
+    }
+    else
+    {
+      this->NamesModel.SetTargetNames(this->Scene.GetTargetNames());
+      this->ModelDistances = this->Scene.GetTargetDistances();
+    }
     ++this->Generation;
+    this->Ready = true;
     this->BuiltFrom = this->From;
     this->BuiltSparseCoverage = self->SparseCoverage;
     // What depends on the model only is made once per model and shared by every output.
-    const auto& distNorm = this->Node.GetTargetDistances().DistNorm;
+    const auto& distNorm = this->ModelDistances.DistNorm;
     this->DistNorm->SetNumberOfValues(static_cast<vtkIdType>(distNorm.size()));
     std::copy(distNorm.begin(), distNorm.end(), this->DistNorm->GetPointer(0));
     this->TargetNames = adapter::MakeNamesArray(adapter::TargetNamesArray, this->Names());
     this->DistNormOut = vtkSmartPointer<vtkDoubleArray>::New();
     this->DistNormOut->DeepCopy(this->DistNorm);
-    this->Distances.clear();
-    this->Outputs = {};
   }
 
   /// Requested weights (neutral first): the table on port 1, else the assignments.
   void GatherRequested(vtkMorphNodeFilter* self, vtkTable* table)
   {
-    const morphnode::MorphMesh& model = this->Built->Model;
+    const morphnode::MorphMesh& model = this->NamesModel;
     const size_t n = model.GetNumberOfTargets();
     if (table)
     {
@@ -312,7 +683,7 @@ struct vtkMorphNodeFilter::vtkInternals
     }
   }
 
-  /// The node's settings from the filter's.
+  /// The scene's settings from the filter's.
   void ApplySettings(vtkMorphNodeFilter* self)
   {
     morphnode::OptimizerSettings settings;
@@ -331,98 +702,170 @@ struct vtkMorphNodeFilter::vtkInternals
     }
     settings.MaxActiveTargets = self->MaxActiveTargets;
     settings.Hysteresis = self->Hysteresis;
-    this->Node.SetOptimizerSettings(settings);
-    this->Node.SetWeightMode(static_cast<morphnode::WeightMode>(self->WeightMode));
+    this->Scene.SetOptimizerSettings(settings);
+    this->Scene.SetWeightMode(static_cast<morphnode::WeightMode>(self->WeightMode));
   }
 
-  /// Blends every attribute with the node's effective weights into Outputs, in parallel
-  /// over point ranges (morphnode::MorphNode::Blend).
-  void Blend()
+  /// Output arrays of a part for this execution, and where the blend writes them.
+  void PrepareOutputs(Part& part)
   {
-    const morphnode::MorphMesh& mesh = this->Built->Model;
-    const auto& bindings = this->Built->Bindings;
+    const morphnode::MorphMesh& mesh = part.Built->Model;
+    const auto& bindings = part.Built->Bindings;
     const vtkIdType numPoints = static_cast<vtkIdType>(mesh.GetNumberOfPoints());
     const size_t numAttributes = mesh.GetNumberOfAttributes();
+    adapter::BlendOutputs& outputs = part.Outputs;
     // The points' array is held by the vtkPoints and by `points` here.
-    vtkSmartPointer<vtkDataArray> points = this->Outputs.Points ? this->Outputs.Points->GetData() : nullptr;
-    const bool pointsFree = this->Outputs.Points && this->Outputs.Points->GetReferenceCount() == 1;
+    vtkSmartPointer<vtkDataArray> points = outputs.Points ? outputs.Points->GetData() : nullptr;
+    const bool pointsFree = outputs.Points && outputs.Points->GetReferenceCount() == 1;
     vtkDataArray* pointArray = ReuseOrNew(points, bindings[0].Prototype, numPoints, pointsFree ? 2 : 0);
-    if (!pointsFree || this->Outputs.Points->GetData() != pointArray)
+    if (!pointsFree || outputs.Points->GetData() != pointArray)
     {
-      this->Outputs.Points = vtkSmartPointer<vtkPoints>::New();
-      this->Outputs.Points->SetData(pointArray);
+      outputs.Points = vtkSmartPointer<vtkPoints>::New();
+      outputs.Points->SetData(pointArray);
     }
-    this->Outputs.Arrays.resize(numAttributes - 1);
-    this->Where.resize(numAttributes);
-    this->FloatScratch.resize(numAttributes);
-    this->DoubleScratch.resize(numAttributes);
+    outputs.Arrays.resize(numAttributes - 1);
+    part.Where.resize(numAttributes);
+    part.FloatScratch.resize(numAttributes);
+    part.DoubleScratch.resize(numAttributes);
     for (size_t a = 0; a < numAttributes; ++a)
     {
       vtkDataArray* out = a == 0
         ? pointArray
-        : ReuseOrNew(this->Outputs.Arrays[a - 1], bindings[a].Prototype, numPoints, 1);
+        : ReuseOrNew(outputs.Arrays[a - 1], bindings[a].Prototype, numPoints, 1);
       const size_t values = static_cast<size_t>(numPoints) * out->GetNumberOfComponents();
       if (std::holds_alternative<morphnode::MorphAttribute<float>>(mesh.GetAttribute(a)))
       {
         auto* direct = vtkFloatArray::FastDownCast(out);
-        this->FloatScratch[a].resize(direct ? 0 : values);
-        this->Where[a] = direct ? direct->GetPointer(0) : this->FloatScratch[a].data();
+        part.FloatScratch[a].resize(direct ? 0 : values);
+        part.Where[a] = direct ? direct->GetPointer(0) : part.FloatScratch[a].data();
       }
       else
       {
         auto* direct = vtkDoubleArray::FastDownCast(out);
-        this->DoubleScratch[a].resize(direct ? 0 : values);
-        this->Where[a] = direct ? direct->GetPointer(0) : this->DoubleScratch[a].data();
+        part.DoubleScratch[a].resize(direct ? 0 : values);
+        part.Where[a] = direct ? direct->GetPointer(0) : part.DoubleScratch[a].data();
       }
     }
-    const morphnode::MorphNode& node = this->Node;
-    node.CheckOutputs(this->Where);
-    const int threads = vtkSMPTools::GetEstimatedNumberOfThreads();
-    if (threads <= 1 || numPoints < 2 * MinPointsPerTask)
+  }
+
+  /// Blends every part that needs it with the scene's effective weights, in parallel over
+  /// point ranges of all parts together (morphnode::MorphScene::Blend). Leaves of a
+  /// composite that no active target moves are not blended: they pass through.
+  void Blend()
+  {
+    this->Tasks.clear();
+    size_t total = 0;
+    for (Part& part : this->Parts)
     {
-      node.Blend(this->Where, 0, static_cast<size_t>(numPoints));
+      part.Blended = part.ScenePart >= 0 &&
+        (!this->Composite || this->Scene.IsPartMoved(static_cast<size_t>(part.ScenePart)));
+      if (part.Blended)
+      {
+        this->PrepareOutputs(part);
+        this->Scene.GetPartNode(static_cast<size_t>(part.ScenePart)).CheckOutputs(part.Where);
+        total += part.Built->Model.GetNumberOfPoints();
+      }
+    }
+    const int threads = vtkSMPTools::GetEstimatedNumberOfThreads();
+    const bool serial = threads <= 1 || total < static_cast<size_t>(2 * MinPointsPerTask);
+    // A few ranges per thread: enough to even out a busy core, few enough that handing
+    // them out costs little next to blending them.
+    const size_t grain = serial
+      ? std::numeric_limits<size_t>::max()
+      : std::max(static_cast<size_t>(MinPointsPerTask), total / static_cast<size_t>(4 * threads));
+    for (size_t p = 0; p < this->Parts.size(); ++p)
+    {
+      if (this->Parts[p].Blended)
+      {
+        const size_t n = this->Parts[p].Built->Model.GetNumberOfPoints();
+        for (size_t begin = 0; begin < n; begin += std::min(grain, n - begin))
+        {
+          this->Tasks.push_back({ p, begin, begin + std::min(grain, n - begin) });
+        }
+      }
+    }
+    const morphnode::MorphScene& scene = this->Scene;
+    auto run = [this, &scene](size_t t) {
+      const Task& task = this->Tasks[t];
+      const Part& part = this->Parts[task.Part];
+      scene.Blend(static_cast<size_t>(part.ScenePart), part.Where, task.Begin, task.End);
+    };
+    if (serial || this->Tasks.size() == 1)
+    {
+      for (size_t t = 0; t < this->Tasks.size(); ++t)
+      {
+        run(t);
+      }
     }
     else
     {
-      // A few ranges per thread: enough to even out a busy core, few enough that handing
-      // them out costs little next to blending them.
-      const vtkIdType grain = std::max(MinPointsPerTask, numPoints / (4 * threads));
-      vtkSMPTools::For(0, numPoints, grain, [this, &node](vtkIdType begin, vtkIdType end) {
-        node.Blend(this->Where, static_cast<size_t>(begin), static_cast<size_t>(end));
+      vtkSMPTools::For(0, static_cast<vtkIdType>(this->Tasks.size()), 1, [&run](vtkIdType begin, vtkIdType end) {
+        for (vtkIdType t = begin; t < end; ++t)
+        {
+          run(static_cast<size_t>(t));
+        }
       });
     }
-    for (size_t a = 0; a < numAttributes; ++a)
+    for (Part& part : this->Parts)
     {
-      vtkDataArray* out = a == 0 ? pointArray : this->Outputs.Arrays[a - 1].GetPointer();
-      if (!this->FloatScratch[a].empty())
+      if (!part.Blended)
       {
-        vtkMorphTargetArrays::CopyToArray(this->FloatScratch[a].data(), out);
+        continue;
       }
-      else if (!this->DoubleScratch[a].empty())
+      const size_t numAttributes = part.Built->Model.GetNumberOfAttributes();
+      for (size_t a = 0; a < numAttributes; ++a)
       {
-        vtkMorphTargetArrays::CopyToArray(this->DoubleScratch[a].data(), out);
+        vtkDataArray* out = a == 0 ? part.Outputs.Points->GetData() : part.Outputs.Arrays[a - 1].GetPointer();
+        if (!part.FloatScratch[a].empty())
+        {
+          vtkMorphTargetArrays::CopyToArray(part.FloatScratch[a].data(), out);
+        }
+        else if (!part.DoubleScratch[a].empty())
+        {
+          vtkMorphTargetArrays::CopyToArray(part.DoubleScratch[a].data(), out);
+        }
+        out->Modified(); // written through raw pointers: renderers re-upload on MTime
       }
-      out->Modified(); // written through raw pointers: renderers re-upload on MTime
+      part.Outputs.Points->Modified();
     }
-    this->Outputs.Points->Modified();
   }
 
-  /// The animated region and each target's per-point distance from the neutral.
-  const std::vector<vtkSmartPointer<vtkDataArray>>& DistanceArrays()
+  /// A part's animated region and each of the model's targets' per-point distance from the
+  /// neutral (zeros for a target the part does not have).
+  const std::vector<vtkSmartPointer<vtkDataArray>>& DistanceArrays(Part& part)
   {
-    if (this->Distances.empty() && this->Built)
+    if (!part.Distances.empty())
     {
-      const morphnode::MorphMesh& model = this->Built->Model;
-      this->Distances.push_back(
-        adapter::MakeDoubleArray(adapter::AnimatedRegionArray, model.ComputeAnimatedRegion()));
-      for (size_t i = 1; i < model.GetNumberOfTargets(); ++i)
-      {
-        const std::string name = adapter::DistancePrefix + model.GetTargetNames()[i];
-        this->Distances.push_back(
-          adapter::MakeDoubleArray(name.c_str(), model.ComputePointDistances(i)));
-      }
+      return part.Distances;
     }
-    return this->Distances;
+    const auto& names = this->Names();
+    const size_t n = part.Input ? static_cast<size_t>(part.Input->GetNumberOfPoints()) : 0;
+    if (!part.Built || part.ScenePart < 0)
+    {
+      const std::vector<double> zeros(n, 0.0);
+      part.Distances.push_back(adapter::MakeDoubleArray(adapter::AnimatedRegionArray, zeros));
+      for (size_t i = 1; i < names.size(); ++i)
+      {
+        part.Distances.push_back(adapter::MakeDoubleArray((adapter::DistancePrefix + names[i]).c_str(), zeros));
+      }
+      return part.Distances;
+    }
+    const morphnode::MorphMesh& model = part.Built->Model;
+    part.Distances.push_back(
+      adapter::MakeDoubleArray(adapter::AnimatedRegionArray, model.ComputeAnimatedRegion()));
+    const std::vector<size_t>& targets = this->Scene.GetPartTargets(static_cast<size_t>(part.ScenePart));
+    std::vector<size_t> own(names.size(), 0); // the part's target of each scene target, 0: none
+    for (size_t k = 1; k < targets.size(); ++k)
+    {
+      own[targets[k]] = k;
+    }
+    for (size_t i = 1; i < names.size(); ++i)
+    {
+      const std::string name = adapter::DistancePrefix + names[i];
+      part.Distances.push_back(adapter::MakeDoubleArray(name.c_str(),
+        own[i] ? model.ComputePointDistances(own[i]) : std::vector<double>(model.GetNumberOfPoints(), 0.0)));
+    }
+    return part.Distances;
   }
 
   /// `values` in the ArrayT held by `slot`, rewritten in place when only `slot` holds it.
@@ -447,18 +890,64 @@ struct vtkMorphNodeFilter::vtkInternals
     return array;
   }
 
-  /// The neutral's structure, blended arrays in place of the neutral's, field data.
-  void AssembleOutput(vtkMorphNodeFilter* self, vtkPointSet* neutral, vtkPointSet* output)
+  /// This execution's field data arrays, shared by every output data set.
+  std::vector<vtkDataArray*> FieldArrays(vtkMorphNodeFilter* self)
+  {
+    const morphnode::MorphScene& scene = this->Scene;
+    static const std::vector<double> none;
+    const auto& effective = this->HasScene ? scene.GetEffectiveWeights() : none;
+    std::vector<vtkDataArray*> arrays;
+    arrays.push_back(Values<vtkDoubleArray>(this->EffectiveWeightsOut, adapter::EffectiveWeightsArray, effective));
+    const int active[] = { this->HasScene ? scene.GetActiveTargetCount() : 0 };
+    arrays.push_back(Values<vtkIntArray>(this->ActiveTargetCountOut, adapter::ActiveTargetCountArray, active));
+    const double bound[] = { this->HasScene ? scene.GetErrorBound() : 0.0 };
+    arrays.push_back(Values<vtkDoubleArray>(this->ErrorBoundOut, adapter::ErrorBoundArray, bound));
+    if (self->GenerateDistanceArrays)
+    {
+      arrays.push_back(this->DistNormOut);
+    }
+    return arrays;
+  }
+
+  /// A data set of the output: the neutral's structure, blended arrays in place of the
+  /// neutral's (or the neutral's own when it is not blended), field data.
+  void AssembleOutput(vtkMorphNodeFilter* self, Part& part, vtkPointSet* neutral, vtkPointSet* output,
+    const std::vector<vtkDataArray*>& fieldArrays)
   {
     output->CopyStructure(neutral);
-    output->SetPoints(this->Outputs.Points);
-    adapter::AssemblePointData(neutral->GetPointData(), *this->Built, this->Outputs, output->GetPointData());
+    vtkPointData* pd = output->GetPointData();
+    if (part.Blended)
+    {
+      output->SetPoints(part.Outputs.Points);
+      adapter::AssemblePointData(neutral->GetPointData(), *part.Built, part.Outputs, pd);
+    }
+    else if (part.Built)
+    {
+      // Not moved: the neutral's arrays as they are, the target arrays left out.
+      for (const adapter::OutputArraySource& source : part.Built->PointArrays)
+      {
+        vtkAbstractArray* array = neutral->GetPointData()->GetAbstractArray(source.NeutralIndex);
+        if (array)
+        {
+          const int index = pd->AddArray(array);
+          if (source.Attribute >= 0)
+          {
+            pd->SetActiveAttribute(index, source.Attribute);
+          }
+        }
+      }
+    }
+    else
+    {
+      pd->PassData(neutral->GetPointData());
+      vtkMorphTargetArrays::RemoveTargetArrays(pd);
+    }
     output->GetCellData()->PassData(neutral->GetCellData());
     if (self->GenerateDistanceArrays)
     {
-      for (vtkDataArray* array : this->DistanceArrays())
+      for (vtkDataArray* array : this->DistanceArrays(part))
       {
-        output->GetPointData()->AddArray(array);
+        pd->AddArray(array);
       }
     }
     vtkFieldData* fd = output->GetFieldData();
@@ -475,17 +964,29 @@ struct vtkMorphNodeFilter::vtkInternals
         fd->AddArray(array);
       }
     }
-    const morphnode::MorphNode& node = this->Node;
     fd->AddArray(this->TargetNames);
-    fd->AddArray(Values<vtkDoubleArray>(
-      this->EffectiveWeightsOut, adapter::EffectiveWeightsArray, node.GetEffectiveWeights()));
-    const int active[] = { node.GetActiveTargetCount() };
-    fd->AddArray(Values<vtkIntArray>(this->ActiveTargetCountOut, adapter::ActiveTargetCountArray, active));
-    const double bound[] = { node.GetErrorBound() };
-    fd->AddArray(Values<vtkDoubleArray>(this->ErrorBoundOut, adapter::ErrorBoundArray, bound));
-    if (self->GenerateDistanceArrays)
+    for (vtkDataArray* array : fieldArrays)
     {
-      fd->AddArray(this->DistNormOut);
+      fd->AddArray(array);
+    }
+  }
+
+  /// The output of a composite input: its structure, one assembled data set per leaf.
+  void AssembleComposite(vtkMorphNodeFilter* self, vtkCompositeDataSet* output)
+  {
+    output->CopyStructure(this->CompositeInput);
+    output->GetFieldData()->PassData(this->CompositeInput->GetFieldData());
+    output->GetFieldData()->AddArray(this->TargetNames);
+    const std::vector<vtkDataArray*> fieldArrays = this->FieldArrays(self);
+    auto it = Leaves(this->CompositeInput);
+    size_t i = 0;
+    for (it->InitTraversal(); !it->IsDoneWithTraversal() && i < this->Parts.size(); it->GoToNextItem(), ++i)
+    {
+      Part& part = this->Parts[i];
+      vtkSmartPointer<vtkPointSet> leaf;
+      leaf.TakeReference(part.Input->NewInstance());
+      this->AssembleOutput(self, part, part.Input, leaf, fieldArrays);
+      output->SetDataSet(it, leaf);
     }
   }
 };
@@ -499,10 +1000,17 @@ vtkMorphNodeFilter::vtkMorphNodeFilter()
 {
   this->SetNumberOfInputPorts(2);
   this->Internals->DistNorm->SetName(adapter::DistNormArray);
+  this->SetController(vtkMultiProcessController::GetGlobalController());
 }
 
 //------------------------------------------------------------------------------
-vtkMorphNodeFilter::~vtkMorphNodeFilter() = default;
+vtkMorphNodeFilter::~vtkMorphNodeFilter()
+{
+  this->SetController(nullptr);
+}
+
+//------------------------------------------------------------------------------
+vtkCxxSetObjectMacro(vtkMorphNodeFilter, Controller, vtkMultiProcessController);
 
 //------------------------------------------------------------------------------
 int vtkMorphNodeFilter::FillInputPortInformation(int port, vtkInformation* info)
@@ -510,12 +1018,42 @@ int vtkMorphNodeFilter::FillInputPortInformation(int port, vtkInformation* info)
   if (port == 0)
   {
     info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPointSet");
+    info->Append(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkCompositeDataSet");
     info->Set(vtkAlgorithm::INPUT_IS_REPEATABLE(), 1);
     return 1;
   }
   info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkTable");
   info->Set(vtkAlgorithm::INPUT_IS_OPTIONAL(), 1);
   return 1;
+}
+
+//------------------------------------------------------------------------------
+int vtkMorphNodeFilter::FillOutputPortInformation(int, vtkInformation* info)
+{
+  // The input's type: a point set, or a composite data set (a whole head).
+  info->Set(vtkDataObject::DATA_TYPE_NAME(), "vtkDataObject");
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+int vtkMorphNodeFilter::RequestDataObject(
+  vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);
+  vtkDataObject* input = inInfo ? vtkDataObject::GetData(inInfo) : nullptr;
+  if (auto* composite = vtkCompositeDataSet::SafeDownCast(input))
+  {
+    vtkInformation* outInfo = outputVector->GetInformationObject(0);
+    vtkDataObject* output = vtkDataObject::GetData(outInfo);
+    if (!output || !output->IsA(composite->GetClassName()))
+    {
+      vtkSmartPointer<vtkDataObject> fresh;
+      fresh.TakeReference(composite->NewInstance());
+      outInfo->Set(vtkDataObject::DATA_OBJECT(), fresh);
+    }
+    return 1;
+  }
+  return this->Superclass::RequestDataObject(request, inputVector, outputVector);
 }
 
 //------------------------------------------------------------------------------
@@ -527,14 +1065,35 @@ void vtkMorphNodeFilter::SetWeightsConnection(vtkAlgorithmOutput* output)
 //------------------------------------------------------------------------------
 int vtkMorphNodeFilter::GetNumberOfTargets()
 {
-  if (this->Internals->Built)
+  if (this->Internals->Ready)
   {
-    return static_cast<int>(this->Internals->Built->Model.GetNumberOfTargets());
+    return static_cast<int>(this->Internals->Names().size());
   }
   const int connections = this->GetNumberOfInputConnections(0);
   if (connections != 1)
   {
     return connections;
+  }
+  // A composite: every leaf's target names, by name.
+  if (auto* composite = vtkCompositeDataSet::SafeDownCast(this->GetInputDataObject(0, 0)))
+  {
+    std::set<std::string> targets; // the leaves' targets, the neutral not counted
+    auto it = Leaves(composite);
+    for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem())
+    {
+      auto* leaf = vtkPointSet::SafeDownCast(it->GetCurrentDataObject());
+      try
+      {
+        const size_t n = leaf ? vtkMorphTargetArrays::CountTargets(leaf->GetPointData(), leaf->GetNumberOfPoints()) : 0;
+        const auto names = vtkMorphTargetArrays::GetTargetNames(leaf ? leaf->GetFieldData() : nullptr, n + 1);
+        targets.insert(names.begin() + 1, names.end());
+      }
+      catch (const std::exception&)
+      {
+        // Bad leaves are reported when the filter executes.
+      }
+    }
+    return 1 + static_cast<int>(targets.size());
   }
   // One connection: the glTF form if the data carries target arrays.
   vtkPointSet* input = vtkPointSet::SafeDownCast(this->GetInputDataObject(0, 0));
@@ -562,11 +1121,11 @@ const char* vtkMorphNodeFilter::GetTargetName(int index)
 //------------------------------------------------------------------------------
 int vtkMorphNodeFilter::GetTargetIndex(const char* name)
 {
-  if (!this->Internals->Built || !name)
+  if (!this->Internals->Ready || !name)
   {
     return -1;
   }
-  return this->Internals->Built->Model.FindTarget(name);
+  return this->Internals->NamesModel.FindTarget(name);
 }
 
 //------------------------------------------------------------------------------
@@ -644,7 +1203,7 @@ void vtkMorphNodeFilter::ResetWeights()
 //------------------------------------------------------------------------------
 double vtkMorphNodeFilter::GetEffectiveWeight(int index)
 {
-  const auto& w = this->Internals->Node.GetEffectiveWeights();
+  const auto& w = this->Internals->Scene.GetEffectiveWeights();
   return this->Internals->Valid && index >= 0 && static_cast<size_t>(index) < w.size()
     ? w[static_cast<size_t>(index)]
     : 0.0;
@@ -653,7 +1212,7 @@ double vtkMorphNodeFilter::GetEffectiveWeight(int index)
 //------------------------------------------------------------------------------
 void vtkMorphNodeFilter::ResetHysteresis()
 {
-  this->Internals->Node.ResetHistory();
+  this->Internals->Scene.ResetHistory();
 }
 
 //------------------------------------------------------------------------------
@@ -743,13 +1302,20 @@ vtkDoubleArray* vtkMorphNodeFilter::GetDistNorm()
 //------------------------------------------------------------------------------
 const morphnode::MorphMesh* vtkMorphNodeFilter::GetMorphModel()
 {
-  return this->Internals->Built ? &this->Internals->Built->Model : nullptr;
+  for (const auto& part : this->Internals->Parts)
+  {
+    if (part.Built)
+    {
+      return &part.Built->Model;
+    }
+  }
+  return nullptr;
 }
 
 //------------------------------------------------------------------------------
-const morphnode::MorphNode* vtkMorphNodeFilter::GetMorphNode()
+const morphnode::MorphScene* vtkMorphNodeFilter::GetMorphScene()
 {
-  return &this->Internals->Node;
+  return &this->Internals->Scene;
 }
 
 //------------------------------------------------------------------------------
@@ -788,43 +1354,56 @@ int vtkMorphNodeFilter::ExecuteInformation(
 int vtkMorphNodeFilter::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
-  vtkPointSet* output = vtkPointSet::GetData(outputVector, 0);
+  vtkDataObject* output = vtkDataObject::GetData(outputVector, 0);
   vtkInternals& internals = *this->Internals;
   internals.Valid = false;
   this->ActiveTargetCount = 0;
   this->ErrorBound = 0.0;
   try
   {
-    // 1. The mesh, rebuilt only when an input or the storage choice changed.
-    internals.Inputs.clear();
-    for (int i = 0; i < inputVector[0]->GetNumberOfInformationObjects(); ++i)
-    {
-      internals.Inputs.push_back(vtkPointSet::GetData(inputVector[0], i));
-    }
+    // 1. The model, rebuilt only when an input or the storage choice changed (in parallel,
+    // with every process's figures).
+    internals.CollectInputs(inputVector[0]);
     internals.UpdateModel(this);
     this->UpdateProgress(0.3);
 
-    // 2. Weight rules and the optimizer: the core node.
-    internals.GatherRequested(this, vtkTable::GetData(inputVector[1], 0));
-    internals.ApplySettings(this);
-    internals.Node.SetWeights(internals.Requested);
+    // 2. Weight rules and the optimizer, once for the whole model: the core scene.
+    if (internals.HasScene)
+    {
+      internals.GatherRequested(this, vtkTable::GetData(inputVector[1], 0));
+      internals.ApplySettings(this);
+      internals.Scene.SetWeights(internals.Requested);
+    }
     this->UpdateProgress(0.4);
 
-    // 3. The blend, in parallel over points, into arrays of the input's types.
+    // 3. The blend, in parallel over the points of every part, into arrays of the input's types.
     internals.Blend();
     this->UpdateProgress(0.9);
 
-    // 4. The output: the neutral's structure with the blended arrays and field data.
-    internals.AssembleOutput(this, internals.Inputs[0], output);
+    // 4. The output: the input's structure with the blended arrays and field data.
+    if (auto* composite = vtkCompositeDataSet::SafeDownCast(output))
+    {
+      internals.AssembleComposite(this, composite);
+    }
+    else if (auto* points = vtkPointSet::SafeDownCast(output); points && internals.Parts.size() == 1)
+    {
+      internals.AssembleOutput(this, internals.Parts[0], internals.Parts[0].Input, points,
+        internals.FieldArrays(this));
+    }
+    else
+    {
+      throw morphnode::InputError(std::string("internal: an output of type ") + output->GetClassName() +
+        " for an input of " + std::to_string(internals.Parts.size()) + " parts");
+    }
     vtkInformation* outInfo = outputVector->GetInformationObject(0);
     if (outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP()))
     {
       output->GetInformation()->Set(vtkDataObject::DATA_TIME_STEP(),
         outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP()));
     }
-    internals.Valid = true;
-    this->ActiveTargetCount = internals.Node.GetActiveTargetCount();
-    this->ErrorBound = internals.Node.GetErrorBound();
+    internals.Valid = internals.HasScene;
+    this->ActiveTargetCount = internals.HasScene ? internals.Scene.GetActiveTargetCount() : 0;
+    this->ErrorBound = internals.HasScene ? internals.Scene.GetErrorBound() : 0.0;
     this->UpdateProgress(1.0);
     return 1;
   }
@@ -852,6 +1431,8 @@ void vtkMorphNodeFilter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "GenerateDistanceArrays: " << (this->GenerateDistanceArrays ? "On" : "Off") << "\n";
   os << indent << "SparseCoverage: " << this->SparseCoverage << "\n";
   os << indent << "NumberOfTargets: " << internals.Names().size() << "\n";
+  os << indent << "NumberOfParts: " << internals.Parts.size() << "\n";
+  os << indent << "Controller: " << this->Controller << "\n";
   os << indent << "Weights (requested):";
   for (size_t i = 0; i < internals.ByIndex.size(); ++i)
   {
@@ -868,7 +1449,7 @@ void vtkMorphNodeFilter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "EffectiveWeights:";
   if (internals.Valid)
   {
-    for (double w : internals.Node.GetEffectiveWeights())
+    for (double w : internals.Scene.GetEffectiveWeights())
     {
       os << " " << w;
     }

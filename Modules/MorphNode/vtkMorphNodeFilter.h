@@ -4,7 +4,8 @@
  * @brief   blends morph targets by weights, like Java3D's Morph node, with the
  *          weight optimizer of Berner (WSCG 2004) and an error-bounded one
  *
- * Targets arrive on input port 0 in one of two forms:
+ * Targets arrive on input port 0 in one of two forms (and a whole head as a composite of
+ * the second, see below):
  *
  * - Java3D style: several connections (AddInputConnection(0, ...)), each an absolute
  *   geometry (any vtkPointSet). Connection 0 is the neutral. All targets have the same
@@ -44,6 +45,30 @@
  * `TargetNames`. With GenerateDistanceArrays, point data `AnimatedRegion` and
  * `Distance_<target>` (the paper's Figure 4) and field data `DistNorm` (its Table 1).
  *
+ * A whole head: the input may also be a composite data set (the
+ * vtkPartitionedDataSetCollection of vtkMorphTargetReader, a vtkMultiBlockDataSet, ...)
+ * whose leaves are point sets in the glTF form, each with its own targets (an eye may have
+ * none). The targets are matched by NAME (morphnode::MorphScene): the filter's targets are
+ * every leaf's, neutral first, in order of first appearance; a weight set by name reaches
+ * every leaf that has a target of that name and leaves the others untouched. The weight
+ * mode and the optimizer decide once for the whole model, so that parts never disagree:
+ * dist_morph is summed and the largest displacement M_i taken over all leaves, the budget
+ * and the error bound count every leaf. The output has the input's structure, leaf by
+ * leaf; every leaf's field data holds the same EffectiveWeights, ActiveTargetCount,
+ * ErrorBound, TargetNames (the model's) and DistNorm, and its own distance arrays
+ * (`Distance_<target>` is 0 on a leaf without that target). Leaves that no active target
+ * moves pass through unblended. Plain vtkPolyData input behaves as before.
+ *
+ * In parallel (a Controller with more than one process, by default the global controller,
+ * as in pvbatch and pvserver under MPI), each process holds a piece of the model, and the
+ * decisions that depend on the whole model are still made over the whole model: the
+ * processes exchange their targets' names, dist_morph sums and largest displacements once
+ * per model (an all-gather, combined in process order, so every process decides exactly
+ * the same), and points flagged as duplicates in the ghost array (vtkGhostType,
+ * DUPLICATEPOINT) are left out of the sums. Every process must execute the filter
+ * together, as with every parallel VTK filter; a process with an empty piece takes part
+ * and gives an empty output.
+ *
  * The algorithm is the core's morphnode::MorphNode; this class adapts VTK data to it.
  * Work follows the active targets (a zero weight costs nothing) and runs in parallel
  * over points with vtkSMPTools. Bad input (no input, mismatched point counts, NaN
@@ -63,11 +88,12 @@
 #include <memory> // For std::unique_ptr
 
 class vtkDoubleArray;
+class vtkMultiProcessController;
 #ifndef __VTK_WRAP__
 namespace morphnode
 {
 class MorphMesh;
-class MorphNode;
+class MorphScene;
 }
 #endif
 
@@ -276,18 +302,29 @@ public:
    */
   vtkDoubleArray* GetDistNorm();
 
+  ///@{
+  /**
+   * The processes that hold the pieces of one model, whose decisions must agree. Default:
+   * vtkMultiProcessController::GetGlobalController() when the filter is made (nullptr
+   * without one). nullptr, or one process, decides on the local data alone.
+   */
+  virtual void SetController(vtkMultiProcessController*);
+  vtkGetObjectMacro(Controller, vtkMultiProcessController);
+  ///@}
+
 #ifndef __VTK_WRAP__
   /**
    * The core model built from the input by the last execution (nullptr before one, or
-   * after an error): for C++ tools that study the morph beyond the pipeline.
+   * after an error): the one mesh, or for a composite input its first leaf's; for C++
+   * tools that study the morph beyond the pipeline.
    */
   const morphnode::MorphMesh* GetMorphModel();
   /**
-   * The core morph node of the last execution (its mesh, settings, effective weights):
-   * valid while the filter lives; its mesh is nullptr before an execution and after input
-   * that could not be made into a mesh.
+   * The core scene of the last execution (its parts, the model's targets, settings and
+   * effective weights): valid while the filter lives; it has no parts before an
+   * execution and after input that could not be made into one.
    */
-  const morphnode::MorphNode* GetMorphNode();
+  const morphnode::MorphScene* GetMorphScene();
 #endif
 
 protected:
@@ -295,6 +332,9 @@ protected:
   ~vtkMorphNodeFilter() override;
 
   int FillInputPortInformation(int port, vtkInformation* info) override;
+  int FillOutputPortInformation(int port, vtkInformation* info) override;
+  /// The output of the input's type (a point set, or a composite data set).
+  int RequestDataObject(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int ExecuteInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
@@ -311,6 +351,7 @@ protected:
 
   int ActiveTargetCount = 0;
   double ErrorBound = 0.0;
+  vtkMultiProcessController* Controller = nullptr;
 
 private:
   vtkMorphNodeFilter(const vtkMorphNodeFilter&) = delete;
