@@ -26,6 +26,7 @@
 #include "vtkSmartPointer.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkTable.h"
+#include "MorphNodeTestSkips.h"
 
 #include <gtest/gtest.h>
 
@@ -398,6 +399,7 @@ TEST(BehaviorTimeSource, GestureAndMoodVisibleAtTheirTime)
 
 TEST(BehaviorTimeSource, BadCommandsAndScriptsAreErrorsNotCrashes)
 {
+  MORPHNODE_SKIP_WITHOUT_ESPEAK();
   vtkNew<vtkBehaviorTimeSource> source;
   vtkNew<MessageCollector> messages;
   messages->Watch(source);
@@ -511,6 +513,7 @@ TEST(BehaviorTimeSource, ExecutesOnlyWhenSomethingChanged)
 
 TEST(BehaviorTimeSource, SayVisemesLieWithinTheSpeechOfTheWav)
 {
+  MORPHNODE_SKIP_WITHOUT_ESPEAK();
   vtkNew<vtkBehaviorTimeSource> source;
   vtkNew<MessageCollector> messages;
   messages->Watch(source);
@@ -600,6 +603,7 @@ TEST(BehaviorTimeSource, SayVisemesLieWithinTheSpeechOfTheWav)
 
 TEST(BehaviorTimeSource, PaperVisemesDriveTheDefaultFace)
 {
+  MORPHNODE_SKIP_WITHOUT_ESPEAK();
   Face face;
   face.Morph->SetWeightModeToRelative();
   ASSERT_TRUE(face.Behavior->Say("Hello! How are you?", 0.2)) << face.Messages->AllErrors();
