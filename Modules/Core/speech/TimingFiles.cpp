@@ -134,7 +134,8 @@ TimingFormat GuessTimingFormat(const std::string& path, const std::string& bytes
   {
     return TimingFormat::RhubarbJson;
   }
-  const std::string_view first = text::Trim(head.substr(0, head.find('\n')));
+  const std::string firstLine = head.substr(0, head.find('\n'));
+  const std::string_view first = text::Trim(firstLine);
   const auto tokens = text::SplitWhitespace(first);
   double number = 0.0;
   if (tokens.size() == 2 && text::ParseNumber(tokens[0], number) && tokens[1].size() == 1)
