@@ -2,9 +2,10 @@
 # SPDX-License-Identifier: BSD-3-Clause
 """Checks what an offscreen avatar run (Examples/Python/morph_avatar.py, MorphAvatar) wrote.
 
-    CheckAvatarFrames.py DIR FRAMES
+    CheckAvatarFrames.py DIR FRAMES [FILE=MAGIC ...]
 
-DIR holds frame_00000.png ... and avatar.ogv / avatar.wav. Besides the count and the file
+DIR holds frame_00000.png ... and the media files FILE, each starting with MAGIC (default
+avatar.ogv=OggS avatar.wav=RIFF, what morph_avatar.py --video writes). Besides the count and the file
 headers, the face must move: the mouth region (the lower face, away from the overlay text
 at the top) of some frame must differ from the first frame's by more than MOUTH_CHANGE grey
 levels on average. File sizes are no evidence: the overlay's frame counter alone makes every
@@ -48,9 +49,10 @@ def main(argv):
     folder, expected = argv[1], int(argv[2])
     frames = sorted(f for f in os.listdir(folder) if f.startswith("frame_") and f.endswith(".png"))
     assert len(frames) == expected, f"{len(frames)} frames, expected {expected}: {frames}"
-    for name, magic in (("avatar.ogv", b"OggS"), ("avatar.wav", b"RIFF")):
+    media = [item.split("=", 1) for item in argv[3:]] or [("avatar.ogv", "OggS"), ("avatar.wav", "RIFF")]
+    for name, magic in media:
         with open(os.path.join(folder, name), "rb") as f:
-            assert f.read(4) == magic, f"{name} is not a {magic!r} file"
+            assert f.read(len(magic)) == magic.encode(), f"{name} is not a {magic} file"
     first = read(os.path.join(folder, frames[0]))
     changes = [mean_difference(first, read(os.path.join(folder, f))) for f in frames[1:]]
     largest = max(changes)
@@ -58,7 +60,7 @@ def main(argv):
     assert largest > MOUTH_CHANGE, (
         f"the face is frozen: the mouth region changes by at most {largest:.2f} grey levels "
         f"(needs > {MOUTH_CHANGE})")
-    print(f"ok: {len(frames)} frames, video and audio; the mouth region moves (up to {largest:.2f})")
+    print(f"ok: {len(frames)} frames, {', '.join(n for n, _ in media)}; the mouth region moves (up to {largest:.2f})")
     return 0
 
 
