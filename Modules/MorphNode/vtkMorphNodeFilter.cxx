@@ -319,6 +319,14 @@ struct vtkMorphNodeFilter::vtkInternals
     std::vector<std::vector<double>> DoubleScratch;
     std::vector<vtkSmartPointer<vtkDataArray>> Distances; // built on first request
     bool Blended = false;                                 // in this execution
+    /// A composite's output leaf, kept across executions and filled again in place when
+    /// nothing but the filter holds it: making and filling 11 data sets per step cost a
+    /// fifth of a head's Update. A kept leaf keeps its structure, cell data and the
+    /// neutral's field data (the input cannot have changed: that rebuilds the model, and
+    /// the parts); its points and point data are assembled again.
+    vtkSmartPointer<vtkPointSet> OutputLeaf;
+    bool LeafKept = false;
+    bool HasDistNorm = false; // the kept leaf's field data holds DistNorm
   };
   std::vector<Part> Parts;
   bool Composite = false;
@@ -326,7 +334,7 @@ struct vtkMorphNodeFilter::vtkInternals
   /// This execution's inputs: the connections of port 0 (one form) or a composite's leaves.
   std::vector<vtkPointSet*> Inputs;
   vtkCompositeDataSet* CompositeInput = nullptr;
-  std::vector<std::pair<vtkPointSet*, std::string>> LeafInputs;
+  std::vector<vtkPointSet*> LeafInputs;
 
   /// The model: the scene of the parts (targets matched by name, one decision), and what it
   /// was built from.
@@ -344,13 +352,16 @@ struct vtkMorphNodeFilter::vtkInternals
   std::vector<uint64_t> RequestOrder;
   vtkNew<vtkDoubleArray> DistNorm;
 
-  /// Blend tasks: point ranges of parts.
-  struct Task
+  /// Blend work: the point ranges of the parts to blend, one after the other, and the
+  /// tasks, each a run of about `grain` points over one or more consecutive ranges (small
+  /// parts share a task).
+  struct Range
   {
     size_t Part;
     size_t Begin, End;
   };
-  std::vector<Task> Tasks;
+  std::vector<Range> Ranges;
+  std::vector<size_t> Tasks; // first range of each task, then Ranges.size()
 
   /// Made once per model, shared by every output.
   vtkSmartPointer<vtkStringArray> TargetNames;
@@ -418,39 +429,17 @@ struct vtkMorphNodeFilter::vtkInternals
         throw morphnode::InputError("a composite input (a whole head) must be the only connection of "
                                     "port 0; the Java3D form takes point sets");
       }
-      // A collection names its partitioned data sets (the reader's parts), not their
-      // partitions; other composites name their leaves.
-      auto* collection = vtkPartitionedDataSetCollection::SafeDownCast(this->CompositeInput);
-      std::vector<std::string> names;
-      for (unsigned int d = 0; collection && d < collection->GetNumberOfPartitionedDataSets(); ++d)
-      {
-        vtkPartitionedDataSet* parts = collection->GetPartitionedDataSet(d);
-        const char* name = collection->HasMetaData(d) && collection->GetMetaData(d)->Has(vtkCompositeDataSet::NAME())
-          ? collection->GetMetaData(d)->Get(vtkCompositeDataSet::NAME())
-          : nullptr;
-        const unsigned int count = parts ? parts->GetNumberOfPartitions() : 0;
-        for (unsigned int i = 0; i < count; ++i)
-        {
-          if (parts->GetPartitionAsDataObject(i))
-          {
-            const std::string part = name ? name : "#" + std::to_string(d);
-            names.push_back(count > 1 ? part + "/" + std::to_string(i) : part);
-          }
-        }
-      }
       auto it = Leaves(this->CompositeInput);
       for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem())
       {
-        const size_t index = this->LeafInputs.size();
-        const std::string name = index < names.size() ? names[index] : LeafName(it);
         vtkDataObject* leaf = it->GetCurrentDataObject();
         auto* points = vtkPointSet::SafeDownCast(leaf);
         if (!points)
         {
-          throw morphnode::InputError("part '" + name + "' of the composite input is a " +
-            leaf->GetClassName() + "; the morph node blends point sets");
+          throw morphnode::InputError("part '" + this->LeafNames()[this->LeafInputs.size()] +
+            "' of the composite input is a " + leaf->GetClassName() + "; the morph node blends point sets");
         }
-        this->LeafInputs.emplace_back(points, name);
+        this->LeafInputs.push_back(points);
       }
       return;
     }
@@ -458,6 +447,41 @@ struct vtkMorphNodeFilter::vtkInternals
     {
       this->Inputs.push_back(vtkPointSet::GetData(port0, i));
     }
+  }
+
+  /// The composite input's leaves' names, in the iterator's order, for messages: a
+  /// collection names its partitioned data sets (the reader's parts), not their partitions;
+  /// other composites name their leaves (else "#<flat index>").
+  std::vector<std::string> LeafNames() const
+  {
+    std::vector<std::string> names;
+    auto* collection = vtkPartitionedDataSetCollection::SafeDownCast(this->CompositeInput);
+    for (unsigned int d = 0; collection && d < collection->GetNumberOfPartitionedDataSets(); ++d)
+    {
+      vtkPartitionedDataSet* parts = collection->GetPartitionedDataSet(d);
+      const char* name = collection->HasMetaData(d) && collection->GetMetaData(d)->Has(vtkCompositeDataSet::NAME())
+        ? collection->GetMetaData(d)->Get(vtkCompositeDataSet::NAME())
+        : nullptr;
+      const unsigned int count = parts ? parts->GetNumberOfPartitions() : 0;
+      for (unsigned int i = 0; i < count; ++i)
+      {
+        if (parts->GetPartitionAsDataObject(i))
+        {
+          const std::string part = name ? name : "#" + std::to_string(d);
+          names.push_back(count > 1 ? part + "/" + std::to_string(i) : part);
+        }
+      }
+    }
+    if (!collection && this->CompositeInput)
+    {
+      auto it = Leaves(this->CompositeInput);
+      for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem())
+      {
+        names.push_back(LeafName(it));
+      }
+    }
+    names.resize(std::max(names.size(), this->LeafInputs.size() + 1), "?");
+    return names;
   }
 
   /// Rebuilds the model when an input or the storage choice changed. In parallel, every
@@ -468,9 +492,9 @@ struct vtkMorphNodeFilter::vtkInternals
     if (this->CompositeInput)
     {
       this->From.emplace_back(this->CompositeInput, this->CompositeInput->GetMTime());
-      for (const auto& leaf : this->LeafInputs)
+      for (vtkPointSet* leaf : this->LeafInputs)
       {
-        this->From.emplace_back(leaf.first, leaf.first->GetMTime());
+        this->From.emplace_back(leaf, leaf->GetMTime());
       }
     }
     for (vtkPointSet* input : this->Inputs)
@@ -510,8 +534,11 @@ struct vtkMorphNodeFilter::vtkInternals
       };
       if (composite)
       {
-        for (const auto& [leaf, name] : this->LeafInputs)
+        const std::vector<std::string> names = this->LeafNames();
+        for (size_t i = 0; i < this->LeafInputs.size(); ++i)
         {
+          vtkPointSet* leaf = this->LeafInputs[i];
+          const std::string& name = names[i];
           Part part;
           part.Input = leaf;
           part.Name = name;
@@ -755,8 +782,34 @@ struct vtkMorphNodeFilter::vtkInternals
   {
     this->Tasks.clear();
     size_t total = 0;
+    // The partitioned data sets of the last output that only the filter holds let go of
+    // their leaves, which can then be kept.
+    for (auto& set : this->OutputSets)
+    {
+      if (set && set->GetReferenceCount() == 1)
+      {
+        set->Initialize();
+      }
+    }
     for (Part& part : this->Parts)
     {
+      if (this->Composite)
+      {
+        // Last execution's leaf: emptied for reuse (which frees the arrays it held for the
+        // blend to write in place) when no one else holds it, else a new one.
+        part.LeafKept = part.OutputLeaf && part.OutputLeaf->GetReferenceCount() == 1 &&
+          part.OutputLeaf->IsA(part.Input->GetClassName());
+        if (part.LeafKept)
+        {
+          // Frees the points and arrays it held, for the blend to write them in place.
+          part.OutputLeaf->SetPoints(nullptr);
+          part.OutputLeaf->GetPointData()->Initialize();
+        }
+        else
+        {
+          part.OutputLeaf.TakeReference(part.Input->NewInstance());
+        }
+      }
       part.Blended = part.ScenePart >= 0 &&
         (!this->Composite || this->Scene.IsPartMoved(static_cast<size_t>(part.ScenePart)));
       if (part.Blended)
@@ -768,38 +821,53 @@ struct vtkMorphNodeFilter::vtkInternals
     }
     const int threads = vtkSMPTools::GetEstimatedNumberOfThreads();
     const bool serial = threads <= 1 || total < static_cast<size_t>(2 * MinPointsPerTask);
-    // A few ranges per thread: enough to even out a busy core, few enough that handing
-    // them out costs little next to blending them.
+    // A few tasks per thread: enough to even out a busy core, few enough that handing them
+    // out costs little next to blending them.
     const size_t grain = serial
       ? std::numeric_limits<size_t>::max()
       : std::max(static_cast<size_t>(MinPointsPerTask), total / static_cast<size_t>(4 * threads));
+    this->Ranges.clear();
+    size_t filled = 0; // points in the current task
     for (size_t p = 0; p < this->Parts.size(); ++p)
     {
-      if (this->Parts[p].Blended)
+      if (!this->Parts[p].Blended)
       {
-        const size_t n = this->Parts[p].Built->Model.GetNumberOfPoints();
-        for (size_t begin = 0; begin < n; begin += std::min(grain, n - begin))
+        continue;
+      }
+      const size_t n = this->Parts[p].Built->Model.GetNumberOfPoints();
+      for (size_t begin = 0; begin < n;)
+      {
+        if (filled == 0)
         {
-          this->Tasks.push_back({ p, begin, begin + std::min(grain, n - begin) });
+          this->Tasks.push_back(this->Ranges.size());
         }
+        const size_t end = begin + std::min(grain - filled, n - begin);
+        this->Ranges.push_back({ p, begin, end });
+        filled = (filled + end - begin) % grain;
+        begin = end;
       }
     }
+    this->Tasks.push_back(this->Ranges.size());
     const morphnode::MorphScene& scene = this->Scene;
     auto run = [this, &scene](size_t t) {
-      const Task& task = this->Tasks[t];
-      const Part& part = this->Parts[task.Part];
-      scene.Blend(static_cast<size_t>(part.ScenePart), part.Where, task.Begin, task.End);
+      for (size_t r = this->Tasks[t]; r < this->Tasks[t + 1]; ++r)
+      {
+        const Range& range = this->Ranges[r];
+        const Part& part = this->Parts[range.Part];
+        scene.Blend(static_cast<size_t>(part.ScenePart), part.Where, range.Begin, range.End);
+      }
     };
-    if (serial || this->Tasks.size() == 1)
+    const size_t numTasks = this->Tasks.size() - 1;
+    if (serial || numTasks <= 1)
     {
-      for (size_t t = 0; t < this->Tasks.size(); ++t)
+      for (size_t t = 0; t < numTasks; ++t)
       {
         run(t);
       }
     }
     else
     {
-      vtkSMPTools::For(0, static_cast<vtkIdType>(this->Tasks.size()), 1, [&run](vtkIdType begin, vtkIdType end) {
+      vtkSMPTools::For(0, static_cast<vtkIdType>(numTasks), 1, [&run](vtkIdType begin, vtkIdType end) {
         for (vtkIdType t = begin; t < end; ++t)
         {
           run(static_cast<size_t>(t));
@@ -868,12 +936,16 @@ struct vtkMorphNodeFilter::vtkInternals
     return part.Distances;
   }
 
-  /// `values` in the ArrayT held by `slot`, rewritten in place when only `slot` holds it.
+  /// `values` in the ArrayT held by `slot`, rewritten in place when only `slot` and
+  /// `holders` more references (the filter's kept output leaves) hold it; `fresh` tells
+  /// whether a new array was made.
   template <typename ArrayT, typename Range>
-  static vtkDataArray* Values(vtkSmartPointer<vtkDataArray>& slot, const char* name, const Range& values)
+  static vtkDataArray* Values(vtkSmartPointer<vtkDataArray>& slot, const char* name, const Range& values,
+    int holders, bool& fresh)
   {
     ArrayT* array = ArrayT::SafeDownCast(slot);
-    if (!array || slot->GetReferenceCount() != 1)
+    fresh = !array || slot->GetReferenceCount() != 1 + holders;
+    if (fresh)
     {
       auto fresh = vtkSmartPointer<ArrayT>::New();
       fresh->SetName(name);
@@ -890,18 +962,25 @@ struct vtkMorphNodeFilter::vtkInternals
     return array;
   }
 
-  /// This execution's field data arrays, shared by every output data set.
-  std::vector<vtkDataArray*> FieldArrays(vtkMorphNodeFilter* self)
+  /// This execution's field data arrays, shared by every output data set: EffectiveWeights,
+  /// ActiveTargetCount, ErrorBound (rewritten in place when only the filter and its `kept`
+  /// output leaves hold them: `fresh` tells whether any is new, so that kept leaves need
+  /// it), and DistNorm when distances are asked for.
+  std::vector<vtkDataArray*> FieldArrays(vtkMorphNodeFilter* self, int kept, bool& fresh)
   {
     const morphnode::MorphScene& scene = this->Scene;
     static const std::vector<double> none;
     const auto& effective = this->HasScene ? scene.GetEffectiveWeights() : none;
     std::vector<vtkDataArray*> arrays;
-    arrays.push_back(Values<vtkDoubleArray>(this->EffectiveWeightsOut, adapter::EffectiveWeightsArray, effective));
+    bool made[3] = { false, false, false };
+    arrays.push_back(Values<vtkDoubleArray>(
+      this->EffectiveWeightsOut, adapter::EffectiveWeightsArray, effective, kept, made[0]));
     const int active[] = { this->HasScene ? scene.GetActiveTargetCount() : 0 };
-    arrays.push_back(Values<vtkIntArray>(this->ActiveTargetCountOut, adapter::ActiveTargetCountArray, active));
+    arrays.push_back(Values<vtkIntArray>(
+      this->ActiveTargetCountOut, adapter::ActiveTargetCountArray, active, kept, made[1]));
     const double bound[] = { this->HasScene ? scene.GetErrorBound() : 0.0 };
-    arrays.push_back(Values<vtkDoubleArray>(this->ErrorBoundOut, adapter::ErrorBoundArray, bound));
+    arrays.push_back(Values<vtkDoubleArray>(this->ErrorBoundOut, adapter::ErrorBoundArray, bound, kept, made[2]));
+    fresh = made[0] || made[1] || made[2];
     if (self->GenerateDistanceArrays)
     {
       arrays.push_back(this->DistNormOut);
@@ -912,9 +991,12 @@ struct vtkMorphNodeFilter::vtkInternals
   /// A data set of the output: the neutral's structure, blended arrays in place of the
   /// neutral's (or the neutral's own when it is not blended), field data.
   void AssembleOutput(vtkMorphNodeFilter* self, Part& part, vtkPointSet* neutral, vtkPointSet* output,
-    const std::vector<vtkDataArray*>& fieldArrays)
+    const std::vector<vtkDataArray*>& fieldArrays, bool kept = false)
   {
-    output->CopyStructure(neutral);
+    if (!kept)
+    {
+      output->CopyStructure(neutral);
+    }
     vtkPointData* pd = output->GetPointData();
     if (part.Blended)
     {
@@ -923,7 +1005,8 @@ struct vtkMorphNodeFilter::vtkInternals
     }
     else if (part.Built)
     {
-      // Not moved: the neutral's arrays as they are, the target arrays left out.
+      // Not moved: the neutral's points and arrays as they are, the target arrays left out.
+      output->SetPoints(neutral->GetPoints());
       for (const adapter::OutputArraySource& source : part.Built->PointArrays)
       {
         vtkAbstractArray* array = neutral->GetPointData()->GetAbstractArray(source.NeutralIndex);
@@ -939,10 +1022,10 @@ struct vtkMorphNodeFilter::vtkInternals
     }
     else
     {
+      output->SetPoints(neutral->GetPoints());
       pd->PassData(neutral->GetPointData());
       vtkMorphTargetArrays::RemoveTargetArrays(pd);
     }
-    output->GetCellData()->PassData(neutral->GetCellData());
     if (self->GenerateDistanceArrays)
     {
       for (vtkDataArray* array : this->DistanceArrays(part))
@@ -951,6 +1034,30 @@ struct vtkMorphNodeFilter::vtkInternals
       }
     }
     vtkFieldData* fd = output->GetFieldData();
+    if (kept)
+    {
+      // The neutral's field data, the model's names and (unless `fieldArrays` holds new
+      // ones) this execution's arrays, rewritten in place, are there already.
+      if (part.HasDistNorm != self->GenerateDistanceArrays)
+      {
+        if (self->GenerateDistanceArrays)
+        {
+          fd->AddArray(this->DistNormOut);
+        }
+        else
+        {
+          fd->RemoveArray(adapter::DistNormArray);
+        }
+        part.HasDistNorm = self->GenerateDistanceArrays;
+      }
+      for (vtkDataArray* array : fieldArrays)
+      {
+        fd->AddArray(array);
+      }
+      return;
+    }
+    part.HasDistNorm = self->GenerateDistanceArrays;
+    output->GetCellData()->PassData(neutral->GetCellData());
     vtkFieldData* neutralFD = neutral->GetFieldData();
     for (int a = 0; a < neutralFD->GetNumberOfArrays(); ++a)
     {
@@ -974,20 +1081,84 @@ struct vtkMorphNodeFilter::vtkInternals
   /// The output of a composite input: its structure, one assembled data set per leaf.
   void AssembleComposite(vtkMorphNodeFilter* self, vtkCompositeDataSet* output)
   {
-    output->CopyStructure(this->CompositeInput);
+    const int kept = static_cast<int>(
+      std::count_if(this->Parts.begin(), this->Parts.end(), [](const Part& p) { return p.LeafKept; }));
+    bool fresh = false;
+    const std::vector<vtkDataArray*> fieldArrays = this->FieldArrays(self, kept, fresh);
+    const std::vector<vtkDataArray*> none;
+    for (Part& part : this->Parts)
+    {
+      this->AssembleOutput(self, part, part.Input, part.OutputLeaf,
+        part.LeafKept && !fresh ? none : fieldArrays, part.LeafKept);
+    }
+    auto* collection = vtkPartitionedDataSetCollection::SafeDownCast(this->CompositeInput);
+    auto* outCollection = vtkPartitionedDataSetCollection::SafeDownCast(output);
+    if (collection && outCollection)
+    {
+      this->AssembleCollection(collection, outCollection);
+    }
+    else
+    {
+      output->CopyStructure(this->CompositeInput);
+      auto it = Leaves(this->CompositeInput);
+      size_t i = 0;
+      for (it->InitTraversal(); !it->IsDoneWithTraversal() && i < this->Parts.size(); it->GoToNextItem(), ++i)
+      {
+        output->SetDataSet(it, this->Parts[i].OutputLeaf);
+      }
+    }
     output->GetFieldData()->PassData(this->CompositeInput->GetFieldData());
     output->GetFieldData()->AddArray(this->TargetNames);
-    const std::vector<vtkDataArray*> fieldArrays = this->FieldArrays(self);
-    auto it = Leaves(this->CompositeInput);
-    size_t i = 0;
-    for (it->InitTraversal(); !it->IsDoneWithTraversal() && i < this->Parts.size(); it->GoToNextItem(), ++i)
+  }
+
+  /// The partitioned data sets of a collection's output, kept across executions like the
+  /// leaves (a new one when anyone else holds it).
+  std::vector<vtkSmartPointer<vtkPartitionedDataSet>> OutputSets;
+
+  /// A collection's output: the input's structure (partitioned data sets, their names and
+  /// metadata, the data assembly, shared) holding the parts' output leaves, in the
+  /// iterator's order (CopyStructure, made anew each step, cost as much as the blend of a
+  /// small head).
+  void AssembleCollection(vtkPartitionedDataSetCollection* input, vtkPartitionedDataSetCollection* output)
+  {
+    const unsigned int numSets = input->GetNumberOfPartitionedDataSets();
+    output->SetNumberOfPartitionedDataSets(numSets);
+    this->OutputSets.resize(numSets);
+    size_t leaf = 0;
+    for (unsigned int d = 0; d < numSets; ++d)
     {
-      Part& part = this->Parts[i];
-      vtkSmartPointer<vtkPointSet> leaf;
-      leaf.TakeReference(part.Input->NewInstance());
-      this->AssembleOutput(self, part, part.Input, leaf, fieldArrays);
-      output->SetDataSet(it, leaf);
+      vtkPartitionedDataSet* in = input->GetPartitionedDataSet(d);
+      vtkSmartPointer<vtkPartitionedDataSet>& out = this->OutputSets[d];
+      if (!in)
+      {
+        output->SetPartitionedDataSet(d, nullptr);
+        continue;
+      }
+      if (!out || out->GetReferenceCount() != 1)
+      {
+        out = vtkSmartPointer<vtkPartitionedDataSet>::New();
+      }
+      out->Initialize();
+      const unsigned int numPartitions = in->GetNumberOfPartitions();
+      out->SetNumberOfPartitions(numPartitions);
+      for (unsigned int i = 0; i < numPartitions; ++i)
+      {
+        if (in->GetPartitionAsDataObject(i) && leaf < this->Parts.size())
+        {
+          out->SetPartition(i, this->Parts[leaf++].OutputLeaf);
+        }
+        if (in->HasMetaData(i))
+        {
+          out->GetMetaData(i)->Copy(in->GetMetaData(i));
+        }
+      }
+      output->SetPartitionedDataSet(d, out);
+      if (input->HasMetaData(d))
+      {
+        output->GetMetaData(d)->Copy(input->GetMetaData(d));
+      }
     }
+    output->SetDataAssembly(input->GetDataAssembly());
   }
 };
 
@@ -1387,8 +1558,9 @@ int vtkMorphNodeFilter::RequestData(
     }
     else if (auto* points = vtkPointSet::SafeDownCast(output); points && internals.Parts.size() == 1)
     {
+      bool fresh = false;
       internals.AssembleOutput(this, internals.Parts[0], internals.Parts[0].Input, points,
-        internals.FieldArrays(this));
+        internals.FieldArrays(this, 0, fresh));
     }
     else
     {

@@ -3,7 +3,7 @@
 // same run, on the same face and weights.
 //
 //   BenchMorph [--smoke] [--markdown FILE] [--face FILE.glb] [--java3d DIR | --no-java3d]
-//             [--java3d-rounds N] [--java3d-only]
+//             [--java3d-rounds N] [--java3d-only] [--head FILE.glb] [--head-only]
 //
 // Baselines: a naive Java3D-style blend (absolute shapes, every target, no skipping);
 // VTK 9.1's glTF morphing loop (vtkGLTFReader's ApplyMorphingToDataArray, replicated:
@@ -13,11 +13,15 @@
 // Morph node runs in the same invocation (RunJava3DMorph.sh next to this file starts the
 // Java3D harness in DIR, a separate JVM process; BenchMorph reads the timings, geometry and
 // exact weights it writes and times vtkMorphNodeFilter on them right after it, round after
-// round); without Java or Java3D that section is skipped with a message. --smoke runs every
+// round); without Java or Java3D that section is skipped with a message. A whole head (the
+// ICT head, 11 parts, or --head) morphed as its parts against the same points and targets as
+// one mesh, Update against Update (docs/scene.md). --smoke runs every
 // case once, briefly, for CI (Java3D never): it checks that the suite runs, and asserts
 // nothing about time.
 #include "vtkMorphNodeFilter.h"
 #include "vtkMorphTargetReader.h"
+
+#include "../Cxx/MorphNodeMergeParts.h"
 
 #include "base/Error.h"
 #include "base/Text.h"
@@ -990,6 +994,101 @@ void CompareWithJava3D(Report& report, const std::string& harness, const std::st
   report.Row("last speech frame: largest distance of a point from Java3D's sum w_t G_t, 14 connections",
     s.MaxError(s.Absolute, lastSpeech), "m");
 }
+// --- a whole head: its parts against one mesh ---------------------------------------
+
+/// The head read as its parts (vtkMorphTargetReader's collection, positions and normals,
+/// world space) and the same points and targets as one vtkPolyData; each through its own
+/// vtkMorphNodeFilter, a weight change and an Update per step, alternated in rounds.
+void CompareHeadWithOneMesh(Report& report, const std::string& file)
+{
+  vtkNew<vtkMorphTargetReader> reader;
+  reader->SetFileName(file.c_str());
+  reader->Update();
+  auto* head = vtkCompositeDataSet::SafeDownCast(reader->GetOutputDataObject(0));
+  const std::vector<vtkPolyData*> parts = morphnode_test::PolyDataLeaves(head);
+  if (parts.empty())
+  {
+    throw morphnode::InputError("'" + file + "' could not be read as a scene");
+  }
+  const vtkSmartPointer<vtkPolyData> one = morphnode_test::MergeParts(head);
+  vtkNew<vtkMorphNodeFilter> scene, mesh;
+  scene->SetInputData(head);
+  mesh->SetInputData(one);
+  for (vtkMorphNodeFilter* f : { scene.GetPointer(), mesh.GetPointer() })
+  {
+    f->SetWeightModeToRelative();
+    f->Update();
+  }
+  const int targets = mesh->GetNumberOfTargets() - 1;
+  int withTargets = 0;
+  for (vtkPolyData* part : parts)
+  {
+    withTargets += morphnode_test::FieldStrings(part->GetFieldData(), "TargetNames").size() > 1;
+  }
+  const std::string what = std::filesystem::path(file).filename().string() + " (" +
+    std::to_string(one->GetNumberOfPoints()) + " points, " + std::to_string(parts.size()) + " parts, " +
+    std::to_string(withTargets) + " with targets, " + std::to_string(targets) + " targets, positions + normals)";
+  std::cout << "\nWhole head: " << what << "\n";
+  report.Text << "\n**Whole head: " << what << "**\n\n| measure | value | goal |\n| --- | --- | --- |\n";
+
+  // The speech frame's targets by name (ICT/ARKit, else the paper's visemes), else spread.
+  std::vector<int> speech;
+  for (const char* name : { "jawOpen", "mouthFunnel", "mouthPucker", "mouthClose", "mouthSmile_L",
+         "mouthSmile_R", "mouthLowerDown_L", "mouthLowerDown_R", "A", "O", "MouthSmile", "BrowsUp" })
+  {
+    if (mesh->GetTargetIndex(name) > 0)
+    {
+      speech.push_back(mesh->GetTargetIndex(name));
+    }
+  }
+  for (int k = 1; speech.size() < 4 && k <= targets; k += 7)
+  {
+    speech.push_back(k);
+  }
+  std::vector<int> all;
+  for (int k = 1; k <= targets; ++k)
+  {
+    all.push_back(k);
+  }
+  struct Case
+  {
+    std::string Name;
+    std::vector<int> Active;
+    int Preset;
+  };
+  const Case cases[] = { { "speech frame", speech, vtkMorphNodeFilter::OPTIMIZER_NONE },
+    { "speech frame, adjusted threshold 0.1", speech, vtkMorphNodeFilter::OPTIMIZER_ADJUSTED },
+    { "all targets", all, vtkMorphNodeFilter::OPTIMIZER_NONE } };
+  for (const Case& c : cases)
+  {
+    for (vtkMorphNodeFilter* f : { scene.GetPointer(), mesh.GetPointer() })
+    {
+      f->ResetWeights();
+      f->SetOptimizerPreset(c.Preset);
+      f->SetThreshold(0.1);
+      for (size_t k = 0; k < c.Active.size(); ++k)
+      {
+        f->SetWeight(c.Active[k], 0.05 + 0.5 * static_cast<double>((k * 37) % 10) / 10.0);
+      }
+      f->Update();
+    }
+    int step = 0;
+    const auto update = [&](vtkMorphNodeFilter* f) {
+      f->SetWeight(c.Active[0], 0.5 + 1e-6 * (++step % 2));
+      f->Update();
+    };
+    const Alternated t({ [&] { update(scene); }, [&] { update(mesh); } }, 0.1);
+    const double ratio = t.Ratio(0, 1);
+    const std::string tag = c.Name + " (" + std::to_string(c.Active.size()) + " of " + std::to_string(targets) + " active)";
+    report.Row(tag + ": " + std::to_string(parts.size()) + " parts, Update per step", t.Time(0) * 1e6, "us");
+    report.Row(tag + ": one mesh, Update per step", t.Time(1) * 1e6, "us");
+    report.Row(tag + ": parts / one mesh", ratio, "x", "<= 1.3 x");
+    report.Goal(std::filesystem::path(file).filename().string() + ", " + c.Name + ": Update of " +
+        std::to_string(parts.size()) + " parts / one mesh of the same points and targets",
+      ratio, "x", "<= 1.3 x", ratio <= 1.3);
+  }
+}
+
 void WriteMarkdown(const std::string& markdown, const Report& report, const std::string& loadBefore)
 {
   if (markdown.empty())
@@ -1010,6 +1109,8 @@ void WriteMarkdown(const std::string& markdown, const Report& report, const std:
 int main(int argc, char* argv[])
 {
   std::string face = std::string(MORPHNODE_FACEKIT_DIR) + "/ict_face11248_sparse53.glb";
+  std::string head = std::string(MORPHNODE_FACEKIT_DIR) + "/ict_head_full53.glb";
+  bool headOnly = false;
   std::string markdown;
   std::string java3d = MORPHNODE_JAVA3D_HARNESS_DIR;
   int java3dRounds = 3;
@@ -1045,10 +1146,18 @@ int main(int argc, char* argv[])
     {
       face = argv[++i];
     }
+    else if (arg == "--head" && i + 1 < argc)
+    {
+      head = argv[++i];
+    }
+    else if (arg == "--head-only")
+    {
+      headOnly = true;
+    }
     else
     {
       std::cerr << "usage: BenchMorph [--smoke] [--markdown FILE] [--face FILE.glb] [--java3d DIR | --no-java3d]"
-                   " [--java3d-rounds N] [--java3d-only]\n";
+                   " [--java3d-rounds N] [--java3d-only] [--head FILE.glb] [--head-only]\n";
       return 2;
     }
   }
@@ -1081,6 +1190,27 @@ int main(int argc, char* argv[])
   if (java3dOnly)
   {
     java3dSection();
+    WriteMarkdown(markdown, report, loadBefore);
+    return 0;
+  }
+  // A whole head as parts against one mesh (the project's default head without ICT-FaceKit).
+  const auto headSection = [&] {
+    const std::string file = std::ifstream(head)
+      ? head
+      : std::string(MORPHNODE_BENCHMARK_DIR) + "/../../Data/DefaultFace/default_head.glb";
+    try
+    {
+      CompareHeadWithOneMesh(report, file);
+    }
+    catch (const std::exception& e)
+    {
+      std::cout << "Whole-head comparison failed: " << e.what() << "\n";
+      report.Skipped("whole head as parts / one mesh", "<= 1.3 x", std::string("failed: ") + e.what());
+    }
+  };
+  if (headOnly)
+  {
+    headSection();
     WriteMarkdown(markdown, report, loadBefore);
     return 0;
   }
@@ -1388,6 +1518,8 @@ int main(int argc, char* argv[])
       std::cout << std::left << std::setw(14) << ("3 x " + std::to_string(mib) + " MiB") << Format(gbs) << " GB/s\n";
     }
   }
+
+  headSection();
 
   // Last, so that the JVM's runs and the 14-geometry scene do not disturb the figures above
   // (the doubling test read 5 % instead of 1-2 % when it ran after them).

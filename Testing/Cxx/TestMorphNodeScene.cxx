@@ -6,6 +6,7 @@
 #include "vtkMorphNodeFilter.h"
 #include "vtkMorphTargetReader.h"
 
+#include "MorphNodeMergeParts.h"
 #include "MorphNodeTestScenes.h"
 #include "MorphNodeTestUtilities.h"
 
@@ -91,101 +92,6 @@ std::vector<double> Values(vtkFieldData* fd, const char* name)
   return values;
 }
 
-/// Every part of a head as ONE vtkPolyData: the points in part order, the triangles, the
-/// normals, and one target<k>_position/_normal per target of the whole head (by name, in
-/// order of first appearance; zeros on the points of parts without that target).
-vtkSmartPointer<vtkPolyData> MergeParts(vtkPartitionedDataSetCollection* head)
-{
-  std::vector<std::string> names{ "Neutral" };
-  std::vector<vtkPolyData*> parts = Leaves(head);
-  vtkIdType total = 0;
-  for (vtkPolyData* part : parts)
-  {
-    for (const std::string& name : StringValues(part->GetFieldData(), "TargetNames"))
-    {
-      if (std::find(names.begin(), names.end(), name) == names.end())
-      {
-        names.push_back(name);
-      }
-    }
-    total += part->GetNumberOfPoints();
-  }
-  auto merged = vtkSmartPointer<vtkPolyData>::New();
-  vtkNew<vtkFloatArray> points, normals;
-  points->SetNumberOfComponents(3);
-  points->SetNumberOfTuples(total);
-  normals->SetName("Normals");
-  normals->SetNumberOfComponents(3);
-  normals->SetNumberOfTuples(total);
-  std::vector<vtkSmartPointer<vtkFloatArray>> deltas, normalDeltas;
-  for (size_t k = 0; k + 1 < names.size(); ++k)
-  {
-    for (auto* list : { &deltas, &normalDeltas })
-    {
-      auto a = vtkSmartPointer<vtkFloatArray>::New();
-      a->SetName(("target" + std::to_string(k) + (list == &deltas ? "_position" : "_normal")).c_str());
-      a->SetNumberOfComponents(3);
-      a->SetNumberOfTuples(total);
-      a->Fill(0.0);
-      list->push_back(a);
-    }
-  }
-  vtkNew<vtkCellArray> polys;
-  vtkIdType offset = 0;
-  for (vtkPolyData* part : parts)
-  {
-    const vtkIdType n = part->GetNumberOfPoints();
-    const std::vector<std::string> own = StringValues(part->GetFieldData(), "TargetNames");
-    for (vtkIdType i = 0; i < n; ++i)
-    {
-      points->SetTuple(offset + i, part->GetPoints()->GetData()->GetTuple(i));
-      normals->SetTuple(offset + i, part->GetPointData()->GetNormals()->GetTuple(i));
-    }
-    for (size_t k = 1; k < own.size(); ++k)
-    {
-      const size_t m = static_cast<size_t>(std::find(names.begin(), names.end(), own[k]) - names.begin()) - 1;
-      vtkDataArray* d = part->GetPointData()->GetArray(("target" + std::to_string(k - 1) + "_position").c_str());
-      vtkDataArray* nd = part->GetPointData()->GetArray(("target" + std::to_string(k - 1) + "_normal").c_str());
-      for (vtkIdType i = 0; i < n; ++i)
-      {
-        deltas[m]->SetTuple(offset + i, d->GetTuple(i));
-        normalDeltas[m]->SetTuple(offset + i, nd->GetTuple(i));
-      }
-    }
-    const vtkIdType* cell = nullptr;
-    vtkIdType size = 0;
-    vtkCellArray* own_polys = part->GetPolys();
-    for (own_polys->InitTraversal(); own_polys->GetNextCell(size, cell);)
-    {
-      std::vector<vtkIdType> ids(cell, cell + size);
-      for (vtkIdType& id : ids)
-      {
-        id += offset;
-      }
-      polys->InsertNextCell(size, ids.data());
-    }
-    offset += n;
-  }
-  vtkNew<vtkPoints> p;
-  p->SetData(points);
-  merged->SetPoints(p);
-  merged->SetPolys(polys);
-  merged->GetPointData()->SetNormals(normals);
-  for (size_t k = 0; k < deltas.size(); ++k)
-  {
-    merged->GetPointData()->AddArray(deltas[k]);
-    merged->GetPointData()->AddArray(normalDeltas[k]);
-  }
-  vtkNew<vtkStringArray> targetNames;
-  targetNames->SetName("TargetNames");
-  for (const std::string& name : names)
-  {
-    targetNames->InsertNextValue(name);
-  }
-  merged->GetFieldData()->AddArray(targetNames);
-  return merged;
-}
-
 /// A new collection holding the same parts (with their names).
 vtkSmartPointer<vtkPartitionedDataSetCollection> CopyOf(vtkPartitionedDataSetCollection* head)
 {
@@ -211,7 +117,7 @@ double Size(vtkPolyData* merged)
 /// optimizer pruned over all frames (a test that prunes nothing proves nothing).
 int CompareWithOneMesh(vtkPartitionedDataSetCollection* head, const std::string& what)
 {
-  auto merged = MergeParts(head);
+  auto merged = morphnode_test::MergeParts(head);
   const double size = Size(merged);
   vtkNew<vtkMorphNodeFilter> parts, one;
   parts->SetInputData(head);
