@@ -1,13 +1,16 @@
-"""pvbatch test of the MorphNode plugin on the ICT-FaceKit face (one process).
+"""pvbatch test of the MorphNode plugin on the ICT-FaceKit face and head (one process).
 
     pvbatch --force-offscreen-rendering TestMorphNodePlugin.py \
         --plugin /tmp/build-paraview/.../MorphNodePlugin.so --png face.png
 
-Loads the plugin, reads the face with the plugin's reader, blends two targets through
-the filter's properties and checks the result against a blend computed here with numpy
-from the reader's own target arrays; checks the AnimatedRegion distance map, the
+Loads the plugin, reads the face (one mesh) with the plugin's reader, blends two targets
+through the filter's properties and checks the result against a blend computed here with
+numpy from the reader's own target arrays; checks the AnimatedRegion distance map, the
 optimizer properties, a temporal weights table on the WeightsTable input, and saves a
-screenshot coloured by AnimatedRegion.
+screenshot coloured by AnimatedRegion. Then the whole ICT head (11 parts, the reader's
+default): every part morphed by the weights set once by name, checked part by part against
+numpy, the same decision and distance maps in every part, and a screenshot of the head
+(face.png's name with -head) coloured by Distance_jawOpen.
 """
 import os
 import sys
@@ -63,7 +66,7 @@ def run(c, args):
             "File > Open lists 'MorphNode Face (glTF with morph targets) (*.glb *.gltf)'")
 
     # --- the reader -------------------------------------------------------------------
-    reader = MorphNodeFaceReader(FileName=face)  # noqa: F821 - defined by LoadPlugin
+    reader = MorphNodeFaceReader(FileName=face, MeshIndex=0)  # noqa: F821 - one mesh
     neutral = sm.Fetch(reader)
     c.require(neutral.GetNumberOfPoints() == 11248,
               "the ICT face has 11248 points (got %d)" % neutral.GetNumberOfPoints())
@@ -208,8 +211,126 @@ def run(c, args):
                     "pixels)" % (colours, 100.0 * face_pixels / len(pixels)))
 
 
+def parts_of(collection):
+    """[(name, vtkPolyData)] of a vtkPartitionedDataSetCollection, in order."""
+    from vtkmodules.vtkCommonDataModel import vtkCompositeDataSet
+    parts = []
+    for i in range(collection.GetNumberOfPartitionedDataSets()):
+        meta = collection.GetMetaData(i) if collection.HasMetaData(i) else None
+        name = meta.Get(vtkCompositeDataSet.NAME()) if meta is not None else "#%d" % i
+        parts.append((name, collection.GetPartition(i, 0)))
+    return parts
+
+
+def local_output(proxy):
+    """The proxy's output data object itself. pvbatch on one process runs client and server
+    in one process; ParaView 5.11's Fetch cannot move a vtkPartitionedDataSetCollection
+    (its reduction puts the collection into a vtkMultiBlockDataSet, which refuses it)."""
+    proxy.UpdatePipeline()
+    return proxy.GetClientSideObject().GetOutputDataObject(0)
+
+
+def check_head(c, args, face):
+    """The whole ICT head: read as parts, morphed by name, distance maps per part."""
+    import builtins  # LoadPlugin's namespace may hold VTK's numpy algorithms' sum, max, ...
+    import numpy as np
+    from paraview import simple
+
+    head_file = os.path.join(os.path.dirname(face), "ict_head_full53.glb")
+    if not os.path.isfile(head_file):
+        print("SKIP (head): %s is missing" % head_file, flush=True)
+        return
+    reader = MorphNodeFaceReader(FileName=head_file)  # noqa: F821
+    head = local_output(reader)
+    information = reader.GetDataInformation().DataInformation
+    c.check(information.GetNumberOfPoints() == 26041, "ParaView's data information: 26041 points")
+    c.require(head is not None and head.IsA("vtkPartitionedDataSetCollection"),
+              "the head reads as a vtkPartitionedDataSetCollection (got %s)"
+              % (head.GetClassName() if head is not None else None))
+    parts = parts_of(head)
+    names = [name for name, _ in parts]
+    print("head parts: %s" % names, flush=True)
+    c.require(len(parts) == 11, "the ICT head has 11 parts (got %d)" % len(parts))
+    total = 0
+    for _, part in parts:
+        total += part.GetNumberOfPoints()
+    c.check(total == 26041, "26041 points in all (got %d)" % total)
+    c.check("Teeth" in names and "EyeLeft/M_IrisLeft" in names, "parts named after node and material")
+    c.check(len(t.field_values(head, "TargetNames")) == 54, "the head names 53 targets (and the neutral)")
+    c.check(head.GetDataAssembly() is not None and
+            head.GetDataAssembly().FindFirstNodeWithName("EyeLeft") > 0,
+            "the data assembly mirrors the node tree")
+
+    blend = {"jawOpen": 0.7, "eyeBlink_L": 1.0, "mouthSmile_R": 0.05}
+    morph = MorphNode(Input=reader)  # noqa: F821
+    morph.TargetWeights = [str(x) for pair in blend.items() for x in pair]
+    morph.WeightMode = "Relative"
+    morph.Threshold = 0.1           # prunes mouthSmile_R (0.05), for every part alike
+    morph.RedistributionStrategy = "Neutral"
+    morph.GenerateDistanceArrays = 1
+    out = local_output(morph)
+    c.require(out is not None and out.IsA("vtkPartitionedDataSetCollection"),
+              "the morphed head keeps the collection")
+    morphed = parts_of(out)
+    c.require([n for n, _ in morphed] == names, "the same parts, in the same order, named alike")
+    kept = {"jawOpen": 0.7, "eyeBlink_L": 1.0}
+    worst, moved_parts, weights = 0.0, [], []
+    for (name, before), (_, after) in zip(parts, morphed):
+        p0, a0 = t.point_arrays(before)
+        p1, a1 = t.point_arrays(after)
+        own = t.field_values(before, "TargetNames")
+        expected = p0.astype(np.float64)
+        for target, w in kept.items():
+            if target in own:
+                expected = expected + w * a0["target%d_position" % (own.index(target) - 1)]
+        worst = builtins.max(worst, float(np.abs(p1 - expected).max()))
+        if float(np.abs(p1 - p0).max()) > 1e-4:
+            moved_parts.append(name)
+        c.check("AnimatedRegion" in a1 and "Distance_jawOpen" in a1 and
+                len(a1["Distance_jawOpen"]) == before.GetNumberOfPoints(),
+                "%s: its own distance maps" % name)
+        weights.append(t.field_values(after, "EffectiveWeights"))
+    c.check(worst < 1e-6, "every part = neutral + 0.7 jawOpen + 1 eyeBlink_L, mouthSmile_R pruned "
+            "(max error %.3g m)" % worst)
+    print("moved parts: %s" % moved_parts, flush=True)
+    c.check("Teeth" in moved_parts and "MouthInterior" in moved_parts and "Eyelashes" in moved_parts,
+            "jawOpen moves the teeth and the mouth, eyeBlink_L the lashes")
+    c.check(not builtins.any(n.startswith("Eye") and "/" in n for n in moved_parts), "the eyes do not move")
+    c.check(builtins.all(w == weights[0] for w in weights) and weights[0] is not None and len(weights[0]) == 54,
+            "every part holds the same effective weights")
+    c.check(t.field_values(morphed[0][1], "ActiveTargetCount") == [2], "2 active targets")
+    teeth = dict(morphed)["Teeth"]
+    _, arrays = t.point_arrays(teeth)
+    c.check(float(arrays["Distance_jawOpen"].max()) > 1e-3, "the teeth's own jawOpen distance map")
+
+    if args.png:
+        view = simple.CreateRenderView()
+        view.ViewSize = [640, 640]
+        view.OrientationAxesVisibility = 0
+        view.Background = [1.0, 1.0, 1.0]
+        if hasattr(view, "UseColorPaletteForBackground"):
+            view.UseColorPaletteForBackground = 0
+        display = simple.Show(morph, view)
+        simple.ColorBy(display, ("POINTS", "Distance_jawOpen"))
+        display.RescaleTransferFunctionToDataRange(True, False)
+        simple.GetColorTransferFunction("Distance_jawOpen").ApplyPreset("Turbo", True)
+        view.CameraPosition = [0.0, 0.0, 1.0]
+        view.CameraFocalPoint = [0.0, 0.0, 0.0]
+        view.CameraViewUp = [0.0, 1.0, 0.0]
+        view.ResetCamera()
+        simple.Render(view)
+        png = os.path.splitext(os.path.abspath(args.png))[0] + "-head.png"
+        simple.SaveScreenshot(png, view, ImageResolution=[640, 640])
+        c.check(os.path.isfile(png) and os.path.getsize(png) > 10000, "head screenshot written: %s" % png)
+
+
 if __name__ == "__main__":
     parser = t.common_arguments(__doc__.splitlines()[0])
     parser.add_argument("--png", help="save a screenshot coloured by AnimatedRegion here")
     arguments = parser.parse_args()
-    t.main(lambda c: run(c, arguments), "TestMorphNodePlugin")
+
+    def both(c):
+        run(c, arguments)
+        check_head(c, arguments, t.face_or_skip(arguments.face))
+
+    t.main(both, "TestMorphNodePlugin")

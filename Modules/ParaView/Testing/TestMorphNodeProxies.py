@@ -47,7 +47,7 @@ def run(c, args):
     t.face_or_skip(small)
 
     # --- Animation-Aware Decimation on the ICT face decimated by 70 % (2,948 points) -----
-    face = MorphNodeFaceReader(FileName=small)  # noqa: F821
+    face = MorphNodeFaceReader(FileName=small, MeshIndex=0)  # noqa: F821 - one mesh
     full = sm.Fetch(face)
     c.require(full.GetNumberOfPoints() == 2948, "the small ICT face reads")
     decimate = AnimationAwareDecimation(Input=face)  # noqa: F821
@@ -78,7 +78,7 @@ def run(c, args):
             "(%d vs %d)" % (kept_aware, kept_plain))
 
     # --- the rig proxies, on the ARKit-named ICT face ------------------------------------
-    arkit = MorphNodeFaceReader(FileName=ict)  # noqa: F821
+    arkit = MorphNodeFaceReader(FileName=ict, MeshIndex=0)  # noqa: F821 - one mesh
     semantic = simple.ProgrammableSource(OutputDataSetType="vtkTable", Script=SEMANTIC_TABLE)
     rig = MorphRig(Input=semantic, Face=arkit)  # noqa: F821
     rig.RigFileName = ARKIT_RIG
