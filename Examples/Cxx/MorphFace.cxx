@@ -57,6 +57,7 @@ int main(int argc, char* argv[])
 
   vtkNew<vtkMorphTargetReader> reader;
   reader->SetFileName(face.c_str());
+  reader->SetMeshIndex(0); // one mesh as one vtkPolyData (no index: the whole scene)
   vtkNew<vtkMorphNodeFilter> morph;
   morph->SetInputConnection(reader->GetOutputPort());
   for (const auto& [name, weight] : weights)

@@ -105,6 +105,7 @@ int main(int argc, char* argv[])
     // The face, animated through time.
     vtkNew<vtkMorphTargetReader> reader;
     reader->SetFileName(face.c_str());
+    reader->SetMeshIndex(0); // one mesh as one vtkPolyData
     vtkNew<vtkMorphNodeFilter> morph;
     morph->SetInputConnection(reader->GetOutputPort());
     morph->SetWeightsConnection(behavior->GetOutputPort(0));

@@ -77,6 +77,7 @@ class Avatar:
 
         self.reader = vtkMorphTargetReader()
         self.reader.SetFileName(args.face)
+        self.reader.SetMeshIndex(0)  # one mesh as one vtkPolyData
         self.morph = vtkMorphNodeFilter()
         self.morph.SetInputConnection(self.reader.GetOutputPort())
         self.morph.SetWeightModeToRelative()  # channels add their targets' deltas

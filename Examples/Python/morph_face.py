@@ -45,6 +45,7 @@ def main(argv=None):
 
     reader = vtkMorphTargetReader()
     reader.SetFileName(args.face)
+    reader.SetMeshIndex(0)  # one mesh as one vtkPolyData (no index: the whole scene)
     morph = vtkMorphNodeFilter()
     morph.SetInputConnection(reader.GetOutputPort())
     getattr(morph, "SetWeightModeTo" + args.mode.capitalize())()

@@ -69,6 +69,7 @@ def main(argv=None):
 
     reader = vtkMorphTargetReader()
     reader.SetFileName(args.face)
+    reader.SetMeshIndex(0)  # one mesh as one vtkPolyData
     morph = vtkMorphNodeFilter()
     morph.SetInputConnection(reader.GetOutputPort())
     morph.SetWeightsConnection(behavior.GetOutputPort(0))

@@ -123,6 +123,7 @@ struct Avatar
   bool Setup(const std::string& face, const std::string& rig, const std::vector<std::string>& channels, int w, int h)
   {
     this->Reader->SetFileName(face.c_str());
+    this->Reader->SetMeshIndex(0); // the face mesh as one vtkPolyData
     if (rig.empty())
     {
       this->Morph->SetInputConnection(this->Reader->GetOutputPort());

@@ -93,6 +93,8 @@ bool Avatar::SetUpFace()
   const Options& o = this->Opt;
   this->FaceFile = o.Face.empty() ? appkit::DefaultFace() : o.Face;
   this->Reader->SetFileName(this->FaceFile.c_str());
+  // One mesh as one vtkPolyData (the whole scene would be a composite; see docs/scene.md).
+  this->Reader->SetMeshIndex(0);
   this->Morph->SetInputConnection(this->Reader->GetOutputPort());
   // The behaviour's channels are glTF-style weights: each adds its target's deltas, so a
   // blink does not weaken a vowel (RELATIVE mode).

@@ -149,6 +149,7 @@ struct Face
   void Read(const std::string& file)
   {
     this->Reader->SetFileName(file.c_str());
+    this->Reader->SetMeshIndex(0); // the face mesh as one vtkPolyData
     this->Reader->SetNormalsMode(vtkMorphTargetReader::NORMALS_FROM_FILE); // vertex error: positions only
     this->Morph->SetInputConnection(this->Reader->GetOutputPort());
     this->Morph->SetWeightModeToRelative();

@@ -47,6 +47,7 @@ Face LoadFace(const std::string& path)
 {
   vtkNew<vtkMorphTargetReader> reader;
   reader->SetFileName(path.c_str());
+  reader->SetMeshIndex(0); // the face mesh as one vtkPolyData
   reader->Update();
   vtkPolyData* poly = reader->GetOutput();
   if (poly->GetNumberOfPoints() == 0)

@@ -41,6 +41,7 @@ std::map<std::string, double> DistNorm(const std::string& file, const std::strin
   }
   vtkNew<vtkMorphTargetReader> reader;
   reader->SetFileName(file.c_str());
+  reader->SetMeshIndex(0); // the face mesh as one vtkPolyData
   vtkNew<vtkMorphRigBaker> baker;
   vtkNew<vtkMorphNodeFilter> morph;
   if (rig.empty())
