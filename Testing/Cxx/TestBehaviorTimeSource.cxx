@@ -45,7 +45,7 @@ namespace
 {
 const std::string SourceDir = MORPHNODE_SOURCE_DIR;
 const std::string OutputDir = MORPHNODE_TEST_OUTPUT_DIR;
-const std::string DefaultFace = SourceDir + "/Data/DefaultFace/default_face.glb";
+const std::string DefaultFace = SourceDir + "/Data/DefaultFace/default_head.glb";
 const std::string Corpus = SourceDir + "/Testing/Fuzz/corpus/";
 
 /// The same commands on the VTK source and on a core controller.
@@ -89,7 +89,7 @@ struct Face
   Face()
   {
     this->Reader->SetFileName(DefaultFace.c_str());
-    this->Reader->SetMeshIndex(0); // one mesh, one vtkPolyData
+    this->Reader->SetMeshIndex(0); // the head's skin (mesh 0, every Table 1 target), one vtkPolyData
     this->Morph->SetInputConnection(this->Reader->GetOutputPort());
     this->Morph->SetWeightsConnection(this->Behavior->GetOutputPort(0));
     this->Messages->Watch(this->Morph);

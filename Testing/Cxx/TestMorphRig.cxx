@@ -42,7 +42,7 @@ namespace
 const std::string IctGlb = std::string(MORPHNODE_FACEKIT_DIR) + "/ict_face11248_sparse53.glb";
 const std::string ArkitRig = std::string(MORPHNODE_SOURCE_DIR) + "/Data/rigs/arkit.json";
 const std::string DefaultFace =
-  std::string(MORPHNODE_SOURCE_DIR) + "/Data/DefaultFace/default_face.glb";
+  std::string(MORPHNODE_SOURCE_DIR) + "/Data/DefaultFace/default_head.glb";
 
 bool HaveIct()
 {

@@ -41,7 +41,7 @@ using morphnode::MorphMesh;
 
 namespace
 {
-const std::string DefaultFace = std::string(MORPHNODE_SOURCE_DIR) + "/Data/DefaultFace/default_face.glb";
+const std::string DefaultFace = std::string(MORPHNODE_SOURCE_DIR) + "/Data/DefaultFace/default_head.glb";
 const std::string IctFace = std::string(MORPHNODE_FACEKIT_DIR) + "/ict_face11248_sparse53.glb";
 
 /// The first poly data of vtkGLTFReader's output, targets as arrays (not applied).
@@ -232,7 +232,7 @@ TEST(MorphTargetArrays, ReadsWhatVtkGLTFReaderBuildsForTheDefaultFace)
   // vtkMorphTargetReader on the same file: the same deltas, and the names from the file.
   vtkNew<vtkMorphTargetReader> reader;
   reader->SetFileName(DefaultFace.c_str());
-  reader->SetMeshIndex(0); // one mesh, one vtkPolyData
+  reader->SetMeshIndex(0); // the head's skin, the first mesh vtkGLTFReader gives too
   reader->Update();
   const arrays::MeshFromVTK named = arrays::ToMorphMesh(reader->GetOutput(), arrays::ReadOptions());
   ASSERT_EQ(named.Mesh.GetNumberOfTargets(), n + 1);

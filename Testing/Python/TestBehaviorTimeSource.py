@@ -14,7 +14,7 @@ from vtkmodules.vtkCommonCore import VTK_STRING, vtkCommand
 from vtkmodules.vtkCommonExecutionModel import vtkStreamingDemandDrivenPipeline
 
 SOURCE_DIR = os.environ.get("MORPHNODE_SOURCE_DIR", os.path.join(os.path.dirname(__file__), "..", ".."))
-DEFAULT_FACE = os.path.join(SOURCE_DIR, "Data", "DefaultFace", "default_face.glb")
+DEFAULT_FACE = os.path.join(SOURCE_DIR, "Data", "DefaultFace", "default_head.glb")
 OUTPUT_DIR = os.environ.get("MORPHNODE_TEST_OUTPUT_DIR", tempfile.gettempdir())
 CORPUS = os.path.join(SOURCE_DIR, "Testing", "Fuzz", "corpus")
 
@@ -49,7 +49,7 @@ class TestBehaviorTimeSource(unittest.TestCase):
     def setUp(self):
         self.reader = vtkMorphTargetReader()
         self.reader.SetFileName(DEFAULT_FACE)
-        self.reader.SetMeshIndex(0)  # one mesh, one vtkPolyData
+        self.reader.SetMeshIndex(0)  # the head's skin (every Table 1 target), one vtkPolyData
         self.behavior = vtkBehaviorTimeSource()
         self.behavior_errors = Errors(self.behavior)
         self.morph = vtkMorphNodeFilter()

@@ -14,7 +14,7 @@ from vtkmodules.vtkCommonDataModel import vtkTable
 SOURCE_DIR = os.environ.get("MORPHNODE_SOURCE_DIR",
                             os.path.join(os.path.dirname(__file__), "..", ".."))
 ARKIT = os.path.join(SOURCE_DIR, "Data", "rigs", "arkit.json")
-DEFAULT_FACE = os.path.join(SOURCE_DIR, "Data", "DefaultFace", "default_face.glb")
+DEFAULT_FACE = os.path.join(SOURCE_DIR, "Data", "DefaultFace", "default_head.glb")
 
 
 def table(**columns):
@@ -88,7 +88,7 @@ class TestMorphRig(unittest.TestCase):
         try:
             reader = vtkMorphTargetReader()
             reader.SetFileName(DEFAULT_FACE)
-            reader.SetMeshIndex(0)  # one mesh, one vtkPolyData
+            reader.SetMeshIndex(0)  # the head's skin (every Table 1 target), one vtkPolyData
             baker = vtkMorphRigBaker()
             baker.SetInputConnection(reader.GetOutputPort())
             baker.SetRigFileName(rig.name)
