@@ -506,7 +506,6 @@ struct vtkMorphNodeFilter::vtkInternals
       this->BuiltSparseCoverage == self->SparseCoverage)
     {
       return; // the same data set objects, unchanged: the same model
-
     }
     this->Ready = false;
     this->HasScene = false;
