@@ -3,6 +3,9 @@
 // the render regression of one frame of a fixed-seed script against a baseline, the
 // offscreen mode writing PNG frames, a Theora video and the WAV (with a moving mouth),
 // and clear errors for bad arguments. AvatarRun under `xvfb-run -a`.
+#include "audio/AudioBuffer.h"
+#include "audio/AudioFile.h"
+
 #include "vtkDataArray.h"
 #include "vtkFieldData.h"
 #include "vtkImageData.h"
@@ -227,6 +230,8 @@ TEST(MorphAvatar, BadArgumentsFailClearly)
     { "--visemes klingon --png x.png", "--visemes expects" },
     { "--pvd x.vtp", "--pvd takes a file name ending in .pvd" },
     { "--at 1 --frames x", "--at renders one frame" },
+    { "--text hi", "--text requires --audio" },
+    { "--audio /nonexistent/speech.wav", "--audio: File does not exist" },
   };
   for (const auto& c : cases)
   {
@@ -362,4 +367,53 @@ TEST(MorphAvatar, TimeSeriesForParaView)
   const AvatarRun bad = RunAvatar("--pvd '" + Output + "/x.vtp' --quiet");
   EXPECT_NE(bad.ExitCode, 0);
   EXPECT_NE(bad.Text.find("--pvd takes a file name ending in .pvd"), std::string::npos) << bad.Text;
+}
+
+// A recording with its transcript (issue "speech from anywhere"): the mouth moves while the
+// recording plays and the video's sound is the recording, placed at 0.5 s.
+TEST(MorphAvatar, SpeaksARecordingWithItsSound)
+{
+#if !MORPHNODE_TEST_ESPEAK
+  GTEST_SKIP() << "built without eSpeak NG: the transcript is aligned with eSpeak's rendering";
+#endif
+  const std::string recording = MORPHNODE_TEST_RECORDING;
+  if (!vtksys::SystemTools::FileExists(recording))
+  {
+    GTEST_SKIP() << "the recording " << recording << " is missing (Debian pocketsphinx-testdata)";
+  }
+  const std::string dir = Output + "/MorphAvatarRecording";
+  vtksys::SystemTools::RemoveADirectory(dir);
+  const AvatarRun run = RunAvatar("--audio '" + recording +
+    "' --text 'he was not an ill disposed young man' --fps 10 --size 200x200 --duration 4 " +
+    "--frames '" + dir + "' --video '" + dir + "/avatar.ogv' --quiet");
+  ASSERT_EQ(run.ExitCode, 0) << run.Text;
+
+  // The sound: silence before 0.5 s, then the recording (about 3 s of speech).
+  const morphnode::AudioBuffer recorded = morphnode::ReadAudioFile(recording);
+  const morphnode::AudioBuffer written = morphnode::ReadAudioFile(dir + "/avatar.wav");
+  EXPECT_GT(written.GetDuration(), 0.5 + recorded.GetDuration() - 0.05);
+  auto rms = [&](double t0, double t1) {
+    morphnode::AudioBuffer span;
+    span.SampleRate = written.SampleRate;
+    span.Channels = 1;
+    const morphnode::AudioBuffer mono = morphnode::MixToMono(written);
+    const size_t a = static_cast<size_t>(t0 * mono.SampleRate);
+    const size_t b = std::min(mono.Samples.size(), static_cast<size_t>(t1 * mono.SampleRate));
+    span.Samples.assign(mono.Samples.begin() + static_cast<std::ptrdiff_t>(a),
+      mono.Samples.begin() + static_cast<std::ptrdiff_t>(std::max(a, b)));
+    return morphnode::RootMeanSquare(span);
+  };
+  EXPECT_LT(rms(0.0, 0.45), 1e-4) << "the recording starts at 0.5 s";
+  EXPECT_GT(rms(0.6, 3.4), 0.01) << "the video's sound must be the recording";
+
+  // The mouth: frames while the recording plays differ from the first (silent) frame.
+  auto first = ReadPng(dir + "/frame_00000.png");
+  double largest = 0.0;
+  for (int f = 8; f < 34; f += 3)
+  {
+    char name[32];
+    std::snprintf(name, sizeof(name), "/frame_%05d.png", f);
+    largest = std::max(largest, MeanDifference(first, ReadPng(dir + name), 0.15, 0.45));
+  }
+  EXPECT_GT(largest, 2.0) << "the mouth region does not change while the recording plays";
 }

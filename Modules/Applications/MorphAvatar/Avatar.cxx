@@ -4,6 +4,7 @@
 #include "DataPaths.h"
 #include "HeadPoseTransform.h"
 
+#include "base/Text.h"
 #include "behavior/HeadPose.h"
 
 #include "vtkCamera.h"
@@ -65,7 +66,36 @@ bool Avatar::SetUpBehavior()
     std::cerr << "MorphAvatar: cannot load the script " << o.Script << " (see above)\n";
     return false;
   }
-  if (!o.Say.empty() && !behavior->Say(o.Say.c_str(), o.Script.empty() ? 0.5 : -1.0))
+  const double speechStart = o.Script.empty() ? 0.5 : -1.0;
+  if (!o.Audio.empty() || !o.Timings.empty())
+  {
+    std::string transcript = o.Text;
+    if (!o.TextFile.empty())
+    {
+      try
+      {
+        transcript = morphnode::text::ReadFile(o.TextFile, "transcript");
+      }
+      catch (const std::exception& e)
+      {
+        std::cerr << "MorphAvatar: " << e.what() << "\n";
+        return false;
+      }
+    }
+    const bool spoken = o.Audio.empty()
+      ? behavior->SpeakTimingFile(o.Timings.c_str(), speechStart)
+      : !o.Timings.empty()
+      ? behavior->SpeakAudioFileWithTimings(o.Audio.c_str(), o.Timings.c_str(), speechStart)
+      : behavior->SpeakAudioFile(o.Audio.c_str(), transcript.c_str(), speechStart);
+    if (!spoken)
+    {
+      std::cerr << "MorphAvatar: cannot speak "
+                << (o.Audio.empty() ? "the timing file " + o.Timings : "the recording " + o.Audio)
+                << " (see above)\n";
+      return false;
+    }
+  }
+  if (!o.Say.empty() && !behavior->Say(o.Say.c_str(), speechStart))
   {
     std::cerr << "MorphAvatar: cannot say '" << o.Say << "' with voice '" << o.Voice
               << "' (see above; `espeak-ng --voices` lists the voices)\n";
@@ -184,6 +214,13 @@ void Avatar::SetUpScene()
 
   // The sentence (or the script's name) at the bottom, like the paper's sentence choice.
   std::string caption = !o.Script.empty() ? std::filesystem::path(o.Script).filename().string() : "";
+  if (!o.Audio.empty() || !o.Timings.empty())
+  {
+    const std::string recording =
+      std::filesystem::path(o.Audio.empty() ? o.Timings : o.Audio).filename().string();
+    caption += (caption.empty() ? "" : " + ") +
+      (o.Text.empty() ? recording : recording + ": \"" + o.Text + "\"");
+  }
   if (!o.Say.empty())
   {
     caption += (caption.empty() ? "\"" : " + \"") + o.Say + "\"";

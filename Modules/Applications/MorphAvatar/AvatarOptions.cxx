@@ -58,6 +58,30 @@ Options ParseOptions(int argc, char* argv[])
   app.add_option("--script", o.Script, "a behaviour script (docs/behavior.md), e.g. Data/scripts/greeting.txt")
     ->check(CLI::ExistingFile)
     ->group(say);
+  const std::string recorded = "Recorded speech (docs/speech.md)";
+  auto* audio = app.add_option("--audio", o.Audio,
+       "speak a recording (WAV, FLAC, OGG) at 0.5 s (after the script's speech if a script is "
+       "given), timed by aligning the transcript (--text, --text-file; in the language of "
+       "--voice), by a timing file (--timings), or else by English phoneme recognition; the "
+       "recording is the sound of --video")
+    ->check(CLI::ExistingFile)
+    ->group(recorded);
+  auto* text = app.add_option("--text", o.Text, "the transcript of --audio")
+    ->type_name("TEXT")
+    ->needs(audio)
+    ->group(recorded);
+  auto* textFile = app.add_option("--text-file", o.TextFile, "the transcript of --audio, from a file")
+    ->check(CLI::ExistingFile)
+    ->needs(audio)
+    ->excludes(text)
+    ->group(recorded);
+  app.add_option("--timings", o.Timings,
+       "a timing file (.pho, Rhubarb TSV/JSON, Praat TextGrid, Polly speech marks): of --audio, "
+       "or alone to move the mouth without sound")
+    ->check(CLI::ExistingFile)
+    ->excludes(text)
+    ->excludes(textFile)
+    ->group(recorded);
   app.add_option("--seed", o.Seed, "seed of the idle behaviour (default 1 or the script's)")
     ->check(appkit::UnsignedInteger())
     ->group(say);
@@ -141,7 +165,7 @@ Options ParseOptions(int argc, char* argv[])
   o.Overlay = app.count("--no-overlay") == 0;
   o.SeedSet = app.count("--seed") > 0;
 
-  if (o.Say.empty() && o.Script.empty())
+  if (o.Say.empty() && o.Script.empty() && o.Audio.empty() && o.Timings.empty())
   {
     o.Say = o.Voice.rfind("de", 0) == 0 ? "Hallo! Ich bin ein Avatar mit Morph-Targets."
                                         : "Hello! I am an avatar made of morph targets.";

@@ -17,6 +17,10 @@ struct Options
   std::string Voice = "en";
   std::string Visemes = "paper6";
   std::string Script;
+  std::string Audio;    // a recording to speak (WAV, FLAC, OGG)
+  std::string Text;     // its transcript
+  std::string TextFile; // its transcript, from a file
+  std::string Timings;  // a timing file (of the recording, or alone: speech without sound)
   double Duration = -1.0; // < 0: the script's, else automatic
   double Fps = -1.0;      // < 0: the script's, else 30
   int Width = 640;
