@@ -61,10 +61,26 @@ class Avatar:
             raise SystemExit(f"morph_avatar: --visemes expects paper6, oculus15 or german16; got {args.visemes!r}")
         if args.script and not self.behavior.LoadScript(args.script):
             raise SystemExit(f"morph_avatar: cannot load the script {args.script} (see above)")
+        start = -1.0 if args.script else 0.5
+        if args.audio or args.timings:
+            # A recording timed by its transcript, by a timing file of it, or by recognition;
+            # or a timing file alone (a mouth without sound).
+            transcript = args.text or ""
+            if args.text_file:
+                with open(args.text_file, encoding="utf-8") as f:
+                    transcript = f.read()
+            if not args.audio:
+                spoken = self.behavior.SpeakTimingFile(args.timings, start)
+            elif args.timings:
+                spoken = self.behavior.SpeakAudioFileWithTimings(args.audio, args.timings, start)
+            else:
+                spoken = self.behavior.SpeakAudioFile(args.audio, transcript, start)
+            if not spoken:
+                raise SystemExit(f"morph_avatar: cannot speak {args.audio or args.timings!r} (see above)")
         say = args.say
-        if not say and not args.script:
+        if not say and not args.script and not args.audio and not args.timings:
             say = "Hallo! Ich bin ein Avatar." if args.voice.startswith("de") else "Hello! I am an avatar."
-        if say and not self.behavior.Say(say, -1.0 if args.script else 0.5):
+        if say and not self.behavior.Say(say, start):
             raise SystemExit(f"morph_avatar: cannot say {say!r} with voice {args.voice!r} (see above)")
         if args.seed is not None:
             self.behavior.SetSeed(args.seed)
@@ -270,6 +286,10 @@ def main(argv=None):
     parser.add_argument("--voice", default="en", help="eSpeak NG voice (default en)")
     parser.add_argument("--visemes", default="paper6", help="paper6 (default), oculus15, german16")
     parser.add_argument("--script", help="a behaviour script (docs/behavior.md)")
+    parser.add_argument("--audio", help="speak a recording (WAV, FLAC, OGG); the video's sound")
+    parser.add_argument("--text", help="the transcript of --audio (aligned with eSpeak NG)")
+    parser.add_argument("--text-file", help="the transcript of --audio, from a file")
+    parser.add_argument("--timings", help="a timing file of --audio, or alone: a mouth without sound")
     parser.add_argument("--seed", type=int, help="seed of the idle behaviour")
     parser.add_argument("--duration", type=ranged(0.0, 86400.0), help="seconds (default: automatic)")
     parser.add_argument("--fps", type=ranged(1.0, 240.0), help="frame rate (default 30)")
@@ -288,7 +308,13 @@ def main(argv=None):
     args = parser.parse_args(argv)
     if args.seed is not None and args.seed < 0:
         parser.error("--seed expects an unsigned integer")
-    for option, path in (("--script", args.script), ("--face", args.face), ("--rig", args.rig)):
+    if (args.text or args.text_file) and not args.audio:
+        parser.error("--text and --text-file need --audio")
+    if sum(bool(x) for x in (args.text, args.text_file, args.timings)) > 1:
+        parser.error("give one of --text, --text-file and --timings")
+    for option, path in (("--script", args.script), ("--face", args.face), ("--rig", args.rig),
+                         ("--audio", args.audio), ("--text-file", args.text_file),
+                         ("--timings", args.timings)):
         if path and not os.path.exists(path):
             parser.error(f"{option}: no file {path!r}")
     offscreen = args.offscreen or args.frames or args.video
