@@ -157,7 +157,7 @@ TEST(WeightOptimizer, HysteresisLowersTheAdjustedThreshold)
 // What the core does with a budget: hysteresis acts in the threshold step only, and it
 // remembers what was *shown*. A target the budget pruned in the last frame was not shown,
 // so it needs the full threshold again (it does not get a lowered one and win the budget).
-// (The budget and the error bound have no hysteresis of their own yet.)
+// (The budget's and the error bound's own hysteresis: TestOptimizerHysteresis.cpp.)
 TEST(WeightOptimizer, HysteresisRemembersWhatTheBudgetLeft)
 {
   OptimizerSettings s;

@@ -162,6 +162,14 @@ std::vector<double> WeightOptimizer::Optimize(const std::vector<double>& w)
   }
   const std::vector<double>& reach = this->Distances.MaxDisplacement;
   auto contribution = [&](size_t i) { return std::abs(w[i]) * reach[i]; };
+  // Hysteresis: a target shown in the previous frame (an incumbent) keeps its place unless
+  // a criterion beats it by the margin h. Threshold: pruned below th_i (1 - h). Budget:
+  // ranked by c_i / (1 - h). Bound: pruned only while B <= eps (1 - h).
+  const double stay = 1.0 - s.Hysteresis;
+  auto incumbent = [&](size_t i) { return s.Hysteresis > 0.0 && this->WasActive[i]; };
+  auto stickyContribution = [&](size_t i) {
+    return incumbent(i) ? contribution(i) / stay : contribution(i);
+  };
 
   std::vector<bool> keep(n);
   for (size_t i = 0; i < n; ++i)
@@ -204,7 +212,10 @@ std::vector<double> WeightOptimizer::Optimize(const std::vector<double>& w)
     }
   }
 
-  // 2. Budget: keep the k largest geometric contributions.
+  // 2. Budget: keep the k largest geometric contributions. With hysteresis a target shown
+  // in the previous frame competes with c_i / (1 - h): an outsider takes its place only
+  // when c_out * (1 - h) > c_in, the threshold step's margin with the rival's contribution
+  // as the threshold.
   if (s.MaxActiveTargets > 0)
   {
     std::vector<size_t> active;
@@ -218,7 +229,7 @@ std::vector<double> WeightOptimizer::Optimize(const std::vector<double>& w)
     if (active.size() > static_cast<size_t>(s.MaxActiveTargets))
     {
       std::stable_sort(active.begin(), active.end(),
-        [&](size_t a, size_t b) { return contribution(a) > contribution(b); });
+        [&](size_t a, size_t b) { return stickyContribution(a) > stickyContribution(b); });
       for (size_t k = static_cast<size_t>(s.MaxActiveTargets); k < active.size(); ++k)
       {
         keep[active[k]] = false;
@@ -240,12 +251,16 @@ std::vector<double> WeightOptimizer::Optimize(const std::vector<double>& w)
           candidates.push_back(i);
         }
       }
+      // With hysteresis an incumbent is tried later (ranked by c_i / (1 - h)) and pruned
+      // only while the bound stays within eps (1 - h); a target pruned in the previous
+      // frame stays pruned as long as B <= eps.
       std::stable_sort(candidates.begin(), candidates.end(),
-        [&](size_t a, size_t b) { return contribution(a) < contribution(b); });
+        [&](size_t a, size_t b) { return stickyContribution(a) < stickyContribution(b); });
       for (size_t i : candidates)
       {
         keep[i] = false;
-        if (this->Bound(w, keep) > s.MaxVertexError)
+        const double limit = incumbent(i) ? s.MaxVertexError * stay : s.MaxVertexError;
+        if (this->Bound(w, keep) > limit)
         {
           keep[i] = true;
         }
@@ -266,10 +281,26 @@ std::vector<double> WeightOptimizer::Optimize(const std::vector<double>& w)
         }
       }
       std::stable_sort(pruned.begin(), pruned.end(),
-        [&](size_t a, size_t b) { return contribution(a) > contribution(b); });
+        [&](size_t a, size_t b) { return stickyContribution(a) > stickyContribution(b); });
       for (size_t k = 0; k < pruned.size() && this->Bound(w, keep) > s.MaxVertexError; ++k)
       {
         keep[pruned[k]] = true;
+      }
+      // Hysteresis: a target shown in the previous frame that the threshold or the budget
+      // pruned again is pruned only while the bound stays within eps (1 - h); restore such
+      // incumbents (most expensive first) while B > eps (1 - h). A target pruned in the
+      // previous frame is restored only when B > eps (above). Like the restore above, this
+      // band wins over the budget.
+      if (s.Hysteresis > 0.0)
+      {
+        for (size_t k = 0; k < pruned.size() && this->Bound(w, keep) > s.MaxVertexError * stay;
+             ++k)
+        {
+          if (this->WasActive[pruned[k]])
+          {
+            keep[pruned[k]] = true;
+          }
+        }
       }
     }
   }

@@ -29,9 +29,21 @@
 ///      negative, and sizes instead of signed values keep the shares bounded.
 ///    - Neutral (beyond the paper): w_0 gets m; geometrically this is glTF's "drop small
 ///      weights", whose error is just sum of pruned w_i D_i.
-/// 5. Hysteresis h: a target that was active in the previous frame is pruned only below
-///    th_i * (1 - h), so a weight hovering around its threshold does not flicker (the
-///    "holes over time" of the paper's Figure 5).
+/// 5. Hysteresis h: a target shown in the previous frame (an incumbent: non-zero effective
+///    weight) keeps its place unless a criterion beats it by the margin h, in every step,
+///    so a weight hovering around a decision's edge does not flicker (the "holes over
+///    time" of the paper's Figure 5):
+///    - threshold: an incumbent is pruned only below th_i * (1 - h);
+///    - budget: targets are ranked by c_i = |w_i| M_i, an incumbent's by c_i / (1 - h), so
+///      an outsider takes the k-th place only when c_out * (1 - h) > c_in;
+///    - error bound: the guarantee B <= eps is never loosened; the band lies below it. An
+///      incumbent is pruned only while B stays within eps * (1 - h) (alone: greedily,
+///      incumbents tried last; with a threshold or budget: incumbents that those pruned are
+///      restored while B > eps * (1 - h), which, like the bound, wins over the budget); a
+///      target pruned in the previous frame is restored only when B > eps.
+///    The history (which targets were shown) lives in the optimizer and is the last
+///    Optimize call's result; SetTargetDistances and ResetHistory clear it (then there are
+///    no incumbents), SetSettings keeps it. h = 0 gives exactly the decisions without it.
 
 #include "morph/Distances.h"
 
