@@ -139,6 +139,123 @@ double BlinkLidCurve(const BehaviorParameters& p, double t)
   return u * u;
 }
 
+BlinkTrain::BlinkTrain(const BehaviorParameters& p,
+  uint64_t seed,
+  const std::vector<std::pair<double, double>>& speaking)
+  : Parameters(p)
+  , Random(seed, BlinkStream)
+  , Speaking(MergeIntervals(speaking))
+{
+  if (!(p.BlinkRateRest > 0.0) || !(p.BlinkRateSpeaking > 0.0))
+  {
+    throw InputError("blink rates must be > 0");
+  }
+  // A random phase for the first blink: no blink pile-up at t = 0 for every seed.
+  this->Time = AdvanceBlinkClock(0.0,
+    this->Random.Uniform() * (60.0 / p.BlinkRateRest),
+    p.BlinkRateSpeaking / p.BlinkRateRest,
+    this->Speaking,
+    this->Interval);
+}
+
+BlinkEvent BlinkTrain::Next()
+{
+  const BehaviorParameters& p = this->Parameters;
+  const BlinkEvent blink{ this->Time, this->Random.Uniform(0.9, 1.0) };
+  const double clock = this->Random.LogNormalWithMean(60.0 / p.BlinkRateRest, p.BlinkIntervalSigma);
+  const double minInterval = std::max(p.BlinkMinInterval, BlinkLength(p));
+  this->Time = std::max(AdvanceBlinkClock(this->Time,
+                          clock,
+                          p.BlinkRateSpeaking / p.BlinkRateRest,
+                          this->Speaking,
+                          this->Interval),
+    this->Time + minInterval);
+  return blink;
+}
+
+SaccadeTrain::SaccadeTrain(const BehaviorParameters& p, uint64_t seed)
+  : Random(seed, SaccadeStream)
+{
+  if (!(p.FixationMean > 0.0))
+  {
+    throw InputError("the fixation mean must be > 0");
+  }
+  this->Time = this->Random.Uniform() * p.FixationMean;
+}
+
+SaccadeEvent SaccadeTrain::Next(const BehaviorParameters& p)
+{
+  BehaviorRandom& rng = this->Random;
+  const double range = p.SaccadeRange;
+  const double yaw = this->Yaw, pitch = this->Pitch;
+  const double amplitude =
+    std::min(SaccadeAmplitudeLaw(15.0 * rng.UniformOpen()), p.SaccadeMaxAmplitude);
+  const double angle = rng.Uniform() * TwoPi;
+  double dy = std::cos(angle), dp = std::sin(angle);
+  auto outside = [&](double y, double q) { return std::hypot(y, q / 0.6) > range; };
+  if (outside(yaw + amplitude * dy, pitch + amplitude * dp))
+  {
+    dy = -dy, dp = -dp; // the other way is usually back toward the target
+  }
+  double toYaw = yaw + amplitude * dy, toPitch = pitch + amplitude * dp;
+  const double r = std::hypot(toYaw, toPitch / 0.6);
+  if (r > range)
+  {
+    toYaw *= range / r;
+    toPitch *= range / r;
+  }
+  SaccadeEvent e;
+  e.Start = this->Time;
+  e.Amplitude = std::hypot(toYaw - yaw, toPitch - pitch);
+  e.Duration = SaccadeDuration(p, e.Amplitude);
+  e.FromYaw = yaw, e.FromPitch = pitch, e.ToYaw = toYaw, e.ToPitch = toPitch;
+  this->Yaw = toYaw, this->Pitch = toPitch;
+  this->Time +=
+    e.Duration + std::max(p.FixationMin, rng.LogNormalWithMean(p.FixationMean, p.FixationSigma));
+  return e;
+}
+
+SmileTrain::SmileTrain(const BehaviorParameters& p, uint64_t seed)
+  : Parameters(p)
+  , Random(seed, SmileStream)
+{
+  this->Time = p.IdleSmileInterval > 0.0 && p.IdleSmileIntensity > 0.0
+    ? this->Random.Exponential(p.IdleSmileInterval)
+    : std::numeric_limits<double>::infinity();
+}
+
+IdleSmileEvent SmileTrain::Next()
+{
+  const BehaviorParameters& p = this->Parameters;
+  IdleSmileEvent e;
+  e.Start = this->Time;
+  e.Duration = this->Random.Uniform(1.5, 3.5);
+  e.Intensity = p.IdleSmileIntensity * this->Random.Uniform(0.6, 1.0);
+  this->Time += e.Duration + this->Random.Exponential(p.IdleSmileInterval);
+  return e;
+}
+
+HeadMicroMotion MakeHeadMicroMotion(const BehaviorParameters& p, uint64_t seed)
+{
+  // Slow, middle and fast components per axis.
+  HeadMicroMotion head;
+  BehaviorRandom rng(seed, HeadStream);
+  const double axisAmplitude[3] = { p.HeadYawAmplitude, p.HeadPitchAmplitude, p.HeadRollAmplitude };
+  const double share[3] = { 0.55, 0.3, 0.15 };
+  const double lowHz[3] = { 0.06, 0.15, 0.35 }, highHz[3] = { 0.12, 0.30, 0.60 };
+  for (int axis = 0; axis < 3; ++axis)
+  {
+    for (int c = 0; c < 3; ++c)
+    {
+      const int i = axis * 3 + c;
+      head.Amplitude[i] = axisAmplitude[axis] * share[c];
+      head.Frequency[i] = TwoPi * rng.Uniform(lowHz[c], highHz[c]);
+      head.Phase[i] = TwoPi * rng.Uniform();
+    }
+  }
+  return head;
+}
+
 IdleSchedule IdleSchedule::Generate(const BehaviorParameters& p,
   uint64_t seed,
   double horizon,
@@ -153,97 +270,22 @@ IdleSchedule IdleSchedule::Generate(const BehaviorParameters& p,
     throw InputError("blink rates and the fixation mean must be > 0");
   }
   IdleSchedule s;
-
-  // Blinks: log-normal intervals on a clock that runs faster while speaking.
+  BlinkTrain blinks(p, seed, speaking);
+  while (blinks.Peek() <= horizon)
   {
-    BehaviorRandom rng(seed, BlinkStream);
-    const auto merged = MergeIntervals(speaking);
-    const double factor = p.BlinkRateSpeaking / p.BlinkRateRest;
-    const double meanInterval = 60.0 / p.BlinkRateRest;
-    const double minInterval = std::max(p.BlinkMinInterval, BlinkLength(p));
-    size_t k = 0;
-    // A random phase for the first blink: no blink pile-up at t = 0 for every seed.
-    double t = AdvanceBlinkClock(0.0, rng.Uniform() * meanInterval, factor, merged, k);
-    while (t <= horizon)
-    {
-      s.Blinks.push_back({ t, rng.Uniform(0.9, 1.0) });
-      const double clock = rng.LogNormalWithMean(meanInterval, p.BlinkIntervalSigma);
-      t = std::max(AdvanceBlinkClock(t, clock, factor, merged, k), t + minInterval);
-    }
+    s.Blinks.push_back(blinks.Next());
   }
-
-  // Saccades: Lee et al.'s amplitude law, kept within SaccadeRange of the gaze target
-  // (vertical range 60 % of the horizontal one), separated by log-normal fixations.
+  SaccadeTrain saccades(p, seed);
+  while (saccades.Peek() <= horizon)
   {
-    BehaviorRandom rng(seed, SaccadeStream);
-    const double range = p.SaccadeRange;
-    double yaw = 0.0, pitch = 0.0;
-    double t = rng.Uniform() * p.FixationMean;
-    while (t <= horizon)
-    {
-      const double amplitude =
-        std::min(SaccadeAmplitudeLaw(15.0 * rng.UniformOpen()), p.SaccadeMaxAmplitude);
-      const double angle = rng.Uniform() * TwoPi;
-      double dy = std::cos(angle), dp = std::sin(angle);
-      auto outside = [&](double y, double q) { return std::hypot(y, q / 0.6) > range; };
-      if (outside(yaw + amplitude * dy, pitch + amplitude * dp))
-      {
-        dy = -dy, dp = -dp; // the other way is usually back toward the target
-      }
-      double toYaw = yaw + amplitude * dy, toPitch = pitch + amplitude * dp;
-      const double r = std::hypot(toYaw, toPitch / 0.6);
-      if (r > range)
-      {
-        toYaw *= range / r;
-        toPitch *= range / r;
-      }
-      SaccadeEvent e;
-      e.Start = t;
-      e.Amplitude = std::hypot(toYaw - yaw, toPitch - pitch);
-      e.Duration = SaccadeDuration(p, e.Amplitude);
-      e.FromYaw = yaw, e.FromPitch = pitch, e.ToYaw = toYaw, e.ToPitch = toPitch;
-      s.Saccades.push_back(e);
-      yaw = toYaw, pitch = toPitch;
-      t += e.Duration +
-        std::max(p.FixationMin, rng.LogNormalWithMean(p.FixationMean, p.FixationSigma));
-    }
+    s.Saccades.push_back(saccades.Next(p));
   }
-
-  // Occasional smiles: Poisson events.
-  if (p.IdleSmileInterval > 0.0 && p.IdleSmileIntensity > 0.0)
+  SmileTrain smiles(p, seed);
+  while (smiles.Peek() <= horizon)
   {
-    BehaviorRandom rng(seed, SmileStream);
-    double t = rng.Exponential(p.IdleSmileInterval);
-    while (t <= horizon)
-    {
-      IdleSmileEvent e;
-      e.Start = t;
-      e.Duration = rng.Uniform(1.5, 3.5);
-      e.Intensity = p.IdleSmileIntensity * rng.Uniform(0.6, 1.0);
-      s.Smiles.push_back(e);
-      t += e.Duration + rng.Exponential(p.IdleSmileInterval);
-    }
+    s.Smiles.push_back(smiles.Next());
   }
-
-  // Head micro-motion: slow, middle and fast components per axis.
-  {
-    BehaviorRandom rng(seed, HeadStream);
-    const double axisAmplitude[3] = {
-      p.HeadYawAmplitude, p.HeadPitchAmplitude, p.HeadRollAmplitude
-    };
-    const double share[3] = { 0.55, 0.3, 0.15 };
-    const double lowHz[3] = { 0.06, 0.15, 0.35 }, highHz[3] = { 0.12, 0.30, 0.60 };
-    for (int axis = 0; axis < 3; ++axis)
-    {
-      for (int c = 0; c < 3; ++c)
-      {
-        const int i = axis * 3 + c;
-        s.Head.Amplitude[i] = axisAmplitude[axis] * share[c];
-        s.Head.Frequency[i] = TwoPi * rng.Uniform(lowHz[c], highHz[c]);
-        s.Head.Phase[i] = TwoPi * rng.Uniform();
-      }
-    }
-  }
+  s.Head = MakeHeadMicroMotion(p, seed);
   return s;
 }
 

@@ -5,6 +5,7 @@
 /// and head micro-motion. Generated once, then sampled at any time without simulation.
 
 #include "behavior/BehaviorTypes.h"
+#include "behavior/Random.h"
 
 #include <array>
 #include <cstdint>
@@ -54,6 +55,65 @@ double SaccadeDuration(const BehaviorParameters& parameters, double amplitude);
 double BlinkLidCurve(const BehaviorParameters& parameters, double t);
 /// Seconds from a blink's start to the lids fully open again.
 double BlinkLength(const BehaviorParameters& parameters);
+
+/// The idle generators, one event at a time: IdleSchedule::Generate runs them to a
+/// horizon, LiveBehavior runs them for ever, a little ahead of the sampled time. Each draws
+/// from its own random stream of the seed, so the same seed gives the same events in both.
+
+/// Blinks: log-normal intervals (mean 60 / BlinkRateRest s, shape BlinkIntervalSigma, at
+/// least max(BlinkMinInterval, BlinkLength)) on a clock that runs BlinkRateSpeaking /
+/// BlinkRateRest times faster inside the `speaking` intervals; the first blink at a random
+/// phase of one mean interval.
+class BlinkTrain
+{
+public:
+  BlinkTrain(const BehaviorParameters& parameters,
+    uint64_t seed,
+    const std::vector<std::pair<double, double>>& speaking = {});
+  /// The next blink (its start is Peek()).
+  BlinkEvent Next();
+  double Peek() const { return this->Time; }
+
+private:
+  BehaviorParameters Parameters;
+  BehaviorRandom Random;
+  std::vector<std::pair<double, double>> Speaking; // merged, sorted
+  size_t Interval = 0;
+  double Time = 0.0;
+};
+
+/// Saccades: Lee et al.'s amplitude law, kept within SaccadeRange of the gaze target
+/// (vertical range 60 % of the horizontal one), separated by log-normal fixations. Next()
+/// takes the parameters so that a mood can change range and fixations as it goes.
+class SaccadeTrain
+{
+public:
+  SaccadeTrain(const BehaviorParameters& parameters, uint64_t seed);
+  SaccadeEvent Next(const BehaviorParameters& parameters);
+  double Peek() const { return this->Time; }
+
+private:
+  BehaviorRandom Random;
+  double Yaw = 0.0, Pitch = 0.0, Time = 0.0;
+};
+
+/// Occasional smiles: Poisson events of IdleSmileInterval mean spacing (none when the
+/// interval or the intensity is <= 0: Peek() is infinite).
+class SmileTrain
+{
+public:
+  SmileTrain(const BehaviorParameters& parameters, uint64_t seed);
+  IdleSmileEvent Next();
+  double Peek() const { return this->Time; }
+
+private:
+  BehaviorParameters Parameters;
+  BehaviorRandom Random;
+  double Time = 0.0;
+};
+
+/// The head micro-motion of a seed.
+HeadMicroMotion MakeHeadMicroMotion(const BehaviorParameters& parameters, uint64_t seed);
 
 struct IdleSchedule
 {

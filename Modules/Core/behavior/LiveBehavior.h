@@ -1,0 +1,225 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#pragma once
+/// @file LiveBehavior.h
+/// @brief The endless, streaming behaviour of a live avatar: idle blinks, saccades, smiles
+/// and head micro-motion keep coming for ever without a period, and every command
+/// (say, gesture, mood, look, stop) is merged into what is already scheduled without
+/// rebuilding it. The finite BehaviorController and this class share the idle generators
+/// (IdleSchedule.h), the blending rules (Blackboard) and the gestures and moods (the data
+/// of BehaviorLibrary).
+///
+/// Contract:
+/// - Time is seconds on the caller's clock (any origin >= 0, e.g. seconds since start).
+///   Sample(t) must be called with non-decreasing t; it generates the idle behaviour lazily
+///   a little ahead of t and forgets what ended before t, so memory stays bounded however
+///   long it runs (GetNumberOfHeldEvents()).
+/// - Commands take `now`, the time they take effect; a `now` before the last sampled time
+///   is moved to it (the past is never changed). A command changes nothing outside its own
+///   span (Timing): sampling the same seed with and without it gives the same weights
+///   before Timing.Start and after Timing.End, except moods, whose span is open-ended.
+/// - The channel set is fixed at construction: the base channels (BehaviorChannel), then
+///   the viseme channels given. An utterance using another viseme channel is an InputError.
+/// - Speech: Say() splits the text into chunks (SplitSpeechChunks: the first one short),
+///   synthesizes only the first one at once and the others lazily, shortly before they are
+///   due (within SynthesisLookahead of the end of what is synthesized), in Sample() or
+///   SynthesizeAhead(). So a long text starts after one short synthesis. A new utterance
+///   starts at `now` or, when speech is still scheduled, right after it (queued).
+/// - Sound: TakeAudio() hands over, once, each synthesized chunk's samples with the time
+///   its first sample is due (the mouth lead of the speech options is already in it).
+/// - Not thread-safe: one thread commands and samples (or guard it with a mutex).
+///
+///   morphnode::LiveBehavior live(morphnode::SelectVisemeMap(options).GetVisemes());
+///   live.SetSynthesizer([&](const std::string& s) { return morphnode::SpeakText(s, options); });
+///   auto said = live.Say("Hello. How are you today?", clock.Now());
+///   std::vector<double> w(live.GetChannelNames().size());
+///   for (;;) { live.Sample(clock.Now(), w.data()); for (auto& a : live.TakeAudio()) play(a); }
+
+#include "behavior/BehaviorLibrary.h"
+#include "behavior/BehaviorTypes.h"
+#include "behavior/IdleSchedule.h"
+#include "behavior/Timeline.h"
+#include "speech/SpeechTypes.h"
+
+#include <cstdint>
+#include <deque>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace morphnode
+{
+/// Splits a text for chunked synthesis: at sentence ends (. ! ? ; and line breaks), and a
+/// piece longer than `maxChars` also at commas or, failing that, blanks. The first chunk is
+/// cut further (at a comma or blank) to at most `firstMaxChars` so that speech starts
+/// quickly. Chunks keep their punctuation, are trimmed, never empty; concatenated with
+/// blanks they give the text's words in order. An empty or blank text gives no chunk.
+std::vector<std::string> SplitSpeechChunks(const std::string& text,
+  size_t firstMaxChars = 60,
+  size_t maxChars = 200);
+
+class LiveBehavior
+{
+public:
+  /// Turns text into an utterance (e.g. SpeakText with the avatar's speech options).
+  using Synthesizer = std::function<Utterance(const std::string& text)>;
+
+  /// Seconds ahead of the last sampled time that idle events are generated.
+  static constexpr double Lookahead = 1.0;
+  /// The next chunk of a Say() is synthesized once what is synthesized ends within this
+  /// many seconds of the sampled time.
+  static constexpr double SynthesisLookahead = 2.0;
+  /// Seconds over which StopSpeaking() fades the mouth out.
+  static constexpr double StopFade = 0.12;
+
+  /// The span of a command on the caller's clock. Id numbers utterances (Say/Speak) from 1;
+  /// 0 for other commands. For a Say() whose later chunks are not synthesized yet, End is
+  /// an estimate (Final false): GetSpeechTiming(Id) gives the exact one once known.
+  struct Timing
+  {
+    double Start = 0.0;
+    double End = 0.0;
+    uint64_t Id = 0;
+    bool Final = true;
+  };
+  /// One synthesized chunk's sound: play Samples so that sample 0 sounds at Start.
+  struct AudioSegment
+  {
+    uint64_t Id = 0; ///< the utterance's Timing::Id
+    double Start = 0.0;
+    int SampleRate = 22050;
+    std::vector<int16_t> Samples;
+  };
+
+  /// InputError for parameters out of range (BehaviorController::SetParameters' checks),
+  /// a viseme channel named like a base channel, or duplicate viseme channels.
+  explicit LiveBehavior(const std::vector<std::string>& visemeChannels,
+    const BehaviorParameters& parameters = BehaviorParameters(),
+    uint64_t seed = 1,
+    const BehaviorLibrary& library = BehaviorLibrary::Default());
+
+  void SetSynthesizer(Synthesizer synthesizer);
+  /// The base channels, then the viseme channels, fixed at construction.
+  const std::vector<std::string>& GetChannelNames() const { return this->ChannelNames; }
+  size_t GetNumberOfChannels() const { return this->ChannelNames.size(); }
+  const BehaviorParameters& GetParameters() const { return this->Parameters; }
+  const BehaviorLibrary& GetLibrary() const { return this->Library; }
+  uint64_t GetSeed() const { return this->Seed; }
+
+  // ---- commands (InputError for unknown names, values out of range, no synthesizer) ----
+  /// Synthesizes the first chunk now and queues the speech (see the contract above).
+  Timing Say(const std::string& text, double now);
+  /// Schedules a ready utterance (queued after the scheduled speech, like Say).
+  Timing Speak(const Utterance& utterance, double now);
+  /// A gesture of the library from `now`; intensity in [0, 1]; duration <= 0: its default.
+  Timing Gesture(const std::string& name, double now, double intensity = 1.0, double duration = 0.0);
+  /// Fades to the mood (intensity in [0, 1]) over MoodFadeTime from `now`; one mood at a
+  /// time, "neutral" fades every mood out. Span: [now, infinity) (End = now + fade).
+  Timing SetMood(const std::string& name, double intensity, double now);
+  /// Looks at (yaw, pitch) degrees; back to the front after `duration` seconds, or held
+  /// until the next look when duration <= 0. A look ends any earlier one.
+  Timing LookAt(double yawDeg, double pitchDeg, double now, double duration = 0.0);
+  /// Ends all speech at `now`: the mouth fades out over StopFade, queued and unsynthesized
+  /// chunks are dropped, audio not yet taken is discarded. The caller stops its own sound.
+  void StopSpeaking(double now);
+
+  // ---- output -------------------------------------------------------------------------
+  /// Fills out[0 .. GetNumberOfChannels()) with the behaviour at t. InputError when t is
+  /// not finite or smaller than the previous sampled time.
+  void Sample(double t, double* out);
+  void Sample(double t, std::vector<double>& out);
+  /// Synthesizes the chunks due by `now` + SynthesisLookahead (Sample() does it too).
+  void SynthesizeAhead(double now);
+  /// The sound of the chunks synthesized since the last call.
+  std::vector<AudioSegment> TakeAudio();
+
+  // ---- inspection ---------------------------------------------------------------------
+  /// The current timing of an utterance; Id 0 when unknown (forgotten after its end).
+  Timing GetSpeechTiming(uint64_t id) const;
+  /// True while speech is scheduled at or after t (including unsynthesized chunks).
+  bool IsSpeaking(double t) const;
+  /// The end of all scheduled speech (an estimate while chunks wait for synthesis).
+  double GetSpeechEnd() const;
+  double GetLastSampleTime() const { return this->LastTime; }
+  /// Events held in memory (blinks, saccades, smiles, gestures, utterances, fade keys,
+  /// pending chunks): bounded over any run without commands piling up.
+  size_t GetNumberOfHeldEvents() const;
+  /// The blinks actually played so far whose start is in [from, to) and not yet forgotten
+  /// (idle and speech-rate blinks after thinning, speech cues and blink gestures; blinks
+  /// blocked by an override are not counted). For studies and tests.
+  std::vector<double> GetBlinkStarts(double from, double to) const;
+
+private:
+  struct LiveBlink
+  {
+    double Start;
+    double Amplitude;
+    double Keep; ///< uniform draw: kept when below the rate ratio at Start
+    int Source;  ///< 0 rest train, 1 extra train, 2 cue or gesture (always kept)
+  };
+  struct LiveGesture
+  {
+    int Definition;
+    double Intensity;
+    SyncPoints Sync;
+  };
+  struct LiveUtterance
+  {
+    uint64_t Id;
+    Utterance Speech;
+    double Start, End;
+    double Cut; ///< StopSpeaking time (infinity when not cut)
+    std::vector<int> ChannelMap;
+  };
+  struct PendingSpeech
+  {
+    uint64_t Id;
+    std::vector<std::string> Chunks; ///< not yet synthesized, in order
+    double SecondsPerChar;           ///< from the first chunk, for the estimate
+  };
+  struct LiveCue
+  {
+    NonverbalCue::Kind Kind;
+    SyncPoints Sync;
+    double Intensity;
+    double Cut;
+  };
+
+  double ClampNow(double now) const;
+  void Extend(double horizon);
+  void Forget(double t);
+  double BlinkRateFactor(double t) const;
+  Timing AddUtterance(uint64_t id, Utterance utterance, double start);
+
+  BehaviorParameters Parameters;
+  uint64_t Seed;
+  BehaviorLibrary Library;
+  Synthesizer Synthesize;
+  std::vector<std::string> ChannelNames;
+  std::vector<char> SilentChannel;
+  double LastTime = 0.0;
+  bool Sampled = false;
+
+  // Idle generators (shared with IdleSchedule::Generate) and their held events.
+  BlinkTrain RestBlinks;
+  BehaviorRandom BlinkKeep, ExtraBlinks;
+  double NextExtraBlink = 0.0;
+  SaccadeTrain Saccades;
+  SmileTrain Smiles;
+  HeadMicroMotion Head;
+  std::deque<LiveBlink> Blinks;
+  std::deque<SaccadeEvent> SaccadeEvents;
+  std::deque<IdleSmileEvent> SmileEvents;
+  double Generated = 0.0; ///< idle events exist up to here
+
+  // Commands.
+  std::deque<LiveGesture> Gestures;
+  std::deque<LiveUtterance> Utterances;
+  std::deque<LiveCue> Cues;
+  std::deque<PendingSpeech> Pending;
+  std::vector<AudioSegment> Audio;
+  uint64_t NextId = 1;
+  FadeTrack<MoodEffect::Size> MoodTrack;
+  FadeTrack<3> EyeGazeTrack;  ///< yaw, pitch, look ownership
+  FadeTrack<2> HeadGazeTrack; ///< the head's share
+};
+} // namespace morphnode
