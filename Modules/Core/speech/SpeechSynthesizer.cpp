@@ -74,13 +74,30 @@ bool HasPhonemeData(const std::string& folder)
     " (install espeak-ng-data or point the data path at the folder holding it)");
 }
 
-/// Initializes eSpeak once per data path. Call with EngineMutex held.
+/// The folder holding phondata (`folder` or folder/espeak-ng-data), canonical; empty if none.
+std::string PhonemeDataFolder(const std::string& folder)
+{
+  std::error_code ignored;
+  for (const auto& candidate :
+    { std::filesystem::path(folder), std::filesystem::path(folder) / "espeak-ng-data" })
+  {
+    if (std::filesystem::is_regular_file(candidate / "phondata", ignored))
+    {
+      const auto canonical = std::filesystem::weakly_canonical(candidate, ignored);
+      return (ignored ? candidate : canonical).string();
+    }
+  }
+  return std::string();
+}
+
+/// Initializes eSpeak once per process. Call with EngineMutex held.
+/// eSpeak NG keeps one engine per process, and Debian's 1.51 cannot be re-initialized:
+/// after espeak_Terminate and espeak_Initialize, the next espeak_Terminate (and
+/// espeak_Synchronize) waits forever for its command-queue thread. So the first data path
+/// stays; asking for another one is an InputError (the same folder spelled differently, or
+/// an empty path meaning "whatever is loaded", is fine).
 void EnsureEngine(const std::string& dataPath)
 {
-  if (EngineReady && dataPath == EngineDataPath)
-  {
-    return;
-  }
   // eSpeak silently falls back to its default data when a given path is wrong: check first.
   if (!dataPath.empty() && !HasPhonemeData(dataPath))
   {
@@ -88,8 +105,13 @@ void EnsureEngine(const std::string& dataPath)
   }
   if (EngineReady)
   {
-    espeak_Terminate();
-    EngineReady = false;
+    if (dataPath.empty() || dataPath == EngineDataPath ||
+      PhonemeDataFolder(dataPath) == PhonemeDataFolder(EngineDataPath))
+    {
+      return;
+    }
+    throw InputError("eSpeak NG is already running on the data in '" + EngineDataPath +
+      "'; it cannot switch to '" + dataPath + "' in the same process (use one data path)");
   }
   // DONT_EXIT: without it eSpeak calls exit() when its data is missing.
   const int rate = espeak_Initialize(AUDIO_OUTPUT_SYNCHRONOUS, 0,
@@ -103,7 +125,7 @@ void EnsureEngine(const std::string& dataPath)
   }
   espeak_SetSynthCallback(SynthCallback);
   EngineSampleRate = rate;
-  EngineDataPath = dataPath;
+  EngineDataPath = usedPath;
   EngineReady = true;
 }
 
@@ -245,9 +267,10 @@ SynthesisResult SpeechSynthesizer::Synthesize(const std::string& text) const
     ActiveCollector = &collector;
     const espeak_ERROR status = espeak_Synth(text.c_str(), text.size() + 1, 0, POS_CHARACTER, 0,
       espeakCHARS_UTF8, nullptr, nullptr);
-    const espeak_ERROR finished = status == EE_OK ? espeak_Synchronize() : status;
+    // AUDIO_OUTPUT_SYNCHRONOUS: espeak_Synth returns when the text is done; there is
+    // nothing to wait for with espeak_Synchronize.
     ActiveCollector = nullptr;
-    if (finished != EE_OK)
+    if (status != EE_OK)
     {
       throw InputError("eSpeak NG failed to synthesize the text");
     }

@@ -9,6 +9,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <thread>
@@ -199,6 +200,45 @@ TEST(Synthesis, UnknownVoiceAndMissingDataAreInputErrors)
   }
   // The engine still works afterwards.
   EXPECT_FALSE(SpeechSynthesizer("en").Synthesize("hello").Phonemes.empty());
+}
+
+// eSpeak NG 1.51 cannot be re-initialized (after espeak_Terminate and espeak_Initialize, the
+// next espeak_Terminate waits forever): the engine keeps its first data path. The same data
+// under another spelling and the default path keep working after a rejected voice; another
+// data folder is a clear error, not a hang (ctest's timeout would catch one).
+TEST(Synthesis, AnotherDataPathAfterARejectedVoiceNeitherHangsNorSwitches)
+{
+  MORPHNODE_SKIP_WITHOUT_ESPEAK();
+  EXPECT_THROW(SpeechSynthesizer("no-such-voice-xyz").Synthesize("hello"), InputError);
+  const std::string system = "/usr/lib/x86_64-linux-gnu/espeak-ng-data";
+  if (!std::filesystem::is_regular_file(system + "/phondata"))
+  {
+    GTEST_SKIP() << "eSpeak NG's data is not at " << system;
+  }
+  for (const std::string path : { system, system + "/", std::string("/usr/lib/x86_64-linux-gnu"),
+         std::string() })
+  {
+    SpeechSynthesizer synthesizer("en");
+    synthesizer.SetDataPath(path);
+    EXPECT_FALSE(synthesizer.Synthesize("hello").Phonemes.empty()) << "data path '" << path << "'";
+  }
+  const std::filesystem::path other =
+    std::filesystem::temp_directory_path() / "morphnode-other-espeak-data";
+  std::filesystem::create_directories(other);
+  std::ofstream(other / "phondata") << "not eSpeak's data";
+  SpeechSynthesizer elsewhere("en");
+  elsewhere.SetDataPath(other.string());
+  try
+  {
+    elsewhere.Synthesize("hello");
+    FAIL() << "expected an InputError";
+  }
+  catch (const InputError& e)
+  {
+    EXPECT_NE(std::string(e.what()).find("cannot switch"), std::string::npos) << e.what();
+  }
+  std::filesystem::remove_all(other);
+  EXPECT_FALSE(SpeechSynthesizer("de").Synthesize("Hallo").Phonemes.empty());
 }
 
 TEST(Synthesis, ConcurrentCallsAreSerialized)
