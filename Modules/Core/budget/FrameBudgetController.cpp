@@ -41,6 +41,52 @@ CostModel CostModel::Fit(const std::vector<double>& x, const std::vector<double>
   return m;
 }
 
+namespace
+{
+double Median(std::vector<double>& v)
+{
+  const size_t mid = v.size() / 2;
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(mid), v.end());
+  double m = v[mid];
+  if (v.size() % 2 == 0)
+  {
+    m = 0.5 * (m + *std::max_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(mid)));
+  }
+  return m;
+}
+} // namespace
+
+CostModel CostModel::FitMedian(
+  const std::vector<double>& x, const std::vector<double>& y, double flatSlope)
+{
+  if (x.size() != y.size() || x.empty())
+  {
+    throw InputError("CostModel::FitMedian needs at least one (target points, seconds) "
+                     "sample and sizes that match, got " +
+      std::to_string(x.size()) + " and " + std::to_string(y.size()) + ".");
+  }
+  std::vector<double> slopes;
+  for (size_t i = 0; i < x.size(); ++i)
+  {
+    for (size_t j = i + 1; j < x.size(); ++j)
+    {
+      if (x[j] != x[i])
+      {
+        slopes.push_back((y[j] - y[i]) / (x[j] - x[i]));
+      }
+    }
+  }
+  CostModel m;
+  m.PerTargetPoint = std::max(0.0, slopes.empty() ? flatSlope : Median(slopes));
+  std::vector<double> fixed(x.size());
+  for (size_t i = 0; i < x.size(); ++i)
+  {
+    fixed[i] = y[i] - m.PerTargetPoint * x[i];
+  }
+  m.Fixed = std::max(0.0, Median(fixed));
+  return m;
+}
+
 double DeviceFrameBudget(DeviceClass device)
 {
   switch (device)
@@ -114,7 +160,7 @@ void FrameBudgetController::SetSettings(const ControllerSettings& s)
   {
     throw InputError("FrameBudgetController: hysteresis must lie in [0, 1).");
   }
-  if (s.MinFramesPerLevel < 0 || s.GeomorphFrames < 0)
+  if (s.MinFramesPerLevel < 0 || s.GeomorphFrames < 0 || s.MeasurementWindow < 0)
   {
     throw InputError("FrameBudgetController: frame counts must be >= 0.");
   }
@@ -123,6 +169,8 @@ void FrameBudgetController::SetSettings(const ControllerSettings& s)
   std::vector<LevelOfDetail> levels;
   levels.swap(this->Levels);
   this->Optimizers.clear();
+  this->Models.clear();
+  this->Samples.clear();
   for (const auto& level : levels)
   {
     this->AddLevel(level);
@@ -165,6 +213,9 @@ void FrameBudgetController::AddLevel(const LevelOfDetail& level)
   }
   this->Levels.push_back(level);
   this->Optimizers.push_back(std::move(optimizers));
+  this->Models.push_back(level.Cost);
+  this->Samples.emplace_back();
+  this->LastLevel = -1;
   this->Reset(0);
 }
 
@@ -205,7 +256,8 @@ FrameBudgetController::Candidate FrameBudgetController::Evaluate(
         targetPoints += lod.MovedPoints[i];
       }
     }
-    c.Seconds = lod.Cost.Predict(targetPoints);
+    c.TargetPoints = targetPoints;
+    c.Seconds = this->Models[level].Predict(targetPoints);
     c.Error = lod.GeometricError +
       WeightOptimizer::ErrorBound(weights, c.Weights, lod.Distances.MaxDisplacement);
     if (c.Seconds <= budget && (!haveBest || c.Error < best.Error))
@@ -330,6 +382,7 @@ ControllerDecision FrameBudgetController::Update(const std::vector<double>& weig
   d.Threshold = c.Threshold;
   d.Weights = c.Weights;
   d.ActiveTargets = c.Active;
+  d.TargetPoints = c.TargetPoints;
   d.PredictedSeconds = c.Seconds;
   d.PredictedError = c.Error;
   if (d.MorphTowards >= 0)
@@ -338,6 +391,42 @@ ControllerDecision FrameBudgetController::Update(const std::vector<double>& weig
     d.PredictedError += d.Alpha * std::max(0.0, coarseError - this->Levels[shown].GeometricError);
   }
   d.WithinBudget = d.PredictedSeconds <= budget;
+  this->LastLevel = shown;
+  this->LastTargetPoints = c.TargetPoints;
   return d;
+}
+
+void FrameBudgetController::ReportMeasuredSeconds(double seconds)
+{
+  if (!std::isfinite(seconds) || seconds < 0.0)
+  {
+    throw InputError("FrameBudgetController: a measured frame must take a finite, non-negative "
+                     "number of seconds, got " +
+      std::to_string(seconds) + ".");
+  }
+  if (this->LastLevel < 0)
+  {
+    throw InputError("FrameBudgetController: a measurement without a decided frame (call "
+                     "Update first).");
+  }
+  const size_t window = static_cast<size_t>(this->Settings.MeasurementWindow);
+  if (window == 0)
+  {
+    return;
+  }
+  const size_t level = static_cast<size_t>(this->LastLevel);
+  auto& samples = this->Samples[level];
+  if (samples.size() >= window)
+  {
+    samples.erase(samples.begin(), samples.begin() + static_cast<std::ptrdiff_t>(samples.size() - window + 1));
+  }
+  samples.emplace_back(this->LastTargetPoints, seconds);
+  std::vector<double> x, y;
+  for (const auto& [points, measured] : samples)
+  {
+    x.push_back(points);
+    y.push_back(measured);
+  }
+  this->Models[level] = CostModel::FitMedian(x, y, this->Models[level].PerTargetPoint);
 }
 } // namespace morphnode

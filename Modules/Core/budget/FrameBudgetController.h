@@ -32,6 +32,13 @@
 /// mesh has exactly the coarse mesh's shape and the topology switches invisibly. See
 /// morphnode::Geomorph. During a transition the finer level's cost is paid; the controller
 /// then raises its threshold to stay within budget where it can.
+///
+/// Measured costs: the given cost models are priors. After each frame, report what the
+/// frame really cost (ReportMeasuredSeconds, e.g. the timed morph stage); the displayed
+/// level's model is then refitted to its last MeasurementWindow measurements with a
+/// robust fit (CostModel::FitMedian), so the decisions follow the machine as it runs now
+/// (other load, clock changes, a model calibrated elsewhere), and a frame preempted once
+/// does not move it.
 
 #include "morph/Distances.h"
 #include "morph/WeightOptimizer.h"
@@ -39,6 +46,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace morphnode
@@ -53,6 +61,13 @@ struct CostModel
   /// Least-squares fit to measurements; both clamped to >= 0.
   /// Throws InputError for fewer than two samples or mismatched sizes.
   static CostModel Fit(const std::vector<double>& targetPoints, const std::vector<double>& seconds);
+  /// Robust fit (Theil-Sen): the slope is the median of the slopes between every two
+  /// measurements at different target points, `flatSlope` when there are none; Fixed is the
+  /// median of seconds - slope * targetPoints. Outliers (a preempted frame) up to nearly
+  /// half of the samples do not move it. Both clamped to >= 0.
+  /// Throws InputError for no samples or mismatched sizes.
+  static CostModel FitMedian(
+    const std::vector<double>& targetPoints, const std::vector<double>& seconds, double flatSlope);
 };
 
 /// Device classes and the morph stage's share of a frame: a rule of thumb to start from
@@ -99,6 +114,9 @@ struct ControllerSettings
   /// ... for this many frames in a row.
   int MinFramesPerLevel = 20;
   int GeomorphFrames = 8;
+  /// Measurements per level that ReportMeasuredSeconds refits its cost model to (the
+  /// latest ones); 0 keeps the given models.
+  int MeasurementWindow = 32;
 };
 
 struct ControllerDecision
@@ -107,6 +125,7 @@ struct ControllerDecision
   double Threshold = 0.0;      ///< optimizer threshold used at that level
   std::vector<double> Weights; ///< effective absolute weights (neutral first)
   int ActiveTargets = 0;
+  double TargetPoints = 0.0;   ///< points moved, summed over the active targets
   double PredictedSeconds = 0.0;
   double PredictedError = 0.0; ///< level error + optimizer bound
   bool WithinBudget = true;
@@ -140,12 +159,24 @@ public:
   int GetCurrentLevel() const { return this->Current; }
   size_t GetNumberOfSwitches() const { return this->Switches; }
 
+  /// What the frame the last Update decided really cost, in seconds: a measurement of its
+  /// displayed level at its target points; that level's cost model is refitted to its last
+  /// MeasurementWindow measurements (FitMedian; the slope kept while all lie at one target
+  /// point count). Does nothing with MeasurementWindow 0. Throws InputError for a negative
+  /// or non-finite value, or when no frame was decided since the levels were set.
+  void ReportMeasuredSeconds(double seconds);
+  /// The cost model a level predicts with: its given one until it is measured.
+  const CostModel& GetCostModel(size_t level) const { return this->Models.at(level); }
+  /// Measurements kept for a level.
+  size_t GetNumberOfMeasurements(size_t level) const { return this->Samples.at(level).size(); }
+
 private:
   struct Candidate
   {
     double Threshold = 0.0;
     std::vector<double> Weights;
     int Active = 0;
+    double TargetPoints = 0.0;
     double Seconds = 0.0;
     double Error = 0.0;
   };
@@ -156,6 +187,12 @@ private:
   std::vector<LevelOfDetail> Levels;
   /// One optimizer per level and threshold, so each keeps its own hysteresis history.
   std::vector<std::vector<WeightOptimizer>> Optimizers;
+  /// Per level: the model predictions use and its measurements (target points, seconds),
+  /// oldest first.
+  std::vector<CostModel> Models;
+  std::vector<std::vector<std::pair<double, double>>> Samples;
+  int LastLevel = -1; ///< displayed by the last Update, -1: none since the levels were set
+  double LastTargetPoints = 0.0;
   int Current = 0;
   int Streak = 0;          ///< consecutive frames preferring StreakDirection
   int StreakDirection = 0; ///< +1 coarser, -1 finer, 0 stay
