@@ -4,6 +4,7 @@
 #include "base/Error.h"
 #include "base/Text.h"
 #include "speech/Sampa.h"
+#include "speech/Utf8.h"
 
 #include <cctype>
 #include <unordered_map>
@@ -57,66 +58,6 @@ const std::unordered_map<char32_t, std::string>& IpaTable()
     { 0x032A, "" } /* dental */, { 0x0303, "~" } /* nasal */, { 0x0325, "" }, { 0x031A, "" },
     { 0x0306, "" }, { 0x0308, "" }, { 0x031E, "" }, { 0x031D, "" }, { 0x0320, "" }, { 0x031F, "" } };
   return table;
-}
-
-/// Decodes UTF-8; invalid bytes become U+FFFD.
-std::u32string DecodeUtf8(const std::string& s)
-{
-  std::u32string out;
-  for (size_t i = 0; i < s.size();)
-  {
-    const unsigned char c = static_cast<unsigned char>(s[i]);
-    int extra = c < 0x80 ? 0 : (c >> 5) == 6 ? 1 : (c >> 4) == 14 ? 2 : (c >> 3) == 30 ? 3 : -1;
-    if (extra < 0 || i + static_cast<size_t>(extra) >= s.size() + (extra == 0 ? 1 : 0))
-    {
-      out.push_back(0xFFFD);
-      ++i;
-      continue;
-    }
-    char32_t cp = extra == 0 ? c : c & (0x3F >> extra);
-    bool ok = true;
-    for (int k = 1; k <= extra; ++k)
-    {
-      const unsigned char d = static_cast<unsigned char>(s[i + static_cast<size_t>(k)]);
-      if ((d >> 6) != 2)
-      {
-        ok = false;
-        break;
-      }
-      cp = (cp << 6) | (d & 0x3F);
-    }
-    out.push_back(ok ? cp : 0xFFFD);
-    i += ok ? static_cast<size_t>(extra) + 1 : 1;
-  }
-  return out;
-}
-
-std::string EncodeUtf8(char32_t cp)
-{
-  std::string out;
-  if (cp < 0x80)
-  {
-    out += static_cast<char>(cp);
-  }
-  else if (cp < 0x800)
-  {
-    out += static_cast<char>(0xC0 | (cp >> 6));
-    out += static_cast<char>(0x80 | (cp & 0x3F));
-  }
-  else if (cp < 0x10000)
-  {
-    out += static_cast<char>(0xE0 | (cp >> 12));
-    out += static_cast<char>(0x80 | ((cp >> 6) & 0x3F));
-    out += static_cast<char>(0x80 | (cp & 0x3F));
-  }
-  else
-  {
-    out += static_cast<char>(0xF0 | (cp >> 18));
-    out += static_cast<char>(0x80 | ((cp >> 12) & 0x3F));
-    out += static_cast<char>(0x80 | ((cp >> 6) & 0x3F));
-    out += static_cast<char>(0x80 | (cp & 0x3F));
-  }
-  return out;
 }
 
 /// X-SAMPA -> the SAMPA of the language's tables.

@@ -3,6 +3,7 @@
 
 #include "base/Error.h"
 #include "base/Text.h"
+#include "speech/Utf8.h"
 
 #include <algorithm>
 #include <cmath>
@@ -14,32 +15,6 @@ namespace
 [[noreturn]] void Fail(const std::string& why)
 {
   throw InputError("textgrid: " + why);
-}
-
-void AppendUtf8(std::string& out, char32_t cp)
-{
-  if (cp < 0x80)
-  {
-    out += static_cast<char>(cp);
-  }
-  else if (cp < 0x800)
-  {
-    out += static_cast<char>(0xC0 | (cp >> 6));
-    out += static_cast<char>(0x80 | (cp & 0x3F));
-  }
-  else if (cp < 0x10000)
-  {
-    out += static_cast<char>(0xE0 | (cp >> 12));
-    out += static_cast<char>(0x80 | ((cp >> 6) & 0x3F));
-    out += static_cast<char>(0x80 | (cp & 0x3F));
-  }
-  else
-  {
-    out += static_cast<char>(0xF0 | (cp >> 18));
-    out += static_cast<char>(0x80 | ((cp >> 12) & 0x3F));
-    out += static_cast<char>(0x80 | ((cp >> 6) & 0x3F));
-    out += static_cast<char>(0x80 | (cp & 0x3F));
-  }
 }
 
 /// UTF-16 with a byte-order mark -> UTF-8; UTF-8 (with or without its mark) as it is.
@@ -60,32 +35,20 @@ std::string ToUtf8(const std::string& bytes)
   {
     Fail("UTF-16 text with an odd number of bytes");
   }
-  std::string out;
-  out.reserve(bytes.size() / 2);
+  std::u16string units;
+  units.reserve(bytes.size() / 2);
   for (size_t i = 2; i + 1 < bytes.size(); i += 2)
   {
-    char32_t unit = le ? (b(i) | (b(i + 1) << 8)) : ((b(i) << 8) | b(i + 1));
-    if (unit >= 0xD800 && unit < 0xDC00)
-    {
-      if (i + 3 >= bytes.size())
-      {
-        Fail("UTF-16 text ends inside a surrogate pair");
-      }
-      const char32_t low = le ? (b(i + 2) | (b(i + 3) << 8)) : ((b(i + 2) << 8) | b(i + 3));
-      if (low < 0xDC00 || low >= 0xE000)
-      {
-        Fail("broken UTF-16 surrogate pair");
-      }
-      unit = 0x10000 + ((unit - 0xD800) << 10) + (low - 0xDC00);
-      i += 2;
-    }
-    else if (unit >= 0xDC00 && unit < 0xE000)
-    {
-      Fail("broken UTF-16 surrogate pair");
-    }
-    AppendUtf8(out, unit);
+    units.push_back(static_cast<char16_t>(le ? (b(i) | (b(i + 1) << 8)) : ((b(i) << 8) | b(i + 1))));
   }
-  return out;
+  try
+  {
+    return Utf16ToUtf8(units);
+  }
+  catch (const InputError& e)
+  {
+    Fail(std::string("UTF-16 text: ") + e.what());
+  }
 }
 
 /// Praat's text formats as one stream of values: quoted strings ("" inside is a quote),
