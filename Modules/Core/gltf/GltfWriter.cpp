@@ -1,0 +1,855 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "gltf/GltfWriter.h"
+
+#include "TinyGltfConfig.h"
+
+#include "base/Error.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <sstream>
+
+namespace morphnode
+{
+namespace
+{
+[[noreturn]] void Fail(const std::string& message)
+{
+  throw InputError("glTF export: " + message);
+}
+
+bool AllFinite(const std::vector<float>& v)
+{
+  return std::all_of(v.begin(), v.end(), [](float x) { return std::isfinite(x); });
+}
+
+/// Builds the tinygltf model: one buffer, one buffer view per accessor (or sparse part).
+struct ModelBuilder
+{
+  tinygltf::Model Model;
+
+  ModelBuilder()
+  {
+    this->Model.buffers.emplace_back();
+  }
+
+  std::vector<unsigned char>& Bin() { return this->Model.buffers[0].data; }
+
+  int AddView(const void* data, size_t bytes, int target)
+  {
+    auto& bin = this->Bin();
+    while (bin.size() % 4 != 0)
+    {
+      bin.push_back(0);
+    }
+    tinygltf::BufferView view;
+    view.buffer = 0;
+    view.byteOffset = bin.size();
+    view.byteLength = bytes;
+    view.target = target;
+    const auto* p = static_cast<const unsigned char*>(data);
+    bin.insert(bin.end(), p, p + bytes);
+    this->Model.bufferViews.push_back(view);
+    return static_cast<int>(this->Model.bufferViews.size() - 1);
+  }
+
+  static int TypeOf(int components)
+  {
+    switch (components)
+    {
+      case 1:
+        return TINYGLTF_TYPE_SCALAR;
+      case 3:
+        return TINYGLTF_TYPE_VEC3;
+      default:
+        return TINYGLTF_TYPE_VEC4;
+    }
+  }
+
+  /// min and max per component of `values` (count elements of `components`).
+  static void MinMax(const std::vector<float>& values, int components, tinygltf::Accessor& a)
+  {
+    a.minValues.assign(static_cast<size_t>(components), std::numeric_limits<double>::infinity());
+    a.maxValues.assign(static_cast<size_t>(components), -std::numeric_limits<double>::infinity());
+    for (size_t i = 0; i < values.size(); ++i)
+    {
+      const size_t c = i % static_cast<size_t>(components);
+      a.minValues[c] = std::min(a.minValues[c], static_cast<double>(values[i]));
+      a.maxValues[c] = std::max(a.maxValues[c], static_cast<double>(values[i]));
+    }
+    if (values.empty())
+    {
+      a.minValues.clear();
+      a.maxValues.clear();
+    }
+  }
+
+  int AddAccessor(tinygltf::Accessor a)
+  {
+    this->Model.accessors.push_back(std::move(a));
+    return static_cast<int>(this->Model.accessors.size() - 1);
+  }
+
+  /// Dense floats.
+  int AddFloats(const std::vector<float>& values, int components, bool minMax, int target)
+  {
+    tinygltf::Accessor a;
+    a.bufferView = this->AddView(values.data(), values.size() * sizeof(float), target);
+    a.componentType = TINYGLTF_COMPONENT_TYPE_FLOAT;
+    a.type = TypeOf(components);
+    a.count = values.size() / static_cast<size_t>(components);
+    if (minMax)
+    {
+      MinMax(values, components, a);
+    }
+    return this->AddAccessor(std::move(a));
+  }
+
+  /// Target deltas (3 per point): sparse when that is smaller, no data when all zero.
+  int AddDeltas(const std::vector<float>& deltas)
+  {
+    const size_t n = deltas.size() / 3;
+    std::vector<uint32_t> moved;
+    for (size_t i = 0; i < n; ++i)
+    {
+      if (deltas[3 * i] != 0.0f || deltas[3 * i + 1] != 0.0f || deltas[3 * i + 2] != 0.0f)
+      {
+        moved.push_back(static_cast<uint32_t>(i));
+      }
+    }
+    const bool shortIndices = n <= 65536;
+    const size_t sparseBytes = moved.size() * (12 + (shortIndices ? 2 : 4));
+    if (!moved.empty() && sparseBytes >= 12 * n)
+    {
+      return this->AddFloats(deltas, 3, true, TINYGLTF_TARGET_ARRAY_BUFFER);
+    }
+    tinygltf::Accessor a;
+    a.bufferView = -1;
+    a.componentType = TINYGLTF_COMPONENT_TYPE_FLOAT;
+    a.type = TINYGLTF_TYPE_VEC3;
+    a.count = n;
+    std::vector<float> values;
+    values.reserve(3 * moved.size());
+    for (uint32_t i : moved)
+    {
+      values.insert(values.end(), deltas.begin() + 3 * i, deltas.begin() + 3 * i + 3);
+    }
+    // min/max over the whole accessor: the points it does not move are zeros.
+    MinMax(values, 3, a);
+    if (moved.size() < n || values.empty())
+    {
+      a.minValues.resize(3, 0.0);
+      a.maxValues.resize(3, 0.0);
+      for (int c = 0; c < 3; ++c)
+      {
+        a.minValues[c] = std::min(a.minValues[c], 0.0);
+        a.maxValues[c] = std::max(a.maxValues[c], 0.0);
+      }
+    }
+    if (!moved.empty())
+    {
+      a.sparse.isSparse = true;
+      a.sparse.count = static_cast<int>(moved.size());
+      if (shortIndices)
+      {
+        std::vector<uint16_t> small(moved.begin(), moved.end());
+        a.sparse.indices.bufferView = this->AddView(small.data(), small.size() * 2, 0);
+        a.sparse.indices.componentType = TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT;
+      }
+      else
+      {
+        a.sparse.indices.bufferView = this->AddView(moved.data(), moved.size() * 4, 0);
+        a.sparse.indices.componentType = TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
+      }
+      a.sparse.indices.byteOffset = 0;
+      a.sparse.values.bufferView = this->AddView(values.data(), values.size() * sizeof(float), 0);
+      a.sparse.values.byteOffset = 0;
+    }
+    return this->AddAccessor(std::move(a));
+  }
+
+  int AddIndices(const std::vector<uint32_t>& triangles, size_t points)
+  {
+    tinygltf::Accessor a;
+    a.type = TINYGLTF_TYPE_SCALAR;
+    a.count = triangles.size();
+    if (points < 65535)
+    {
+      std::vector<uint16_t> small(triangles.begin(), triangles.end());
+      a.componentType = TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT;
+      a.bufferView = this->AddView(small.data(), small.size() * 2, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
+    }
+    else
+    {
+      a.componentType = TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
+      a.bufferView = this->AddView(triangles.data(), triangles.size() * 4, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
+    }
+    return this->AddAccessor(std::move(a));
+  }
+};
+
+std::string NodeLabel(const GltfScene& scene, int node)
+{
+  const std::string& name = scene.Nodes[static_cast<size_t>(node)].Name;
+  return name.empty() ? "node" + std::to_string(node) : name;
+}
+
+void CheckPart(const GltfPart& part, size_t index, const GltfScene& scene)
+{
+  const std::string where = "part " + std::to_string(index) + " (" + part.Name + ")";
+  const size_t n = part.GetNumberOfPoints();
+  if (part.Positions.size() != 3 * n || n == 0)
+  {
+    Fail(where + ": positions must be 3 per point, at least one point (got " +
+      std::to_string(part.Positions.size()) + " values)");
+  }
+  if (!part.Normals.empty() && part.Normals.size() != 3 * n)
+  {
+    Fail(where + ": " + std::to_string(part.Normals.size()) + " normal values for " +
+      std::to_string(n) + " points");
+  }
+  if (!part.Colors.empty() && part.Colors.size() != 4 * n)
+  {
+    Fail(where + ": " + std::to_string(part.Colors.size()) + " colour values for " +
+      std::to_string(n) + " points (RGBA: 4 per point)");
+  }
+  if (part.Triangles.empty() || part.Triangles.size() % 3 != 0)
+  {
+    Fail(where + ": triangles must be 3 indices each, at least one");
+  }
+  for (uint32_t i : part.Triangles)
+  {
+    if (i >= n)
+    {
+      Fail(where + ": triangle index " + std::to_string(i) + " beyond its " + std::to_string(n) + " points");
+    }
+  }
+  if (!AllFinite(part.Positions) || !AllFinite(part.Normals) || !AllFinite(part.Colors))
+  {
+    Fail(where + ": positions, normals and colours must be finite");
+  }
+  if (part.Node < 0 || static_cast<size_t>(part.Node) >= scene.Nodes.size())
+  {
+    Fail(where + ": node " + std::to_string(part.Node) + " is not a node of the scene");
+  }
+  for (const auto& target : part.Targets)
+  {
+    if (target.Name.empty())
+    {
+      Fail(where + ": a target without a name");
+    }
+    if (target.PositionDeltas.size() != 3 * n)
+    {
+      Fail(where + ": target '" + target.Name + "' has " + std::to_string(target.PositionDeltas.size()) +
+        " position delta values for " + std::to_string(n) + " points");
+    }
+    if (!target.NormalDeltas.empty() && (target.NormalDeltas.size() != 3 * n || part.Normals.empty()))
+    {
+      Fail(where + ": target '" + target.Name + "': normal deltas need normals and 3 values per point");
+    }
+    if (!AllFinite(target.PositionDeltas) || !AllFinite(target.NormalDeltas))
+    {
+      Fail(where + ": target '" + target.Name + "' has non-finite deltas");
+    }
+  }
+  for (double c : part.BaseColor)
+  {
+    if (!std::isfinite(c) || c < 0.0 || c > 1.0)
+    {
+      Fail(where + ": base colour components must be in [0, 1]");
+    }
+  }
+}
+
+std::vector<std::string> TargetNamesOf(const GltfPart& part)
+{
+  std::vector<std::string> names;
+  for (const auto& t : part.Targets)
+  {
+    names.push_back(t.Name);
+  }
+  return names;
+}
+
+tinygltf::Value StringArray(const std::vector<std::string>& names)
+{
+  tinygltf::Value::Array values;
+  for (const auto& n : names)
+  {
+    values.emplace_back(n);
+  }
+  return tinygltf::Value(values);
+}
+
+void CheckPerformance(const GltfPerformance& p)
+{
+  if (p.Interpolation == GltfInterpolation::CubicSpline)
+  {
+    Fail("the performance's interpolation must be LINEAR or STEP");
+  }
+  if (p.Times.empty())
+  {
+    Fail("the performance has no times");
+  }
+  for (size_t i = 0; i < p.Times.size(); ++i)
+  {
+    const double t = p.Times[i];
+    if (!std::isfinite(t) || t < 0.0)
+    {
+      Fail("time " + std::to_string(i) + " is " + std::to_string(t) + ": times must be finite and >= 0");
+    }
+    if (i > 0 && !(static_cast<float>(t) > static_cast<float>(p.Times[i - 1])))
+    {
+      Fail("times must increase: time " + std::to_string(i) + " (" + std::to_string(t) +
+        " s) does not come after time " + std::to_string(i - 1) + " (" + std::to_string(p.Times[i - 1]) +
+        " s) (as 32-bit floats, as glTF stores them)");
+    }
+  }
+  if (p.Weights.size() != p.Times.size() * p.TargetNames.size())
+  {
+    Fail(std::to_string(p.Weights.size()) + " weights for " + std::to_string(p.Times.size()) + " times x " +
+      std::to_string(p.TargetNames.size()) + " targets");
+  }
+  for (size_t i = 0; i < p.Weights.size(); ++i)
+  {
+    if (!std::isfinite(p.Weights[i]))
+    {
+      const size_t k = p.TargetNames.empty() ? 0 : i / p.TargetNames.size();
+      Fail("the weight of '" + p.TargetNames[i % p.TargetNames.size()] + "' at time " + std::to_string(k) +
+        " is not finite");
+    }
+  }
+  std::map<std::string, int> seen;
+  for (const auto& name : p.TargetNames)
+  {
+    if (++seen[name] > 1)
+    {
+      Fail("the target '" + name + "' appears twice in the performance");
+    }
+  }
+  for (const auto& r : p.Rotations)
+  {
+    const std::string what = r.Node.empty() ? std::string("the scene's rotation") : "the rotation of '" + r.Node + "'";
+    if (r.Rotations.size() != 4 * p.Times.size())
+    {
+      Fail(what + " has " + std::to_string(r.Rotations.size()) + " values for " + std::to_string(p.Times.size()) +
+        " times (4 per time: x, y, z, w)");
+    }
+    for (double v : r.Pivot)
+    {
+      if (!std::isfinite(v))
+      {
+        Fail(what + ": the pivot must be finite");
+      }
+    }
+    for (size_t k = 0; k < p.Times.size(); ++k)
+    {
+      const double* q = r.Rotations.data() + 4 * k;
+      const double len = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+      if (!std::isfinite(len) || len < 1e-6)
+      {
+        Fail(what + " at time " + std::to_string(k) + " is not a rotation (a non-finite or zero quaternion)");
+      }
+    }
+  }
+}
+
+/// Unit, sign-continuous quaternions as floats.
+std::vector<float> Quaternions(const std::vector<double>& q)
+{
+  std::vector<float> out(q.size());
+  double prev[4] = { 0, 0, 0, 1 };
+  for (size_t k = 0; k < q.size() / 4; ++k)
+  {
+    double v[4];
+    const double* s = q.data() + 4 * k;
+    const double len = std::sqrt(s[0] * s[0] + s[1] * s[1] + s[2] * s[2] + s[3] * s[3]);
+    for (int c = 0; c < 4; ++c)
+    {
+      v[c] = s[c] / len;
+    }
+    if (k > 0 && v[0] * prev[0] + v[1] * prev[1] + v[2] * prev[2] + v[3] * prev[3] < 0.0)
+    {
+      for (double& c : v)
+      {
+        c = -c;
+      }
+    }
+    for (int c = 0; c < 4; ++c)
+    {
+      prev[c] = v[c];
+      out[4 * k + c] = static_cast<float>(v[c]);
+    }
+  }
+  return out;
+}
+} // namespace
+
+std::array<double, 4> GltfQuaternionFromRowMajor(const std::array<double, 16>& m)
+{
+  auto at = [&m](int r, int c) { return m[static_cast<size_t>(4 * r + c)]; };
+  const double trace = at(0, 0) + at(1, 1) + at(2, 2);
+  std::array<double, 4> q{};
+  if (trace > 0.0)
+  {
+    const double s = 0.5 / std::sqrt(trace + 1.0);
+    q = { (at(2, 1) - at(1, 2)) * s, (at(0, 2) - at(2, 0)) * s, (at(1, 0) - at(0, 1)) * s, 0.25 / s };
+  }
+  else if (at(0, 0) > at(1, 1) && at(0, 0) > at(2, 2))
+  {
+    const double s = 2.0 * std::sqrt(1.0 + at(0, 0) - at(1, 1) - at(2, 2));
+    q = { 0.25 * s, (at(0, 1) + at(1, 0)) / s, (at(0, 2) + at(2, 0)) / s, (at(2, 1) - at(1, 2)) / s };
+  }
+  else if (at(1, 1) > at(2, 2))
+  {
+    const double s = 2.0 * std::sqrt(1.0 + at(1, 1) - at(0, 0) - at(2, 2));
+    q = { (at(0, 1) + at(1, 0)) / s, 0.25 * s, (at(1, 2) + at(2, 1)) / s, (at(0, 2) - at(2, 0)) / s };
+  }
+  else
+  {
+    const double s = 2.0 * std::sqrt(1.0 + at(2, 2) - at(0, 0) - at(1, 1));
+    q = { (at(0, 2) + at(2, 0)) / s, (at(1, 2) + at(2, 1)) / s, 0.25 * s, (at(1, 0) - at(0, 1)) / s };
+  }
+  const double len = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+  if (!std::isfinite(len) || len == 0.0)
+  {
+    throw InputError("glTF export: not a rotation matrix");
+  }
+  for (double& c : q)
+  {
+    c /= len;
+  }
+  return q;
+}
+
+std::vector<unsigned char> WriteGltfSceneToMemory(const GltfScene& scene,
+  const GltfPerformance* performance, const GltfWriteOptions& options)
+{
+  if (scene.Parts.empty())
+  {
+    Fail("the scene has no parts");
+  }
+  for (size_t i = 0; i < scene.Parts.size(); ++i)
+  {
+    CheckPart(scene.Parts[i], i, scene);
+  }
+  const bool applied = scene.Parts[0].TransformApplied;
+  for (const auto& part : scene.Parts)
+  {
+    if (part.TransformApplied != applied)
+    {
+      Fail("some parts are in world space and others in their nodes' frames");
+    }
+  }
+  const size_t numNodes = scene.Nodes.size();
+  for (size_t n = 0; n < numNodes; ++n)
+  {
+    const GltfNode& node = scene.Nodes[n];
+    if (node.Parent < -1 || node.Parent >= static_cast<int>(numNodes))
+    {
+      Fail("node " + std::to_string(n) + ": parent " + std::to_string(node.Parent) + " is not a node");
+    }
+    for (int c : node.Children)
+    {
+      if (c < 0 || c >= static_cast<int>(numNodes) || scene.Nodes[static_cast<size_t>(c)].Parent != static_cast<int>(n))
+      {
+        Fail("node " + std::to_string(n) + ": child " + std::to_string(c) + " is not a node whose parent it is");
+      }
+    }
+  }
+  // Cycles: every node must reach a root within numNodes steps.
+  for (size_t n = 0; n < numNodes; ++n)
+  {
+    int p = static_cast<int>(n);
+    size_t steps = 0;
+    while (p >= 0 && steps++ <= numNodes)
+    {
+      p = scene.Nodes[static_cast<size_t>(p)].Parent;
+    }
+    if (p >= 0)
+    {
+      Fail("the node hierarchy has a cycle through node " + std::to_string(n));
+    }
+  }
+  if (performance)
+  {
+    CheckPerformance(*performance);
+  }
+
+  ModelBuilder b;
+  tinygltf::Model& m = b.Model;
+  m.asset.version = "2.0";
+  m.asset.generator = options.Generator;
+
+  // Nodes: the scene's, in its order.
+  std::vector<int> partsOfNode; // node -> mesh index
+  m.nodes.resize(numNodes);
+  for (size_t n = 0; n < numNodes; ++n)
+  {
+    const GltfNode& src = scene.Nodes[n];
+    tinygltf::Node& dst = m.nodes[n];
+    dst.name = src.Name;
+    dst.children = src.Children;
+    if (!applied)
+    {
+      if (src.HasMatrix)
+      {
+        dst.matrix.assign(src.Local.begin(), src.Local.end());
+      }
+      else
+      {
+        if (src.Translation != std::array<double, 3>{ { 0, 0, 0 } })
+        {
+          dst.translation.assign(src.Translation.begin(), src.Translation.end());
+        }
+        if (src.Rotation != std::array<double, 4>{ { 0, 0, 0, 1 } })
+        {
+          dst.rotation.assign(src.Rotation.begin(), src.Rotation.end());
+        }
+        if (src.Scale != std::array<double, 3>{ { 1, 1, 1 } })
+        {
+          dst.scale.assign(src.Scale.begin(), src.Scale.end());
+        }
+      }
+    }
+  }
+
+  // Materials, shared by equal name and colour.
+  std::map<std::pair<std::string, std::array<double, 4>>, int> materials;
+  auto materialOf = [&](const GltfPart& part) {
+    const bool none = part.Material < 0 && part.MaterialName.empty() &&
+      part.BaseColor == std::array<double, 4>{ { 1, 1, 1, 1 } };
+    if (none)
+    {
+      return -1;
+    }
+    const auto key = std::make_pair(part.MaterialName, part.BaseColor);
+    auto it = materials.find(key);
+    if (it != materials.end())
+    {
+      return it->second;
+    }
+    tinygltf::Material mat;
+    mat.name = part.MaterialName;
+    mat.pbrMetallicRoughness.baseColorFactor.assign(part.BaseColor.begin(), part.BaseColor.end());
+    mat.pbrMetallicRoughness.metallicFactor = 0.0;
+    mat.pbrMetallicRoughness.roughnessFactor = 0.5;
+    if (part.BaseColor[3] < 1.0)
+    {
+      mat.alphaMode = "BLEND";
+    }
+    m.materials.push_back(mat);
+    const int index = static_cast<int>(m.materials.size() - 1);
+    materials[key] = index;
+    return index;
+  };
+
+  // Meshes: the parts of each node, in part order.
+  std::vector<std::vector<std::string>> meshTargets; // per written mesh
+  std::vector<int> meshNode;
+  for (size_t n = 0; n < numNodes; ++n)
+  {
+    std::vector<const GltfPart*> parts;
+    for (const auto& part : scene.Parts)
+    {
+      if (part.Node == static_cast<int>(n))
+      {
+        parts.push_back(&part);
+      }
+    }
+    if (parts.empty())
+    {
+      continue;
+    }
+    const std::vector<std::string> names = TargetNamesOf(*parts[0]);
+    for (const GltfPart* part : parts)
+    {
+      if (TargetNamesOf(*part) != names)
+      {
+        Fail("the parts of node '" + NodeLabel(scene, static_cast<int>(n)) +
+          "' have different targets (glTF gives every primitive of a mesh the same targets): '" +
+          parts[0]->Name + "' and '" + part->Name + "'");
+      }
+    }
+    tinygltf::Mesh mesh;
+    mesh.name = NodeLabel(scene, static_cast<int>(n));
+    for (const GltfPart* part : parts)
+    {
+      tinygltf::Primitive prim;
+      prim.mode = TINYGLTF_MODE_TRIANGLES;
+      prim.attributes["POSITION"] = b.AddFloats(part->Positions, 3, true, TINYGLTF_TARGET_ARRAY_BUFFER);
+      if (!part->Normals.empty())
+      {
+        std::vector<float> normals(part->Normals);
+        for (size_t i = 0; i < normals.size(); i += 3)
+        {
+          const double len = std::sqrt(double(normals[i]) * normals[i] + double(normals[i + 1]) * normals[i + 1] +
+            double(normals[i + 2]) * normals[i + 2]);
+          if (len > 1e-12)
+          {
+            for (int c = 0; c < 3; ++c)
+            {
+              normals[i + c] = static_cast<float>(normals[i + c] / len);
+            }
+          }
+          else
+          {
+            normals[i] = 0.0f;
+            normals[i + 1] = 0.0f;
+            normals[i + 2] = 1.0f;
+          }
+        }
+        prim.attributes["NORMAL"] = b.AddFloats(normals, 3, false, TINYGLTF_TARGET_ARRAY_BUFFER);
+      }
+      if (!part->Colors.empty())
+      {
+        std::vector<float> colors(part->Colors);
+        for (float& c : colors)
+        {
+          c = std::min(1.0f, std::max(0.0f, c));
+        }
+        prim.attributes["COLOR_0"] = b.AddFloats(colors, 4, false, TINYGLTF_TARGET_ARRAY_BUFFER);
+      }
+      prim.indices = b.AddIndices(part->Triangles, part->GetNumberOfPoints());
+      prim.material = materialOf(*part);
+      for (const auto& target : part->Targets)
+      {
+        std::map<std::string, int> attributes;
+        attributes["POSITION"] = b.AddDeltas(target.PositionDeltas);
+        if (!target.NormalDeltas.empty())
+        {
+          attributes["NORMAL"] = b.AddDeltas(target.NormalDeltas);
+        }
+        prim.targets.push_back(attributes);
+      }
+      mesh.primitives.push_back(prim);
+    }
+    if (!names.empty())
+    {
+      tinygltf::Value::Object extras;
+      extras["targetNames"] = StringArray(names);
+      mesh.extras = tinygltf::Value(extras);
+      mesh.weights = parts[0]->DefaultWeights;
+      if (mesh.weights.size() != names.size())
+      {
+        mesh.weights.assign(names.size(), 0.0);
+      }
+    }
+    m.meshes.push_back(mesh);
+    m.nodes[n].mesh = static_cast<int>(m.meshes.size() - 1);
+    meshTargets.push_back(names);
+    meshNode.push_back(static_cast<int>(n));
+  }
+
+  // Roots of the scene: nodes without parent that are in the scene (all of them when no
+  // node is marked).
+  const bool anyInScene =
+    std::any_of(scene.Nodes.begin(), scene.Nodes.end(), [](const GltfNode& node) { return node.InScene; });
+  std::vector<int> roots;
+  for (size_t n = 0; n < numNodes; ++n)
+  {
+    if (scene.Nodes[n].Parent < 0 && (scene.Nodes[n].InScene || !anyInScene))
+    {
+      roots.push_back(static_cast<int>(n));
+    }
+  }
+  for (const auto& part : scene.Parts)
+  {
+    int root = part.Node;
+    while (scene.Nodes[static_cast<size_t>(root)].Parent >= 0)
+    {
+      root = scene.Nodes[static_cast<size_t>(root)].Parent;
+    }
+    if (std::find(roots.begin(), roots.end(), root) == roots.end())
+    {
+      Fail("part '" + part.Name + "' is on a node outside the scene");
+    }
+  }
+
+  if (performance)
+  {
+    const GltfPerformance& p = *performance;
+    const size_t frames = p.Times.size();
+    // Every named target must be some mesh's.
+    for (const auto& name : p.TargetNames)
+    {
+      const bool found = std::any_of(meshTargets.begin(), meshTargets.end(),
+        [&name](const std::vector<std::string>& t) { return std::find(t.begin(), t.end(), name) != t.end(); });
+      if (!found)
+      {
+        Fail("the performance names the target '" + name + "', which no part of the scene has");
+      }
+    }
+    tinygltf::Animation anim;
+    anim.name = p.Name;
+    const std::string interpolation = p.Interpolation == GltfInterpolation::Step ? "STEP" : "LINEAR";
+    std::vector<float> times(p.Times.begin(), p.Times.end());
+    const int input = b.AddFloats(times, 1, true, 0);
+    auto addSampler = [&](int output) {
+      tinygltf::AnimationSampler s;
+      s.input = input;
+      s.output = output;
+      s.interpolation = interpolation;
+      anim.samplers.push_back(s);
+      return static_cast<int>(anim.samplers.size() - 1);
+    };
+    auto addChannel = [&](int sampler, int node, const std::string& path) {
+      tinygltf::AnimationChannel c;
+      c.sampler = sampler;
+      c.target_node = node;
+      c.target_path = path;
+      anim.channels.push_back(c);
+    };
+    for (size_t k = 0; k < meshTargets.size(); ++k)
+    {
+      const auto& names = meshTargets[k];
+      if (names.empty())
+      {
+        continue;
+      }
+      std::vector<int> column(names.size(), -1);
+      for (size_t t = 0; t < names.size(); ++t)
+      {
+        const auto it = std::find(p.TargetNames.begin(), p.TargetNames.end(), names[t]);
+        column[t] = it == p.TargetNames.end() ? -1 : static_cast<int>(it - p.TargetNames.begin());
+      }
+      std::vector<float> values(frames * names.size(), 0.0f);
+      for (size_t f = 0; f < frames; ++f)
+      {
+        for (size_t t = 0; t < names.size(); ++t)
+        {
+          if (column[t] >= 0)
+          {
+            values[f * names.size() + t] =
+              static_cast<float>(p.Weights[f * p.TargetNames.size() + static_cast<size_t>(column[t])]);
+          }
+        }
+      }
+      const int node = meshNode[k];
+      addChannel(addSampler(b.AddFloats(values, 1, false, 0)), node, "weights");
+    }
+    for (const auto& r : p.Rotations)
+    {
+      const std::vector<float> q = Quaternions(r.Rotations);
+      int turned = -1; // -1: the whole scene
+      if (!r.Node.empty())
+      {
+        for (size_t n = 0; n < numNodes; ++n)
+        {
+          if (scene.Nodes[n].Name == r.Node)
+          {
+            if (turned >= 0)
+            {
+              Fail("several nodes are named '" + r.Node + "': the rotation's node must be unique");
+            }
+            turned = static_cast<int>(n);
+          }
+        }
+        if (turned < 0)
+        {
+          Fail("the performance turns the node '" + r.Node + "', which the scene does not have");
+        }
+      }
+      const std::string base = r.Node.empty() ? std::string("Head") : r.Node;
+      tinygltf::Node rotation;
+      rotation.name = base + "Rotation";
+      rotation.translation.assign(r.Pivot.begin(), r.Pivot.end());
+      tinygltf::Node pivot;
+      pivot.name = base + "Pivot";
+      pivot.translation = { -r.Pivot[0], -r.Pivot[1], -r.Pivot[2] };
+      const int rotationIndex = static_cast<int>(m.nodes.size());
+      const int pivotIndex = rotationIndex + 1;
+      rotation.children = { pivotIndex };
+      if (turned < 0)
+      {
+        pivot.children = roots;
+        roots = { rotationIndex };
+      }
+      else
+      {
+        pivot.children = { turned };
+        // Put the rotation node where the turned node was.
+        bool placed = false;
+        for (auto& node : m.nodes)
+        {
+          for (int& c : node.children)
+          {
+            if (c == turned)
+            {
+              c = rotationIndex;
+              placed = true;
+            }
+          }
+        }
+        for (int& root : roots)
+        {
+          if (root == turned)
+          {
+            root = rotationIndex;
+            placed = true;
+          }
+        }
+        if (!placed)
+        {
+          Fail("the node '" + r.Node + "' is not in the scene");
+        }
+      }
+      m.nodes.push_back(rotation);
+      m.nodes.push_back(pivot);
+      std::vector<float> values(q);
+      addChannel(addSampler(b.AddFloats(values, 4, false, 0)), rotationIndex, "rotation");
+    }
+    if (!anim.channels.empty())
+    {
+      m.animations.push_back(anim);
+    }
+  }
+
+  tinygltf::Scene s;
+  s.name = scene.SceneName;
+  s.nodes = roots;
+  m.scenes.push_back(s);
+  m.defaultScene = 0;
+  while (b.Bin().size() % 4 != 0)
+  {
+    b.Bin().push_back(0);
+  }
+  if (b.Bin().empty())
+  {
+    m.buffers.clear();
+  }
+
+  tinygltf::TinyGLTF writer;
+  std::ostringstream out;
+  if (!writer.WriteGltfSceneToStream(&m, out, false, options.Binary))
+  {
+    Fail("tinygltf could not serialize the scene");
+  }
+  const std::string bytes = out.str();
+  return std::vector<unsigned char>(bytes.begin(), bytes.end());
+}
+
+void WriteGltfScene(const std::string& fileName, const GltfScene& scene,
+  const GltfPerformance* performance, GltfWriteOptions options)
+{
+  std::string lower = fileName;
+  std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  options.Binary = !(lower.size() >= 5 && lower.compare(lower.size() - 5, 5, ".gltf") == 0);
+  const std::vector<unsigned char> bytes = WriteGltfSceneToMemory(scene, performance, options);
+  std::ofstream file(fileName, std::ios::binary | std::ios::trunc);
+  if (!file)
+  {
+    throw InputError("glTF export: cannot open '" + fileName + "' for writing");
+  }
+  file.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+  file.close();
+  if (!file)
+  {
+    throw InputError("glTF export: cannot write '" + fileName + "' (disk full?)");
+  }
+}
+} // namespace morphnode

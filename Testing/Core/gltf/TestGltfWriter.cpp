@@ -1,0 +1,478 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// The glTF exporter (gltf/GltfWriter.h): a scene written and read back by the project's
+// loader is the same scene (points, triangles, normals, colours, materials, targets and
+// their names, node tree and transforms), sparse targets stay sparse, the performance's
+// samplers hold the weights by name and the rotations about their pivots, and every bad
+// input is an InputError naming it. The files written here are also checked by the
+// Khronos glTF validator (test GltfValidatorExport, fixture GltfExportFiles).
+#include "gltf/GltfScene.h"
+#include "gltf/GltfWriter.h"
+
+#include "base/Error.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <random>
+
+using namespace morphnode;
+
+namespace
+{
+const std::string DefaultHead = std::string(MORPHNODE_SOURCE_DIR) + "/Data/DefaultFace/default_head.glb";
+const std::string IctHead = std::string(MORPHNODE_FACEKIT_DIR) + "/ict_head_full53.glb";
+
+/// Where the files go: the validator test's folder (MORPHNODE_GLTF_EXPORT_DIR) when it runs
+/// this program, else the test output folder.
+std::string OutputDir()
+{
+  const char* env = std::getenv("MORPHNODE_GLTF_EXPORT_DIR");
+  const std::string dir = env && *env ? std::string(env) : std::string(MORPHNODE_TEST_OUTPUT_DIR) + "/gltf-export";
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+/// The JSON chunk of a GLB.
+nlohmann::json GlbJson(const std::vector<unsigned char>& glb)
+{
+  uint32_t length = 0;
+  std::memcpy(&length, glb.data() + 12, 4);
+  return nlohmann::json::parse(glb.begin() + 20, glb.begin() + 20 + length);
+}
+
+std::vector<std::string> AllTargetNames(const GltfScene& scene)
+{
+  std::vector<std::string> names;
+  for (const auto& part : scene.Parts)
+  {
+    for (const auto& t : part.Targets)
+    {
+      if (std::find(names.begin(), names.end(), t.Name) == names.end())
+      {
+        names.push_back(t.Name);
+      }
+    }
+  }
+  return names;
+}
+
+/// A random performance over every target of the scene, with a head turn and eye turns.
+GltfPerformance RandomPerformance(const GltfScene& scene, size_t frames, unsigned seed, bool eyes)
+{
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  GltfPerformance p;
+  p.TargetNames = AllTargetNames(scene);
+  for (size_t f = 0; f < frames; ++f)
+  {
+    p.Times.push_back(static_cast<double>(f) / 30.0);
+    for (size_t t = 0; t < p.TargetNames.size(); ++t)
+    {
+      p.Weights.push_back(u(rng) < 0.3 ? u(rng) : 0.0);
+    }
+  }
+  auto turns = [&](double amplitude) {
+    std::vector<double> q;
+    for (size_t f = 0; f < frames; ++f)
+    {
+      const double a = amplitude * (u(rng) - 0.5);
+      const double axis[3] = { u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5 };
+      const double len = std::sqrt(axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]);
+      for (double c : axis)
+      {
+        q.push_back(std::sin(a / 2) * c / len);
+      }
+      q.push_back(std::cos(a / 2));
+    }
+    return q;
+  };
+  p.Rotations.push_back({ "", { 0.0, -0.05, 0.0 }, turns(0.4) });
+  if (eyes)
+  {
+    p.Rotations.push_back({ "EyeLeft", { 0.03, 0.016, 0.06 }, turns(0.3) });
+    p.Rotations.push_back({ "EyeRight", { -0.03, 0.016, 0.06 }, turns(0.3) });
+  }
+  return p;
+}
+
+void ExpectSameScene(const GltfScene& a, const GltfScene& b)
+{
+  ASSERT_EQ(a.Parts.size(), b.Parts.size());
+  for (size_t i = 0; i < a.Parts.size(); ++i)
+  {
+    const GltfPart& p = a.Parts[i];
+    const GltfPart& q = b.Parts[i];
+    SCOPED_TRACE(p.Name);
+    EXPECT_EQ(p.Name, q.Name);
+    EXPECT_EQ(p.Positions, q.Positions);
+    EXPECT_EQ(p.Triangles, q.Triangles);
+    ASSERT_EQ(p.Normals.size(), q.Normals.size());
+    for (size_t k = 0; k < p.Normals.size(); ++k)
+    {
+      ASSERT_NEAR(p.Normals[k], q.Normals[k], 1e-3f); // normalized on writing
+    }
+    ASSERT_EQ(p.Colors.size(), q.Colors.size());
+    for (size_t k = 0; k < p.Colors.size(); ++k)
+    {
+      ASSERT_EQ(std::min(1.0f, std::max(0.0f, p.Colors[k])), q.Colors[k]);
+    }
+    EXPECT_EQ(p.MaterialName, q.MaterialName);
+    for (int c = 0; c < 4; ++c)
+    {
+      EXPECT_DOUBLE_EQ(p.BaseColor[c], q.BaseColor[c]);
+    }
+    ASSERT_EQ(p.Targets.size(), q.Targets.size());
+    for (size_t t = 0; t < p.Targets.size(); ++t)
+    {
+      EXPECT_EQ(p.Targets[t].Name, q.Targets[t].Name);
+      EXPECT_EQ(p.Targets[t].PositionDeltas, q.Targets[t].PositionDeltas);
+      // Normal deltas: the loader turns them with the normals (world space) and the
+      // writer normalizes the normals, so they agree to float rounding.
+      ASSERT_EQ(p.Targets[t].NormalDeltas.size(), q.Targets[t].NormalDeltas.size());
+      for (size_t k = 0; k < p.Targets[t].NormalDeltas.size(); ++k)
+      {
+        ASSERT_NEAR(p.Targets[t].NormalDeltas[k], q.Targets[t].NormalDeltas[k], 1e-5f) << k;
+      }
+    }
+    if (!p.TransformApplied) // world-space parts are written on untransformed nodes
+    {
+      for (int k = 0; k < 16; ++k)
+      {
+        EXPECT_NEAR(p.World[k], q.World[k], 1e-12);
+      }
+    }
+  }
+}
+
+/// Weight value of target `name` on node `node` at key `key` in the written animation.
+double WrittenWeight(const GltfScene& s, int node, const std::string& name, size_t key)
+{
+  const GltfMesh& mesh = s.Meshes[static_cast<size_t>(s.Nodes[static_cast<size_t>(node)].Mesh)];
+  const auto it = std::find(mesh.TargetNames.begin(), mesh.TargetNames.end(), name);
+  if (it == mesh.TargetNames.end())
+  {
+    return std::nan("");
+  }
+  for (const auto& c : s.Animations.at(0).Channels)
+  {
+    if (c.Node == node && c.Path == GltfAnimationPath::Weights)
+    {
+      const auto& sampler = s.Animations[0].Samplers[static_cast<size_t>(c.Sampler)];
+      return sampler.Values.at(key * mesh.TargetNames.size() + static_cast<size_t>(it - mesh.TargetNames.begin()));
+    }
+  }
+  return std::nan("");
+}
+
+int FindNode(const GltfScene& s, const std::string& name)
+{
+  for (size_t n = 0; n < s.Nodes.size(); ++n)
+  {
+    if (s.Nodes[n].Name == name)
+    {
+      return static_cast<int>(n);
+    }
+  }
+  return -1;
+}
+} // namespace
+
+TEST(GltfWriter, DefaultHeadRoundTripInNodeFrames)
+{
+  GltfLoadOptions options;
+  options.ApplyTransforms = false;
+  const GltfScene head = LoadGltfScene(DefaultHead, options);
+  const GltfPerformance p = RandomPerformance(head, 31, 1, true);
+  const std::string file = OutputDir() + "/default_head_nodes.glb";
+  WriteGltfScene(file, head, &p);
+  const GltfScene back = LoadGltfScene(file, options);
+  ExpectSameScene(head, back);
+  // Node tree: the original nodes keep their names and transforms, under the inserted
+  // rotation nodes.
+  for (const auto& node : head.Nodes)
+  {
+    const int n = FindNode(back, node.Name);
+    ASSERT_GE(n, 0) << node.Name;
+    EXPECT_EQ(back.Nodes[static_cast<size_t>(n)].Translation, node.Translation);
+  }
+  const int headRotation = FindNode(back, "HeadRotation");
+  const int eyeRotation = FindNode(back, "EyeLeftRotation");
+  ASSERT_GE(headRotation, 0);
+  ASSERT_GE(eyeRotation, 0);
+  EXPECT_EQ(back.Nodes[static_cast<size_t>(headRotation)].Parent, -1);
+  EXPECT_EQ(back.Nodes[static_cast<size_t>(FindNode(back, "EyeLeftPivot"))].Children,
+    std::vector<int>{ FindNode(back, "EyeLeft") });
+
+  // The animation: weights by name on every node with targets, rotations as given.
+  ASSERT_EQ(back.Animations.size(), 1u);
+  const auto& anim = back.Animations[0];
+  EXPECT_EQ(anim.Name, "performance");
+  for (size_t k = 0; k < p.Times.size(); k += 7)
+  {
+    for (size_t t = 0; t < p.TargetNames.size(); ++t)
+    {
+      const std::string& name = p.TargetNames[t];
+      for (size_t n = 0; n < back.Nodes.size(); ++n)
+      {
+        const int mesh = back.Nodes[n].Mesh;
+        if (mesh < 0)
+        {
+          continue;
+        }
+        const auto& names = back.Meshes[static_cast<size_t>(mesh)].TargetNames;
+        if (std::find(names.begin(), names.end(), name) != names.end())
+        {
+          EXPECT_EQ(WrittenWeight(back, static_cast<int>(n), name, k),
+            static_cast<float>(p.Weights[k * p.TargetNames.size() + t]))
+            << name << " at key " << k;
+        }
+      }
+    }
+  }
+  size_t rotations = 0;
+  for (const auto& c : anim.Channels)
+  {
+    if (c.Path != GltfAnimationPath::Rotation)
+    {
+      continue;
+    }
+    ++rotations;
+    const auto& sampler = anim.Samplers[static_cast<size_t>(c.Sampler)];
+    EXPECT_EQ(sampler.Interpolation, GltfInterpolation::Linear);
+    ASSERT_EQ(sampler.Times.size(), p.Times.size());
+    const std::string& name = back.Nodes[static_cast<size_t>(c.Node)].Name;
+    const GltfRotationTrack& r = p.Rotations[name == "HeadRotation" ? 0 : name == "EyeLeftRotation" ? 1 : 2];
+    for (size_t k = 0; k < p.Times.size(); ++k)
+    {
+      double dot = 0;
+      for (int i = 0; i < 4; ++i)
+      {
+        dot += sampler.Values[4 * k + i] * r.Rotations[4 * k + i];
+      }
+      EXPECT_NEAR(std::abs(dot), 1.0, 1e-6) << name << " key " << k;
+    }
+  }
+  EXPECT_EQ(rotations, 3u);
+}
+
+TEST(GltfWriter, DefaultHeadWorldSpaceAndJson)
+{
+  const GltfScene head = LoadGltfScene(DefaultHead);
+  GltfPerformance p = RandomPerformance(head, 10, 2, false);
+  p.Interpolation = GltfInterpolation::Step;
+  const std::string file = OutputDir() + "/default_head_world.gltf";
+  WriteGltfScene(file, head, &p);
+  const GltfScene back = LoadGltfScene(file);
+  ExpectSameScene(head, back);
+  EXPECT_EQ(back.Animations.at(0).Samplers.at(0).Interpolation, GltfInterpolation::Step);
+  // A .gltf is JSON with the buffer embedded.
+  std::ifstream in(file);
+  const nlohmann::json j = nlohmann::json::parse(in);
+  EXPECT_EQ(j["buffers"][0]["uri"].get<std::string>().rfind("data:application/octet-stream;base64,", 0), 0u);
+}
+
+TEST(GltfWriter, StaticSceneWithoutPerformance)
+{
+  const GltfScene head = LoadGltfScene(DefaultHead);
+  const std::vector<unsigned char> glb = WriteGltfSceneToMemory(head, nullptr);
+  const GltfScene back = LoadGltfSceneFromMemory(glb.data(), glb.size());
+  ExpectSameScene(head, back);
+  EXPECT_TRUE(back.Animations.empty());
+}
+
+namespace
+{
+/// Sparse accessors of a GLB (all of them, and those that save bytes: fewer than 3/4 of
+/// their elements given).
+std::pair<size_t, size_t> CountSparse(const std::vector<unsigned char>& glb, bool ours)
+{
+  const nlohmann::json j = GlbJson(glb);
+  size_t sparse = 0;
+  size_t saving = 0;
+  for (const auto& a : j["accessors"])
+  {
+    if (a.contains("sparse"))
+    {
+      ++sparse;
+      saving += 4 * a["sparse"]["count"].get<size_t>() < 3 * a["count"].get<size_t>() ? 1 : 0;
+      if (ours) // no base data, and bounds as POSITION needs
+      {
+        EXPECT_FALSE(a.contains("bufferView"));
+        EXPECT_TRUE(a.contains("min") && a.contains("max"));
+      }
+    }
+  }
+  return { sparse, saving };
+}
+
+std::vector<unsigned char> ReadBytes(const std::string& file)
+{
+  std::ifstream in(file, std::ios::binary);
+  return std::vector<unsigned char>(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+} // namespace
+
+TEST(GltfWriter, SparseTargetsStaySparse)
+{
+  // Sparse wherever it is smaller: every target the file keeps sparse because it moves few
+  // points stays sparse; a "sparse" accessor that lists every point (the default head has
+  // such) is written dense, which is smaller.
+  for (const std::string& file : { DefaultHead, IctHead })
+  {
+    if (!std::filesystem::exists(file))
+    {
+      continue;
+    }
+    SCOPED_TRACE(file);
+    const std::vector<unsigned char> original = ReadBytes(file);
+    const GltfScene scene = LoadGltfScene(file);
+    const std::vector<unsigned char> glb = WriteGltfSceneToMemory(scene, nullptr);
+    // Delta arrays that move some but fewer than 3/4 of their points: sparse is smaller.
+    size_t few = 0;
+    for (const auto& part : scene.Parts)
+    {
+      for (const auto& t : part.Targets)
+      {
+        for (const auto* deltas : { &t.PositionDeltas, &t.NormalDeltas })
+        {
+          size_t moved = 0;
+          for (size_t i = 0; i + 2 < deltas->size(); i += 3)
+          {
+            moved += ((*deltas)[i] != 0 || (*deltas)[i + 1] != 0 || (*deltas)[i + 2] != 0) ? 1 : 0;
+          }
+          few += moved > 0 && 4 * moved < 3 * part.GetNumberOfPoints() ? 1 : 0;
+        }
+      }
+    }
+    const auto before = CountSparse(original, false);
+    const auto after = CountSparse(glb, true);
+    EXPECT_GT(before.second, 0u);
+    EXPECT_GT(few, 0u);
+    EXPECT_GE(after.first, few);
+    EXPECT_LE(glb.size(), original.size() + original.size() / 20);
+  }
+}
+
+TEST(GltfWriter, IctHeadRoundTrip)
+{
+  if (!std::filesystem::exists(IctHead))
+  {
+    GTEST_SKIP() << "ICT-FaceKit not found: " << IctHead;
+  }
+  GltfLoadOptions options;
+  options.ApplyTransforms = false;
+  const GltfScene head = LoadGltfScene(IctHead, options);
+  const GltfPerformance p = RandomPerformance(head, 20, 3, true);
+  const std::string file = OutputDir() + "/ict_head.glb";
+  WriteGltfScene(file, head, &p);
+  const GltfScene back = LoadGltfScene(file, options);
+  ExpectSameScene(head, back);
+  // Scale of the root kept.
+  EXPECT_EQ(back.Nodes[static_cast<size_t>(FindNode(back, "ICTFaceKit"))].Scale, head.Nodes[0].Scale);
+  std::ifstream original(IctHead, std::ios::binary | std::ios::ate);
+  std::ifstream written(file, std::ios::binary | std::ios::ate);
+  EXPECT_LT(static_cast<double>(written.tellg()), 1.5 * static_cast<double>(original.tellg()));
+}
+
+TEST(GltfWriter, QuaternionFromMatrix)
+{
+  // 90 degrees about +Y: x -> -z.
+  const std::array<double, 16> m{ { 0, 0, 1, 0, 0, 1, 0, 0, -1, 0, 0, 0, 0, 0, 0, 1 } };
+  const auto q = GltfQuaternionFromRowMajor(m);
+  EXPECT_NEAR(q[0], 0.0, 1e-12);
+  EXPECT_NEAR(std::abs(q[1]), std::sqrt(0.5), 1e-12);
+  EXPECT_NEAR(q[2], 0.0, 1e-12);
+  EXPECT_NEAR(q[3] * q[1] > 0 ? 1.0 : -1.0, 1.0, 0.0);
+  // 180 degrees about X (trace -1).
+  const std::array<double, 16> x{ { 1, 0, 0, 0, 0, -1, 0, 0, 0, 0, -1, 0, 0, 0, 0, 1 } };
+  const auto qx = GltfQuaternionFromRowMajor(x);
+  EXPECT_NEAR(std::abs(qx[0]), 1.0, 1e-12);
+}
+
+namespace
+{
+void ExpectError(const GltfScene& scene, const GltfPerformance& p, const std::string& fragment)
+{
+  try
+  {
+    WriteGltfSceneToMemory(scene, &p);
+    ADD_FAILURE() << "no error; expected one containing '" << fragment << "'";
+  }
+  catch (const InputError& e)
+  {
+    EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+  }
+}
+} // namespace
+
+TEST(GltfWriter, BadInput)
+{
+  const GltfScene head = LoadGltfScene(DefaultHead);
+  const GltfPerformance good = RandomPerformance(head, 5, 4, true);
+  EXPECT_NO_THROW(WriteGltfSceneToMemory(head, &good));
+
+  GltfPerformance p = good;
+  p.Weights.pop_back();
+  ExpectError(head, p, "weights for 5 times");
+  p = good;
+  p.Weights[3] = std::nan("");
+  ExpectError(head, p, "is not finite");
+  p = good;
+  p.Times[2] = p.Times[1];
+  ExpectError(head, p, "times must increase");
+  p = good;
+  p.Times[2] = p.Times[1] + 1e-12; // distinct as doubles, equal as floats
+  ExpectError(head, p, "as 32-bit floats");
+  p = good;
+  p.Times[0] = -1.0;
+  ExpectError(head, p, ">= 0");
+  p = good;
+  p.Times.clear();
+  ExpectError(head, p, "no times");
+  p = good;
+  p.TargetNames[0] = "noSuchTarget";
+  ExpectError(head, p, "'noSuchTarget', which no part");
+  p = good;
+  p.TargetNames[1] = p.TargetNames[0];
+  ExpectError(head, p, "appears twice");
+  p = good;
+  p.Rotations[1].Node = "NoSuchEye";
+  ExpectError(head, p, "'NoSuchEye', which the scene does not have");
+  p = good;
+  p.Rotations[0].Rotations.pop_back();
+  ExpectError(head, p, "4 per time");
+  p = good;
+  std::fill(p.Rotations[0].Rotations.begin(), p.Rotations[0].Rotations.begin() + 4, 0.0);
+  ExpectError(head, p, "not a rotation");
+  p = good;
+  p.Interpolation = GltfInterpolation::CubicSpline;
+  ExpectError(head, p, "LINEAR or STEP");
+
+  GltfScene bad = head;
+  bad.Parts[0].Triangles[5] = 1u << 30;
+  ExpectError(bad, good, "beyond its");
+  bad = head;
+  bad.Parts[0].Positions[7] = std::nanf("");
+  ExpectError(bad, good, "must be finite");
+  bad = head;
+  bad.Parts[0].Targets[0].PositionDeltas.pop_back();
+  ExpectError(bad, good, "position delta values");
+  bad = head;
+  bad.Parts[0].Colors.resize(5);
+  ExpectError(bad, good, "colour values");
+  bad = head;
+  bad.Parts[0].Node = 99;
+  ExpectError(bad, good, "is not a node of the scene");
+  bad = head;
+  bad.Parts.clear();
+  ExpectError(bad, good, "no parts");
+  bad = head;
+  bad.Nodes[1].Parent = 2;
+  ExpectError(bad, good, "is not a node whose parent it is");
+  EXPECT_THROW(WriteGltfScene("/nonexistent-folder/x.glb", head, &good), InputError);
+}
