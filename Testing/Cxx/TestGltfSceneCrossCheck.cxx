@@ -6,6 +6,7 @@
 // with and without their node transforms (VTK reads those right; only its targets without
 // bufferView are wrong there).
 #include "gltf/GltfScene.h"
+#include "MorphNodeGltfReaderParts.h"
 
 #include "vtkCellArray.h"
 #include "vtkCompositeDataIterator.h"
@@ -32,21 +33,7 @@ const std::string FaceKit = MORPHNODE_FACEKIT_DIR;
 
 std::vector<vtkSmartPointer<vtkPolyData>> VtkParts(const std::string& file, bool deform = false)
 {
-  vtkNew<vtkGLTFReader> reader;
-  reader->SetFileName(file.c_str());
-  reader->SetApplyDeformationsToGeometry(deform);
-  reader->Update();
-  std::vector<vtkSmartPointer<vtkPolyData>> parts;
-  vtkSmartPointer<vtkCompositeDataIterator> it;
-  it.TakeReference(reader->GetOutput()->NewIterator());
-  for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem())
-  {
-    if (auto* poly = vtkPolyData::SafeDownCast(it->GetCurrentDataObject()))
-    {
-      parts.emplace_back(poly);
-    }
-  }
-  return parts;
+  return morphnode_test::VtkGltfReaderParts(file, deform);
 }
 } // namespace
 

@@ -6,6 +6,7 @@
 #include "vtkMorphNodeFilter.h"
 #include "vtkMorphTargetReader.h"
 
+#include "MorphNodeGltfReaderParts.h"
 #include "MorphNodeTestUtilities.h"
 
 #include "vtkCompositeDataIterator.h"
@@ -98,21 +99,7 @@ vtkSmartPointer<vtkPolyData> FirstMesh(const std::string& file, bool deform)
 /// order: the order of MorphNode's parts, see TestGltfSceneCrossCheck).
 std::vector<vtkSmartPointer<vtkPolyData>> AllParts(const std::string& file, bool deform)
 {
-  vtkNew<vtkGLTFReader> reader;
-  reader->SetFileName(file.c_str());
-  reader->SetApplyDeformationsToGeometry(deform);
-  reader->Update();
-  std::vector<vtkSmartPointer<vtkPolyData>> parts;
-  vtkSmartPointer<vtkCompositeDataIterator> it;
-  it.TakeReference(reader->GetOutput()->NewIterator());
-  for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem())
-  {
-    if (auto* pd = vtkPolyData::SafeDownCast(it->GetCurrentDataObject()))
-    {
-      parts.emplace_back(pd);
-    }
-  }
-  return parts;
+  return morphnode_test::VtkGltfReaderParts(file, deform);
 }
 
 /// A copy of the ICT head that VTK 9.1 reads right, with `weights` (by target name) as every

@@ -53,33 +53,6 @@ vtkSmartPointer<vtkPartitionedDataSetCollection> ReadHead(const std::string& fil
   return vtkPartitionedDataSetCollection::SafeDownCast(reader->GetOutputDataObject(0));
 }
 
-std::vector<vtkPolyData*> Leaves(vtkDataObject* data)
-{
-  std::vector<vtkPolyData*> leaves;
-  auto* composite = vtkCompositeDataSet::SafeDownCast(data);
-  if (!composite)
-  {
-    return leaves;
-  }
-  vtkSmartPointer<vtkCompositeDataIterator> it;
-  it.TakeReference(composite->NewIterator());
-  for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem())
-  {
-    leaves.push_back(vtkPolyData::SafeDownCast(it->GetCurrentDataObject()));
-  }
-  return leaves;
-}
-
-std::vector<std::string> StringValues(vtkFieldData* fd, const char* name)
-{
-  std::vector<std::string> values;
-  auto* a = vtkStringArray::SafeDownCast(fd->GetAbstractArray(name));
-  for (vtkIdType i = 0; a && i < a->GetNumberOfValues(); ++i)
-  {
-    values.push_back(a->GetValue(i));
-  }
-  return values;
-}
 
 std::vector<double> Values(vtkFieldData* fd, const char* name)
 {
@@ -192,7 +165,7 @@ int CompareWithOneMesh(vtkPartitionedDataSetCollection* head, const std::string&
       auto* whole = vtkPolyData::SafeDownCast(one->GetOutputDataObject(0));
       vtkIdType offset = 0;
       double worst = 0.0;
-      for (vtkPolyData* leaf : Leaves(parts->GetOutputDataObject(0)))
+      for (vtkPolyData* leaf : morphnode_test::PolyDataLeaves(parts->GetOutputDataObject(0)))
       {
         for (vtkIdType i = 0; i < leaf->GetNumberOfPoints(); ++i)
         {
@@ -237,8 +210,8 @@ TEST(MorphNodeScene, WeightsByNameReachEveryPartThatHasTheTarget)
   EXPECT_STREQ(out->GetMetaData(2u)->Get(vtkCompositeDataSet::NAME()), "Tooth");
   ASSERT_NE(out->GetDataAssembly(), nullptr);
   EXPECT_EQ(out->GetDataAssembly()->FindFirstNodeWithName("Tooth"), head->GetDataAssembly()->FindFirstNodeWithName("Tooth"));
-  const std::vector<vtkPolyData*> in = Leaves(head);
-  std::vector<vtkPolyData*> blended = Leaves(out);
+  const std::vector<vtkPolyData*> in = morphnode_test::PolyDataLeaves(head);
+  std::vector<vtkPolyData*> blended = morphnode_test::PolyDataLeaves(out);
   ASSERT_EQ(blended.size(), 4u);
 
   // Raise: the skin's primitives (sparse delta at point 2) and the tooth (points 0, 1) move;
@@ -267,7 +240,7 @@ TEST(MorphNodeScene, WeightsByNameReachEveryPartThatHasTheTarget)
   morph->SetWeightByName("Lift", 1.0);
   morph->Update();
   EXPECT_TRUE(messages->Errors.empty()) << messages->AllErrors();
-  blended = Leaves(morph->GetOutputDataObject(0));
+  blended = morphnode_test::PolyDataLeaves(morph->GetOutputDataObject(0));
   moved(1, 3, JawDelta({ 0, 0, 0.4 }));
   moved(2, 0, { 0, 0, 0 });
   EXPECT_EQ(blended[2]->GetPoints(), in[2]->GetPoints()) << "no active target moves the tooth";
@@ -276,11 +249,11 @@ TEST(MorphNodeScene, WeightsByNameReachEveryPartThatHasTheTarget)
   // Every part holds the same decision and the model's names; no target arrays pass.
   for (vtkPolyData* leaf : blended)
   {
-    EXPECT_EQ(StringValues(leaf->GetFieldData(), "TargetNames"), (std::vector<std::string>{ "Neutral", "Lift", "Raise" }));
+    EXPECT_EQ(morphnode_test::FieldStrings(leaf->GetFieldData(), "TargetNames"), (std::vector<std::string>{ "Neutral", "Lift", "Raise" }));
     EXPECT_EQ(Values(leaf->GetFieldData(), "EffectiveWeights"), (std::vector<double>{ 0, 1, 0 }));
     EXPECT_EQ(leaf->GetPointData()->GetArray("target0_position"), nullptr);
     EXPECT_NE(leaf->GetPointData()->GetNormals(), nullptr);
-    EXPECT_EQ(StringValues(leaf->GetFieldData(), "PartName").size(), 1u) << "the part's own field data passes";
+    EXPECT_EQ(morphnode_test::FieldStrings(leaf->GetFieldData(), "PartName").size(), 1u) << "the part's own field data passes";
   }
   // An unknown name is still an error.
   morph->SetWeightByName("Blink", 0.3);
@@ -296,7 +269,7 @@ TEST(MorphNodeScene, DistanceArraysPerPart)
   morph->SetInputData(head);
   morph->GenerateDistanceArraysOn();
   morph->Update();
-  const std::vector<vtkPolyData*> leaves = Leaves(morph->GetOutputDataObject(0));
+  const std::vector<vtkPolyData*> leaves = morphnode_test::PolyDataLeaves(morph->GetOutputDataObject(0));
   ASSERT_EQ(leaves.size(), 4u);
   for (vtkPolyData* leaf : leaves)
   {
@@ -345,7 +318,7 @@ TEST(MorphNodeScene, OnePartIsThePolyData)
   // The same mesh as a polydata and as the only part of a collection: the same output.
   auto head = ReadHead(WriteFile("scene_one_part.glb", TestHead().Glb()));
   ASSERT_TRUE(head);
-  vtkPolyData* skin = Leaves(head)[0];
+  vtkPolyData* skin = morphnode_test::PolyDataLeaves(head)[0];
   vtkNew<vtkPartitionedDataSetCollection> single;
   single->SetPartition(0, 0, skin);
   vtkNew<vtkMorphNodeFilter> a, b;
@@ -360,7 +333,7 @@ TEST(MorphNodeScene, OnePartIsThePolyData)
     f->Update();
   }
   auto* pa = vtkPolyData::SafeDownCast(a->GetOutputDataObject(0));
-  vtkPolyData* pb = Leaves(b->GetOutputDataObject(0))[0];
+  vtkPolyData* pb = morphnode_test::PolyDataLeaves(b->GetOutputDataObject(0))[0];
   ASSERT_TRUE(pa && pb);
   EXPECT_EQ(a->GetEffectiveWeight(1), 0.0) << "the threshold prunes Lift";
   for (int i = 0; i < 3; ++i)
@@ -382,8 +355,8 @@ TEST(MorphNodeScene, MultiBlockInputGivesMultiBlockOutput)
   ASSERT_TRUE(head);
   vtkNew<vtkMultiBlockDataSet> blocks;
   blocks->SetNumberOfBlocks(3);
-  blocks->SetBlock(0, Leaves(head)[0]);
-  blocks->SetBlock(2, Leaves(head)[2]); // block 1 stays empty
+  blocks->SetBlock(0, morphnode_test::PolyDataLeaves(head)[0]);
+  blocks->SetBlock(2, morphnode_test::PolyDataLeaves(head)[2]); // block 1 stays empty
   vtkNew<vtkMorphNodeFilter> morph;
   morph->SetInputData(blocks);
   morph->SetWeightModeToRelative();
@@ -397,7 +370,7 @@ TEST(MorphNodeScene, MultiBlockInputGivesMultiBlockOutput)
   ASSERT_NE(tooth, nullptr);
   double p[3], q[3];
   tooth->GetPoint(1, p);
-  Leaves(head)[2]->GetPoint(1, q);
+  morphnode_test::PolyDataLeaves(head)[2]->GetPoint(1, q);
   EXPECT_NEAR(p[1] - q[1], JawDelta({ 0.3, 0, 0 })[1], 1e-6);
 }
 
@@ -412,7 +385,7 @@ TEST(MorphNodeScene, BadPartsAreErrorsThatNameThePart)
   // A part whose target has fewer tuples than the part has points.
   auto bad = CopyOf(head);
   vtkNew<vtkPolyData> tooth;
-  tooth->DeepCopy(Leaves(head)[2]);
+  tooth->DeepCopy(morphnode_test::PolyDataLeaves(head)[2]);
   vtkNew<vtkFloatArray> shortDelta;
   shortDelta->SetName("target0_position");
   shortDelta->SetNumberOfComponents(3);
@@ -442,7 +415,7 @@ TEST(MorphNodeScene, BadPartsAreErrorsThatNameThePart)
   messages->Clear();
   bad = CopyOf(head);
   vtkNew<vtkPolyData> skin;
-  skin->DeepCopy(Leaves(head)[0]);
+  skin->DeepCopy(morphnode_test::PolyDataLeaves(head)[0]);
   vtkNew<vtkFloatArray> fewNormals;
   fewNormals->SetName("Normals");
   fewNormals->SetNumberOfComponents(3);
@@ -458,5 +431,5 @@ TEST(MorphNodeScene, BadPartsAreErrorsThatNameThePart)
   messages->Clear();
   morph->SetInputData(head);
   EXPECT_EQ(morph->GetExecutive()->Update(), 1) << messages->AllErrors();
-  EXPECT_EQ(Leaves(morph->GetOutputDataObject(0)).size(), 4u);
+  EXPECT_EQ(morphnode_test::PolyDataLeaves(morph->GetOutputDataObject(0)).size(), 4u);
 }
