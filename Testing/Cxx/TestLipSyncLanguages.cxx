@@ -13,6 +13,7 @@
 #include "speech/Articulation.h"
 #include "speech/Speech.h"
 
+#include "MorphNodeRigTrackPose.h"
 #include "MorphNodeTestSkips.h"
 #include "vtkDataArray.h"
 #include "vtkNew.h"
@@ -127,33 +128,16 @@ TEST_P(LipSyncLanguages, LipsCloseRoundAndBiteOnTheFace)
   const morphnode::Utterance speech = morphnode::SpeakText(sentence.Text, options);
   EXPECT_TRUE(warnings.empty()) << warnings.front();
   const morphnode::WeightTrack& visemes = speech.Visemes;
-  std::vector<int> shapeOfChannel;
-  for (const auto& channel : visemes.GetChannels())
-  {
-    shapeOfChannel.push_back(rig.FindShape(channel));
-    ASSERT_GE(shapeOfChannel.back(), 0) << channel;
-  }
   vtkNew<vtkMorphNodeFilter> morph;
   morph->SetInputConnection(reader->GetOutputPort());
-  morph->SetWeightModeToRelative();
-  std::vector<double> shapeWeights(rig.GetNumberOfShapes()), targetWeights(rig.GetNumberOfBoundTargets());
+  morphnode_test::RigTrackPose pose(rig, visemes, morph);
+  ASSERT_EQ(pose.GetMissingShape(), "");
   struct Measure
   {
     double Gap, Pucker, Roll;
   };
   auto measure = [&](double t) {
-    std::fill(shapeWeights.begin(), shapeWeights.end(), 0.0);
-    for (size_t c = 0; c < visemes.GetNumberOfChannels(); ++c)
-    {
-      shapeWeights[static_cast<size_t>(shapeOfChannel[c])] += visemes.Sample(t, c);
-    }
-    rig.Expand(shapeWeights.data(), targetWeights.data());
-    for (size_t k = 0; k < targetWeights.size(); ++k)
-    {
-      morph->SetWeight(static_cast<int>(k + 1), targetWeights[k]);
-    }
-    morph->Update();
-    vtkPointSet* out = vtkPointSet::SafeDownCast(morph->GetOutput());
+    vtkPointSet* out = pose.At(t);
     return Measure{ out->GetPoint(upper)[1] - out->GetPoint(lower)[1], along(out, puckered, pucker),
       along(out, rolled, roll) };
   };

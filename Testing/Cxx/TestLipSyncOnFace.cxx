@@ -4,6 +4,7 @@
 // face's own targets, and vtkMorphNodeFilter blends them. Measured on the geometry: at
 // every p, b and m the lips touch as in the (closed-mouth) neutral; at every open vowel
 // they are apart.
+#include "MorphNodeRigTrackPose.h"
 #include "MorphNodeTestUtilities.h"
 
 #include "vtkMorphNodeFilter.h"
@@ -115,32 +116,13 @@ TEST(LipSyncOnFace, BilabialsCloseAndOpenVowelsOpenTheLips)
   const morphnode::WeightTrack& visemes = speech.Visemes;
   ASSERT_GT(visemes.GetNumberOfFrames(), 10u);
 
-  // Viseme channel -> rig shape.
-  std::vector<int> shapeOfChannel;
-  for (const auto& channel : visemes.GetChannels())
-  {
-    shapeOfChannel.push_back(rig.FindShape(channel));
-    ASSERT_GE(shapeOfChannel.back(), 0) << "the ARKit rig has no shape " << channel;
-  }
-
   vtkNew<vtkMorphNodeFilter> morph;
   morph->SetInputConnection(reader->GetOutputPort());
-  morph->SetWeightModeToRelative();
-  std::vector<double> shapeWeights(rig.GetNumberOfShapes()), targetWeights(rig.GetNumberOfBoundTargets());
+  morphnode_test::RigTrackPose pose(rig, visemes, morph); // viseme channel -> rig shape
+  ASSERT_EQ(pose.GetMissingShape(), "") << "the ARKit rig has no shape " << pose.GetMissingShape();
   // The vertical gap between the lip centres at time t of the viseme track.
   auto lipGap = [&](double t) {
-    std::fill(shapeWeights.begin(), shapeWeights.end(), 0.0);
-    for (size_t c = 0; c < visemes.GetNumberOfChannels(); ++c)
-    {
-      shapeWeights[static_cast<size_t>(shapeOfChannel[c])] += visemes.Sample(t, c);
-    }
-    rig.Expand(shapeWeights.data(), targetWeights.data());
-    for (size_t k = 0; k < targetWeights.size(); ++k)
-    {
-      morph->SetWeight(static_cast<int>(k + 1), targetWeights[k]);
-    }
-    morph->Update();
-    vtkPointSet* out = vtkPointSet::SafeDownCast(morph->GetOutput());
+    vtkPointSet* out = pose.At(t);
     return out->GetPoint(upper)[1] - out->GetPoint(lower)[1];
   };
 
