@@ -20,24 +20,12 @@ using C = BehaviorChannel;
 
 void CheckRange(double v, double lo, double hi, const char* what)
 {
-  if (!(v >= lo && v <= hi))
-  {
-    std::ostringstream msg;
-    msg << what << " " << v << " is outside [" << lo << ", " << hi << "]";
-    throw InputError(msg.str());
-  }
+  CheckBehaviorRange(v, lo, hi, what);
 }
 
 void CheckStart(double start)
 {
   CheckRange(start, 0.0, MaxBehaviorTime, "start time");
-}
-
-/// Viseme channels that mean a closed, resting mouth: they do not count as speech activity.
-bool IsSilentViseme(const std::string& name)
-{
-  const std::string n = text::ToLower(name);
-  return n == "sil" || n == "silence" || n == "x" || n == "_" || n == "rest" || n == "neutral";
 }
 
 /// Expression contributions of a mood at intensity 1 (MPEG-4-like, on our semantic shapes):
@@ -89,36 +77,7 @@ void BehaviorController::SetDuration(double seconds)
 
 void BehaviorController::SetParameters(const BehaviorParameters& p)
 {
-  const double big = 1e6;
-  CheckRange(p.BlinkRateRest, 0.1, 600.0, "BlinkRateRest");
-  CheckRange(p.BlinkRateSpeaking, 0.1, 600.0, "BlinkRateSpeaking");
-  CheckRange(p.BlinkIntervalSigma, 0.0, 3.0, "BlinkIntervalSigma");
-  CheckRange(p.BlinkMinInterval, 0.0, big, "BlinkMinInterval");
-  CheckRange(p.BlinkCloseTime, 0.01, 10.0, "BlinkCloseTime");
-  CheckRange(p.BlinkClosedTime, 0.0, 10.0, "BlinkClosedTime");
-  CheckRange(p.BlinkOpenTime, 0.01, 10.0, "BlinkOpenTime");
-  CheckRange(p.SaccadeBase, 0.0, 10.0, "SaccadeBase");
-  CheckRange(p.SaccadePerDegree, 0.0, 1.0, "SaccadePerDegree");
-  CheckRange(p.SaccadeMaxAmplitude, 0.0, 90.0, "SaccadeMaxAmplitude");
-  CheckRange(p.SaccadeRange, 0.0, 90.0, "SaccadeRange");
-  CheckRange(p.FixationMean, 0.05, big, "FixationMean");
-  CheckRange(p.FixationSigma, 0.0, 3.0, "FixationSigma");
-  CheckRange(p.FixationMin, 0.05, big, "FixationMin");
-  CheckRange(p.HeadYawAmplitude, 0.0, 90.0, "HeadYawAmplitude");
-  CheckRange(p.HeadPitchAmplitude, 0.0, 90.0, "HeadPitchAmplitude");
-  CheckRange(p.HeadRollAmplitude, 0.0, 90.0, "HeadRollAmplitude");
-  CheckRange(p.IdleSmileInterval, -big, big, "IdleSmileInterval");
-  CheckRange(p.IdleSmileIntensity, 0.0, 1.0, "IdleSmileIntensity");
-  CheckRange(p.HeadShareOfGaze, 0.0, 1.0, "HeadShareOfGaze");
-  CheckRange(p.HeadGazeTime, 0.0, 10.0, "HeadGazeTime");
-  CheckRange(p.EyeYawRange, 1.0, 90.0, "EyeYawRange");
-  CheckRange(p.EyePitchRange, 1.0, 90.0, "EyePitchRange");
-  CheckRange(p.NodAmplitude, -90.0, 90.0, "NodAmplitude");
-  CheckRange(p.ShakeAmplitude, -90.0, 90.0, "ShakeAmplitude");
-  CheckRange(p.TiltAmplitude, -90.0, 90.0, "TiltAmplitude");
-  CheckRange(p.SpeechNodAmplitude, -90.0, 90.0, "SpeechNodAmplitude");
-  CheckRange(p.MoodFadeTime, 0.0, 60.0, "MoodFadeTime");
-  CheckRange(p.SpeechExpressionDamping, 0.0, 1.0, "SpeechExpressionDamping");
+  CheckBehaviorParameters(p);
   this->Parameters = p;
   this->Changed();
 }
@@ -527,21 +486,7 @@ void BehaviorController::Prepare()
       ScheduledCue s;
       s.Kind = cue.Type;
       s.Intensity = cue.Intensity;
-      switch (cue.Type)
-      {
-        case NonverbalCue::Kind::BrowRaise:
-          s.Sync = SyncPoints::Make(start, std::max(cue.Duration, 0.3), 0.1, 0.15);
-          break;
-        case NonverbalCue::Kind::Nod:
-          s.Sync = SyncPoints::Make(start, std::max(cue.Duration, 0.4), 0.0, 0.0);
-          break;
-        case NonverbalCue::Kind::Relax:
-          s.Sync = SyncPoints::Make(start, std::max(cue.Duration, 0.3), 0.15, 0.15);
-          break;
-        case NonverbalCue::Kind::Blink:
-          s.Sync = SyncPoints::Make(start, BlinkLength(p), p.BlinkCloseTime, p.BlinkOpenTime);
-          break;
-      }
+      s.Sync = SpeechCueSync(cue, start, p);
       this->Cues.push_back(s);
       cueSpans.emplace_back(s.Sync.Start, s.Sync.End);
     }
@@ -673,25 +618,7 @@ void BehaviorController::Sample(double t, double* out) const
   // Speech: cues.
   this->CueIndex.ForEachCandidate(t, [&](uint32_t i) {
     const ScheduledCue& cue = this->Cues[i];
-    const double e = cue.Sync.Envelope(t);
-    switch (cue.Kind)
-    {
-      case NonverbalCue::Kind::BrowRaise:
-        bb.Speech[C::BrowsUp] += 0.6 * cue.Intensity * e;
-        break;
-      case NonverbalCue::Kind::Relax:
-        bb.Relax = std::max(bb.Relax, cue.Intensity * e);
-        break;
-      case NonverbalCue::Kind::Nod:
-        if (e > 0.0)
-        {
-          const double u = (t - cue.Sync.Start) / (cue.Sync.End - cue.Sync.Start);
-          bb.HeadSpeech[1] -= p.SpeechNodAmplitude * cue.Intensity * Bumps(u, 1.0);
-        }
-        break;
-      case NonverbalCue::Kind::Blink: // played from the blink list
-        break;
-    }
+    bb.AddSpeechCue(cue.Kind, cue.Sync, cue.Intensity, t, p);
   });
 
   // Explicit gestures.

@@ -75,8 +75,8 @@ struct GestureDefinition
   std::string Name; ///< canonical (lower case, '_' kept)
   std::vector<std::string> Aliases;
   double Duration = 1.5; ///< used when a command gives none
-  double Attack = 0.3;   ///< seconds; clamped to fit the duration (SyncPoints::Make)
-  double Release = 0.4;
+  ParameterValue Attack{ 0.3, -1 };  ///< seconds; fitted to the duration (SyncPoints::Make)
+  ParameterValue Release{ 0.4, -1 }; ///< seconds
   /// Contributions at intensity 1 to the semantic shapes (BehaviorChannel ids 0..5).
   /// EyesClosed acts as "close eyes" (the maximum with the lids, never re-opened by a
   /// blink); brows own the brows group, MouthSmile/MouthSad the expression group.

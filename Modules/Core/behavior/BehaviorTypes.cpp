@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <sstream>
 
 namespace morphnode
 {
@@ -307,5 +308,91 @@ double GetBehaviorParameter(const BehaviorParameters& parameters, const std::str
 void SetBehaviorParameter(BehaviorParameters& parameters, const std::string& name, double value)
 {
   parameters.*(FindParameter(name).Field) = value;
+}
+} // namespace morphnode
+
+namespace morphnode
+{
+int FindBehaviorParameter(const std::string& name)
+{
+  const std::string key = Canonical(name);
+  for (size_t i = 0; i < sizeof(ParameterFields) / sizeof(ParameterFields[0]); ++i)
+  {
+    if (Canonical(ParameterFields[i].Name) == key)
+    {
+      return static_cast<int>(i);
+    }
+  }
+  return -1;
+}
+
+double GetBehaviorParameter(const BehaviorParameters& parameters, int index)
+{
+  constexpr int count = static_cast<int>(sizeof(ParameterFields) / sizeof(ParameterFields[0]));
+  return index >= 0 && index < count ? parameters.*(ParameterFields[index].Field) : 0.0;
+}
+
+std::string CanonicalBehaviorName(const std::string& name)
+{
+  return Canonical(name);
+}
+
+bool IsSilentViseme(const std::string& name)
+{
+  std::string n;
+  for (char c : name)
+  {
+    n += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  }
+  return n == "sil" || n == "silence" || n == "x" || n == "_" || n == "rest" || n == "neutral";
+}
+} // namespace morphnode
+
+namespace morphnode
+{
+void CheckBehaviorRange(double v, double lo, double hi, const char* what)
+{
+  if (!(v >= lo && v <= hi))
+  {
+    std::ostringstream msg;
+    msg << what << " " << v << " is outside [" << lo << ", " << hi << "]";
+    throw InputError(msg.str());
+  }
+}
+
+void CheckBehaviorParameters(const BehaviorParameters& p)
+{
+  auto CheckRange = CheckBehaviorRange;
+
+  const double big = 1e6;
+  CheckRange(p.BlinkRateRest, 0.1, 600.0, "BlinkRateRest");
+  CheckRange(p.BlinkRateSpeaking, 0.1, 600.0, "BlinkRateSpeaking");
+  CheckRange(p.BlinkIntervalSigma, 0.0, 3.0, "BlinkIntervalSigma");
+  CheckRange(p.BlinkMinInterval, 0.0, big, "BlinkMinInterval");
+  CheckRange(p.BlinkCloseTime, 0.01, 10.0, "BlinkCloseTime");
+  CheckRange(p.BlinkClosedTime, 0.0, 10.0, "BlinkClosedTime");
+  CheckRange(p.BlinkOpenTime, 0.01, 10.0, "BlinkOpenTime");
+  CheckRange(p.SaccadeBase, 0.0, 10.0, "SaccadeBase");
+  CheckRange(p.SaccadePerDegree, 0.0, 1.0, "SaccadePerDegree");
+  CheckRange(p.SaccadeMaxAmplitude, 0.0, 90.0, "SaccadeMaxAmplitude");
+  CheckRange(p.SaccadeRange, 0.0, 90.0, "SaccadeRange");
+  CheckRange(p.FixationMean, 0.05, big, "FixationMean");
+  CheckRange(p.FixationSigma, 0.0, 3.0, "FixationSigma");
+  CheckRange(p.FixationMin, 0.05, big, "FixationMin");
+  CheckRange(p.HeadYawAmplitude, 0.0, 90.0, "HeadYawAmplitude");
+  CheckRange(p.HeadPitchAmplitude, 0.0, 90.0, "HeadPitchAmplitude");
+  CheckRange(p.HeadRollAmplitude, 0.0, 90.0, "HeadRollAmplitude");
+  CheckRange(p.IdleSmileInterval, -big, big, "IdleSmileInterval");
+  CheckRange(p.IdleSmileIntensity, 0.0, 1.0, "IdleSmileIntensity");
+  CheckRange(p.HeadShareOfGaze, 0.0, 1.0, "HeadShareOfGaze");
+  CheckRange(p.HeadGazeTime, 0.0, 10.0, "HeadGazeTime");
+  CheckRange(p.EyeYawRange, 1.0, 90.0, "EyeYawRange");
+  CheckRange(p.EyePitchRange, 1.0, 90.0, "EyePitchRange");
+  CheckRange(p.NodAmplitude, -90.0, 90.0, "NodAmplitude");
+  CheckRange(p.ShakeAmplitude, -90.0, 90.0, "ShakeAmplitude");
+  CheckRange(p.TiltAmplitude, -90.0, 90.0, "TiltAmplitude");
+  CheckRange(p.SpeechNodAmplitude, -90.0, 90.0, "SpeechNodAmplitude");
+  CheckRange(p.MoodFadeTime, 0.0, 60.0, "MoodFadeTime");
+  CheckRange(p.SpeechExpressionDamping, 0.0, 1.0, "SpeechExpressionDamping");
 }
 } // namespace morphnode

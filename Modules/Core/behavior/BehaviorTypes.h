@@ -158,4 +158,19 @@ const std::vector<std::string>& BehaviorParameterNames();
 /// BehaviorController::SetParameters.
 double GetBehaviorParameter(const BehaviorParameters& parameters, const std::string& name);
 void SetBehaviorParameter(BehaviorParameters& parameters, const std::string& name, double value);
+/// InputError naming the first parameter out of its range (non-positive rates, times or
+/// ranges, ...): the checks of BehaviorController::SetParameters and LiveBehavior.
+void CheckBehaviorParameters(const BehaviorParameters& parameters);
+/// InputError "<what> <v> is outside [lo, hi]" unless lo <= v <= hi.
+void CheckBehaviorRange(double v, double lo, double hi, const char* what);
+/// The index of a parameter in BehaviorParameterNames() (matched as above), -1 if none.
+int FindBehaviorParameter(const std::string& name);
+/// The parameter of that index (no check beyond the range: 0 for an index out of range).
+double GetBehaviorParameter(const BehaviorParameters& parameters, int index);
+
+/// A name as gestures, moods and parameters match it: lower case without '_', '-', blanks.
+std::string CanonicalBehaviorName(const std::string& name);
+/// Viseme channels that mean a closed, resting mouth ("sil", "silence", "X", "_", "rest",
+/// "neutral", any case): they do not count as speech activity.
+bool IsSilentViseme(const std::string& name);
 } // namespace morphnode

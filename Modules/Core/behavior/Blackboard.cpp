@@ -1,7 +1,10 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "behavior/Blackboard.h"
 
+#include "behavior/IdleSchedule.h"
+
 #include <algorithm>
+#include <cmath>
 
 namespace morphnode
 {
@@ -63,5 +66,51 @@ void Blackboard::Resolve(const BehaviorParameters& p, double* out) const
   out[C::LookRight] = Clamp01(-eyeYaw / p.EyeYawRange);
   out[C::LookUp] = Clamp01(eyePitch / p.EyePitchRange);
   out[C::LookDown] = Clamp01(-eyePitch / p.EyePitchRange);
+}
+
+void Blackboard::AddSpeechCue(NonverbalCue::Kind kind,
+  const SyncPoints& sync,
+  double intensity,
+  double t,
+  const BehaviorParameters& p)
+{
+  using C = BehaviorChannel;
+  const double e = sync.Envelope(t);
+  switch (kind)
+  {
+    case NonverbalCue::Kind::BrowRaise:
+      this->Speech[C::BrowsUp] += 0.6 * intensity * e;
+      break;
+    case NonverbalCue::Kind::Relax:
+      this->Relax = std::max(this->Relax, intensity * e);
+      break;
+    case NonverbalCue::Kind::Nod:
+      if (e > 0.0)
+      {
+        // One bump down and up: 0.5 - 0.5 cos(2 pi u).
+        const double u = (t - sync.Start) / (sync.End - sync.Start);
+        this->HeadSpeech[1] -=
+          p.SpeechNodAmplitude * intensity * (0.5 - 0.5 * std::cos(6.283185307179586 * u));
+      }
+      break;
+    case NonverbalCue::Kind::Blink: // played with the other blinks
+      break;
+  }
+}
+
+SyncPoints SpeechCueSync(const NonverbalCue& cue, double start, const BehaviorParameters& p)
+{
+  switch (cue.Type)
+  {
+    case NonverbalCue::Kind::BrowRaise:
+      return SyncPoints::Make(start, std::max(cue.Duration, 0.3), 0.1, 0.15);
+    case NonverbalCue::Kind::Nod:
+      return SyncPoints::Make(start, std::max(cue.Duration, 0.4), 0.0, 0.0);
+    case NonverbalCue::Kind::Relax:
+      return SyncPoints::Make(start, std::max(cue.Duration, 0.3), 0.15, 0.15);
+    case NonverbalCue::Kind::Blink:
+      return SyncPoints::Make(start, BlinkLength(p), p.BlinkCloseTime, p.BlinkOpenTime);
+  }
+  return SyncPoints::Make(start, cue.Duration, 0.0, 0.0);
 }
 } // namespace morphnode

@@ -22,6 +22,7 @@
 ///   Eye angles are clamped to the eye ranges; Look* shapes are eye angle / range in [0, 1].
 
 #include "behavior/BehaviorTypes.h"
+#include "speech/SpeechTypes.h"
 
 #include <array>
 
@@ -61,5 +62,16 @@ struct Blackboard
 
   /// Writes the base channels (BehaviorChannel ids) from the contributions.
   void Resolve(const BehaviorParameters& parameters, double* out) const;
+
+  /// Adds a speech cue at t (speech layer): a brow raise, a relaxation, a nod. Blink cues
+  /// add nothing here (they are played with the other blinks).
+  void AddSpeechCue(NonverbalCue::Kind kind,
+    const SyncPoints& sync,
+    double intensity,
+    double t,
+    const BehaviorParameters& parameters);
 };
+
+/// The sync points of a speech cue that starts at `start` on the behaviour's time axis.
+SyncPoints SpeechCueSync(const NonverbalCue& cue, double start, const BehaviorParameters& parameters);
 } // namespace morphnode

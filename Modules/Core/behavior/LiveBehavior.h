@@ -70,6 +70,11 @@ public:
   static constexpr double SynthesisLookahead = 2.0;
   /// Seconds over which StopSpeaking() fades the mouth out.
   static constexpr double StopFade = 0.12;
+  /// Events are forgotten this many seconds after they ended (GetBlinkStarts, GetSaccades
+  /// still see them).
+  static constexpr double ForgetAfter = 2.0;
+  /// The latest time accepted (about 31 years).
+  static constexpr double MaxLiveTime = 1e9;
 
   /// The span of a command on the caller's clock. Id numbers utterances (Say/Speak) from 1;
   /// 0 for other commands. For a Say() whose later chunks are not synthesized yet, End is
@@ -129,8 +134,12 @@ public:
   void Sample(double t, std::vector<double>& out);
   /// Synthesizes the chunks due by `now` + SynthesisLookahead (Sample() does it too).
   void SynthesizeAhead(double now);
-  /// The sound of the chunks synthesized since the last call.
+  /// The sound of the chunks synthesized since the last call (take it regularly: it is
+  /// held until taken).
   std::vector<AudioSegment> TakeAudio();
+  /// Errors of chunks synthesized in Sample()/SynthesizeAhead() since the last call (the
+  /// rest of that text is dropped); the first chunk's errors are thrown by Say().
+  std::vector<std::string> TakeErrors();
 
   // ---- inspection ---------------------------------------------------------------------
   /// The current timing of an utterance; Id 0 when unknown (forgotten after its end).
@@ -147,25 +156,28 @@ public:
   /// (idle and speech-rate blinks after thinning, speech cues and blink gestures; blinks
   /// blocked by an override are not counted). For studies and tests.
   std::vector<double> GetBlinkStarts(double from, double to) const;
+  /// The idle saccades started in [from, to), up to the last sampled time, not yet forgotten.
+  std::vector<SaccadeEvent> GetSaccades(double from, double to) const;
 
 private:
   struct LiveBlink
   {
     double Start;
     double Amplitude;
-    double Keep; ///< uniform draw: kept when below the rate ratio at Start
-    int Source;  ///< 0 rest train, 1 extra train, 2 cue or gesture (always kept)
+    double Keep;      ///< uniform draw: kept when below the rate ratio at Start
+    int Source;       ///< 0 rest train, 1 extra train, 2 blink gesture, 3 speech cue
+    int Decided = -1; ///< -1 until sampled at its start, then 1 played, 0 thinned out
   };
   struct LiveGesture
   {
-    int Definition;
+    int Definition; ///< index into the library's gestures
     double Intensity;
     SyncPoints Sync;
   };
   struct LiveUtterance
   {
     uint64_t Id;
-    Utterance Speech;
+    Utterance Speech; ///< visemes only (audio handed over, phonemes and cues dropped)
     double Start, End;
     double Cut; ///< StopSpeaking time (infinity when not cut)
     std::vector<int> ChannelMap;
@@ -181,14 +193,18 @@ private:
     NonverbalCue::Kind Kind;
     SyncPoints Sync;
     double Intensity;
-    double Cut;
   };
 
   double ClampNow(double now) const;
+  double ExtraBlinkMean() const;
+  void InsertBlink(const LiveBlink& blink);
   void Extend(double horizon);
   void Forget(double t);
   double BlinkRateFactor(double t) const;
-  Timing AddUtterance(uint64_t id, Utterance utterance, double start);
+  double ScheduledSpeechEnd() const;
+  void SynthesizeNext();
+  void SynthesizeAll();
+  Timing AddUtterance(uint64_t id, Utterance utterance, double now);
 
   BehaviorParameters Parameters;
   uint64_t Seed;
@@ -196,20 +212,22 @@ private:
   Synthesizer Synthesize;
   std::vector<std::string> ChannelNames;
   std::vector<char> SilentChannel;
+  std::vector<std::vector<char>> MouthMasks; ///< per gesture: viseme channels it overrides
+  std::vector<double> MouthFactor;           ///< per channel, scratch of Sample()
   double LastTime = 0.0;
   bool Sampled = false;
 
   // Idle generators (shared with IdleSchedule::Generate) and their held events.
   BlinkTrain RestBlinks;
   BehaviorRandom BlinkKeep, ExtraBlinks;
+  double MaxBlinkFactor = 1.0; ///< the fastest blink rate a mood and speech ask, / rest rate
   double NextExtraBlink = 0.0;
   SaccadeTrain Saccades;
   SmileTrain Smiles;
   HeadMicroMotion Head;
-  std::deque<LiveBlink> Blinks;
+  std::deque<LiveBlink> Blinks; ///< sorted by start
   std::deque<SaccadeEvent> SaccadeEvents;
   std::deque<IdleSmileEvent> SmileEvents;
-  double Generated = 0.0; ///< idle events exist up to here
 
   // Commands.
   std::deque<LiveGesture> Gestures;
@@ -217,6 +235,7 @@ private:
   std::deque<LiveCue> Cues;
   std::deque<PendingSpeech> Pending;
   std::vector<AudioSegment> Audio;
+  std::vector<std::string> Errors;
   uint64_t NextId = 1;
   FadeTrack<MoodEffect::Size> MoodTrack;
   FadeTrack<3> EyeGazeTrack;  ///< yaw, pitch, look ownership

@@ -67,7 +67,7 @@ public:
   /// Keys may come in any order; among keys at the same time the one added last wins.
   void Add(double time, double fade, const State& target)
   {
-    this->Keys.push_back({ time, fade, target, target, this->Keys.size() });
+    this->Keys.push_back({ time, fade, target, target, this->NextOrder++ });
   }
   void Clear() { this->Keys.clear(); }
   /// Sorts the keys and computes where each fade starts from. Call after the last Add().
@@ -83,6 +83,40 @@ public:
     }
   }
   size_t GetNumberOfKeys() const { return this->Keys.size(); }
+
+  // ---- streaming use (LiveBehavior): keys added in time order, the past forgotten ----
+  /// Removes the keys at or after `time` (a new command replaces what was planned from
+  /// then on, e.g. the return of a timed look). Call Finalize() before evaluating.
+  void DropFrom(double time)
+  {
+    this->Keys.erase(std::remove_if(this->Keys.begin(),
+                       this->Keys.end(),
+                       [time](const Key& k) { return k.Time >= time; }),
+      this->Keys.end());
+  }
+  /// Forgets the keys that no longer matter at `t` or later: everything before the last
+  /// key at or before t; that key too once its fade is over (it becomes the initial
+  /// state). Evaluate(t') for t' >= t is unchanged. Needs a finalized track.
+  void ForgetBefore(double t)
+  {
+    auto it = std::upper_bound(
+      this->Keys.begin(), this->Keys.end(), t, [](double v, const Key& k) { return v < k.Time; });
+    if (it == this->Keys.begin())
+    {
+      return;
+    }
+    --it; // the last key at or before t
+    if (!(it->Fade > 0.0) || t >= it->Time + it->Fade)
+    {
+      this->Initial = it->To;
+      this->Keys.erase(this->Keys.begin(), it + 1);
+    }
+    else
+    {
+      this->Initial = it->From;
+      this->Keys.erase(this->Keys.begin(), it);
+    }
+  }
 
   void Evaluate(double t, double* out) const
   {
@@ -120,5 +154,6 @@ private:
 
   State Initial;
   std::vector<Key> Keys;
+  size_t NextOrder = 0;
 };
 } // namespace morphnode
