@@ -8,6 +8,7 @@
 #include "base/Error.h"
 #include "speech/Sampa.h"
 #include "speech/SpeechSynthesizer.h"
+#include "MorphNodeTestErrors.h"
 
 #include <gtest/gtest.h>
 
@@ -26,6 +27,8 @@ extern "C" const char* __lsan_default_suppressions()
   return "leak:libsphinxbase.so\nleak:libpocketsphinx.so\n";
 }
 
+using morphnode_test::ErrorOf;
+
 namespace
 {
 const std::string Output = MORPHNODE_TEST_OUTPUT_DIR;
@@ -41,19 +44,6 @@ double MaxWeight(const Utterance& u, const std::string& viseme)
     m = std::max(m, u.Visemes.GetFrame(f)[c]);
   }
   return m;
-}
-
-std::string ErrorOf(const std::function<void()>& f)
-{
-  try
-  {
-    f();
-  }
-  catch (const InputError& e)
-  {
-    return e.what();
-  }
-  return "(no error)";
 }
 
 /// "Bob met Pam" by another eSpeak voice, at 44.1 kHz.

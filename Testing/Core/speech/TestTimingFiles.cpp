@@ -6,6 +6,7 @@
 #include "speech/SpeechMarks.h"
 #include "speech/TextGrid.h"
 #include "speech/TimingFiles.h"
+#include "MorphNodeTestErrors.h"
 
 #include <gtest/gtest.h>
 
@@ -14,6 +15,8 @@
 #include <functional>
 
 using namespace morphnode;
+
+using morphnode_test::ErrorOf;
 
 namespace
 {
@@ -120,19 +123,6 @@ std::string Utf16(const std::string& ascii, bool littleEndian)
     out += littleEndian ? std::string{ c, '\0' } : std::string{ '\0', c };
   }
   return out;
-}
-
-std::string ErrorOf(const std::function<void()>& f)
-{
-  try
-  {
-    f();
-  }
-  catch (const InputError& e)
-  {
-    return e.what();
-  }
-  return "(no error)";
 }
 
 const std::vector<std::string> BeeMoo = { "_", "b", "i:", "m", "u:", "_" };
