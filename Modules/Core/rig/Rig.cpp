@@ -84,6 +84,159 @@ Json ParseRejectingDuplicateKeys(const std::string& text, const std::string& sou
   return json;
 }
 
+/// A direction [x, y, z] of the eyes section.
+std::array<double, 3> ParseDirection(const Json& value, const std::string& source, const std::string& where)
+{
+  if (!value.is_array() || value.size() != 3 || !value[0].is_number() || !value[1].is_number() ||
+    !value[2].is_number())
+  {
+    Fail(source, where + " must be an array of 3 numbers");
+  }
+  return { value[0].get<double>(), value[1].get<double>(), value[2].get<double>() };
+}
+
+/// The "eyes" section: {"parts": [name | {"name", "side", "forward", "up"}], "forward",
+/// "up", "limits": {"yaw", "up", "down"}}, every field optional (docs/rigs.md).
+EyeRig ParseEyes(const Json& eyes, const std::string& src)
+{
+  if (!eyes.is_object())
+  {
+    Fail(src, "field 'eyes' must be an object (parts, forward, up, limits)");
+  }
+  for (const auto& item : eyes.items())
+  {
+    if (item.key() != "parts" && item.key() != "forward" && item.key() != "up" &&
+      item.key() != "limits")
+    {
+      Fail(src, "eyes: unknown field " + Quote(item.key()) + " (known: parts, forward, up, limits)");
+    }
+  }
+  EyeRig rig;
+  try
+  {
+    std::array<double, 3> forward = rig.GetDefaultForward(), up = rig.GetDefaultUp();
+    if (eyes.contains("forward"))
+    {
+      forward = ParseDirection(eyes["forward"], src, "eyes: 'forward'");
+    }
+    if (eyes.contains("up"))
+    {
+      up = ParseDirection(eyes["up"], src, "eyes: 'up'");
+    }
+    rig.SetDefaultDirections(forward, up);
+    if (eyes.contains("limits"))
+    {
+      const Json& limits = eyes["limits"];
+      if (!limits.is_object())
+      {
+        Fail(src, "eyes: 'limits' must be an object {\"yaw\", \"up\", \"down\"} (degrees)");
+      }
+      EyeLimits l;
+      for (const auto& item : limits.items())
+      {
+        if (!item.value().is_number())
+        {
+          Fail(src, "eyes: limit " + Quote(item.key()) + " must be a number (degrees)");
+        }
+        const double v = item.value().get<double>();
+        if (item.key() == "yaw")
+        {
+          l.MaxYaw = v;
+        }
+        else if (item.key() == "up")
+        {
+          l.MaxUp = v;
+        }
+        else if (item.key() == "down")
+        {
+          l.MaxDown = v;
+        }
+        else
+        {
+          Fail(src, "eyes: unknown limit " + Quote(item.key()) + " (known: yaw, up, down)");
+        }
+      }
+      rig.SetLimits(l);
+    }
+    if (eyes.contains("parts"))
+    {
+      const Json& parts = eyes["parts"];
+      if (!parts.is_array() || parts.empty())
+      {
+        Fail(src, "eyes: 'parts' must be a non-empty array of node or part names");
+      }
+      for (size_t i = 0; i < parts.size(); ++i)
+      {
+        const std::string where = "eyes: parts entry " + std::to_string(i);
+        EyeSpec eye;
+        eye.Forward = forward;
+        eye.Up = up;
+        if (parts[i].is_string())
+        {
+          eye.Name = parts[i].get<std::string>();
+          eye.Side = EyeRig::SideFromName(eye.Name);
+        }
+        else if (parts[i].is_object())
+        {
+          const Json& entry = parts[i];
+          for (const auto& item : entry.items())
+          {
+            if (item.key() != "name" && item.key() != "side" && item.key() != "forward" &&
+              item.key() != "up")
+            {
+              Fail(src, where + ": unknown field " + Quote(item.key()) + " (known: name, side, forward, up)");
+            }
+          }
+          if (!entry.contains("name") || !entry["name"].is_string())
+          {
+            Fail(src, where + ": 'name' must be a string");
+          }
+          eye.Name = entry["name"].get<std::string>();
+          eye.Side = EyeRig::SideFromName(eye.Name);
+          if (entry.contains("side"))
+          {
+            const std::string side = entry["side"].is_string() ? entry["side"].get<std::string>() : "";
+            if (side == "left")
+            {
+              eye.Side = EyeSide::Left;
+            }
+            else if (side == "right")
+            {
+              eye.Side = EyeSide::Right;
+            }
+            else
+            {
+              Fail(src, where + ": 'side' must be \"left\" or \"right\" (the character's)");
+            }
+          }
+          if (entry.contains("forward"))
+          {
+            eye.Forward = ParseDirection(entry["forward"], src, where + ": 'forward'");
+          }
+          if (entry.contains("up"))
+          {
+            eye.Up = ParseDirection(entry["up"], src, where + ": 'up'");
+          }
+        }
+        else
+        {
+          Fail(src, where + ": must be a name or an object {name, side, forward, up}");
+        }
+        rig.AddEye(eye);
+      }
+    }
+  }
+  catch (const InputError& e)
+  {
+    const std::string message = e.what();
+    if (message.rfind("rig ", 0) == 0)
+    {
+      throw;
+    }
+    Fail(src, "eyes: " + message);
+  }
+  return rig;
+}
 } // namespace
 
 Rig Rig::LoadFile(const std::string& path)
@@ -100,13 +253,13 @@ Rig Rig::LoadString(const std::string& text, const std::string& sourceName)
     Fail(src, "the top level must be a JSON object with \"name\" and \"shapes\"");
   }
   static const std::set<std::string> knownFields = { "name", "description", "targets", "shapes",
-    "sets", "notes" };
+    "sets", "notes", "eyes" };
   for (const auto& item : json.items())
   {
     if (!knownFields.count(item.key()))
     {
       Fail(src, "unknown field " + Quote(item.key()) +
-          " (known: name, description, targets, shapes, sets, notes)");
+          " (known: name, description, targets, shapes, sets, notes, eyes)");
     }
   }
 
@@ -279,6 +432,11 @@ Rig Rig::LoadString(const std::string& text, const std::string& sourceName)
         Fail(src, "note for shape " + Quote(note.key()) + ", which the rig does not define");
       }
     }
+  }
+  if (json.contains("eyes"))
+  {
+    rig.Eyes = ParseEyes(json["eyes"], src);
+    rig.HasEyeSection = true;
   }
   return rig;
 }

@@ -12,6 +12,7 @@
 /// - Bake: the face's target deltas -> one delta set per semantic shape, once, so that the
 ///   morph node runs the paper's own target set (13 targets) on the real face.
 
+#include "gaze/EyeRig.h"
 #include "morph/MorphMesh.h"
 
 #include <cstddef>
@@ -57,6 +58,12 @@ public:
   /// Berner's Table 1 in table order. Throws InputError for an unknown set.
   const std::vector<std::string>& GetSet(const std::string& setName) const;
   std::vector<std::string> GetSetNames() const;
+
+  /// The eyes (the "eyes" section, docs/rigs.md): named eye parts, their rest and up
+  /// directions, their limits. A rig without the section gives the default EyeRig (the
+  /// convention for common eye names); HasEyes() tells whether the file had one.
+  bool HasEyes() const { return this->HasEyeSection; }
+  const EyeRig& GetEyes() const { return this->Eyes; }
 
   /// Throws InputError, naming the shape and the target, when a shape refers to a target
   /// that `faceTargetNames` (the face's relative targets, no neutral) does not have.
@@ -110,6 +117,8 @@ private:
   std::vector<std::vector<RigTerm>> Terms;
   std::vector<std::string> Aliases; // per shape, empty when not an alias
   std::map<std::string, std::vector<std::string>> Sets;
+  bool HasEyeSection = false;
+  EyeRig Eyes;
 
   // Bound form: a CSR matrix, row per shape, columns = indices into BoundTargetNames.
   bool Bound = false;
