@@ -4,6 +4,7 @@
 //   MakeSpeechTrack --face face.glb --out track.csv
 //                   [--text Data/scripts/long-text.txt] [--rig Data/rigs/arkit.json]
 //                   [--seed 2004] [--fps 30] [--voice en] [--rate 175]
+//                   [--livelink-csv take.csv]
 //
 // Speaks the text with eSpeak NG (Oculus visemes), lets the behaviour controller add what
 // a speaker does besides talking (SpeechTrack.h; all seeded, so the same seed gives the
@@ -13,15 +14,23 @@
 // angles have no morph target and are left out.
 //
 // The target names come from the GLB's meshes[0].extras.targetNames (no VTK needed).
+//
+// --livelink-csv also writes the performance as a Live Link Face CSV take (docs/capture.md):
+// the face's ARKit-named targets as the 52 ARKit blendshapes, the behaviour's head and gaze
+// angles (degrees) as radians, 60 fps timecodes from 00:00:00:00; what maps to nothing
+// (targets that are no ARKit shape, shapes the face lacks) is listed.
 #include "CommandLine.h"
 #include "DataPaths.h"
 #include "SpeechTrack.h"
 
 #include "base/Error.h"
 #include "base/Text.h"
+#include "capture/ArkitNames.h"
+#include "capture/LiveLinkCsv.h"
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cstdint>
 #include <fstream>
 #include <iostream>
@@ -67,7 +76,7 @@ std::vector<std::string> ReadTargetNames(const std::string& path)
 int main(int argc, char* argv[])
 {
   namespace appkit = morphnode::appkit;
-  std::string face, out, textFile = appkit::DataPath("scripts/long-text.txt"),
+  std::string face, out, livelinkFile, textFile = appkit::DataPath("scripts/long-text.txt"),
                          rigFile = appkit::DataPath("rigs/arkit.json");
   morphnode::study::SpeechTrackOptions options;
   CLI::App app("MakeSpeechTrack: a long speech-driven weight track of a face's targets, for "
@@ -77,6 +86,8 @@ int main(int argc, char* argv[])
     ->required()
     ->check(CLI::ExistingFile);
   app.add_option("--out", out, "the CSV to write")->required();
+  app.add_option("--livelink-csv", livelinkFile,
+    "also write the performance as a Live Link Face CSV take (ARKit blendshapes, head and eye angles)");
   app.add_option("--text", textFile, "what is said")->check(CLI::ExistingFile)->capture_default_str();
   app.add_option("--rig", rigFile, "the rig onto the face's targets")
     ->check(CLI::ExistingFile)
@@ -119,6 +130,68 @@ int main(int argc, char* argv[])
       std::cout << ")";
     }
     std::cout << "\n";
+    if (!livelinkFile.empty())
+    {
+      // The face's targets and the behaviour's angles (degrees), frame by frame.
+      std::vector<std::string> channels = track.GetChannels();
+      std::vector<int> angles;
+      for (const char* name : { "HeadYaw", "HeadPitch", "HeadRoll", "EyeYaw", "EyePitch" })
+      {
+        const int c = semantic.FindChannel(name);
+        if (c >= 0)
+        {
+          channels.emplace_back(name);
+          angles.push_back(c);
+        }
+      }
+      morphnode::WeightTrack performance(channels, track.GetFrameRate());
+      std::vector<double> row(channels.size());
+      for (size_t f = 0; f < track.GetNumberOfFrames(); ++f)
+      {
+        std::copy(track.GetFrame(f), track.GetFrame(f) + track.GetNumberOfChannels(), row.begin());
+        for (size_t a = 0; a < angles.size(); ++a)
+        {
+          row[track.GetNumberOfChannels() + a] = semantic.GetValue(f, static_cast<size_t>(angles[a]));
+        }
+        performance.AppendFrame(row);
+      }
+      std::vector<std::string> unmapped;
+      const morphnode::LiveLinkCapture take = morphnode::CaptureFromTrack(performance, {}, &unmapped);
+      std::ofstream livelink(livelinkFile);
+      if (!livelink)
+      {
+        throw morphnode::InputError("cannot write " + livelinkFile);
+      }
+      morphnode::WriteLiveLinkCsv(livelink, take);
+      livelink.close();
+      if (!livelink)
+      {
+        throw morphnode::InputError("cannot write " + livelinkFile);
+      }
+      std::cout << "wrote " << livelinkFile << ": Live Link Face CSV, " << take.GetNumberOfRows() << " rows at "
+                << take.TimecodeRate << " fps timecode, " << morphnode::ArkitShapeCount - take.MissingShapes.size()
+                << " of " << morphnode::ArkitShapeCount << " ARKit shapes";
+      if (!take.MissingShapes.empty())
+      {
+        std::cout << " (no face target, written as 0:";
+        for (const auto& name : take.MissingShapes)
+        {
+          std::cout << " " << name;
+        }
+        std::cout << ")";
+      }
+      if (!unmapped.empty())
+      {
+        std::cout << "; no ARKit shape, left out:";
+        for (const auto& name : unmapped)
+        {
+          std::cout << " " << name;
+        }
+      }
+      // What was written must read as a take again (and says how many rows it holds).
+      const morphnode::LiveLinkCapture back = morphnode::ReadLiveLinkCsvFile(livelinkFile);
+      std::cout << "; read back: " << back.GetNumberOfRows() << " rows\n";
+    }
   }
   catch (const std::exception& e)
   {
