@@ -5,11 +5,14 @@
 #include "vtkMorphTargetArrays.h"
 
 #include "base/Error.h"
+#include "budget/FrameBudgetController.h"
 #include "morph/MorphScene.h"
 #include "morph/OptimizerPresets.h"
+#include "morph/Weights.h"
 
 #include "vtkAlgorithmOutput.h"
 #include "vtkCellData.h"
+#include "vtkCommunicator.h"
 #include "vtkCompositeDataIterator.h"
 #include "vtkCompositeDataSet.h"
 #include "vtkDataObject.h"
@@ -33,6 +36,7 @@
 #include "vtkUnsignedCharArray.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cstdint>
 #include <cstring>
 #include <iterator>
@@ -366,6 +370,19 @@ struct vtkMorphNodeFilter::vtkInternals
   /// Made once per model, shared by every output.
   vtkSmartPointer<vtkStringArray> TargetNames;
   vtkSmartPointer<vtkDoubleArray> DistNormOut;
+  /// The frame budget (FrameBudget > 0): a controller over the model as its one level,
+  /// made again when the model or the method changes (keeping the cost model it measured),
+  /// and the last execution's measurement, reported when the next one decides (so that in
+  /// parallel every process exchanges it at the same point).
+  morphnode::FrameBudgetController Budget;
+  morphnode::ControllerSettings BudgetSettings;
+  uint64_t BudgetGeneration = 0; // the model Budget was made for; 0: none
+  std::vector<double> MovedPoints; // per model target, summed over every process's parts
+  double ModelPoints = 0.0;
+  bool BudgetDecided = false; // this execution's threshold came from Budget
+  bool HasMeasurement = false;
+  double MeasuredSeconds = 0.0, MeasuredTargetPoints = 0.0;
+
   /// Per-execution field data, rewritten in place when no one else holds them.
   vtkSmartPointer<vtkDataArray> EffectiveWeightsOut, ActiveTargetCountOut, ErrorBoundOut;
 
@@ -730,6 +747,155 @@ struct vtkMorphNodeFilter::vtkInternals
     settings.Hysteresis = self->Hysteresis;
     this->Scene.SetOptimizerSettings(settings);
     this->Scene.SetWeightMode(static_cast<morphnode::WeightMode>(self->WeightMode));
+  }
+
+  /// Points moved by each model target (the positions' non-zero deltas) over every part and,
+  /// in parallel, every process; and the model's points.
+  void CountMovedPoints(vtkMultiProcessController* controller, bool parallel)
+  {
+    this->MovedPoints.assign(this->Names().size(), 0.0);
+    double points = 0.0;
+    if (this->HasScene)
+    {
+      for (size_t p = 0; p < this->Scene.GetNumberOfParts(); ++p)
+      {
+        const morphnode::MorphMesh& mesh = this->Scene.GetPart(p);
+        const std::vector<size_t>& targets = this->Scene.GetPartTargets(p);
+        points += static_cast<double>(mesh.GetNumberOfPoints());
+        std::visit(
+          [&](const auto& positions) {
+            for (size_t k = 1; k < positions.GetNumberOfTargets() && k < targets.size(); ++k)
+            {
+              if (targets[k] < this->MovedPoints.size())
+              {
+                this->MovedPoints[targets[k]] +=
+                  static_cast<double>(positions.GetTarget(k).GetNumberOfMovedPoints());
+              }
+            }
+          },
+          mesh.GetAttribute(0));
+      }
+    }
+    this->MovedPoints.push_back(points);
+    if (parallel)
+    {
+      std::vector<double> sum(this->MovedPoints.size());
+      if (!controller->AllReduce(this->MovedPoints.data(), sum.data(),
+            static_cast<vtkIdType>(sum.size()), vtkCommunicator::SUM_OP))
+      {
+        throw morphnode::InputError("the processes could not exchange their moved points");
+      }
+      this->MovedPoints.swap(sum);
+    }
+    this->ModelPoints = this->MovedPoints.back();
+    this->MovedPoints.pop_back();
+  }
+
+  /// With a frame budget: reports the last execution's measurement (in parallel the slowest
+  /// process's) and lets the controller choose this execution's threshold, which replaces
+  /// the scene's. Every process calls it (an empty piece too), after ApplySettings.
+  void ChooseThreshold(vtkMorphNodeFilter* self)
+  {
+    this->BudgetDecided = false;
+    self->FrameBudgetThreshold = -1.0;
+    if (self->FrameBudget <= 0.0 || !this->Ready)
+    {
+      this->HasMeasurement = false;
+      return;
+    }
+    vtkMultiProcessController* controller = self->Controller;
+    const bool parallel = controller && controller->GetNumberOfProcesses() > 1;
+    double measured[3] = { this->HasMeasurement ? 1.0 : 0.0, this->MeasuredSeconds,
+      this->MeasuredTargetPoints };
+    if (parallel)
+    {
+      double slowest[3];
+      if (!controller->AllReduce(measured, slowest, 3, vtkCommunicator::MAX_OP))
+      {
+        throw morphnode::InputError("the processes could not exchange their morph times");
+      }
+      std::copy(slowest, slowest + 3, measured);
+    }
+    this->HasMeasurement = false;
+
+    const morphnode::OptimizerSettings settings = this->HasScene
+      ? this->Scene.GetOptimizerSettings()
+      : morphnode::OptimizerSettings{};
+    morphnode::ControllerSettings cs;
+    cs.FrameBudget = 1e-3 * self->FrameBudget;
+    cs.Strategy = settings.Strategy;
+    cs.AdjustThreshold = settings.AdjustThreshold;
+    cs.OptimizerHysteresis = settings.Hysteresis;
+    cs.MaxActiveTargets = settings.MaxActiveTargets;
+    cs.MaxVertexError = settings.MaxVertexError;
+    cs.GeomorphFrames = 0;
+    const morphnode::ControllerSettings& was = this->BudgetSettings;
+    const bool sameModel = this->BudgetGeneration == this->Generation;
+    if (!sameModel)
+    {
+      this->CountMovedPoints(controller, parallel);
+    }
+    else if (measured[0] > 0.0 && this->Budget.GetNumberOfLevels() > 0)
+    {
+      this->Budget.ReportMeasuredSeconds(measured[1], measured[2]);
+    }
+    if (!this->HasScene)
+    {
+      this->BudgetGeneration = this->Generation;
+      return; // an empty piece: took part in the exchanges, decides nothing
+    }
+    if (!sameModel || this->Budget.GetNumberOfLevels() == 0 || was.FrameBudget != cs.FrameBudget ||
+      was.Strategy != cs.Strategy || was.AdjustThreshold != cs.AdjustThreshold ||
+      was.OptimizerHysteresis != cs.OptimizerHysteresis ||
+      was.MaxActiveTargets != cs.MaxActiveTargets || was.MaxVertexError != cs.MaxVertexError)
+    {
+      // A first guess (about a desktop's blend), replaced by measurements from the first
+      // execution on; what was measured survives a change of method.
+      morphnode::CostModel cost;
+      cost.Fixed = 50e-6;
+      cost.PerTargetPoint = 2e-9;
+      if (sameModel && this->Budget.GetNumberOfLevels() > 0)
+      {
+        cost = this->Budget.GetCostModel(0);
+      }
+      morphnode::LevelOfDetail level;
+      level.Name = "model";
+      level.NumberOfPoints = static_cast<size_t>(this->ModelPoints);
+      level.MovedPoints = this->MovedPoints;
+      level.Distances = this->Scene.GetTargetDistances();
+      level.Cost = cost;
+      this->Budget = morphnode::FrameBudgetController();
+      this->Budget.SetSettings(cs);
+      this->Budget.AddLevel(level);
+      this->BudgetSettings = cs;
+      this->BudgetGeneration = this->Generation;
+    }
+    std::vector<double> absolute;
+    morphnode::ResolveWeights(this->Scene.GetWeightMode(), this->Requested.data(),
+      this->Requested.size(), absolute);
+    const morphnode::ControllerDecision decision = this->Budget.Update(absolute);
+    morphnode::OptimizerSettings chosen = settings;
+    chosen.Threshold = decision.Threshold;
+    this->Scene.SetOptimizerSettings(chosen);
+    self->FrameBudgetThreshold = decision.Threshold;
+    this->BudgetDecided = true;
+  }
+
+  /// Keeps this execution's morph time for the next decision.
+  void Measure(double seconds)
+  {
+    this->HasMeasurement = this->BudgetDecided;
+    this->MeasuredSeconds = seconds;
+    double targetPoints = 0.0;
+    if (this->BudgetDecided)
+    {
+      const auto& w = this->Scene.GetEffectiveWeights();
+      for (size_t i = 1; i < w.size() && i < this->MovedPoints.size(); ++i)
+      {
+        targetPoints += w[i] != 0.0 ? this->MovedPoints[i] : 0.0;
+      }
+    }
+    this->MeasuredTargetPoints = targetPoints;
   }
 
   /// Output arrays of a part for this execution, and where the blend writes them.
@@ -1529,6 +1695,8 @@ int vtkMorphNodeFilter::RequestData(
   internals.Valid = false;
   this->ActiveTargetCount = 0;
   this->ErrorBound = 0.0;
+  this->FrameBudgetThreshold = -1.0;
+  this->MorphTime = 0.0;
   try
   {
     // 1. The model, rebuilt only when an input or the storage choice changed (in parallel,
@@ -1537,11 +1705,17 @@ int vtkMorphNodeFilter::RequestData(
     internals.UpdateModel(this);
     this->UpdateProgress(0.3);
 
-    // 2. Weight rules and the optimizer, once for the whole model: the core scene.
+    // 2. Weight rules and the optimizer, once for the whole model: the core scene. With a
+    // frame budget the controller chooses the threshold from the measured morph times.
+    const auto started = std::chrono::steady_clock::now();
     if (internals.HasScene)
     {
       internals.GatherRequested(this, vtkTable::GetData(inputVector[1], 0));
       internals.ApplySettings(this);
+    }
+    internals.ChooseThreshold(this);
+    if (internals.HasScene)
+    {
       internals.Scene.SetWeights(internals.Requested);
     }
     this->UpdateProgress(0.4);
@@ -1572,6 +1746,9 @@ int vtkMorphNodeFilter::RequestData(
       output->GetInformation()->Set(vtkDataObject::DATA_TIME_STEP(),
         outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP()));
     }
+    const std::chrono::duration<double> took = std::chrono::steady_clock::now() - started;
+    internals.Measure(took.count());
+    this->MorphTime = 1e3 * took.count();
     internals.Valid = internals.HasScene;
     this->ActiveTargetCount = internals.HasScene ? internals.Scene.GetActiveTargetCount() : 0;
     this->ErrorBound = internals.HasScene ? internals.Scene.GetErrorBound() : 0.0;
@@ -1599,6 +1776,9 @@ void vtkMorphNodeFilter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "MaxVertexError: " << this->MaxVertexError << "\n";
   os << indent << "MaxActiveTargets: " << this->MaxActiveTargets << "\n";
   os << indent << "Hysteresis: " << this->Hysteresis << "\n";
+  os << indent << "FrameBudget: " << this->FrameBudget << " ms\n";
+  os << indent << "FrameBudgetThreshold: " << this->FrameBudgetThreshold << "\n";
+  os << indent << "MorphTime: " << this->MorphTime << " ms\n";
   os << indent << "GenerateDistanceArrays: " << (this->GenerateDistanceArrays ? "On" : "Off") << "\n";
   os << indent << "SparseCoverage: " << this->SparseCoverage << "\n";
   os << indent << "NumberOfTargets: " << internals.Names().size() << "\n";

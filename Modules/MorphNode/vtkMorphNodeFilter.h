@@ -268,14 +268,45 @@ public:
 
   ///@{
   /**
-   * Hysteresis in [0, 1): a target active in the previous execution is pruned only
-   * below threshold * (1 - Hysteresis), so it does not flicker. Default 0.
+   * Hysteresis in [0, 1): a target active in the previous execution keeps its place unless
+   * a decision beats it by this margin: it is pruned only below threshold * (1 -
+   * Hysteresis), loses the budget's last place only to a target whose contribution exceeds
+   * its own by 1 / (1 - Hysteresis), and the error bound prunes it only while the bound
+   * stays within MaxVertexError * (1 - Hysteresis) (see morphnode::WeightOptimizer).
+   * Default 0.
    */
   vtkSetClampMacro(Hysteresis, double, 0.0, 0.99);
   vtkGetMacro(Hysteresis, double);
   /// Forget which targets were active (e.g. after a jump in time).
   void ResetHysteresis();
   ///@}
+
+  ///@{
+  /**
+   * A time budget for each execution's morph (weights, optimizer, blend and output), in
+   * milliseconds; 0 (default) turns it off. When on, a morphnode::FrameBudgetController
+   * picks the optimizer's threshold for every execution: of the candidates 0, 0.05, 0.1,
+   * 0.2, 0.3 and 0.5 (with the method's redistribution and adjustment, and MaxActiveTargets,
+   * MaxVertexError and Hysteresis as set) the one with the least error bound whose cost,
+   * predicted from the measured times of the previous executions, fits the budget (the
+   * cheapest when none does). It replaces Threshold for every method. The input is one
+   * level of detail (no reduction ladder). In parallel the processes share their moved
+   * points and the slowest process's time, so they choose alike.
+   */
+  vtkSetClampMacro(FrameBudget, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(FrameBudget, double);
+  ///@}
+
+  /**
+   * The threshold the frame budget chose for the last execution; -1 when FrameBudget is
+   * off or before an execution.
+   */
+  vtkGetMacro(FrameBudgetThreshold, double);
+  /**
+   * Milliseconds the last execution's morph took (weights, optimizer, blend, output; not
+   * the building of the model), measured with or without a budget; 0 before one.
+   */
+  vtkGetMacro(MorphTime, double);
 
   ///@{
   /**
@@ -346,11 +377,14 @@ protected:
   double MaxVertexError = 0.0;
   int MaxActiveTargets = 0;
   double Hysteresis = 0.0;
+  double FrameBudget = 0.0;
   bool GenerateDistanceArrays = false;
   double SparseCoverage;
 
   int ActiveTargetCount = 0;
   double ErrorBound = 0.0;
+  double FrameBudgetThreshold = -1.0;
+  double MorphTime = 0.0;
   vtkMultiProcessController* Controller = nullptr;
 
 private:

@@ -117,6 +117,13 @@ Options ParseOptions(int argc, char* argv[])
   appkit::AddNumberOption(app, "--hysteresis", o.Hysteresis, 0.0, 0.99,
     "in [0, 0.99]: keeps active targets a little longer")
     ->group(optimizer);
+  appkit::AddNumberOption(app, "--frame-budget", o.FrameBudget, 0.0, 1e6,
+    "milliseconds for the morph of a frame: the threshold is chosen every frame from measured "
+    "times (replaces --threshold; 0: off)")
+    ->group(optimizer);
+  app.add_option("--frame-budget-log", o.FrameBudgetLog,
+       "with --frame-budget: every frame's threshold, active targets and morph time as CSV")
+    ->group(optimizer);
 
   const std::string output = "Output";
   appkit::AddSizeOption(app, "--size", o.Width, o.Height, "window / frame size")->group(output);

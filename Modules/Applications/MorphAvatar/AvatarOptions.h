@@ -29,6 +29,8 @@ struct Options
   double Threshold = 0.1;
   double MaxError = -1.0; // < 0: 0.5 % of the face's diagonal
   double Hysteresis = 0.0;
+  double FrameBudget = 0.0;   // ms for the morph; 0: off (AvatarFrameBudget.h)
+  std::string FrameBudgetLog; // CSV of every frame's choice
   bool SeedSet = false;
   unsigned long long Seed = 1;
   bool Offscreen = false;

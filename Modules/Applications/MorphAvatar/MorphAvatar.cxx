@@ -16,6 +16,7 @@
 // AvatarInteractive and AvatarOffscreen (the two modes). `MorphAvatar --help` lists every
 // option; docs/avatar.md describes them.
 #include "Avatar.h"
+#include "AvatarFrameBudget.h"
 
 #include <cstdlib>
 #include <iostream>
@@ -36,6 +37,7 @@ int main(int argc, char* argv[])
     return 1;
   }
   a.SetUpScene();
+  WatchFrameBudget(a.Morph, a.Opt);
   if (!a.Opt.Quiet)
   {
     std::cout << a.FaceFile << ": " << a.Morph->GetNumberOfTargets() << " targets; behaviour "

@@ -164,6 +164,10 @@ void FrameBudgetController::SetSettings(const ControllerSettings& s)
   {
     throw InputError("FrameBudgetController: frame counts must be >= 0.");
   }
+  if (s.MaxActiveTargets < 0 || !std::isfinite(s.MaxVertexError) || s.MaxVertexError < 0.0)
+  {
+    throw InputError("FrameBudgetController: the optimizer's budget and error bound must be >= 0.");
+  }
   this->Settings = s;
   // Rebuild the optimizers for the new thresholds.
   std::vector<LevelOfDetail> levels;
@@ -208,6 +212,8 @@ void FrameBudgetController::AddLevel(const LevelOfDetail& level)
     os.Strategy = this->Settings.Strategy;
     os.AdjustThreshold = this->Settings.AdjustThreshold;
     os.Hysteresis = this->Settings.OptimizerHysteresis;
+    os.MaxActiveTargets = this->Settings.MaxActiveTargets;
+    os.MaxVertexError = this->Settings.MaxVertexError;
     optimizers[t].SetSettings(os);
     optimizers[t].SetTargetDistances(level.Distances);
   }
@@ -398,6 +404,17 @@ ControllerDecision FrameBudgetController::Update(const std::vector<double>& weig
 
 void FrameBudgetController::ReportMeasuredSeconds(double seconds)
 {
+  this->ReportMeasuredSeconds(seconds, this->LastTargetPoints);
+}
+
+void FrameBudgetController::ReportMeasuredSeconds(double seconds, double targetPoints)
+{
+  if (!std::isfinite(targetPoints) || targetPoints < 0.0)
+  {
+    throw InputError("FrameBudgetController: a measured frame must move a finite, "
+                     "non-negative number of target points, got " +
+      std::to_string(targetPoints) + ".");
+  }
   if (!std::isfinite(seconds) || seconds < 0.0)
   {
     throw InputError("FrameBudgetController: a measured frame must take a finite, non-negative "
@@ -420,7 +437,7 @@ void FrameBudgetController::ReportMeasuredSeconds(double seconds)
   {
     samples.erase(samples.begin(), samples.begin() + static_cast<std::ptrdiff_t>(samples.size() - window + 1));
   }
-  samples.emplace_back(this->LastTargetPoints, seconds);
+  samples.emplace_back(targetPoints, seconds);
   std::vector<double> x, y;
   for (const auto& [points, measured] : samples)
   {

@@ -108,6 +108,10 @@ struct ControllerSettings
   Redistribution Strategy = Redistribution::Remaining;
   bool AdjustThreshold = true;
   double OptimizerHysteresis = 0.2;
+  /// Applied by every candidate on top of its threshold (WeightOptimizer's budget and
+  /// error bound); 0: off.
+  int MaxActiveTargets = 0;
+  double MaxVertexError = 0.0;
   /// A neighbour level must beat the current one's error by this fraction (a finer one
   /// must also fit in (1 - LevelHysteresis) * budget)...
   double LevelHysteresis = 0.15;
@@ -165,6 +169,9 @@ public:
   /// point count). Does nothing with MeasurementWindow 0. Throws InputError for a negative
   /// or non-finite value, or when no frame was decided since the levels were set.
   void ReportMeasuredSeconds(double seconds);
+  /// The same for a frame that ended up moving `targetPoints` (its active targets' moved
+  /// points) rather than the decided ones, e.g. when the caller's own optimizer decided.
+  void ReportMeasuredSeconds(double seconds, double targetPoints);
   /// The cost model a level predicts with: its given one until it is measured.
   const CostModel& GetCostModel(size_t level) const { return this->Models.at(level); }
   /// Measurements kept for a level.

@@ -399,8 +399,10 @@ TEST(FrameBudgetController, MeasurementsAreChecked)
   c.Update(Track(1)[0]);
   EXPECT_THROW(c.ReportMeasuredSeconds(-1.0), InputError);
   EXPECT_THROW(c.ReportMeasuredSeconds(std::nan("")), InputError);
+  EXPECT_THROW(c.ReportMeasuredSeconds(1e-5, -1.0), InputError);
   EXPECT_NO_THROW(c.ReportMeasuredSeconds(1e-5));
-  EXPECT_EQ(c.GetNumberOfMeasurements(0), 1u);
+  EXPECT_NO_THROW(c.ReportMeasuredSeconds(2e-5, 100.0)); // another frame's active targets
+  EXPECT_EQ(c.GetNumberOfMeasurements(0), 2u);
   EXPECT_THROW(CostModel::FitMedian({}, {}, 0.0), InputError);
   // One cost at one point count: the slope given, Fixed from the rest.
   const CostModel flat = CostModel::FitMedian({ 100.0, 100.0 }, { 3e-6, 3e-6 }, 1e-8);

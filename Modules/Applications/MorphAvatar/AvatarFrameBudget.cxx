@@ -1,0 +1,111 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "AvatarFrameBudget.h"
+
+#include "vtkCommand.h"
+#include "vtkMorphNodeFilter.h"
+#include "vtkNew.h"
+#include "vtkObjectFactory.h"
+
+#include <algorithm>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <vector>
+
+namespace morphavatar
+{
+namespace
+{
+/// Records the filter's choice after every successful execution; writes the summary when
+/// the filter (and so this observer) goes away at the avatar's end.
+class FrameBudgetWatch : public vtkCommand
+{
+public:
+  static FrameBudgetWatch* New();
+  vtkTypeMacro(FrameBudgetWatch, vtkCommand);
+
+  double Budget = 0.0; // ms
+  bool Quiet = false;
+  std::ofstream Log;
+
+  void Execute(vtkObject* caller, unsigned long, void*) override
+  {
+    auto* morph = vtkMorphNodeFilter::SafeDownCast(caller);
+    if (!morph || morph->GetFrameBudgetThreshold() < 0.0)
+    {
+      return; // no budget in this execution (or it failed)
+    }
+    const double threshold = morph->GetFrameBudgetThreshold();
+    const double ms = morph->GetMorphTime();
+    const int active = morph->GetActiveTargetCount();
+    if (this->Log.is_open())
+    {
+      this->Log << this->Thresholds.size() << "," << threshold << "," << active << ","
+                << std::setprecision(6) << ms << "," << this->Budget << "\n";
+    }
+    this->Thresholds.push_back(threshold);
+    this->Times.push_back(ms);
+    this->Active.push_back(active);
+  }
+
+protected:
+  FrameBudgetWatch() = default;
+  ~FrameBudgetWatch() override
+  {
+    if (this->Quiet || this->Times.empty())
+    {
+      return;
+    }
+    // The first frame was decided before anything was measured: not counted.
+    const size_t first = this->Times.size() > 1 ? 1 : 0;
+    const size_t n = this->Times.size() - first;
+    size_t within = 0, changes = 0;
+    double thresholdSum = 0.0, activeSum = 0.0;
+    for (size_t i = first; i < this->Times.size(); ++i)
+    {
+      within += this->Times[i] <= this->Budget ? 1 : 0;
+      changes += i > first && this->Thresholds[i] != this->Thresholds[i - 1] ? 1 : 0;
+      thresholdSum += this->Thresholds[i];
+      activeSum += this->Active[i];
+    }
+    std::vector<double> sorted(this->Times.begin() + static_cast<std::ptrdiff_t>(first), this->Times.end());
+    std::sort(sorted.begin(), sorted.end());
+    std::cout << "frame budget " << this->Budget << " ms: " << std::fixed << std::setprecision(3)
+              << n << " frames, within budget " << std::setprecision(1)
+              << 100.0 * double(within) / double(n) << " %, morph time median "
+              << std::setprecision(3) << sorted[sorted.size() / 2] << " ms, 95th percentile "
+              << sorted[std::min(sorted.size() - 1, sorted.size() * 95 / 100)]
+              << " ms; threshold changed on " << changes << " frames, mean threshold "
+              << thresholdSum / double(n) << ", mean active targets " << std::setprecision(2)
+              << activeSum / double(n) << "\n";
+  }
+
+private:
+  std::vector<double> Thresholds, Times;
+  std::vector<int> Active;
+};
+vtkStandardNewMacro(FrameBudgetWatch);
+} // namespace
+
+void WatchFrameBudget(vtkMorphNodeFilter* morph, const Options& o)
+{
+  if (!(o.FrameBudget > 0.0))
+  {
+    return;
+  }
+  morph->SetFrameBudget(o.FrameBudget);
+  vtkNew<FrameBudgetWatch> watch;
+  watch->Budget = o.FrameBudget;
+  watch->Quiet = o.Quiet;
+  if (!o.FrameBudgetLog.empty())
+  {
+    watch->Log.open(o.FrameBudgetLog);
+    if (!watch->Log)
+    {
+      FailUsage("--frame-budget-log: cannot write " + o.FrameBudgetLog);
+    }
+    watch->Log << "frame,threshold,active_targets,morph_ms,budget_ms\n";
+  }
+  morph->AddObserver(vtkCommand::EndEvent, watch);
+}
+} // namespace morphavatar
