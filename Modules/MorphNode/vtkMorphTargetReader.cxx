@@ -5,6 +5,7 @@
 
 #include "base/Error.h"
 #include "base/Text.h"
+#include "gltf/GltfAnimation.h"
 #include "gltf/GltfScene.h"
 #include "morph/MorphMesh.h"
 #include "morph/Normals.h"
@@ -26,12 +27,14 @@
 #include "vtkPolyData.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkStringArray.h"
+#include "vtkTable.h"
 #include "vtkUnsignedCharArray.h"
 
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <sstream>
+#include <system_error>
 #include <unordered_set>
 
 vtkStandardNewMacro(vtkMorphTargetReader);
@@ -334,12 +337,93 @@ const morphnode::GltfPart& SelectPart(const morphnode::GltfScene& scene,
     "' is on no node of the scene");
 }
 
+/// Blends a part's weights into its points and normals (glTF: base + sum w_k delta_k;
+/// normals renormalized), as a glTF viewer shows the morphed mesh.
+void BlendWeights(morphnode::GltfPart& part, const std::vector<double>& weights)
+{
+  const size_t n = part.GetNumberOfPoints();
+  std::vector<double> p(part.Positions.begin(), part.Positions.end());
+  std::vector<double> normals(part.Normals.begin(), part.Normals.end());
+  for (size_t k = 0; k < part.Targets.size() && k < weights.size(); ++k)
+  {
+    const double w = weights[k];
+    if (w == 0.0)
+    {
+      continue;
+    }
+    const auto& target = part.Targets[k];
+    for (size_t i = 0; i < 3 * n; ++i)
+    {
+      p[i] += w * double(target.PositionDeltas[i]);
+    }
+    if (!normals.empty() && !target.NormalDeltas.empty())
+    {
+      for (size_t i = 0; i < 3 * n; ++i)
+      {
+        normals[i] += w * double(target.NormalDeltas[i]);
+      }
+    }
+  }
+  std::copy(p.begin(), p.end(), part.Positions.begin());
+  for (size_t i = 0; i < n && !normals.empty(); ++i)
+  {
+    double* v = &normals[3 * i];
+    const double length = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    for (size_t c = 0; c < 3; ++c)
+    {
+      part.Normals[3 * i + c] = static_cast<float>(length > 0 ? v[c] / length : v[c]);
+    }
+  }
+}
+
+void AddColumn(vtkTable* table, const std::string& name, const double* values, int components)
+{
+  vtkNew<vtkDoubleArray> column;
+  column->SetName(name.c_str());
+  column->SetNumberOfComponents(components);
+  column->SetNumberOfTuples(1);
+  std::copy_n(values, components, column->GetPointer(0));
+  table->AddColumn(column);
+}
+
+/// The time steps advertised: key times, or a regular grid at `rate` over the keys' range.
+std::vector<double> TimeSteps(const morphnode::GltfAnimationPlayer& player, double rate)
+{
+  if (rate <= 0.0)
+  {
+    return player.GetKeyTimes();
+  }
+  std::vector<double> steps;
+  const double start = player.GetStartTime(), end = player.GetEndTime();
+  const double count = std::floor((end - start) * rate + 1e-9);
+  for (double i = 0; i <= count && steps.size() < 10000000; ++i)
+  {
+    steps.push_back(start + i / rate);
+  }
+  if (steps.empty() || steps.back() < end - 1e-12)
+  {
+    steps.push_back(end);
+  }
+  return steps;
+}
 } // namespace
+
+/// The last glTF scene read, and what it was read from.
+struct vtkMorphTargetReader::SceneCache
+{
+  std::string FileName;
+  bool ApplyTransforms = true;
+  std::filesystem::file_time_type WriteTime;
+  std::uintmax_t Size = 0;
+  vtkMTimeType ReaderTime = 0; ///< the reader's MTime: any property set reads again
+  std::shared_ptr<const morphnode::GltfScene> Scene;
+};
 
 //------------------------------------------------------------------------------
 vtkMorphTargetReader::vtkMorphTargetReader()
 {
   this->SetNumberOfInputPorts(0);
+  this->SetNumberOfOutputPorts(2);
 }
 
 //------------------------------------------------------------------------------
@@ -350,6 +434,85 @@ bool vtkMorphTargetReader::GetReadsWholeScene()
 {
   return IsGltf(this->FileName) && this->MeshName.empty() && this->MeshIndex < 0 &&
     this->PrimitiveIndex < 0;
+}
+
+//------------------------------------------------------------------------------
+const char* vtkMorphTargetReader::GetAnimationNameByIndex(int index)
+{
+  return index >= 0 && index < this->GetNumberOfAnimations()
+    ? this->AnimationNames[static_cast<size_t>(index)].c_str()
+    : nullptr;
+}
+
+//------------------------------------------------------------------------------
+vtkTable* vtkMorphTargetReader::GetWeightsOutput()
+{
+  return vtkTable::SafeDownCast(this->GetOutputDataObject(1));
+}
+
+//------------------------------------------------------------------------------
+std::shared_ptr<const morphnode::GltfScene> vtkMorphTargetReader::LoadScene(bool applyTransforms)
+{
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::file_time_type writeTime = fs::last_write_time(this->FileName, ec);
+  const std::uintmax_t size = ec ? 0 : fs::file_size(this->FileName, ec);
+  SceneCache* cache = this->Cache.get();
+  if (!ec && cache && cache->Scene && cache->FileName == this->FileName &&
+    cache->ApplyTransforms == applyTransforms && cache->WriteTime == writeTime && cache->Size == size &&
+    cache->ReaderTime == this->GetMTime())
+  {
+    return cache->Scene;
+  }
+  this->Cache.reset();
+  morphnode::GltfLoadOptions options;
+  options.ApplyTransforms = applyTransforms;
+  auto scene = std::make_shared<const morphnode::GltfScene>(morphnode::LoadGltfScene(this->FileName, options));
+  if (!ec)
+  {
+    this->Cache = std::make_unique<SceneCache>();
+    this->Cache->FileName = this->FileName;
+    this->Cache->ApplyTransforms = applyTransforms;
+    this->Cache->WriteTime = writeTime;
+    this->Cache->Size = size;
+    this->Cache->ReaderTime = this->GetMTime();
+    this->Cache->Scene = scene;
+  }
+  return scene;
+}
+
+//------------------------------------------------------------------------------
+int vtkMorphTargetReader::ResolveAnimation(const morphnode::GltfScene& scene) const
+{
+  if (!this->AnimationName.empty())
+  {
+    for (size_t a = 0; a < scene.Animations.size(); ++a)
+    {
+      const std::string name = scene.Animations[a].Name.empty() ? "animation" + std::to_string(a)
+                                                                 : scene.Animations[a].Name;
+      if (name == this->AnimationName)
+      {
+        return static_cast<int>(a);
+      }
+    }
+    std::ostringstream msg;
+    msg << "'" << this->FileName << "' has no animation named '" << this->AnimationName << "'; animations:";
+    for (size_t a = 0; a < scene.Animations.size(); ++a)
+    {
+      msg << " " << (scene.Animations[a].Name.empty() ? "animation" + std::to_string(a) : scene.Animations[a].Name);
+    }
+    if (scene.Animations.empty())
+    {
+      msg << " none";
+    }
+    throw InputError(msg.str());
+  }
+  if (this->AnimationIndex >= 0 && static_cast<size_t>(this->AnimationIndex) >= scene.Animations.size())
+  {
+    throw InputError("animation index " + std::to_string(this->AnimationIndex) + " out of range: '" +
+      this->FileName + "' has " + std::to_string(scene.Animations.size()) + " animations");
+  }
+  return this->AnimationIndex;
 }
 
 //------------------------------------------------------------------------------
@@ -377,10 +540,67 @@ const char* vtkMorphTargetReader::GetPartName(int index)
 }
 
 //------------------------------------------------------------------------------
-int vtkMorphTargetReader::FillOutputPortInformation(int, vtkInformation* info)
+int vtkMorphTargetReader::FillOutputPortInformation(int port, vtkInformation* info)
 {
-  // A vtkPolyData or, for a whole scene, a vtkPartitionedDataSetCollection.
-  info->Set(vtkDataObject::DATA_TYPE_NAME(), "vtkDataObject");
+  // Port 0: a vtkPolyData or, for a whole scene, a vtkPartitionedDataSetCollection;
+  // port 1: the weights (and animated node transforms) at the time requested.
+  info->Set(vtkDataObject::DATA_TYPE_NAME(), port == 1 ? "vtkTable" : "vtkDataObject");
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+int vtkMorphTargetReader::RequestInformation(
+  vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
+{
+  this->AnimationNames.clear();
+  this->ChosenAnimation = -1;
+  this->AnimationRange[0] = this->AnimationRange[1] = 0.0;
+  std::vector<double> steps;
+  if (IsGltf(this->FileName))
+  {
+    // Errors are reported by RequestData (with an empty output); here they only leave the
+    // time unadvertised.
+    try
+    {
+      const bool whole = this->GetReadsWholeScene();
+      const bool transformsApplied = !(this->ApplyAnimation != ANIMATION_NOT_APPLIED &&
+        (this->AnimationIndex >= 0 || !this->AnimationName.empty()));
+      const auto scene = this->LoadScene(whole && transformsApplied);
+      for (size_t a = 0; a < scene->Animations.size(); ++a)
+      {
+        this->AnimationNames.push_back(
+          scene->Animations[a].Name.empty() ? "animation" + std::to_string(a) : scene->Animations[a].Name);
+      }
+      const int chosen = this->ResolveAnimation(*scene);
+      if (chosen >= 0)
+      {
+        const morphnode::GltfAnimationPlayer player(*scene, chosen, this->FileName);
+        steps = TimeSteps(player, this->FrameRate);
+        this->ChosenAnimation = chosen;
+        this->AnimationRange[0] = player.GetStartTime();
+        this->AnimationRange[1] = player.GetEndTime();
+      }
+    }
+    catch (const std::exception&)
+    {
+      steps.clear();
+      this->ChosenAnimation = -1;
+    }
+  }
+  for (int port = 0; port < 2; ++port)
+  {
+    vtkInformation* outInfo = outputVector->GetInformationObject(port);
+    if (steps.empty())
+    {
+      outInfo->Remove(vtkStreamingDemandDrivenPipeline::TIME_STEPS());
+      outInfo->Remove(vtkStreamingDemandDrivenPipeline::TIME_RANGE());
+    }
+    else
+    {
+      outInfo->Set(vtkStreamingDemandDrivenPipeline::TIME_STEPS(), steps.data(), static_cast<int>(steps.size()));
+      outInfo->Set(vtkStreamingDemandDrivenPipeline::TIME_RANGE(), this->AnimationRange, 2);
+    }
+  }
   return 1;
 }
 
@@ -402,6 +622,11 @@ int vtkMorphTargetReader::RequestDataObject(
   vtkInformation* outInfo = outputVector->GetInformationObject(0);
   vtkDataObject* output = vtkDataObject::GetData(outInfo);
   const bool scene = this->GetReadsWholeScene();
+  if (!vtkTable::SafeDownCast(vtkDataObject::GetData(outputVector, 1)))
+  {
+    vtkNew<vtkTable> table;
+    outputVector->GetInformationObject(1)->Set(vtkDataObject::DATA_OBJECT(), table);
+  }
   if (scene && !vtkPartitionedDataSetCollection::SafeDownCast(output))
   {
     vtkNew<vtkPartitionedDataSetCollection> collection;
@@ -420,22 +645,34 @@ int vtkMorphTargetReader::RequestData(
   vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
 {
   vtkDataObject* output = vtkDataObject::GetData(outputVector, 0);
+  vtkTable* weightsOutput = vtkTable::GetData(outputVector, 1);
   this->TargetNames.clear();
   this->PartNames.clear();
   this->MeshNames.clear();
+  if (weightsOutput)
+  {
+    weightsOutput->Initialize();
+  }
   try
   {
     if (this->FileName.empty())
     {
       throw InputError("no file name set");
     }
+    if (!weightsOutput)
+    {
+      throw InputError("internal: output port 1 is not a vtkTable");
+    }
     this->UpdateProgress(0.0);
     if (IsGltf(this->FileName))
     {
       const bool whole = this->GetReadsWholeScene();
-      morphnode::GltfLoadOptions options;
-      options.ApplyTransforms = whole;
-      const morphnode::GltfScene scene = morphnode::LoadGltfScene(this->FileName, options);
+      const bool chosen = this->AnimationIndex >= 0 || !this->AnimationName.empty();
+      // Animated transforms are applied here, to parts read in their nodes' frames.
+      const bool applyTransforms = chosen && whole && this->ApplyAnimation != ANIMATION_NOT_APPLIED;
+      const bool applyWeights = chosen && this->ApplyAnimation == ANIMATION_TRANSFORMS_AND_WEIGHTS;
+      const std::shared_ptr<const morphnode::GltfScene> scenePointer = this->LoadScene(whole && !applyTransforms);
+      const morphnode::GltfScene& scene = *scenePointer;
       this->UpdateProgress(0.5);
       for (size_t m = 0; m < scene.Meshes.size(); ++m)
       {
@@ -445,6 +682,63 @@ int vtkMorphTargetReader::RequestData(
       {
         throw InputError("'" + this->FileName + "' has no mesh on a node of its scene");
       }
+
+      // The scene at the time requested (the rest pose without animation).
+      const int animation = this->ResolveAnimation(scene);
+      morphnode::GltfSceneSample sample;
+      std::vector<int> animatedNodes;
+      double time = 0.0;
+      if (animation >= 0)
+      {
+        const morphnode::GltfAnimationPlayer player(scene, animation, this->FileName);
+        time = player.GetStartTime();
+        for (int port = 0; port < 2; ++port)
+        {
+          vtkInformation* outInfo = outputVector->GetInformationObject(port);
+          if (outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP()))
+          {
+            time = outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP());
+            break;
+          }
+        }
+        if (!std::isfinite(time))
+        {
+          throw InputError("the time requested is not a finite number");
+        }
+        sample = player.Sample(time);
+        animatedNodes = player.GetAnimatedNodes();
+      }
+      else
+      {
+        sample = morphnode::GltfRestPose(scene);
+      }
+      auto prepare = [&](const morphnode::GltfPart& part) {
+        const morphnode::GltfNodeSample& node = sample.Nodes[static_cast<size_t>(part.Node)];
+        morphnode::GltfPart posed = part;
+        if (applyWeights)
+        {
+          BlendWeights(posed, node.Weights);
+        }
+        if (applyTransforms)
+        {
+          morphnode::GltfTransformPart(posed, node.World);
+          posed.World = node.World;
+        }
+        return posed;
+      };
+      auto addWeightFields = [&](vtkFieldData* fd, const morphnode::GltfPart& part) {
+        AddDoubles(fd, "DefaultWeights", part.DefaultWeights.data(), static_cast<int>(part.DefaultWeights.size()));
+        if (applyWeights)
+        {
+          const std::vector<double>& w = sample.Nodes[static_cast<size_t>(part.Node)].Weights;
+          AddDoubles(fd, "AppliedWeights", w.data(), static_cast<int>(std::min(w.size(), part.Targets.size())));
+        }
+      };
+
+      // Port 1: weights by target name, and the animated nodes' TRS.
+      std::vector<std::string> weightNames;
+      std::vector<double> weightValues;
+
       if (whole)
       {
         auto* collection = vtkPartitionedDataSetCollection::SafeDownCast(output);
@@ -457,11 +751,12 @@ int vtkMorphTargetReader::RequestData(
         std::unordered_set<std::string> seen;
         for (size_t p = 0; p < scene.Parts.size(); ++p)
         {
-          const morphnode::GltfPart& part = scene.Parts[p];
+          const morphnode::GltfPart part = prepare(scene.Parts[p]);
           const std::vector<std::string> names = TargetNamesOf(part);
           auto poly = PartToPolyData(part);
           FinishMesh(poly, names, this->Scale, this->NormalsMode);
           AddPartFieldData(poly->GetFieldData(), scene, part, true, this->Scale);
+          addWeightFields(poly->GetFieldData(), part);
           collection->SetPartition(static_cast<unsigned int>(p), 0, poly);
           collection->GetMetaData(static_cast<unsigned int>(p))->Set(vtkCompositeDataSet::NAME(), part.Name.c_str());
           this->PartNames.push_back(part.Name);
@@ -481,6 +776,9 @@ int vtkMorphTargetReader::RequestData(
         }
         collection->SetDataAssembly(MakeAssembly(scene, this->FileName));
         arrays::SetTargetNames(collection->GetFieldData(), this->TargetNames);
+        const morphnode::GltfNamedWeights named = morphnode::GltfWeightsByTargetName(scene, sample);
+        weightNames = named.Names;
+        weightValues = named.Values;
       }
       else
       {
@@ -489,14 +787,62 @@ int vtkMorphTargetReader::RequestData(
         {
           throw InputError("internal: the output is not a vtkPolyData");
         }
-        const morphnode::GltfPart& part = SelectPart(
+        const morphnode::GltfPart& selected = SelectPart(
           scene, this->MeshNames, this->FileName, this->MeshName, this->MeshIndex, this->PrimitiveIndex);
+        const morphnode::GltfPart part = prepare(selected);
         const std::vector<std::string> names = TargetNamesOf(part);
         poly->ShallowCopy(PartToPolyData(part));
         FinishMesh(poly, names, this->Scale, this->NormalsMode);
         AddPartFieldData(poly->GetFieldData(), scene, part, false, this->Scale);
+        addWeightFields(poly->GetFieldData(), part);
         this->TargetNames = names;
         this->PartNames.push_back(part.Name);
+        const std::vector<double>& w = sample.Nodes[static_cast<size_t>(part.Node)].Weights;
+        for (size_t k = 0; k < part.Targets.size() && k < w.size(); ++k)
+        {
+          weightNames.push_back(part.Targets[k].Name);
+          weightValues.push_back(w[k]);
+        }
+      }
+
+      for (size_t k = 0; k < weightNames.size(); ++k)
+      {
+        AddColumn(weightsOutput, weightNames[k], &weightValues[k], 1);
+      }
+      for (int n : animatedNodes)
+      {
+        const morphnode::GltfNodeSample& node = sample.Nodes[static_cast<size_t>(n)];
+        const std::string name = NodeNameOf(scene, n);
+        if (node.TranslationAnimated)
+        {
+          const double t[3] = { this->Scale * node.Translation[0], this->Scale * node.Translation[1],
+            this->Scale * node.Translation[2] };
+          AddColumn(weightsOutput, name + ".translation", t, 3);
+        }
+        if (node.RotationAnimated)
+        {
+          AddColumn(weightsOutput, name + ".rotation", node.Rotation.data(), 4);
+        }
+        if (node.ScaleAnimated)
+        {
+          AddColumn(weightsOutput, name + ".scale", node.Scale.data(), 3);
+        }
+      }
+      AddDoubles(weightsOutput->GetFieldData(), "Time", &time, 1);
+      std::string animationName;
+      if (animation >= 0)
+      {
+        animationName = scene.Animations[static_cast<size_t>(animation)].Name;
+        if (animationName.empty())
+        {
+          animationName = "animation" + std::to_string(animation);
+        }
+      }
+      AddString(weightsOutput->GetFieldData(), "AnimationName", animationName);
+      if (animation >= 0)
+      {
+        output->GetInformation()->Set(vtkDataObject::DATA_TIME_STEP(), time);
+        weightsOutput->GetInformation()->Set(vtkDataObject::DATA_TIME_STEP(), time);
       }
     }
     else if (EndsWith(morphnode::text::ToLower(this->FileName), ".obj") ||
@@ -523,6 +869,10 @@ int vtkMorphTargetReader::RequestData(
   {
     vtkErrorMacro(<< e.what());
     output->Initialize();
+    if (weightsOutput)
+    {
+      weightsOutput->Initialize();
+    }
     this->TargetNames.clear();
     this->PartNames.clear();
     return 0;
@@ -561,6 +911,12 @@ void vtkMorphTargetReader::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "NeutralFileName: " << this->NeutralFileName << "\n";
   os << indent << "Scale: " << this->Scale << "\n";
   os << indent << "NormalsMode: " << this->NormalsMode << "\n";
+  os << indent << "AnimationName: " << this->AnimationName << "\n";
+  os << indent << "AnimationIndex: " << this->AnimationIndex << "\n";
+  os << indent << "FrameRate: " << this->FrameRate << "\n";
+  os << indent << "ApplyAnimation: " << this->ApplyAnimation << "\n";
+  os << indent << "NumberOfAnimations: " << this->GetNumberOfAnimations() << "\n";
+  os << indent << "ChosenAnimation: " << this->ChosenAnimation << "\n";
   os << indent << "NumberOfTargets: " << this->GetNumberOfTargets() << "\n";
   os << indent << "NumberOfParts: " << this->GetNumberOfParts() << "\n";
 }

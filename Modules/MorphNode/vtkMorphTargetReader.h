@@ -38,8 +38,44 @@
  * about their own centre. Parts keep their own targets (an eye has none); the collection's
  * field data `TargetNames` lists every target of the scene by name (neutral first).
  *
+ * Parts (and the one vtkPolyData) of a glTF file also carry field data `DefaultWeights`:
+ * the file's default morph weights of their targets (the node's `weights`, else the
+ * mesh's, else zeros), one double per target in `TargetNames` order without the neutral.
+ *
+ * Animations (glTF): output port 1 is a vtkTable of one row: a column per morph target
+ * name (neutral excluded) with its weight at the requested time, and for each node the
+ * chosen animation moves, columns `<node>.translation` (3 components), `<node>.rotation`
+ * (4: the unit quaternion x, y, z, w) and `<node>.scale` (3), node names as in the file
+ * (`node<i>` when unnamed). Its field data holds `Time` and `AnimationName`. Connected to
+ * vtkMorphNodeFilter's weights port (SetWeightsConnection) it drives the face: the filter
+ * reads the columns named after its targets and ignores the others. Per-mesh weight
+ * channels are mapped onto the composite head BY TARGET NAME
+ * (morphnode::GltfWeightsByTargetName: a name several parts carry takes the value of its
+ * first part in scene order; in the one-mesh mode, the selected part's node). With no
+ * animation chosen (the default) the row holds the default weights and no time is
+ * advertised: the reader behaves as it always did.
+ *
+ * Choose an animation by AnimationName or AnimationIndex; UpdateInformation() then
+ * reports GetNumberOfAnimations() and their names, and both output ports advertise
+ * TIME_STEPS (the animation's key times, or a regular grid at FrameRate frames per
+ * second) and TIME_RANGE; the outputs are sampled at UPDATE_TIME_STEP (the first key when
+ * none is requested) exactly as the glTF 2.0 specification defines STEP, LINEAR (slerp
+ * for rotations) and CUBICSPLINE (morphnode::GltfAnimationPlayer), holding the first and
+ * last values outside the keys. The outputs' DATA_TIME_STEP is the time sampled.
+ *
+ * ApplyAnimation decides what the geometry (port 0) shows of the animation:
+ * ANIMATION_NOT_APPLIED (default: the rest pose, as without animation; drive the weights
+ * through port 1 and vtkMorphNodeFilter), ANIMATION_TRANSFORMS (the animated node
+ * transforms: head pose, eyes; parts in world space at that time, NodeOrigin and
+ * NodeAxes follow), ANIMATION_TRANSFORMS_AND_WEIGHTS (what a glTF viewer shows, and what
+ * vtkGLTFReader gives with ApplyDeformationsToGeometry: the animated weights blended into
+ * the points and normals too; field data `AppliedWeights` then records them: do not blend
+ * them a second time). In the one-mesh mode the part stays in its node's frame, so only
+ * the weights can be applied.
+ *
  * Bad files are reported with vtkErrorMacro (naming the file and the JSON pointer of the
- * fault) and give an empty output; the update fails.
+ * fault) and give an empty output; the update fails. So does an animation name or index
+ * the file does not have.
  *
  * @sa vtkMorphNodeFilter morphnode::LoadGltfScene
  */
@@ -50,8 +86,15 @@
 #include "vtkMorphNodeModule.h" // For export macro
 #include "vtkPolyDataAlgorithm.h"
 
+#include <memory> // For std::shared_ptr, std::unique_ptr
 #include <string> // For std::string
 #include <vector> // For std::vector
+
+class vtkTable;
+namespace morphnode
+{
+struct GltfScene;
+}
 
 class VTKMORPHNODE_EXPORT vtkMorphTargetReader : public vtkPolyDataAlgorithm
 {
@@ -120,6 +163,52 @@ public:
 
   ///@{
   /**
+   * glTF: the animation to play, by name (wins when set) or index (default -1: none).
+   */
+  vtkSetStdStringFromCharMacro(AnimationName);
+  vtkGetCharFromStdStringMacro(AnimationName);
+  vtkSetClampMacro(AnimationIndex, int, -1, VTK_INT_MAX);
+  vtkGetMacro(AnimationIndex, int);
+  ///@}
+
+  ///@{
+  /**
+   * Time steps advertised for the chosen animation: 0 (default) its key times, each once;
+   * a positive rate a regular grid from its first to its last key (the last key included).
+   */
+  vtkSetClampMacro(FrameRate, double, 0.0, 1000.0);
+  vtkGetMacro(FrameRate, double);
+  ///@}
+
+  /// What the geometry shows of the animation (see the class description).
+  enum ApplyAnimationModes
+  {
+    ANIMATION_NOT_APPLIED = 0,
+    ANIMATION_TRANSFORMS = 1,
+    ANIMATION_TRANSFORMS_AND_WEIGHTS = 2
+  };
+  vtkSetClampMacro(ApplyAnimation, int, ANIMATION_NOT_APPLIED, ANIMATION_TRANSFORMS_AND_WEIGHTS);
+  vtkGetMacro(ApplyAnimation, int);
+
+  ///@{
+  /**
+   * Animations of the file, known after UpdateInformation() (names; unnamed ones as
+   * `animation<i>`), the index of the chosen one (-1: none) and its first and last key time.
+   */
+  int GetNumberOfAnimations() { return static_cast<int>(this->AnimationNames.size()); }
+  const char* GetAnimationNameByIndex(int index);
+  int GetChosenAnimation() { return this->ChosenAnimation; }
+  double GetAnimationStartTime() { return this->AnimationRange[0]; }
+  double GetAnimationEndTime() { return this->AnimationRange[1]; }
+  ///@}
+
+  /**
+   * The weights table of output port 1 (see the class description).
+   */
+  vtkTable* GetWeightsOutput();
+
+  ///@{
+  /**
    * Targets read by the last update, neutral first: the one mesh's, or for a scene every
    * part's by name, in order of first appearance.
    */
@@ -145,6 +234,7 @@ protected:
   ~vtkMorphTargetReader() override;
 
   int FillOutputPortInformation(int port, vtkInformation* info) override;
+  int RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   vtkTypeBool ProcessRequest(vtkInformation* request, vtkInformationVector** inputVector,
     vtkInformationVector* outputVector) override;
   /// Makes the output a vtkPartitionedDataSetCollection or a vtkPolyData (GetReadsWholeScene).
@@ -158,12 +248,27 @@ protected:
   int PrimitiveIndex = -1;
   double Scale = 1.0;
   int NormalsMode = NORMALS_WHEN_MISSING;
+  std::string AnimationName;
+  int AnimationIndex = -1;
+  double FrameRate = 0.0;
+  int ApplyAnimation = ANIMATION_NOT_APPLIED;
 
 private:
   vtkMorphTargetReader(const vtkMorphTargetReader&) = delete;
   void operator=(const vtkMorphTargetReader&) = delete;
 
   void ReadObjSet(vtkPolyData* output);
+  struct SceneCache;
+  /// The glTF scene read with these transform options; kept while the file and the
+  /// reader's properties are unchanged, so that a new time step reads nothing again.
+  std::shared_ptr<const morphnode::GltfScene> LoadScene(bool applyTransforms);
+  /// The animation chosen by name or index, -1 for none; throws for one the file lacks.
+  int ResolveAnimation(const morphnode::GltfScene& scene) const;
+
+  std::unique_ptr<SceneCache> Cache;
+  std::vector<std::string> AnimationNames;
+  int ChosenAnimation = -1;
+  double AnimationRange[2] = { 0.0, 0.0 };
 
   std::vector<std::string> TargetNames;
   std::vector<std::string> MeshNames;

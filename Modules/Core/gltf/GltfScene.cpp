@@ -967,6 +967,11 @@ private:
 };
 } // namespace
 
+void GltfTransformPart(GltfPart& part, const GltfMatrix& m)
+{
+  ApplyTransform(part, m);
+}
+
 GltfScene LoadGltfSceneFromMemory(const void* data, size_t size, const std::string& baseDirectory,
   const GltfLoadOptions& options, const std::string& sourceName)
 {

@@ -190,6 +190,12 @@ struct GltfLoadOptions
   uint64_t MaxDecodedBytes = uint64_t(2) << 30;
 };
 
+/// Transforms a part's points, normals and deltas by `m` as the loader's ApplyTransforms
+/// does (normals by the inverse transpose, kept unit with their deltas scaled alike;
+/// triangles turned when `m` mirrors) and sets TransformApplied. Points a transform takes
+/// beyond float range are not checked here.
+void GltfTransformPart(GltfPart& part, const GltfMatrix& m);
+
 /// Reads a .glb or .gltf file (a .gltf may use data URIs or .bin files in its own folder).
 /// Throws InputError, naming the file and the JSON pointer of the fault.
 GltfScene LoadGltfScene(const std::string& fileName, const GltfLoadOptions& options = {});

@@ -81,7 +81,7 @@ inline Builder AnimatedHead()
   const int teethJaw = b.Vec3({ 0, -0.15f, 0, 0, -0.15f, 0, 0, -0.2f, 0 });
   b.Mesh({ { "name", "Teeth" },
     { "primitives", { { { "attributes", { { "POSITION", teethPoints } } }, { "targets", { { { "POSITION", teethJaw } } } } } } },
-    { "extras", { { "targetNames", { "jawOpen" } } } } });
+    { "weights", { 0.0 } }, { "extras", { { "targetNames", { "jawOpen" } } } } });
   const int eyePoints = b.Vec3({ -0.05f, 0, 0, 0.05f, 0, 0, 0, 0.05f, 0 });
   b.Mesh({ { "name", "Eye" }, { "primitives", { { { "attributes", { { "POSITION", eyePoints } } } } } } });
   b.Node({ { "name", "Head" }, { "mesh", 0 }, { "translation", { 0, 1, 0 } }, { "children", { 1, 2 } } });
@@ -91,6 +91,9 @@ inline Builder AnimatedHead()
   b.Doc["scene"] = 0;
 
   const int times = b.Floats(AnimatedTimes(), "SCALAR", 1);
+  // min and max are required on animation inputs (and VTK 9.1 refuses the file without them).
+  b.Doc["accessors"][static_cast<size_t>(times)]["min"] = { AnimatedTimes().front() };
+  b.Doc["accessors"][static_cast<size_t>(times)]["max"] = { AnimatedTimes().back() };
   const int face = b.Floats(AnimatedFaceWeights(), "SCALAR", 1);
   std::vector<float> teethWeights;
   for (size_t k = 0; k < 4; ++k)
