@@ -25,6 +25,7 @@
 
 #include <array>
 #include <chrono>
+#include <functional>
 #include <string>
 
 namespace morphavatar
@@ -66,6 +67,10 @@ struct Avatar
   int FramesRendered = 0;
   Clock::time_point Launched;
   Clock::time_point MeasureStart;
+  /// Live commands (AvatarLive.cxx): when set, the interactive loop lets time run on (no
+  /// loop) and calls it before each frame at t (rendered false; false closes the window)
+  /// and after it (rendered true).
+  std::function<bool(double t, bool rendered)> LiveFrame;
 
   /// The behaviour from the options (script, sentence, seed, timing). False with a
   /// message on stderr when it cannot be made.

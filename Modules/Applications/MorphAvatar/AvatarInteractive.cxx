@@ -93,13 +93,18 @@ void OnTimer(vtkObject* caller, unsigned long, void* clientData, void*)
   if (!a->Paused)
   {
     t += std::chrono::duration<double>(now - a->Start).count();
-    if (t > a->Duration) // loop
+    if (t > a->Duration && !a->LiveFrame) // loop (live: time runs on)
     {
       a->Start = now;
       a->StartTime = 0.0;
       a->Morph->ResetHysteresis();
       t = 0.0;
     }
+  }
+  if (a->LiveFrame && !a->LiveFrame(t, false)) // commands (AvatarLive.cxx); false: quit
+  {
+    interactor->TerminateApp();
+    return;
   }
   a->Update(t);
   ++a->FramesSinceMeasure;
@@ -113,6 +118,10 @@ void OnTimer(vtkObject* caller, unsigned long, void* clientData, void*)
   a->Overlay->SetInput(a->OverlayText(false, 0, 0).c_str());
   interactor->Render();
   ++a->FramesRendered;
+  if (a->LiveFrame)
+  {
+    a->LiveFrame(t, true);
+  }
   if (a->Opt.ExitAfter >= 0.0 &&
     std::chrono::duration<double>(now - a->Launched).count() >= a->Opt.ExitAfter)
   {

@@ -168,11 +168,31 @@ Options ParseOptions(int argc, char* argv[])
   app.add_option("--keys", o.Keys, "interactive: press these keys at the start, e.g. '4--'")
     ->group(output);
 
+  const std::string live = "Live commands from a dialog system (JSON lines, docs/dialog.md)";
+  app.add_option("--listen", o.Listen,
+       "take commands on ADDR: HOST:PORT (loopback only, e.g. 127.0.0.1:5555; PORT 0 picks a "
+       "free port, printed on stderr), PORT, or unix:PATH; repeatable")
+    ->type_name("ADDR")
+    ->group(live);
+  app.add_flag("--commands-stdin", o.CommandsStdin,
+       "take commands on standard input; their events go to standard output")
+    ->group(live);
+  app.add_flag("--listen-remote", o.ListenRemote,
+       "let --listen use addresses other machines reach (anyone who connects commands the avatar)")
+    ->group(live);
+
   appkit::ParseCommandLine(app, argc, argv);
   o.Overlay = app.count("--no-overlay") == 0;
   o.SeedSet = app.count("--seed") > 0;
 
-  if (o.Say.empty() && o.Script.empty() && o.Audio.empty() && o.Timings.empty())
+  const bool isLive = !o.Listen.empty() || o.CommandsStdin;
+  if (isLive && (!o.FramesDir.empty() || !o.Video.empty() || !o.Pvd.empty() || !o.Png.empty() ||
+                  !o.Compare.empty() || o.At >= 0.0))
+  {
+    FailUsage("--listen and --commands-stdin run in real time; --frames, --video, --pvd, --png, "
+              "--compare and --at render a fixed behaviour offline");
+  }
+  if (o.Say.empty() && o.Script.empty() && o.Audio.empty() && o.Timings.empty() && !isLive)
   {
     o.Say = o.Voice.rfind("de", 0) == 0 ? "Hallo! Ich bin ein Avatar mit Morph-Targets."
                                         : "Hello! I am an avatar made of morph targets.";
@@ -183,7 +203,7 @@ Options ParseOptions(int argc, char* argv[])
     o.Offscreen = true; // writing files means rendering every frame offscreen
   }
   if (o.Offscreen && o.FramesDir.empty() && o.Video.empty() && o.Pvd.empty() &&
-    o.Png.empty() && o.Compare.empty())
+    o.Png.empty() && o.Compare.empty() && !isLive)
   {
     FailUsage("--offscreen needs somewhere to write: --frames DIR, --video FILE, --pvd FILE or "
               "--png FILE");

@@ -6,6 +6,7 @@
 #include "morph/OptimizerPresets.h"
 
 #include <string>
+#include <vector>
 
 namespace morphavatar
 {
@@ -45,6 +46,9 @@ struct Options
   bool Quiet = false;
   double ExitAfter = -1.0; // interactive: close after this many seconds (smoke tests)
   std::string Keys;        // interactive: keys pressed at the start (smoke tests)
+  std::vector<std::string> Listen; // live: command addresses (AvatarLive.h)
+  bool CommandsStdin = false;      // live: commands on stdin, events on stdout
+  bool ListenRemote = false;       // live: allow non-loopback --listen addresses
 };
 
 /// Reads the command line; --help and usage errors exit (0 and 2).

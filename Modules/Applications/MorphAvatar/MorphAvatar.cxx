@@ -16,6 +16,7 @@
 // AvatarInteractive and AvatarOffscreen (the two modes). `MorphAvatar --help` lists every
 // option; docs/avatar.md describes them.
 #include "Avatar.h"
+#include "AvatarLive.h"
 #include "AvatarFrameBudget.h"
 
 #include <cstdlib>
@@ -40,9 +41,14 @@ int main(int argc, char* argv[])
   WatchFrameBudget(a.Morph, a.Opt);
   if (!a.Opt.Quiet)
   {
-    std::cout << a.FaceFile << ": " << a.Morph->GetNumberOfTargets() << " targets; behaviour "
+    // With commands on stdin, stdout carries only their events.
+    (a.Opt.CommandsStdin ? std::cerr : std::cout) << a.FaceFile << ": " << a.Morph->GetNumberOfTargets() << " targets; behaviour "
               << a.Duration << " s at " << a.Fps << " fps, " << a.Behavior->GetNumberOfChannels()
               << " channels, " << a.Behavior->GetNumberOfUtterances() << " utterance(s)\n";
+  }
+  if (IsLive(a.Opt))
+  {
+    return RunLive(a); // commands from a dialog system (docs/dialog.md)
   }
   return a.Opt.Offscreen ? RunOffscreen(a) : RunInteractive(a);
 }
