@@ -7,8 +7,11 @@
 #include "gaze/EyeRotation.h"
 
 #include "base/Error.h"
+#include "behavior/BehaviorController.h"
+#include "behavior/BehaviorTypes.h"
 #include "behavior/HeadPose.h"
 #include "gltf/GltfScene.h"
+#include "rig/Rig.h"
 
 #include <gtest/gtest.h>
 
@@ -16,6 +19,7 @@
 #include <cmath>
 #include <filesystem>
 #include <functional>
+#include <iostream>
 #include <map>
 #include <random>
 
@@ -440,4 +444,97 @@ TEST(EyeRotation, FaceKitHeadEyesTurnRigidlyTowardsTheGaze)
     GTEST_SKIP() << "ICT-FaceKit head not found: " << file;
   }
   CheckHead(file, 4);
+}
+
+// The lids follow the eyes where the face has eyeLook targets: a look to the character's
+// left (EyeYaw > 0, the eyes turn towards +X) gives the behaviour's LookLeft, which the
+// ARKit rig turns into eyeLookOut_L + eyeLookIn_R, and on ICT-FaceKit's head those move
+// the skin around both eyes towards +X too; LookUp/LookDown move it up and down. (The
+// mapping is the behaviour's Blackboard and the rig's Look shapes: not duplicated here.)
+TEST(EyeRotation, FaceKitLidsFollowTheEyes)
+{
+  const std::string file = std::string(MORPHNODE_FACEKIT_DIR) + "/ict_head_full53.glb";
+  if (!std::filesystem::exists(file))
+  {
+    GTEST_SKIP() << "ICT-FaceKit head not found: " << file;
+  }
+  // The behaviour: looking at yaw 20, pitch 10 gives EyeYaw > 0, LookLeft and LookUp > 0.
+  morphnode::BehaviorController behavior;
+  behavior.SetSeed(5);
+  behavior.SetDuration(3.0);
+  behavior.LookAt(20.0, 10.0, 0.5, 2.0);
+  behavior.Prepare();
+  std::vector<double> channels;
+  behavior.Sample(1.5, channels);
+  using C = morphnode::BehaviorChannel;
+  const GazeAngles gaze{ channels[C::EyeYaw], channels[C::EyePitch] };
+  ASSERT_GT(gaze.Yaw, 2.0);
+  ASSERT_GT(gaze.Pitch, 1.0);
+  ASSERT_GT(channels[C::LookLeft], 0.0);
+  ASSERT_GT(channels[C::LookUp], 0.0);
+  ASSERT_EQ(channels[C::LookRight], 0.0);
+
+  const morphnode::GltfScene scene = morphnode::LoadGltfScene(file);
+  morphnode::Rig rig = morphnode::Rig::LoadFile(std::string(MORPHNODE_SOURCE_DIR) + "/Data/rigs/arkit.json");
+  const int face = scene.FindPart("Head/M_Face");
+  ASSERT_GE(face, 0);
+  const auto& part = scene.Parts[face];
+  std::vector<std::string> names;
+  for (const auto& target : part.Targets)
+  {
+    names.push_back(target.Name);
+  }
+  rig.Bind(names);
+  const EyeRig eyes = rig.GetEyes();
+
+  // The mean displacement of the face's points within 2.2 cm of each eye's centre under
+  // the behaviour's Look weights expanded by the rig.
+  const std::vector<double> weights = rig.Expand(std::map<std::string, double>{
+    { "LookUp", channels[C::LookUp] }, { "LookDown", channels[C::LookDown] },
+    { "LookLeft", channels[C::LookLeft] }, { "LookRight", channels[C::LookRight] } });
+  for (const auto& eyePart : scene.Parts)
+  {
+    EyeSpec eye;
+    if (!eyes.FindEye(scene.Nodes[eyePart.Node].Name, eyePart.Name, eye) ||
+      eyePart.Name.find("Sclera") == std::string::npos)
+    {
+      continue;
+    }
+    const Vec3 centre{ eyePart.World[12], eyePart.World[13], eyePart.World[14] };
+    Vec3 mean{ 0, 0, 0 };
+    size_t near = 0;
+    for (size_t i = 0; i < part.GetNumberOfPoints(); ++i)
+    {
+      Vec3 d{ 0, 0, 0 };
+      for (size_t t = 0; t < weights.size(); ++t)
+      {
+        for (int c = 0; c < 3; ++c)
+        {
+          d[c] += weights[t] * part.Targets[t].PositionDeltas[3 * i + c];
+        }
+      }
+      const Vec3 p{ part.Positions[3 * i] - centre[0], part.Positions[3 * i + 1] - centre[1],
+        part.Positions[3 * i + 2] - centre[2] };
+      if (Norm(p) < 0.022 && Norm(d) > 1e-5)
+      {
+        ++near;
+        for (int c = 0; c < 3; ++c)
+        {
+          mean[c] += d[c];
+        }
+      }
+    }
+    ASSERT_GT(near, 20u) << eyePart.Name << ": the look shapes move the skin around the eye";
+    // The eye's own turn moves its front the same ways.
+    const RigidTurn turn = EyeTurn(EyeAngles(gaze, 0.0, eye.Side, eyes.GetLimits()), centre,
+      { 1, 0, 0, 0, 1, 0, 0, 0, 1 }, eye);
+    const Vec3 front = Apply(turn.Rotation, { 0, 0, 1 });
+    EXPECT_GT(front[0], 0.0);
+    EXPECT_GT(front[1], 0.0);
+    EXPECT_GT(mean[0], 0.0) << eyePart.Name << ": the lids move towards +X with the eye";
+    EXPECT_GT(mean[1], 0.0) << eyePart.Name << ": the lids move up with the eye";
+    std::cout << eyePart.Name << ": " << near << " skin points follow, mean move ("
+              << mean[0] / near * 1000 << ", " << mean[1] / near * 1000 << ", "
+              << mean[2] / near * 1000 << ") mm\n";
+  }
 }
