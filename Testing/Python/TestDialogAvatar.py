@@ -1,0 +1,162 @@
+#!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
+"""MorphAvatar driven live over its command sockets (docs/dialog.md), by the example client
+Examples/Python/dialog_client.py: a headless avatar (--offscreen, real time) listens on a
+free loopback port and a Unix socket; every command gets accepted / started / ended events
+with its id and consistent times, bad lines and unknown names get error events and the
+avatar goes on, a client leaving mid-line runs nothing, a second client gets only its own
+events, stop interrupts speech, quit ends the program (exit code 0).
+
+Usage: TestDialogAvatar.py MORPHAVATAR_EXE   (under xvfb-run, like the other render tests)
+"""
+
+import os
+import re
+import socket
+import subprocess
+import sys
+import tempfile
+import time
+import unittest
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+SOURCE = os.environ.get("MORPHNODE_SOURCE_DIR", os.path.join(HERE, "..", ".."))
+sys.path.insert(0, os.path.join(SOURCE, "Examples", "Python"))
+from dialog_client import AvatarClient, AvatarError  # noqa: E402
+
+EXE = None
+
+
+class DialogAvatarTest(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = tempfile.TemporaryDirectory()
+        cls.unix = os.path.join(cls.tmp.name, "avatar.sock")
+        cls.err = open(os.path.join(cls.tmp.name, "stderr.txt"), "w+")
+        cls.proc = subprocess.Popen(
+            [EXE, "--offscreen", "--listen", "127.0.0.1:0", "--listen", "unix:" + cls.unix,
+             "--size", "160x160", "--fps", "30", "--quiet", "--exit-after", "240"],
+            stdout=subprocess.DEVNULL, stderr=cls.err)
+        cls.address = None
+        deadline = time.monotonic() + 120
+        while time.monotonic() < deadline and cls.proc.poll() is None:
+            cls.err.seek(0)
+            m = re.search(r"listening on (127\.0\.0\.1:\d+)", cls.err.read())
+            if m and os.path.exists(cls.unix):
+                cls.address = m.group(1)
+                break
+            time.sleep(0.1)
+        if cls.address is None:
+            cls.proc.kill()
+            cls.err.seek(0)
+            raise RuntimeError("MorphAvatar did not start listening:\n" + cls.err.read())
+        cls.client = AvatarClient(cls.address, timeout=30)
+        # Speech needs eSpeak NG (the minimal build has none): find out once.
+        try:
+            cls.client.wait(cls.client.say("Hi.", id="hi"), "ended", timeout=60)
+            cls.speech = True
+        except AvatarError as e:
+            cls.speech = False
+            cls.speech_error = str(e)
+
+    @classmethod
+    def tearDownClass(cls):
+        if cls.proc.poll() is None:
+            cls.proc.kill()
+            cls.proc.wait()
+        cls.client.close()
+        cls.err.close()
+        cls.tmp.cleanup()
+
+    def need_speech(self):
+        if not self.speech:
+            self.skipTest("no speech synthesis: " + self.speech_error)
+
+    def lifecycle(self, client, cid, timeout=60):
+        """accepted, started, ended of one command, in that order, with consistent times."""
+        accepted = client.wait(cid, "accepted", timeout)
+        started = client.wait(cid, "started", timeout)
+        ended = client.wait(cid, "ended", timeout)
+        for e in (accepted, started, ended):
+            self.assertEqual(e["id"], cid)
+        self.assertLessEqual(accepted["start"], accepted["end"])
+        self.assertGreaterEqual(started["time"], started["start"])
+        self.assertGreaterEqual(ended["time"], ended["end"] - 1e-9)
+        self.assertGreaterEqual(started["latency_ms"], 0.0)
+        self.assertFalse(ended["interrupted"])
+        return accepted, started, ended
+
+    def test_1_every_command(self):
+        c = self.client
+        for cid in (c.gesture("nod", intensity=0.8), c.mood("happy", 0.6),
+                    c.look_at(12, -4, duration=0.5), c.gesture("smile", duration=0.4)):
+            accepted, _, _ = self.lifecycle(c, cid)
+            self.assertIn(accepted["cmd"], ("gesture", "mood", "look_at"))
+        self.need_speech()
+        said = c.say("Hello! I am listening.")
+        accepted, started, ended = self.lifecycle(c, said)
+        self.assertEqual(accepted["cmd"], "say")
+        self.assertGreater(accepted["end"] - accepted["start"], 0.5)  # a sentence takes time
+        self.assertGreaterEqual(accepted["sound"], accepted["start"] - 0.5)
+
+    def test_2_bad_lines_get_errors_and_nothing_else(self):
+        c = self.client
+        c.send_line(b"not json\n[1,2]\n{\"text\":\"x\"}\n{\"cmd\":\"fly\",\"id\":\"f\"}\n")
+        c.send_line(b"{\"cmd\":\"gesture\",\"name\":\"nod\",\"intensity\":7,\"id\":\"g\"}\n")
+        c.send_line(b"{\"cmd\":\"stop\",\"\x00\":1}\n" + b"x" * 70000 + b"\n")
+        reasons = []
+        while len(reasons) < 7:
+            e = c.next_event(timeout=30)
+            if e["event"] == "error":  # (late events of earlier commands are not)
+                reasons.append(e["reason"])
+        self.assertEqual(reasons, ["malformed", "not_object", "missing_cmd", "unknown_cmd",
+                                   "bad_field", "malformed", "too_long"])
+        # A valid command with an unknown name is rejected by the behaviour.
+        with self.assertRaises(AvatarError) as caught:
+            c.wait(c.gesture("cartwheel"), "accepted")
+        self.assertEqual(caught.exception.event["reason"], "rejected")
+        # The connection still works.
+        self.lifecycle(c, c.gesture("blink"))
+
+    def test_3_client_leaving_mid_line(self):
+        host, port = self.address.rsplit(":", 1)
+        s = socket.create_connection((host, int(port)))
+        s.sendall(b"{\"cmd\":\"quit\"")  # never finished
+        s.close()
+        time.sleep(0.3)
+        self.assertIsNone(self.proc.poll(), "a half line must not quit the avatar")
+        self.lifecycle(self.client, self.client.gesture("nod"))
+
+    def test_4_two_clients_get_their_own_events(self):
+        with AvatarClient("unix:" + self.unix) as other:
+            mine = self.client.gesture("nod", id="mine")
+            theirs = other.gesture("tilt", id="theirs")
+            self.lifecycle(other, theirs)
+            self.lifecycle(self.client, mine)
+            # Nothing of the other's arrived here.
+            self.assertFalse(any(e.get("id") == "theirs" for e in self.client.pending))
+            self.assertFalse(any(e.get("id") == "mine" for e in other.pending))
+
+    def test_5_stop_interrupts_speech(self):
+        self.need_speech()
+        c = self.client
+        long_text = "This is a rather long sentence that takes several seconds to say, " \
+                    "so that there is time to stop it in the middle."
+        said = c.say(long_text)
+        accepted = c.wait(said, "accepted", 60)
+        c.wait(said, "started", 60)
+        stop = c.stop()
+        ended = c.wait(said, "ended", 30)
+        self.assertTrue(ended["interrupted"])
+        self.assertLess(ended["end"], accepted["end"])
+        c.wait(stop, "ended", 30)
+
+    def test_9_quit(self):
+        c = self.client
+        c.wait(c.quit(id="bye"), "accepted", 30)
+        self.assertEqual(self.proc.wait(timeout=60), 0)
+
+
+if __name__ == "__main__":
+    EXE = sys.argv.pop(1)
+    unittest.main(verbosity=2)
