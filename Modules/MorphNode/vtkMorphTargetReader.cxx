@@ -396,7 +396,7 @@ std::vector<double> TimeSteps(const morphnode::GltfAnimationPlayer& player, doub
   std::vector<double> steps;
   const double start = player.GetStartTime(), end = player.GetEndTime();
   const double count = std::floor((end - start) * rate + 1e-9);
-  for (double i = 0; i <= count && steps.size() < 10000000; ++i)
+  for (double i = 0; i <= count && steps.size() < 1000000; ++i)
   {
     steps.push_back(start + i / rate);
   }

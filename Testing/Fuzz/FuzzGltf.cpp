@@ -5,6 +5,7 @@
 // it, so that most inputs reach the checks behind the JSON parser; one mutation in four is
 // libFuzzer's own byte-level one (container damage, binary data).
 #include "base/Error.h"
+#include "gltf/GltfAnimation.h"
 #include "gltf/GltfScene.h"
 
 #include <nlohmann/json.hpp>
@@ -98,6 +99,38 @@ void CheckScene(const morphnode::GltfScene& scene)
       const size_t cubic = sampler.Interpolation == morphnode::GltfInterpolation::CubicSpline ? 3 : 1;
       Check(channel.ValuesPerElement > 0 &&
         sampler.Values.size() == keys * cubic * static_cast<size_t>(channel.ValuesPerElement));
+    }
+  }
+}
+
+/// Plays every animation at its ends, between and outside its keys: rotations stay unit
+/// quaternions, every node keeps its weights' count (GltfAnimation.h).
+void SampleAnimations(const morphnode::GltfScene& scene)
+{
+  for (size_t a = 0; a < scene.Animations.size(); ++a)
+  {
+    try
+    {
+      const morphnode::GltfAnimationPlayer player(scene, static_cast<int>(a), "fuzz");
+      const double start = player.GetStartTime(), end = player.GetEndTime();
+      for (double t : { start - 1, start, 0.5 * (start + end), 0.3 * start + 0.7 * end, end, end + 1 })
+      {
+        const morphnode::GltfSceneSample sample = player.Sample(t);
+        Check(sample.Nodes.size() == scene.Nodes.size());
+        for (size_t n = 0; n < sample.Nodes.size(); ++n)
+        {
+          const auto& q = sample.Nodes[n].Rotation;
+          Check(std::abs(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3] - 1) < 1e-6);
+          const int mesh = scene.Nodes[n].Mesh;
+          Check(sample.Nodes[n].Weights.size() ==
+            (mesh >= 0 ? scene.Meshes[static_cast<size_t>(mesh)].TargetNames.size() : 0));
+        }
+      }
+      morphnode::GltfWeightsByTargetName(scene, player.Sample(start));
+    }
+    catch (const morphnode::InputError&)
+    {
+      // an animated node given by a matrix
     }
   }
 }
@@ -252,6 +285,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
   {
     const morphnode::GltfScene scene = morphnode::LoadGltfSceneFromMemory(data, size, "", options, "fuzz");
     CheckScene(scene);
+    SampleAnimations(scene);
   }
   catch (const morphnode::InputError&)
   {

@@ -4,6 +4,7 @@
 // Not built by CMake; run once when the seeds change:
 //   g++ -std=c++17 -ITesting/Core/gltf Testing/Fuzz/tools/MakeGltfSeeds.cpp -o /tmp/seeds &&
 //   /tmp/seeds Testing/Fuzz/corpus/gltf
+#include "GltfAnimatedTestFiles.h"
 #include "GltfTestFiles.h"
 
 #include <cstdio>
@@ -185,6 +186,17 @@ int main(int argc, char** argv)
     json doc = quad.Finished();
     doc["accessors"][0]["count"] = 400;
     Write("damaged-accessor-count.glb", Builder::MakeGlb(doc.dump(), quad.PaddedBin()));
+  }
+  {
+    // The animated head of the animation tests (GltfAnimatedTestFiles.h): weights LINEAR,
+    // STEP and CUBICSPLINE on two meshes, node TRS; and its eye given by a matrix, which
+    // the loader accepts and GltfAnimationPlayer refuses (glTF animates only TRS nodes).
+    const Builder head = gltftest::AnimatedHead();
+    Write("animated-head.glb", head.Glb());
+    json doc = head.Finished();
+    doc["nodes"][2].erase("translation");
+    doc["nodes"][2]["matrix"] = { 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0.3, 0.2, 0.1, 1 };
+    Write("animated-matrix-node.glb", Builder::MakeGlb(doc.dump(), head.PaddedBin()));
   }
   return 0;
 }
