@@ -158,7 +158,7 @@ struct GltfAnimationChannel
   int ValuesPerElement = 0;
 };
 
-/// Validated animation data; evaluating them is the caller's work.
+/// Validated animation data; gltf/GltfAnimation.h plays them (GltfAnimationPlayer).
 struct GltfAnimation
 {
   std::string Name;
