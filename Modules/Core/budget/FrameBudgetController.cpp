@@ -164,6 +164,10 @@ void FrameBudgetController::SetSettings(const ControllerSettings& s)
   {
     throw InputError("FrameBudgetController: frame counts must be >= 0.");
   }
+  if (!(s.MeasuredQuantile >= 0.5 && s.MeasuredQuantile < 1.0))
+  {
+    throw InputError("FrameBudgetController: the measured quantile must lie in [0.5, 1).");
+  }
   if (s.MaxActiveTargets < 0 || !std::isfinite(s.MaxVertexError) || s.MaxVertexError < 0.0)
   {
     throw InputError("FrameBudgetController: the optimizer's budget and error bound must be >= 0.");
@@ -174,6 +178,7 @@ void FrameBudgetController::SetSettings(const ControllerSettings& s)
   levels.swap(this->Levels);
   this->Optimizers.clear();
   this->Models.clear();
+  this->Margins.clear();
   this->Samples.clear();
   for (const auto& level : levels)
   {
@@ -220,6 +225,7 @@ void FrameBudgetController::AddLevel(const LevelOfDetail& level)
   this->Levels.push_back(level);
   this->Optimizers.push_back(std::move(optimizers));
   this->Models.push_back(level.Cost);
+  this->Margins.push_back(0.0);
   this->Samples.emplace_back();
   this->LastLevel = -1;
   this->Reset(0);
@@ -263,7 +269,7 @@ FrameBudgetController::Candidate FrameBudgetController::Evaluate(
       }
     }
     c.TargetPoints = targetPoints;
-    c.Seconds = this->Models[level].Predict(targetPoints);
+    c.Seconds = this->Models[level].Predict(targetPoints) + this->Margins[level];
     c.Error = lod.GeometricError +
       WeightOptimizer::ErrorBound(weights, c.Weights, lod.Distances.MaxDisplacement);
     if (c.Seconds <= budget && (!haveBest || c.Error < best.Error))
@@ -444,6 +450,16 @@ void FrameBudgetController::ReportMeasuredSeconds(double seconds, double targetP
     x.push_back(points);
     y.push_back(measured);
   }
-  this->Models[level] = CostModel::FitMedian(x, y, this->Models[level].PerTargetPoint);
+  const CostModel model = CostModel::FitMedian(x, y, this->Models[level].PerTargetPoint);
+  this->Models[level] = model;
+  std::vector<double> residuals(x.size());
+  for (size_t i = 0; i < x.size(); ++i)
+  {
+    residuals[i] = y[i] - model.Predict(x[i]);
+  }
+  const size_t q = std::min(residuals.size() - 1,
+    static_cast<size_t>(this->Settings.MeasuredQuantile * static_cast<double>(residuals.size())));
+  std::nth_element(residuals.begin(), residuals.begin() + static_cast<std::ptrdiff_t>(q), residuals.end());
+  this->Margins[level] = std::max(0.0, residuals[q]);
 }
 } // namespace morphnode

@@ -121,6 +121,11 @@ struct ControllerSettings
   /// Measurements per level that ReportMeasuredSeconds refits its cost model to (the
   /// latest ones); 0 keeps the given models.
   int MeasurementWindow = 32;
+  /// Measured costs scatter around the fit (other threads, caches, the clock). A level
+  /// measured plans for this quantile of its frames: its predictions add that quantile of
+  /// its measurements' residuals (>= 0) to the fit, so that about this share of frames fits
+  /// the budget rather than half. In [0.5, 1).
+  double MeasuredQuantile = 0.9;
 };
 
 struct ControllerDecision
@@ -174,6 +179,9 @@ public:
   void ReportMeasuredSeconds(double seconds, double targetPoints);
   /// The cost model a level predicts with: its given one until it is measured.
   const CostModel& GetCostModel(size_t level) const { return this->Models.at(level); }
+  /// Seconds a measured level's predictions add to its cost model for the scatter of its
+  /// measurements (MeasuredQuantile); 0 until measured.
+  double GetCostMargin(size_t level) const { return this->Margins.at(level); }
   /// Measurements kept for a level.
   size_t GetNumberOfMeasurements(size_t level) const { return this->Samples.at(level).size(); }
 
@@ -197,6 +205,7 @@ private:
   /// Per level: the model predictions use and its measurements (target points, seconds),
   /// oldest first.
   std::vector<CostModel> Models;
+  std::vector<double> Margins;
   std::vector<std::vector<std::pair<double, double>>> Samples;
   int LastLevel = -1; ///< displayed by the last Update, -1: none since the levels were set
   double LastTargetPoints = 0.0;
