@@ -9,27 +9,15 @@ import unittest
 
 from morphnode import vtkBehaviorTimeSource, vtkMorphNodeFilter, vtkMorphTargetReader
 
-from vtkmodules.util.misc import calldata_type
-from vtkmodules.vtkCommonCore import VTK_STRING, vtkCommand
+from vtkmodules.vtkCommonCore import vtkCommand
 from vtkmodules.vtkCommonExecutionModel import vtkStreamingDemandDrivenPipeline
+
+from morphnode_testing import Errors
 
 SOURCE_DIR = os.environ.get("MORPHNODE_SOURCE_DIR", os.path.join(os.path.dirname(__file__), "..", ".."))
 DEFAULT_FACE = os.path.join(SOURCE_DIR, "Data", "DefaultFace", "default_head.glb")
 OUTPUT_DIR = os.environ.get("MORPHNODE_TEST_OUTPUT_DIR", tempfile.gettempdir())
 CORPUS = os.path.join(SOURCE_DIR, "Testing", "Fuzz", "corpus")
-
-
-class Errors:
-    """Collects the error messages an object reports."""
-
-    def __init__(self, obj):
-        self.messages = []
-
-        @calldata_type(VTK_STRING)
-        def on_error(caller, event, message):
-            self.messages.append(message)
-
-        obj.AddObserver(vtkCommand.ErrorEvent, on_error)
 
 
 def column(table, name, row=0):

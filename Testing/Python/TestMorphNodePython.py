@@ -7,12 +7,13 @@ import unittest
 from morphnode import vtkMorphNodeFilter
 import morphnode
 
-from vtkmodules.util.misc import calldata_type
-from vtkmodules.vtkCommonCore import VTK_STRING, vtkCommand, vtkDoubleArray
+from vtkmodules.vtkCommonCore import vtkDoubleArray
 from vtkmodules.vtkCommonDataModel import vtkTable
 from vtkmodules.vtkCommonTransforms import vtkTransform
 from vtkmodules.vtkFiltersGeneral import vtkTransformPolyDataFilter
 from vtkmodules.vtkFiltersSources import vtkSphereSource
+
+from morphnode_testing import Errors
 
 
 def scaled(source, sx, sy, sz):
@@ -22,19 +23,6 @@ def scaled(source, sx, sy, sz):
     f.SetInputConnection(source.GetOutputPort())
     f.SetTransform(transform)
     return f
-
-
-class Errors:
-    """Collects the error messages an object reports."""
-
-    def __init__(self, obj):
-        self.messages = []
-
-        @calldata_type(VTK_STRING)
-        def on_error(caller, event, message):
-            self.messages.append(message)
-
-        obj.AddObserver(vtkCommand.ErrorEvent, on_error)
 
 
 class TestMorphNodePython(unittest.TestCase):

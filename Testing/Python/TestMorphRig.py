@@ -7,9 +7,10 @@ import unittest
 
 from morphnode import vtkMorphRigBaker, vtkMorphRigFilter, vtkMorphNodeFilter, vtkMorphTargetReader
 
-from vtkmodules.util.misc import calldata_type
-from vtkmodules.vtkCommonCore import VTK_STRING, vtkCommand, vtkDoubleArray, vtkStringArray
+from vtkmodules.vtkCommonCore import vtkDoubleArray, vtkStringArray
 from vtkmodules.vtkCommonDataModel import vtkTable
+
+from morphnode_testing import Errors
 
 SOURCE_DIR = os.environ.get("MORPHNODE_SOURCE_DIR",
                             os.path.join(os.path.dirname(__file__), "..", ".."))
@@ -33,17 +34,6 @@ def names(values):
     for v in values:
         a.InsertNextValue(v)
     return a
-
-
-class Errors:
-    def __init__(self, obj):
-        self.messages = []
-
-        @calldata_type(VTK_STRING)
-        def on_error(caller, event, message):
-            self.messages.append(message)
-
-        obj.AddObserver(vtkCommand.ErrorEvent, on_error)
 
 
 class TestMorphRig(unittest.TestCase):
