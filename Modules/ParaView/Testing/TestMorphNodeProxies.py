@@ -39,7 +39,7 @@ def run(c, args):
 
     t.load_plugin(args.plugin, globals())
     for proxy in ("MorphRig", "MorphRigBaker", "AnimationAwareDecimation", "MorphNodeFaceReader",
-                  "MorphNodeBehaviorTimeSource"):
+                  "MorphNodeBehaviorTimeSource", "EyeGaze"):
         c.require(proxy in globals(), "the plugin defines %s" % proxy)
 
     ict = t.face_or_skip(args.face)
@@ -150,6 +150,70 @@ a = vtkDoubleArray(); a.SetName("O"); a.InsertNextValue(1.0); self.GetOutput().A
     at = simple.ForceTime(Input=behavior, ForcedTime=1.0, IgnorePipelineTime=1)
     c.check(sm.Fetch(at).GetNumberOfRows() == 0, "a bad script gives an empty table, no crash")
     simple.Delete(at)
+
+    check_eye_gaze(c)
+
+
+def check_eye_gaze(c):
+    """The Eye Gaze proxy on the default head: the pupils look where EyeYaw/EyePitch say
+    (within a degree), the limits clamp, other parts pass through, and a Behavior Time
+    Source on Gaze drives it at the animation's time."""
+    import builtins  # LoadPlugin's namespace may hold VTK's numpy algorithms' all, sum, ...
+    import math
+    import numpy as np
+    from paraview import simple
+    from vtkmodules.vtkCommonDataModel import vtkCompositeDataSet
+
+    def output(proxy):  # pvbatch on one process: the output itself (Fetch cannot move a collection)
+        proxy.UpdatePipeline()
+        return proxy.GetClientSideObject().GetOutputDataObject(0)
+
+    def parts(collection):
+        return {collection.GetMetaData(i).Get(vtkCompositeDataSet.NAME()): collection.GetPartition(i, 0)
+                for i in range(collection.GetNumberOfPartitionedDataSets())}
+
+    def pupil_angle(part, yaw, pitch):
+        p, _ = t.point_arrays(part)
+        d = p.astype(np.float64).mean(axis=0) - np.array(t.field_values(part, "NodeOrigin"))
+        r, q = math.radians(yaw), math.radians(pitch)
+        target = np.array([math.cos(q) * math.sin(r), math.sin(q), math.cos(q) * math.cos(r)])
+        return math.degrees(math.acos(float(np.dot(d, target) / np.linalg.norm(d))))
+
+    head = MorphNodeFaceReader(FileName=os.path.join(REPOSITORY, "Data", "DefaultFace", "default_head.glb"))  # noqa: F821
+    gaze = EyeGaze(Input=head)  # noqa: F821
+    gaze.EyeYaw = 25.0
+    gaze.EyePitch = -10.0
+    before, after = parts(output(head)), parts(output(gaze))
+    c.require(sorted(before) == sorted(after), "Eye Gaze keeps the head's parts")
+    for name in ("EyeLeft/Pupil", "EyeRight/Pupil"):
+        angle = pupil_angle(after[name], 25.0, -10.0)
+        c.check(angle < 1.0, "Eye Gaze: %s looks at yaw 25, pitch -10 (off by %.3f deg)" % (name, angle))
+    same = builtins.all(np.array_equal(t.point_arrays(before[n])[0], t.point_arrays(after[n])[0])
+               for n in before if not n.startswith("Eye"))
+    c.check(same, "Eye Gaze: the other parts pass through")
+    gaze.EyeYaw = 80.0
+    c.check(t.field_values(parts(output(gaze))["EyeLeft/Iris"], "EyeGaze")[0] == 40.0,
+            "Eye Gaze: MaxEyeYaw (40) clamps 80")
+    gaze.EyeNames = ["EyeRight"]
+    turned = [n for n, part in parts(output(gaze)).items() if t.field_values(part, "EyeGaze")]
+    c.check(sorted(turned) == ["EyeRight/Iris", "EyeRight/Pupil", "EyeRight/Sclera"],
+            "Eye Gaze: EyeNames picks the eyes (%s)" % turned)
+    gaze.EyeNames = []
+
+    behavior = MorphNodeBehaviorTimeSource()  # noqa: F821
+    behavior.Script = "duration 3\nat 0.5 look 20 -5 duration 2\n"
+    gaze.Gaze = behavior
+    for time in (0.2, 1.5):
+        at = simple.ForceTime(Input=gaze, ForcedTime=time, IgnorePipelineTime=1)
+        table_at = simple.ForceTime(Input=behavior, ForcedTime=time, IgnorePipelineTime=1)
+        table = output(table_at)
+        yaw = table.GetColumnByName("EyeYaw").GetValue(0)
+        pitch = table.GetColumnByName("EyePitch").GetValue(0)
+        angle = pupil_angle(parts(output(at))["EyeLeft/Pupil"], yaw, pitch)
+        c.check(angle < 1.0, "Eye Gaze on the Behavior Time Source at %.1f s: the pupil looks at "
+                "(%.2f, %.2f) (off by %.3f deg)" % (time, yaw, pitch, angle))
+        simple.Delete(at)
+        simple.Delete(table_at)
 
 
 if __name__ == "__main__":
