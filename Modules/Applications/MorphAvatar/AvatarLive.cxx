@@ -2,19 +2,31 @@
 // MorphAvatar live (AvatarLive.h): the dialog server and session of Modules/Core/dialog on
 // the avatar's behaviour, in the window's loop or a headless real-time loop.
 //
-// The commands run on the vtkBehaviorTimeSource of the pipeline: each one is added at the
-// clock's time and the source prepares its schedule again (idle behaviour of the same seed,
-// so what was shown does not change). Its horizon grows ahead of the clock, so the avatar
-// runs for as long as it is left running, without looping.
+// The behaviour is a morphnode::LiveBehavior (behavior/LiveBehavior.h): endless, never
+// looping, every command merged into what is scheduled without rebuilding it, long texts
+// synthesized in chunks. It is sampled once per frame at the clock's time into a one-row
+// table that takes the place of the vtkBehaviorTimeSource's output for every filter that
+// read it (the source keeps only its settings: seed, parameters, voice, viseme set).
 #include "AvatarLive.h"
 
 #include "Avatar.h"
 
 #include "base/Error.h"
-#include "behavior/BehaviorTypes.h"
+#include "behavior/LiveBehavior.h"
 #include "dialog/DialogServer.h"
 #include "dialog/DialogSession.h"
 #include "speech/Speech.h"
+
+#include "vtkAlgorithmOutput.h"
+#include "vtkDoubleArray.h"
+#include "vtkExecutive.h"
+#include "vtkInformation.h"
+#include "vtkInformationExecutivePortVectorKey.h"
+#include "vtkInformationVector.h"
+#include "vtkNew.h"
+#include "vtkObjectFactory.h"
+#include "vtkTable.h"
+#include "vtkTableAlgorithm.h"
 
 #include <algorithm>
 #include <chrono>
@@ -22,6 +34,7 @@
 #include <csignal>
 #include <cstdlib>
 #include <iostream>
+#include <limits>
 #include <memory>
 #include <vector>
 
@@ -31,233 +44,151 @@ namespace dialog = morphnode::dialog;
 
 namespace
 {
-/// Seconds of behaviour prepared ahead of the clock, and when to extend it.
-constexpr double Horizon = 600.0;
-constexpr double HorizonMargin = 60.0;
-/// A stopped utterance's mouth closes over this many seconds.
-constexpr double StopFade = 0.12;
-/// A viseme weight above this moves the mouth visibly; a sample above this is heard.
-constexpr double MotionWeight = 0.05;
-constexpr int AudibleSample = 328; // 1 % of full scale
+/// A sample this loud is heard (1 % of full scale).
+constexpr int AudibleSample = 328;
 
-/// The first time (seconds from the utterance's start) the mouth moves; its duration when
-/// it never does.
-double FirstMotion(const morphnode::Utterance& u)
+/// Seconds from the first sample to the first audible one; NaN when silent.
+double FirstSound(const std::vector<int16_t>& samples, int sampleRate)
 {
-  const morphnode::WeightTrack& v = u.Visemes;
-  for (size_t f = 0; f < v.GetNumberOfFrames(); ++f)
+  for (size_t i = 0; i < samples.size(); ++i)
   {
-    const double* frame = v.GetFrame(f);
-    for (size_t c = 0; c < v.GetNumberOfChannels(); ++c)
+    if (std::abs(static_cast<int>(samples[i])) >= AudibleSample)
     {
-      if (frame[c] > MotionWeight)
-      {
-        return v.GetTime(f);
-      }
-    }
-  }
-  return u.Duration;
-}
-
-/// The first audible sample's time; NaN without sound.
-double FirstSound(const morphnode::Utterance& u)
-{
-  for (size_t i = 0; i < u.Audio.size(); ++i)
-  {
-    if (std::abs(static_cast<int>(u.Audio[i])) >= AudibleSample)
-    {
-      return static_cast<double>(i) / u.SampleRate;
+      return static_cast<double>(i) / sampleRate;
     }
   }
   return std::nan("");
 }
 
-double UtteranceLength(const morphnode::Utterance& u)
-{
-  const morphnode::WeightTrack& v = u.Visemes;
-  const double track = v.GetNumberOfFrames() > 0 ? v.GetTime(v.GetNumberOfFrames() - 1) : 0.0;
-  return std::max(u.Duration, track);
-}
-
-/// The utterance up to `cut` seconds from its start, the mouth closing over StopFade.
-morphnode::Utterance CutUtterance(const morphnode::Utterance& u, double cut)
-{
-  morphnode::Utterance out;
-  out.SampleRate = u.SampleRate;
-  for (const auto& p : u.Phonemes)
-  {
-    if (p.Start < cut)
-    {
-      out.Phonemes.push_back(p);
-    }
-  }
-  for (const auto& c : u.Cues)
-  {
-    if (c.Start < cut)
-    {
-      out.Cues.push_back(c);
-    }
-  }
-  const morphnode::WeightTrack& v = u.Visemes;
-  out.Visemes = morphnode::WeightTrack(v.GetChannels(), v.GetFrameRate());
-  const size_t channels = v.GetNumberOfChannels();
-  std::vector<double> frame(channels);
-  for (size_t f = 0; f < v.GetNumberOfFrames(); ++f)
-  {
-    const double t = v.GetTime(f);
-    if (t > cut + StopFade)
-    {
-      break;
-    }
-    const double fade = t <= cut ? 1.0 : std::max(0.0, 1.0 - (t - cut) / StopFade);
-    for (size_t c = 0; c < channels; ++c)
-    {
-      frame[c] = v.GetValue(f, c) * fade;
-    }
-    out.Visemes.AppendFrame(frame);
-  }
-  std::fill(frame.begin(), frame.end(), 0.0);
-  out.Visemes.AppendFrame(frame); // closed
-  const size_t samples = static_cast<size_t>(std::max(0.0, cut) * u.SampleRate);
-  out.Audio.assign(u.Audio.begin(), u.Audio.begin() + std::min(samples, u.Audio.size()));
-  out.Duration = std::min(u.Duration, cut + StopFade);
-  return out;
-}
-
-/// The dialog's commands on the avatar's behaviour source.
-class BehaviorSink : public dialog::CommandSink
+/// One row of weights, filled by the live loop before each frame: the weights input of
+/// the pipeline in live mode, in place of the vtkBehaviorTimeSource's output.
+class LiveWeightsSource : public vtkTableAlgorithm
 {
 public:
-  BehaviorSink(Avatar& avatar, std::function<double()> clock)
-    : A(avatar)
-    , Clock(std::move(clock))
+  static LiveWeightsSource* New();
+  vtkTypeMacro(LiveWeightsSource, vtkTableAlgorithm);
+  vtkNew<vtkTable> Row;
+
+protected:
+  LiveWeightsSource() { this->SetNumberOfInputPorts(0); }
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector* out) override
+  {
+    vtkTable::GetData(out)->ShallowCopy(this->Row);
+    return 1;
+  }
+};
+vtkStandardNewMacro(LiveWeightsSource);
+
+/// Connects every consumer of `from` to `to` instead (the morph filter or the rig, and any
+/// other filter reading the behaviour, e.g. the eyes' gaze).
+void Rewire(vtkAlgorithmOutput* from, vtkAlgorithmOutput* to)
+{
+  vtkInformation* info = from->GetProducer()->GetExecutive()->GetOutputInformation(from->GetIndex());
+  const int n = vtkExecutive::CONSUMERS()->Length(info);
+  std::vector<std::pair<vtkAlgorithm*, int>> consumers;
+  for (int i = 0; i < n; ++i)
+  {
+    consumers.emplace_back(vtkExecutive::CONSUMERS()->GetExecutives(info)[i]->GetAlgorithm(),
+      vtkExecutive::CONSUMERS()->GetPorts(info)[i]);
+  }
+  for (const auto& [algorithm, port] : consumers)
+  {
+    if (algorithm->GetNumberOfInputConnections(port) == 1)
+    {
+      algorithm->SetInputConnection(port, to);
+    }
+    else
+    {
+      algorithm->RemoveInputConnection(port, from);
+      algorithm->AddInputConnection(port, to);
+    }
+  }
+}
+
+/// The dialog's commands on the live behaviour (behavior/LiveBehavior.h): merged into what
+/// is scheduled, never rebuilding it; long texts synthesized in chunks.
+class LiveSink : public dialog::CommandSink
+{
+public:
+  LiveSink(morphnode::LiveBehavior& live, const morphnode::SpeechOptions& speech)
+    : Live(live)
+    , Speech(speech)
   {
   }
 
   dialog::Schedule Say(const dialog::SayCommand& c, double now) override
   {
-    vtkBehaviorTimeSource* b = this->A.Behavior;
-    morphnode::SpeechOptions options;
-    options.Voice = c.Voice.empty() ? std::string(b->GetVoice()) : c.Voice;
-    options.Rate = b->GetSpeechRate();
-    options.Visemes = static_cast<morphnode::VisemeSet>(b->GetVisemeSet());
-    options.VisemeTablePath = b->GetVisemeTableFileName() ? b->GetVisemeTableFileName() : "";
-    morphnode::Utterance u = morphnode::SpeakText(c.Text, options); // InputError: rejected
-    // After the synthesis, or after the speech already scheduled.
-    const double start = std::max({ now, this->Clock(), this->SpeechEnd });
-    if (!b->Speak(u, start))
+    morphnode::LiveBehavior::Timing timing;
+    if (c.Voice.empty())
     {
-      throw morphnode::InputError("the behaviour did not take the utterance (see stderr)");
+      timing = this->Live.Say(c.Text, now); // the first chunk now, the others later
     }
-    const double length = UtteranceLength(u);
-    dialog::Schedule s(start + std::min(FirstMotion(u), length), start + length);
-    s.Sound = start + FirstSound(u);
-    this->SpeechEnd = s.End;
-    this->Said.push_back(Spoken{ std::move(u), start });
+    else
+    {
+      // Another voice: all of it at once, so that later chunks cannot change voice.
+      morphnode::SpeechOptions options = this->Speech;
+      options.Voice = c.Voice;
+      timing = this->Live.Speak(morphnode::SpeakText(c.Text, options), now);
+    }
+    dialog::Schedule s(timing.Start, timing.End);
+    s.Handle = timing.Id;
+    for (auto& segment : this->Live.TakeAudio())
+    {
+      if (segment.Id == timing.Id && std::isnan(s.Sound))
+      {
+        s.Sound = segment.Start + FirstSound(segment.Samples, segment.SampleRate);
+      }
+    }
     return s;
   }
 
   dialog::Schedule Gesture(const dialog::GestureCommand& c, double now) override
   {
-    const morphnode::GestureKind kind = morphnode::ParseGestureName(c.Name); // InputError
-    const double duration = c.Duration > 0.0 ? c.Duration : morphnode::DefaultGestureDuration(kind);
-    if (!this->A.Behavior->Gesture(c.Name.c_str(), now, duration, c.Intensity))
-    {
-      throw morphnode::InputError("the behaviour did not take the gesture (see stderr)");
-    }
-    this->Commands.push_back([c, now, duration](vtkBehaviorTimeSource* b) {
-      b->Gesture(c.Name.c_str(), now, duration, c.Intensity);
-    });
-    return dialog::Schedule(now, now + duration);
+    const auto timing = this->Live.Gesture(c.Name, now, c.Intensity, c.Duration);
+    return dialog::Schedule(timing.Start, timing.End);
   }
 
   dialog::Schedule Mood(const dialog::MoodCommand& c, double now) override
   {
-    morphnode::ParseMoodName(c.Name); // InputError for unknown moods
-    if (!this->A.Behavior->SetMood(c.Name.c_str(), c.Intensity, now))
-    {
-      throw morphnode::InputError("the behaviour did not take the mood (see stderr)");
-    }
-    this->Commands.push_back(
-      [c, now](vtkBehaviorTimeSource* b) { b->SetMood(c.Name.c_str(), c.Intensity, now); });
-    return dialog::Schedule(now, now + this->A.Behavior->GetBehaviorParameters().MoodFadeTime);
+    const auto timing = this->Live.SetMood(c.Name, c.Intensity, now);
+    return dialog::Schedule(timing.Start, timing.End);
   }
 
   dialog::Schedule LookAt(const dialog::LookAtCommand& c, double now) override
   {
-    if (!this->A.Behavior->LookAt(c.Yaw, c.Pitch, now, c.Duration))
-    {
-      throw morphnode::InputError("the behaviour did not take the look (see stderr)");
-    }
-    this->Commands.push_back(
-      [c, now](vtkBehaviorTimeSource* b) { b->LookAt(c.Yaw, c.Pitch, now, c.Duration); });
-    return dialog::Schedule(now, now + c.Duration);
+    const auto timing = this->Live.LookAt(c.Yaw, c.Pitch, now, c.Duration);
+    return dialog::Schedule(timing.Start, timing.End);
   }
 
-  /// The source has no way to take speech back: its commands are made again, the start-up
-  /// ones (options) and this session's, with speech cut at `now` and later speech left out.
-  void StopSpeaking(double now) override
-  {
-    vtkBehaviorTimeSource* b = this->A.Behavior;
-    b->ClearCommands();
-    this->A.SetUpBehavior();
-    for (const auto& command : this->Commands)
-    {
-      command(b);
-    }
-    std::vector<Spoken> kept;
-    for (Spoken& s : this->Said)
-    {
-      if (s.Start >= now)
-      {
-        continue; // not begun: dropped
-      }
-      if (s.Start + UtteranceLength(s.Speech) > now)
-      {
-        s.Speech = CutUtterance(s.Speech, now - s.Start);
-      }
-      b->Speak(s.Speech, s.Start);
-      kept.push_back(std::move(s));
-    }
-    this->Said = std::move(kept);
-    this->SpeechEnd = now;
-    this->Horizon = 0.0;
-    this->KeepAhead(now);
-  }
+  void StopSpeaking(double now) override { this->Live.StopSpeaking(now); }
 
-  /// Keeps the behaviour prepared well ahead of t (the source's duration).
-  void KeepAhead(double t)
+  bool Refresh(unsigned long long handle, dialog::Schedule& when) override
   {
-    if (t + HorizonMargin > this->Horizon)
+    const auto timing = this->Live.GetSpeechTiming(handle);
+    if (timing.Id == 0)
     {
-      this->Horizon = t + Horizon;
-      this->A.Behavior->SetDuration(this->Horizon);
-      this->A.Duration = this->Horizon;
+      return false;
     }
+    when.Start = timing.Start;
+    when.End = timing.End;
+    return true;
   }
 
 private:
-  struct Spoken
-  {
-    morphnode::Utterance Speech;
-    double Start;
-  };
-  Avatar& A;
-  std::function<double()> Clock;
-  double SpeechEnd = 0.0;
-  double Horizon = 0.0;
-  std::vector<Spoken> Said;
-  std::vector<std::function<void(vtkBehaviorTimeSource*)>> Commands;
+  morphnode::LiveBehavior& Live;
+  morphnode::SpeechOptions Speech;
 };
 
-/// The server, the session and the clock of one live run.
+/// The server, the session, the behaviour and the clock of one live run.
 struct Live
 {
   Avatar& A;
   dialog::DialogServer Server;
-  std::unique_ptr<BehaviorSink> Sink;
+  std::unique_ptr<morphnode::LiveBehavior> Behavior;
+  std::unique_ptr<LiveSink> Sink;
   std::unique_ptr<dialog::DialogSession> Session;
-  Clock::time_point T0;
+  vtkNew<LiveWeightsSource> Weights;
+  std::vector<double> Values;
   bool Stdin = false;
 
   Live(Avatar& avatar, const dialog::DialogServer::Settings& settings)
@@ -274,15 +205,34 @@ struct Live
     }
     return this->A.StartTime + std::chrono::duration<double>(Clock::now() - this->A.Start).count();
   }
-  /// Before a frame at t: commands that arrived run now. False to stop.
+  /// Before a frame at t: commands that arrived run now, the behaviour is sampled into the
+  /// weights row (and into the behaviour source's output, where the head pose is read).
+  /// False to stop.
   bool Before(double t)
   {
-    this->Sink->KeepAhead(t);
+    t = std::max(t, this->Behavior->GetLastSampleTime()); // the window's 'r' cannot go back
     this->Session->Receive(t, 0);
+    this->Behavior->Sample(t, this->Values.data());
+    this->Behavior->TakeAudio(); // no sound device yet: the samples are dropped
+    for (const std::string& error : this->Behavior->TakeErrors())
+    {
+      std::cerr << "MorphAvatar: " << error << "\n";
+    }
+    vtkTable* row = this->Weights->Row;
+    for (vtkIdType c = 0; c < row->GetNumberOfColumns(); ++c)
+    {
+      row->GetColumn(c)->SetVariantValue(0, this->Values[static_cast<size_t>(c)]);
+    }
+    row->Modified();
+    this->Weights->Modified();
+    if (auto* shown = vtkTable::SafeDownCast(this->A.Behavior->GetOutputDataObject(0)))
+    {
+      shown->ShallowCopy(row);
+    }
     return !this->Session->QuitRequested();
   }
   /// After the frame at t is on the screen: started / ended events.
-  void After(double t) { this->Session->Advance(t); }
+  void After(double t) { this->Session->Advance(std::max(t, this->Behavior->GetLastSampleTime())); }
   /// Headless with commands on stdin only: stdin ended and nothing runs any more.
   bool Finished() const
   {
@@ -350,8 +300,21 @@ int RunLive(Avatar& a)
   dialog::DialogServer::Settings settings;
   settings.AllowRemote = a.Opt.ListenRemote;
   Live live(a, settings);
+  // The live behaviour: the behaviour source's settings (seed, parameters, voice, viseme
+  // set); the speech, gestures, moods and looks come as commands.
+  vtkBehaviorTimeSource* source = a.Behavior;
+  morphnode::SpeechOptions speech;
+  speech.Voice = source->GetVoice();
+  speech.Rate = source->GetSpeechRate();
+  speech.Visemes = static_cast<morphnode::VisemeSet>(source->GetVisemeSet());
+  speech.VisemeTablePath = source->GetVisemeTableFileName() ? source->GetVisemeTableFileName() : "";
   try
   {
+    live.Behavior = std::make_unique<morphnode::LiveBehavior>(
+      morphnode::SelectVisemeMap(speech).GetVisemes(), source->GetBehaviorParameters(),
+      source->GetSeed());
+    live.Behavior->SetSynthesizer(
+      [speech](const std::string& text) { return morphnode::SpeakText(text, speech); });
     for (const std::string& address : a.Opt.Listen)
     {
       std::cerr << "MorphAvatar: listening on " << live.Server.Listen(address) << std::endl;
@@ -362,16 +325,37 @@ int RunLive(Avatar& a)
     std::cerr << "MorphAvatar: " << e.what() << "\n";
     return 1;
   }
+  if (!a.Opt.Script.empty() || !a.Opt.Audio.empty() || !a.Opt.Timings.empty())
+  {
+    std::cerr << "MorphAvatar: live, the avatar takes its speech and gestures as commands; "
+                 "--script, --audio and --timings are left out\n";
+  }
   if (a.Opt.CommandsStdin)
   {
     live.Server.AddStream(0, 1);
     live.Stdin = true;
   }
-  live.Sink = std::make_unique<BehaviorSink>(a, [&live]() { return live.Now(); });
+  for (const std::string& name : live.Behavior->GetChannelNames())
+  {
+    vtkNew<vtkDoubleArray> column;
+    column->SetName(name.c_str());
+    column->SetNumberOfValues(1);
+    column->SetValue(0, 0.0);
+    live.Weights->Row->AddColumn(column);
+  }
+  live.Values.assign(live.Behavior->GetNumberOfChannels(), 0.0);
+  Rewire(source->GetOutputPort(0), live.Weights->GetOutputPort());
+  live.Sink = std::make_unique<LiveSink>(*live.Behavior, speech);
   live.Session = std::make_unique<dialog::DialogSession>(live.Server, *live.Sink);
+  a.Duration = std::numeric_limits<double>::infinity(); // no end, no loop
   a.Start = a.MeasureStart = a.Launched = Clock::now();
   a.StartTime = 0.0;
-  live.Sink->KeepAhead(0.0);
+  if (!a.Opt.Say.empty())
+  {
+    dialog::Command greeting;
+    greeting.Body = dialog::SayCommand{ a.Opt.Say, std::string() };
+    live.Session->Execute(dialog::DialogServer::StreamClient, greeting, 0.5, Clock::now());
+  }
   if (a.Opt.Offscreen)
   {
     return RunHeadless(live);
