@@ -27,7 +27,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cctype>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <memory>
 #include <sstream>
@@ -479,7 +481,21 @@ void vtkMorphGltfWriter::WriteData()
     // Write to a temporary file beside the target, then rename: no half-written file.
     const std::string target = this->FileName;
     const std::string temporary = target + ".part";
-    morphnode::WriteGltfScene(temporary, scene, performance.get());
+    std::string extension = std::filesystem::path(target).extension().string();
+    std::transform(extension.begin(), extension.end(), extension.begin(),
+      [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    morphnode::GltfWriteOptions options;
+    options.Binary = extension != ".gltf";
+    const std::vector<unsigned char> bytes = morphnode::WriteGltfSceneToMemory(scene, performance.get(), options);
+    {
+      std::ofstream file(temporary, std::ios::binary | std::ios::trunc);
+      file.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+      file.close();
+      if (!file)
+      {
+        throw morphnode::InputError("cannot write '" + temporary + "'");
+      }
+    }
     std::error_code ec;
     std::filesystem::rename(temporary, target, ec);
     if (ec)

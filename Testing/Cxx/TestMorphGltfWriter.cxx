@@ -397,6 +397,25 @@ TEST(MorphGltfWriter, OptimizedWeightsAreTheFiltersEffectiveWeights)
   EXPECT_GT(pruned, 0) << "the optimizer must have pruned something for this test to say anything";
 }
 
+TEST(MorphGltfWriter, GltfJsonAndStaticHead)
+{
+  // A .gltf is JSON (the buffer embedded); without a performance, no animation.
+  vtkNew<vtkMorphTargetReader> reader;
+  reader->SetFileName(DefaultHead.c_str());
+  vtkNew<vtkMorphGltfWriter> writer;
+  writer->SetInputConnection(reader->GetOutputPort());
+  const std::string file = OutputPath("default_head_static.gltf");
+  writer->SetFileName(file.c_str());
+  ASSERT_EQ(writer->Write(), 1);
+  std::ifstream in(file);
+  const nlohmann::json j = nlohmann::json::parse(in);
+  EXPECT_FALSE(j.contains("animations"));
+  EXPECT_EQ(j["meshes"].size(), 11u); // the default head's nodes with meshes
+  const morphnode::GltfScene back = morphnode::LoadGltfScene(file);
+  EXPECT_EQ(back.Parts.size(), 15u);
+  EXPECT_EQ(writer->GetNumberOfFrames(), 0);
+}
+
 TEST(MorphGltfWriter, BadInput)
 {
   vtkNew<vtkMorphTargetReader> reader;

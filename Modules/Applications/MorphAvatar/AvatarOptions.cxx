@@ -144,6 +144,17 @@ Options ParseOptions(int argc, char* argv[])
        "the weights (EffectiveWeights, the behaviour's channels) as field data")
     ->type_name("FILE.pvd")
     ->group(output);
+  app.add_option("--gltf", o.Gltf,
+       "write the head with its morph targets and the whole performance as a glTF animation "
+       "(weights, head pose, eye turns) to FILE.glb or FILE.gltf, and its sound to FILE.wav "
+       "(docs/gltf.md); without other output nothing is rendered")
+    ->type_name("FILE.glb")
+    ->group(output);
+  std::string gltfWeights = "optimized";
+  app.add_option("--gltf-weights", gltfWeights,
+       "the weights --gltf writes: optimized (the optimizer's, as rendered; default) or raw")
+    ->check(CLI::IsMember({ "optimized", "raw" }))
+    ->group(output);
   appkit::AddNumberOption(app, "--at", o.At, 0.0, 24 * 3600.0,
     "render only the frame at time T (with --png / --compare)")
     ->default_str("")
@@ -184,6 +195,7 @@ Options ParseOptions(int argc, char* argv[])
   appkit::ParseCommandLine(app, argc, argv);
   o.Overlay = app.count("--no-overlay") == 0;
   o.SeedSet = app.count("--seed") > 0;
+  o.GltfOptimized = gltfWeights != "raw";
 
   const bool isLive = !o.Listen.empty() || o.CommandsStdin;
   if (isLive && (!o.FramesDir.empty() || !o.Video.empty() || !o.Pvd.empty() || !o.Png.empty() ||

@@ -38,6 +38,8 @@ struct Options
   std::string FramesDir;
   std::string Video;
   std::string Pvd; // a ParaView time series: FILE.pvd + FILE/face_*.vtp
+  std::string Gltf;          // the performance as glTF: FILE.glb/.gltf and FILE.wav
+  bool GltfOptimized = true; // --gltf-weights optimized (else raw)
   std::string Png;
   std::string Compare;
   double CompareThreshold = 10.0;

@@ -16,6 +16,7 @@
 // AvatarInteractive and AvatarOffscreen (the two modes). `MorphAvatar --help` lists every
 // option; docs/avatar.md describes them.
 #include "Avatar.h"
+#include "AvatarGltf.h"
 #include "AvatarLive.h"
 #include "AvatarFrameBudget.h"
 
@@ -27,7 +28,9 @@ int main(int argc, char* argv[])
   using namespace morphavatar;
   Avatar a;
   a.Opt = ParseOptions(argc, argv);
-  if (!std::getenv("DISPLAY"))
+  // --gltf alone writes a file and renders nothing.
+  const bool render = a.Opt.Gltf.empty() || a.Opt.Offscreen || IsLive(a.Opt);
+  if (render && !std::getenv("DISPLAY"))
   {
     std::cerr << "MorphAvatar: no X display (DISPLAY is not set). VTK renders through X, "
                  "offscreen too: run under `xvfb-run -a MorphAvatar ...`.\n";
@@ -36,6 +39,14 @@ int main(int argc, char* argv[])
   if (!a.SetUpBehavior() || !a.SetUpFace())
   {
     return 1;
+  }
+  if (!a.Opt.Gltf.empty() && !ExportGltf(a))
+  {
+    return 1;
+  }
+  if (!render)
+  {
+    return 0;
   }
   a.SetUpScene();
   WatchFrameBudget(a.Morph, a.Opt);

@@ -1,0 +1,63 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// MorphAvatar --gltf: the behaviour's whole track (port 1 of vtkBehaviorTimeSource, through
+// the rig when there is one) and the head the avatar reads, written by vtkMorphGltfWriter;
+// the sound beside it as WAV (docs/gltf.md says how to mux it with a render).
+#include "AvatarGltf.h"
+
+#include "Avatar.h"
+
+#include "vtkErrorCode.h"
+#include "vtkMorphGltfWriter.h"
+
+#include <chrono>
+#include <filesystem>
+#include <iostream>
+
+namespace morphavatar
+{
+bool ExportGltf(Avatar& a)
+{
+  const Options& o = a.Opt;
+  const auto start = std::chrono::steady_clock::now();
+  vtkNew<vtkMorphRigFilter> rig; // its own: the avatar's rig reads the behaviour per frame
+  vtkNew<vtkMorphGltfWriter> writer;
+  writer->SetInputConnection(a.Reader->GetOutputPort());
+  if (!o.Rig.empty())
+  {
+    rig->SetRigFileName(o.Rig.c_str());
+    rig->SetInputConnection(a.Behavior->GetOutputPort(1)); // the whole track
+    rig->SetFaceConnection(a.Reader->GetOutputPort());
+    writer->SetPerformanceConnection(rig->GetOutputPort());
+  }
+  else
+  {
+    writer->SetPerformanceConnection(a.Behavior->GetOutputPort(1));
+  }
+  writer->SetApplyOptimizer(o.GltfOptimized);
+  writer->SetOptimizerPreset(static_cast<int>(a.Method));
+  writer->SetThreshold(a.Threshold);
+  writer->SetMaxVertexError(a.MaxError);
+  writer->SetHysteresis(o.Hysteresis);
+  writer->SetFileName(o.Gltf.c_str());
+  if (!writer->Write() || writer->GetErrorCode() != vtkErrorCode::NoError)
+  {
+    std::cerr << "MorphAvatar: cannot write " << o.Gltf << " (see above)\n";
+    return false;
+  }
+  const std::string wav = std::filesystem::path(o.Gltf).replace_extension(".wav").string();
+  if (!a.Behavior->WriteAudio(wav.c_str()))
+  {
+    std::cerr << "MorphAvatar: cannot write the sound " << wav << " (see above)\n";
+    return false;
+  }
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (!o.Quiet)
+  {
+    std::cout << "wrote " << o.Gltf << " (" << writer->GetNumberOfParts() << " parts, "
+              << writer->GetNumberOfFrames() << " frames, " << writer->GetNumberOfWeightColumns()
+              << " animated targets, weights " << (o.GltfOptimized ? "optimized" : "raw") << ", "
+              << seconds << " s) and " << wav << "\n";
+  }
+  return true;
+}
+} // namespace morphavatar
