@@ -2,6 +2,7 @@
 #include "behavior/BehaviorController.h"
 
 #include "base/Error.h"
+#include "behavior/BehaviorLibrary.h"
 #include "behavior/Blackboard.h"
 
 #include "base/Text.h"
@@ -15,7 +16,6 @@ namespace morphnode
 {
 namespace
 {
-constexpr double Pi = 3.141592653589793;
 using C = BehaviorChannel;
 
 void CheckRange(double v, double lo, double hi, const char* what)
@@ -28,28 +28,33 @@ void CheckStart(double start)
   CheckRange(start, 0.0, MaxBehaviorTime, "start time");
 }
 
-/// Expression contributions of a mood at intensity 1 (MPEG-4-like, on our semantic shapes):
-/// EyesClosed, BrowsUp, BrowsFright, BrowsAngry, MouthSmile, MouthSad, then head pitch.
-struct MoodExpression
+/// The built-in data (BehaviorLibrary::Default(), Data/behavior/behavior.json) of a compiled
+/// gesture or mood: one definition for the finite controller and the live behaviour.
+const GestureDefinition& Definition(GestureKind kind)
 {
-  double Shapes[Blackboard::NumberOfShapes];
-  double HeadPitch;
-};
-// Happy, Sad, Angry, Afraid, Surprised (the mood vector's order).
-// clang-format off
-const MoodExpression MoodTable[NumberOfMoods] = {
-  { { 0.0,  0.1, 0.0, 0.0, 0.7, 0.0 },  0.0 }, // happy: smile, a touch of brows
-  { { 0.15, 0.0, 0.5, 0.0, 0.0, 0.7 }, -4.0 }, // sad: droopy lids, inner brows, head down
-  { { 0.1,  0.0, 0.0, 0.8, 0.0, 0.2 }, -1.5 }, // angry: brows down, narrowed lids
-  { { 0.0,  0.4, 0.7, 0.0, 0.0, 0.1 },  0.0 }, // afraid: inner and outer brows up
-  { { 0.0,  0.9, 0.0, 0.0, 0.0, 0.0 },  2.0 }  // surprised: brows up, head up
-};
-// clang-format on
+  static const std::vector<const GestureDefinition*> table = [] {
+    std::vector<const GestureDefinition*> out;
+    for (int k = 0; k <= static_cast<int>(GestureKind::Blink); ++k)
+    {
+      out.push_back(&BehaviorLibrary::Default().FindGesture(GestureName(static_cast<GestureKind>(k))));
+    }
+    return out;
+  }();
+  return *table[static_cast<size_t>(kind)];
+}
 
-/// A 0..1 bump: zero slope at both ends, one per cycle: 0.5 - 0.5 cos(2 pi cycles u).
-double Bumps(double u, double cycles)
+/// The moods of the mood vector (Happy .. Surprised).
+const MoodDefinition& Definition(int moodIndex)
 {
-  return 0.5 - 0.5 * std::cos(2.0 * Pi * cycles * u);
+  static const std::vector<const MoodDefinition*> table = [] {
+    std::vector<const MoodDefinition*> out;
+    for (int m = 1; m <= NumberOfMoods; ++m)
+    {
+      out.push_back(&BehaviorLibrary::Default().FindMood(MoodName(static_cast<MoodKind>(m))));
+    }
+    return out;
+  }();
+  return *table[static_cast<size_t>(moodIndex)];
 }
 } // namespace
 
@@ -194,19 +199,7 @@ void BehaviorController::Gesture(GestureKind kind, double start, double duration
 
 SyncPoints BehaviorController::GestureSync(const ScheduledGesture& g, const BehaviorParameters& p)
 {
-  switch (g.Kind)
-  {
-    case GestureKind::CloseEyes: // closes like a blink, opens a little slower
-      return SyncPoints::Make(g.Start, g.Duration, p.BlinkCloseTime, 0.25);
-    case GestureKind::Blink: // a blink keeps its own lid curve
-      return SyncPoints::Make(g.Start, BlinkLength(p), p.BlinkCloseTime, p.BlinkOpenTime);
-    case GestureKind::Nod:
-    case GestureKind::Shake:
-    case GestureKind::Tilt:
-      return SyncPoints::Make(g.Start, g.Duration, 0.2, 0.2);
-    default:
-      return SyncPoints::Make(g.Start, g.Duration, 0.3, 0.4);
-  }
+  return Definition(g.Kind).Sync(g.Start, g.Duration, p);
 }
 
 void BehaviorController::SetMood(const std::string& name,
@@ -558,11 +551,12 @@ void BehaviorController::Sample(double t, double* out) const
   this->MoodTrack.Evaluate(t, mood);
   for (int m = 0; m < NumberOfMoods; ++m)
   {
+    const MoodDefinition& d = Definition(m);
     for (int s = 0; s < Blackboard::NumberOfShapes; ++s)
     {
-      bb.Background[s] += mood[m] * MoodTable[m].Shapes[s];
+      bb.Background[s] += mood[m] * d.Shapes[s];
     }
-    bb.HeadBackground[1] += mood[m] * MoodTable[m].HeadPitch;
+    bb.HeadBackground[1] += mood[m] * d.Head[1];
   }
   const double happy = mood[0];
   const double negative = std::max({ mood[1], mood[2], mood[3] });
@@ -621,59 +615,10 @@ void BehaviorController::Sample(double t, double* out) const
     bb.AddSpeechCue(cue.Kind, cue.Sync, cue.Intensity, t, p);
   });
 
-  // Explicit gestures.
+  // Explicit gestures: the shapes and head motion of their data.
   this->GestureIndex.ForEachCandidate(t, [&](uint32_t i) {
     const ScheduledGesture& g = this->Gestures[i];
-    const double e = g.Sync.Envelope(t);
-    if (!(e > 0.0))
-    {
-      return;
-    }
-    const double span = g.Sync.End - g.Sync.Start;
-    const double u = (t - g.Sync.Start) / span;
-    auto own = [&](int group) { bb.Ownership[group] = std::max(bb.Ownership[group], e); };
-    switch (g.Kind)
-    {
-      case GestureKind::Smile:
-        bb.Explicit[C::MouthSmile] += g.Intensity * e;
-        own(Blackboard::ExpressionGroup);
-        break;
-      case GestureKind::Sad:
-        bb.Explicit[C::MouthSad] += g.Intensity * e;
-        own(Blackboard::ExpressionGroup);
-        break;
-      case GestureKind::RaiseBrows:
-        bb.Explicit[C::BrowsUp] += g.Intensity * e;
-        own(Blackboard::BrowsGroup);
-        break;
-      case GestureKind::Frown:
-        bb.Explicit[C::BrowsAngry] += g.Intensity * e;
-        own(Blackboard::BrowsGroup);
-        break;
-      case GestureKind::Fright:
-        bb.Explicit[C::BrowsFright] += g.Intensity * e;
-        own(Blackboard::BrowsGroup);
-        break;
-      case GestureKind::CloseEyes:
-        bb.CloseEyes = std::max(bb.CloseEyes, g.Intensity * e);
-        break;
-      case GestureKind::Nod: // down and up, about one nod per half second
-        bb.HeadExplicit[1] -=
-          p.NodAmplitude * g.Intensity * Bumps(u, std::max(1.0, std::round(span / 0.5)));
-        own(Blackboard::HeadGroup);
-        break;
-      case GestureKind::Shake: // left-right swings in a smooth window
-        bb.HeadExplicit[0] += p.ShakeAmplitude * g.Intensity * std::sin(Pi * u) *
-          std::sin(2.0 * Pi * std::max(1.0, std::round(span / 0.4)) * u);
-        own(Blackboard::HeadGroup);
-        break;
-      case GestureKind::Tilt:
-        bb.HeadExplicit[2] += p.TiltAmplitude * g.Intensity * e;
-        own(Blackboard::HeadGroup);
-        break;
-      case GestureKind::Blink: // played from the blink list
-        break;
-    }
+    Definition(g.Kind).Contribute(g.Sync, g.Intensity, t, p, bb);
   });
 
   // Explicit gaze.
