@@ -11,7 +11,9 @@ by the example client (Examples/Python/dialog_client.py).
 - sound: when the avatar's clock reaches the first audible sample (`sound`), from the same
   arrival: latency_ms + (sound - time of that frame). There is no sound device yet: a
   device adds its own output latency on top;
-- round trip: the client's wall time from sending the line to reading `started`.
+- round trip: the client's wall time from sending the line to reading `started`;
+- accepted: the client's wall time from sending the line to reading `accepted` (the command
+  parsed and scheduled: for a say, the synthesis of its first chunk).
 
 Each say is stopped once started (so none waits behind another) and the next one is sent
 after a pause. Figures: median and 95th percentile, all and per text length.
@@ -67,6 +69,7 @@ def main():
     parser.add_argument("--size", default="640x640")
     parser.add_argument("--fps", default="30")
     parser.add_argument("--markdown", help="write the table here")
+    parser.add_argument("--face", help="MorphAvatar --face (default: the default head)")
     args = parser.parse_args()
     n = 5 if args.quick else args.commands
 
@@ -74,7 +77,8 @@ def main():
     err_path = os.path.join(tmp.name, "stderr.txt")
     with open(err_path, "w") as err:
         proc = subprocess.Popen([args.exe, "--offscreen", "--listen", "127.0.0.1:0", "--size",
-                                 args.size, "--fps", args.fps, "--quiet"],
+                                 args.size, "--fps", args.fps, "--quiet"] +
+                                (["--face", args.face] if args.face else []),
                                 stdout=subprocess.DEVNULL, stderr=err)
     address = None
     deadline = time.monotonic() + 120
@@ -95,11 +99,12 @@ def main():
                 sent = time.monotonic()
                 said = avatar.say(text, id="s%d" % i)
                 accepted = avatar.wait(said, "accepted", 60)
+                scheduled = (time.monotonic() - sent) * 1000.0
                 started = avatar.wait(said, "started", 60)
                 round_trip = (time.monotonic() - sent) * 1000.0
                 mouth = started["latency_ms"]
                 sound = mouth + (accepted["sound"] - started["time"]) * 1000.0
-                rows.append((len(text), mouth, sound, round_trip))
+                rows.append((len(text), mouth, sound, round_trip, scheduled))
                 avatar.wait(avatar.stop(), "ended", 60)
                 avatar.wait(said, "ended", 60)
                 time.sleep(0.25)
@@ -109,15 +114,15 @@ def main():
         if proc.poll() is None:
             proc.kill()
 
-    lines = ["| say commands | characters | first mouth motion (ms): median / p95 / max | first sound (ms) | round trip (ms) |",
-             "|---|---|---|---|---|"]
+    lines = ["| say commands | characters | first mouth motion (ms): median / p95 / max | first sound (ms) | round trip (ms) | accepted (ms) |",
+             "|---|---|---|---|---|---|"]
 
     def add(label, subset):
         if subset:
-            lines.append("| %s | %d-%d | %s | %s | %s |" % (
+            lines.append("| %s | %d-%d | %s | %s | %s | %s |" % (
                 label, min(r[0] for r in subset), max(r[0] for r in subset),
                 summary([r[1] for r in subset]), summary([r[2] for r in subset]),
-                summary([r[3] for r in subset])))
+                summary([r[3] for r in subset]), summary([r[4] for r in subset])))
 
     add("all %d" % len(rows), rows)
     add("short (< 40 characters)", [r for r in rows if r[0] < 40])

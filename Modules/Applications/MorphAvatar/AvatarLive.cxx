@@ -169,8 +169,7 @@ public:
     {
       return false;
     }
-    when.Start = timing.Start;
-    when.End = timing.End;
+    when.End = timing.End; // (the start stays the first chunk's)
     return true;
   }
 
@@ -210,7 +209,7 @@ struct Live
   /// False to stop.
   bool Before(double t)
   {
-    t = std::max(t, this->Behavior->GetLastSampleTime()); // the window's 'r' cannot go back
+    t = this->BehaviorTime(t);
     this->Session->Receive(t, 0);
     this->Behavior->Sample(t, this->Values.data());
     this->Behavior->TakeAudio(); // no sound device yet: the samples are dropped
@@ -232,7 +231,19 @@ struct Live
     return !this->Session->QuitRequested();
   }
   /// After the frame at t is on the screen: started / ended events.
-  void After(double t) { this->Session->Advance(std::max(t, this->Behavior->GetLastSampleTime())); }
+  void After(double t) { this->Session->Advance(this->BehaviorTime(t)); }
+  /// The behaviour's time for the clock's t: the same, unless the window's clock went back
+  /// ('r' restarts it), where the behaviour goes on from where it was.
+  double BehaviorTime(double t)
+  {
+    const double last = this->Behavior->GetLastSampleTime();
+    if (t + this->Offset < last)
+    {
+      this->Offset = last - t;
+    }
+    return t + this->Offset;
+  }
+  double Offset = 0.0;
   /// Headless with commands on stdin only: stdin ended and nothing runs any more.
   bool Finished() const
   {
