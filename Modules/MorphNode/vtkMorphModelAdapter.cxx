@@ -14,7 +14,6 @@
 #include "vtkPointData.h"
 #include "vtkPointSet.h"
 #include "vtkPoints.h"
-#include "vtkSMPTools.h"
 #include "vtkStringArray.h"
 #include "vtkTable.h"
 #include "vtkVariant.h"
@@ -124,26 +123,6 @@ void PlanPointArrays(vtkPointData* pd, BuiltModel& built)
     built.PointArrays.push_back(source);
   }
 }
-
-/// `slot` when it has the layout of `prototype` and `holders` references are all it has
-/// (nobody outside the cache holds it), else a new array of that layout in `slot`.
-vtkDataArray* ReuseOrNew(vtkSmartPointer<vtkDataArray>& slot, vtkDataArray* prototype,
-  vtkIdType numTuples, int holders)
-{
-  const bool reusable = slot && slot->GetReferenceCount() == holders &&
-    slot->GetDataType() == prototype->GetDataType() &&
-    slot->GetNumberOfComponents() == prototype->GetNumberOfComponents() &&
-    slot->GetNumberOfTuples() == numTuples;
-  if (!reusable)
-  {
-    slot.TakeReference(prototype->NewInstance());
-    slot->SetName(prototype->GetName());
-    slot->SetNumberOfComponents(prototype->GetNumberOfComponents());
-    slot->SetNumberOfTuples(numTuples);
-  }
-  return slot;
-}
-
 } // namespace
 
 bool HasRelativeTargets(vtkPointSet* input)
@@ -296,73 +275,21 @@ vtkSmartPointer<vtkDataArray> MakeDoubleArray(const char* arrayName, const std::
   return array;
 }
 
-void Blend(const BuiltModel& built, const std::vector<double>& weights, BlendOutputs& outputs)
+vtkDataArray* ReuseOrNew(vtkSmartPointer<vtkDataArray>& slot, vtkDataArray* prototype,
+  vtkIdType numTuples, int holders)
 {
-  const morphnode::MorphMesh& model = built.Model;
-  const vtkIdType numPoints = static_cast<vtkIdType>(model.GetNumberOfPoints());
-  const size_t numAttributes = model.GetNumberOfAttributes();
-
-  // Output arrays of the original types; blending writes straight into them when the
-  // types agree (float/double), through a double scratch buffer otherwise.
-  std::vector<vtkDataArray*> out(numAttributes);
-  vtkSmartPointer<vtkDataArray> pointData = outputs.Points ? outputs.Points->GetData() : nullptr;
-  const bool pointsFree = outputs.Points && outputs.Points->GetReferenceCount() == 1;
-  // The points' array is held by the vtkPoints and by `pointData` here.
-  out[0] = ReuseOrNew(pointData, built.Bindings[0].Prototype, numPoints, pointsFree ? 2 : 0);
-  if (!pointsFree || outputs.Points->GetData() != out[0])
+  const bool reusable = slot && slot->GetReferenceCount() == holders &&
+    slot->GetDataType() == prototype->GetDataType() &&
+    slot->GetNumberOfComponents() == prototype->GetNumberOfComponents() &&
+    slot->GetNumberOfTuples() == numTuples;
+  if (!reusable)
   {
-    outputs.Points = vtkSmartPointer<vtkPoints>::New();
-    outputs.Points->SetData(out[0]);
+    slot.TakeReference(prototype->NewInstance());
+    slot->SetName(prototype->GetName());
+    slot->SetNumberOfComponents(prototype->GetNumberOfComponents());
+    slot->SetNumberOfTuples(numTuples);
   }
-  outputs.Arrays.resize(numAttributes - 1);
-  for (size_t a = 1; a < numAttributes; ++a)
-  {
-    out[a] = ReuseOrNew(outputs.Arrays[a - 1], built.Bindings[a].Prototype, numPoints, 1);
-  }
-
-  std::vector<std::vector<double>> scratch(numAttributes);
-  std::vector<void*> targets(numAttributes, nullptr);
-  for (size_t a = 0; a < numAttributes; ++a)
-  {
-    const bool storedAsFloat =
-      std::holds_alternative<morphnode::MorphAttribute<float>>(model.GetAttribute(a));
-    if (storedAsFloat && out[a]->GetDataType() == VTK_FLOAT)
-    {
-      targets[a] = static_cast<vtkFloatArray*>(out[a])->GetPointer(0);
-    }
-    else if (!storedAsFloat && out[a]->GetDataType() == VTK_DOUBLE)
-    {
-      targets[a] = static_cast<vtkDoubleArray*>(out[a])->GetPointer(0);
-    }
-    else
-    {
-      scratch[a].resize(static_cast<size_t>(numPoints) * out[a]->GetNumberOfComponents());
-      targets[a] = scratch[a].data();
-    }
-  }
-
-  vtkSMPTools::For(0, numPoints, 1024, [&](vtkIdType begin, vtkIdType end) {
-    for (size_t a = 0; a < numAttributes; ++a)
-    {
-      std::visit(
-        [&](const auto& attribute) {
-          using T = typename std::decay_t<decltype(attribute.GetNeutral())>::value_type;
-          attribute.Blend(weights.data(), weights.size(), static_cast<T*>(targets[a]),
-            static_cast<size_t>(begin), static_cast<size_t>(end));
-        },
-        model.GetAttribute(a));
-    }
-  });
-
-  for (size_t a = 0; a < numAttributes; ++a)
-  {
-    if (!scratch[a].empty())
-    {
-      arrays::CopyToArray(scratch[a].data(), out[a]); // integer types rounded
-    }
-    out[a]->Modified(); // written through raw pointers: renderers re-upload on MTime
-  }
-  outputs.Points->Modified();
+  return slot;
 }
 
 void AssemblePointData(vtkPointData* neutral, const BuiltModel& built,

@@ -102,9 +102,11 @@ vtkSmartPointer<vtkStringArray> MakeNamesArray(
 /// A one-tuple-per-value vtkDoubleArray.
 vtkSmartPointer<vtkDataArray> MakeDoubleArray(const char* arrayName, const std::vector<double>& values);
 
-/// Blends every attribute of `built` with absolute `weights`, in parallel over points,
-/// into `outputs` (reused where no one else holds them, see BlendOutputs).
-void Blend(const BuiltModel& built, const std::vector<double>& weights, BlendOutputs& outputs);
+/// `slot` when it has the layout of `prototype` (type, components, `numTuples`) and
+/// `holders` references are all it has (nobody outside the cache holds it), else a new
+/// array of that layout in `slot` (see BlendOutputs).
+vtkDataArray* ReuseOrNew(vtkSmartPointer<vtkDataArray>& slot, vtkDataArray* prototype,
+  vtkIdType numTuples, int holders);
 
 /// Fills `out` with the output's point arrays: the neutral's, each blended one in place of
 /// the array it replaces (same attribute role), target arrays left out.

@@ -81,25 +81,6 @@ bool SameWeight(double a, double b)
   return a == b || (a != a && b != b); // NaN set twice is no change either
 }
 
-/// `slot` when it has the layout of `prototype` and `holders` references are all it has
-/// (nobody outside the filter holds it), else a new array of that layout in `slot`.
-vtkDataArray* ReuseOrNew(
-  vtkSmartPointer<vtkDataArray>& slot, vtkDataArray* prototype, vtkIdType numTuples, int holders)
-{
-  const bool reusable = slot && slot->GetReferenceCount() == holders &&
-    slot->GetDataType() == prototype->GetDataType() &&
-    slot->GetNumberOfComponents() == prototype->GetNumberOfComponents() &&
-    slot->GetNumberOfTuples() == numTuples;
-  if (!reusable)
-  {
-    slot.TakeReference(prototype->NewInstance());
-    slot->SetName(prototype->GetName());
-    slot->SetNumberOfComponents(prototype->GetNumberOfComponents());
-    slot->SetNumberOfTuples(numTuples);
-  }
-  return slot;
-}
-
 /// Points a task blends at least: below that, handing work to another thread costs more
 /// than it saves (a 1024-point range of positions and normals blends in about 1 us).
 constexpr vtkIdType MinPointsPerTask = 2048;
@@ -909,7 +890,7 @@ struct vtkMorphNodeFilter::vtkInternals
     // The points' array is held by the vtkPoints and by `points` here.
     vtkSmartPointer<vtkDataArray> points = outputs.Points ? outputs.Points->GetData() : nullptr;
     const bool pointsFree = outputs.Points && outputs.Points->GetReferenceCount() == 1;
-    vtkDataArray* pointArray = ReuseOrNew(points, bindings[0].Prototype, numPoints, pointsFree ? 2 : 0);
+    vtkDataArray* pointArray = adapter::ReuseOrNew(points, bindings[0].Prototype, numPoints, pointsFree ? 2 : 0);
     if (!pointsFree || outputs.Points->GetData() != pointArray)
     {
       outputs.Points = vtkSmartPointer<vtkPoints>::New();
@@ -923,7 +904,7 @@ struct vtkMorphNodeFilter::vtkInternals
     {
       vtkDataArray* out = a == 0
         ? pointArray
-        : ReuseOrNew(outputs.Arrays[a - 1], bindings[a].Prototype, numPoints, 1);
+        : adapter::ReuseOrNew(outputs.Arrays[a - 1], bindings[a].Prototype, numPoints, 1);
       const size_t values = static_cast<size_t>(numPoints) * out->GetNumberOfComponents();
       if (std::holds_alternative<morphnode::MorphAttribute<float>>(mesh.GetAttribute(a)))
       {
