@@ -44,8 +44,9 @@
  *
  * Animations (glTF): output port 1 is a vtkTable of one row: a column per morph target
  * name (neutral excluded) with its weight at the requested time, and for each node the
- * chosen animation moves, columns `<node>.translation` (3 components), `<node>.rotation`
- * (4: the unit quaternion x, y, z, w) and `<node>.scale` (3), node names as in the file
+ * chosen animation moves, columns `<node>.translation` (3 components, times Scale),
+ * `<node>.rotation` (4: the unit quaternion x, y, z, w) and `<node>.scale` (3), in the
+ * node's parent frame as glTF gives them, node names as in the file
  * (`node<i>` when unnamed). Its field data holds `Time` and `AnimationName`. Connected to
  * vtkMorphNodeFilter's weights port (SetWeightsConnection) it drives the face: the filter
  * reads the columns named after its targets and ignores the others. Per-mesh weight
