@@ -47,7 +47,9 @@ int main(int argc, char* argv[])
     }
   }
   morphnode::AudioPlayer player;
-  player.Open();
+  morphnode::AudioPlayer::Options options;
+  options.Clock = morphnode::AudioPlayer::Options::ClockSource::Device; // also on the dummy driver
+  player.Open(options);
   // A long clip of quiet noise: the device mixes something every request, as when speaking.
   morphnode::AudioBuffer clip;
   clip.SampleRate = player.GetSampleRate();

@@ -63,6 +63,7 @@ struct AudioPlayer::Internals
   int64_t PositionAtCallback = 0;
   std::atomic<bool> Paused{ true };
   bool Open = false;
+  bool DeviceClock = false; // GetTime() from the device's position
   int Rate = 22050;
   int Buffer = 512;
   std::string Driver = "none";
@@ -136,6 +137,7 @@ void AudioPlayer::Open(const Options& options)
   d.Buffer = options.BufferFrames;
   d.Position = d.Taken = d.PositionAtCallback = 0;
   d.Paused = true;
+  d.DeviceClock = false;
   d.NullOffset = 0.0;
   d.NullResumed = Clock::now();
 #if MORPHNODE_HAVE_SDL2
@@ -177,6 +179,8 @@ void AudioPlayer::Open(const Options& options)
       SDL_GetError());
   }
   d.CallbackNs = Nanoseconds(Clock::now());
+  d.DeviceClock = options.Clock == Options::ClockSource::Device ||
+    (options.Clock == Options::ClockSource::Auto && d.Driver != "dummy");
   SDL_PauseAudioDevice(d.Device, 0); // the device runs; the clock stands until SetPaused(false)
 #else
   (void)options.Driver;
@@ -294,11 +298,16 @@ double AudioPlayer::GetPendingSeconds() const
   return static_cast<double>(end - now) / d.Rate;
 }
 
+bool AudioPlayer::IsDeviceClock() const
+{
+  return this->Impl->Open && this->Impl->DeviceClock;
+}
+
 double AudioPlayer::GetTime() const
 {
   const Internals& d = *this->Impl;
 #if MORPHNODE_HAVE_SDL2
-  if (d.Open)
+  if (d.Open && d.DeviceClock)
   {
     std::lock_guard<std::mutex> lock(d.Mutex);
     // The sample heard now: the device has the last buffer still to play.

@@ -39,7 +39,19 @@ public:
     /// An SDL audio driver ("pulseaudio", "alsa", "dummy", ...); empty: SDL's choice where the
     /// machine has a sound device, else "dummy". The environment's SDL_AUDIODRIVER wins.
     std::string Driver;
+    /// The clock GetTime() reads: the device's position (Device), the steady clock (Steady),
+    /// or Auto: the device's where sound is heard, the steady clock on SDL's dummy driver
+    /// (nobody hears it, and a starved dummy thread runs slow: 19 % on a loaded machine).
+    enum class ClockSource
+    {
+      Auto,
+      Device,
+      Steady
+    };
+    ClockSource Clock = ClockSource::Auto;
   };
+  /// True when GetTime() follows the device (not the steady clock).
+  bool IsDeviceClock() const;
 
   AudioPlayer();
   ~AudioPlayer();

@@ -13,6 +13,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -73,10 +74,29 @@ float Peak(const std::vector<float>& s, size_t first, size_t length)
 }
 } // namespace
 
-TEST(AudioPlayer, TheClockRunsStandsAndSeeks)
+class AudioPlayerClock : public ::testing::TestWithParam<AudioPlayer::Options::ClockSource>
+{
+};
+
+INSTANTIATE_TEST_SUITE_P(AudioPlayer, AudioPlayerClock,
+  ::testing::Values(AudioPlayer::Options::ClockSource::Auto, AudioPlayer::Options::ClockSource::Device,
+    AudioPlayer::Options::ClockSource::Steady),
+  [](const ::testing::TestParamInfo<AudioPlayer::Options::ClockSource>& info) {
+    return info.param == AudioPlayer::Options::ClockSource::Auto ? std::string("Auto")
+      : info.param == AudioPlayer::Options::ClockSource::Device  ? std::string("Device")
+                                                                  : std::string("Steady");
+  });
+
+TEST_P(AudioPlayerClock, RunsStandsAndSeeks)
 {
   AudioPlayer player;
-  player.Open();
+  AudioPlayer::Options options;
+  options.Clock = GetParam();
+  player.Open(options);
+  if (GetParam() == AudioPlayer::Options::ClockSource::Steady)
+  {
+    EXPECT_FALSE(player.IsDeviceClock());
+  }
   std::cout << "driver: " << player.GetDriverName() << ", " << player.GetSampleRate() << " Hz, "
             << player.GetLatency() * 1e3 << " ms buffer\n";
   EXPECT_TRUE(player.IsOpen());
