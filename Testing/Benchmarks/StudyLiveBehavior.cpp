@@ -7,7 +7,10 @@
 // ranges of docs/behavior.md.
 //
 //   StudyLiveBehavior [--minutes 30] [--fps 30] [--seed 1] [--quick] [--out FILE.md]
+#include "base/Error.h"
+#include "base/Text.h"
 #include "behavior/LiveBehavior.h"
+#include "speech/Speech.h"
 
 #include <algorithm>
 #include <chrono>
@@ -206,11 +209,6 @@ Run Simulate(double minutes, double fps, uint64_t seed, const std::string& mood,
   return run;
 }
 
-std::string Check(bool ok)
-{
-  return ok ? "yes" : "**no**";
-}
-
 std::string Fixed(double v, int digits = 2)
 {
   std::ostringstream s;
@@ -219,6 +217,80 @@ std::string Fixed(double v, int digits = 2)
   s << v;
   return s.str();
 }
+
+/// Median wall seconds of f() over `n` runs.
+template<typename F>
+double MedianSeconds(int n, F&& f)
+{
+  std::vector<double> times;
+  for (int i = 0; i < n; ++i)
+  {
+    const auto a = std::chrono::steady_clock::now();
+    f();
+    times.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - a).count());
+  }
+  return Quantile(times, 0.5);
+}
+
+/// How long Say() blocks (one chunk synthesized) against synthesizing the whole text at
+/// once, for texts of growing length (eSpeak NG; skipped without it).
+std::string SayLatency(bool quick)
+{
+  std::ostringstream md;
+  if (!SpeechSynthesizer::IsAvailable())
+  {
+    md << "(Say latency: built without eSpeak NG, skipped.)\n\n";
+    return md.str();
+  }
+  std::string story;
+  try
+  {
+    story = text::ReadFile(std::string(MORPHNODE_SOURCE_DIR) + "/Data/scripts/long-text.txt");
+  }
+  catch (const InputError& e)
+  {
+    md << "(Say latency: " << e.what() << ", skipped.)\n\n";
+    return md.str();
+  }
+  const std::vector<std::string> sentences = SplitSpeechChunks(story, 100000, 100000);
+  SpeechOptions options;
+  const std::vector<std::string> visemes = SelectVisemeMap(options).GetVisemes();
+  md << "#### Say latency (eSpeak NG, en, median of " << (quick ? 1 : 5) << ")\n\n";
+  md << "| Text | characters | chunks | `Say()` returns after | whole text synthesized at once |\n|---|---|---|---|---|\n";
+  SpeakText("Warm up.", options); // eSpeak's one-time initialization is not a say's latency
+  std::vector<size_t> counts = { 1, 2, 4, sentences.size() };
+  for (size_t count : counts)
+  {
+    std::string text;
+    for (size_t i = 0; i < std::min(count, sentences.size()); ++i)
+    {
+      text += (text.empty() ? "" : " ") + sentences[i];
+    }
+    if (count == sentences.size())
+    {
+      text = text + " " + text + " " + text; // a long answer: the story three times
+    }
+    const size_t chunks = SplitSpeechChunks(text).size();
+    const int n = quick ? 1 : 5;
+    const double say = MedianSeconds(n, [&] {
+      LiveBehavior live(visemes);
+      live.SetSynthesizer([&](const std::string& s) { return SpeakText(s, options); });
+      live.Say(text, 0.0);
+    });
+    const double whole = MedianSeconds(quick ? 1 : 3, [&] { SpeakText(text, options); });
+    md << "| " << (count == sentences.size() ? "the story x3" : std::to_string(count) + " sentence(s)") << " | "
+       << text.size() << " | " << chunks << " | " << Fixed(1000.0 * say, 0) << " ms | " << Fixed(1000.0 * whole, 0)
+       << " ms |\n";
+  }
+  md << "\n";
+  return md.str();
+}
+
+std::string Check(bool ok)
+{
+  return ok ? "yes" : "**no**";
+}
+
 } // namespace
 
 int main(int argc, char** argv)
@@ -372,6 +444,7 @@ int main(int argc, char** argv)
   }
   md << "\n";
 
+  md << SayLatency(minutes < 2.0);
   std::cout << md.str();
   if (!out.empty())
   {
