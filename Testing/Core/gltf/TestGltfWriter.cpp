@@ -5,6 +5,7 @@
 // samplers hold the weights by name and the rotations about their pivots, and every bad
 // input is an InputError naming it. The files written here are also checked by the
 // Khronos glTF validator (test GltfValidatorExport, fixture GltfExportFiles).
+#include "gltf/GltfAnimation.h"
 #include "gltf/GltfScene.h"
 #include "gltf/GltfWriter.h"
 
@@ -258,6 +259,100 @@ TEST(GltfWriter, DefaultHeadRoundTripInNodeFrames)
     }
   }
   EXPECT_EQ(rotations, 3u);
+}
+
+namespace
+{
+GltfMatrix Turn(const std::array<double, 3>& pivot, const double* q)
+{
+  const GltfMatrix to = GltfComposeTrs(pivot, { { 0, 0, 0, 1 } }, { { 1, 1, 1 } });
+  const GltfMatrix r = GltfComposeTrs({ { 0, 0, 0 } }, { { q[0], q[1], q[2], q[3] } }, { { 1, 1, 1 } });
+  const GltfMatrix back = GltfComposeTrs({ { -pivot[0], -pivot[1], -pivot[2] } }, { { 0, 0, 0, 1 } }, { { 1, 1, 1 } });
+  return GltfMultiply(to, GltfMultiply(r, back));
+}
+
+std::array<double, 3> Transform(const GltfMatrix& m, double x, double y, double z)
+{
+  return { { m[0] * x + m[4] * y + m[8] * z + m[12], m[1] * x + m[5] * y + m[9] * z + m[13],
+    m[2] * x + m[6] * y + m[10] * z + m[14] } };
+}
+} // namespace
+
+// The project's own sampler (GltfAnimationPlayer, written independently of the writer)
+// plays the export back: the weights by name at any time are the performance's, linearly
+// interpolated, and at the keys every part's world geometry is the original part morphed
+// by the key's weights, its eye turned about its pivot and the head about its pivot.
+TEST(GltfWriter, PlaysBackThroughGltfAnimationPlayer)
+{
+  GltfLoadOptions options;
+  options.ApplyTransforms = false;
+  const GltfScene head = LoadGltfScene(DefaultHead, options);
+  const GltfPerformance p = RandomPerformance(head, 31, 5, true);
+  const std::vector<unsigned char> glb = WriteGltfSceneToMemory(head, &p);
+  const GltfScene back = LoadGltfSceneFromMemory(glb.data(), glb.size(), std::string(), options);
+  const GltfAnimationPlayer player(back, 0);
+  EXPECT_DOUBLE_EQ(player.GetEndTime(), static_cast<float>(p.Times.back()));
+  const size_t n = p.TargetNames.size();
+  for (double t : { 0.0, 0.4 / 30, 7.0 / 30, 7.3 / 30, 29.9 / 30, 1.0, 2.0 })
+  {
+    SCOPED_TRACE("t = " + std::to_string(t));
+    const GltfSceneSample s = player.Sample(t);
+    const GltfNamedWeights named = GltfWeightsByTargetName(back, s);
+    EXPECT_TRUE(named.Disagreements.empty());
+    const double frame = std::min(30.0, t * 30.0);
+    const size_t k = static_cast<size_t>(std::floor(frame));
+    const size_t k1 = std::min<size_t>(k + 1, 30);
+    const double u = frame - static_cast<double>(k);
+    for (size_t i = 0; i < n; ++i)
+    {
+      const auto it = std::find(named.Names.begin(), named.Names.end(), p.TargetNames[i]);
+      ASSERT_NE(it, named.Names.end()) << p.TargetNames[i];
+      const double expected = (1 - u) * static_cast<float>(p.Weights[k * n + i]) + u * static_cast<float>(p.Weights[k1 * n + i]);
+      EXPECT_NEAR(named.Values[static_cast<size_t>(it - named.Names.begin())], expected, 1e-6) << p.TargetNames[i];
+    }
+    if (u > 1e-9)
+    {
+      continue; // geometry at the keys (rotations between keys are slerped)
+    }
+    double largest = 0.0;
+    for (size_t pi = 0; pi < head.Parts.size(); ++pi)
+    {
+      const GltfPart& part = head.Parts[pi];
+      const GltfPart& written = back.Parts[pi];
+      const GltfNode& node = head.Nodes[static_cast<size_t>(part.Node)];
+      GltfMatrix world = node.World;
+      for (size_t r = 1; r < p.Rotations.size(); ++r)
+      {
+        if (p.Rotations[r].Node == node.Name)
+        {
+          const GltfMatrix parent = node.Parent >= 0 ? head.Nodes[static_cast<size_t>(node.Parent)].World : GltfIdentity();
+          world = GltfMultiply(parent, GltfMultiply(Turn(p.Rotations[r].Pivot, &p.Rotations[r].Rotations[4 * k]), node.Local));
+        }
+      }
+      world = GltfMultiply(Turn(p.Rotations[0].Pivot, &p.Rotations[0].Rotations[4 * k]), world);
+      const GltfMatrix& actualWorld = s.Nodes[static_cast<size_t>(written.Node)].World;
+      const auto& w = s.Nodes[static_cast<size_t>(written.Node)].Weights;
+      for (size_t v = 0; v < part.GetNumberOfPoints(); v += 7)
+      {
+        double x[3] = { part.Positions[3 * v], part.Positions[3 * v + 1], part.Positions[3 * v + 2] };
+        double y[3] = { x[0], x[1], x[2] };
+        for (size_t t2 = 0; t2 < part.Targets.size(); ++t2)
+        {
+          const auto ti = std::find(p.TargetNames.begin(), p.TargetNames.end(), part.Targets[t2].Name) - p.TargetNames.begin();
+          const double weight = static_cast<float>(p.Weights[k * n + static_cast<size_t>(ti)]);
+          for (int c = 0; c < 3; ++c)
+          {
+            x[c] += weight * part.Targets[t2].PositionDeltas[3 * v + c];
+            y[c] += w[t2] * written.Targets[t2].PositionDeltas[3 * v + c];
+          }
+        }
+        const auto e = Transform(world, x[0], x[1], x[2]);
+        const auto a = Transform(actualWorld, y[0], y[1], y[2]);
+        largest = std::max(largest, std::hypot(e[0] - a[0], e[1] - a[1], e[2] - a[2]));
+      }
+    }
+    EXPECT_LT(largest, 1e-6 * 0.38) << "largest " << largest; // the default head is 0.38 m across
+  }
 }
 
 TEST(GltfWriter, DefaultHeadWorldSpaceAndJson)
