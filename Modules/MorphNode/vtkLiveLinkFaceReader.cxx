@@ -21,6 +21,7 @@
 #include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkStringArray.h"
 #include "vtkTable.h"
+#include "vtkTimeStamp.h"
 
 #include <exception>
 #include <vector>
@@ -30,11 +31,10 @@ vtkStandardNewMacro(vtkLiveLinkFaceReader);
 struct vtkLiveLinkFaceReader::vtkInternals
 {
   vtkSmartPointer<vtkStringArray> TargetNames;
-  // The file as last read, and the settings it was read with.
+  // The file as last read, and when (any change of the reader, Modified() included, reads
+  // it again).
   bool Read = false;
-  std::string ReadFileName;
-  int ReadRate = 0;
-  double ReadUnit = 0.0;
+  vtkTimeStamp ReadTime;
   morphnode::LiveLinkCapture Capture;
   // The mapping of the last execution.
   std::vector<std::string> Channels;
@@ -193,8 +193,7 @@ const char* vtkLiveLinkFaceReader::GetMappingReport()
 bool vtkLiveLinkFaceReader::EnsureRead()
 {
   vtkInternals& internals = *this->Internals;
-  if (internals.Read && internals.ReadFileName == this->FileName && internals.ReadRate == this->TimecodeRate &&
-    internals.ReadUnit == this->PoseDegreesPerUnit)
+  if (internals.Read && internals.ReadTime > this->GetMTime())
   {
     return true;
   }
@@ -221,9 +220,7 @@ bool vtkLiveLinkFaceReader::EnsureRead()
     return false;
   }
   internals.Read = true;
-  internals.ReadFileName = this->FileName;
-  internals.ReadRate = this->TimecodeRate;
-  internals.ReadUnit = this->PoseDegreesPerUnit;
+  internals.ReadTime.Modified();
   return true;
 }
 

@@ -38,7 +38,8 @@
  *
  * Bad input (no file, a malformed header or timecode, a row with missing cells or a value
  * that is not a number) is an error naming the line and the column; RequestData returns 0
- * and both outputs are empty. The file is read again only when a setting changes.
+ * and both outputs are empty. The file is read again after any change of the reader
+ * (a setting, Modified()), not for each time step.
  *
  * @sa vtkMorphNodeFilter vtkBehaviorTimeSource vtkMorphRigFilter morphnode::ReadLiveLinkCsv
  */

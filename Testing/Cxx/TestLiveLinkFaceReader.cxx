@@ -89,6 +89,16 @@ TEST(LiveLinkFaceReader, ATakeIsATemporalWeightSource)
   EXPECT_STREQ(take->GetColumnName(0), "Time");
   EXPECT_NEAR(Column(take, "eyeBlinkLeft", 1), 1.0, 1e-9);
   EXPECT_NEAR(Column(take, "Time", 2), 2.0 / 30.0, 1e-9);
+
+  // The file is read once, not for every time step; Modified() reads it again.
+  const std::string path = reader->GetFileName();
+  std::ofstream(path) << "Timecode,JawOpen\n10:00:00:00.250,0.125\n10:00:00:02.250,0.125\n";
+  reader->UpdateTimeStep(0.0);
+  EXPECT_NEAR(Column(vtkTable::SafeDownCast(reader->GetOutputDataObject(0)), "jawOpen"), 0.0, 1e-12);
+  reader->Modified();
+  reader->UpdateTimeStep(0.0);
+  EXPECT_NEAR(Column(vtkTable::SafeDownCast(reader->GetOutputDataObject(0)), "jawOpen"), 0.125, 1e-12);
+  EXPECT_TRUE(messages->Errors.empty()) << messages->AllErrors();
 }
 
 TEST(LiveLinkFaceReader, TheTakeDrivesTheIctHeadAndReportsWhatDoesNotMap)
