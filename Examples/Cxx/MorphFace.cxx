@@ -1,29 +1,26 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // MorphFace: read a face with morph targets, set weights, optionally optimize them, and
-// render it (to a window, or offscreen to a PNG), optionally coloured by distance.
+// render it (to a window, or offscreen to a PNG), optionally coloured by distance. A glTF
+// file is read as a whole scene (every part: skin, mouth, teeth, tongue, eyes, ...; a
+// vtkPartitionedDataSetCollection), morphed as one head, and drawn one actor per part in
+// the part's own colour (AppKit/HeadActors); an OBJ set is one vtkPolyData.
 //
 //   MorphFace [face.glb] [--weight NAME=VALUE]... [--mode strict|normalize|relative]
 //             [--method none|fixed-maximum|fixed-remaining|adjusted|error-bounded]
 //             [--threshold T] [--max-error E] [--color AnimatedRegion|Distance_<target>]
 //             [--png out.png] [--size WxH]
 //
-// Example: MorphFace Data/DefaultFace/default_face.glb --weight O=0.8 --weight BrowsUp=0.5 --png o.png
+// Example: MorphFace Data/DefaultFace/default_head.glb --weight O=0.8 --weight BrowsUp=0.5 --png o.png
 #include "CommandLine.h"
 #include "DataPaths.h"
+#include "HeadActors.h"
 #include "ImageOutput.h"
 
 #include "vtkMorphNodeFilter.h"
 #include "vtkMorphTargetReader.h"
 
-#include "vtkActor.h"
-#include "vtkCamera.h"
-#include "vtkDataArray.h"
 #include "vtkLookupTable.h"
 #include "vtkNew.h"
-#include "vtkPointData.h"
-#include "vtkPolyData.h"
-#include "vtkPolyDataMapper.h"
-#include "vtkProperty.h"
 #include "vtkRenderWindow.h"
 #include "vtkRenderWindowInteractor.h"
 #include "vtkRenderer.h"
@@ -56,8 +53,7 @@ int main(int argc, char* argv[])
   appkit::ParseCommandLine(app, argc, argv);
 
   vtkNew<vtkMorphTargetReader> reader;
-  reader->SetFileName(face.c_str());
-  reader->SetMeshIndex(0); // one mesh as one vtkPolyData (no index: the whole scene)
+  reader->SetFileName(face.c_str()); // the whole scene (SetMeshIndex(i): one mesh)
   vtkNew<vtkMorphNodeFilter> morph;
   morph->SetInputConnection(reader->GetOutputPort());
   for (const auto& [name, weight] : weights)
@@ -72,8 +68,11 @@ int main(int argc, char* argv[])
   morph->SetOptimizerPreset(static_cast<int>(method));
   morph->SetGenerateDistanceArrays(!color.empty());
   morph->Update();
-  auto* output = vtkPolyData::SafeDownCast(morph->GetOutput());
-  if (!output || output->GetNumberOfPoints() == 0)
+  // The input's structure: a composite of parts (weights by name reach every part that has
+  // the target), or a vtkPolyData.
+  vtkDataObject* output = morph->GetOutputDataObject(0);
+  double bounds[6];
+  if (!appkit::HeadBounds(output, bounds))
   {
     std::cerr << "nothing to show (see the errors above)\n";
     return 1;
@@ -81,47 +80,31 @@ int main(int argc, char* argv[])
   std::cout << face << ": " << morph->GetNumberOfTargets() << " targets, "
             << morph->GetActiveTargetCount() << " active, error bound " << morph->GetErrorBound() << "\n";
 
-  vtkNew<vtkPolyDataMapper> mapper;
-  mapper->SetInputData(output);
-  vtkNew<vtkActor> actor;
-  actor->SetMapper(mapper);
   vtkNew<vtkRenderer> renderer;
-  renderer->SetBackground(0.15, 0.16, 0.2);
-  renderer->AddActor(actor);
+  appkit::HeadActors head; // one actor per part, in its own colour
+  head.Build(output, renderer, nullptr);
   if (!color.empty())
   {
-    vtkDataArray* scalars = output->GetPointData()->GetArray(color.c_str());
-    if (!scalars)
+    vtkNew<vtkLookupTable> still2moving; // blue where the face stays still, red where it moves
+    still2moving->SetHueRange(0.667, 0.0);
+    double range[2];
+    if (!head.ColorBy(color, still2moving, range))
     {
       std::cerr << "no point array '" << color << "' (try AnimatedRegion or Distance_<target>)\n";
       return 1;
     }
-    mapper->SetScalarModeToUsePointFieldData();
-    mapper->SelectColorArray(color.c_str());
-    mapper->SetScalarRange(scalars->GetRange());
-    mapper->ScalarVisibilityOn();
-    vtkNew<vtkLookupTable> still2moving; // blue where the face stays still, red where it moves
-    still2moving->SetHueRange(0.667, 0.0);
-    mapper->SetLookupTable(still2moving);
     vtkNew<vtkScalarBarActor> bar;
-    bar->SetLookupTable(mapper->GetLookupTable());
+    bar->SetLookupTable(still2moving);
     bar->SetTitle(color.c_str());
     bar->SetNumberOfLabels(4);
     bar->SetMaximumWidthInPixels(90);
     renderer->AddActor2D(bar);
   }
-  else
-  {
-    actor->GetProperty()->SetColor(0.86, 0.72, 0.62);
-    actor->GetProperty()->SetSpecular(0.2);
-  }
   vtkNew<vtkRenderWindow> window;
   window->SetSize(width, height);
   window->SetMultiSamples(0);
   window->AddRenderer(renderer);
-  renderer->ResetCamera();
-  renderer->GetActiveCamera()->Zoom(1.4);
-  renderer->ResetCameraClippingRange();
+  appkit::HeadActors::SetUpView(renderer, bounds);
   if (!png.empty())
   {
     window->OffScreenRenderingOn();

@@ -6,18 +6,21 @@
 //   PlayScript [script] [--face face.glb] [--out DIR] [--fps F] [--duration S]
 //              [--frames N] [--size WxH] [--voice VOICE] [--visemes paper6|oculus15|german16]
 //
-// Default: Data/scripts/greeting.txt on Data/DefaultFace/default_face.glb into
+// Default: Data/scripts/greeting.txt on Data/DefaultFace/default_head.glb into
 // ./PlayScript-out. --duration overrides the script's length, --frames renders only the
 // first N frames (the CSV and the WAV still cover the whole track). Make a video with
 //   ffmpeg -framerate 30 -i DIR/frame_%05d.png -i DIR/speech.wav -shortest out.mp4
 //
 // The pipeline: vtkBehaviorTimeSource (port 0: the weights at the requested time) drives
-// vtkMorphNodeFilter in Relative mode (targets add on the neutral); the head pose channels
-// turn the actor about the neck (behavior/HeadPose.h), since the face has no head-pose
-// targets. Command line, frames, progress and head pose come from AppKit.
+// vtkMorphNodeFilter in Relative mode (targets add on the neutral) on the whole head (every
+// part of the glTF scene, one actor per part in its own colour: AppKit/HeadActors); the
+// head pose channels turn all parts about the neck by one transform (behavior/HeadPose.h),
+// since the face has no head-pose targets. Command line, frames, progress, head pose and
+// the head's actors come from AppKit.
 #include "CommandLine.h"
 #include "DataPaths.h"
 #include "FrameRecorder.h"
+#include "HeadActors.h"
 #include "HeadPoseTransform.h"
 #include "ImageOutput.h"
 #include "Progress.h"
@@ -26,13 +29,8 @@
 #include "vtkMorphNodeFilter.h"
 #include "vtkMorphTargetReader.h"
 
-#include "vtkActor.h"
-#include "vtkCamera.h"
 #include "vtkDelimitedTextWriter.h"
 #include "vtkNew.h"
-#include "vtkPointSet.h"
-#include "vtkPolyDataMapper.h"
-#include "vtkProperty.h"
 #include "vtkRenderWindow.h"
 #include "vtkRenderer.h"
 #include "vtkTable.h"
@@ -104,39 +102,29 @@ int main(int argc, char* argv[])
 
     // The face, animated through time.
     vtkNew<vtkMorphTargetReader> reader;
-    reader->SetFileName(face.c_str());
-    reader->SetMeshIndex(0); // one mesh as one vtkPolyData
+    reader->SetFileName(face.c_str()); // the whole scene: every part of the head
     vtkNew<vtkMorphNodeFilter> morph;
     morph->SetInputConnection(reader->GetOutputPort());
     morph->SetWeightsConnection(behavior->GetOutputPort(0));
     morph->SetWeightModeToRelative();
     morph->UpdateTimeStep(0.0);
-    auto* output = vtkPointSet::SafeDownCast(morph->GetOutputDataObject(0));
-    if (!output || output->GetNumberOfPoints() == 0)
+    double bounds[6];
+    if (!appkit::HeadBounds(morph->GetOutputDataObject(0), bounds))
     {
       std::cerr << "nothing to show (see the errors above)\n";
       return 1;
     }
-    vtkNew<vtkPolyDataMapper> mapper;
-    mapper->SetInputConnection(morph->GetOutputPort());
-    vtkNew<vtkTransform> headPose;
-    vtkNew<vtkActor> actor;
-    actor->SetMapper(mapper);
-    actor->SetUserTransform(headPose);
-    actor->GetProperty()->SetColor(0.86, 0.72, 0.62);
-    actor->GetProperty()->SetSpecular(0.2);
-    const auto pivot = morphnode::HeadPivot(output->GetBounds());
-
+    vtkNew<vtkTransform> headPose; // one transform for every part
     vtkNew<vtkRenderer> renderer;
-    renderer->SetBackground(0.15, 0.16, 0.2);
-    renderer->AddActor(actor);
+    appkit::HeadActors head;
+    head.Build(morph->GetOutputDataObject(0), renderer, headPose);
+    const auto pivot = morphnode::HeadPivot(bounds);
     vtkNew<vtkRenderWindow> window;
     window->SetSize(width, height);
     window->SetMultiSamples(0);
     window->OffScreenRenderingOn();
     window->AddRenderer(renderer);
-    renderer->ResetCamera();
-    renderer->GetActiveCamera()->Zoom(1.3);
+    appkit::HeadActors::SetUpView(renderer, bounds);
 
     const double rate = behavior->GetFrameRate();
     int count = static_cast<int>(std::floor(behavior->GetEffectiveDuration() * rate + 1e-9)) + 1;
@@ -151,10 +139,13 @@ int main(int argc, char* argv[])
     appkit::ProgressBar progress(count);
     for (int f = 0; f < count; ++f)
     {
-      morph->UpdateTimeStep(f / rate);
+      if (!morph->UpdateTimeStep(f / rate) || !head.Update(morph->GetOutputDataObject(0)))
+      {
+        std::cerr << "\nthe face could not be morphed at t = " << f / rate << "\n";
+        return 1;
+      }
       auto* weights = vtkTable::SafeDownCast(behavior->GetOutputDataObject(0));
       appkit::SetHeadPose(headPose, appkit::ReadHeadAngles(weights), pivot);
-      renderer->ResetCameraClippingRange();
       window->Render();
       recorder.Capture(f);
       progress.Show(f + 1);

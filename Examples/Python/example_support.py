@@ -1,13 +1,20 @@
 # SPDX-License-Identifier: BSD-3-Clause
 """What the Python examples share, as the C++ programs share Modules/Applications/AppKit:
 the optimizer presets by name (from vtkMorphNodeFilter, which spells them as
-morph/OptimizerPresets.h does), WxH sizes, the head pose, and a progress bar.
+morph/OptimizerPresets.h does), WxH sizes, the head pose, a head's parts as actors in their
+own colours (AppKit/HeadActors), and a progress bar.
 """
 import argparse
+import math
 import sys
 import time
 
 from morphnode import vtkMorphNodeFilter
+from vtkmodules.vtkCommonCore import vtkUnsignedCharArray
+from vtkmodules.vtkCommonDataModel import vtkPolyData
+from vtkmodules.vtkRenderingCore import vtkActor, vtkLightKit, vtkPolyDataMapper
+
+SKIN = (0.86, 0.72, 0.62)  # a part without a material
 
 
 def preset_names():
@@ -66,6 +73,182 @@ def set_head_pose(transform, weights, pivot):
     transform.RotateX(-channel("HeadPitch"))
     transform.RotateZ(-channel("HeadRoll"))
     transform.Translate(-pivot[0], -pivot[1], -pivot[2])
+
+
+def head_parts(head):
+    """The vtkPolyData parts of a head: the leaves of the reader's (or the morph filter's)
+    composite in traversal order, or a vtkPolyData alone (AppKit HeadParts)."""
+    if head is None:
+        return []
+    if head.IsA("vtkPolyData"):
+        return [head]
+    parts = []
+    if head.IsA("vtkCompositeDataSet"):
+        it = head.NewIterator()
+        it.SkipEmptyNodesOn()
+        it.InitTraversal()
+        while not it.IsDoneWithTraversal():
+            leaf = it.GetCurrentDataObject()
+            if leaf is not None and leaf.IsA("vtkPolyData"):
+                parts.append(leaf)
+            it.GoToNextItem()
+    return parts
+
+
+def head_bounds(head):
+    """The bounds of all parts of a head, or None when it has no point."""
+    bounds = None
+    for part in head_parts(head):
+        if part.GetNumberOfPoints() == 0:
+            continue
+        b = part.GetBounds()
+        bounds = list(b) if bounds is None else [
+            min(bounds[k], b[k]) if k % 2 == 0 else max(bounds[k], b[k]) for k in range(6)]
+    return bounds
+
+
+def _field_string(part, name):
+    array = part.GetFieldData().GetAbstractArray(name)
+    return array.GetValue(0) if array is not None and array.GetNumberOfValues() else ""
+
+
+def part_color(part):
+    """Linear RGBA of a part: field data BaseColor, or skin without a material."""
+    base = part.GetFieldData().GetArray("BaseColor")
+    if base is None or base.GetNumberOfValues() < 3 or not _field_string(part, "MaterialName"):
+        return (*SKIN, 1.0)
+    values = [base.GetValue(k) for k in range(min(4, base.GetNumberOfValues()))] + [1.0]
+    return tuple(min(1.0, max(0.0, v)) if math.isfinite(v) else 1.0 for v in values[:4])
+
+
+def point_colors(part, base):
+    """COLOR_0 times the base colour as RGB bytes (array DisplayColors), or None."""
+    color = part.GetPointData().GetArray("COLOR_0")
+    if color is None or color.GetNumberOfComponents() < 3 or color.GetNumberOfTuples() != part.GetNumberOfPoints():
+        return None
+    try:
+        import numpy
+        from vtkmodules.util import numpy_support
+    except ImportError:
+        return None  # the base colour alone
+    scale = 1.0 / 255.0 if color.IsA("vtkUnsignedCharArray") else 1.0
+    rgb = numpy_support.vtk_to_numpy(color)[:, :3] * scale * numpy.asarray(base[:3])
+    array = numpy_support.numpy_to_vtk(numpy.rint(rgb.clip(0.0, 1.0) * 255.0).astype(numpy.uint8), deep=1,
+                                       array_type=vtkUnsignedCharArray().GetDataType())
+    array.SetName("DisplayColors")
+    return array
+
+
+class HeadActors:
+    """One actor per part of a head, each in its own colour (BaseColor x COLOR_0), all moved
+    by one transform (the head pose): the Python twin of AppKit/HeadActors, which says why
+    one actor per part rather than vtkCompositePolyDataMapper2 (VTK 9.1's composite
+    attributes have no per-block material nor per-block scalar visibility)."""
+
+    def __init__(self, head, renderer, pose=None):
+        self.parts = []
+        for part in head_parts(head):
+            color = part_color(part)
+            display = vtkPolyData()
+            mapper = vtkPolyDataMapper()
+            mapper.SetInputData(display)
+            actor = vtkActor()
+            actor.SetMapper(mapper)
+            if pose is not None:
+                actor.SetUserTransform(pose)
+            prop = actor.GetProperty()
+            prop.SetColor(color[:3])
+            prop.SetOpacity(color[3])
+            prop.SetAmbient(0.08)
+            prop.SetDiffuse(0.92)
+            prop.SetSpecular(0.15)
+            prop.SetSpecularPower(20.0)
+            entry = {"display": display, "mapper": mapper, "actor": actor,
+                     "colors": point_colors(part, color), "points": part.GetNumberOfPoints(),
+                     "name": _field_string(part, "PartName")}
+            self.parts.append(entry)
+            self._take(entry, part)
+            self._own_colors(entry)
+            renderer.AddActor(actor)
+
+    @staticmethod
+    def _take(entry, part):
+        entry["display"].ShallowCopy(part)  # our own array list: the filter's output stays as it is
+        if entry["colors"] is not None:
+            entry["display"].GetPointData().AddArray(entry["colors"])
+
+    @staticmethod
+    def _own_colors(entry):
+        mapper = entry["mapper"]
+        if entry["colors"] is not None:
+            mapper.SetScalarModeToUsePointFieldData()
+            mapper.SelectColorArray("DisplayColors")
+            mapper.SetColorModeToDirectScalars()
+            mapper.ScalarVisibilityOn()
+        else:
+            mapper.ScalarVisibilityOff()
+
+    def update(self, head):
+        """The parts' new geometry (the same parts, at another time). False if they differ."""
+        parts = head_parts(head)
+        if len(parts) != len(self.parts) or any(
+                p.GetNumberOfPoints() != e["points"] for p, e in zip(parts, self.parts)):
+            return False
+        for entry, part in zip(self.parts, parts):
+            self._take(entry, part)
+        return True
+
+    def color_by(self, name, lut):
+        """Every part coloured by point array `name` through `lut` over the range of all
+        parts; parts without it keep their colour. The range, or None if no part has it."""
+        ranges = [e["display"].GetPointData().GetArray(name).GetRange() for e in self.parts
+                  if e["display"].GetPointData().GetArray(name) is not None]
+        if not ranges:
+            return None
+        rng = (min(r[0] for r in ranges), max(r[1] for r in ranges))
+        for entry in self.parts:
+            mapper = entry["mapper"]
+            if entry["display"].GetPointData().GetArray(name) is None:
+                self._own_colors(entry)
+                continue
+            mapper.SetScalarModeToUsePointFieldData()
+            mapper.SelectColorArray(name)
+            mapper.SetColorModeToMapScalars()
+            mapper.SetLookupTable(lut)
+            mapper.UseLookupTableScalarRangeOff()
+            mapper.SetScalarRange(rng)
+            mapper.ScalarVisibilityOn()
+        return rng
+
+
+def set_up_view(renderer, bounds, zoom=1.0):
+    """A light kit, a gradient background and the camera in front of the face (it looks along
+    +Z, +Y up), the head filling the view (AppKit HeadActors::SetUpView)."""
+    renderer.RemoveAllLights()
+    lights = vtkLightKit()
+    lights.SetKeyLightIntensity(0.85)
+    lights.AddLightsToRenderer(renderer)
+    renderer.SetBackground(0.15, 0.16, 0.2)
+    renderer.SetBackground2(0.32, 0.34, 0.42)
+    renderer.GradientBackgroundOn()
+    # A portrait: the head from the top down to the neck (the lowest 15 % of the bounds may
+    # leave the frame), the face a little below the middle; from the front, 30 degrees.
+    b = bounds
+    bottom = b[2] + 0.15 * (b[3] - b[2])
+    height = 1.12 * (b[3] - bottom)
+    center = (0.5 * (b[0] + b[1]), 0.5 * (bottom + b[3]) + 0.04 * height, 0.5 * (b[4] + b[5]))
+    distance = 0.5 * height / math.tan(math.radians(15.0)) / (zoom if zoom > 0 else 1.0)
+    camera = renderer.GetActiveCamera()
+    camera.SetFocalPoint(center)
+    camera.SetPosition(center[0], center[1], b[5] + distance)  # the height fits at the front
+    camera.SetViewUp(0.0, 1.0, 0.0)
+    camera.SetViewAngle(30.0)
+    d = math.dist(b[0::2], b[1::2])  # far enough for a head turned by the pose
+    renderer.ResetCameraClippingRange(b[0] - d, b[1] + d, b[2] - d, b[3] + d, b[4] - d, b[5] + d)
+    # Smooth edges without multisampling; FXAA on a multisampled window renders black under
+    # Xvfb, so only on a window without it (call this after adding the renderer to it).
+    window = renderer.GetRenderWindow()
+    renderer.SetUseFXAA(window is not None and window.GetMultiSamples() == 0)
 
 
 class ProgressBar:

@@ -3,8 +3,10 @@
 """MorphAvatar in Python: an avatar speaks a sentence or plays a behaviour script, with
 idle behaviour, through the weight optimizer of Berner (WSCG 2004, Figure 6).
 
-    vtkBehaviorTimeSource -> [vtkMorphRigFilter] -> vtkMorphNodeFilter -> mapper,
-    HeadYaw/Pitch/Roll -> vtkTransform on the actor
+    vtkMorphTargetReader (the whole scene: every part of the head) -> vtkMorphNodeFilter
+    (weights from vtkBehaviorTimeSource [-> vtkMorphRigFilter]) -> one actor per part in
+    its own colour (example_support.HeadActors); HeadYaw/Pitch/Roll -> one vtkTransform
+    shared by every part's actor
 
 Offscreen, every frame at the frame rate to PNG frames (and optionally a Theora video and
 the WAV); without --frames/--video a window where time runs in real time (keys 0-4
@@ -19,18 +21,16 @@ import os
 import sys
 import time
 
-from example_support import ProgressBar, head_pivot, preset, preset_names, set_head_pose, size
+from example_support import (HeadActors, ProgressBar, head_bounds, head_pivot, preset, preset_names,
+                             set_head_pose, set_up_view, size)
 from morphnode import vtkBehaviorTimeSource, vtkMorphNodeFilter, vtkMorphTargetReader
 
 import vtkmodules.vtkInteractionStyle  # noqa: F401  (default interactor style)
 import vtkmodules.vtkRenderingFreeType  # noqa: F401  (text)
 import vtkmodules.vtkRenderingOpenGL2  # noqa: F401  (the render backend)
-from vtkmodules.vtkCommonDataModel import vtkPolyData
 from vtkmodules.vtkCommonTransforms import vtkTransform
 from vtkmodules.vtkIOImage import vtkPNGWriter
 from vtkmodules.vtkRenderingCore import (
-    vtkActor,
-    vtkPolyDataMapper,
     vtkRenderer,
     vtkRenderWindow,
     vtkRenderWindowInteractor,
@@ -39,7 +39,7 @@ from vtkmodules.vtkRenderingCore import (
 )
 
 DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "Data")
-DEFAULT_FACE = os.path.join(DATA, "DefaultFace", "default_face.glb")
+DEFAULT_FACE = os.path.join(DATA, "DefaultFace", "default_head.glb")
 def ranged(lo, hi):
     def parse(text):
         try:
@@ -93,7 +93,6 @@ class Avatar:
 
         self.reader = vtkMorphTargetReader()
         self.reader.SetFileName(args.face)
-        self.reader.SetMeshIndex(0)  # one mesh as one vtkPolyData
         self.morph = vtkMorphNodeFilter()
         self.morph.SetInputConnection(self.reader.GetOutputPort())
         self.morph.SetWeightModeToRelative()  # channels add their targets' deltas
@@ -107,31 +106,19 @@ class Avatar:
         else:
             self.morph.SetWeightsConnection(self.behavior.GetOutputPort(0))
         self.method, self.threshold = args.method, args.threshold
-        self.display = vtkPolyData()
-        self.pose = vtkTransform()
+        self.head = None  # the parts' actors, made below
+        self.pose = vtkTransform()  # the head pose: one transform for every part
         if not self.update(0.0):
             raise SystemExit(f"morph_avatar: cannot morph the face {args.face} (see above)")
-        b = self.morph.GetOutput().GetBounds()
+        b = head_bounds(self.morph.GetOutputDataObject(0))
         self.diagonal = math.dist((b[0], b[2], b[4]), (b[1], b[3], b[5])) or 1.0
         self.pivot = head_pivot(b)
         self.max_error = args.max_error if args.max_error is not None else 0.005 * self.diagonal
         self.apply_method()
         self.update(0.0)
 
-        mapper = vtkPolyDataMapper()
-        mapper.SetInputData(self.display)
-        mapper.ScalarVisibilityOff()
-        actor = vtkActor()
-        actor.SetMapper(mapper)
-        actor.SetUserTransform(self.pose)
-        actor.GetProperty().SetColor(0.86, 0.72, 0.62)
-        actor.GetProperty().SetSpecular(0.2)
-        actor.GetProperty().SetSpecularPower(20)
         self.renderer = vtkRenderer()
-        self.renderer.SetBackground(0.15, 0.16, 0.2)
-        self.renderer.SetBackground2(0.32, 0.34, 0.42)
-        self.renderer.GradientBackgroundOn()
-        self.renderer.AddActor(actor)
+        self.head = HeadActors(self.morph.GetOutputDataObject(0), self.renderer, self.pose)
         w, h = args.size
         self.overlay = vtkTextActor()
         tp = self.overlay.GetTextProperty()
@@ -150,9 +137,7 @@ class Avatar:
         self.window.SetMultiSamples(0)
         self.window.AddRenderer(self.renderer)
         self.window.SetWindowName("morph_avatar.py")
-        self.renderer.ResetCamera(b)
-        self.renderer.GetActiveCamera().Zoom(1.3)
-        self.renderer.ResetCameraClippingRange()
+        set_up_view(self.renderer, b)
 
     def apply_method(self):
         """The optimizer preset (morph/OptimizerPresets.h) with the threshold and the bound."""
@@ -167,10 +152,11 @@ class Avatar:
         self.time = t
         if not self.morph.UpdateTimeStep(t):
             return False
-        face = self.morph.GetOutput()
-        if face.GetNumberOfPoints() == 0:
+        face = self.morph.GetOutputDataObject(0)  # the reader's structure: parts, or one mesh
+        if head_bounds(face) is None:
             return False
-        self.display.ShallowCopy(face)
+        if self.head is not None and not self.head.update(face):
+            return False
         if hasattr(self, "pivot"):
             set_head_pose(self.pose, self.behavior.GetOutputDataObject(0), self.pivot)
         return True

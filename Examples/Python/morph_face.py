@@ -2,14 +2,17 @@
 # SPDX-License-Identifier: BSD-3-Clause
 """Read a face with morph targets, set weights, optionally optimize, render to a PNG.
 
+A glTF file is read as a whole scene (every part: skin, mouth, teeth, tongue, eyes, ...),
+morphed as one head and drawn one actor per part in its own colour; an OBJ set is one mesh.
+
     PYTHONPATH=build/lib/python3/dist-packages /usr/bin/python3 Examples/Python/morph_face.py \
-        Data/DefaultFace/default_face.glb --weight O=0.8 --weight BrowsUp=0.5 --png o.png
+        Data/DefaultFace/default_head.glb --weight O=0.8 --weight BrowsUp=0.5 --png o.png
 """
 import argparse
 import os
 import sys
 
-from example_support import preset, preset_names, size
+from example_support import HeadActors, head_bounds, preset, preset_names, set_up_view, size
 from morphnode import vtkMorphNodeFilter, vtkMorphTargetReader
 
 import vtkmodules.vtkInteractionStyle  # noqa: F401  (default interactor style)
@@ -18,15 +21,13 @@ from vtkmodules.vtkCommonCore import vtkLookupTable
 from vtkmodules.vtkIOImage import vtkPNGWriter
 from vtkmodules.vtkRenderingAnnotation import vtkScalarBarActor
 from vtkmodules.vtkRenderingCore import (
-    vtkActor,
-    vtkPolyDataMapper,
     vtkRenderer,
     vtkRenderWindow,
     vtkRenderWindowInteractor,
     vtkWindowToImageFilter,
 )
 
-DEFAULT_FACE = os.path.join(os.path.dirname(__file__), "..", "..", "Data", "DefaultFace", "default_face.glb")
+DEFAULT_FACE = os.path.join(os.path.dirname(__file__), "..", "..", "Data", "DefaultFace", "default_head.glb")
 
 
 def main(argv=None):
@@ -45,7 +46,6 @@ def main(argv=None):
 
     reader = vtkMorphTargetReader()
     reader.SetFileName(args.face)
-    reader.SetMeshIndex(0)  # one mesh as one vtkPolyData (no index: the whole scene)
     morph = vtkMorphNodeFilter()
     morph.SetInputConnection(reader.GetOutputPort())
     getattr(morph, "SetWeightModeTo" + args.mode.capitalize())()
@@ -57,46 +57,32 @@ def main(argv=None):
         name, _, value = item.partition("=")
         morph.SetWeightByName(name, float(value))
     morph.Update()
-    face = morph.GetOutput()
-    if face.GetNumberOfPoints() == 0:
+    face = morph.GetOutputDataObject(0)  # the input's structure: parts, or one vtkPolyData
+    bounds = head_bounds(face)
+    if bounds is None:
         print("nothing to show (see the errors above)", file=sys.stderr)
         return 1
     print(f"{args.face}: {morph.GetNumberOfTargets()} targets, {morph.GetActiveTargetCount()} active, "
           f"error bound {morph.GetErrorBound():g}")
 
-    mapper = vtkPolyDataMapper()
-    mapper.SetInputData(face)
-    actor = vtkActor()
-    actor.SetMapper(mapper)
     renderer = vtkRenderer()
-    renderer.SetBackground(0.15, 0.16, 0.2)
-    renderer.AddActor(actor)
+    head = HeadActors(face, renderer)  # one actor per part, in its own colour
     if args.color:
-        scalars = face.GetPointData().GetArray(args.color)
-        if scalars is None:
-            print(f"no point array {args.color!r}", file=sys.stderr)
-            return 1
-        mapper.SetScalarModeToUsePointFieldData()
-        mapper.SelectColorArray(args.color)
-        mapper.SetScalarRange(scalars.GetRange())
         still_to_moving = vtkLookupTable()  # blue where the face stays still, red where it moves
         still_to_moving.SetHueRange(0.667, 0.0)
-        mapper.SetLookupTable(still_to_moving)
+        if head.color_by(args.color, still_to_moving) is None:
+            print(f"no point array {args.color!r}", file=sys.stderr)
+            return 1
         bar = vtkScalarBarActor()
-        bar.SetLookupTable(mapper.GetLookupTable())
+        bar.SetLookupTable(still_to_moving)
         bar.SetTitle(args.color)
         bar.SetMaximumWidthInPixels(90)
         renderer.AddActor2D(bar)
-    else:
-        actor.GetProperty().SetColor(0.86, 0.72, 0.62)
-        actor.GetProperty().SetSpecular(0.2)
     window = vtkRenderWindow()
     window.SetSize(*args.size)
     window.SetMultiSamples(0)
     window.AddRenderer(renderer)
-    renderer.ResetCamera()
-    renderer.GetActiveCamera().Zoom(1.4)
-    renderer.ResetCameraClippingRange()
+    set_up_view(renderer, bounds)
     if args.png:
         window.OffScreenRenderingOn()
         window.Render()

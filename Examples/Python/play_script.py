@@ -15,7 +15,7 @@ import math
 import os
 import sys
 
-from example_support import ProgressBar, head_pivot, set_head_pose, size
+from example_support import HeadActors, ProgressBar, head_bounds, head_pivot, set_head_pose, set_up_view, size
 from morphnode import vtkBehaviorTimeSource, vtkMorphNodeFilter, vtkMorphTargetReader
 
 import vtkmodules.vtkInteractionStyle  # noqa: F401  (default interactor style)
@@ -23,11 +23,11 @@ import vtkmodules.vtkRenderingOpenGL2  # noqa: F401  (the render backend)
 from vtkmodules.vtkCommonTransforms import vtkTransform
 from vtkmodules.vtkIOCore import vtkDelimitedTextWriter
 from vtkmodules.vtkIOImage import vtkPNGWriter
-from vtkmodules.vtkRenderingCore import vtkActor, vtkPolyDataMapper, vtkRenderer, vtkRenderWindow, vtkWindowToImageFilter
+from vtkmodules.vtkRenderingCore import vtkRenderer, vtkRenderWindow, vtkWindowToImageFilter
 
 DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "Data")
 DEFAULT_SCRIPT = os.path.join(DATA, "scripts", "greeting.txt")
-DEFAULT_FACE = os.path.join(DATA, "DefaultFace", "default_face.glb")
+DEFAULT_FACE = os.path.join(DATA, "DefaultFace", "default_head.glb")
 
 
 def main(argv=None):
@@ -69,36 +69,27 @@ def main(argv=None):
 
     reader = vtkMorphTargetReader()
     reader.SetFileName(args.face)
-    reader.SetMeshIndex(0)  # one mesh as one vtkPolyData
+    # The whole scene: every part of the head (a vtkPartitionedDataSetCollection).
     morph = vtkMorphNodeFilter()
     morph.SetInputConnection(reader.GetOutputPort())
     morph.SetWeightsConnection(behavior.GetOutputPort(0))
     morph.SetWeightModeToRelative()  # the targets add on the neutral
     morph.UpdateTimeStep(0.0)
-    face = morph.GetOutputDataObject(0)
-    if face is None or face.GetNumberOfPoints() == 0:
+    bounds = head_bounds(morph.GetOutputDataObject(0))
+    if bounds is None:
         print("nothing to show (see the errors above)", file=sys.stderr)
         return 1
 
-    mapper = vtkPolyDataMapper()
-    mapper.SetInputConnection(morph.GetOutputPort())
-    actor = vtkActor()
-    actor.SetMapper(mapper)
-    actor.GetProperty().SetColor(0.86, 0.72, 0.62)
-    actor.GetProperty().SetSpecular(0.2)
-    pose = vtkTransform()  # the head pose channels turn the face about the neck
-    actor.SetUserTransform(pose)
-    pivot = head_pivot(face.GetBounds())
+    pose = vtkTransform()  # the head pose channels turn every part about the neck
     renderer = vtkRenderer()
-    renderer.SetBackground(0.15, 0.16, 0.2)
-    renderer.AddActor(actor)
+    head = HeadActors(morph.GetOutputDataObject(0), renderer, pose)  # one actor per part
+    pivot = head_pivot(bounds)
     window = vtkRenderWindow()
     window.SetSize(*args.size)
     window.SetMultiSamples(0)
     window.OffScreenRenderingOn()
     window.AddRenderer(renderer)
-    renderer.ResetCamera()
-    renderer.GetActiveCamera().Zoom(1.3)
+    set_up_view(renderer, bounds)
     grab = vtkWindowToImageFilter()
     grab.SetInput(window)
     grab.ReadFrontBufferOff()
@@ -113,9 +104,10 @@ def main(argv=None):
           f"{behavior.GetNumberOfChannels()} channels -> {args.out}", file=sys.stderr)
     progress = ProgressBar(frames)
     for f in range(frames):
-        morph.UpdateTimeStep(f / rate)
+        if not morph.UpdateTimeStep(f / rate) or not head.update(morph.GetOutputDataObject(0)):
+            print(f"\nthe face could not be morphed at t = {f / rate:g}", file=sys.stderr)
+            return 1
         set_head_pose(pose, behavior.GetOutputDataObject(0), pivot)
-        renderer.ResetCameraClippingRange()
         window.Render()
         grab.Modified()
         png.SetFileName(os.path.join(args.out, f"frame_{f:05d}.png"))

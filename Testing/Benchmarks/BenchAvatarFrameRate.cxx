@@ -290,7 +290,7 @@ int main(int argc, char* argv[])
 {
   bool smoke = false;
   std::string textFile = std::string(MORPHNODE_SOURCE_DIR) + "/Data/scripts/long-text.txt";
-  std::string defaultFace = std::string(MORPHNODE_SOURCE_DIR) + "/Data/DefaultFace/default_face.glb";
+  std::string defaultFace = std::string(MORPHNODE_SOURCE_DIR) + "/Data/DefaultFace/default_head.glb";
   std::string ictFace = std::string(MORPHNODE_FACEKIT_DIR) + "/ict_face11248_sparse53.glb";
   std::string rig = std::string(MORPHNODE_SOURCE_DIR) + "/Data/rigs/arkit.json";
   std::string csv, markdown, images;

@@ -3,6 +3,7 @@
 // option types and their messages, the head pose on a VTK transform, the ParaView time
 // series.
 #include "CommandLine.h"
+#include "HeadActors.h"
 #include "HeadPoseTransform.h"
 #include "TimeSeriesWriter.h"
 
@@ -13,7 +14,20 @@
 #include "vtkSphereSource.h"
 #include "vtkTable.h"
 #include "vtkTransform.h"
+#include "vtkCompositeDataSet.h"
+#include "vtkInformation.h"
+#include "vtkMultiBlockDataSet.h"
+#include "vtkPartitionedDataSet.h"
+#include "vtkPartitionedDataSetCollection.h"
+#include "vtkPointData.h"
+#include "vtkStringArray.h"
+#include "vtkUnsignedCharArray.h"
+#include "vtkXMLMultiBlockDataReader.h"
 #include "vtkXMLPolyDataReader.h"
+#include "vtkActor.h"
+#include "vtkMapper.h"
+#include "vtkProperty.h"
+#include "vtkRenderer.h"
 
 #include <gtest/gtest.h>
 
@@ -170,4 +184,134 @@ TEST(AppKitTimeSeries, WritesTheCollectionAndTheSteps)
   EXPECT_EQ(reader->GetOutput()->GetNumberOfPoints(), face->GetNumberOfPoints());
 
   EXPECT_THROW(appkit::TimeSeriesWriter(dir + "/talk.vtp"), std::runtime_error);
+}
+
+namespace
+{
+/// A head of two parts as the reader gives it: a collection of one partitioned data set per
+/// part, each with PartName, MaterialName and BaseColor; the second with COLOR_0.
+vtkSmartPointer<vtkPartitionedDataSetCollection> TwoPartHead()
+{
+  auto head = vtkSmartPointer<vtkPartitionedDataSetCollection>::New();
+  const char* names[2] = { "Head", "EyeLeft/Iris" };
+  for (unsigned int i = 0; i < 2; ++i)
+  {
+    vtkNew<vtkSphereSource> sphere;
+    sphere->SetCenter(0.1 * i, 0, 0);
+    sphere->SetRadius(i ? 0.02 : 0.1);
+    sphere->Update();
+    auto part = vtkSmartPointer<vtkPolyData>::New();
+    part->DeepCopy(sphere->GetOutput());
+    vtkNew<vtkStringArray> partName;
+    partName->SetName("PartName");
+    partName->InsertNextValue(names[i]);
+    vtkNew<vtkStringArray> material;
+    material->SetName("MaterialName");
+    material->InsertNextValue(i ? "Iris" : "Skin");
+    vtkNew<vtkDoubleArray> base;
+    base->SetName("BaseColor");
+    for (double v : { i ? 0.4 : 0.8, 0.5, i ? 0.6 : 0.4, 1.0 })
+    {
+      base->InsertNextValue(v);
+    }
+    part->GetFieldData()->AddArray(partName);
+    part->GetFieldData()->AddArray(material);
+    part->GetFieldData()->AddArray(base);
+    if (i == 1)
+    {
+      vtkNew<vtkUnsignedCharArray> color;
+      color->SetName("COLOR_0");
+      color->SetNumberOfComponents(4);
+      for (vtkIdType p = 0; p < part->GetNumberOfPoints(); ++p)
+      {
+        const unsigned char c = p % 2 ? 255 : 0; // a pupil-dark and a full point in turn
+        color->InsertNextTuple4(c, c, c, 255);
+      }
+      part->GetPointData()->AddArray(color);
+    }
+    vtkNew<vtkPartitionedDataSet> partitioned;
+    partitioned->SetPartition(0, part);
+    head->SetPartitionedDataSet(i, partitioned);
+    head->GetMetaData(i)->Set(vtkCompositeDataSet::NAME(), names[i]);
+  }
+  return head;
+}
+} // namespace
+
+TEST(AppKitTimeSeries, WritesEveryPartOfAHead)
+{
+  const std::string dir = std::string(MORPHNODE_TEST_OUTPUT_DIR) + "/TestAppKitHeadSeries";
+  std::filesystem::remove_all(dir);
+  auto head = TwoPartHead();
+  {
+    appkit::TimeSeriesWriter series(dir + "/talk.pvd");
+    series.Write(head, nullptr, 0.25);
+    series.Close();
+  }
+  std::ifstream in(dir + "/talk.pvd");
+  const std::string xml((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(xml.find("timestep=\"0.25\" group=\"\" part=\"0\" file=\"talk/face_00000.vtm\""), std::string::npos) << xml;
+  vtkNew<vtkXMLMultiBlockDataReader> reader;
+  reader->SetFileName((dir + "/talk/face_00000.vtm").c_str());
+  reader->Update();
+  auto* blocks = vtkMultiBlockDataSet::SafeDownCast(reader->GetOutput());
+  ASSERT_NE(blocks, nullptr);
+  ASSERT_EQ(blocks->GetNumberOfBlocks(), 2u);
+  EXPECT_STREQ(blocks->GetMetaData(1u)->Get(vtkCompositeDataSet::NAME()), "EyeLeft/Iris");
+  auto* iris = vtkPolyData::SafeDownCast(blocks->GetBlock(1));
+  ASSERT_NE(iris, nullptr);
+  EXPECT_NE(iris->GetPointData()->GetArray("COLOR_0"), nullptr);
+  ASSERT_NE(iris->GetFieldData()->GetArray("TimeValue"), nullptr);
+  EXPECT_EQ(iris->GetFieldData()->GetArray("TimeValue")->GetTuple1(0), 0.25);
+  // The input keeps its own field data.
+  auto* part = vtkPolyData::SafeDownCast(head->GetPartitionedDataSet(1)->GetPartition(0));
+  EXPECT_EQ(part->GetFieldData()->GetArray("TimeValue"), nullptr);
+}
+
+TEST(AppKitHeadActors, OneActorPerPartInItsColours)
+{
+  auto head = TwoPartHead();
+  double bounds[6];
+  ASSERT_TRUE(appkit::HeadBounds(head, bounds));
+  EXPECT_NEAR(bounds[0], -0.1, 5e-3); // the spheres' facets
+  EXPECT_NEAR(bounds[1], 0.12, 5e-3);
+  vtkNew<vtkRenderer> renderer;
+  vtkNew<vtkTransform> pose;
+  appkit::HeadActors actors;
+  ASSERT_TRUE(actors.Build(head, renderer, pose));
+  ASSERT_EQ(actors.GetNumberOfParts(), 2);
+  EXPECT_EQ(actors.GetPartName(1), "EyeLeft/Iris");
+  double rgb[3];
+  actors.GetActor(0)->GetProperty()->GetColor(rgb);
+  EXPECT_DOUBLE_EQ(rgb[0], 0.8); // BaseColor
+  EXPECT_EQ(actors.GetActor(0)->GetUserTransform(), pose.Get()); // one pose for all parts
+  EXPECT_EQ(actors.GetActor(1)->GetUserTransform(), pose.Get());
+  // COLOR_0 x BaseColor as the iris's point colours: a dark and a full point in turn.
+  EXPECT_TRUE(actors.GetActor(1)->GetMapper()->GetScalarVisibility());
+  EXPECT_FALSE(actors.GetActor(0)->GetMapper()->GetScalarVisibility());
+  auto* shown = vtkPolyData::SafeDownCast(actors.GetActor(1)->GetMapper()->GetInputDataObject(0, 0));
+  ASSERT_NE(shown, nullptr);
+  auto* colors = vtkUnsignedCharArray::SafeDownCast(shown->GetPointData()->GetArray("DisplayColors"));
+  ASSERT_NE(colors, nullptr);
+  EXPECT_EQ(colors->GetValue(0), 0);
+  EXPECT_EQ(colors->GetValue(3), 102); // 0.4 x 255
+  EXPECT_EQ(colors->GetValue(5), 153); // 0.6 x 255
+  // The display copy, not the input, carries the colours.
+  auto* part = vtkPolyData::SafeDownCast(head->GetPartitionedDataSet(1)->GetPartition(0));
+  EXPECT_EQ(part->GetPointData()->GetArray("DisplayColors"), nullptr);
+  // New geometry of the same parts is taken; other parts are refused.
+  EXPECT_TRUE(actors.Update(head));
+  vtkNew<vtkSphereSource> other;
+  other->Update();
+  EXPECT_FALSE(actors.Update(other->GetOutput()));
+  // One mesh alone is a head of one part (a face without a material: skin).
+  appkit::HeadActors single;
+  vtkNew<vtkRenderer> renderer2;
+  ASSERT_TRUE(single.Build(other->GetOutput(), renderer2, nullptr));
+  single.GetActor(0)->GetProperty()->GetColor(rgb);
+  EXPECT_DOUBLE_EQ(rgb[0], appkit::SkinColor[0]);
+  // Nothing to show.
+  appkit::HeadActors none;
+  vtkNew<vtkPartitionedDataSetCollection> empty;
+  EXPECT_FALSE(none.Build(empty, renderer2, nullptr));
 }

@@ -16,7 +16,10 @@
 #include "vtkStringArray.h"
 #include "vtkSmartPointer.h"
 #include "vtkUnsignedCharArray.h"
-#include "vtkXMLPolyDataReader.h"
+#include "vtkCompositeDataSet.h"
+#include "vtkInformation.h"
+#include "vtkMultiBlockDataSet.h"
+#include "vtkXMLMultiBlockDataReader.h"
 #include "vtksys/SystemTools.hxx"
 
 #include <gtest/gtest.h>
@@ -127,10 +130,12 @@ double MeanDifference(vtkImageData* a, vtkImageData* b, double y0, double y1)
 } // namespace
 
 // The image comparison (VTK's legacy metric) forgives small shading differences, and the
-// mouth is a small part of the frame: VTK's usual 10 does not see it, nor does 2. Measured
-// against the baseline (t = 1.33 s, open mouth): the same frame 0, the frame at 1.40 s
-// (a smile with the lips nearly closed, same pose) 1.15, at 0.5 s 41. So 0.5, and two
-// negative controls: another mouth in the same pose (1.40 s) and another time (0.5 s).
+// mouth is a small part of the frame: VTK's usual 10 does not see it. Measured on the
+// default head (every part in its colour) against the baseline (t = 1.33 s, open mouth
+// showing the lower teeth): the same frame 0, the frame at 1.40 s (a smile showing both
+// rows of teeth, same pose) 7.7, at 0.5 s 71. So 0.5, and two negative controls: another
+// mouth in the same pose (1.40 s) and another time (0.5 s). TestHeadRender proves on
+// frames without the overlay that this threshold sees the mouth alone.
 const std::string GreetingFrame = "--script '" + Source +
   "/Data/scripts/greeting.txt' --seed 2004 --size 400x400 --method adjusted --threshold 0.1 " +
   "--compare '" + MORPHNODE_BASELINE_DIR + "/TestMorphAvatar.png' --compare-threshold 0.5 ";
@@ -311,7 +316,7 @@ TEST(MorphAvatar, TimeSeriesForParaView)
     RunAvatar("--say 'Bob, mama!' --duration 1.5 --fps 10 --quiet --pvd '" + pvd + "'");
   ASSERT_EQ(run.ExitCode, 0) << run.Text;
 
-  // The collection lists every frame with its time, in order.
+  // The collection lists every frame with its time, in order: one multiblock per frame.
   std::ifstream in(pvd);
   ASSERT_TRUE(in) << pvd;
   const std::string xml((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -323,46 +328,70 @@ TEST(MorphAvatar, TimeSeriesForParaView)
   }
   ASSERT_EQ(steps.size(), 16u) << xml;
 
-  double largestMotion = 0.0;
-  vtkSmartPointer<vtkPolyData> first;
+  // Every part of the default head, named, in every frame (skin first).
+  const std::vector<std::string> parts = { "Head", "MouthInterior", "UpperTeeth", "LowerTeeth",
+    "Tongue", "EyeLeft/Sclera", "EyeLeft/Iris", "EyeLeft/Pupil", "EyeRight/Sclera",
+    "EyeRight/Iris", "EyeRight/Pupil", "Eyelashes", "Brows", "Hair", "Ears" };
+  double largestMotion = 0.0, largestTeethMotion = 0.0;
+  vtkSmartPointer<vtkMultiBlockDataSet> first;
   for (size_t i = 0; i < steps.size(); ++i)
   {
     EXPECT_NEAR(steps[i].first, 0.1 * static_cast<double>(i), 1e-9);
-    vtkNew<vtkXMLPolyDataReader> reader;
+    EXPECT_NE(steps[i].second.find(".vtm"), std::string::npos) << steps[i].second;
+    vtkNew<vtkXMLMultiBlockDataReader> reader;
     reader->SetFileName((Output + "/avatar_series/" + steps[i].second).c_str());
     reader->Update();
-    vtkPolyData* face = reader->GetOutput();
-    ASSERT_GT(face->GetNumberOfPoints(), 1000) << steps[i].second;
-    ASSERT_GT(face->GetNumberOfCells(), 1000) << steps[i].second;
-    // Distance maps to colour by, and the weights as field data.
-    EXPECT_NE(face->GetPointData()->GetArray("AnimatedRegion"), nullptr);
-    EXPECT_NE(face->GetPointData()->GetArray("Distance_O"), nullptr);
-    vtkFieldData* fd = face->GetFieldData();
-    ASSERT_NE(fd->GetArray("EffectiveWeights"), nullptr);
-    EXPECT_EQ(fd->GetArray("EffectiveWeights")->GetNumberOfTuples(), 13);
-    vtkDataArray* weights = fd->GetArray("BehaviorWeights");
-    auto* channels = vtkStringArray::SafeDownCast(fd->GetAbstractArray("BehaviorChannels"));
-    ASSERT_NE(weights, nullptr);
-    ASSERT_NE(channels, nullptr);
-    EXPECT_EQ(weights->GetNumberOfTuples(), channels->GetNumberOfValues());
-    EXPECT_EQ(channels->GetValue(0), "EyesClosed");
-    ASSERT_NE(fd->GetArray("TimeValue"), nullptr);
-    EXPECT_NEAR(fd->GetArray("TimeValue")->GetTuple1(0), steps[i].first, 1e-12);
+    auto* head = vtkMultiBlockDataSet::SafeDownCast(reader->GetOutput());
+    ASSERT_NE(head, nullptr) << steps[i].second;
+    ASSERT_EQ(head->GetNumberOfBlocks(), parts.size()) << steps[i].second;
+    for (unsigned int b = 0; b < head->GetNumberOfBlocks(); ++b)
+    {
+      auto* part = vtkPolyData::SafeDownCast(head->GetBlock(b));
+      ASSERT_NE(part, nullptr) << steps[i].second << " block " << b;
+      EXPECT_GT(part->GetNumberOfPoints(), 50) << parts[b];
+      ASSERT_TRUE(head->HasMetaData(b));
+      EXPECT_STREQ(head->GetMetaData(b)->Get(vtkCompositeDataSet::NAME()), parts[b].c_str());
+      // Distance maps to colour by, and the weights and the time as field data, on every part.
+      EXPECT_NE(part->GetPointData()->GetArray("AnimatedRegion"), nullptr) << parts[b];
+      EXPECT_NE(part->GetPointData()->GetArray("Distance_O"), nullptr) << parts[b];
+      vtkFieldData* fd = part->GetFieldData();
+      ASSERT_NE(fd->GetArray("EffectiveWeights"), nullptr) << parts[b];
+      EXPECT_EQ(fd->GetArray("EffectiveWeights")->GetNumberOfTuples(), 13);
+      vtkDataArray* weights = fd->GetArray("BehaviorWeights");
+      auto* channels = vtkStringArray::SafeDownCast(fd->GetAbstractArray("BehaviorChannels"));
+      ASSERT_NE(weights, nullptr);
+      ASSERT_NE(channels, nullptr);
+      EXPECT_EQ(weights->GetNumberOfTuples(), channels->GetNumberOfValues());
+      EXPECT_EQ(channels->GetValue(0), "EyesClosed");
+      ASSERT_NE(fd->GetArray("TimeValue"), nullptr);
+      EXPECT_NEAR(fd->GetArray("TimeValue")->GetTuple1(0), steps[i].first, 1e-12);
+    }
+    auto* skin = vtkPolyData::SafeDownCast(head->GetBlock(0));
+    ASSERT_GT(skin->GetNumberOfCells(), 1000);
     if (i == 0)
     {
-      first = face;
+      first = head;
       continue;
     }
-    for (vtkIdType p = 0; p < face->GetNumberOfPoints(); ++p)
-    {
-      const double* a = face->GetPoint(p);
-      double b[3];
-      first->GetPoint(p, b);
-      largestMotion = std::max(largestMotion,
-        std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2])));
-    }
+    auto motion = [&](unsigned int b) {
+      auto* now = vtkPolyData::SafeDownCast(head->GetBlock(b));
+      auto* then = vtkPolyData::SafeDownCast(first->GetBlock(b));
+      double largest = 0.0;
+      for (vtkIdType p = 0; p < now->GetNumberOfPoints(); ++p)
+      {
+        const double* a = now->GetPoint(p);
+        double c[3];
+        then->GetPoint(p, c);
+        largest = std::max(largest,
+          std::sqrt((a[0] - c[0]) * (a[0] - c[0]) + (a[1] - c[1]) * (a[1] - c[1]) + (a[2] - c[2]) * (a[2] - c[2])));
+      }
+      return largest;
+    };
+    largestMotion = std::max(largestMotion, motion(0));
+    largestTeethMotion = std::max(largestTeethMotion, motion(3));
   }
   EXPECT_GT(largestMotion, 1e-3) << "the face speaks: the series must not be frozen";
+  EXPECT_GT(largestTeethMotion, 1e-3) << "the lower teeth follow the jaw in the series";
 
   const AvatarRun bad = RunAvatar("--pvd '" + Output + "/x.vtp' --quiet");
   EXPECT_NE(bad.ExitCode, 0);

@@ -17,7 +17,7 @@ std::string FaceKitPath(const std::string& relative)
 
 std::string DefaultFace()
 {
-  return DataPath("DefaultFace/default_face.glb");
+  return DataPath("DefaultFace/default_head.glb");
 }
 } // namespace appkit
 } // namespace morphnode

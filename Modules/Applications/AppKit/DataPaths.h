@@ -10,11 +10,11 @@ namespace morphnode
 {
 namespace appkit
 {
-/// The project's Data folder, e.g. DataPath("DefaultFace/default_face.glb").
+/// The project's Data folder, e.g. DataPath("DefaultFace/default_head.glb").
 std::string DataPath(const std::string& relative);
 /// A file of the ICT-FaceKit data folder (it may be absent: callers check).
 std::string FaceKitPath(const std::string& relative);
-/// Data/DefaultFace/default_face.glb.
+/// Data/DefaultFace/default_head.glb (the project's head: skin, mouth, teeth, tongue, eyes, ...).
 std::string DefaultFace();
 } // namespace appkit
 } // namespace morphnode

@@ -1,14 +1,19 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "TimeSeriesWriter.h"
 
+#include "HeadActors.h"
 #include "ImageOutput.h"
 
 #include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
+#include "vtkInformation.h"
+#include "vtkMultiBlockDataSet.h"
 #include "vtkNew.h"
 #include "vtkPolyData.h"
 #include "vtkStringArray.h"
 #include "vtkTable.h"
+#include "vtkSmartPointer.h"
+#include "vtkXMLMultiBlockDataWriter.h"
 #include "vtkXMLPolyDataWriter.h"
 
 #include <cstdio>
@@ -41,13 +46,10 @@ TimeSeriesWriter::TimeSeriesWriter(const std::string& pvd)
   MakeFolder(this->FolderPath);
 }
 
-void TimeSeriesWriter::Write(vtkPolyData* face, vtkTable* weights, double t)
+void TimeSeriesWriter::Write(vtkDataObject* face, vtkTable* weights, double t)
 {
-  vtkNew<vtkPolyData> copy;
-  copy->ShallowCopy(face);
-  vtkNew<vtkFieldData> fieldData;
-  fieldData->ShallowCopy(face->GetFieldData()); // the face's own stays untouched
-  copy->SetFieldData(fieldData);
+  // The step's field data: the weights and the time, added to every part.
+  vtkNew<vtkFieldData> step;
   if (weights && weights->GetNumberOfRows() > 0)
   {
     vtkNew<vtkDoubleArray> values;
@@ -59,19 +61,62 @@ void TimeSeriesWriter::Write(vtkPolyData* face, vtkTable* weights, double t)
       channels->InsertNextValue(weights->GetColumnName(c));
       values->InsertNextValue(weights->GetValue(0, c).ToDouble());
     }
-    fieldData->AddArray(values);
-    fieldData->AddArray(channels);
+    step->AddArray(values);
+    step->AddArray(channels);
   }
   vtkNew<vtkDoubleArray> time;
   time->SetName("TimeValue");
   time->InsertNextValue(t);
-  fieldData->AddArray(time);
+  step->AddArray(time);
+  auto withStep = [&step](vtkPolyData* part) {
+    auto copy = vtkSmartPointer<vtkPolyData>::New();
+    copy->ShallowCopy(part);
+    vtkNew<vtkFieldData> fieldData;
+    fieldData->ShallowCopy(part->GetFieldData()); // the part's own stays untouched
+    for (int a = 0; a < step->GetNumberOfArrays(); ++a)
+    {
+      fieldData->AddArray(step->GetAbstractArray(a));
+    }
+    copy->SetFieldData(fieldData);
+    return copy;
+  };
 
+  const std::vector<vtkPolyData*> parts = HeadParts(face);
+  if (parts.empty())
+  {
+    throw std::runtime_error("a time step needs a polydata or a composite of polydata parts");
+  }
+  const bool onePart = vtkPolyData::SafeDownCast(face) != nullptr;
   char name[32];
-  std::snprintf(name, sizeof(name), "face_%05d.vtp", static_cast<int>(this->Entries.size()));
+  std::snprintf(name, sizeof(name), "face_%05d.%s", static_cast<int>(this->Entries.size()),
+    onePart ? "vtp" : "vtm");
   const std::string file = this->FolderPath + "/" + name;
-  vtkNew<vtkXMLPolyDataWriter> writer;
-  writer->SetInputData(copy);
+  vtkSmartPointer<vtkXMLWriter> writer;
+  if (onePart)
+  {
+    auto polyWriter = vtkSmartPointer<vtkXMLPolyDataWriter>::New();
+    polyWriter->SetInputData(withStep(parts[0]));
+    writer = polyWriter;
+  }
+  else
+  {
+    vtkNew<vtkMultiBlockDataSet> blocks;
+    blocks->SetNumberOfBlocks(static_cast<unsigned int>(parts.size()));
+    for (size_t i = 0; i < parts.size(); ++i)
+    {
+      const auto block = static_cast<unsigned int>(i);
+      blocks->SetBlock(block, withStep(parts[i]));
+      auto* partName =
+        vtkStringArray::SafeDownCast(parts[i]->GetFieldData()->GetAbstractArray("PartName"));
+      const std::string label = partName && partName->GetNumberOfValues() > 0
+        ? partName->GetValue(0)
+        : "part " + std::to_string(i);
+      blocks->GetMetaData(block)->Set(vtkCompositeDataSet::NAME(), label.c_str());
+    }
+    auto blockWriter = vtkSmartPointer<vtkXMLMultiBlockDataWriter>::New();
+    blockWriter->SetInputData(blocks);
+    writer = blockWriter;
+  }
   writer->SetFileName(file.c_str());
   writer->SetDataModeToAppended();
   writer->EncodeAppendedDataOff();

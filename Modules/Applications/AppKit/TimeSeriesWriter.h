@@ -1,16 +1,20 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// @file TimeSeriesWriter.h
-/// @brief A polydata over time as a ParaView time series: FILE.pvd lists FILE/face_*.vtp
-/// with their times. Each .vtp carries the data set's arrays and field data, its time
-/// (field data `TimeValue`) and, when given, a row of weights (field data
-/// `BehaviorWeights`, named by `BehaviorChannels`).
+/// @brief A head over time as a ParaView time series: FILE.pvd lists one file per time
+/// step with its time: FILE/face_*.vtp for one vtkPolyData, FILE/face_*.vtm for a head of
+/// parts (a composite such as the reader's vtkPartitionedDataSetCollection), a multiblock of
+/// one block per part named by the part (PartName), its parts in FILE/face_*/ (.vtp). A
+/// multiblock rather than a .vtpc because every ParaView and VTK reader of .pvd collections
+/// reads .vtm. Each part carries its arrays and field data, the time (field data
+/// `TimeValue`) and, when given, a row of weights (field data `BehaviorWeights`, named by
+/// `BehaviorChannels`).
 
 #include <string>
 #include <utility>
 #include <vector>
 
-class vtkPolyData;
+class vtkDataObject;
 class vtkTable;
 
 namespace morphnode
@@ -24,9 +28,9 @@ public:
   /// std::runtime_error.
   explicit TimeSeriesWriter(const std::string& pvd);
 
-  /// One time step: `face` (not modified) and row 0 of `weights` (may be null). Throws
-  /// std::runtime_error.
-  void Write(vtkPolyData* face, vtkTable* weights, double time);
+  /// One time step: `face` (a vtkPolyData or a composite of vtkPolyData parts; not
+  /// modified) and row 0 of `weights` (may be null). Throws std::runtime_error.
+  void Write(vtkDataObject* face, vtkTable* weights, double time);
 
   /// Writes the .pvd and prints what it wrote. Throws std::runtime_error.
   void Close();

@@ -8,8 +8,6 @@
 #include "behavior/HeadPose.h"
 
 #include "vtkCamera.h"
-#include "vtkCompositeDataIterator.h"
-#include "vtkCompositeDataSet.h"
 #include "vtkCoordinate.h"
 #include "vtkProperty.h"
 #include "vtkSmartPointer.h"
@@ -26,31 +24,6 @@
 namespace morphavatar
 {
 namespace appkit = morphnode::appkit;
-
-namespace
-{
-/// The first polydata of the reader's output (a composite dataset or a polydata).
-vtkPolyData* FirstPolyData(vtkDataObject* data)
-{
-  if (auto* poly = vtkPolyData::SafeDownCast(data))
-  {
-    return poly;
-  }
-  if (auto* composite = vtkCompositeDataSet::SafeDownCast(data))
-  {
-    vtkSmartPointer<vtkCompositeDataIterator> it;
-    it.TakeReference(composite->NewIterator());
-    for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem())
-    {
-      if (auto* poly = vtkPolyData::SafeDownCast(it->GetCurrentDataObject()))
-      {
-        return poly;
-      }
-    }
-  }
-  return nullptr;
-}
-} // namespace
 
 bool Avatar::SetUpBehavior()
 {
@@ -122,9 +95,10 @@ bool Avatar::SetUpFace()
 {
   const Options& o = this->Opt;
   this->FaceFile = o.Face.empty() ? appkit::DefaultFace() : o.Face;
+  // The whole scene: every part (skin, mouth, teeth, tongue, eyes, ...) as a
+  // vtkPartitionedDataSetCollection in world space (docs/scene.md); an OBJ set is one
+  // vtkPolyData. The morph filter gives the same structure back.
   this->Reader->SetFileName(this->FaceFile.c_str());
-  // One mesh as one vtkPolyData (the whole scene would be a composite; see docs/scene.md).
-  this->Reader->SetMeshIndex(0);
   this->Morph->SetInputConnection(this->Reader->GetOutputPort());
   // The behaviour's channels are glTF-style weights: each adds its target's deltas, so a
   // blink does not weaken a vowel (RELATIVE mode).
@@ -143,13 +117,11 @@ bool Avatar::SetUpFace()
     this->Morph->SetWeightsConnection(this->Behavior->GetOutputPort(0));
   }
   this->Reader->Update();
-  vtkPolyData* neutral = FirstPolyData(this->Reader->GetOutputDataObject(0));
-  if (!neutral || neutral->GetNumberOfPoints() == 0)
+  if (!appkit::HeadBounds(this->Reader->GetOutputDataObject(0), this->Bounds))
   {
     std::cerr << "MorphAvatar: cannot read a face from " << this->FaceFile << " (see above)\n";
     return false;
   }
-  neutral->GetBounds(this->Bounds);
   const double* b = this->Bounds;
   this->Diagonal = std::sqrt((b[1] - b[0]) * (b[1] - b[0]) + (b[3] - b[2]) * (b[3] - b[2]) +
     (b[5] - b[4]) * (b[5] - b[4]));
@@ -188,17 +160,8 @@ bool Avatar::SetUpFace()
 void Avatar::SetUpScene()
 {
   const Options& o = this->Opt;
-  this->Mapper->SetInputData(this->Display);
-  this->Mapper->ScalarVisibilityOff();
-  this->Actor->SetMapper(this->Mapper);
-  this->Actor->SetUserTransform(this->HeadPose);
-  this->Actor->GetProperty()->SetColor(0.86, 0.72, 0.62);
-  this->Actor->GetProperty()->SetSpecular(0.2);
-  this->Actor->GetProperty()->SetSpecularPower(20);
-  this->Renderer->SetBackground(0.15, 0.16, 0.2);
-  this->Renderer->SetBackground2(0.32, 0.34, 0.42);
-  this->Renderer->GradientBackgroundOn();
-  this->Renderer->AddActor(this->Actor);
+  // Every part in its own colour; the head pose moves them all (one transform).
+  this->Head.Build(this->GetHead(), this->Renderer, this->HeadPose);
 
   vtkTextProperty* text = this->Overlay->GetTextProperty();
   text->SetFontFamilyToCourier();
@@ -240,12 +203,7 @@ void Avatar::SetUpScene()
   this->Window->SetMultiSamples(0);
   this->Window->AddRenderer(this->Renderer);
   this->Window->SetWindowName("MorphAvatar");
-  const double* b = this->Bounds;
-  const double d = this->Diagonal;
-  this->Renderer->ResetCamera(this->Bounds);
-  this->Renderer->GetActiveCamera()->Zoom(1.3);
-  this->Renderer->ResetCameraClippingRange(
-    b[0] - d, b[1] + d, b[2] - d, b[3] + d, b[4] - d, b[5] + d);
+  appkit::HeadActors::SetUpView(this->Renderer, this->Bounds);
 }
 
 void Avatar::ApplyMethod()
@@ -265,15 +223,24 @@ bool Avatar::Update(double t)
   {
     return false;
   }
-  auto* face = vtkPolyData::SafeDownCast(this->Morph->GetOutput());
-  if (!face || face->GetNumberOfPoints() == 0)
+  double bounds[6];
+  if (!appkit::HeadBounds(this->GetHead(), bounds))
   {
     return false;
   }
-  this->Display->ShallowCopy(face);
+  if (this->Head.GetNumberOfParts() > 0 && !this->Head.Update(this->GetHead()))
+  {
+    std::cerr << "MorphAvatar: the head's parts changed while it ran\n";
+    return false;
+  }
   auto* weights = vtkTable::SafeDownCast(this->Behavior->GetOutputDataObject(0));
   appkit::SetHeadPose(this->HeadPose, appkit::ReadHeadAngles(weights), this->Pivot);
   return true;
+}
+
+vtkDataObject* Avatar::GetHead() const
+{
+  return this->Morph->GetOutputDataObject(0);
 }
 
 std::string Avatar::OverlayText(bool offscreen, int frame, int frames) const

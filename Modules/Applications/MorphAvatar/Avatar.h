@@ -3,21 +3,21 @@
 /// @file Avatar.h
 /// @brief MorphAvatar's scene: the pipeline
 ///
-///   vtkBehaviorTimeSource -> [vtkMorphRigFilter] -> vtkMorphNodeFilter (weights port 1)
-///                         -> mapper; HeadYaw/Pitch/Roll -> head pose transform on the actor
+///   vtkMorphTargetReader (the whole scene: a vtkPartitionedDataSetCollection of parts, or
+///   one vtkPolyData for an OBJ set) -> vtkMorphNodeFilter (weights on port 1 from
+///   vtkBehaviorTimeSource [-> vtkMorphRigFilter]) -> one actor per part (AppKit/HeadActors);
+///   HeadYaw/Pitch/Roll -> one head pose transform shared by every part's actor
 ///
-/// the actors (face, overlay, caption) and the window, and the two ways to run it.
+/// the actors (head parts, overlay, caption) and the window, and the two ways to run it.
 
 #include "AvatarOptions.h"
+#include "HeadActors.h"
 
-#include "vtkActor.h"
 #include "vtkBehaviorTimeSource.h"
 #include "vtkMorphNodeFilter.h"
 #include "vtkMorphRigFilter.h"
 #include "vtkMorphTargetReader.h"
 #include "vtkNew.h"
-#include "vtkPolyData.h"
-#include "vtkPolyDataMapper.h"
 #include "vtkRenderWindow.h"
 #include "vtkRenderer.h"
 #include "vtkTextActor.h"
@@ -39,9 +39,7 @@ struct Avatar
   vtkNew<vtkMorphTargetReader> Reader;
   vtkNew<vtkMorphRigFilter> Rig;
   vtkNew<vtkMorphNodeFilter> Morph;
-  vtkNew<vtkPolyData> Display;
-  vtkNew<vtkPolyDataMapper> Mapper;
-  vtkNew<vtkActor> Actor;
+  morphnode::appkit::HeadActors Head; // one actor per part
   vtkNew<vtkTransform> HeadPose;
   vtkNew<vtkRenderer> Renderer;
   vtkNew<vtkRenderWindow> Window;
@@ -83,6 +81,8 @@ struct Avatar
   /// The optimizer of Method, Threshold and MaxError (and the option's hysteresis) on the
   /// morph filter.
   void ApplyMethod();
+  /// The morphed head (a composite of parts, or a vtkPolyData).
+  vtkDataObject* GetHead() const;
   /// Brings the face to time t: weights, blend, head pose. False on error.
   bool Update(double t);
   /// The overlay: frame rate, method, threshold or bound, active targets, time.

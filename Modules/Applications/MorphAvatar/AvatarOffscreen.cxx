@@ -97,8 +97,7 @@ int RunAllFrames(Avatar& a)
     }
     if (series)
     {
-      series->Write(vtkPolyData::SafeDownCast(a.Morph->GetOutput()),
-        vtkTable::SafeDownCast(a.Behavior->GetOutputDataObject(0)), t);
+      series->Write(a.GetHead(), vtkTable::SafeDownCast(a.Behavior->GetOutputDataObject(0)), t);
     }
     a.Overlay->SetInput(a.OverlayText(true, f, frames).c_str());
     a.Window->Render();

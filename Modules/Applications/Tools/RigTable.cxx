@@ -3,7 +3,7 @@
 // MorphNode's default face and on the ICT face with the paper's shapes baked through the
 // ARKit rig, side by side with Berner's values. Prints a markdown table (docs/rigs.md).
 //
-//   RigTable [default_face.glb [ict_face.glb [rig.json]]]
+//   RigTable [default_head.glb [ict_face.glb [rig.json]]]
 //
 // Without arguments: the project's default face, ICT-FaceKit from MORPHNODE_FACEKIT_DIR,
 // Data/rigs/arkit.json; a missing ICT face gives an "n/a" column.

@@ -214,20 +214,6 @@ TEST(GltfScene, IctHeadInTheFileFrame)
   EXPECT_DOUBLE_EQ(scene.Nodes[0].Scale[0], 0.01);
 }
 
-TEST(GltfScene, DefaultFaceLoads)
-{
-  const GltfScene scene = LoadGltfScene(std::string(MORPHNODE_SOURCE_DIR) + "/Data/DefaultFace/default_face.glb");
-  ASSERT_EQ(scene.Parts.size(), 1u);
-  const GltfPart& face = scene.Parts[0];
-  EXPECT_EQ(face.Name, "DefaultFace");
-  EXPECT_EQ(face.GetNumberOfPoints(), 9158u);
-  EXPECT_EQ(face.GetNumberOfTriangles(), 54564u / 3);
-  EXPECT_EQ(face.Targets.size(), 12u);
-  EXPECT_EQ(scene.Meshes[0].TargetNames.size(), 12u);
-  EXPECT_EQ(face.Material, -1);
-  EXPECT_EQ(face.BaseColor, (std::array<double, 4>{ { 1, 1, 1, 1 } }));
-}
-
 TEST(GltfScene, DefaultHeadLoadsEveryPart)
 {
   // The project's own multi-part head (Data/DefaultFace/default_head.glb, docs/default-face.md).

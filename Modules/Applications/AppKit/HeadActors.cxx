@@ -1,0 +1,329 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "HeadActors.h"
+
+#include "vtkActor.h"
+#include "vtkCamera.h"
+#include "vtkCompositeDataIterator.h"
+#include "vtkCompositeDataSet.h"
+#include "vtkDataArray.h"
+#include "vtkFieldData.h"
+#include "vtkLightKit.h"
+#include "vtkLinearTransform.h"
+#include "vtkMath.h"
+#include "vtkPointData.h"
+#include "vtkPolyData.h"
+#include "vtkPolyDataMapper.h"
+#include "vtkProperty.h"
+#include "vtkRenderWindow.h"
+#include "vtkRenderer.h"
+#include "vtkScalarsToColors.h"
+#include "vtkStringArray.h"
+#include "vtkUnsignedCharArray.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+
+namespace morphnode
+{
+namespace appkit
+{
+namespace
+{
+const char* const DisplayColors = "DisplayColors";
+
+std::string FieldString(vtkPolyData* part, const char* name)
+{
+  auto* array = vtkStringArray::SafeDownCast(part->GetFieldData()->GetAbstractArray(name));
+  return array && array->GetNumberOfValues() > 0 ? array->GetValue(0) : std::string();
+}
+
+/// The part's linear RGBA from field data BaseColor (4 values); skin without a material.
+std::array<double, 4> PartColor(vtkPolyData* part)
+{
+  vtkDataArray* base = part->GetFieldData()->GetArray("BaseColor");
+  if (!base || base->GetNumberOfValues() < 3 || FieldString(part, "MaterialName").empty())
+  {
+    return { SkinColor[0], SkinColor[1], SkinColor[2], 1.0 };
+  }
+  std::array<double, 4> rgba{ 1, 1, 1, 1 };
+  for (vtkIdType k = 0; k < std::min<vtkIdType>(4, base->GetNumberOfValues()); ++k)
+  {
+    const double v = base->GetVariantValue(k).ToDouble();
+    rgba[k] = std::isfinite(v) ? std::clamp(v, 0.0, 1.0) : 1.0;
+  }
+  return rgba;
+}
+
+/// COLOR_0 times the base colour, as RGB bytes; null when the part has no COLOR_0.
+vtkSmartPointer<vtkUnsignedCharArray> PointColors(vtkPolyData* part, const std::array<double, 4>& base)
+{
+  vtkDataArray* color = part->GetPointData()->GetArray("COLOR_0");
+  if (!color || color->GetNumberOfComponents() < 3 ||
+    color->GetNumberOfTuples() != part->GetNumberOfPoints())
+  {
+    return nullptr;
+  }
+  // Unsigned char (0-255) as the reader gives it, or normalized floats.
+  const double scale = vtkUnsignedCharArray::SafeDownCast(color) ? 1.0 / 255.0 : 1.0;
+  auto rgb = vtkSmartPointer<vtkUnsignedCharArray>::New();
+  rgb->SetName(DisplayColors);
+  rgb->SetNumberOfComponents(3);
+  rgb->SetNumberOfTuples(color->GetNumberOfTuples());
+  for (vtkIdType i = 0; i < color->GetNumberOfTuples(); ++i)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      const double v = color->GetComponent(i, k) * scale * base[k];
+      rgb->SetValue(3 * i + k, static_cast<unsigned char>(std::lround(std::clamp(v, 0.0, 1.0) * 255.0)));
+    }
+  }
+  return rgb;
+}
+} // namespace
+
+struct HeadActors::Part
+{
+  vtkNew<vtkPolyData> Display;
+  vtkNew<vtkPolyDataMapper> Mapper;
+  vtkNew<vtkActor> Actor;
+  vtkSmartPointer<vtkUnsignedCharArray> Colors; // COLOR_0 x BaseColor, or null
+  vtkIdType Points = 0;
+  std::string Name;
+
+  void Take(vtkPolyData* part)
+  {
+    // Our own copy of the arrays' list: the colours added here never reach the filter's output.
+    this->Display->ShallowCopy(part);
+    if (this->Colors)
+    {
+      this->Display->GetPointData()->AddArray(this->Colors);
+    }
+  }
+
+  void ShowOwnColors()
+  {
+    this->Mapper->SetLookupTable(nullptr);
+    if (this->Colors)
+    {
+      this->Mapper->SetScalarModeToUsePointFieldData();
+      this->Mapper->SelectColorArray(DisplayColors);
+      this->Mapper->SetColorModeToDirectScalars();
+      this->Mapper->ScalarVisibilityOn();
+    }
+    else
+    {
+      this->Mapper->ScalarVisibilityOff();
+    }
+  }
+};
+
+std::vector<vtkPolyData*> HeadParts(vtkDataObject* head)
+{
+  std::vector<vtkPolyData*> parts;
+  if (auto* poly = vtkPolyData::SafeDownCast(head))
+  {
+    parts.push_back(poly);
+  }
+  else if (auto* composite = vtkCompositeDataSet::SafeDownCast(head))
+  {
+    vtkSmartPointer<vtkCompositeDataIterator> it;
+    it.TakeReference(composite->NewIterator());
+    it->SkipEmptyNodesOn();
+    for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem())
+    {
+      if (auto* leaf = vtkPolyData::SafeDownCast(it->GetCurrentDataObject()))
+      {
+        parts.push_back(leaf);
+      }
+    }
+  }
+  return parts;
+}
+
+bool HeadBounds(vtkDataObject* head, double bounds[6])
+{
+  bool any = false;
+  for (int k = 0; k < 3; ++k)
+  {
+    bounds[2 * k] = std::numeric_limits<double>::max();
+    bounds[2 * k + 1] = std::numeric_limits<double>::lowest();
+  }
+  for (vtkPolyData* part : HeadParts(head))
+  {
+    if (part->GetNumberOfPoints() == 0)
+    {
+      continue;
+    }
+    double b[6];
+    part->GetBounds(b);
+    for (int k = 0; k < 3; ++k)
+    {
+      bounds[2 * k] = std::min(bounds[2 * k], b[2 * k]);
+      bounds[2 * k + 1] = std::max(bounds[2 * k + 1], b[2 * k + 1]);
+    }
+    any = true;
+  }
+  if (!any)
+  {
+    for (int k = 0; k < 6; ++k)
+    {
+      bounds[k] = k % 2 ? 1.0 : 0.0;
+    }
+  }
+  return any;
+}
+
+HeadActors::HeadActors() = default;
+HeadActors::~HeadActors() = default;
+
+bool HeadActors::Build(vtkDataObject* head, vtkRenderer* renderer, vtkLinearTransform* pose)
+{
+  const std::vector<vtkPolyData*> parts = HeadParts(head);
+  vtkIdType points = 0;
+  for (vtkPolyData* part : parts)
+  {
+    points += part->GetNumberOfPoints();
+  }
+  if (points == 0)
+  {
+    return false;
+  }
+  for (vtkPolyData* input : parts)
+  {
+    auto part = std::make_unique<Part>();
+    const std::array<double, 4> color = PartColor(input);
+    part->Colors = PointColors(input, color);
+    part->Points = input->GetNumberOfPoints();
+    part->Name = FieldString(input, "PartName");
+    part->Take(input);
+    part->Mapper->SetInputData(part->Display);
+    part->ShowOwnColors();
+    part->Actor->SetMapper(part->Mapper);
+    if (pose)
+    {
+      part->Actor->SetUserTransform(pose);
+    }
+    vtkProperty* property = part->Actor->GetProperty();
+    property->SetColor(color[0], color[1], color[2]);
+    property->SetOpacity(color[3]);
+    property->SetAmbient(0.08);
+    property->SetDiffuse(0.92);
+    property->SetSpecular(0.15);
+    property->SetSpecularPower(20.0);
+    renderer->AddActor(part->Actor);
+    this->Parts.push_back(std::move(part));
+  }
+  return true;
+}
+
+bool HeadActors::Update(vtkDataObject* head)
+{
+  const std::vector<vtkPolyData*> parts = HeadParts(head);
+  if (parts.size() != this->Parts.size())
+  {
+    return false;
+  }
+  for (size_t i = 0; i < parts.size(); ++i)
+  {
+    if (parts[i]->GetNumberOfPoints() != this->Parts[i]->Points)
+    {
+      return false;
+    }
+  }
+  for (size_t i = 0; i < parts.size(); ++i)
+  {
+    this->Parts[i]->Take(parts[i]);
+  }
+  return true;
+}
+
+bool HeadActors::ColorBy(const std::string& array, vtkScalarsToColors* lut, double range[2])
+{
+  range[0] = std::numeric_limits<double>::max();
+  range[1] = std::numeric_limits<double>::lowest();
+  for (const auto& part : this->Parts)
+  {
+    if (vtkDataArray* scalars = part->Display->GetPointData()->GetArray(array.c_str()))
+    {
+      double r[2];
+      scalars->GetRange(r);
+      range[0] = std::min(range[0], r[0]);
+      range[1] = std::max(range[1], r[1]);
+    }
+  }
+  if (range[0] > range[1])
+  {
+    range[0] = 0.0;
+    range[1] = 1.0;
+    return false;
+  }
+  for (const auto& part : this->Parts)
+  {
+    if (!part->Display->GetPointData()->GetArray(array.c_str()))
+    {
+      part->ShowOwnColors();
+      continue;
+    }
+    part->Mapper->SetScalarModeToUsePointFieldData();
+    part->Mapper->SelectColorArray(array.c_str());
+    part->Mapper->SetColorModeToMapScalars();
+    part->Mapper->SetLookupTable(lut);
+    part->Mapper->UseLookupTableScalarRangeOff();
+    part->Mapper->SetScalarRange(range);
+    part->Mapper->ScalarVisibilityOn();
+  }
+  return true;
+}
+
+vtkActor* HeadActors::GetActor(int part) const
+{
+  return part >= 0 && part < this->GetNumberOfParts() ? this->Parts[part]->Actor.Get() : nullptr;
+}
+
+std::string HeadActors::GetPartName(int part) const
+{
+  if (part < 0 || part >= this->GetNumberOfParts())
+  {
+    return std::string();
+  }
+  return this->Parts[part]->Name.empty() ? "part " + std::to_string(part) : this->Parts[part]->Name;
+}
+
+void HeadActors::SetUpView(vtkRenderer* renderer, const double bounds[6], double zoom)
+{
+  renderer->RemoveAllLights();
+  vtkNew<vtkLightKit> lights;
+  lights->SetKeyLightIntensity(0.85);
+  lights->AddLightsToRenderer(renderer);
+  renderer->SetBackground(0.15, 0.16, 0.2);
+  renderer->SetBackground2(0.32, 0.34, 0.42);
+  renderer->GradientBackgroundOn();
+
+  // A portrait: the head from the top down to the neck (the lowest 15 % of the bounds, the
+  // neck or shoulders, may leave the frame), the face a little below the middle, clear of
+  // text at the top; seen from the front at a 30 degree view angle.
+  const double* b = bounds;
+  const double bottom = b[2] + 0.15 * (b[3] - b[2]);
+  const double height = 1.12 * (b[3] - bottom);
+  const double center[3] = { 0.5 * (b[0] + b[1]), 0.5 * (bottom + b[3]) + 0.04 * height,
+    0.5 * (b[4] + b[5]) };
+  const double distance = 0.5 * height / std::tan(vtkMath::RadiansFromDegrees(15.0)) /
+    (zoom > 0.0 ? zoom : 1.0);
+  vtkCamera* camera = renderer->GetActiveCamera();
+  camera->SetFocalPoint(center);
+  camera->SetPosition(center[0], center[1], b[5] + distance); // the height fits at the front
+  camera->SetViewUp(0.0, 1.0, 0.0);
+  camera->SetViewAngle(30.0);
+  // Far enough for a head turned by the pose (the diagonal all round).
+  const double d = std::sqrt((b[1] - b[0]) * (b[1] - b[0]) + (b[3] - b[2]) * (b[3] - b[2]) +
+    (b[5] - b[4]) * (b[5] - b[4]));
+  renderer->ResetCameraClippingRange(b[0] - d, b[1] + d, b[2] - d, b[3] + d, b[4] - d, b[5] + d);
+  // Smooth edges without multisampling (offscreen under Xvfb too); FXAA on a multisampled
+  // window renders black there, so only on a window without it.
+  vtkRenderWindow* window = renderer->GetRenderWindow();
+  renderer->SetUseFXAA(window && window->GetMultiSamples() == 0);
+}
+} // namespace appkit
+} // namespace morphnode
