@@ -65,12 +65,19 @@ CostModel CostModel::FitMedian(
                      "sample and sizes that match, got " +
       std::to_string(x.size()) + " and " + std::to_string(y.size()) + ".");
   }
+  // Pairs closer than a tenth of the largest point count give no slope: over a small
+  // difference, one slow frame makes an enormous one.
+  double largest = 0.0;
+  for (double v : x)
+  {
+    largest = std::max(largest, std::abs(v));
+  }
   std::vector<double> slopes;
   for (size_t i = 0; i < x.size(); ++i)
   {
     for (size_t j = i + 1; j < x.size(); ++j)
     {
-      if (x[j] != x[i])
+      if (std::abs(x[j] - x[i]) > 0.1 * largest)
       {
         slopes.push_back((y[j] - y[i]) / (x[j] - x[i]));
       }
@@ -156,6 +163,7 @@ void FrameBudgetController::SetSettings(const ControllerSettings& s)
     }
   }
   if (!(s.LevelHysteresis >= 0.0 && s.LevelHysteresis < 1.0) ||
+    !(s.ThresholdHysteresis >= 0.0 && s.ThresholdHysteresis < 1.0) ||
     !(s.OptimizerHysteresis >= 0.0 && s.OptimizerHysteresis < 1.0))
   {
     throw InputError("FrameBudgetController: hysteresis must lie in [0, 1).");
@@ -179,6 +187,7 @@ void FrameBudgetController::SetSettings(const ControllerSettings& s)
   this->Optimizers.clear();
   this->Models.clear();
   this->Margins.clear();
+  this->Chosen.clear();
   this->Samples.clear();
   for (const auto& level : levels)
   {
@@ -226,6 +235,7 @@ void FrameBudgetController::AddLevel(const LevelOfDetail& level)
   this->Optimizers.push_back(std::move(optimizers));
   this->Models.push_back(level.Cost);
   this->Margins.push_back(0.0);
+  this->Chosen.push_back(-1);
   this->Samples.emplace_back();
   this->LastLevel = -1;
   this->Reset(0);
@@ -239,6 +249,7 @@ void FrameBudgetController::Reset(int level)
   this->MorphFrom = -1;
   this->MorphFrame = 0;
   this->Switches = 0;
+  std::fill(this->Chosen.begin(), this->Chosen.end(), -1);
   for (auto& perLevel : this->Optimizers)
   {
     for (auto& o : perLevel)
@@ -252,11 +263,11 @@ FrameBudgetController::Candidate FrameBudgetController::Evaluate(
   size_t level, const std::vector<double>& weights, double budget)
 {
   const LevelOfDetail& lod = this->Levels[level];
-  Candidate best, cheapest;
-  bool haveBest = false, haveCheapest = false;
+  std::vector<Candidate> all(this->Settings.Thresholds.size());
+  int best = -1, cheapest = -1;
   for (size_t t = 0; t < this->Settings.Thresholds.size(); ++t)
   {
-    Candidate c;
+    Candidate& c = all[t];
     c.Threshold = this->Settings.Thresholds[t];
     c.Weights = this->Optimizers[level][t].Optimize(weights);
     double targetPoints = 0.0;
@@ -272,18 +283,34 @@ FrameBudgetController::Candidate FrameBudgetController::Evaluate(
     c.Seconds = this->Models[level].Predict(targetPoints) + this->Margins[level];
     c.Error = lod.GeometricError +
       WeightOptimizer::ErrorBound(weights, c.Weights, lod.Distances.MaxDisplacement);
-    if (c.Seconds <= budget && (!haveBest || c.Error < best.Error))
+    const int ti = static_cast<int>(t);
+    if (c.Seconds <= budget && (best < 0 || c.Error < all[static_cast<size_t>(best)].Error))
     {
-      best = c;
-      haveBest = true;
+      best = ti;
     }
-    if (!haveCheapest || c.Seconds < cheapest.Seconds)
+    if (cheapest < 0 || c.Seconds < all[static_cast<size_t>(cheapest)].Seconds)
     {
-      cheapest = c;
-      haveCheapest = true;
+      cheapest = ti;
     }
   }
-  return haveBest ? best : cheapest;
+  int chosen = best >= 0 ? best : cheapest;
+  // The previous frame's threshold stays while it fits, unless a better one fits with a
+  // margin: in (1 - ThresholdHysteresis) of the budget, or at no more cost than it (as the
+  // level's rule for a finer level). When nothing fits, it stays while it is as cheap as
+  // the cheapest.
+  const int previous = this->Chosen[level];
+  if (previous >= 0 && previous != chosen)
+  {
+    const Candidate& p = all[static_cast<size_t>(previous)];
+    const Candidate& c = all[static_cast<size_t>(chosen)];
+    const bool keep = best >= 0
+      ? p.Seconds <= budget &&
+        !(c.Seconds <= (1.0 - this->Settings.ThresholdHysteresis) * budget || c.Seconds <= p.Seconds)
+      : p.Seconds <= c.Seconds;
+    chosen = keep ? previous : chosen;
+  }
+  this->Chosen[level] = chosen;
+  return all[static_cast<size_t>(chosen)];
 }
 
 ControllerDecision FrameBudgetController::Update(const std::vector<double>& weights)
@@ -444,21 +471,32 @@ void FrameBudgetController::ReportMeasuredSeconds(double seconds, double targetP
     samples.erase(samples.begin(), samples.begin() + static_cast<std::ptrdiff_t>(samples.size() - window + 1));
   }
   samples.emplace_back(targetPoints, seconds);
+  // Frames far slower than the model expects (preempted, a page fault) are left out of the
+  // fit while they are a minority; when most are, the machine has slowed down: all count.
+  const CostModel& current = this->Models[level];
+  auto slow = [&](const std::pair<double, double>& m) {
+    return m.second > 3.0 * (current.Predict(m.first) + this->Margins[level]);
+  };
+  const size_t slowFrames = static_cast<size_t>(std::count_if(samples.begin(), samples.end(), slow));
+  const bool dropSlow = 3 * slowFrames < samples.size();
   std::vector<double> x, y;
-  for (const auto& [points, measured] : samples)
+  for (const auto& m : samples)
   {
-    x.push_back(points);
-    y.push_back(measured);
+    if (!dropSlow || !slow(m))
+    {
+      x.push_back(m.first);
+      y.push_back(m.second);
+    }
   }
-  const CostModel model = CostModel::FitMedian(x, y, this->Models[level].PerTargetPoint);
+  const CostModel model = CostModel::FitMedian(x, y, current.PerTargetPoint);
   this->Models[level] = model;
   std::vector<double> residuals(x.size());
   for (size_t i = 0; i < x.size(); ++i)
   {
     residuals[i] = y[i] - model.Predict(x[i]);
   }
-  const size_t q = std::min(residuals.size() - 1,
-    static_cast<size_t>(this->Settings.MeasuredQuantile * static_cast<double>(residuals.size())));
+  const size_t q = static_cast<size_t>(
+    this->Settings.MeasuredQuantile * static_cast<double>(residuals.size() - 1));
   std::nth_element(residuals.begin(), residuals.begin() + static_cast<std::ptrdiff_t>(q), residuals.end());
   this->Margins[level] = std::max(0.0, residuals[q]);
 }

@@ -19,7 +19,8 @@
 ///     error = level error + optimizer bound (sum |w'_i - w_i| M_i, see WeightOptimizer)
 ///
 /// and picks the least error among the candidates within the budget (the cheapest when none
-/// is). The threshold may change every frame; the level only with hysteresis: at once to
+/// is), keeping the previous frame's threshold while it is nearly as good
+/// (ThresholdHysteresis). The threshold may change every frame; the level only with hysteresis: at once to
 /// the next coarser level when the current one cannot meet the budget at any threshold;
 /// otherwise to a neighbour level only when its error (within the budget, for a finer one
 /// within (1 - LevelHysteresis) of it) is below (1 - LevelHysteresis) times the current
@@ -62,7 +63,8 @@ struct CostModel
   /// Throws InputError for fewer than two samples or mismatched sizes.
   static CostModel Fit(const std::vector<double>& targetPoints, const std::vector<double>& seconds);
   /// Robust fit (Theil-Sen): the slope is the median of the slopes between every two
-  /// measurements at different target points, `flatSlope` when there are none; Fixed is the
+  /// measurements whose target points differ by more than a tenth of the largest,
+  /// `flatSlope` when there are none; Fixed is the
   /// median of seconds - slope * targetPoints. Outliers (a preempted frame) up to nearly
   /// half of the samples do not move it. Both clamped to >= 0.
   /// Throws InputError for no samples or mismatched sizes.
@@ -108,6 +110,10 @@ struct ControllerSettings
   Redistribution Strategy = Redistribution::Remaining;
   bool AdjustThreshold = true;
   double OptimizerHysteresis = 0.2;
+  /// The previous frame's threshold stays while it fits the budget, unless one with less
+  /// error fits in (1 - ThresholdHysteresis) of it or costs no more (when nothing fits:
+  /// while it is as cheap as the cheapest), so the setting does not change on every frame.
+  double ThresholdHysteresis = 0.15;
   /// Applied by every candidate on top of its threshold (WeightOptimizer's budget and
   /// error bound); 0: off.
   int MaxActiveTargets = 0;
@@ -171,7 +177,8 @@ public:
   /// What the frame the last Update decided really cost, in seconds: a measurement of its
   /// displayed level at its target points; that level's cost model is refitted to its last
   /// MeasurementWindow measurements (FitMedian; the slope kept while all lie at one target
-  /// point count). Does nothing with MeasurementWindow 0. Throws InputError for a negative
+  /// point count; frames over 3x slower than predicted left out while they are fewer than
+  /// a third). Does nothing with MeasurementWindow 0. Throws InputError for a negative
   /// or non-finite value, or when no frame was decided since the levels were set.
   void ReportMeasuredSeconds(double seconds);
   /// The same for a frame that ended up moving `targetPoints` (its active targets' moved
@@ -206,6 +213,7 @@ private:
   /// oldest first.
   std::vector<CostModel> Models;
   std::vector<double> Margins;
+  std::vector<int> Chosen; ///< per level: the threshold index chosen last frame, -1: none
   std::vector<std::vector<std::pair<double, double>>> Samples;
   int LastLevel = -1; ///< displayed by the last Update, -1: none since the levels were set
   double LastTargetPoints = 0.0;
