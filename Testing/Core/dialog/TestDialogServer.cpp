@@ -290,7 +290,7 @@ TEST(DialogServer, BadAddresses)
 {
   DialogServer server;
   const char* bad[] = { "", "abc", "127.0.0.1:", "127.0.0.1:99999", "127.0.0.1:12x",
-    "::1:5555", "unix:", "no-such-host.invalid:5555" };
+    "::1:5555", "unix:" };
   for (const char* address : bad)
   {
     EXPECT_THROW(server.Listen(address), morphnode::InputError) << address;
