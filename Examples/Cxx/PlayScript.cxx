@@ -15,8 +15,9 @@
 // vtkMorphNodeFilter in Relative mode (targets add on the neutral) on the whole head (every
 // part of the glTF scene, one actor per part in its own colour: AppKit/HeadActors); the
 // head pose channels turn all parts about the neck by one transform (behavior/HeadPose.h),
-// since the face has no head-pose targets. Command line, frames, progress, head pose and
-// the head's actors come from AppKit.
+// since the face has no head-pose targets; vtkEyeGazeFilter turns the eye parts by the
+// behaviour's EyeYaw/EyePitch (saccades, looks). Command line, frames, progress, head pose
+// and the head's actors come from AppKit.
 #include "CommandLine.h"
 #include "DataPaths.h"
 #include "FrameRecorder.h"
@@ -26,6 +27,7 @@
 #include "Progress.h"
 
 #include "vtkBehaviorTimeSource.h"
+#include "vtkEyeGazeFilter.h"
 #include "vtkMorphNodeFilter.h"
 #include "vtkMorphTargetReader.h"
 
@@ -107,9 +109,13 @@ int main(int argc, char* argv[])
     morph->SetInputConnection(reader->GetOutputPort());
     morph->SetWeightsConnection(behavior->GetOutputPort(0));
     morph->SetWeightModeToRelative();
-    morph->UpdateTimeStep(0.0);
+    // The eyes look where the behaviour looks: its EyeYaw/EyePitch at the requested time.
+    vtkNew<vtkEyeGazeFilter> gaze;
+    gaze->SetInputConnection(morph->GetOutputPort());
+    gaze->SetGazeConnection(behavior->GetOutputPort(0));
+    gaze->UpdateTimeStep(0.0);
     double bounds[6];
-    if (!appkit::HeadBounds(morph->GetOutputDataObject(0), bounds))
+    if (!appkit::HeadBounds(gaze->GetOutputDataObject(0), bounds))
     {
       std::cerr << "nothing to show (see the errors above)\n";
       return 1;
@@ -117,7 +123,7 @@ int main(int argc, char* argv[])
     vtkNew<vtkTransform> headPose; // one transform for every part
     vtkNew<vtkRenderer> renderer;
     appkit::HeadActors head;
-    head.Build(morph->GetOutputDataObject(0), renderer, headPose);
+    head.Build(gaze->GetOutputDataObject(0), renderer, headPose);
     const auto pivot = morphnode::HeadPivot(bounds);
     vtkNew<vtkRenderWindow> window;
     window->SetSize(width, height);
@@ -139,7 +145,7 @@ int main(int argc, char* argv[])
     appkit::ProgressBar progress(count);
     for (int f = 0; f < count; ++f)
     {
-      if (!morph->UpdateTimeStep(f / rate) || !head.Update(morph->GetOutputDataObject(0)))
+      if (!gaze->UpdateTimeStep(f / rate) || !head.Update(gaze->GetOutputDataObject(0)))
       {
         std::cerr << "\nthe face could not be morphed at t = " << f / rate << "\n";
         return 1;

@@ -4,9 +4,10 @@
 idle behaviour, through the weight optimizer of Berner (WSCG 2004, Figure 6).
 
     vtkMorphTargetReader (the whole scene: every part of the head) -> vtkMorphNodeFilter
-    (weights from vtkBehaviorTimeSource [-> vtkMorphRigFilter]) -> one actor per part in
-    its own colour (example_support.HeadActors); HeadYaw/Pitch/Roll -> one vtkTransform
-    shared by every part's actor
+    (weights from vtkBehaviorTimeSource [-> vtkMorphRigFilter]) -> vtkEyeGazeFilter (the
+    behaviour's EyeYaw/EyePitch turn the eyes) -> one actor per part in its own colour
+    (example_support.HeadActors); HeadYaw/Pitch/Roll -> one vtkTransform shared by every
+    part's actor
 
 Offscreen, every frame at the frame rate to PNG frames (and optionally a Theora video and
 the WAV); without --frames/--video a window where time runs in real time (keys 0-4
@@ -23,7 +24,7 @@ import time
 
 from example_support import (HeadActors, ProgressBar, head_bounds, head_pivot, preset, preset_names,
                              set_head_pose, set_up_view, size)
-from morphnode import vtkBehaviorTimeSource, vtkMorphNodeFilter, vtkMorphTargetReader
+from morphnode import vtkBehaviorTimeSource, vtkEyeGazeFilter, vtkMorphNodeFilter, vtkMorphTargetReader
 
 import vtkmodules.vtkInteractionStyle  # noqa: F401  (default interactor style)
 import vtkmodules.vtkRenderingFreeType  # noqa: F401  (text)
@@ -105,12 +106,18 @@ class Avatar:
             self.morph.SetWeightsConnection(self.rig.GetOutputPort())
         else:
             self.morph.SetWeightsConnection(self.behavior.GetOutputPort(0))
+        # The eyes look where the behaviour looks (saccades, looks, idle fixations).
+        self.gaze = vtkEyeGazeFilter()
+        self.gaze.SetInputConnection(self.morph.GetOutputPort())
+        self.gaze.SetGazeConnection(self.behavior.GetOutputPort(0))
+        if args.rig:
+            self.gaze.SetRigFileName(args.rig)  # its "eyes" section names the eye parts
         self.method, self.threshold = args.method, args.threshold
         self.head = None  # the parts' actors, made below
         self.pose = vtkTransform()  # the head pose: one transform for every part
         if not self.update(0.0):
             raise SystemExit(f"morph_avatar: cannot morph the face {args.face} (see above)")
-        b = head_bounds(self.morph.GetOutputDataObject(0))
+        b = head_bounds(self.gaze.GetOutputDataObject(0))
         self.diagonal = math.dist((b[0], b[2], b[4]), (b[1], b[3], b[5])) or 1.0
         self.pivot = head_pivot(b)
         self.max_error = args.max_error if args.max_error is not None else 0.005 * self.diagonal
@@ -118,7 +125,7 @@ class Avatar:
         self.update(0.0)
 
         self.renderer = vtkRenderer()
-        self.head = HeadActors(self.morph.GetOutputDataObject(0), self.renderer, self.pose)
+        self.head = HeadActors(self.gaze.GetOutputDataObject(0), self.renderer, self.pose)
         w, h = args.size
         self.overlay = vtkTextActor()
         tp = self.overlay.GetTextProperty()
@@ -150,9 +157,9 @@ class Avatar:
     def update(self, t):
         """The face at time t: weights, blend, head pose."""
         self.time = t
-        if not self.morph.UpdateTimeStep(t):
+        if not self.gaze.UpdateTimeStep(t):
             return False
-        face = self.morph.GetOutputDataObject(0)  # the reader's structure: parts, or one mesh
+        face = self.gaze.GetOutputDataObject(0)  # the reader's structure: parts, or one mesh
         if head_bounds(face) is None:
             return False
         if self.head is not None and not self.head.update(face):

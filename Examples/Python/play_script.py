@@ -16,7 +16,7 @@ import os
 import sys
 
 from example_support import HeadActors, ProgressBar, head_bounds, head_pivot, set_head_pose, set_up_view, size
-from morphnode import vtkBehaviorTimeSource, vtkMorphNodeFilter, vtkMorphTargetReader
+from morphnode import vtkBehaviorTimeSource, vtkEyeGazeFilter, vtkMorphNodeFilter, vtkMorphTargetReader
 
 import vtkmodules.vtkInteractionStyle  # noqa: F401  (default interactor style)
 import vtkmodules.vtkRenderingOpenGL2  # noqa: F401  (the render backend)
@@ -74,15 +74,18 @@ def main(argv=None):
     morph.SetInputConnection(reader.GetOutputPort())
     morph.SetWeightsConnection(behavior.GetOutputPort(0))
     morph.SetWeightModeToRelative()  # the targets add on the neutral
-    morph.UpdateTimeStep(0.0)
-    bounds = head_bounds(morph.GetOutputDataObject(0))
+    gaze = vtkEyeGazeFilter()  # the eyes look where the behaviour looks (EyeYaw, EyePitch)
+    gaze.SetInputConnection(morph.GetOutputPort())
+    gaze.SetGazeConnection(behavior.GetOutputPort(0))
+    gaze.UpdateTimeStep(0.0)
+    bounds = head_bounds(gaze.GetOutputDataObject(0))
     if bounds is None:
         print("nothing to show (see the errors above)", file=sys.stderr)
         return 1
 
     pose = vtkTransform()  # the head pose channels turn every part about the neck
     renderer = vtkRenderer()
-    head = HeadActors(morph.GetOutputDataObject(0), renderer, pose)  # one actor per part
+    head = HeadActors(gaze.GetOutputDataObject(0), renderer, pose)  # one actor per part
     pivot = head_pivot(bounds)
     window = vtkRenderWindow()
     window.SetSize(*args.size)
@@ -104,7 +107,7 @@ def main(argv=None):
           f"{behavior.GetNumberOfChannels()} channels -> {args.out}", file=sys.stderr)
     progress = ProgressBar(frames)
     for f in range(frames):
-        if not morph.UpdateTimeStep(f / rate) or not head.update(morph.GetOutputDataObject(0)):
+        if not gaze.UpdateTimeStep(f / rate) or not head.update(gaze.GetOutputDataObject(0)):
             print(f"\nthe face could not be morphed at t = {f / rate:g}", file=sys.stderr)
             return 1
         set_head_pose(pose, behavior.GetOutputDataObject(0), pivot)

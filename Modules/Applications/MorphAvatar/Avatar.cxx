@@ -116,6 +116,14 @@ bool Avatar::SetUpFace()
   {
     this->Morph->SetWeightsConnection(this->Behavior->GetOutputPort(0));
   }
+  // The eyes look where the behaviour looks (saccades, LookAt, idle fixations): its EyeYaw
+  // and EyePitch turn the eye parts (found by the rig's "eyes" section, else by name).
+  this->Gaze->SetInputConnection(this->Morph->GetOutputPort());
+  this->Gaze->SetGazeConnection(this->Behavior->GetOutputPort(0));
+  if (!o.Rig.empty())
+  {
+    this->Gaze->SetRigFileName(o.Rig.c_str());
+  }
   this->Reader->Update();
   if (!appkit::HeadBounds(this->Reader->GetOutputDataObject(0), this->Bounds))
   {
@@ -219,7 +227,7 @@ void Avatar::ApplyMethod()
 bool Avatar::Update(double t)
 {
   this->Time = t;
-  if (!this->Morph->UpdateTimeStep(t))
+  if (!this->Gaze->UpdateTimeStep(t))
   {
     return false;
   }
@@ -240,7 +248,7 @@ bool Avatar::Update(double t)
 
 vtkDataObject* Avatar::GetHead() const
 {
-  return this->Morph->GetOutputDataObject(0);
+  return this->Gaze->GetOutputDataObject(0);
 }
 
 std::string Avatar::OverlayText(bool offscreen, int frame, int frames) const

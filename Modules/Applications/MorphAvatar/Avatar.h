@@ -5,7 +5,8 @@
 ///
 ///   vtkMorphTargetReader (the whole scene: a vtkPartitionedDataSetCollection of parts, or
 ///   one vtkPolyData for an OBJ set) -> vtkMorphNodeFilter (weights on port 1 from
-///   vtkBehaviorTimeSource [-> vtkMorphRigFilter]) -> one actor per part (AppKit/HeadActors);
+///   vtkBehaviorTimeSource [-> vtkMorphRigFilter]) -> vtkEyeGazeFilter (the behaviour's
+///   EyeYaw/EyePitch turn the eye parts) -> one actor per part (AppKit/HeadActors);
 ///   HeadYaw/Pitch/Roll -> one head pose transform shared by every part's actor
 ///
 /// the actors (head parts, overlay, caption) and the window, and the two ways to run it.
@@ -14,6 +15,7 @@
 #include "HeadActors.h"
 
 #include "vtkBehaviorTimeSource.h"
+#include "vtkEyeGazeFilter.h"
 #include "vtkMorphNodeFilter.h"
 #include "vtkMorphRigFilter.h"
 #include "vtkMorphTargetReader.h"
@@ -39,6 +41,7 @@ struct Avatar
   vtkNew<vtkMorphTargetReader> Reader;
   vtkNew<vtkMorphRigFilter> Rig;
   vtkNew<vtkMorphNodeFilter> Morph;
+  vtkNew<vtkEyeGazeFilter> Gaze;
   morphnode::appkit::HeadActors Head; // one actor per part
   vtkNew<vtkTransform> HeadPose;
   vtkNew<vtkRenderer> Renderer;
@@ -81,7 +84,7 @@ struct Avatar
   /// The optimizer of Method, Threshold and MaxError (and the option's hysteresis) on the
   /// morph filter.
   void ApplyMethod();
-  /// The morphed head (a composite of parts, or a vtkPolyData).
+  /// The morphed head with its eyes turned (a composite of parts, or a vtkPolyData).
   vtkDataObject* GetHead() const;
   /// Brings the face to time t: weights, blend, head pose. False on error.
   bool Update(double t);
