@@ -12,6 +12,7 @@ if ! command -v npm >/dev/null 2>&1; then
   sudo=""
   [ "$(id -u)" -eq 0 ] || sudo="sudo"
   export DEBIAN_FRONTEND=noninteractive
+  $sudo apt-get update -q
   $sudo apt-get install -y -q --no-install-recommends npm
 fi
 if [ -f "$prefix/node_modules/gltf-validator/package.json" ] &&

@@ -193,9 +193,13 @@ std::string PatchForVtk(const std::string& file)
   put(static_cast<uint32_t>(bin.size()));
   put(0x004E4942);
   out.insert(out.end(), bin.begin(), bin.end());
-  // Not beside the export: the validator checks every file there, and this copy is VTK's.
-  const std::string path = std::string(MORPHNODE_TEST_OUTPUT_DIR) + "/" +
-    std::filesystem::path(file).stem().string() + ".for-vtk.glb";
+  // Not beside the export (the validator checks every file there, and this copy is
+  // VTK's), but in a sibling folder of its own, so that this test and the validator's run
+  // of it, which may run at the same time, never share a file.
+  const std::filesystem::path exported(file);
+  const std::filesystem::path folder = exported.parent_path().string() + "-for-vtk";
+  std::filesystem::create_directories(folder);
+  const std::string path = (folder / exported.filename()).string();
   std::ofstream(path, std::ios::binary).write(out.data(), static_cast<std::streamsize>(out.size()));
   return path;
 }
