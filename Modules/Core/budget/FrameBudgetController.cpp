@@ -288,7 +288,9 @@ FrameBudgetController::Candidate FrameBudgetController::Evaluate(
     {
       best = ti;
     }
-    if (cheapest < 0 || c.Seconds < all[static_cast<size_t>(cheapest)].Seconds)
+    // The cheapest; of equal predictions (a flat cost model) the fewest moved points.
+    const Candidate* k = cheapest < 0 ? nullptr : &all[static_cast<size_t>(cheapest)];
+    if (!k || c.Seconds < k->Seconds || (c.Seconds == k->Seconds && c.TargetPoints < k->TargetPoints))
     {
       cheapest = ti;
     }
@@ -306,7 +308,7 @@ FrameBudgetController::Candidate FrameBudgetController::Evaluate(
     const bool keep = best >= 0
       ? p.Seconds <= budget &&
         !(c.Seconds <= (1.0 - this->Settings.ThresholdHysteresis) * budget || c.Seconds <= p.Seconds)
-      : p.Seconds <= c.Seconds;
+      : p.Seconds <= c.Seconds && p.TargetPoints <= c.TargetPoints;
     chosen = keep ? previous : chosen;
   }
   this->Chosen[level] = chosen;

@@ -495,3 +495,31 @@ TEST(FrameBudgetController, ThresholdHysteresisChangesTheSettingLessOften)
   EXPECT_LT(sticky, plain * 3 / 4);
   EXPECT_LE(overSticky, 12);
 }
+
+// A flat cost model (the morph costs the same whatever is active, as measured on a small
+// face) with a budget nothing meets: the cheapest of equal predictions is the one that
+// moves the fewest points, not the first candidate (threshold 0).
+TEST(FrameBudgetController, FlatCostsAndNoFitPruneTheMost)
+{
+  FrameBudgetController c;
+  ControllerSettings s;
+  s.FrameBudget = 1e-6;
+  c.SetSettings(s);
+  LevelOfDetail level = Levels()[0];
+  level.Cost.Fixed = 1e-4;
+  level.Cost.PerTargetPoint = 0.0;
+  c.AddLevel(level);
+  FrameBudgetController loose;
+  s.FrameBudget = 1.0;
+  loose.SetSettings(s);
+  loose.AddLevel(level);
+  int tight = 0, all = 0;
+  for (const auto& w : Track(300))
+  {
+    const ControllerDecision d = c.Update(w);
+    tight += d.ActiveTargets;
+    all += loose.Update(w).ActiveTargets;
+    EXPECT_GE(d.Threshold, 0.3); // 0.3 and 0.5 often prune alike; nothing below does
+  }
+  EXPECT_LT(tight, all / 2);
+}
