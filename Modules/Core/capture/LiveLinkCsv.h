@@ -65,7 +65,7 @@ struct LiveLinkOptions
   /// Degrees per unit of the file's angles: 180 / pi (radians, the default) or e.g. 90 for
   /// angles normalised to [-1, 1] = [-90, 90] degrees.
   double PoseDegreesPerUnit = 57.29577951308232;
-  /// Write only: the timecode of time 0, seconds since midnight, in [0, 86400).
+  /// CaptureFromTrack only: the timecode of time 0, seconds since midnight, in [0, 86400).
   double StartTimecode = 0.0;
 };
 
