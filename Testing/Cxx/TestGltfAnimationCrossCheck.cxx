@@ -49,10 +49,13 @@ namespace
 using namespace gltftest;
 using morphnode_test::MessageCollector;
 
+/// Writes into a folder of the running test's own: ctest runs each test as a process of its
+/// own, in parallel, and two of them must not write the same file at once.
 std::string WriteHead(const std::string& name, const std::string& bytes)
 {
-  const std::filesystem::path folder =
-    std::filesystem::path(MORPHNODE_TEST_OUTPUT_DIR) / "GltfAnimationCrossCheck";
+  const ::testing::TestInfo* test = ::testing::UnitTest::GetInstance()->current_test_info();
+  const std::filesystem::path folder = std::filesystem::path(MORPHNODE_TEST_OUTPUT_DIR) /
+    "GltfAnimationCrossCheck" / (std::string(test->test_suite_name()) + "." + test->name());
   std::filesystem::create_directories(folder);
   const std::string file = (folder / name).string();
   std::ofstream(file, std::ios::binary) << bytes;
@@ -61,8 +64,7 @@ std::string WriteHead(const std::string& name, const std::string& bytes)
 
 std::string HeadFile()
 {
-  static const std::string file = WriteHead("animated_head.glb", AnimatedHead().Glb());
-  return file;
+  return WriteHead("animated_head.glb", AnimatedHead().Glb());
 }
 
 std::vector<vtkPolyData*> Leaves(vtkDataObject* data)
