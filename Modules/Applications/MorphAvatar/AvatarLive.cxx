@@ -253,8 +253,8 @@ struct Live
   }
 };
 
-/// Every frame at the frame rate in real time, offscreen; commands arriving between frames
-/// run at once (they do not wait for the next frame).
+/// Every frame at the frame rate in real time, offscreen; a command arriving between frames
+/// runs at once and the next frame is rendered at once.
 int RunHeadless(Live& live)
 {
   Avatar& a = live.A;
@@ -292,7 +292,10 @@ int RunHeadless(Live& live)
       {
         break;
       }
-      live.Session->Receive(live.Now(), static_cast<int>(left));
+      if (live.Session->Receive(live.Now(), static_cast<int>(left)) > 0)
+      {
+        break; // show it now rather than at the next frame's time
+      }
     }
   }
   live.Session->Shutdown(live.Now());
