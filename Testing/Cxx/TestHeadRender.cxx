@@ -10,6 +10,7 @@
 //     closed mouth fails its baseline.
 // Run under `xvfb-run -a`.
 #include "HeadActors.h"
+#include "MorphNodeMouthPixels.h"
 #include "MorphNodeTestUtilities.h"
 
 #include "vtkMorphNodeFilter.h"
@@ -127,40 +128,8 @@ void WritePng(vtkRenderWindow* window, const std::string& name)
   writer->Write();
 }
 
-/// Pixels of teeth (light, nearly grey: blue close to red) and of the tongue and gums
-/// (red well above green) in the lower half of the frame. The skin is neither (its blue is about 0.65 of its red).
-struct MouthPixels
-{
-  int Teeth = 0;
-  int Tongue = 0;
-};
-
-MouthPixels CountMouthPixels(vtkRenderWindow* window)
-{
-  vtkNew<vtkWindowToImageFilter> grab;
-  grab->SetInput(window);
-  grab->SetInputBufferTypeToRGB();
-  grab->Update();
-  auto* rgb = vtkUnsignedCharArray::SafeDownCast(grab->GetOutput()->GetPointData()->GetScalars());
-  MouthPixels count;
-  int dims[3];
-  grab->GetOutput()->GetDimensions(dims);
-  // The lower half of the frame (rows run bottom-up): the mouth, not the eyes' whites.
-  const vtkIdType lowerHalf = static_cast<vtkIdType>(dims[0]) * (dims[1] / 2);
-  for (vtkIdType i = 0; rgb && i < std::min(lowerHalf, rgb->GetNumberOfTuples()); ++i)
-  {
-    const double r = rgb->GetValue(3 * i), g = rgb->GetValue(3 * i + 1), b = rgb->GetValue(3 * i + 2);
-    if (r > 150 && g > 140 && b > 0.82 * r)
-    {
-      ++count.Teeth;
-    }
-    else if (r > 60 && r > 1.9 * g && r > 1.6 * b)
-    {
-      ++count.Tongue;
-    }
-  }
-  return count;
-}
+using morphnode_test::CountMouthPixels;
+using morphnode_test::MouthPixels;
 
 std::string Baseline(const std::string& name)
 {

@@ -22,6 +22,8 @@
 #include "vtkXMLMultiBlockDataReader.h"
 #include "vtksys/SystemTools.hxx"
 
+#include "MorphNodeMouthPixels.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -293,6 +295,48 @@ TEST(MorphAvatar, OtherFaceThroughRig)
   const double change = MeanDifference(ReadPng(png), ReadPng(still), 0.15, 0.45);
   std::cout << "mouth-region change, speaking against before the speech: " << change << "\n";
   EXPECT_GT(change, RigMouthChange) << "the rig does not move the ICT face's mouth";
+}
+
+/// Teeth and tongue pixels (MorphNodeMouthPixels.h) in the frames of the ICT head saying
+/// "Hello there, how are you?" (400 x 400, 10 fps, frames 1-16). Measured: before the speech
+/// (frame 0) teeth 6, tongue/gums 0; the most while it speaks teeth 115, tongue/gums 742.
+constexpr int IctTeethPixels = 60;
+constexpr int IctTonguePixels = 120;
+
+TEST(MorphAvatar, IctHeadTalksWithTeethAndTongue)
+{
+  const std::string head = std::string(MORPHNODE_FACEKIT_DIR) + "/ict_head_full53.glb";
+  if (!vtksys::SystemTools::FileExists(head))
+  {
+    GTEST_SKIP() << "ICT-FaceKit data not found at " << head << " (the CI requires it)";
+  }
+  const std::string dir = Output + "/TestMorphAvatarIctHead";
+  vtksys::SystemTools::RemoveADirectory(dir);
+  // The whole head (11 parts: skin, mouth interior, teeth, eyes, lashes) through the ARKit
+  // rig: jawOpen and the lips' targets move the teeth and the tongue with the skin.
+  const AvatarRun run = RunAvatar("--face '" + head + "' --rig '" + Source +
+    "/Data/rigs/arkit.json' --say 'Hello there, how are you?' --seed 3 --duration 1.6 --fps 10 " +
+    "--size 400x400 --no-overlay --quiet --frames '" + dir + "'");
+  ASSERT_EQ(run.ExitCode, 0) << run.Text;
+  morphnode_test::MouthPixels most;
+  for (int f = 1; f <= 16; ++f)
+  {
+    char name[32];
+    std::snprintf(name, sizeof(name), "/frame_%05d.png", f);
+    const morphnode_test::MouthPixels frame = morphnode_test::CountMouthPixels(ReadPng(dir + name));
+    most.Teeth = std::max(most.Teeth, frame.Teeth);
+    most.Tongue = std::max(most.Tongue, frame.Tongue);
+  }
+  const morphnode_test::MouthPixels still =
+    morphnode_test::CountMouthPixels(ReadPng(dir + "/frame_00000.png"));
+  std::cout << "ICT head: teeth pixels " << still.Teeth << " before the speech, at most "
+            << most.Teeth << " while speaking; tongue/gums " << still.Tongue << ", at most "
+            << most.Tongue << "\n";
+  EXPECT_GT(most.Teeth, IctTeethPixels) << "no teeth seen while the ICT head speaks";
+  EXPECT_GT(most.Tongue, IctTonguePixels) << "no tongue seen while the ICT head speaks";
+  // Negative control: the closed mouth before the speech shows neither.
+  EXPECT_LT(still.Teeth, IctTeethPixels);
+  EXPECT_LT(still.Tongue, IctTonguePixels);
 }
 
 TEST(MorphAvatar, InteractiveWindowRunsAndKeysSwitchTheMethod)
