@@ -5,6 +5,8 @@
 
 #include "base/Error.h"
 #include "behavior/HeadPose.h"
+#include "gaze/EyeRig.h"
+#include "gaze/EyeRotation.h"
 #include "gltf/GltfWriter.h"
 #include "morph/MorphScene.h"
 #include "morph/OptimizerPresets.h"
@@ -196,7 +198,6 @@ vtkMorphGltfWriter::vtkMorphGltfWriter()
 {
   this->SetNumberOfInputPorts(2);
   this->SetTimeArrayName("Time");
-  this->SetEyeNodeNames("EyeLeft EyeRight LeftEye RightEye eye_L eye_R");
 }
 
 //------------------------------------------------------------------------------
@@ -256,6 +257,8 @@ void vtkMorphGltfWriter::WriteData()
     std::vector<std::string> nodeNames;
     std::vector<std::vector<std::string>> nodeTargets;
     std::vector<std::array<double, 3>> nodeOrigins;
+    std::vector<std::array<double, 9>> nodeAxes;
+    std::vector<std::string> nodePartNames;
     std::vector<vtkPolyData*> leaves;
     if (auto* poly = vtkPolyData::SafeDownCast(input))
     {
@@ -317,6 +320,14 @@ void vtkMorphGltfWriter::WriteData()
         const std::vector<double> origin = FieldNumbers(leaves[i]->GetFieldData(), "NodeOrigin", 3);
         nodeOrigins.push_back(origin.size() == 3 ? std::array<double, 3>{ { origin[0], origin[1], origin[2] } }
                                                  : std::array<double, 3>{ { 0, 0, 0 } });
+        const std::vector<double> axes = FieldNumbers(leaves[i]->GetFieldData(), "NodeAxes", 9);
+        std::array<double, 9> a{ { 1, 0, 0, 0, 1, 0, 0, 0, 1 } };
+        if (axes.size() == 9)
+        {
+          std::copy(axes.begin(), axes.end(), a.begin());
+        }
+        nodeAxes.push_back(a);
+        nodePartNames.push_back(part.Name);
         morphnode::GltfNode gnode;
         gnode.Name = taken ? nodeName + "/" + part.Name : nodeName;
         gnode.InScene = true;
@@ -463,16 +474,37 @@ void vtkMorphGltfWriter::WriteData()
       const std::vector<double> eyePitch = angles("EyePitch");
       if (this->WriteEyeRotations && (!eyeYaw.empty() || !eyePitch.empty()))
       {
-        const std::vector<double> eyeRotations = quaternions(eyeYaw, eyePitch, {});
+        // The eyes and their turns as vtkEyeGazeFilter finds and turns them (its defaults:
+        // morphnode::EyeRig's convention or the named nodes, its limits, no vergence).
+        morphnode::EyeRig rig;
         for (const std::string& eye : SplitNames(this->EyeNodeNames))
         {
-          for (size_t n = 0; n < scene.Nodes.size(); ++n)
+          morphnode::EyeSpec spec;
+          spec.Name = eye;
+          spec.Side = morphnode::EyeRig::SideFromName(eye);
+          rig.AddEye(spec);
+        }
+        for (size_t n = 0; n < scene.Nodes.size(); ++n)
+        {
+          morphnode::EyeSpec eye;
+          if (scene.Nodes[n].Name != nodeNames[n] || !rig.FindEye(nodeNames[n], nodePartNames[n], eye))
           {
-            if (scene.Nodes[n].Name == eye)
-            {
-              p.Rotations.push_back({ eye, nodeOrigins[n], eyeRotations });
-            }
+            continue;
           }
+          std::vector<double> q;
+          q.reserve(4 * frames);
+          for (size_t f = 0; f < frames; ++f)
+          {
+            morphnode::GazeAngles gaze;
+            gaze.Yaw = eyeYaw.empty() ? 0.0 : eyeYaw[f];
+            gaze.Pitch = eyePitch.empty() ? 0.0 : eyePitch[f];
+            const morphnode::GazeAngles turned = morphnode::EyeAngles(gaze, 0.0, eye.Side, rig.GetLimits());
+            const std::array<double, 9> r = morphnode::EyeRotationMatrix(turned, nodeAxes[n], eye.Forward, eye.Up);
+            const std::array<double, 16> m{ { r[0], r[1], r[2], 0, r[3], r[4], r[5], 0, r[6], r[7], r[8], 0, 0, 0, 0, 1 } };
+            const auto quat = morphnode::GltfQuaternionFromRowMajor(m);
+            q.insert(q.end(), quat.begin(), quat.end());
+          }
+          p.Rotations.push_back({ scene.Nodes[n].Name, nodeOrigins[n], std::move(q) });
         }
       }
       this->NumberOfFrames = static_cast<int>(frames);

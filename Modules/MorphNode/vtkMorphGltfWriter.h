@@ -51,9 +51,11 @@
  *
  * Head pose (WriteHeadPose, on by default, when the table has any head column) turns the
  * whole head about morphnode::HeadPivot of its bounds; eye turns (WriteEyeRotations, when
- * the table has EyeYaw or EyePitch) turn the nodes named in EyeNodeNames (default
- * "EyeLeft EyeRight LeftEye RightEye eye_L eye_R"; those present) about their
- * `NodeOrigin`, inside the head's turn. Interpolation: LINEAR (default) or STEP.
+ * the table has EyeYaw or EyePitch) turn each eye node about its `NodeOrigin`, inside the
+ * head's turn, exactly as vtkEyeGazeFilter with its defaults turns it (morphnode::EyeRig:
+ * the eyes its convention finds, or the nodes named in EyeNodeNames; the angles clamped to
+ * its default limits, no vergence; the eye's frame from `NodeAxes`). Interpolation: LINEAR
+ * (default) or STEP.
  *
  * Errors (no input, leaves that are not triangle poly data, targets or arrays of the wrong
  * size, NaN, times that do not increase, a file that cannot be written) are reported with
@@ -157,7 +159,8 @@ public:
 
   ///@{
   /**
-   * Names of the nodes the eye angles turn, separated by spaces.
+   * Names of the nodes the eye angles turn, separated by spaces; empty (default): the
+   * nodes morphnode::EyeRig's convention finds (EyeLeft, eye_R, LeftEye, ...).
    */
   vtkSetStringMacro(EyeNodeNames);
   vtkGetStringMacro(EyeNodeNames);
