@@ -139,8 +139,9 @@ Options ParseOptions(int argc, char* argv[])
     ->type_name("FILE")
     ->group(output);
   app.add_option("--pvd", o.Pvd,
-       "write the morphed face of every frame as a ParaView time series: FILE.pvd and "
-       "FILE/face_00000.vtp ..., with distance arrays (AnimatedRegion, Distance_<target>) and "
+       "write the morphed head of every frame as a ParaView time series: FILE.pvd and "
+       "FILE/face_00000.vtm ... (every part a block; one mesh: .vtp), with distance arrays "
+       "(AnimatedRegion, Distance_<target>) and "
        "the weights (EffectiveWeights, the behaviour's channels) as field data")
     ->type_name("FILE.pvd")
     ->group(output);
