@@ -305,6 +305,17 @@ LiveBehavior::Timing LiveBehavior::Say(const std::string& text, double now)
   {
     throw InputError("say: no synthesizer is set (LiveBehavior::SetSynthesizer)");
   }
+  return this->Say(text, now, this->Synthesize);
+}
+
+LiveBehavior::Timing LiveBehavior::Say(const std::string& text,
+  double now,
+  const Synthesizer& synthesizer)
+{
+  if (!synthesizer)
+  {
+    throw InputError("say: no synthesizer given");
+  }
   now = this->ClampNow(now);
   std::vector<std::string> chunks = SplitSpeechChunks(text);
   if (chunks.empty())
@@ -316,21 +327,22 @@ LiveBehavior::Timing LiveBehavior::Say(const std::string& text, double now)
   {
     // Earlier speech still waits for synthesis: queue the whole text behind it.
     ++this->NextId;
-    PendingSpeech p{ id, std::move(chunks), this->Pending.back().SecondsPerChar };
+    PendingSpeech p{ id, std::move(chunks), this->Pending.back().SecondsPerChar, synthesizer };
     const double start = std::max(now, this->GetSpeechEnd());
     this->Pending.push_back(std::move(p));
     Timing t = this->GetSpeechTiming(id);
     t.Start = start;
     return t;
   }
-  Utterance first = this->Synthesize(chunks.front());
+  Utterance first = synthesizer(chunks.front());
   ++this->NextId;
   const Timing timing = this->AddUtterance(id, std::move(first), now);
   if (chunks.size() > 1)
   {
-    const double spc = (timing.End - timing.Start) / static_cast<double>(std::max<size_t>(chunks[0].size(), 1));
+    const double spc =
+      (timing.End - timing.Start) / static_cast<double>(std::max<size_t>(chunks[0].size(), 1));
     chunks.erase(chunks.begin());
-    this->Pending.push_back({ id, std::move(chunks), spc });
+    this->Pending.push_back({ id, std::move(chunks), spc, synthesizer });
   }
   return this->GetSpeechTiming(id);
 }
@@ -359,6 +371,7 @@ void LiveBehavior::SynthesizeNext()
 {
   PendingSpeech& front = this->Pending.front();
   const uint64_t id = front.Id;
+  const Synthesizer synthesize = front.Synthesize;
   const std::string chunk = front.Chunks.front();
   front.Chunks.erase(front.Chunks.begin());
   if (front.Chunks.empty())
@@ -367,7 +380,7 @@ void LiveBehavior::SynthesizeNext()
   }
   try
   {
-    this->AddUtterance(id, this->Synthesize(chunk), this->LastTime);
+    this->AddUtterance(id, synthesize(chunk), this->LastTime);
   }
   catch (const std::exception& e)
   {
@@ -719,10 +732,7 @@ void LiveBehavior::Sample(double t, double* out)
   }
   this->Sampled = true;
   this->LastTime = t;
-  if (this->Synthesize)
-  {
-    this->SynthesizeAhead(t);
-  }
+  this->SynthesizeAhead(t);
   this->Extend(t + Lookahead);
   this->Forget(t);
 

@@ -113,6 +113,8 @@ public:
   // ---- commands (InputError for unknown names, values out of range, no synthesizer) ----
   /// Synthesizes the first chunk now and queues the speech (see the contract above).
   Timing Say(const std::string& text, double now);
+  /// The same with another synthesizer for this text's chunks (e.g. another voice).
+  Timing Say(const std::string& text, double now, const Synthesizer& synthesizer);
   /// Schedules a ready utterance (queued after the scheduled speech, like Say).
   Timing Speak(const Utterance& utterance, double now);
   /// A gesture of the library from `now`; intensity in [0, 1]; duration <= 0: its default.
@@ -187,6 +189,7 @@ private:
     uint64_t Id;
     std::vector<std::string> Chunks; ///< not yet synthesized, in order
     double SecondsPerChar;           ///< from the first chunk, for the estimate
+    Synthesizer Synthesize;          ///< the one the text was said with
   };
   struct LiveCue
   {

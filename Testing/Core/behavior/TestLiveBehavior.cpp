@@ -561,3 +561,28 @@ TEST(LiveBehavior, StopSpeakingEndsTheMouthAndDropsTheQueue)
   EXPECT_EQ(calls, before) << "nothing synthesized after the stop";
   EXPECT_FALSE(live.IsSpeaking(6.0));
 }
+
+TEST(LiveBehavior, EachTextKeepsItsSynthesizer)
+{
+  LiveBehavior live(Visemes, BehaviorParameters(), 1);
+  std::string calls;
+  auto voice = [&](char name) {
+    return [&calls, name](const std::string& text) {
+      calls += name;
+      return behaviortest::MakeUtterance(0.02 * static_cast<double>(text.size()));
+    };
+  };
+  live.SetSynthesizer(voice('d'));
+  live.Say("First sentence one. First sentence two.", 0.0);                  // d now, d later
+  live.Say("Second text one. Second text two.", 0.0, voice('x'));            // queued: x, x
+  live.Say("Third.", 0.0);                                                     // queued: d
+  EXPECT_EQ(calls, "d");
+  std::vector<double> w(live.GetNumberOfChannels());
+  for (double t = 0.0; t < 10.0; t += 0.05)
+  {
+    live.Sample(t, w.data());
+  }
+  EXPECT_EQ(calls, "ddxxd");
+  EXPECT_THROW(live.Say("No voice.", 10.0, LiveBehavior::Synthesizer()), InputError);
+  EXPECT_TRUE(live.TakeErrors().empty());
+}
