@@ -91,7 +91,7 @@ std::unique_ptr<Scene> RenderHead(
   if (mouth)
   {
     // Looking at the teeth of the neutral head, a little from above.
-    double teeth[6];
+    double teeth[6] = { 0, 0, 0, 0, 0, 0 };
     bool found = false;
     for (vtkPolyData* part : appkit::HeadParts(s->Reader->GetOutputDataObject(0)))
     {
@@ -104,6 +104,10 @@ std::unique_ptr<Scene> RenderHead(
       }
     }
     EXPECT_TRUE(found) << "no part named *Teeth* in " << file;
+    if (!found)
+    {
+      return s;
+    }
     vtkCamera* camera = s->Renderer->GetActiveCamera();
     const double* f = camera->GetFocalPoint();
     const double shift = 0.5 * (teeth[2] + teeth[3]) - f[1];
