@@ -126,10 +126,11 @@ void OnTimer(vtkObject* caller, unsigned long, void* clientData, void*)
     std::chrono::duration<double>(now - a->Launched).count() >= a->Opt.ExitAfter)
   {
     const double seconds = std::chrono::duration<double>(Clock::now() - a->Launched).count();
-    std::cout << "rendered " << a->FramesRendered << " frames in " << std::fixed
-              << std::setprecision(2) << seconds << " s (" << std::setprecision(1)
-              << a->FramesRendered / seconds << " fps)\n"
-              << a->Overlay->GetInput() << "\n";
+    // (with commands on stdin, stdout carries only their events)
+    std::ostream& out = a->Opt.CommandsStdin ? std::cerr : std::cout;
+    out << "rendered " << a->FramesRendered << " frames in " << std::fixed << std::setprecision(2)
+        << seconds << " s (" << std::setprecision(1) << a->FramesRendered / seconds << " fps)\n"
+        << a->Overlay->GetInput() << "\n";
     interactor->TerminateApp();
   }
 }
