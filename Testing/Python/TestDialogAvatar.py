@@ -10,6 +10,7 @@ events, stop interrupts speech, quit ends the program (exit code 0).
 Usage: TestDialogAvatar.py MORPHAVATAR_EXE   (under xvfb-run, like the other render tests)
 """
 
+import json
 import os
 import re
 import socket
@@ -155,6 +156,28 @@ class DialogAvatarTest(unittest.TestCase):
         c = self.client
         c.wait(c.quit(id="bye"), "accepted", 30)
         self.assertEqual(self.proc.wait(timeout=60), 0)
+
+
+class DialogWindowTest(unittest.TestCase):
+    """The window's loop (AvatarInteractive + the LiveFrame hook): commands on stdin, events
+    on stdout and nothing else there, time running on past the default 5 s loop."""
+
+    def test_window_commands_on_stdin(self):
+        lines = b'{"cmd":"gesture","name":"nod","id":"w1"}\n{"cmd":"look_at","yaw":5,"pitch":0,"id":2}\n'
+        proc = subprocess.Popen([EXE, "--commands-stdin", "--size", "160x160", "--exit-after", "6"],
+                                stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+        proc.stdin.write(lines)
+        proc.stdin.flush()
+        out, err = proc.communicate(timeout=120)
+        self.assertEqual(proc.returncode, 0, err.decode(errors="replace"))
+        events = [json.loads(line) for line in out.decode().splitlines()]  # only JSON there
+        kinds = [(e["id"], e["event"]) for e in events]
+        for cid in ("w1", 2):
+            self.assertEqual([k for i, k in kinds if i == cid], ["accepted", "started", "ended"], kinds)
+        self.assertIn("rendered", err.decode())  # the --exit-after summary, on stderr
+        # Time ran on: the last overlay shows t beyond the 5 s the default behaviour lasts.
+        m = re.findall(r"t = ([0-9.]+) s", err.decode())
+        self.assertTrue(m and float(m[-1]) > 5.5, err.decode())
 
 
 if __name__ == "__main__":
