@@ -32,7 +32,9 @@ namespace
 // picks one per machine: with 8-wide vectors two threads stream 20-25 % more bandwidth
 // (docs/benchmarks.md). Without FMA on purpose: both clones round the same way, so a blend
 // does not depend on the machine, and the dense and sparse paths stay bit-identical.
-#if defined(__x86_64__) && defined(__has_attribute)
+// GCC only: clang 14 rejects target_clones on templates and together with noinline (the
+// fuzz and clang builds get the baseline kernels; docs/fuzzing.md).
+#if defined(__x86_64__) && defined(__has_attribute) && !defined(__clang__)
 #if __has_attribute(target_clones)
 #define MORPHNODE_KERNEL_CLONES __attribute__((target_clones("avx2", "default")))
 #endif
@@ -44,7 +46,7 @@ namespace
 // which AVX-512 does eight at a time: 2.5x faster than AVX2 on 11,248 normals (one
 // thread, this machine). Square roots and divides round correctly at any vector width, and
 // this file is built without FMA contraction, so every clone gives the same bits.
-#if defined(__x86_64__) && defined(__has_attribute)
+#if defined(__x86_64__) && defined(__has_attribute) && !defined(__clang__)
 #if __has_attribute(target_clones)
 #define MORPHNODE_NORMALIZE_CLONES __attribute__((target_clones("avx512f", "avx2", "default")))
 #endif

@@ -64,11 +64,15 @@ VisemeMap VisemeMap::Builtin(VisemeSet set, const std::string& language)
     if (const char* german = speech_detail::BuiltinVisemeTableJson(germanKey.c_str()))
     {
       const VisemeMap de = FromJson(german, "built-in viseme table " + germanKey);
-      for (const auto& [a, v] : de.Described)
+      for (const auto& described : de.Described)
       {
+        const auto& [a, v] = described;
+        const Articulation& articulation = a; // clang 14 cannot capture a structured binding
         const int viseme = map.FindViseme(de.Visemes[static_cast<size_t>(v)]);
         const bool known = std::any_of(map.Described.begin(), map.Described.end(),
-          [&a](const std::pair<Articulation, int>& d) { return ArticulationDistance(d.first, a) == 0.0; });
+          [&articulation](const std::pair<Articulation, int>& d) {
+            return ArticulationDistance(d.first, articulation) == 0.0;
+          });
         if (viseme >= 0 && !known)
         {
           map.Described.emplace_back(a, viseme);
