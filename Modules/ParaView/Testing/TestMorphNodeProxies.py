@@ -5,8 +5,9 @@
 Drives each proxy the way a ParaView user does, through properties only, and checks what
 comes out against the same class run directly: the Morph Rig filter (an ARKit face's
 weights from semantic ones), the Morph Rig Baker (the paper's shapes as targets), the
-Animation-Aware Decimation (fewer triangles, targets carried), and the Behavior Time
-Source (time steps that drive ParaView's animation). The ICT-FaceKit faces are used (the
+Animation-Aware Decimation (fewer triangles, targets carried), the Behavior Time
+Source (time steps that drive ParaView's animation), and the Live Link Face Capture (an
+ARKit take on the ICT face's targets). The ICT-FaceKit faces are used (the
 test is skipped without them, and fails under CI): the decimation needs a manifold mesh,
 which the repository's one-mesh default face (mouth bag and teeth fused into the skin) is
 not.
@@ -152,6 +153,7 @@ a = vtkDoubleArray(); a.SetName("O"); a.InsertNextValue(1.0); self.GetOutput().A
     simple.Delete(at)
 
     check_eye_gaze(c)
+    check_live_link(c, ict)
 
 
 def check_eye_gaze(c):
@@ -214,6 +216,46 @@ def check_eye_gaze(c):
                 "(%.2f, %.2f) (off by %.3f deg)" % (time, yaw, pitch, angle))
         simple.Delete(at)
         simple.Delete(table_at)
+
+
+def check_live_link(c, ict):
+    """The Live Link Face Capture proxy: a take written here, its rows as time steps, its
+    ARKit columns on the ICT face's targets (tongueOut, which the face lacks, left out), and
+    the face animated by it through the Morph Node."""
+    import tempfile
+    import numpy as np
+    from paraview import simple
+    from paraview import servermanager as sm
+
+    take_file = os.path.join(tempfile.mkdtemp(), "take.csv")
+    with open(take_file, "w") as f:
+        f.write("Timecode,BlendShapeCount,JawOpen,BrowInnerUp,TongueOut,HeadYaw\n"
+                "10:00:00:00.250,3,0,0,0,0\n"
+                "10:00:00:02.250,3,0.8,0.4,1,0.1\n"
+                "10:00:00:04.250,3,0.4,0.2,0,0.2\n")
+    face = MorphNodeFaceReader(FileName=ict, MeshIndex=0)  # noqa: F821
+    take = LiveLinkFaceCapture(Face=face, FileName=take_file)  # noqa: F821
+    take.UpdatePipelineInformation()
+    steps = list(take.TimestepValues)
+    c.check(len(steps) == 3 and abs(steps[1] - 1.0 / 30.0) < 1e-9,
+            "the take's 3 rows, 1/30 s apart, are the time steps (got %s)" % steps)
+    at = simple.ForceTime(Input=take, ForcedTime=1.0 / 30.0, IgnorePipelineTime=1)
+    table = sm.Fetch(at)
+    jaw = table.GetColumnByName("jawOpen")
+    brow = table.GetColumnByName("browInnerUp_R")
+    c.check(jaw is not None and abs(jaw.GetValue(0) - 0.8) < 1e-9 and brow is not None and
+            abs(brow.GetValue(0) - 0.4) < 1e-9 and table.GetColumnByName("tongueOut") is None,
+            "the take's JawOpen and BrowInnerUp land on the face's jawOpen and browInnerUp_R")
+    simple.Delete(at)
+    animated = MorphNode(Input=face, WeightsTable=take)  # noqa: F821
+    animated.WeightMode = "Relative"
+    points = {}
+    for time in (0.0, 1.0 / 30.0):
+        at = simple.ForceTime(Input=animated, ForcedTime=time, IgnorePipelineTime=1)
+        points[time], _ = t.point_arrays(sm.Fetch(at))
+        simple.Delete(at)
+    moved = float(np.linalg.norm(points[1.0 / 30.0] - points[0.0], axis=1).max())
+    c.check(moved > 1e-3, "the take animates the face through the Morph Node (moved %.4g m)" % moved)
 
 
 if __name__ == "__main__":
