@@ -152,6 +152,16 @@ class DialogAvatarTest(unittest.TestCase):
         self.assertLess(ended["end"], accepted["end"])
         c.wait(stop, "ended", 30)
 
+    def test_6_voices(self):
+        self.need_speech()
+        c = self.client
+        self.lifecycle(c, c.say("Guten Tag.", voice="de"))
+        # A voice eSpeak NG does not have is rejected at once, even behind other speech.
+        c.say("This sentence keeps the mouth busy for a little while.")
+        with self.assertRaises(AvatarError) as caught:
+            c.wait(c.say("Hi", voice="xx-no-such-voice"), "accepted", 60)
+        self.assertEqual(caught.exception.event["reason"], "rejected")
+
     def test_9_quit(self):
         c = self.client
         c.wait(c.quit(id="bye"), "accepted", 30)

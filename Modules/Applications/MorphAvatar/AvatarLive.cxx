@@ -36,6 +36,8 @@
 #include <iostream>
 #include <limits>
 #include <memory>
+#include <set>
+#include <string>
 #include <vector>
 
 namespace morphavatar
@@ -125,10 +127,25 @@ public:
     }
     else
     {
-      // Another voice: all of it at once, so that later chunks cannot change voice.
+      // Another voice, for every chunk of this text.
       morphnode::SpeechOptions options = this->Speech;
       options.Voice = c.Voice;
-      timing = this->Live.Speak(morphnode::SpeakText(c.Text, options), now);
+      if (this->Voices.insert(c.Voice).second)
+      {
+        // A voice's first use: a word at once, so that a voice eSpeak NG does not have is
+        // rejected now, not when a queued chunk is synthesized later.
+        try
+        {
+          morphnode::SpeakText("a", options);
+        }
+        catch (...)
+        {
+          this->Voices.erase(c.Voice);
+          throw;
+        }
+      }
+      timing = this->Live.Say(c.Text, now,
+        [options](const std::string& text) { return morphnode::SpeakText(text, options); });
     }
     dialog::Schedule s(timing.Start, timing.End);
     s.Handle = timing.Id;
@@ -176,6 +193,7 @@ public:
 private:
   morphnode::LiveBehavior& Live;
   morphnode::SpeechOptions Speech;
+  std::set<std::string> Voices; ///< voices that synthesized once
 };
 
 /// The server, the session, the behaviour and the clock of one live run.
