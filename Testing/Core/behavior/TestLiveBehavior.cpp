@@ -227,8 +227,12 @@ TEST(LiveBehavior, SameSeedWithoutCommandsIsTheFiniteController)
 
 TEST(LiveBehavior, MergingLeavesEverythingOutsideTheSpanUnchanged)
 {
-  LiveBehavior plain(Visemes, BehaviorParameters(), 9);
-  LiveBehavior merged(Visemes, BehaviorParameters(), 9);
+  // Blinking much faster while speaking, so that a rate change leaking out of the speech's
+  // span shows.
+  BehaviorParameters fast;
+  fast.BlinkRateSpeaking = 80.0;
+  LiveBehavior plain(Visemes, fast, 9);
+  LiveBehavior merged(Visemes, fast, 9);
   const double fps = 50.0;
   std::vector<double> a(plain.GetNumberOfChannels()), b(merged.GetNumberOfChannels());
   std::vector<LiveBehavior::Timing> spans;
@@ -239,11 +243,12 @@ TEST(LiveBehavior, MergingLeavesEverythingOutsideTheSpanUnchanged)
     if (f == 20 * 50)
     {
       // Merged while running: a gesture, speech, a look, a blink.
+      // (Long speech: the faster blinking it brings must stay inside its span.)
       spans.push_back(merged.Gesture("nod", t + 0.5, 1.0));
-      spans.push_back(merged.Speak(behaviortest::MakeUtterance(1.5), t + 1.0));
-      spans.push_back(merged.LookAt(20.0, 5.0, t + 4.0, 1.0));
-      spans.push_back(merged.Gesture("blink", t + 8.0));
-      spans.push_back(merged.Gesture("close_eyes", t + 12.0, 0.8, 2.0));
+      spans.push_back(merged.Speak(behaviortest::MakeUtterance(8.0), t + 1.0));
+      spans.push_back(merged.LookAt(20.0, 5.0, t + 11.0, 1.0));
+      spans.push_back(merged.Gesture("blink", t + 15.0));
+      spans.push_back(merged.Gesture("close_eyes", t + 19.0, 0.8, 2.0));
     }
     plain.Sample(t, a.data());
     merged.Sample(t, b.data());
