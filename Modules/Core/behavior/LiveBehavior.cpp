@@ -689,7 +689,10 @@ void LiveBehavior::Forget(double t)
     this->Cues.end());
   this->Utterances.erase(std::remove_if(this->Utterances.begin(),
                            this->Utterances.end(),
-                           [t](const LiveUtterance& u) { return std::min(u.End, u.Cut + StopFade) < t; }),
+                           [t](const LiveUtterance& u) {
+                             // Kept ForgetAfter longer: GetSpeechTiming still answers.
+                             return std::min(u.End, u.Cut + StopFade) < t - ForgetAfter;
+                           }),
     this->Utterances.end());
   this->MoodTrack.ForgetBefore(t);
   this->EyeGazeTrack.ForgetBefore(t);

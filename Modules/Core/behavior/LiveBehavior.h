@@ -144,7 +144,8 @@ public:
   std::vector<std::string> TakeErrors();
 
   // ---- inspection ---------------------------------------------------------------------
-  /// The current timing of an utterance; Id 0 when unknown (forgotten after its end).
+  /// The current timing of an utterance (exact once Final); Id 0 when unknown (forgotten
+  /// ForgetAfter seconds after its end).
   Timing GetSpeechTiming(uint64_t id) const;
   /// True while speech is scheduled at or after t (including unsynthesized chunks).
   bool IsSpeaking(double t) const;

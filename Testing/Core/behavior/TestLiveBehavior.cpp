@@ -591,3 +591,23 @@ TEST(LiveBehavior, EachTextKeepsItsSynthesizer)
   EXPECT_THROW(live.Say("No voice.", 10.0, LiveBehavior::Synthesizer()), InputError);
   EXPECT_TRUE(live.TakeErrors().empty());
 }
+
+TEST(LiveBehavior, SpeechTimingOutlivesTheSpeechBriefly)
+{
+  LiveBehavior live(Visemes, BehaviorParameters(), 1);
+  live.SetSynthesizer([](const std::string&) { return behaviortest::MakeUtterance(1.0); });
+  const auto said = live.Say("One. Two.", 0.0);
+  EXPECT_FALSE(said.Final);
+  std::vector<double> w(live.GetNumberOfChannels());
+  for (double t = 0.0; t <= 2.5; t += 0.1)
+  {
+    live.Sample(t, w.data());
+  }
+  const auto done = live.GetSpeechTiming(said.Id);
+  EXPECT_EQ(done.Id, said.Id);
+  EXPECT_TRUE(done.Final);
+  EXPECT_DOUBLE_EQ(done.Start, 0.0);
+  EXPECT_DOUBLE_EQ(done.End, 2.0);
+  live.Sample(2.0 + LiveBehavior::ForgetAfter + 0.5, w.data());
+  EXPECT_EQ(live.GetSpeechTiming(said.Id).Id, 0u);
+}
