@@ -352,6 +352,59 @@ TEST(MorphAvatar, InteractiveWindowRunsAndKeysSwitchTheMethod)
   EXPECT_GT(frames, 3) << "the timer did not advance the animation";
 }
 
+// The window plays the speech on the sound device (playback/AudioPlayer), and its clock is
+// the sound's. SDL's disk driver writes what a sound card would play (32-bit float mono):
+// silence until the sentence starts at 0.5 s, then the voice. --mute: no sound at all.
+TEST(MorphAvatar, InteractiveWindowPlaysTheSpeech)
+{
+  const std::string raw = Output + "/MorphAvatarSound.raw";
+  auto played = [&](const std::string& extra) {
+    vtksys::SystemTools::RemoveFile(raw);
+    setenv("SDL_AUDIODRIVER", "disk", 1);
+    setenv("SDL_DISKAUDIOFILE", raw.c_str(), 1);
+    const AvatarRun run = RunAvatar("--say 'Hello there, my friend.' --size 160x160 --exit-after 2.5 " + extra);
+    unsetenv("SDL_AUDIODRIVER");
+    unsetenv("SDL_DISKAUDIOFILE");
+    EXPECT_EQ(run.ExitCode, 0) << run.Text;
+    std::vector<float> samples;
+    std::ifstream in(raw, std::ios::binary);
+    float value = 0.0f;
+    while (in.read(reinterpret_cast<char*>(&value), sizeof(value)))
+    {
+      samples.push_back(value);
+    }
+    return std::make_pair(run, samples);
+  };
+  const auto [run, samples] = played("");
+  if (run.Text.find("sound through disk") == std::string::npos)
+  {
+    GTEST_SKIP() << "no SDL disk driver (built without SDL2?): " << run.Text;
+  }
+  ASSERT_GT(samples.size(), 22050u) << "the device took less than a second of sound";
+  size_t first = samples.size();
+  double energy = 0.0;
+  for (size_t i = 0; i < samples.size(); ++i)
+  {
+    if (std::abs(samples[i]) > 1e-3f && first == samples.size())
+    {
+      first = i;
+    }
+    energy += double(samples[i]) * samples[i];
+  }
+  ASSERT_LT(first, samples.size()) << "the window played no sound";
+  // 22050 Hz: the first sound at 0.5 s of the clock, after the window opened (up to ~0.4 s
+  // of the device running before the clock starts on a loaded machine).
+  EXPECT_GT(first, 0.45 * 22050) << "the speech starts at 0.5 s, not at once";
+  EXPECT_GT(std::sqrt(energy / samples.size()), 0.01) << "a voice, not a click";
+
+  const auto [muted, silence] = played("--mute");
+  EXPECT_EQ(muted.Text.find("sound through"), std::string::npos) << muted.Text;
+  for (float v : silence)
+  {
+    ASSERT_EQ(v, 0.0f) << "--mute played sound";
+  }
+}
+
 TEST(MorphAvatar, TimeSeriesForParaView)
 {
   const std::string pvd = Output + "/avatar_series/talk.pvd";

@@ -12,6 +12,7 @@
 /// the actors (head parts, overlay, caption) and the window, and the two ways to run it.
 
 #include "AvatarOptions.h"
+#include "playback/AudioPlayer.h"
 #include "HeadActors.h"
 
 #include "vtkBehaviorTimeSource.h"
@@ -28,6 +29,7 @@
 #include <array>
 #include <chrono>
 #include <functional>
+#include <memory>
 #include <string>
 
 namespace morphavatar
@@ -72,6 +74,10 @@ struct Avatar
   /// loop) and calls it before each frame at t (rendered false; false closes the window)
   /// and after it (rendered true).
   std::function<bool(double t, bool rendered)> LiveFrame;
+  /// The voice (playback/AudioPlayer): in the window and live, unless --mute or no device
+  /// opens. With it, the clock is the sound's: the picture cannot drift from it.
+  std::unique_ptr<morphnode::AudioPlayer> Player;
+  bool ClockStarted = false;
 
   /// The behaviour from the options (script, sentence, seed, timing). False with a
   /// message on stderr when it cannot be made.
@@ -92,6 +98,20 @@ struct Avatar
   std::string OverlayText(bool offscreen, int frame, int frames) const;
   /// Number of frames from 0 to the duration at the frame rate.
   int NumberOfFrames() const;
+
+  // The real-time clock of the window and of live runs (AvatarClock.cxx).
+  /// Starts the clock at 0 (once) and opens the sound device unless --mute; the prepared
+  /// behaviour's speech, if any, is scheduled from 0 (live runs schedule theirs as it comes).
+  void StartClock(bool scheduleBehaviorSound);
+  /// Seconds on the clock: the sample heard now, or steady time (paused: standing).
+  double ClockNow() const;
+  void SetClockPaused(bool paused);
+  /// Moves the clock to t (restart, loop); the behaviour's speech is scheduled again from 0.
+  void SeekClock(double t);
+  /// Plays mono 16-bit samples from `start` on the clock (nothing without a player).
+  void PlaySound(const std::vector<int16_t>& samples, int sampleRate, double start);
+  /// Silences the sound scheduled from t on (stop speaking).
+  void CutSound(double t);
 };
 
 /// A window where time runs in real time and keys switch the optimizer.

@@ -60,15 +60,11 @@ public:
     }
     else if (key == ' ' || sym == "space")
     {
-      const double now = a.Time;
-      a.Paused = !a.Paused;
-      a.Start = Clock::now();
-      a.StartTime = now;
+      a.SetClockPaused(!a.Paused);
     }
     else if (key == 'r')
     {
-      a.Start = Clock::now();
-      a.StartTime = 0.0;
+      a.SeekClock(0.0);
     }
     else if (key == 'o')
     {
@@ -89,17 +85,13 @@ void OnTimer(vtkObject* caller, unsigned long, void* clientData, void*)
   auto* a = static_cast<Avatar*>(clientData);
   auto* interactor = static_cast<vtkRenderWindowInteractor*>(caller);
   const auto now = Clock::now();
-  double t = a->StartTime;
-  if (!a->Paused)
+  // The clock (AvatarClock.cxx): the sound's where it plays, so the picture follows it.
+  double t = a->ClockNow();
+  if (!a->Paused && t > a->Duration && !a->LiveFrame) // loop (live: time runs on)
   {
-    t += std::chrono::duration<double>(now - a->Start).count();
-    if (t > a->Duration && !a->LiveFrame) // loop (live: time runs on)
-    {
-      a->Start = now;
-      a->StartTime = 0.0;
-      a->Morph->ResetHysteresis();
-      t = 0.0;
-    }
+    a->SeekClock(0.0);
+    a->Morph->ResetHysteresis();
+    t = 0.0;
   }
   if (a->LiveFrame && !a->LiveFrame(t, false)) // commands (AvatarLive.cxx); false: quit
   {
@@ -149,6 +141,7 @@ int RunInteractive(Avatar& a)
   timer->SetClientData(&a);
   interactor->AddObserver(vtkCommand::TimerEvent, timer);
   interactor->CreateRepeatingTimer(5);
+  a.StartClock(true); // live runs started it already, with nothing scheduled yet
   for (char key : a.Opt.Keys)
   {
     const char sym[2] = { key, '\0' };
@@ -156,7 +149,7 @@ int RunInteractive(Avatar& a)
     interactor->InvokeEvent(vtkCommand::KeyPressEvent);
     interactor->InvokeEvent(vtkCommand::CharEvent);
   }
-  a.Start = a.MeasureStart = a.Launched = Clock::now();
+  a.MeasureStart = Clock::now();
   a.Window->Render();
   interactor->Start();
   return 0;

@@ -155,6 +155,10 @@ public:
       {
         s.Sound = segment.Start + FirstSound(segment.Samples, segment.SampleRate);
       }
+      if (this->A)
+      {
+        this->A->PlaySound(segment.Samples, segment.SampleRate, segment.Start);
+      }
     }
     return s;
   }
@@ -177,7 +181,14 @@ public:
     return dialog::Schedule(timing.Start, timing.End);
   }
 
-  void StopSpeaking(double now) override { this->Live.StopSpeaking(now); }
+  void StopSpeaking(double now) override
+  {
+    this->Live.StopSpeaking(now);
+    if (this->A)
+    {
+      this->A->CutSound(now);
+    }
+  }
 
   bool Refresh(unsigned long long handle, dialog::Schedule& when) override
   {
@@ -189,6 +200,9 @@ public:
     when.End = timing.End; // (the start stays the first chunk's)
     return true;
   }
+
+  /// Where the speech plays (the avatar's player), or null.
+  Avatar* A = nullptr;
 
 private:
   morphnode::LiveBehavior& Live;
@@ -213,15 +227,9 @@ struct Live
     , Server(settings)
   {
   }
-  /// The avatar's clock: the window's (pausable) time, or seconds since the start.
-  double Now() const
-  {
-    if (this->A.Paused)
-    {
-      return this->A.StartTime;
-    }
-    return this->A.StartTime + std::chrono::duration<double>(Clock::now() - this->A.Start).count();
-  }
+  /// The avatar's clock (AvatarClock.cxx): the sound's where it plays, else the window's
+  /// (pausable) time or seconds since the start.
+  double Now() const { return this->A.ClockNow(); }
   /// Before a frame at t: commands that arrived run now, the behaviour is sampled into the
   /// weights row (and into the behaviour source's output, where the head pose is read).
   /// False to stop.
@@ -230,7 +238,10 @@ struct Live
     t = this->BehaviorTime(t);
     this->Session->Receive(t, 0);
     this->Behavior->Sample(t, this->Values.data());
-    this->Behavior->TakeAudio(); // no sound device yet: the samples are dropped
+    for (const auto& segment : this->Behavior->TakeAudio()) // later chunks of long texts
+    {
+      this->A.PlaySound(segment.Samples, segment.SampleRate, segment.Start);
+    }
     for (const std::string& error : this->Behavior->TakeErrors())
     {
       std::cerr << "MorphAvatar: " << error << "\n";
@@ -378,10 +389,10 @@ int RunLive(Avatar& a)
   live.Values.assign(live.Behavior->GetNumberOfChannels(), 0.0);
   Rewire(source->GetOutputPort(0), live.Weights->GetOutputPort());
   live.Sink = std::make_unique<LiveSink>(*live.Behavior, speech);
+  live.Sink->A = &a;
   live.Session = std::make_unique<dialog::DialogSession>(live.Server, *live.Sink);
   a.Duration = std::numeric_limits<double>::infinity(); // no end, no loop
-  a.Start = a.MeasureStart = a.Launched = Clock::now();
-  a.StartTime = 0.0;
+  a.StartClock(false); // the sound device opens; speech is scheduled as it is said
   if (!a.Opt.Say.empty())
   {
     dialog::Command greeting;

@@ -179,6 +179,10 @@ Options ParseOptions(int argc, char* argv[])
     ->group(output);
   app.add_option("--keys", o.Keys, "interactive: press these keys at the start, e.g. '4--'")
     ->group(output);
+  app.add_flag("--mute", o.Mute,
+       "window and live: no sound (by default the speech plays on the sound device, and the "
+       "picture follows the sound's clock)")
+    ->group(output);
 
   const std::string live = "Live commands from a dialog system (JSON lines, docs/dialog.md)";
   app.add_option("--listen", o.Listen,

@@ -51,6 +51,7 @@ struct Options
   std::vector<std::string> Listen; // live: command addresses (AvatarLive.h)
   bool CommandsStdin = false;      // live: commands on stdin, events on stdout
   bool ListenRemote = false;       // live: allow non-loopback --listen addresses
+  bool Mute = false;               // window and live: no sound (the steady clock)
 };
 
 /// Reads the command line; --help and usage errors exit (0 and 2).
