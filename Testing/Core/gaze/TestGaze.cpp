@@ -12,6 +12,7 @@
 #include "behavior/HeadPose.h"
 #include "gltf/GltfScene.h"
 #include "rig/Rig.h"
+#include "MorphNodeTestErrors.h"
 
 #include <gtest/gtest.h>
 
@@ -33,6 +34,8 @@ using morphnode::GazeAngles;
 using morphnode::GazeDirection;
 using morphnode::InputError;
 using morphnode::RigidTurn;
+
+using morphnode_test::ErrorOf;
 
 namespace
 {
@@ -78,18 +81,6 @@ std::array<double, 9> AxesOf(const std::array<double, 9>& r)
   return { r[0], r[3], r[6], r[1], r[4], r[7], r[2], r[5], r[8] };
 }
 
-std::string ErrorOf(const std::function<void()>& f)
-{
-  try
-  {
-    f();
-  }
-  catch (const InputError& e)
-  {
-    return e.what();
-  }
-  return "";
-}
 } // namespace
 
 TEST(EyeRig, DefaultConventionFindsCommonEyeNames)
