@@ -80,7 +80,6 @@ std::array<double, 9> AxesOf(const std::array<double, 9>& r)
 {
   return { r[0], r[3], r[6], r[1], r[4], r[7], r[2], r[5], r[8] };
 }
-
 } // namespace
 
 TEST(EyeRig, DefaultConventionFindsCommonEyeNames)
