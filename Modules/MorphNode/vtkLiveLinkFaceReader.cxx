@@ -44,32 +44,6 @@ struct vtkLiveLinkFaceReader::vtkInternals
 
 namespace
 {
-/// `TargetNames` (neutral first) of a data object, or of the first leaf carrying it (as
-/// vtkMorphRigFilter reads a face).
-vtkStringArray* FindTargetNames(vtkDataObject* face)
-{
-  if (!face)
-  {
-    return nullptr;
-  }
-  if (auto* composite = vtkCompositeDataSet::SafeDownCast(face))
-  {
-    vtkSmartPointer<vtkCompositeDataIterator> it;
-    it.TakeReference(composite->NewIterator());
-    for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem())
-    {
-      if (vtkStringArray* names = FindTargetNames(it->GetCurrentDataObject()))
-      {
-        return names;
-      }
-    }
-    return nullptr;
-  }
-  return face->GetFieldData()
-    ? vtkStringArray::SafeDownCast(face->GetFieldData()->GetAbstractArray(vtkMorphTargetArrays::TargetNamesArray))
-    : nullptr;
-}
-
 bool IsAngle(const std::string& name)
 {
   return morphnode::FindArkitShape(name) < 0;
@@ -290,37 +264,34 @@ int vtkLiveLinkFaceReader::RequestData(
   const morphnode::LiveLinkCapture& capture = internals.Capture;
 
   // The face's target names: the connected face, else SetTargetNames(), else none.
-  vtkStringArray* names = nullptr;
+  std::vector<std::string> targets;
   if (this->GetNumberOfInputConnections(0) > 0)
   {
-    names = FindTargetNames(vtkDataObject::GetData(inputVector[0], 0));
-    if (!names)
+    if (!vtkMorphTargetArrays::GetFaceTargetNames(vtkDataObject::GetData(inputVector[0], 0), targets))
     {
       vtkErrorMacro(<< "the face on input port 0 has no field data '" << vtkMorphTargetArrays::TargetNamesArray
                     << "' (neutral first)");
       return 0;
     }
   }
-  else
+  else if (internals.TargetNames)
   {
-    names = internals.TargetNames;
+    for (vtkIdType i = 1; i < internals.TargetNames->GetNumberOfValues(); ++i)
+    {
+      targets.push_back(internals.TargetNames->GetValue(i));
+    }
   }
 
   // Output column c = capture channel Source[c] (Mapped: through the rig instead).
   std::vector<int> source;
   std::vector<int> shapeChannel(morphnode::ArkitShapeCount, -1);
   morphnode::Rig rig;
-  const bool mapped = names && names->GetNumberOfValues() > 1;
+  const bool mapped = !targets.empty();
   internals.Unmapped = capture.UnknownColumns;
   try
   {
     if (mapped)
     {
-      std::vector<std::string> targets;
-      for (vtkIdType i = 1; i < names->GetNumberOfValues(); ++i)
-      {
-        targets.push_back(names->GetValue(i));
-      }
       morphnode::ArkitFaceMapping mapping;
       rig = morphnode::MakeArkitRig(targets, &mapping);
       internals.Channels = targets;

@@ -36,34 +36,6 @@ struct vtkMorphRigFilter::vtkInternals
   vtkSmartPointer<vtkStringArray> TargetNames;
 };
 
-namespace
-{
-/// `TargetNames` (neutral first) of a data object, or of the first leaf carrying it.
-vtkStringArray* FindTargetNames(vtkDataObject* face)
-{
-  if (!face)
-  {
-    return nullptr;
-  }
-  if (auto* composite = vtkCompositeDataSet::SafeDownCast(face))
-  {
-    vtkSmartPointer<vtkCompositeDataIterator> it;
-    it.TakeReference(composite->NewIterator());
-    for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem())
-    {
-      if (vtkStringArray* names = FindTargetNames(it->GetCurrentDataObject()))
-      {
-        return names;
-      }
-    }
-    return nullptr;
-  }
-  return face->GetFieldData()
-    ? vtkStringArray::SafeDownCast(
-        face->GetFieldData()->GetAbstractArray(vtkMorphTargetArrays::TargetNamesArray))
-    : nullptr;
-}
-} // namespace
 
 //------------------------------------------------------------------------------
 vtkMorphRigFilter::vtkMorphRigFilter()
@@ -171,21 +143,16 @@ int vtkMorphRigFilter::RequestData(
 
     // The face's relative targets (no neutral).
     std::vector<std::string> targets;
-    vtkStringArray* names = FindTargetNames(face);
-    if (face && !names)
+    if (face && !vtkMorphTargetArrays::GetFaceTargetNames(face, targets))
     {
       throw morphnode::InputError(std::string("the face on port 1 has no field data '") +
         vtkMorphTargetArrays::TargetNamesArray + "' (neutral first)");
     }
-    if (!names)
+    if (!face && internals.TargetNames)
     {
-      names = internals.TargetNames;
-    }
-    if (names)
-    {
-      for (vtkIdType i = 1; i < names->GetNumberOfValues(); ++i)
+      for (vtkIdType i = 1; i < internals.TargetNames->GetNumberOfValues(); ++i)
       {
-        targets.push_back(names->GetValue(i));
+        targets.push_back(internals.TargetNames->GetValue(i));
       }
     }
     else
@@ -204,7 +171,9 @@ int vtkMorphRigFilter::RequestData(
     catch (const std::exception& e)
     {
       throw morphnode::InputError(std::string(e.what()) +
-        (names ? " (target names are taken neutral first: the first one is skipped)" : ""));
+        (face || internals.TargetNames
+            ? " (target names are taken neutral first: the first one is skipped)"
+            : ""));
     }
 
     // Columns: shape columns (numeric), face-target columns (dropped), others.

@@ -7,6 +7,8 @@
 #include "vtkArrayDispatch.h"
 #include "vtkCellArray.h"
 #include "vtkCellArrayIterator.h"
+#include "vtkCompositeDataIterator.h"
+#include "vtkCompositeDataSet.h"
 #include "vtkDataArray.h"
 #include "vtkDataArrayRange.h"
 #include "vtkFieldData.h"
@@ -229,6 +231,44 @@ void RemoveTargetArrays(vtkPointData* pd)
       pd->RemoveArray(a);
     }
   }
+}
+
+bool GetFaceTargetNames(vtkDataObject* face, std::vector<std::string>& targets)
+{
+  targets.clear();
+  bool found = false;
+  auto add = [&](vtkDataObject* leaf) {
+    auto* names = leaf && leaf->GetFieldData()
+      ? vtkStringArray::SafeDownCast(leaf->GetFieldData()->GetAbstractArray(TargetNamesArray))
+      : nullptr;
+    if (!names)
+    {
+      return;
+    }
+    found = true;
+    for (vtkIdType i = 1; i < names->GetNumberOfValues(); ++i)
+    {
+      const std::string& name = names->GetValue(i);
+      if (std::find(targets.begin(), targets.end(), name) == targets.end())
+      {
+        targets.push_back(name);
+      }
+    }
+  };
+  if (auto* composite = vtkCompositeDataSet::SafeDownCast(face))
+  {
+    vtkSmartPointer<vtkCompositeDataIterator> it;
+    it.TakeReference(composite->NewIterator());
+    for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem())
+    {
+      add(it->GetCurrentDataObject());
+    }
+  }
+  else
+  {
+    add(face);
+  }
+  return found;
 }
 
 std::vector<std::string> GetTargetNames(vtkFieldData* fd, size_t numTargets)

@@ -31,6 +31,7 @@
 #include <vector>
 
 class vtkDataArray;
+class vtkDataObject;
 class vtkFieldData;
 class vtkPointData;
 class vtkPointSet;
@@ -75,6 +76,11 @@ void RemoveTargetArrays(vtkPointData* pd);
 /// morphnode::DefaultTargetNames. Throws InputError when their count is not
 /// `numTargets` (neutral included).
 std::vector<std::string> GetTargetNames(vtkFieldData* fd, size_t numTargets);
+/// The targets a face names, without the neutral: field data `TargetNames` of a data
+/// object, or for a composite (a head of parts) the union over its leaves in order of first
+/// appearance, as vtkMorphNodeFilter names a head's targets. False (and `targets` empty)
+/// when nothing carries `TargetNames`.
+bool GetFaceTargetNames(vtkDataObject* face, std::vector<std::string>& targets);
 /// Throws InputError when two targets share a name.
 void CheckUniqueNames(const std::vector<std::string>& names);
 /// Replaces field data `TargetNames`.

@@ -188,6 +188,31 @@ void ExpectRoundTrip()
 
 } // namespace
 
+// A head's targets are the union over its parts in order of first appearance (the morph
+// filter's naming), not the first part's: a part may lack targets another has.
+TEST(MorphTargetArrays, FaceTargetNamesOfAHeadAreTheUnionOfItsParts)
+{
+  auto part = [](const std::vector<std::string>& names) {
+    vtkNew<vtkPolyData> poly;
+    arrays::SetTargetNames(poly->GetFieldData(), names);
+    return vtkSmartPointer<vtkPolyData>(poly);
+  };
+  vtkNew<vtkMultiBlockDataSet> head;
+  head->SetNumberOfBlocks(4);
+  head->SetBlock(0, part({ "neutral", "jawOpen" }));
+  head->SetBlock(1, vtkNew<vtkPolyData>()); // a part without targets
+  head->SetBlock(2, part({ "neutral", "eyeBlink_L", "jawOpen" }));
+  head->SetBlock(3, part({ "neutral", "tongueOut" }));
+  std::vector<std::string> targets;
+  ASSERT_TRUE(arrays::GetFaceTargetNames(head, targets));
+  EXPECT_EQ(targets, (std::vector<std::string>{ "jawOpen", "eyeBlink_L", "tongueOut" }));
+  ASSERT_TRUE(arrays::GetFaceTargetNames(head->GetBlock(2), targets));
+  EXPECT_EQ(targets, (std::vector<std::string>{ "eyeBlink_L", "jawOpen" }));
+  EXPECT_FALSE(arrays::GetFaceTargetNames(head->GetBlock(1), targets));
+  EXPECT_TRUE(targets.empty());
+  EXPECT_FALSE(arrays::GetFaceTargetNames(nullptr, targets));
+}
+
 TEST(MorphTargetArrays, NamesOfTheConvention)
 {
   EXPECT_EQ(arrays::ArrayName(0, Kind::Position), "target0_position");
