@@ -271,7 +271,16 @@ std::string Avatar::OverlayText(bool offscreen, int frame, int frames) const
     case OptimizerPreset::FixedMaximum:
     case OptimizerPreset::FixedRemaining:
     case OptimizerPreset::Adjusted:
-      os << "threshold " << std::setprecision(3) << this->Threshold << "\n";
+      if (this->Morph->GetFrameBudget() > 0.0 && this->Morph->GetFrameBudgetThreshold() >= 0.0)
+      {
+        // --frame-budget: the threshold the controller chose for this frame.
+        os << "threshold " << std::setprecision(3) << this->Morph->GetFrameBudgetThreshold()
+           << " (frame budget " << this->Morph->GetFrameBudget() << " ms)\n";
+      }
+      else
+      {
+        os << "threshold " << std::setprecision(3) << this->Threshold << "\n";
+      }
       break;
     case OptimizerPreset::ErrorBounded:
       os << "max vertex error " << std::setprecision(2) << 100.0 * this->MaxError / this->Diagonal
