@@ -3,6 +3,7 @@
 #   1. TestMorphNodePlugin.py       pvbatch, one process, screenshot (under xvfb-run
 #                                   when there is no X display)
 #   2. TestMorphNodeProxies.py      pvbatch: every class's proxy through its properties
+#      TestMorphGltfWriterProxy.py  pvbatch: the glTF writer (File > Save Data)
 #   3. TestMorphNodeDistributed.py  pvbatch on one rank (reference), then
 #                                   mpiexec -n 2 pvbatch, compared with it
 # Exits non-zero when the build or a test fails; a test whose data is missing is
@@ -97,6 +98,11 @@ record TestMorphNodePlugin $?
 say "TestMorphNodeProxies (pvbatch)"
 timeout -k 10 "$test_timeout" pvbatch "$here/Testing/TestMorphNodeProxies.py" --plugin "$plugin"
 record TestMorphNodeProxies $?
+
+# --- 2b. the glTF writer proxy: a head and a behaviour's track saved as glTF ---------------
+say "TestMorphGltfWriterProxy (pvbatch)"
+timeout -k 10 "$test_timeout" pvbatch "$here/Testing/TestMorphGltfWriterProxy.py" --plugin "$plugin"
+record TestMorphGltfWriterProxy $?
 
 # --- 3. the face split across two MPI ranks ------------------------------------------------
 say "TestMorphNodeDistributed (pvbatch, 1 rank: the reference)"
