@@ -15,15 +15,15 @@ MorphNode::MorphNode(std::shared_ptr<const MorphMesh> mesh)
 
 void MorphNode::SetMesh(std::shared_ptr<const MorphMesh> mesh)
 {
-  this->ClearResult();
+  this->ClearDecision();
   if (mesh)
   {
     mesh->Validate();
-    this->Optimizer.SetTargetDistances(mesh->ComputeDistances());
+    this->SetTargetDistances(mesh->ComputeDistances());
   }
   else
   {
-    this->Optimizer.SetTargetDistances(TargetDistances{});
+    this->SetTargetDistances(TargetDistances{});
   }
   this->Mesh = std::move(mesh);
 }
@@ -33,29 +33,9 @@ size_t MorphNode::GetNumberOfTargets() const
   return this->Mesh ? this->Mesh->GetNumberOfTargets() : 0;
 }
 
-void MorphNode::SetOptimizerSettings(const OptimizerSettings& settings)
-{
-  this->Optimizer.SetSettings(settings);
-}
-
-void MorphNode::SetOptimizerPreset(OptimizerPreset preset, double threshold, double maxVertexError)
-{
-  OptimizerSettings settings = MakeOptimizerSettings(preset, threshold, maxVertexError);
-  settings.MaxActiveTargets = this->Optimizer.GetSettings().MaxActiveTargets;
-  settings.Hysteresis = this->Optimizer.GetSettings().Hysteresis;
-  this->Optimizer.SetSettings(settings);
-}
-
-void MorphNode::ClearResult()
-{
-  this->Effective.clear();
-  this->ErrorBound = 0.0;
-  this->ActiveTargets = 0;
-}
-
 const std::vector<double>& MorphNode::SetWeights(const double* requested, size_t count)
 {
-  this->ClearResult();
+  this->ClearDecision();
   if (!this->Mesh)
   {
     throw InputError("the morph node has no mesh to blend");
@@ -67,25 +47,12 @@ const std::vector<double>& MorphNode::SetWeights(const double* requested, size_t
     msg << "the morph node got " << count << " weights for " << n << " targets (neutral first)";
     throw InputError(msg.str());
   }
-  ResolveWeights(this->Mode, requested, count, this->Absolute);
-  double bound = 0.0;
-  if (this->Optimizer.GetSettings().IsActive())
-  {
-    this->Effective = this->Optimizer.Optimize(this->Absolute);
-    bound = this->Optimizer.GetLastErrorBound();
-  }
-  else
-  {
-    this->Effective.assign(this->Absolute.begin(), this->Absolute.end());
-  }
-  this->ErrorBound = bound;
-  this->ActiveTargets = CountActiveTargets(this->Effective);
-  return this->Effective;
+  return this->Decide(requested, count);
 }
 
 void MorphNode::CheckOutputs(const std::vector<AttributeOutput>& outputs) const
 {
-  if (!this->Mesh || this->Effective.empty())
+  if (!this->Mesh || !this->HasEffectiveWeights())
   {
     throw InputError("the morph node has no effective weights to blend with: set weights first");
   }
@@ -121,8 +88,8 @@ void MorphNode::Blend(const std::vector<AttributeOutput>& outputs, size_t begin,
   {
     return;
   }
-  const double* weights = this->Effective.data();
-  const size_t numWeights = this->Effective.size();
+  const double* weights = this->GetEffectiveWeights().data();
+  const size_t numWeights = this->GetEffectiveWeights().size();
   for (size_t a = 0; a < outputs.size(); ++a)
   {
     std::visit(
@@ -137,7 +104,7 @@ void MorphNode::Blend(const std::vector<AttributeOutput>& outputs, size_t begin,
 template <typename T>
 void MorphNode::BlendAttribute(size_t attribute, T* out, size_t begin, size_t end) const
 {
-  if (!this->Mesh || this->Effective.empty())
+  if (!this->Mesh || !this->HasEffectiveWeights())
   {
     throw InputError("the morph node has no effective weights to blend with: set weights first");
   }
@@ -159,7 +126,7 @@ void MorphNode::BlendAttribute(size_t attribute, T* out, size_t begin, size_t en
   end = std::min(end, this->Mesh->GetNumberOfPoints());
   if (begin < end)
   {
-    stored->Blend(this->Effective.data(), this->Effective.size(), out, begin, end);
+    stored->Blend(this->GetEffectiveWeights().data(), this->GetEffectiveWeights().size(), out, begin, end);
   }
 }
 

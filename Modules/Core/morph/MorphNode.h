@@ -22,9 +22,7 @@
 
 #include "morph/Distances.h"
 #include "morph/MorphMesh.h"
-#include "morph/OptimizerPresets.h"
-#include "morph/WeightOptimizer.h"
-#include "morph/Weights.h"
+#include "morph/WeightDecision.h"
 
 #include <cstddef>
 #include <memory>
@@ -37,7 +35,9 @@ namespace morphnode
 /// attribute's own value type (float or double), point-major.
 using AttributeOutput = std::variant<float*, double*>;
 
-class MorphNode
+/// The decision (weight mode, optimizer, effective weights, error bound, active targets) is
+/// the WeightDecision base, shared with MorphScene.
+class MorphNode : public WeightDecision
 {
 public:
   MorphNode() = default;
@@ -53,29 +53,6 @@ public:
   size_t GetNumberOfTargets() const;
 
   ///@{
-  /// How requested weights become absolute ones (ResolveWeights). Default Normalize.
-  void SetWeightMode(WeightMode mode) { this->Mode = mode; }
-  WeightMode GetWeightMode() const { return this->Mode; }
-  ///@}
-
-  ///@{
-  /// The optimizer's settings. Throws InputError for invalid ones (negative threshold or
-  /// error, hysteresis outside [0, 1), negative budget) and keeps the previous settings.
-  /// Changing settings keeps the hysteresis history.
-  void SetOptimizerSettings(const OptimizerSettings& settings);
-  const OptimizerSettings& GetOptimizerSettings() const { return this->Optimizer.GetSettings(); }
-  ///@}
-
-  /// The settings of a preset (MakeOptimizerSettings): `threshold` is th_fix of the
-  /// threshold presets, `maxVertexError` the eps of ErrorBounded. The budget
-  /// (MaxActiveTargets) and the hysteresis are not part of a method and stay as set.
-  void SetOptimizerPreset(OptimizerPreset preset, double threshold, double maxVertexError);
-
-  /// DistMorph, DistNorm (the paper's Table 1) and MaxDisplacement of every target, neutral
-  /// first; empty vectors without a mesh.
-  const TargetDistances& GetTargetDistances() const { return this->Optimizer.GetTargetDistances(); }
-
-  ///@{
   /// Requested weights (one per target, neutral first) to the effective weights the blend
   /// uses: the weight mode's rule, then the optimizer. Throws InputError without a mesh,
   /// for a weight count other than GetNumberOfTargets(), and for what the mode rejects
@@ -88,17 +65,6 @@ public:
     return this->SetWeights(requested.data(), requested.size());
   }
   ///@}
-
-  /// Whether the last SetWeights succeeded (and no mesh or setting change cleared it since).
-  bool HasEffectiveWeights() const { return !this->Effective.empty(); }
-  /// The weights the blend uses (absolute, summing to 1, neutral first); empty when
-  /// HasEffectiveWeights() is false.
-  const std::vector<double>& GetEffectiveWeights() const { return this->Effective; }
-  /// The optimizer's bound on any vertex's distance from the unoptimized blend (0 when the
-  /// optimizer is off).
-  double GetErrorBound() const { return this->ErrorBound; }
-  /// Non-neutral targets with a non-zero effective weight: the targets that cost work.
-  int GetActiveTargetCount() const { return this->ActiveTargets; }
 
   /// Throws InputError unless `outputs` has one non-null output per attribute of the mesh,
   /// each of its attribute's value type, and effective weights exist.
@@ -114,19 +80,8 @@ public:
   template <typename T>
   void BlendAttribute(size_t attribute, T* out, size_t begin, size_t end) const;
 
-  /// Forget which targets were active (hysteresis), e.g. after a jump in time.
-  void ResetHistory() { this->Optimizer.ResetHistory(); }
-
 private:
-  void ClearResult();
-
   std::shared_ptr<const MorphMesh> Mesh;
-  WeightMode Mode = WeightMode::Normalize;
-  WeightOptimizer Optimizer;
-  std::vector<double> Absolute;  ///< the mode's absolute weights (kept to reuse its storage)
-  std::vector<double> Effective; ///< after the optimizer
-  double ErrorBound = 0.0;
-  int ActiveTargets = 0;
 };
 
 extern template void MorphNode::BlendAttribute<float>(size_t, float*, size_t, size_t) const;

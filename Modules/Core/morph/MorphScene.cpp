@@ -129,7 +129,7 @@ void MorphScene::SetParts(std::vector<std::shared_ptr<const MorphMesh>> parts,
   this->Parts.clear();
   this->Names.clear();
   this->PartsDistances = {};
-  this->Optimizer.SetTargetDistances(TargetDistances{});
+  this->SetTargetDistances(TargetDistances{});
   if (parts.empty())
   {
     throw InputError("a morph scene needs at least one part");
@@ -231,7 +231,7 @@ void MorphScene::SetModel(const NamedTargetDistances& model)
     part.Weights.assign(names.size(), 0.0);
   }
   this->Names = model.Names;
-  this->Optimizer.SetTargetDistances(distances);
+  this->SetTargetDistances(distances);
 }
 
 const MorphMesh& MorphScene::GetPart(size_t part) const
@@ -252,24 +252,9 @@ const std::vector<size_t>& MorphScene::GetPartTargets(size_t part) const
   return this->Parts[part]->Targets;
 }
 
-void MorphScene::SetOptimizerSettings(const OptimizerSettings& settings)
-{
-  this->Optimizer.SetSettings(settings);
-}
-
-void MorphScene::SetOptimizerPreset(OptimizerPreset preset, double threshold, double maxVertexError)
-{
-  OptimizerSettings settings = MakeOptimizerSettings(preset, threshold, maxVertexError);
-  settings.MaxActiveTargets = this->Optimizer.GetSettings().MaxActiveTargets;
-  settings.Hysteresis = this->Optimizer.GetSettings().Hysteresis;
-  this->Optimizer.SetSettings(settings);
-}
-
 void MorphScene::ClearResult()
 {
-  this->Effective.clear();
-  this->ErrorBound = 0.0;
-  this->ActiveTargets = 0;
+  this->ClearDecision();
   for (auto& part : this->Parts)
   {
     part->Moved = false;
@@ -302,17 +287,7 @@ const std::vector<double>& MorphScene::SetWeights(const double* requested, size_
   }
   // The rule and the optimizer once, for the whole model (as MorphNode::SetWeights; no
   // allocation per call without optimizer).
-  ResolveWeights(this->Mode, requested, count, this->Absolute);
-  double bound = 0.0;
-  if (this->Optimizer.GetSettings().IsActive())
-  {
-    this->Effective = this->Optimizer.Optimize(this->Absolute);
-    bound = this->Optimizer.GetLastErrorBound();
-  }
-  else
-  {
-    this->Effective.assign(this->Absolute.begin(), this->Absolute.end());
-  }
+  const std::vector<double>& effective = this->Decide(requested, count);
   // Each part blends its own targets with their scene weights. In Relative mode the node
   // uses them as given (its neutral's weight, 1 - their sum, does not enter the blend), so a
   // part holding every target of the scene blends exactly as a MorphNode given the
@@ -325,7 +300,7 @@ const std::vector<double>& MorphScene::SetWeights(const double* requested, size_
       part.Moved = false;
       for (size_t k = 1; k < part.Targets.size(); ++k)
       {
-        part.Weights[k] = this->Effective[part.Targets[k]];
+        part.Weights[k] = effective[part.Targets[k]];
         part.Moved = part.Moved || part.Weights[k] != 0.0;
       }
       part.Weights[0] = 0.0;
@@ -337,9 +312,7 @@ const std::vector<double>& MorphScene::SetWeights(const double* requested, size_
     this->ClearResult();
     throw;
   }
-  this->ErrorBound = bound;
-  this->ActiveTargets = CountActiveTargets(this->Effective);
-  return this->Effective;
+  return effective;
 }
 
 const std::vector<double>& MorphScene::GetPartWeights(size_t part) const

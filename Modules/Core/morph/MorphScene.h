@@ -32,9 +32,7 @@
 #include "morph/Distances.h"
 #include "morph/MorphMesh.h"
 #include "morph/MorphNode.h"
-#include "morph/OptimizerPresets.h"
-#include "morph/WeightOptimizer.h"
-#include "morph/Weights.h"
+#include "morph/WeightDecision.h"
 
 #include <cstddef>
 #include <cstdint>
@@ -64,7 +62,7 @@ NamedTargetDistances CombineTargetDistances(const std::vector<NamedTargetDistanc
 /// targets (all 0 when nothing moves), as ComputeTargetDistances computes it.
 TargetDistances MakeTargetDistances(const NamedTargetDistances& model);
 
-class MorphScene
+class MorphScene : public WeightDecision
 {
 public:
   /// The parts, shared and never modified (at least one). Each is validated, and its
@@ -102,18 +100,9 @@ public:
   const std::vector<size_t>& GetPartTargets(size_t part) const;
   ///@}
 
-  /// DistMorph, DistNorm and MaxDisplacement of the model's targets (MakeTargetDistances).
-  const TargetDistances& GetTargetDistances() const { return this->Optimizer.GetTargetDistances(); }
-
-  ///@{
-  /// As in MorphNode: the weight mode (default Normalize), the optimizer's settings or a
-  /// preset (the budget and the hysteresis stay as set).
-  void SetWeightMode(WeightMode mode) { this->Mode = mode; }
-  WeightMode GetWeightMode() const { return this->Mode; }
-  void SetOptimizerSettings(const OptimizerSettings& settings);
-  const OptimizerSettings& GetOptimizerSettings() const { return this->Optimizer.GetSettings(); }
-  void SetOptimizerPreset(OptimizerPreset preset, double threshold, double maxVertexError);
-  ///@}
+  // The weight mode, the optimizer's settings or preset, the target distances of the model
+  // (MakeTargetDistances), the effective weights (one per scene target), the error bound
+  // over all parts and the active target count: the WeightDecision base, as in MorphNode.
 
   ///@{
   /// Requested weights, one per scene target (neutral first), to the effective weights:
@@ -126,15 +115,6 @@ public:
     return this->SetWeights(requested.data(), requested.size());
   }
   ///@}
-
-  bool HasEffectiveWeights() const { return !this->Effective.empty(); }
-  /// One per scene target, absolute, summing to 1; empty before SetWeights.
-  const std::vector<double>& GetEffectiveWeights() const { return this->Effective; }
-  /// The optimizer's bound on any vertex's distance from the unoptimized blend, over all
-  /// parts (0 without optimizer).
-  double GetErrorBound() const { return this->ErrorBound; }
-  /// Scene targets with a non-zero effective weight, the neutral not counted.
-  int GetActiveTargetCount() const { return this->ActiveTargets; }
 
   /// The weights part `part` blends with: its own targets' scene weights, neutral first
   /// (the neutral's weight makes them sum to 1: weights of targets the part lacks move
@@ -154,9 +134,6 @@ public:
     this->GetPartNode(part).Blend(outputs, begin, end);
   }
 
-  /// Forget which targets were active (hysteresis).
-  void ResetHistory() { this->Optimizer.ResetHistory(); }
-
 private:
   void ClearResult();
   void CheckPart(size_t part) const;
@@ -172,11 +149,5 @@ private:
   std::vector<std::unique_ptr<PartState>> Parts;
   NamedTargetDistances PartsDistances;
   std::vector<std::string> Names;
-  WeightMode Mode = WeightMode::Normalize;
-  WeightOptimizer Optimizer;
-  std::vector<double> Absolute;
-  std::vector<double> Effective;
-  double ErrorBound = 0.0;
-  int ActiveTargets = 0;
 };
 } // namespace morphnode
