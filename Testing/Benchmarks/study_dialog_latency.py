@@ -9,8 +9,9 @@ by the example client (Examples/Python/dialog_client.py).
   of the command's last byte to the end of rendering the first frame whose time is at or
   after the utterance's first mouth motion (`start`);
 - sound: when the avatar's clock reaches the first audible sample (`sound`), from the same
-  arrival: latency_ms + (sound - time of that frame). There is no sound device yet: a
-  device adds its own output latency on top;
+  arrival: latency_ms + (sound - time of that frame). The avatar plays the sound and its
+  clock is the sound's (give or take the device's 23 ms buffer); on a machine without a
+  sound device (SDL's dummy driver) the clock is the steady one;
 - round trip: the client's wall time from sending the line to reading `started`;
 - accepted: the client's wall time from sending the line to reading `accepted` (the command
   parsed and scheduled: for a say, the synthesis of its first chunk).
