@@ -146,26 +146,7 @@ void BehaviorController::AddUtterance(Utterance u, double start)
       }
     }
   }
-  for (size_t f = 0; f < v.GetNumberOfFrames(); ++f)
-  {
-    for (size_t c = 0; c < v.GetNumberOfChannels(); ++c)
-    {
-      if (!std::isfinite(v.GetValue(f, c)))
-      {
-        throw InputError("viseme track: a value that is not finite");
-      }
-    }
-  }
-  const double trackLength = v.GetNumberOfFrames() > 1
-    ? static_cast<double>(v.GetNumberOfFrames() - 1) / v.GetFrameRate()
-    : 0.0;
-  CheckRange(trackLength, 0.0, MaxBehaviorTime, "viseme track length");
-  for (const auto& cue : u.Cues)
-  {
-    CheckRange(cue.Start, 0.0, MaxBehaviorTime, "cue start");
-    CheckRange(cue.Duration, 0.0, MaxBehaviorTime, "cue duration");
-    CheckRange(cue.Intensity, 0.0, 1.0, "cue intensity");
-  }
+  CheckUtteranceTrack(u);
   ScheduledUtterance s;
   s.Start = start;
   s.End = start + std::max(u.Duration, trackLength);

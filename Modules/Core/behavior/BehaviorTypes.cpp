@@ -2,9 +2,12 @@
 #include "behavior/BehaviorTypes.h"
 
 #include "base/Error.h"
+#include "behavior/BehaviorScript.h"
+#include "speech/SpeechTypes.h"
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <sstream>
 
 namespace morphnode
@@ -357,6 +360,31 @@ void CheckBehaviorRange(double v, double lo, double hi, const char* what)
     std::ostringstream msg;
     msg << what << " " << v << " is outside [" << lo << ", " << hi << "]";
     throw InputError(msg.str());
+  }
+}
+
+void CheckUtteranceTrack(const Utterance& u)
+{
+  const WeightTrack& v = u.Visemes;
+  for (size_t f = 0; f < v.GetNumberOfFrames(); ++f)
+  {
+    for (size_t c = 0; c < v.GetNumberOfChannels(); ++c)
+    {
+      if (!std::isfinite(v.GetValue(f, c)))
+      {
+        throw InputError("viseme track: a value that is not finite");
+      }
+    }
+  }
+  const double trackLength = v.GetNumberOfFrames() > 1
+    ? static_cast<double>(v.GetNumberOfFrames() - 1) / v.GetFrameRate()
+    : 0.0;
+  CheckBehaviorRange(trackLength, 0.0, MaxBehaviorTime, "viseme track length");
+  for (const auto& cue : u.Cues)
+  {
+    CheckBehaviorRange(cue.Start, 0.0, MaxBehaviorTime, "cue start");
+    CheckBehaviorRange(cue.Duration, 0.0, MaxBehaviorTime, "cue duration");
+    CheckBehaviorRange(cue.Intensity, 0.0, 1.0, "cue intensity");
   }
 }
 

@@ -12,6 +12,7 @@
 
 namespace morphnode
 {
+struct Utterance;
 /// The fixed output channels, in output order. The viseme channels of scheduled
 /// utterances follow them (see BehaviorController::GetChannelNames()).
 struct BehaviorChannel
@@ -163,6 +164,10 @@ void SetBehaviorParameter(BehaviorParameters& parameters, const std::string& nam
 void CheckBehaviorParameters(const BehaviorParameters& parameters);
 /// InputError "<what> <v> is outside [lo, hi]" unless lo <= v <= hi.
 void CheckBehaviorRange(double v, double lo, double hi, const char* what);
+/// InputError unless an utterance's viseme values are finite, its viseme track and its cues
+/// lie within MaxBehaviorTime and the cues' intensities within [0, 1]: the checks both
+/// BehaviorController and LiveBehavior make before scheduling one.
+void CheckUtteranceTrack(const Utterance& utterance);
 /// The index of a parameter in BehaviorParameterNames() (matched as above), -1 if none.
 int FindBehaviorParameter(const std::string& name);
 /// The parameter of that index (no check beyond the range: 0 for an index out of range).

@@ -428,26 +428,7 @@ LiveBehavior::Timing LiveBehavior::AddUtterance(uint64_t id, Utterance u, double
     }
     map.push_back(static_cast<int>(it - this->ChannelNames.begin()));
   }
-  for (size_t f = 0; f < v.GetNumberOfFrames(); ++f)
-  {
-    for (size_t c = 0; c < v.GetNumberOfChannels(); ++c)
-    {
-      if (!std::isfinite(v.GetValue(f, c)))
-      {
-        throw InputError("viseme track: a value that is not finite");
-      }
-    }
-  }
-  const double trackLength = v.GetNumberOfFrames() > 1
-    ? static_cast<double>(v.GetNumberOfFrames() - 1) / v.GetFrameRate()
-    : 0.0;
-  CheckBehaviorRange(trackLength, 0.0, MaxBehaviorTime, "viseme track length");
-  for (const auto& cue : u.Cues)
-  {
-    CheckBehaviorRange(cue.Start, 0.0, MaxBehaviorTime, "cue start");
-    CheckBehaviorRange(cue.Duration, 0.0, MaxBehaviorTime, "cue duration");
-    CheckBehaviorRange(cue.Intensity, 0.0, 1.0, "cue intensity");
-  }
+  CheckUtteranceTrack(u);
   const double start = std::max(now, this->ScheduledSpeechEnd());
   LiveUtterance live;
   live.Id = id;
