@@ -146,7 +146,7 @@ void BehaviorController::AddUtterance(Utterance u, double start)
       }
     }
   }
-  CheckUtteranceTrack(u);
+  const double trackLength = CheckUtteranceTrack(u);
   ScheduledUtterance s;
   s.Start = start;
   s.End = start + std::max(u.Duration, trackLength);

@@ -363,7 +363,7 @@ void CheckBehaviorRange(double v, double lo, double hi, const char* what)
   }
 }
 
-void CheckUtteranceTrack(const Utterance& u)
+double CheckUtteranceTrack(const Utterance& u)
 {
   const WeightTrack& v = u.Visemes;
   for (size_t f = 0; f < v.GetNumberOfFrames(); ++f)
@@ -386,6 +386,7 @@ void CheckUtteranceTrack(const Utterance& u)
     CheckBehaviorRange(cue.Duration, 0.0, MaxBehaviorTime, "cue duration");
     CheckBehaviorRange(cue.Intensity, 0.0, 1.0, "cue intensity");
   }
+  return trackLength;
 }
 
 void CheckBehaviorParameters(const BehaviorParameters& p)

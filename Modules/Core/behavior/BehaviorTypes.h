@@ -166,8 +166,9 @@ void CheckBehaviorParameters(const BehaviorParameters& parameters);
 void CheckBehaviorRange(double v, double lo, double hi, const char* what);
 /// InputError unless an utterance's viseme values are finite, its viseme track and its cues
 /// lie within MaxBehaviorTime and the cues' intensities within [0, 1]: the checks both
-/// BehaviorController and LiveBehavior make before scheduling one.
-void CheckUtteranceTrack(const Utterance& utterance);
+/// BehaviorController and LiveBehavior make before scheduling one. Returns the viseme
+/// track's length in seconds.
+double CheckUtteranceTrack(const Utterance& utterance);
 /// The index of a parameter in BehaviorParameterNames() (matched as above), -1 if none.
 int FindBehaviorParameter(const std::string& name);
 /// The parameter of that index (no check beyond the range: 0 for an index out of range).

@@ -428,7 +428,7 @@ LiveBehavior::Timing LiveBehavior::AddUtterance(uint64_t id, Utterance u, double
     }
     map.push_back(static_cast<int>(it - this->ChannelNames.begin()));
   }
-  CheckUtteranceTrack(u);
+  const double trackLength = CheckUtteranceTrack(u);
   const double start = std::max(now, this->ScheduledSpeechEnd());
   LiveUtterance live;
   live.Id = id;
