@@ -102,22 +102,10 @@ void vtkLiveLinkFaceReader::SetFaceConnection(vtkAlgorithmOutput* output)
 //------------------------------------------------------------------------------
 void vtkLiveLinkFaceReader::SetTargetNames(vtkStringArray* names)
 {
-  if (!names && !this->Internals->TargetNames)
+  if (vtkMorphTargetArrays::AssignTargetNames(this->Internals->TargetNames, names))
   {
-    return;
+    this->Modified();
   }
-  if (names)
-  {
-    vtkNew<vtkStringArray> copy;
-    copy->DeepCopy(names);
-    copy->SetName(vtkMorphTargetArrays::TargetNamesArray);
-    this->Internals->TargetNames = copy;
-  }
-  else
-  {
-    this->Internals->TargetNames = nullptr;
-  }
-  this->Modified();
 }
 
 vtkStringArray* vtkLiveLinkFaceReader::GetTargetNames()

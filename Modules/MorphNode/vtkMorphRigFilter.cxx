@@ -70,22 +70,10 @@ void vtkMorphRigFilter::SetFaceConnection(vtkAlgorithmOutput* output)
 //------------------------------------------------------------------------------
 void vtkMorphRigFilter::SetTargetNames(vtkStringArray* names)
 {
-  if (!names && !this->Internals->TargetNames)
+  if (vtkMorphTargetArrays::AssignTargetNames(this->Internals->TargetNames, names))
   {
-    return;
+    this->Modified();
   }
-  if (names)
-  {
-    auto copy = vtkSmartPointer<vtkStringArray>::New();
-    copy->DeepCopy(names);
-    copy->SetName(vtkMorphTargetArrays::TargetNamesArray);
-    this->Internals->TargetNames = copy;
-  }
-  else
-  {
-    this->Internals->TargetNames = nullptr;
-  }
-  this->Modified();
 }
 
 //------------------------------------------------------------------------------

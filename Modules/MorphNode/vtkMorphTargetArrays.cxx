@@ -233,6 +233,26 @@ void RemoveTargetArrays(vtkPointData* pd)
   }
 }
 
+bool AssignTargetNames(vtkSmartPointer<vtkStringArray>& slot, vtkStringArray* names)
+{
+  if (!names && !slot)
+  {
+    return false;
+  }
+  if (names)
+  {
+    auto copy = vtkSmartPointer<vtkStringArray>::New();
+    copy->DeepCopy(names);
+    copy->SetName(TargetNamesArray);
+    slot = copy;
+  }
+  else
+  {
+    slot = nullptr;
+  }
+  return true;
+}
+
 bool GetFaceTargetNames(vtkDataObject* face, std::vector<std::string>& targets)
 {
   targets.clear();

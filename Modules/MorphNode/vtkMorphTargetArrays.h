@@ -83,6 +83,9 @@ std::vector<std::string> GetTargetNames(vtkFieldData* fd, size_t numTargets);
 bool GetFaceTargetNames(vtkDataObject* face, std::vector<std::string>& targets);
 /// Throws InputError when two targets share a name.
 void CheckUniqueNames(const std::vector<std::string>& names);
+/// For a class's SetTargetNames(): `slot` becomes a copy of `names` named `TargetNames`
+/// (nullptr clears it). False when both were null, so nothing changed (no Modified()).
+bool AssignTargetNames(vtkSmartPointer<vtkStringArray>& slot, vtkStringArray* names);
 /// Replaces field data `TargetNames`.
 void SetTargetNames(vtkFieldData* fd, const std::vector<std::string>& names);
 /// A vtkStringArray named `arrayName` holding the names.
