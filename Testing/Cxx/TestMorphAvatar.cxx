@@ -3,6 +3,7 @@
 // the render regression of one frame of a fixed-seed script against a baseline, the
 // offscreen mode writing PNG frames, a Theora video and the WAV (with a moving mouth),
 // and clear errors for bad arguments. AvatarRun under `xvfb-run -a`.
+#include "MorphAvatarRun.h"
 #include "audio/AudioBuffer.h"
 #include "audio/AudioFile.h"
 
@@ -33,55 +34,14 @@
 #include <iostream>
 #include <regex>
 #include <string>
-#include <sys/wait.h>
+
+using morphnode_test::AvatarRun;
+using morphnode_test::RunAvatar;
 
 namespace
 {
-const std::string Avatar = MORPHNODE_AVATAR_EXE;
 const std::string Source = MORPHNODE_SOURCE_DIR;
 const std::string Output = MORPHNODE_TEST_OUTPUT_DIR;
-
-struct AvatarRun
-{
-  int ExitCode = -1;
-  std::string Text; // stdout and stderr
-};
-
-AvatarRun RunAvatarOnce(const std::string& arguments)
-{
-  AvatarRun run;
-  const std::string command = "'" + Avatar + "' " + arguments + " 2>&1";
-  FILE* pipe = popen(command.c_str(), "r");
-  if (!pipe)
-  {
-    return run;
-  }
-  char buffer[4096];
-  size_t n = 0;
-  while ((n = std::fread(buffer, 1, sizeof(buffer), pipe)) > 0)
-  {
-    run.Text.append(buffer, n);
-  }
-  const int status = pclose(pipe);
-  run.ExitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return run;
-}
-
-/// Runs the avatar; a run the X server refused (VTK aborts on "bad X server connection",
-/// seen once in CI under load with `xvfb-run -a`) is retried, at most twice. Only that
-/// message is retried: it says nothing about the avatar, every other failure counts.
-AvatarRun RunAvatar(const std::string& arguments)
-{
-  AvatarRun run = RunAvatarOnce(arguments);
-  for (int retry = 0; retry < 2 && run.Text.find("bad X server connection") != std::string::npos;
-       ++retry)
-  {
-    std::cerr << "MorphAvatar could not connect to the X server; retrying\n";
-    vtksys::SystemTools::Delay(1000);
-    run = RunAvatarOnce(arguments);
-  }
-  return run;
-}
 
 std::string Head(const std::string& file, size_t bytes)
 {

@@ -6,6 +6,8 @@
 // tight one prunes on every frame at least as much and, when there is anything to prune,
 // more. Both extremes hold on a loaded machine (timing noise cannot move a morph across
 // either budget). Run under `xvfb-run -a`.
+#include "MorphAvatarRun.h"
+
 #include "vtksys/SystemTools.hxx"
 
 #include <gtest/gtest.h>
@@ -15,49 +17,14 @@
 #include <iostream>
 #include <sstream>
 #include <string>
-#include <sys/wait.h>
 #include <vector>
+
+using morphnode_test::AvatarRun;
+using morphnode_test::RunAvatar;
 
 namespace
 {
-const std::string Avatar = MORPHNODE_AVATAR_EXE;
 const std::string Output = MORPHNODE_TEST_OUTPUT_DIR;
-
-struct AvatarRun
-{
-  int ExitCode = -1;
-  std::string Text;
-};
-
-AvatarRun RunAvatar(const std::string& arguments)
-{
-  AvatarRun run;
-  for (int attempt = 0; attempt < 3; ++attempt)
-  {
-    run = AvatarRun();
-    const std::string command = "'" + Avatar + "' " + arguments + " 2>&1";
-    FILE* pipe = popen(command.c_str(), "r");
-    if (!pipe)
-    {
-      return run;
-    }
-    char buffer[4096];
-    size_t n = 0;
-    while ((n = std::fread(buffer, 1, sizeof(buffer), pipe)) > 0)
-    {
-      run.Text.append(buffer, n);
-    }
-    const int status = pclose(pipe);
-    run.ExitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    // Only a refused X connection (seen in CI under load) is retried.
-    if (run.Text.find("bad X server connection") == std::string::npos)
-    {
-      break;
-    }
-    vtksys::SystemTools::Delay(1000);
-  }
-  return run;
-}
 
 struct Frame
 {
