@@ -1,5 +1,8 @@
-# ctest -P script: are the ICT-FaceKit files the tests read there? Fails when REQUIRED
-# (under CI), skips (exit 77) with the reason otherwise.
+# ctest -P script: are the shared data files the tests read there (ICT-FaceKit, or what
+# WHAT names)? Fails when REQUIRED (under CI), skips with the reason otherwise.
+if (NOT WHAT)
+  set(WHAT "ICT-FaceKit")
+endif ()
 set(missing "")
 foreach (file IN LISTS FILES)
   if (NOT EXISTS "${DIR}/${file}")
@@ -7,12 +10,12 @@ foreach (file IN LISTS FILES)
   endif ()
 endforeach ()
 if (NOT missing)
-  message(STATUS "ICT-FaceKit data present in ${DIR}")
+  message(STATUS "${WHAT} data present in ${DIR}")
   return()
 endif ()
 if (REQUIRED)
-  message(FATAL_ERROR "ICT-FaceKit data missing in ${DIR}: ${missing}. Tests that need it "
+  message(FATAL_ERROR "${WHAT} data missing in ${DIR}: ${missing}. Tests that need it "
     "would skip; CI requires it (MORPHNODE_REQUIRE_FACEKIT).")
 endif ()
 # Not required: report it as a skip (SKIP_REGULAR_EXPRESSION of the test).
-message("SKIP: ICT-FaceKit data missing in ${DIR}: ${missing}; the tests that need it are skipped")
+message("SKIP: ${WHAT} data missing in ${DIR}: ${missing}; the tests that need it are skipped")

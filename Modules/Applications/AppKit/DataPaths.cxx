@@ -15,6 +15,11 @@ std::string FaceKitPath(const std::string& relative)
   return std::string(MORPHNODE_FACEKIT_DIR) + "/" + relative;
 }
 
+std::string AvatarPath(const std::string& relative)
+{
+  return std::string(MORPHNODE_AVATAR_DIR) + "/" + relative;
+}
+
 std::string DefaultFace()
 {
   return DataPath("DefaultFace/default_head.glb");
