@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <cstdlib>
 #include <string>
 #include <vector>
 
@@ -51,6 +52,13 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
     for (double t : { 0.0, 0.37, 1.0, 2.5, 12.0, 29.9, 1e6, -1.0 })
     {
       behavior.Sample(t, weights);
+      for (double w : weights)
+      {
+        if (!std::isfinite(w))
+        {
+          std::abort(); // a script the parser accepts renders (issue 29)
+        }
+      }
     }
   }
   catch (const morphnode::InputError&)

@@ -29,7 +29,7 @@ HeadAngles ReadHeadAngles(vtkTable* weights)
 
 void SetHeadPose(vtkTransform* transform, const HeadAngles& angles, const std::array<double, 3>& pivot)
 {
-  transform->SetMatrix(HeadPoseMatrix(angles, pivot).data());
+  transform->SetMatrix(HeadPoseMatrix(FiniteHeadAngles(angles), pivot).data());
 }
 } // namespace appkit
 } // namespace morphnode

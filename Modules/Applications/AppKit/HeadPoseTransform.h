@@ -20,7 +20,8 @@ namespace appkit
 /// channel that is missing, or a null table, reads 0).
 HeadAngles ReadHeadAngles(vtkTable* weights);
 
-/// Sets `transform` to HeadPoseMatrix(angles, pivot).
+/// Sets `transform` to HeadPoseMatrix(FiniteHeadAngles(angles), pivot): a non-finite angle
+/// turns the head to 0 in that frame instead of failing it.
 void SetHeadPose(vtkTransform* transform, const HeadAngles& angles, const std::array<double, 3>& pivot);
 } // namespace appkit
 } // namespace morphnode

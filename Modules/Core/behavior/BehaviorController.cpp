@@ -167,6 +167,10 @@ void BehaviorController::Gesture(GestureKind kind, double start, double duration
 {
   CheckStart(start);
   CheckRange(duration, -MaxBehaviorTime, MaxBehaviorTime, "gesture duration");
+  if (duration > 0.0)
+  {
+    CheckBehaviorDuration(duration, "gesture duration");
+  }
   CheckRange(intensity, 0.0, 1.0, "gesture intensity");
   ScheduledGesture g;
   g.Kind = kind;
@@ -206,6 +210,10 @@ void BehaviorController::LookAt(double yaw, double pitch, double start, double d
   CheckRange(pitch, -90.0, 90.0, "look pitch");
   CheckStart(start);
   CheckRange(duration, -MaxBehaviorTime, MaxBehaviorTime, "look duration");
+  if (duration > 0.0)
+  {
+    CheckBehaviorDuration(duration, "look duration");
+  }
   this->Looks.push_back({ yaw, pitch, start, duration, this->Looks.size() });
   this->Changed();
 }

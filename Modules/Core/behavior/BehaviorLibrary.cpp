@@ -496,7 +496,11 @@ void GestureDefinition::Contribute(const SyncPoints& sync,
     return;
   }
   const double span = sync.End - sync.Start;
-  const double u = (t - sync.Start) / span;
+  if (!(span > 0.0) || !std::isfinite(span)) // (durations have a floor; a span lost to rounding has no motion)
+  {
+    return;
+  }
+  const double u = std::min(1.0, std::max(0.0, (t - sync.Start) / span));
   const double cycles = std::max(1.0, std::round(span / this->Cycle));
   switch (this->Motion)
   {

@@ -55,7 +55,11 @@ void CheckRange(double v, double lo, double hi, const char* what)
 void Validate(BehaviorCommand& c)
 {
   CheckRange(c.Start, 0.0, MaxBehaviorTime, "start time");
-  CheckRange(c.Duration, 0.0, MaxBehaviorTime, "duration");
+  CheckBehaviorDuration(c.Duration, "duration");
+  if (c.Fade >= 0.0)
+  {
+    CheckBehaviorDuration(c.Fade, "fade");
+  }
   CheckRange(c.Intensity, 0.0, 1.0, "intensity");
   switch (c.Type)
   {
@@ -92,6 +96,22 @@ void CheckSettings(BehaviorScript& s)
   }
 }
 
+} // namespace
+
+void CheckBehaviorDuration(double v, const char* what)
+{
+  if (v != 0.0)
+  {
+    CheckRange(v, MinBehaviorDuration, MaxBehaviorTime, what);
+  }
+  if (!(v >= 0.0 && v <= MaxBehaviorTime))
+  {
+    CheckRange(v, 0.0, MaxBehaviorTime, what);
+  }
+}
+
+namespace
+{
 // ---------------------------------------------------------------- text format
 
 /// Splits a line into words; "double quoted" words may hold blanks and \" \\ escapes;
@@ -446,7 +466,7 @@ BehaviorCommand ParseJsonCommand(const Json& j)
         c.Yaw = JsonNumber(v[0], "look yaw");
         c.Pitch = JsonNumber(v[1], "look pitch");
       }
-      else if (v.is_object() && v.contains("yaw") && v.contains("pitch"))
+      else if (v.is_object() && v.size() == 2 && v.contains("yaw") && v.contains("pitch"))
       {
         c.Yaw = JsonNumber(v["yaw"], "look yaw");
         c.Pitch = JsonNumber(v["pitch"], "look pitch");

@@ -56,6 +56,12 @@ struct BehaviorScript
 
 /// Largest time, duration or fade accepted anywhere (24 hours, in seconds).
 constexpr double MaxBehaviorTime = 86400.0;
+/// Shortest duration or fade other than 0 (10 ms): a span shorter than the clock's
+/// resolution at a late start (a day in, doubles resolve ~1e-11 s) would divide by zero
+/// in a gesture's envelope, so such durations are refused where they are parsed.
+constexpr double MinBehaviorDuration = 0.01;
+/// InputError unless `v` is 0 or in [MinBehaviorDuration, MaxBehaviorTime].
+void CheckBehaviorDuration(double v, const char* what);
 
 /// Parses a script; JSON when the first non-blank character is '{' or '['.
 /// Throws InputError ("line N: ...") for anything malformed or out of range.

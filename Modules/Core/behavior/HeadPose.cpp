@@ -67,6 +67,14 @@ std::array<double, 16> HeadPoseMatrix(const HeadAngles& a, const std::array<doub
   return m;
 }
 
+HeadAngles FiniteHeadAngles(const HeadAngles& a)
+{
+  const auto finite = [](double v) {
+    return std::isfinite(v) ? std::remainder(v, 360.0) : 0.0; // remainder: [-180, 180]
+  };
+  return { finite(a.Yaw), finite(a.Pitch), finite(a.Roll) };
+}
+
 std::array<double, 3> HeadPivot(const double bounds[6])
 {
   return { 0.5 * (bounds[0] + bounds[1]), bounds[2] + 0.25 * (bounds[3] - bounds[2]),

@@ -33,6 +33,11 @@ struct HeadAngles
 /// Angles must be finite; a non-finite angle is an InputError.
 std::array<double, 16> HeadPoseMatrix(const HeadAngles& angles, const std::array<double, 3>& pivot);
 
+/// The angles a live picture can always show: a non-finite angle becomes 0 and every angle
+/// is wrapped into [-180, 180], so that one bad value upstream costs a frame's head turn,
+/// never the frame (HeadPoseMatrix refuses non-finite angles).
+HeadAngles FiniteHeadAngles(const HeadAngles& angles);
+
 /// The pivot a head turns about, from the face's bounds {xmin, xmax, ymin, ymax, zmin,
 /// zmax}: the top of the neck, centred in X and Z, a quarter of the height up from the
 /// lowest point.

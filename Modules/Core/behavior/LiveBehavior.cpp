@@ -248,6 +248,7 @@ LiveBehavior::Timing LiveBehavior::Gesture(const std::string& name,
   }
   CheckBehaviorRange(intensity, 0.0, 1.0, "gesture intensity");
   CheckBehaviorRange(duration, 0.0, MaxBehaviorTime, "gesture duration");
+  CheckBehaviorDuration(duration, "gesture duration");
   now = this->ClampNow(now);
   const GestureDefinition& g = this->Library.GetGestures()[index];
   LiveGesture live{ index, intensity, g.Sync(now, duration, this->Parameters) };
@@ -275,6 +276,10 @@ LiveBehavior::Timing LiveBehavior::LookAt(double yaw, double pitch, double now, 
   CheckBehaviorRange(yaw, -90.0, 90.0, "look yaw");
   CheckBehaviorRange(pitch, -90.0, 90.0, "look pitch");
   CheckBehaviorRange(duration, -MaxBehaviorTime, MaxBehaviorTime, "look duration");
+  if (duration > 0.0)
+  {
+    CheckBehaviorDuration(duration, "look duration");
+  }
   now = this->ClampNow(now);
   const BehaviorParameters& p = this->Parameters;
   this->EyeGazeTrack.DropFrom(now);
@@ -871,6 +876,16 @@ void LiveBehavior::Sample(double t, double* out)
     for (size_t c = C::NumberOfBaseChannels; c < channels; ++c)
     {
       out[c] *= this->MouthFactor[c];
+    }
+  }
+  // The last defence: every command was checked where it was parsed and scheduled, but a
+  // channel that still came out non-finite is neutral in this frame, never a failed frame.
+  for (size_t c = 0; c < channels; ++c)
+  {
+    if (!std::isfinite(out[c]))
+    {
+      out[c] = 0.0;
+      ++this->NonFiniteValues;
     }
   }
 }

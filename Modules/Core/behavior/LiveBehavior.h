@@ -152,6 +152,9 @@ public:
   /// The end of all scheduled speech (an estimate while chunks wait for synthesis).
   double GetSpeechEnd() const;
   double GetLastSampleTime() const { return this->LastTime; }
+  /// Channel values Sample() found non-finite and set to 0 (none: every command's values
+  /// are checked; a count above 0 is a bug to report, the frame still renders).
+  size_t GetNumberOfNonFiniteValues() const { return this->NonFiniteValues; }
   /// Events held in memory (blinks, saccades, smiles, gestures, utterances, fade keys,
   /// pending chunks): bounded over any run without commands piling up.
   size_t GetNumberOfHeldEvents() const;
@@ -220,6 +223,7 @@ private:
   std::vector<double> MouthFactor;           ///< per channel, scratch of Sample()
   double LastTime = 0.0;
   bool Sampled = false;
+  size_t NonFiniteValues = 0;
 
   // Idle generators (shared with IdleSchedule::Generate) and their held events.
   BlinkTrain RestBlinks;

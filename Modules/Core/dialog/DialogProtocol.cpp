@@ -104,6 +104,20 @@ double GetNumber(const json& object, const char* key, bool required, double fall
   return value;
 }
 
+/// A duration: 0 (the default) or in [MinDuration, MaxDuration] (a shorter one would
+/// leave a gesture's envelope without a shape: see DialogProtocol.h).
+double GetDuration(const json& object, const char* key)
+{
+  const double value = GetNumber(object, key, false, 0.0, 0.0, MaxDuration);
+  if (value != 0.0 && value < MinDuration)
+  {
+    throw FieldError{ reason::BadField,
+      std::string("'") + key + "' must be 0 (the default) or in [" + json(MinDuration).dump() +
+        ", " + json(MaxDuration).dump() + "] seconds" };
+  }
+  return value;
+}
+
 CommandBody ParseBody(const std::string& cmd, const json& o)
 {
   if (cmd == "say")
@@ -123,7 +137,7 @@ CommandBody ParseBody(const std::string& cmd, const json& o)
     CheckKeys(o, "gesture", { "name", "duration", "intensity" });
     GestureCommand c;
     c.Name = GetString(o, "name", true, true);
-    c.Duration = GetNumber(o, "duration", false, 0.0, 0.0, 600.0);
+    c.Duration = GetDuration(o, "duration");
     c.Intensity = GetNumber(o, "intensity", false, 1.0, 0.0, 1.0);
     return c;
   }
@@ -141,7 +155,7 @@ CommandBody ParseBody(const std::string& cmd, const json& o)
     LookAtCommand c;
     c.Yaw = GetNumber(o, "yaw", true, 0.0, -90.0, 90.0);
     c.Pitch = GetNumber(o, "pitch", true, 0.0, -90.0, 90.0);
-    c.Duration = GetNumber(o, "duration", false, 0.0, 0.0, 600.0);
+    c.Duration = GetDuration(o, "duration");
     return c;
   }
   if (cmd == "stop")

@@ -29,6 +29,11 @@ constexpr int ProtocolVersion = 1;
 constexpr size_t DefaultMaxLineBytes = 64 * 1024;
 /// Longest id string (bytes).
 constexpr size_t MaxIdBytes = 256;
+/// A command's duration is 0 (its default) or in [MinDuration, MaxDuration] seconds: every
+/// number a command carries has a range that keeps what the avatar derives from it finite
+/// (a gesture of 1e-320 s would divide its envelope by zero).
+constexpr double MinDuration = 0.01;
+constexpr double MaxDuration = 600.0;
 
 // ---- commands ----------------------------------------------------------------------------
 struct SayCommand
@@ -39,7 +44,7 @@ struct SayCommand
 struct GestureCommand
 {
   std::string Name;
-  double Duration = 0.0;  ///< seconds; 0: the gesture's default
+  double Duration = 0.0;  ///< seconds; 0: the gesture's default, else [MinDuration, MaxDuration]
   double Intensity = 1.0; ///< [0, 1]
 };
 struct MoodCommand
@@ -51,7 +56,7 @@ struct LookAtCommand
 {
   double Yaw = 0.0;      ///< degrees, [-90, 90], positive to the character's left
   double Pitch = 0.0;    ///< degrees, [-90, 90], positive up
-  double Duration = 0.0; ///< seconds; 0: held until the next look
+  double Duration = 0.0; ///< seconds; 0: held until the next look, else [MinDuration, MaxDuration]
 };
 struct StopCommand
 {

@@ -105,3 +105,17 @@ TEST(HeadPose, NonFiniteAnglesAreAnInputError)
   EXPECT_THROW(HeadPoseMatrix({ nan, 0, 0 }, Origin), InputError);
   EXPECT_THROW(HeadPoseMatrix({ 0, 0, 0 }, { 0, std::numeric_limits<double>::infinity(), 0 }), InputError);
 }
+
+TEST(HeadPose, FiniteHeadAnglesKeepsAFrame)
+{
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double inf = std::numeric_limits<double>::infinity();
+  const HeadAngles a = FiniteHeadAngles({ nan, inf, 370.0 });
+  EXPECT_EQ(a.Yaw, 0.0);
+  EXPECT_EQ(a.Pitch, 0.0);
+  EXPECT_NEAR(a.Roll, 10.0, 1e-12);
+  const HeadAngles b = FiniteHeadAngles({ 12.5, -30.0, -180.0 });
+  EXPECT_EQ(b.Yaw, 12.5);
+  EXPECT_EQ(b.Pitch, -30.0);
+  EXPECT_NO_THROW(HeadPoseMatrix(FiniteHeadAngles({ -inf, 1e308, nan }), Origin));
+}

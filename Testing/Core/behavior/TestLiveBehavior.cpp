@@ -611,3 +611,34 @@ TEST(LiveBehavior, SpeechTimingOutlivesTheSpeechBriefly)
   live.Sample(2.0 + LiveBehavior::ForgetAfter + 0.5, w.data());
   EXPECT_EQ(live.GetSpeechTiming(said.Id).Id, 0u);
 }
+
+// Issue 29: a gesture of 1e-320 s passed every check and made the head pose NaN. Durations
+// below MinBehaviorDuration are refused (one command costs one command), and a gesture at
+// the floor, sampled exactly at its start, keeps every channel finite.
+TEST(LiveBehavior, TinyDurationsAreRefusedAndTheFloorStaysFinite)
+{
+  LiveBehavior live(Visemes);
+  std::vector<double> w;
+  live.Sample(0.0, w);
+  for (const char* g : { "nod", "shake", "tilt", "smile" })
+  {
+    EXPECT_THROW(live.Gesture(g, 1.0, 1.0, 1e-320), InputError) << g;
+    EXPECT_THROW(live.Gesture(g, 1.0, 1.0, 1e-20), InputError) << g;
+  }
+  EXPECT_THROW(live.LookAt(10.0, 5.0, 1.0, 1e-300), InputError);
+  double start = 1.0;
+  for (const char* g : { "nod", "shake" })
+  {
+    start += 1.0; // each at its own, later start
+    live.Gesture(g, start, 1.0, MinBehaviorDuration);
+    for (double t = start; t < start + 2.0 * MinBehaviorDuration; t += MinBehaviorDuration / 8.0)
+    {
+      live.Sample(t, w);
+      for (size_t c = 0; c < w.size(); ++c)
+      {
+        EXPECT_TRUE(std::isfinite(w[c])) << g << " " << live.GetChannelNames()[c] << " at " << t;
+      }
+    }
+  }
+  EXPECT_EQ(live.GetNumberOfNonFiniteValues(), 0u);
+}

@@ -164,6 +164,12 @@ TEST(DialogProtocol, WrongFieldTypesAndRanges)
     R"({"cmd":"look_at","yaw":120,"pitch":0})",          // beyond 90 degrees
     R"({"cmd":"look_at","yaw":0,"pitch":-91})",
     R"({"cmd":"look_at","yaw":0,"pitch":0,"duration":-2})",
+    // Durations have a floor (issue 29: 1e-320 made the head pose NaN and ended the avatar).
+    R"({"cmd":"gesture","name":"nod","duration":1e-320})",
+    R"({"cmd":"gesture","name":"shake","duration":1e-20})",
+    R"({"cmd":"gesture","name":"nod","duration":0.0099})",
+    R"({"cmd":"gesture","name":"nod","duration":600.001})",
+    R"({"cmd":"look_at","yaw":0,"pitch":0,"duration":5e-324})",
     R"({"cmd":"say","text":"hi","id":1.5})",             // id: string or integer only
     R"({"cmd":"say","text":"hi","id":{"a":1}})",
     R"({"cmd":"say","text":"hi","id":[1]})",
@@ -173,6 +179,12 @@ TEST(DialogProtocol, WrongFieldTypesAndRanges)
   for (const char* line : bad)
   {
     EXPECT_EQ(ReasonOf(line), reason::BadField) << line;
+  }
+  for (const char* line : { R"({"cmd":"gesture","name":"nod","duration":0.01})",
+         R"({"cmd":"gesture","name":"nod","duration":0})", R"({"cmd":"gesture","name":"nod","duration":600})",
+         R"({"cmd":"look_at","yaw":0,"pitch":0,"duration":0.01})" })
+  {
+    EXPECT_TRUE(ParseCommand(line).Ok()) << line;
   }
   const std::string longId = R"({"cmd":"stop","id":")" + std::string(MaxIdBytes + 1, 'x') + "\"}";
   EXPECT_EQ(ReasonOf(longId), reason::BadField);
