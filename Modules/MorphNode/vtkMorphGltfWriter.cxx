@@ -4,6 +4,7 @@
 #include "vtkMorphTargetArrays.h"
 
 #include "base/Error.h"
+#include "base/File.h"
 #include "behavior/HeadPose.h"
 #include "gaze/EyeRig.h"
 #include "gaze/EyeRotation.h"
@@ -251,6 +252,8 @@ void vtkMorphGltfWriter::WriteData()
     : nullptr;
   try
   {
+    // The output path first: a link, device or directory is refused before any work.
+    morphnode::file::CheckOutputPath(this->FileName ? this->FileName : "", "glTF file");
     // The parts, grouped into nodes by NodeName (and by their targets, which glTF makes
     // the same for every primitive of a mesh).
     morphnode::GltfScene scene;
@@ -510,37 +513,21 @@ void vtkMorphGltfWriter::WriteData()
       this->NumberOfFrames = static_cast<int>(frames);
     }
     this->UpdateProgress(0.5);
-    // Write to a temporary file beside the target, then rename: no half-written file.
+    // Beside the target, renamed onto it when complete (base/File.h): no half-written file,
+    // never onto a link, a device or a directory.
     const std::string target = this->FileName;
-    const std::string temporary = target + ".part";
     std::string extension = std::filesystem::path(target).extension().string();
     std::transform(extension.begin(), extension.end(), extension.begin(),
       [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
     morphnode::GltfWriteOptions options;
     options.Binary = extension != ".gltf";
     const std::vector<unsigned char> bytes = morphnode::WriteGltfSceneToMemory(scene, performance.get(), options);
-    {
-      std::ofstream file(temporary, std::ios::binary | std::ios::trunc);
-      file.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
-      file.close();
-      if (!file)
-      {
-        throw morphnode::InputError("cannot write '" + temporary + "'");
-      }
-    }
-    std::error_code ec;
-    std::filesystem::rename(temporary, target, ec);
-    if (ec)
-    {
-      std::filesystem::remove(temporary, ec);
-      throw morphnode::InputError("cannot write '" + target + "'");
-    }
+    morphnode::file::WriteFileSafely(target,
+      std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()), "glTF file");
     this->UpdateProgress(1.0);
   }
   catch (const std::exception& e)
   {
-    std::error_code ec;
-    std::filesystem::remove(std::string(this->FileName) + ".part", ec);
     this->NumberOfFrames = 0;
     this->NumberOfWeightColumns = 0;
     this->NumberOfParts = 0;

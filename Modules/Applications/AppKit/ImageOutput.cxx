@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "ImageOutput.h"
 
+#include "base/File.h"
+
 #include "vtkContextView.h"
 #include "vtkNew.h"
 #include "vtkPNGWriter.h"
@@ -35,14 +37,18 @@ void WritePng(vtkRenderWindow* window, const std::string& file)
   vtkNew<vtkWindowToImageFilter> grab;
   grab->SetInput(window);
   grab->ReadFrontBufferOff();
+  // Beside the target, renamed onto it when complete (base/File.h): a failed write leaves
+  // the old image alone; a link, device or directory at the path is refused.
+  morphnode::file::SafeOutput out(file, "image");
   vtkNew<vtkPNGWriter> writer;
-  writer->SetFileName(file.c_str());
+  writer->SetFileName(out.GetTemporaryPath().c_str());
   writer->SetInputConnection(grab->GetOutputPort());
   writer->Write();
   if (writer->GetErrorCode() != 0)
   {
-    throw std::runtime_error("cannot write the image '" + file + "'");
+    throw std::runtime_error("cannot write the image '" + file + "' (the disk is full or the folder not writable); the old file, if any, is unchanged");
   }
+  out.Commit();
 }
 
 void WritePng(vtkContextView* view, const std::string& file)

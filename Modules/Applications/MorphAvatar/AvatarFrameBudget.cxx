@@ -5,11 +5,16 @@
 #include "vtkMorphNodeFilter.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
+#include "vtkSmartPointer.h"
+
+#include "base/File.h"
 
 #include <algorithm>
 #include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <memory>
+#include <sstream>
 #include <vector>
 
 namespace morphavatar
@@ -26,7 +31,8 @@ public:
 
   double Budget = 0.0; // ms
   bool Quiet = false;
-  std::ofstream Log;
+  std::unique_ptr<morphnode::file::SafeOutput> Log; // written beside, renamed when complete
+  std::string LogError;
 
   void Execute(vtkObject* caller, unsigned long, void*) override
   {
@@ -38,14 +44,53 @@ public:
     const double threshold = morph->GetFrameBudgetThreshold();
     const double ms = morph->GetMorphTime();
     const int active = morph->GetActiveTargetCount();
-    if (this->Log.is_open())
+    if (this->Log)
     {
-      this->Log << this->Thresholds.size() << "," << threshold << "," << active << ","
-                << std::setprecision(6) << ms << "," << this->Budget << "\n";
+      std::ostringstream line;
+      line << this->Thresholds.size() << "," << threshold << "," << active << ","
+           << std::setprecision(6) << ms << "," << this->Budget << "\n";
+      this->WriteLog(line.str());
     }
     this->Thresholds.push_back(threshold);
     this->Times.push_back(ms);
     this->Active.push_back(active);
+  }
+
+  void WriteLog(const std::string& text)
+  {
+    try
+    {
+      this->Log->Write(text);
+    }
+    catch (const std::exception& e) // a full disk: no partial log, a message, exit 1
+    {
+      this->LogError = e.what();
+      this->Log.reset();
+    }
+  }
+
+  /// Completes the log (checked close and rename); false with the message when it failed.
+  bool FinishLog()
+  {
+    if (this->Log)
+    {
+      try
+      {
+        this->Log->Commit();
+      }
+      catch (const std::exception& e)
+      {
+        this->LogError = e.what();
+      }
+      this->Log.reset();
+    }
+    if (!this->LogError.empty())
+    {
+      std::cerr << "MorphAvatar: --frame-budget-log: " << this->LogError << "\n";
+      this->LogError.clear();
+      return false;
+    }
+    return true;
   }
 
 protected:
@@ -85,6 +130,8 @@ private:
   std::vector<int> Active;
 };
 vtkStandardNewMacro(FrameBudgetWatch);
+
+vtkSmartPointer<FrameBudgetWatch> ActiveWatch; // the one watch of the program, for its log
 } // namespace
 
 void WatchFrameBudget(vtkMorphNodeFilter* morph, const Options& o)
@@ -99,13 +146,24 @@ void WatchFrameBudget(vtkMorphNodeFilter* morph, const Options& o)
   watch->Quiet = o.Quiet;
   if (!o.FrameBudgetLog.empty())
   {
-    watch->Log.open(o.FrameBudgetLog);
-    if (!watch->Log)
+    try
     {
-      FailUsage("--frame-budget-log: cannot write " + o.FrameBudgetLog);
+      watch->Log = std::make_unique<morphnode::file::SafeOutput>(o.FrameBudgetLog, "--frame-budget-log");
     }
-    watch->Log << "frame,threshold,active_targets,morph_ms,budget_ms\n";
+    catch (const std::exception& e)
+    {
+      FailUsage(e.what());
+    }
+    watch->WriteLog("frame,threshold,active_targets,morph_ms,budget_ms\n");
   }
   morph->AddObserver(vtkCommand::EndEvent, watch);
+  ActiveWatch = watch;
+}
+
+bool FinishFrameBudget()
+{
+  const bool ok = !ActiveWatch || ActiveWatch->FinishLog();
+  ActiveWatch = nullptr;
+  return ok;
 }
 } // namespace morphavatar

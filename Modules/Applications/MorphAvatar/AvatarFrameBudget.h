@@ -16,4 +16,7 @@ namespace morphavatar
 /// Sets the filter's budget from the options and watches its executions (nothing without
 /// --frame-budget). Exits with a usage error when the log cannot be written.
 void WatchFrameBudget(vtkMorphNodeFilter* morph, const Options& options);
+/// Completes --frame-budget-log (every write checked, renamed onto the path when complete);
+/// false, with a message, when it could not be written (a full disk): no partial log.
+bool FinishFrameBudget();
 } // namespace morphavatar

@@ -23,7 +23,9 @@
 #include <cstdlib>
 #include <iostream>
 
-int main(int argc, char* argv[])
+namespace
+{
+int Run(int argc, char* argv[])
 {
   using namespace morphavatar;
   Avatar a;
@@ -57,9 +59,26 @@ int main(int argc, char* argv[])
               << a.Duration << " s at " << a.Fps << " fps, " << a.Behavior->GetNumberOfChannels()
               << " channels, " << a.Behavior->GetNumberOfUtterances() << " utterance(s)\n";
   }
-  if (IsLive(a.Opt))
+  // Live: commands from a dialog system (docs/dialog.md).
+  const int code = IsLive(a.Opt) ? RunLive(a) : (a.Opt.Offscreen ? RunOffscreen(a) : RunInteractive(a));
+  return FinishFrameBudget() ? code : (code != 0 ? code : 1);
+}
+} // namespace
+
+int main(int argc, char* argv[])
+{
+  // Library failures and exhausted memory end the program with a message, never an abort.
+  try
   {
-    return RunLive(a); // commands from a dialog system (docs/dialog.md)
+    return Run(argc, argv);
   }
-  return a.Opt.Offscreen ? RunOffscreen(a) : RunInteractive(a);
+  catch (const std::bad_alloc&)
+  {
+    std::cerr << "MorphAvatar: out of memory (an input too large for this machine; see docs/limits.md)\n";
+  }
+  catch (const std::exception& e)
+  {
+    std::cerr << "MorphAvatar: " << e.what() << "\n";
+  }
+  return 1;
 }

@@ -24,6 +24,7 @@
 #include "SpeechTrack.h"
 
 #include "base/Error.h"
+#include "base/File.h"
 #include "base/Text.h"
 #include "capture/ArkitNames.h"
 #include "capture/LiveLinkCsv.h"
@@ -34,6 +35,7 @@
 #include <cstdint>
 #include <fstream>
 #include <iostream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -111,12 +113,12 @@ int main(int argc, char* argv[])
     std::vector<std::string> dropped;
     const morphnode::WeightTrack track =
       morphnode::study::ExpandThroughRig(semantic, rig, targets, &dropped);
-    std::ofstream csv(out);
-    if (!csv)
+    morphnode::file::CheckOutputPath(out, "--out");
     {
-      throw morphnode::InputError("cannot write " + out);
+      std::ostringstream csv;
+      track.WriteCsv(csv);
+      morphnode::file::WriteFileSafely(out, csv.str(), "--out"); // every write checked
     }
-    track.WriteCsv(csv);
     std::cout << "wrote " << out << ": " << track.GetNumberOfFrames() << " frames at " << track.GetFrameRate()
               << " fps (" << track.GetNumberOfFrames() / track.GetFrameRate() << " s), " << targets.size()
               << " targets, from " << semantic.GetNumberOfChannels() << " behaviour channels";
@@ -157,16 +159,10 @@ int main(int argc, char* argv[])
       }
       std::vector<std::string> unmapped;
       const morphnode::LiveLinkCapture take = morphnode::CaptureFromTrack(performance, {}, &unmapped);
-      std::ofstream livelink(livelinkFile);
-      if (!livelink)
       {
-        throw morphnode::InputError("cannot write " + livelinkFile);
-      }
-      morphnode::WriteLiveLinkCsv(livelink, take);
-      livelink.close();
-      if (!livelink)
-      {
-        throw morphnode::InputError("cannot write " + livelinkFile);
+        std::ostringstream livelink;
+        morphnode::WriteLiveLinkCsv(livelink, take);
+        morphnode::file::WriteFileSafely(livelinkFile, livelink.str(), "--livelink");
       }
       std::cout << "wrote " << livelinkFile << ": Live Link Face CSV, " << take.GetNumberOfRows() << " rows at "
                 << take.TimecodeRate << " fps timecode, " << morphnode::ArkitShapeCount - take.MissingShapes.size()
@@ -192,6 +188,11 @@ int main(int argc, char* argv[])
       const morphnode::LiveLinkCapture back = morphnode::ReadLiveLinkCsvFile(livelinkFile);
       std::cout << "; read back: " << back.GetNumberOfRows() << " rows\n";
     }
+  }
+  catch (const std::bad_alloc&)
+  {
+    std::cerr << "MakeSpeechTrack: out of memory (the input is too long for this machine; see docs/limits.md)\n";
+    return 1;
   }
   catch (const std::exception& e)
   {

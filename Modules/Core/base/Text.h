@@ -3,15 +3,14 @@
 /// @file Text.h
 /// @brief The one home of the small text helpers every reader and writer of the core uses:
 /// locale-independent numbers (a German locale must not turn "0.5" into 0), ASCII
-/// lower-casing, whitespace splitting and trimming, whole-file reading, and quoting of
+/// lower-casing, whitespace splitting and trimming, whole-file reading (base/File.h), and quoting of
 /// untrusted tokens in error messages.
 
 #include "base/Error.h"
+#include "base/File.h"
 
 #include <charconv>
 #include <cmath>
-#include <fstream>
-#include <iterator>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -123,15 +122,12 @@ inline std::string ToLower(std::string_view s)
   return out;
 }
 
-/// The whole file as bytes. Throws InputError "<what> '<path>' cannot be opened".
-inline std::string ReadFile(const std::string& path, const std::string& what = "file")
+/// The whole file as bytes: a regular file (links resolved) of at most maxBytes, checked
+/// before it is read (base/File.h). Throws InputError "<what> '<path>' ..." naming why.
+inline std::string ReadFile(const std::string& path, const std::string& what = "file",
+  uint64_t maxBytes = file::DefaultMaxReadBytes)
 {
-  std::ifstream in(path, std::ios::binary);
-  if (!in)
-  {
-    throw InputError(what + " '" + path + "' cannot be opened");
-  }
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  return file::ReadFile(path, what, maxBytes);
 }
 } // namespace text
 } // namespace morphnode

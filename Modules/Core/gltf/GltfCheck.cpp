@@ -404,7 +404,12 @@ void Checker::CheckAsset()
   {
     this->Fail("/asset/version", "glTF " + text::Quote(version) + " is not supported (only 2.x)");
   }
-  this->String(*asset, "minVersion", "/asset", false);
+  const std::string minVersion = this->String(*asset, "minVersion", "/asset", false);
+  if (!minVersion.empty() && minVersion != "2.0")
+  {
+    // The file needs a newer reader than glTF 2.0 (the spec: refuse, do not guess).
+    this->Fail("/asset/minVersion", "glTF " + text::Quote(minVersion) + " is required; this reader reads 2.0");
+  }
   this->String(*asset, "generator", "/asset", false);
 
   const json& used = this->Array(this->Root, "extensionsUsed", "", false);

@@ -103,8 +103,15 @@ bool InFolder(const std::string& path, const Folder& folder)
   {
     return false;
   }
+  // Confined after resolving links: a link in the folder must not lead outside it.
   std::error_code ec;
-  return std::filesystem::is_regular_file(path, ec);
+  const std::filesystem::path real = std::filesystem::canonical(path, ec);
+  if (ec || !std::filesystem::is_regular_file(real, ec))
+  {
+    return false;
+  }
+  const std::filesystem::path base = std::filesystem::canonical(folder.Base.empty() ? "." : folder.Base, ec);
+  return !ec && real.parent_path() == base;
 }
 
 bool FileExists(const std::string& path, void* user)
@@ -126,10 +133,14 @@ bool ReadWholeFile(std::vector<unsigned char>* out, std::string* err, const std:
     *err = "not a file in the glTF file's folder";
     return false;
   }
-  const uintmax_t size = std::filesystem::file_size(path, ec);
-  if (ec || size > folder.MaxBytes)
+  uintmax_t size = 0;
+  try
   {
-    *err = ec ? ec.message() : "larger than the buffer it holds";
+    size = file::CheckInputFile(path, "buffer", folder.MaxBytes); // kind and size first
+  }
+  catch (const InputError& e)
+  {
+    *err = e.what();
     return false;
   }
   std::ifstream in(path, std::ios::binary);
@@ -990,7 +1001,7 @@ GltfScene LoadGltfSceneFromMemory(const void* data, size_t size, const std::stri
 
 GltfScene LoadGltfScene(const std::string& fileName, const GltfLoadOptions& options)
 {
-  const std::string bytes = text::ReadFile(fileName, "glTF file");
+  const std::string bytes = text::ReadFile(fileName, "glTF file", (uint64_t(4) << 30) - 1); // glTF's 4 GiB
   std::string folder = std::filesystem::path(fileName).parent_path().string();
   if (folder.empty())
   {

@@ -4,6 +4,7 @@
 #include "TinyGltfConfig.h"
 
 #include "base/Error.h"
+#include "base/File.h"
 
 #include <algorithm>
 #include <cmath>
@@ -840,16 +841,8 @@ void WriteGltfScene(const std::string& fileName, const GltfScene& scene,
   std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   options.Binary = !(lower.size() >= 5 && lower.compare(lower.size() - 5, 5, ".gltf") == 0);
   const std::vector<unsigned char> bytes = WriteGltfSceneToMemory(scene, performance, options);
-  std::ofstream file(fileName, std::ios::binary | std::ios::trunc);
-  if (!file)
-  {
-    throw InputError("glTF export: cannot open '" + fileName + "' for writing");
-  }
-  file.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
-  file.close();
-  if (!file)
-  {
-    throw InputError("glTF export: cannot write '" + fileName + "' (disk full?)");
-  }
+  // Beside the target, renamed onto it when complete; never through a link or onto a device.
+  file::WriteFileSafely(fileName,
+    std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()), "glTF export");
 }
 } // namespace morphnode

@@ -15,6 +15,7 @@
 #include "align/RecordingSpeech.h"
 #include "audio/AudioFile.h"
 #include "base/Error.h"
+#include "base/File.h"
 #include "base/Text.h"
 #include "speech/Rhubarb.h"
 #include "speech/VisemeMap.h"
@@ -22,6 +23,7 @@
 #include <cmath>
 #include <fstream>
 #include <iostream>
+#include <sstream>
 #include <memory>
 #include <vector>
 
@@ -111,17 +113,8 @@ int main(int argc, char** argv)
                        : std::string())
                 << "\n";
     }
-    std::unique_ptr<std::ofstream> file;
-    std::ostream* out = &std::cout;
-    if (!output.empty())
-    {
-      file = std::make_unique<std::ofstream>(output);
-      if (!*file)
-      {
-        throw InputError("cannot write '" + output + "'");
-      }
-      out = file.get();
-    }
+    std::ostringstream file; // written safely below (base/File.h)
+    std::ostream* out = output.empty() ? static_cast<std::ostream*>(&std::cout) : &file;
     if (format == "json")
     {
       WriteRhubarbJson(*out, shifted, audioPath, recording.GetDuration());
@@ -135,8 +128,22 @@ int main(int argc, char** argv)
     {
       throw InputError("error while writing the cues");
     }
+    if (!output.empty())
+    {
+      file::WriteFileSafely(output, file.str(), "output");
+    }
   }
   catch (const InputError& e)
+  {
+    std::cerr << "MorphLipSync: " << e.what() << "\n";
+    return 1;
+  }
+  catch (const std::bad_alloc&)
+  {
+    std::cerr << "MorphLipSync: out of memory (the input is too long for this machine; see docs/limits.md)\n";
+    return 1;
+  }
+  catch (const std::exception& e)
   {
     std::cerr << "MorphLipSync: " << e.what() << "\n";
     return 1;
