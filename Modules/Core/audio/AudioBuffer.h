@@ -10,6 +10,17 @@
 
 namespace morphnode
 {
+/// Limits of sound the core takes, decided before decoding or resampling (docs/limits.md):
+/// a header's rate outside them is refused at once, a longer sound while it is decoded,
+/// a resampling whose result would be longer before its memory is taken.
+constexpr int MinSampleRate = 4000;   ///< Hz (a 1 Hz header would be resampled 16,000x)
+constexpr int MaxSampleRate = 384000; ///< Hz
+constexpr int MaxAudioChannels = 64;
+/// Samples (all channels) in one buffer: 2^28, 1 GiB of float (about 2.3 h mono at 32 kHz,
+/// 46 min of 48 kHz stereo).
+constexpr size_t MaxAudioSamples = size_t(1) << 28;
+/// Seconds of sound in one file.
+constexpr double MaxAudioSeconds = 3.0 * 3600.0;
 struct AudioBuffer
 {
   /// Interleaved: frame f, channel c at Samples[f * Channels + c]. Nominally in [-1, 1].

@@ -2,6 +2,8 @@
 #include "audio/AudioFile.h"
 
 #include "base/Error.h"
+#include "base/File.h"
+#include "base/Text.h"
 
 #include <sndfile.h>
 
@@ -116,6 +118,26 @@ AudioBuffer Decode(SNDFILE* file, const SF_INFO& info, const std::string& origin
     throw InputError(origin + ": not a usable sound file (" + std::to_string(info.channels) +
       " channels at " + std::to_string(info.samplerate) + " Hz)");
   }
+  // Decided from the header, before any decoding (docs/limits.md).
+  if (info.samplerate < MinSampleRate || info.samplerate > MaxSampleRate)
+  {
+    throw InputError(origin + ": a sample rate of " + std::to_string(info.samplerate) +
+      " Hz is outside [" + std::to_string(MinSampleRate) + ", " + std::to_string(MaxSampleRate) + "] Hz");
+  }
+  if (info.channels > MaxAudioChannels)
+  {
+    throw InputError(origin + ": " + std::to_string(info.channels) + " channels (at most " +
+      std::to_string(MaxAudioChannels) + ")");
+  }
+  const size_t maximumSamples = std::min<size_t>(MaxAudioSamples,
+    static_cast<size_t>(MaxAudioSeconds * info.samplerate) * static_cast<size_t>(info.channels));
+  const std::string tooLong = origin + ": too long (more than " + text::FormatNumber(MaxAudioSeconds / 3600.0) +
+    " h or " + std::to_string(MaxAudioSamples) + " samples; docs/limits.md)";
+  if (info.frames > 0 && info.frames < (sf_count_t(1) << 50) &&
+    static_cast<size_t>(info.frames) * static_cast<size_t>(info.channels) > maximumSamples)
+  {
+    throw InputError(tooLong); // the header says so; a lying header is caught while decoding
+  }
   AudioBuffer audio;
   audio.SampleRate = info.samplerate;
   audio.Channels = info.channels;
@@ -123,8 +145,6 @@ AudioBuffer Decode(SNDFILE* file, const SF_INFO& info, const std::string& origin
   sf_command(file, SFC_SET_NORM_FLOAT, nullptr, SF_TRUE);
   constexpr sf_count_t blockFrames = 1 << 14;
   std::vector<float> block(static_cast<size_t>(blockFrames) * static_cast<size_t>(info.channels));
-  // 2^31 samples (about 12 hours of 48 kHz stereo) is more than any utterance needs.
-  constexpr size_t maximumSamples = size_t(1) << 31;
   for (;;)
   {
     const sf_count_t got = sf_readf_float(file, block.data(), blockFrames);
@@ -135,7 +155,7 @@ AudioBuffer Decode(SNDFILE* file, const SF_INFO& info, const std::string& origin
     const size_t n = static_cast<size_t>(got) * static_cast<size_t>(info.channels);
     if (audio.Samples.size() + n > maximumSamples)
     {
-      throw InputError(origin + ": too long (more than 2^31 samples)");
+      throw InputError(tooLong);
     }
     audio.Samples.insert(audio.Samples.end(), block.begin(), block.begin() + static_cast<std::ptrdiff_t>(n));
   }
@@ -180,6 +200,8 @@ AudioBuffer ReadAudioFile(const std::string& path)
 {
   SF_INFO info;
   std::memset(&info, 0, sizeof(info));
+  // A regular file (not a FIFO or device libsndfile would wait on or read for ever).
+  file::CheckInputFile(path, "audio file", uint64_t(4) << 30);
   std::unique_ptr<SNDFILE, SndFileCloser> file(sf_open(path.c_str(), SFM_READ, &info));
   if (!file)
   {
@@ -218,12 +240,19 @@ void WriteWavWith(const std::string& path, std::ostream* out, int sampleRate, in
   info.format = SF_FORMAT_WAV | SF_FORMAT_PCM_16;
   if (out == nullptr)
   {
-    std::unique_ptr<SNDFILE, SndFileCloser> file(sf_open(path.c_str(), SFM_WRITE, &info));
+    // Beside the target, renamed onto it when complete (base/File.h).
+    file::SafeOutput target(path, "WAV file");
+    std::unique_ptr<SNDFILE, SndFileCloser> file(sf_open(target.GetTemporaryPath().c_str(), SFM_WRITE, &info));
     if (!file)
     {
       throw InputError("cannot write WAV file '" + path + "': " + sf_strerror(nullptr));
     }
     write(file.get(), "WAV file '" + path + "'");
+    if (sf_close(file.release()) != 0) // the header's sizes are written on close
+    {
+      throw InputError("cannot write WAV file '" + path + "' (the disk is full?)");
+    }
+    target.Commit();
     return;
   }
   std::string bytes;

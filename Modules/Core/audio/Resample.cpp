@@ -34,6 +34,14 @@ AudioBuffer Resample(const AudioBuffer& audio, int targetRate, ResampleQuality q
     return out;
   }
   const double ratio = static_cast<double>(targetRate) / audio.SampleRate;
+  const double outLength = static_cast<double>(frames) * ratio * audio.Channels;
+  if (!(outLength <= static_cast<double>(MaxAudioSamples)))
+  {
+    // Decided before the memory is taken (docs/limits.md).
+    throw InputError("resampling " + std::to_string(frames) + " frames from " + std::to_string(audio.SampleRate) +
+      " Hz to " + std::to_string(targetRate) + " Hz would make more than " + std::to_string(MaxAudioSamples) +
+      " samples");
+  }
   const size_t outFrames = static_cast<size_t>(std::llround(static_cast<double>(frames) * ratio));
   out.Samples.resize(outFrames * static_cast<size_t>(audio.Channels));
   if (outFrames == 0)

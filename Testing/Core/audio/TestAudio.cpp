@@ -193,3 +193,31 @@ TEST(Audio, BadFilesAreClearErrors)
   EXPECT_THROW(WriteWav(sink, std::vector<int16_t>{ 1 }, -5), InputError);
   EXPECT_THROW(WriteWavFile("/no/such/folder/x.wav", std::vector<int16_t>{ 1 }, 8000), InputError);
 }
+
+// Issue 29: a WAV whose header says 1 Hz was resampled 16,000x (3.6 GB) and crashed in
+// libsoxr. Rates, channels and lengths are decided before decoding or resampling.
+TEST(Audio, LimitsAreDecidedBeforeTheWork)
+{
+  std::ostringstream oneHertz;
+  WriteWav(oneHertz, std::vector<int16_t>(1000, 7), 1);
+  try
+  {
+    ReadAudioMemory(oneHertz.str(), "bomb.wav");
+    ADD_FAILURE() << "a 1 Hz file was read";
+  }
+  catch (const InputError& e)
+  {
+    EXPECT_NE(std::string(e.what()).find("bomb.wav: a sample rate of 1 Hz is outside [4000, 384000] Hz"),
+      std::string::npos)
+      << e.what();
+  }
+  std::ostringstream fine;
+  WriteWav(fine, std::vector<int16_t>(100, 7), MinSampleRate);
+  EXPECT_EQ(ReadAudioMemory(fine.str()).SampleRate, MinSampleRate);
+  // A resampling whose result would pass MaxAudioSamples: refused before allocating it.
+  AudioBuffer low;
+  low.SampleRate = MinSampleRate;
+  low.Channels = 1;
+  low.Samples.assign(size_t(1) << 22, 0.0f);
+  EXPECT_THROW(Resample(low, MaxSampleRate), InputError);
+}
