@@ -38,16 +38,18 @@ bool ExportGltf(Avatar& a)
   writer->SetThreshold(a.Threshold);
   writer->SetMaxVertexError(a.MaxError);
   writer->SetHysteresis(o.Hysteresis);
-  writer->SetFileName(o.Gltf.c_str());
-  if (!writer->Write() || writer->GetErrorCode() != vtkErrorCode::NoError)
-  {
-    std::cerr << "MorphAvatar: cannot write " << o.Gltf << " (see above)\n";
-    return false;
-  }
+  // The sound first: it is the cheaper of the two to refuse (a timeline whose sound passes
+  // the memory budget, docs/limits.md), and a refusal then leaves no glTF file behind.
   const std::string wav = std::filesystem::path(o.Gltf).replace_extension(".wav").string();
   if (!a.Behavior->WriteAudio(wav.c_str()))
   {
     std::cerr << "MorphAvatar: cannot write the sound " << wav << " (see above)\n";
+    return false;
+  }
+  writer->SetFileName(o.Gltf.c_str());
+  if (!writer->Write() || writer->GetErrorCode() != vtkErrorCode::NoError)
+  {
+    std::cerr << "MorphAvatar: cannot write " << o.Gltf << " (see above)\n";
     return false;
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

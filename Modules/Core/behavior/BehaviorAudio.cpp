@@ -37,11 +37,14 @@ AudioBuffer MixUtteranceAudio(
     mix.SampleRate = DefaultMixSampleRate;
   }
   const double rate = mix.SampleRate;
-  // A 16-bit WAV file holds at most (2^32 - 1 - 44) / 2 samples.
-  if (!(end * rate < 2147483000.0))
+  // The memory budget of one sound (MaxAudioSamples, 1 GiB of float: 3.4 h at 22050 Hz;
+  // docs/limits.md), decided before the mix is allocated. (A 16-bit WAV file would hold
+  // 2^31.)
+  if (!(end * rate < static_cast<double>(MaxAudioSamples)))
   {
     std::ostringstream msg;
-    msg << "audio mix: " << end << " s at " << mix.SampleRate << " Hz is too long for a WAV file";
+    msg << "audio mix: " << end << " s at " << mix.SampleRate << " Hz is more than "
+        << MaxAudioSamples << " samples (docs/limits.md)";
     throw InputError(msg.str());
   }
   const size_t n = static_cast<size_t>(std::max(0.0, std::ceil(end * rate - 1e-9)));
