@@ -2,6 +2,7 @@
 // MorphAvatar's interactive mode: a window where time runs in real time; keys switch the
 // optimizer (0-4 method, +/- threshold or error bound), pause, restart, hide the overlay.
 #include "Avatar.h"
+#include "StopSignal.h"
 
 #include "vtkCallbackCommand.h"
 #include "vtkInteractorStyleTrackballCamera.h"
@@ -93,7 +94,7 @@ void OnTimer(vtkObject* caller, unsigned long, void* clientData, void*)
     a->Morph->ResetHysteresis();
     t = 0.0;
   }
-  if (a->LiveFrame && !a->LiveFrame(t, false)) // commands (AvatarLive.cxx); false: quit
+  if ((a->LiveFrame && !a->LiveFrame(t, false)) || morphnode::appkit::StopRequested()) // quit, SIGTERM/SIGINT
   {
     interactor->TerminateApp();
     return;

@@ -10,6 +10,7 @@
 #include "AvatarLive.h"
 
 #include "Avatar.h"
+#include "StopSignal.h"
 
 #include "base/Error.h"
 #include "behavior/LiveBehavior.h"
@@ -257,7 +258,7 @@ struct Live
     {
       shown->ShallowCopy(row);
     }
-    return !this->Session->QuitRequested();
+    return !this->Session->QuitRequested() && !morphnode::appkit::StopRequested(); // SIGTERM/SIGINT: as quit
   }
   /// After the frame at t is on the screen: started / ended events.
   void After(double t) { this->Session->Advance(this->BehaviorTime(t)); }
@@ -317,7 +318,7 @@ int RunHeadless(Live& live)
     for (;;)
     {
       const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(next - Clock::now()).count();
-      if (left <= 0 || live.Session->QuitRequested())
+      if (left <= 0 || live.Session->QuitRequested() || morphnode::appkit::StopRequested())
       {
         break;
       }

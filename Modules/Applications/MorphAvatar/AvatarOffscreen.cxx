@@ -3,6 +3,7 @@
 // sound and/or a ParaView time series; or one frame to a PNG and/or compared with a
 // baseline (the render regression test).
 #include "Avatar.h"
+#include "StopSignal.h"
 
 #include "FrameRecorder.h"
 #include "ImageOutput.h"
@@ -88,6 +89,12 @@ int RunAllFrames(Avatar& a)
   appkit::ProgressBar progress(frames, "frames", !o.Quiet);
   for (int f = 0; f < frames; ++f)
   {
+    if (appkit::StopRequested())
+    {
+      // SIGTERM/SIGINT: what was recorded so far is completed below, as at the last frame.
+      std::cerr << "\nMorphAvatar: stopped by signal " << appkit::StopSignalNumber() << " after " << f << " frames\n";
+      break;
+    }
     const double t = f / a.Fps;
     if (!a.Update(t))
     {

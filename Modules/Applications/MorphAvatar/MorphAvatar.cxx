@@ -19,6 +19,7 @@
 #include "AvatarGltf.h"
 #include "AvatarLive.h"
 #include "AvatarFrameBudget.h"
+#include "StopSignal.h"
 
 #include <cstdlib>
 #include <iostream>
@@ -28,6 +29,7 @@ namespace
 int Run(int argc, char* argv[])
 {
   using namespace morphavatar;
+  morphnode::appkit::InstallStopSignals(); // SIGTERM/SIGINT end the run as quit does
   Avatar a;
   a.Opt = ParseOptions(argc, argv);
   // --gltf alone writes a file and renders nothing.
@@ -61,7 +63,12 @@ int Run(int argc, char* argv[])
   }
   // Live: commands from a dialog system (docs/dialog.md).
   const int code = IsLive(a.Opt) ? RunLive(a) : (a.Opt.Offscreen ? RunOffscreen(a) : RunInteractive(a));
-  return FinishFrameBudget() ? code : (code != 0 ? code : 1);
+  const bool logged = FinishFrameBudget();
+  if (morphnode::appkit::StopRequested() && !a.Opt.Quiet)
+  {
+    std::cerr << "MorphAvatar: stopped by signal " << morphnode::appkit::StopSignalNumber() << "\n";
+  }
+  return logged ? code : (code != 0 ? code : 1);
 }
 } // namespace
 

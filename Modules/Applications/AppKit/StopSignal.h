@@ -1,0 +1,22 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#pragma once
+/// @file StopSignal.h
+/// @brief SIGTERM and SIGINT as a request to stop, the way a `quit` command stops: the
+/// programs' loops ask StopRequested() at every frame (at least every 200 ms) and end
+/// normally (running commands get their ended events, files being written are completed,
+/// sockets are closed and a Unix socket file removed, by the destructors that end every
+/// run). A second signal ends the program at once (the default action).
+
+namespace morphnode
+{
+namespace appkit
+{
+/// Installs the handlers (without SA_RESTART, so that a poll() waiting for commands
+/// returns at once). Call once, early in main().
+void InstallStopSignals();
+/// True once SIGTERM or SIGINT arrived.
+bool StopRequested();
+/// The signal that asked to stop (0: none), for the message and the exit code.
+int StopSignalNumber();
+} // namespace appkit
+} // namespace morphnode

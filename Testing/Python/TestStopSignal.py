@@ -1,0 +1,99 @@
+#!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
+"""SIGTERM and SIGINT stop MorphAvatar the way `quit` does (issue 29): a headless live avatar
+listening on a Unix socket runs a long gesture for a client; the signal arrives; the client
+gets the gesture's `ended` event (interrupted) within a second, the program exits 0 with
+"stopped by signal N", and the Unix socket file is gone. Before, --listen caught SIGTERM
+and kept running, leaving the socket file behind.
+
+Usage: TestStopSignal.py MORPHAVATAR_EXE   (under xvfb-run, like the other render tests)
+"""
+
+import json
+import os
+import signal
+import socket
+import subprocess
+import sys
+import tempfile
+import time
+import unittest
+
+EXE = None
+
+
+class StopSignalTest(unittest.TestCase):
+    def run_and_signal(self, signum):
+        with tempfile.TemporaryDirectory() as tmp:
+            path = os.path.join(tmp, "avatar.sock")
+            err_path = os.path.join(tmp, "stderr.txt")
+            with open(err_path, "w+") as err:
+                proc = subprocess.Popen(
+                    [EXE, "--offscreen", "--listen", "unix:" + path, "--size", "120x120",
+                     "--fps", "30", "--exit-after", "300"],
+                    stdout=subprocess.DEVNULL, stderr=err)
+                try:
+                    client = None
+                    deadline = time.monotonic() + 120
+                    while time.monotonic() < deadline and proc.poll() is None:
+                        if os.path.exists(path):
+                            try:
+                                client = socket.socket(socket.AF_UNIX)
+                                client.connect(path)
+                                break
+                            except OSError:
+                                client.close()
+                                client = None
+                        time.sleep(0.1)
+                    self.assertIsNotNone(client, "MorphAvatar did not listen")
+                    client.sendall(b'{"cmd":"gesture","name":"nod","duration":60,"id":"long"}\n')
+                    client.settimeout(30)
+                    buffer = b""
+                    events = []
+
+                    def read_until(kind):
+                        nonlocal buffer
+                        while True:
+                            while b"\n" in buffer:
+                                line, buffer = buffer.split(b"\n", 1)
+                                e = json.loads(line)
+                                events.append(e)
+                                if e.get("event") == kind:
+                                    return e
+                            data = client.recv(4096)
+                            if not data:
+                                return None
+                            buffer += data
+
+                    self.assertIsNotNone(read_until("started"))
+                    sent = time.monotonic()
+                    proc.send_signal(signum)
+                    ended = read_until("ended")
+                    delay = time.monotonic() - sent
+                    self.assertIsNotNone(ended, "no ended event: %s" % events)
+                    self.assertEqual(ended.get("id"), "long")
+                    self.assertTrue(ended.get("interrupted"))
+                    self.assertLess(delay, 1.0, "the ended event came %.2f s after the signal" % delay)
+                    code = proc.wait(timeout=30)
+                    client.close()
+                finally:
+                    if proc.poll() is None:
+                        proc.kill()
+                        proc.wait()
+                err.seek(0)
+                text = err.read()
+            self.assertEqual(code, 0, text)
+            self.assertIn("stopped by signal %d" % signum, text)
+            self.assertFalse(os.path.exists(path), "the Unix socket file was left behind")
+            print("signal %d: ended event after %.3f s" % (signum, delay))
+
+    def test_sigterm(self):
+        self.run_and_signal(signal.SIGTERM)
+
+    def test_sigint(self):
+        self.run_and_signal(signal.SIGINT)
+
+
+if __name__ == "__main__":
+    EXE = sys.argv.pop(1)
+    unittest.main()
