@@ -87,6 +87,48 @@ class StopSignalTest(unittest.TestCase):
             self.assertFalse(os.path.exists(path), "the Unix socket file was left behind")
             print("signal %d: ended event after %.3f s" % (signum, delay))
 
+    def test_lost_display(self):
+        """The X server goes away under a live window: the program ends with an error (no
+        spinning) and removes its Unix socket file."""
+        import shutil
+        xvfb = shutil.which("Xvfb")
+        if not xvfb:
+            self.skipTest("no Xvfb")
+        with tempfile.TemporaryDirectory() as tmp:
+            path = os.path.join(tmp, "avatar.sock")
+            r, w = os.pipe()
+            server = subprocess.Popen([xvfb, "-displayfd", str(w), "-screen", "0", "320x240x24"],
+                                      pass_fds=(w,), stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+            os.close(w)
+            display = b""
+            while not display.endswith(b"\n"):
+                chunk = os.read(r, 16)
+                if not chunk:
+                    break
+                display += chunk
+            os.close(r)
+            env = dict(os.environ, DISPLAY=":" + display.decode().strip())
+            proc = subprocess.Popen([EXE, "--listen", "unix:" + path, "--size", "120x120", "--fps", "30",
+                                     "--exit-after", "300"], env=env,
+                                    stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+            try:
+                deadline = time.monotonic() + 120
+                while time.monotonic() < deadline and proc.poll() is None and not os.path.exists(path):
+                    time.sleep(0.1)
+                time.sleep(1.0)  # a few frames in the window
+                server.terminate()
+                server.wait(timeout=30)
+                _, err = proc.communicate(timeout=20)
+            finally:
+                if proc.poll() is None:
+                    proc.kill()
+                    proc.wait()
+                if server.poll() is None:
+                    server.kill()
+            self.assertNotEqual(proc.returncode, 0)
+            self.assertIn("X connection", err)
+            self.assertFalse(os.path.exists(path), "the Unix socket file was left behind")
+
     def test_sigterm(self):
         self.run_and_signal(signal.SIGTERM)
 

@@ -41,6 +41,8 @@
 #include <string>
 #include <vector>
 
+#include <unistd.h>
+
 namespace morphavatar
 {
 namespace dialog = morphnode::dialog;
@@ -283,6 +285,35 @@ struct Live
   }
 };
 
+/// Unix socket files to remove when the program ends through exit() rather than through
+/// the server's destructor: Xlib ends the program with exit(1) when the X display is lost.
+std::vector<std::string>& SocketFiles()
+{
+  static std::vector<std::string> files;
+  return files;
+}
+
+void RemoveSocketFiles()
+{
+  for (const std::string& path : SocketFiles())
+  {
+    ::unlink(path.c_str());
+  }
+}
+
+void RemoveAtExit(const std::string& address)
+{
+  if (address.rfind("unix:", 0) != 0)
+  {
+    return;
+  }
+  if (SocketFiles().empty())
+  {
+    std::atexit(RemoveSocketFiles);
+  }
+  SocketFiles().push_back(address.substr(5));
+}
+
 /// Every frame at the frame rate in real time, offscreen; a command arriving between frames
 /// runs at once and the next frame is rendered at once.
 int RunHeadless(Live& live)
@@ -361,7 +392,9 @@ int RunLive(Avatar& a)
       [speech](const std::string& text) { return morphnode::SpeakText(text, speech); });
     for (const std::string& address : a.Opt.Listen)
     {
-      std::cerr << "MorphAvatar: listening on " << live.Server.Listen(address) << std::endl;
+      const std::string bound = live.Server.Listen(address);
+      std::cerr << "MorphAvatar: listening on " << bound << std::endl;
+      RemoveAtExit(bound);
     }
   }
   catch (const morphnode::InputError& e)
