@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <cstring>
 #include <map>
 #include <set>
@@ -320,10 +321,15 @@ private:
         this->Fail(At(At(pointer, key), i), "must be a number, got " + Describe(a[i]));
       }
       out.push_back(a[i].get<double>());
-      // JSON has no NaN or infinity, and nlohmann rejects overflowing numbers, but check.
+      // JSON has no NaN or infinity, and nlohmann rejects overflowing numbers, but check;
+      // glTF's numbers are float: beyond its range is an error too (1e39 became infinity).
       if (!std::isfinite(out.back()))
       {
         this->Fail(At(At(pointer, key), i), "must be finite");
+      }
+      if (std::fabs(out.back()) > static_cast<double>(std::numeric_limits<float>::max()))
+      {
+        this->Fail(At(At(pointer, key), i), text::FormatNumber(out.back()) + " is beyond the range of float");
       }
     }
     return out;

@@ -153,6 +153,36 @@ bool ReadWholeFile(std::vector<unsigned char>* out, std::string* err, const std:
   return true;
 }
 
+/// Issue 29: finite values whose blend is not (a position of 3.4e38, a delta of 3e38, a
+/// default weight of 1e39) loaded and drew NaN or nothing. The largest coordinate any blend
+/// at the default weights (or at weight 1) can reach must stay below MaxBlendCoordinate, so
+/// that bounds, distances and squared lengths stay finite even in float.
+constexpr double MaxBlendCoordinate = 1e18;
+
+void CheckBlendRange(const GltfPart& part, const std::string& where)
+{
+  const auto largest = [](const std::vector<float>& v) {
+    double m = 0.0;
+    for (float x : v)
+    {
+      m = std::max(m, std::fabs(static_cast<double>(x)));
+    }
+    return m;
+  };
+  double reach = largest(part.Positions);
+  for (size_t t = 0; t < part.Targets.size(); ++t)
+  {
+    const double w = t < part.DefaultWeights.size() ? std::fabs(part.DefaultWeights[t]) : 1.0;
+    reach += std::max(1.0, w) * largest(part.Targets[t].PositionDeltas);
+  }
+  if (!(reach < MaxBlendCoordinate))
+  {
+    throw InputError(where + ": its positions, deltas and default weights reach a coordinate of " +
+      text::FormatNumber(reach) + "; at most " + text::FormatNumber(MaxBlendCoordinate) +
+      " keeps every blend finite (docs/limits.md)");
+  }
+}
+
 bool SkipImage(tinygltf::Image*, const int, std::string*, std::string*, int, int, const unsigned char*,
   int, void*)
 {
@@ -202,7 +232,21 @@ tinygltf::Model LoadModel(const unsigned char* data, size_t size, const gltfchec
     {
       err.pop_back();
     }
-    throw InputError(source + ": tinygltf: " + (err.empty() ? std::string("cannot read the file") : err));
+    // The library's words translated into what and where: a buffer file it could not
+    // find or read is named by its pointer.
+    const auto buffers = root.value("buffers", json::array());
+    for (size_t b = 0; b < buffers.size(); ++b)
+    {
+      const std::string uri = buffers[b].is_object() ? buffers[b].value("uri", std::string()) : std::string();
+      if (!uri.empty() && uri.rfind("data:", 0) != 0 && err.find(uri) != std::string::npos &&
+        (err.find("File not found") != std::string::npos || err.find("read") != std::string::npos))
+      {
+        throw InputError(source + ": /buffers/" + std::to_string(b) + "/uri: " + text::Quote(uri) +
+          " is not a readable regular file in the glTF file's folder (links leading out of the folder are refused)");
+      }
+    }
+    throw InputError(source + ": the file cannot be read as glTF (" +
+      (err.empty() ? std::string("no reason given") : text::Quote(err).substr(0, 200)) + ")");
   }
   return model;
 }
@@ -912,6 +956,7 @@ private:
           pp + " beyond the range of float");
       }
     }
+    CheckBlendRange(part, this->Source + ": " + pp);
     return part;
   }
 

@@ -11,6 +11,8 @@
 
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -461,6 +463,27 @@ TEST(GltfScene, ExternalBufferBesideTheFile)
       EXPECT_NE(std::string(e.what()).find("/buffers/0/uri: "), std::string::npos) << e.what();
     }
   }
+  // Issue 29: a link in the folder that leads out of it is refused too (the folder is
+  // checked after resolving links); a FIFO named like the buffer is refused, not waited for.
+  std::error_code ec;
+  std::filesystem::remove(folder / "inner" / "link.bin", ec);
+  std::filesystem::create_symlink(folder / "quad data.bin", folder / "inner" / "link.bin");
+  std::filesystem::remove(folder / "inner" / "fifo.bin", ec);
+  ASSERT_EQ(::mkfifo((folder / "inner" / "fifo.bin").c_str(), 0600), 0);
+  for (const char* uri : { "link.bin", "fifo.bin" })
+  {
+    doc["buffers"][0]["uri"] = uri;
+    std::ofstream(folder / "inner" / "bad.gltf") << doc.dump();
+    try
+    {
+      LoadGltfScene((folder / "inner" / "bad.gltf").string());
+      ADD_FAILURE() << uri << " was followed";
+    }
+    catch (const InputError& e)
+    {
+      EXPECT_NE(std::string(e.what()).find("/buffers/0/uri: "), std::string::npos) << e.what();
+    }
+  }
   // From memory, external buffers cannot be found.
   doc["buffers"][0]["uri"] = "quad%20data.bin";
   EXPECT_NE(ErrorOf(doc.dump()).find("/buffers/0/uri: "), std::string::npos);
@@ -582,7 +605,21 @@ const Damage Damages[] = {
     [](Builder& b) {
       return Json(b, [](json& d) { d["nodes"][1] = { { "mesh", 0 }, { "matrix", { 0, 1, 1e300, 0, -1, 0, 0, 0, 0, 0, 1, 0, 0, 0, 1, 1 } } }; });
     },
-    "/nodes/1: its world transform takes the points of /meshes/0/primitives/0 beyond the range of float" },
+    "/nodes/1/matrix/2: 1e+300 is beyond the range of float" }, // (refused where it is, issue 29)
+  { "matrix taking points past the blend limit (issue 29)",
+    [](Builder& b) {
+      return Json(b, [](json& d) { d["nodes"][1] = { { "mesh", 0 }, { "matrix", { 0, 1, 3e38, 0, -1, 0, 0, 0, 0, 0, 1, 0, 0, 0, 1, 1 } } }; });
+    },
+    "/meshes/0/primitives/0: its positions, deltas and default weights reach a coordinate of 1.5" },
+  { "default weight beyond float (issue 29)",
+    [](Builder& b) { return Json(b, [](json& d) { d["meshes"][0]["weights"] = { 1e39, 0 }; }); },
+    "/meshes/0/weights/0: 1e+39 is beyond the range of float" },
+  { "default weight whose blend passes the coordinate limit (issue 29)",
+    [](Builder& b) { return Json(b, [](json& d) { d["meshes"][0]["weights"] = { 3e38, 0 }; }); },
+    "/meshes/0/primitives/0: its positions, deltas and default weights reach a coordinate of" },
+  { "asset.minVersion above 2.0 (issue 29)",
+    [](Builder& b) { return Json(b, [](json& d) { d["asset"]["minVersion"] = "2.5"; }); },
+    "/asset/minVersion: glTF '2.5' is required; this reader reads 2.0" },
   { "matrix and TRS",
     [](Builder& b) { return Json(b, [](json& d) { d["nodes"][1]["matrix"] = json::array({ 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1 }); }); },
     "/nodes/1/translation: a node with a 'matrix'" },
