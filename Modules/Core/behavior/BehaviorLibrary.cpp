@@ -581,7 +581,7 @@ BehaviorLibrary BehaviorLibrary::FromJson(const std::string& text,
   }
   catch (const Json::exception& e)
   {
-    r.Fail("", std::string("not valid JSON: ") + e.what());
+    r.Fail("", std::string("not valid JSON: ") + text::LibraryMessage(e.what()));
   }
   r.Object(doc, "(top level)");
   r.Keys(doc, "(top level)", { "gestures", "moods", "description" });

@@ -518,7 +518,7 @@ BehaviorScript ParseJson(const std::string& text)
   }
   catch (const Json::exception& e)
   {
-    Fail(line, std::string("invalid JSON: ") + e.what());
+    Fail(line, std::string("invalid JSON: ") + text::LibraryMessage(e.what()));
   }
 
   BehaviorScript script;

@@ -74,7 +74,7 @@ Json ParseRejectingDuplicateKeys(const std::string& text, const std::string& sou
   catch (const Json::exception& e)
   {
     // parse_error, but also out_of_range for a number beyond double ("1e999").
-    Fail(source, std::string("is not valid JSON: ") + e.what());
+    Fail(source, std::string("is not valid JSON: ") + text::LibraryMessage(e.what()));
   }
   if (!duplicate.empty())
   {

@@ -136,11 +136,9 @@ std::vector<TimedPhoneme> ParsePho(const std::string& text)
 
 std::vector<TimedPhoneme> ReadPhoFile(const std::string& path)
 {
-  std::ifstream in(path);
-  if (!in)
-  {
-    throw InputError("cannot open pho file '" + path + "'");
-  }
+  // Kind and size checked before reading (base/File.h: a directory or a FIFO is an error
+  // naming it, not a library's "basic_filebuf::underflow").
+  std::istringstream in(text::ReadFile(path, "pho file"));
   try
   {
     return ReadPho(in);

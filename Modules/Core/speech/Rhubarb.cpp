@@ -146,7 +146,7 @@ std::vector<MouthCue> ReadRhubarbJson(std::istream& in)
   }
   catch (const json::exception& e)
   {
-    throw InputError(std::string("rhubarb json: not valid JSON (") + e.what() + ")");
+    throw InputError(std::string("rhubarb json: not valid JSON (") + text::LibraryMessage(e.what()) + ")");
   }
   if (!root.is_object())
   {

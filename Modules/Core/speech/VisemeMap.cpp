@@ -136,7 +136,7 @@ VisemeMap VisemeMap::FromJson(const std::string& text, const std::string& origin
   }
   catch (const json::exception& e)
   {
-    throw InputError(origin + ": not valid JSON (" + e.what() + ")");
+    throw InputError(origin + ": not valid JSON (" + text::LibraryMessage(e.what()) + ")");
   }
   if (!root.is_object())
   {
