@@ -267,11 +267,26 @@ void ReadInfluences(const tinygltf::Model& model, const tinygltf::Primitive& pri
 
 void SkinAtRest(GltfPart& part, const GltfScene& scene, const std::string& what)
 {
+  std::vector<GltfMatrix> world;
+  for (const auto& node : scene.Nodes)
+  {
+    world.push_back(node.World);
+  }
+  GltfSkinPart(part, scene, world, what);
+}
+} // namespace gltfskin
+
+void GltfSkinPart(GltfPart& part, const GltfScene& scene, const std::vector<GltfMatrix>& nodeWorlds, const std::string& what)
+{
+  if (part.Skin < 0 || part.TransformApplied || nodeWorlds.size() != scene.Nodes.size())
+  {
+    throw InputError(what + ": not a skinned part in bind space, or not one transform per node");
+  }
   const SkinJoints joints = GltfSkinJoints(scene, part.Skin);
   std::vector<glm::dmat4> world(scene.Nodes.size());
   for (size_t n = 0; n < scene.Nodes.size(); ++n)
   {
-    world[n] = GltfToGlm(scene.Nodes[n].World);
+    world[n] = GltfToGlm(nodeWorlds[n]);
   }
   const std::vector<glm::dmat4> matrices = joints.Matrices(world);
   const size_t n = part.GetNumberOfPoints();
@@ -327,5 +342,4 @@ void SkinAtRest(GltfPart& part, const GltfScene& scene, const std::string& what)
   }
   part.TransformApplied = true;
 }
-} // namespace gltfskin
 } // namespace morphnode

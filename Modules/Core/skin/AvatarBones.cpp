@@ -57,6 +57,8 @@ std::string AvatarBoneRoles::Describe(const Skeleton& skeleton) const
   add("left eye", this->LeftEye);
   add("right eye", this->RightEye);
   add("jaw", this->Jaw);
+  add("left arm", this->LeftUpperArm);
+  add("right arm", this->RightUpperArm);
   return out;
 }
 
@@ -80,6 +82,10 @@ AvatarBoneRoles FindAvatarBones(const Skeleton& skeleton)
   roles.Head = find({ "head" });
   roles.Neck = find({ "neck", "necktwist01", "neck1", "neck01" });
   roles.Jaw = find({ "jaw", "jawroot", "lowerjaw", "jawbone" });
+  roles.LeftUpperArm = find({ "leftarm", "leftupperarm", "lupperarm", "upperarml", "luparm", "larm" });
+  roles.LeftForeArm = find({ "leftforearm", "leftlowerarm", "lforearm", "forearml", "llowerarm" });
+  roles.RightUpperArm = find({ "rightarm", "rightupperarm", "rupperarm", "upperarmr", "ruparm", "rarm" });
+  roles.RightForeArm = find({ "rightforearm", "rightlowerarm", "rforearm", "forearmr", "rlowerarm" });
   for (size_t j = 0; j < n; ++j)
   {
     const std::string& name = skeleton.GetJoint(j).Name;
@@ -133,15 +139,43 @@ void PoseAvatarBones(SkeletonPose& pose, const AvatarBoneRoles& roles, const Ava
   const glm::dquat frame = glm::quat_cast(a.FaceFrame);
   auto inWorld = [&](const glm::dquat& q) { return frame * q * glm::inverse(frame); };
   const glm::dquat head = HeadRotation(a.HeadYaw, a.HeadPitch, a.HeadRoll);
+  const bool headTurns = a.HeadYaw != 0.0 || a.HeadPitch != 0.0 || a.HeadRoll != 0.0;
   const glm::dquat identity(1.0, 0.0, 0.0, 0.0);
   double neckShare = roles.Neck >= 0 && roles.Head >= 0 ? a.NeckShare : (roles.Neck >= 0 ? 1.0 : 0.0);
-  if (roles.Neck >= 0 && neckShare > 0.0)
+  if (roles.Neck >= 0 && neckShare > 0.0 && headTurns)
   {
     pose.TurnJoint(roles.Neck, inWorld(glm::slerp(identity, head, neckShare)));
   }
-  if (roles.Head >= 0 && neckShare < 1.0)
+  if (roles.Head >= 0 && neckShare < 1.0 && headTurns)
   {
     pose.TurnJoint(roles.Head, inWorld(glm::slerp(identity, head, 1.0 - neckShare)));
+  }
+  if (a.RelaxArms)
+  {
+    for (const auto& [upper, fore] : { std::pair<int, int>{ roles.LeftUpperArm, roles.LeftForeArm },
+           std::pair<int, int>{ roles.RightUpperArm, roles.RightForeArm } })
+    {
+      if (upper < 0 || fore < 0)
+      {
+        continue;
+      }
+      const auto world = pose.World();
+      const glm::dvec3 from = glm::dvec3(world[static_cast<size_t>(fore)][3]) - glm::dvec3(world[static_cast<size_t>(upper)][3]);
+      const glm::dvec3 down = -a.FaceFrame[1];
+      const glm::dvec3 side = from - glm::dot(from, down) * down; // out to the side (and forward)
+      if (glm::length(from) <= 0.0 || glm::length(side) <= 1e-9 * glm::length(from))
+      {
+        continue; // already straight down
+      }
+      const double angle = a.ArmAngle * glm::pi<double>() / 180.0;
+      const glm::dvec3 to = std::cos(angle) * down + std::sin(angle) * glm::normalize(side);
+      const glm::dvec3 f = glm::normalize(from);
+      const glm::dvec3 axis = glm::cross(f, to);
+      if (glm::length(axis) > 1e-12)
+      {
+        pose.TurnJoint(upper, glm::angleAxis(std::acos(glm::clamp(glm::dot(f, to), -1.0, 1.0)), glm::normalize(axis)));
+      }
+    }
   }
   // The eyes turn in the face's frame as the head has turned it.
   const glm::dquat turnedFrame = (roles.Head >= 0 || roles.Neck >= 0) ? head : identity;
@@ -153,6 +187,10 @@ void PoseAvatarBones(SkeletonPose& pose, const AvatarBoneRoles& roles, const Ava
       continue;
     }
     const GazeAngles angles = EyeAngles(GazeAngles{ a.EyeYaw, a.EyePitch }, a.Vergence, side, a.Limits);
+    if (angles.Yaw == 0.0 && angles.Pitch == 0.0)
+    {
+      continue;
+    }
     const glm::dquat gaze = HeadRotation(angles.Yaw, angles.Pitch, 0.0);
     pose.TurnJoint(joint, inWorld(turnedFrame * gaze * glm::inverse(turnedFrame)));
   }

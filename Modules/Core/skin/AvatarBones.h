@@ -35,6 +35,8 @@ struct AvatarBoneRoles
   int LeftEye = -1;
   int RightEye = -1;
   int Jaw = -1;
+  int LeftUpperArm = -1, LeftForeArm = -1;   ///< Mixamo LeftArm/LeftForeArm, VRM leftUpperArm/leftLowerArm, ...
+  int RightUpperArm = -1, RightForeArm = -1;
 
   bool HasEyes() const { return this->LeftEye >= 0 || this->RightEye >= 0; }
   /// "Head, Neck, LeftEye, RightEye" as found, for reports.
@@ -56,6 +58,11 @@ struct AvatarBonePose
   EyeLimits Limits;
   /// Columns: the face's left, up and forward directions in world space at rest.
   glm::dmat3 FaceFrame{ 1.0 };
+  /// Arms of a T- or A-pose lowered: each upper arm turned (about its pivot) so that it
+  /// hangs ArmAngle degrees out from straight down, in the plane of its rest direction and
+  /// the down direction. Off: the arms as stored.
+  bool RelaxArms = false;
+  double ArmAngle = 12.0;
 };
 
 /// The rotation R of the convention for the head angles (degrees), in the face's frame.

@@ -191,6 +191,10 @@ void SkeletonPose::TurnJoint(int joint, const glm::dquat& rotation)
   {
     throw InputError("skeleton: no joint " + std::to_string(joint) + " to turn");
   }
+  if (rotation == glm::dquat(1.0, 0.0, 0.0, 0.0))
+  {
+    return; // no turn: the pose stays exactly as it is
+  }
   const int parent = this->Bones->GetJoint(j).Parent;
   const glm::dmat4 parentWorld = parent < 0 ? glm::dmat4(1.0) : this->Bones->WorldOf(this->Locals, parent);
   const glm::dmat4 world = parentWorld * this->Locals[j];

@@ -145,10 +145,15 @@ RestSkin::RestSkin(SkinInfluences influences, const std::vector<glm::dmat4>& res
   , Rest(restMatrices)
   , Pose(restMatrices)
   , Moved(restMatrices.size(), 0)
+  , Used(restMatrices.size(), 0)
 {
   const size_t n = this->Influences.GetNumberOfPoints();
   for (size_t i = 0; i < n * this->Influences.PerPoint; ++i)
   {
+    if (this->Influences.Weights[i] != 0.0f && this->Influences.Joints[i] < restMatrices.size())
+    {
+      this->Used[this->Influences.Joints[i]] = 1;
+    }
     if (this->Influences.Weights[i] != 0.0f && this->Influences.Joints[i] >= restMatrices.size())
     {
       throw InputError(what + ": point " + std::to_string(i / this->Influences.PerPoint) + " is bound to joint " +
@@ -191,7 +196,7 @@ bool RestSkin::SetPose(const std::vector<glm::dmat4>& matrices)
       throw InputError("skin: the pose of joint " + std::to_string(k) + " is not finite");
     }
     this->Moved[k] = matrices[k] != this->Rest[k];
-    any = any || this->Moved[k];
+    any = any || (this->Moved[k] && this->Used[k]);
   }
   this->Pose = matrices;
   return any;

@@ -70,7 +70,8 @@ public:
   const SkinInfluences& GetInfluences() const { return this->Influences; }
 
   /// Prepares a pose: `matrices` (one per joint of the skin, as SkinJoints::Matrices gives
-  /// them). Returns false when every joint is at rest (Apply would copy).
+  /// them). Returns false when no joint that moves a point of this mesh left its rest
+  /// (Apply would copy).
   bool SetPose(const std::vector<glm::dmat4>& matrices);
   /// True when a point of the last SetPose moves.
   bool Moves(size_t point) const;
@@ -86,5 +87,6 @@ private:
   std::vector<double> RestInverse; ///< 12 per point: the 3x4 of B_v(rest)^-1, column-major
   std::vector<glm::dmat4> Pose;
   std::vector<char> Moved; ///< per joint
+  std::vector<char> Used;  ///< per joint: some point has a weight on it
 };
 } // namespace morphnode

@@ -324,3 +324,25 @@ TEST(AvatarBones, EyesTurnAboutTheirJointAndTheHeadCarriesThem)
   }).find("finite"),
     std::string::npos);
 }
+
+TEST(AvatarBones, RelaxedArmsHangDown)
+{
+  Skeleton s;
+  const int hips = s.AddJoint(MakeJoint("Hips", -1, { 0, 1, 0 }));
+  const int arm = s.AddJoint(MakeJoint("LeftArm", hips, { 0.2, 0.4, 0 }));
+  // A-pose: the forearm 45 degrees down and out, a little forward.
+  const int fore = s.AddJoint(MakeJoint("LeftForeArm", arm, { 0.2, -0.2, 0.05 }));
+  s.Validate();
+  const AvatarBoneRoles roles = FindAvatarBones(s);
+  ASSERT_EQ(roles.LeftUpperArm, arm);
+  ASSERT_EQ(roles.LeftForeArm, fore);
+  SkeletonPose pose(s);
+  AvatarBonePose relaxed;
+  relaxed.RelaxArms = true;
+  PoseAvatarBones(pose, roles, relaxed);
+  const auto world = pose.World();
+  const glm::dvec3 d = glm::normalize(glm::dvec3(world[fore][3]) - glm::dvec3(world[arm][3]));
+  EXPECT_NEAR(std::acos(-d.y) * 180 / Pi, 12.0, 1e-6); // 12 degrees out from straight down
+  EXPECT_GT(d.x, 0.0);                                 // still on its own side
+  ExpectNear(glm::dvec3(world[arm][3]), { 0.2, 1.4, 0 }); // the shoulder stays
+}
