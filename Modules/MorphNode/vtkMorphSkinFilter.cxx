@@ -25,6 +25,7 @@
 #include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkTable.h"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 
@@ -62,6 +63,8 @@ public:
     vtkMorphSkinArrays::Skin Skin;
     morphnode::RestSkin Rest;
     std::vector<glm::dmat4> RestMatrices;
+    bool HeadKnown = false;
+    double HeadBounds[6] = { 1, -1, 1, -1, 1, -1 }; ///< empty when min > max
   };
   std::map<vtkDataArray*, Entry> Cache;
 
@@ -142,6 +145,9 @@ int vtkMorphSkinFilter::RequestData(
   vtkDataObject* output = vtkDataObject::GetData(outputVector, 0);
   this->NumberOfSkinnedParts = 0;
   this->HasEyeBones = false;
+  this->HasHeadBones = false;
+  this->HeadBounds[0] = this->HeadBounds[2] = this->HeadBounds[4] = 1.0;
+  this->HeadBounds[1] = this->HeadBounds[3] = this->HeadBounds[5] = -1.0;
   this->Bones.clear();
   if (!input || !output)
   {
@@ -193,6 +199,41 @@ int vtkMorphSkinFilter::RequestData(
       vtkInternals::Entry& entry = this->Internals->Get(leaf, what);
       morphnode::AvatarBoneRoles roles = morphnode::FindAvatarBones(entry.Skin.Bones);
       this->HasEyeBones = this->HasEyeBones || roles.HasEyes();
+      this->HasHeadBones = this->HasHeadBones || roles.Head >= 0;
+      if (!entry.HeadKnown && roles.Head >= 0)
+      {
+        // The points whose largest weight is on the head or below it, at rest.
+        const morphnode::SkinInfluences& inf = entry.Skin.Influences;
+        for (vtkIdType i = 0; i < leaf->GetNumberOfPoints(); ++i)
+        {
+          size_t best = 0;
+          for (size_t k = 1; k < inf.PerPoint; ++k)
+          {
+            best = inf.Weights[static_cast<size_t>(i) * inf.PerPoint + k] > inf.Weights[static_cast<size_t>(i) * inf.PerPoint + best] ? k : best;
+          }
+          const int joint = entry.Skin.Joints.Joints[inf.Joints[static_cast<size_t>(i) * inf.PerPoint + best]];
+          if (entry.Skin.Bones.IsAncestor(roles.Head, joint))
+          {
+            const double* q = leaf->GetPoint(i);
+            for (int k = 0; k < 3; ++k)
+            {
+              const bool empty = entry.HeadBounds[2 * k] > entry.HeadBounds[2 * k + 1];
+              entry.HeadBounds[2 * k] = empty ? q[k] : std::min(entry.HeadBounds[2 * k], q[k]);
+              entry.HeadBounds[2 * k + 1] = empty ? q[k] : std::max(entry.HeadBounds[2 * k + 1], q[k]);
+            }
+          }
+        }
+        entry.HeadKnown = true;
+      }
+      for (int k = 0; k < 3 && entry.HeadKnown; ++k)
+      {
+        if (entry.HeadBounds[2 * k] <= entry.HeadBounds[2 * k + 1])
+        {
+          const bool empty = this->HeadBounds[2 * k] > this->HeadBounds[2 * k + 1];
+          this->HeadBounds[2 * k] = empty ? entry.HeadBounds[2 * k] : std::min(this->HeadBounds[2 * k], entry.HeadBounds[2 * k]);
+          this->HeadBounds[2 * k + 1] = empty ? entry.HeadBounds[2 * k + 1] : std::max(this->HeadBounds[2 * k + 1], entry.HeadBounds[2 * k + 1]);
+        }
+      }
       if (!this->TurnEyes)
       {
         roles.LeftEye = roles.RightEye = -1;
@@ -314,6 +355,17 @@ int vtkMorphSkinFilter::RequestData(
 }
 
 //------------------------------------------------------------------------------
+bool vtkMorphSkinFilter::GetHeadBounds(double bounds[6])
+{
+  if (!this->HasHeadBones || this->HeadBounds[0] > this->HeadBounds[1])
+  {
+    return false;
+  }
+  std::copy(this->HeadBounds, this->HeadBounds + 6, bounds);
+  return true;
+}
+
+//------------------------------------------------------------------------------
 void vtkMorphSkinFilter::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
@@ -333,5 +385,6 @@ void vtkMorphSkinFilter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "ArmAngle: " << this->ArmAngle << "\n";
   os << indent << "NumberOfSkinnedParts: " << this->NumberOfSkinnedParts << "\n";
   os << indent << "HasEyeBones: " << this->HasEyeBones << "\n";
+  os << indent << "HasHeadBones: " << this->HasHeadBones << "\n";
   os << indent << "Bones: " << (this->Bones.empty() ? "(none)" : this->Bones) << "\n";
 }

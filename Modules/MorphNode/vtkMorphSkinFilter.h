@@ -129,8 +129,16 @@ public:
    */
   const char* GetBones() { return this->Bones.c_str(); }
 
-  /** True when the last execution found an eye joint. */
+  /** True when the last execution found an eye joint, a head joint. */
   vtkGetMacro(HasEyeBones, bool);
+  vtkGetMacro(HasHeadBones, bool);
+
+  /**
+   * The bounds of the head at rest as the last execution found it: every point of a skinned
+   * part whose largest weight is on the head joint or a joint below it (eyes, jaw, ...).
+   * False (bounds untouched) without a head joint. For framing a face.
+   */
+  bool GetHeadBounds(double bounds[6]);
 
 protected:
   vtkMorphSkinFilter();
@@ -158,6 +166,8 @@ protected:
   double ArmAngle = 12.0;
   int NumberOfSkinnedParts = 0;
   bool HasEyeBones = false;
+  bool HasHeadBones = false;
+  double HeadBounds[6] = { 0, -1, 0, -1, 0, -1 };
   std::string Bones;
 
 private:

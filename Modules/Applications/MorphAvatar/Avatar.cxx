@@ -25,6 +25,15 @@ namespace morphavatar
 {
 namespace appkit = morphnode::appkit;
 
+Avatar::TempFile::~TempFile()
+{
+  if (!this->Path.empty())
+  {
+    std::error_code ec;
+    std::filesystem::remove(this->Path, ec);
+  }
+}
+
 bool Avatar::SetUpBehavior()
 {
   const Options& o = this->Opt;
@@ -124,6 +133,11 @@ bool Avatar::SetUpFace()
   {
     this->Gaze->SetRigFileName(o.Rig.c_str());
   }
+  // A skinned avatar: its bones follow the behaviour's head pose and gaze (docs/avatars.md).
+  this->Skin->SetInputConnection(this->Gaze->GetOutputPort());
+  this->Skin->SetPoseConnection(this->Behavior->GetOutputPort(0));
+  this->Skin->SetTurnEyes(o.Gaze != "targets");
+  this->Skin->SetRelaxArms(o.Pose == "relaxed");
   this->Reader->Update();
   if (!appkit::HeadBounds(this->Reader->GetOutputDataObject(0), this->Bounds))
   {
@@ -147,6 +161,7 @@ bool Avatar::SetUpFace()
     std::cerr << "MorphAvatar: the face could not be morphed (see the errors above)\n";
     return false;
   }
+  this->FrameView();
   if (o.Rig.empty())
   {
     // Without a rig the channels must name the face's targets.
@@ -211,7 +226,7 @@ void Avatar::SetUpScene()
   this->Window->SetMultiSamples(0);
   this->Window->AddRenderer(this->Renderer);
   this->Window->SetWindowName("MorphAvatar");
-  appkit::HeadActors::SetUpView(this->Renderer, this->Bounds);
+  appkit::HeadActors::SetUpView(this->Renderer, this->ViewBounds);
 }
 
 void Avatar::ApplyMethod()
@@ -227,7 +242,7 @@ void Avatar::ApplyMethod()
 bool Avatar::Update(double t)
 {
   this->Time = t;
-  if (!this->Gaze->UpdateTimeStep(t))
+  if (!this->Skin->UpdateTimeStep(t))
   {
     return false;
   }
@@ -242,13 +257,57 @@ bool Avatar::Update(double t)
     return false;
   }
   auto* weights = vtkTable::SafeDownCast(this->Behavior->GetOutputDataObject(0));
-  appkit::SetHeadPose(this->HeadPose, appkit::ReadHeadAngles(weights), this->Pivot);
+  // A skinned avatar turns its head by its joints; the whole body must not turn.
+  appkit::SetHeadPose(this->HeadPose,
+    this->Skin->GetHasHeadBones() ? morphnode::HeadAngles{} : appkit::ReadHeadAngles(weights), this->Pivot);
   return true;
+}
+
+void Avatar::FrameView()
+{
+  std::copy(this->Bounds, this->Bounds + 6, this->ViewBounds);
+  double head[6];
+  if (!this->Skin->GetHeadBounds(head))
+  {
+    return; // a head of its own: the portrait of its bounds
+  }
+  // The optimizer's error bound in face units, not the whole body's.
+  const double h = head[3] - head[2];
+  const double w = std::max(head[1] - head[0], 0.75 * h);
+  const double cx = 0.5 * (head[0] + head[1]);
+  if (this->Opt.MaxError < 0.0)
+  {
+    const double diagonal = std::sqrt((head[1] - head[0]) * (head[1] - head[0]) + h * h +
+      (head[5] - head[4]) * (head[5] - head[4]));
+    this->MaxError = 0.005 * diagonal;
+    this->ApplyMethod();
+  }
+  // The portrait (HeadActors::SetUpView) drops the lowest 15 % of the box: the neck (face),
+  // the chest (bust) or the feet' margin (body) goes below. Room above the head keeps the
+  // overlay (the top left 15 % of the frame) off the face.
+  double box[6];
+  if (this->Opt.Framing == "body")
+  {
+    const double* b = this->Bounds;
+    const double height = b[3] - b[2];
+    const double box0[6] = { b[0], b[1], b[2] - 0.2 * height, b[3] + 0.18 * height, b[4], b[5] };
+    std::copy(box0, box0 + 6, box);
+  }
+  else
+  {
+    const bool bust = this->Opt.Framing == "bust";
+    const double below = bust ? 1.5 * h : 0.45 * h;
+    const double half = bust ? 1.6 * w : 0.6 * w;
+    const double above = bust ? 0.25 * h : 0.15 * h;
+    const double box0[6] = { cx - half, cx + half, head[2] - below, head[3] + above, head[4], head[5] };
+    std::copy(box0, box0 + 6, box);
+  }
+  std::copy(box, box + 6, this->ViewBounds);
 }
 
 vtkDataObject* Avatar::GetHead() const
 {
-  return this->Gaze->GetOutputDataObject(0);
+  return this->Skin->GetOutputDataObject(0);
 }
 
 std::string Avatar::OverlayText(bool offscreen, int frame, int frames) const
