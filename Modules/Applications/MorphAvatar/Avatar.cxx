@@ -2,6 +2,7 @@
 #include "Avatar.h"
 
 #include "DataPaths.h"
+#include "Framing.h"
 #include "HeadPoseTransform.h"
 
 #include "base/Text.h"
@@ -273,8 +274,6 @@ void Avatar::FrameView()
   }
   // The optimizer's error bound in face units, not the whole body's.
   const double h = head[3] - head[2];
-  const double w = std::max(head[1] - head[0], 0.75 * h);
-  const double cx = 0.5 * (head[0] + head[1]);
   if (this->Opt.MaxError < 0.0)
   {
     const double diagonal = std::sqrt((head[1] - head[0]) * (head[1] - head[0]) + h * h +
@@ -282,27 +281,7 @@ void Avatar::FrameView()
     this->MaxError = 0.005 * diagonal;
     this->ApplyMethod();
   }
-  // The portrait (HeadActors::SetUpView) drops the lowest 15 % of the box: the neck (face),
-  // the chest (bust) or the feet' margin (body) goes below. Room above the head keeps the
-  // overlay (the top left 15 % of the frame) off the face.
-  double box[6];
-  if (this->Opt.Framing == "body")
-  {
-    const double* b = this->Bounds;
-    const double height = b[3] - b[2];
-    const double box0[6] = { b[0], b[1], b[2] - 0.2 * height, b[3] + 0.18 * height, b[4], b[5] };
-    std::copy(box0, box0 + 6, box);
-  }
-  else
-  {
-    const bool bust = this->Opt.Framing == "bust";
-    const double below = bust ? 1.5 * h : 0.45 * h;
-    const double half = bust ? 1.6 * w : 0.6 * w;
-    const double above = bust ? 0.25 * h : 0.15 * h;
-    const double box0[6] = { cx - half, cx + half, head[2] - below, head[3] + above, head[4], head[5] };
-    std::copy(box0, box0 + 6, box);
-  }
-  std::copy(box, box + 6, this->ViewBounds);
+  appkit::FramingBox(head, this->Bounds, this->Opt.Framing, this->ViewBounds);
 }
 
 vtkDataObject* Avatar::GetHead() const
