@@ -2,6 +2,7 @@
 #include "vtkEyeGazeFilter.h"
 
 #include "vtkMorphRigCache.h"
+#include "vtkMorphSkinArrays.h"
 
 #include "base/Error.h"
 #include "base/Text.h"
@@ -148,6 +149,10 @@ public:
   vtkSmartPointer<vtkPointSet> Turn(vtkPointSet* leaf, const std::string& blockName,
     const morphnode::EyeRig& rig, const morphnode::GazeAngles& gaze, double vergence)
   {
+    if (vtkMorphSkinArrays::IsSkinned(leaf))
+    {
+      return nullptr; // a skinned eye turns with its joint (vtkMorphSkinFilter)
+    }
     vtkFieldData* fd = leaf->GetFieldData();
     const std::string nodeName = StringOf(fd, "NodeName");
     std::string partName = StringOf(fd, "PartName");

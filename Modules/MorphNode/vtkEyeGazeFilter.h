@@ -36,6 +36,10 @@
  * same behaviour's LookUp/LookDown/LookLeft/LookRight channels (a rig's gaze shapes, e.g.
  * Data/rigs/arkit.json's, into eyeLook* targets, through vtkMorphRigFilter).
  *
+ * Skinned parts (a glTF skin, vtkMorphSkinArrays.h) are passed on untouched: their eyes
+ * turn with their eye joints in vtkMorphSkinFilter (a skinned mesh's node origin is not the
+ * eye's centre).
+ *
  * Head pose is not this filter's: it turns the whole head (behavior/HeadPose.h, e.g. an
  * actor's user transform), and the eyes' angles are relative to the head.
  *

@@ -143,7 +143,7 @@ int vtkMorphRigFilter::RequestData(
         targets.push_back(internals.TargetNames->GetValue(i));
       }
     }
-    else
+    else if (!face) // a connected face's names win over the rig's declared ones
     {
       targets = rig.GetDeclaredTargets();
       if (targets.empty())

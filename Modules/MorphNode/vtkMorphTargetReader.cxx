@@ -1,11 +1,13 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkMorphTargetReader.h"
 
+#include "vtkMorphSkinArrays.h"
 #include "vtkMorphTargetArrays.h"
 
 #include "base/Error.h"
 #include "base/Text.h"
 #include "gltf/GltfAnimation.h"
+#include "gltf/GltfSkin.h"
 #include "gltf/GltfScene.h"
 #include "morph/MorphMesh.h"
 #include "morph/Normals.h"
@@ -712,6 +714,15 @@ int vtkMorphTargetReader::RequestData(
       {
         sample = morphnode::GltfRestPose(scene);
       }
+      // Node transforms at the time sampled: skins pose their parts with them, and skinned
+      // parts carry them as the rest of their skeleton (vtkMorphSkinArrays.h).
+      std::vector<morphnode::GltfMatrix> worlds, locals;
+      for (size_t n = 0; n < scene.Nodes.size(); ++n)
+      {
+        const bool sampled = applyTransforms && n < sample.Nodes.size();
+        worlds.push_back(sampled ? sample.Nodes[n].World : scene.Nodes[n].World);
+        locals.push_back(sampled ? sample.Nodes[n].Local : scene.Nodes[n].Local);
+      }
       auto prepare = [&](const morphnode::GltfPart& part) {
         const morphnode::GltfNodeSample& node = sample.Nodes[static_cast<size_t>(part.Node)];
         morphnode::GltfPart posed = part;
@@ -719,7 +730,11 @@ int vtkMorphTargetReader::RequestData(
         {
           BlendWeights(posed, node.Weights);
         }
-        if (applyTransforms)
+        if (applyTransforms && posed.Skin >= 0)
+        {
+          morphnode::GltfSkinPart(posed, scene, worlds, this->FileName); // gltf/GltfSkin.h
+        }
+        else if (applyTransforms)
         {
           morphnode::GltfTransformPart(posed, node.World);
           posed.World = node.World;
@@ -757,6 +772,10 @@ int vtkMorphTargetReader::RequestData(
           FinishMesh(poly, names, this->Scale, this->NormalsMode);
           AddPartFieldData(poly->GetFieldData(), scene, part, true, this->Scale);
           addWeightFields(poly->GetFieldData(), part);
+          if (part.Skin >= 0)
+          {
+            vtkMorphSkinArrays::AddSkin(poly, scene, part, locals, this->Scale);
+          }
           collection->SetPartition(static_cast<unsigned int>(p), 0, poly);
           collection->GetMetaData(static_cast<unsigned int>(p))->Set(vtkCompositeDataSet::NAME(), part.Name.c_str());
           this->PartNames.push_back(part.Name);

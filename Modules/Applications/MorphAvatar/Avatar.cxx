@@ -2,6 +2,7 @@
 #include "Avatar.h"
 
 #include "DataPaths.h"
+#include "Framing.h"
 #include "HeadPoseTransform.h"
 
 #include "base/Text.h"
@@ -24,6 +25,15 @@
 namespace morphavatar
 {
 namespace appkit = morphnode::appkit;
+
+Avatar::TempFile::~TempFile()
+{
+  if (!this->Path.empty())
+  {
+    std::error_code ec;
+    std::filesystem::remove(this->Path, ec);
+  }
+}
 
 bool Avatar::SetUpBehavior()
 {
@@ -124,6 +134,11 @@ bool Avatar::SetUpFace()
   {
     this->Gaze->SetRigFileName(o.Rig.c_str());
   }
+  // A skinned avatar: its bones follow the behaviour's head pose and gaze (docs/avatars.md).
+  this->Skin->SetInputConnection(this->Gaze->GetOutputPort());
+  this->Skin->SetPoseConnection(this->Behavior->GetOutputPort(0));
+  this->Skin->SetTurnEyes(o.Gaze != "targets");
+  this->Skin->SetRelaxArms(o.Pose == "relaxed");
   this->Reader->Update();
   if (!appkit::HeadBounds(this->Reader->GetOutputDataObject(0), this->Bounds))
   {
@@ -147,6 +162,7 @@ bool Avatar::SetUpFace()
     std::cerr << "MorphAvatar: the face could not be morphed (see the errors above)\n";
     return false;
   }
+  this->FrameView();
   if (o.Rig.empty())
   {
     // Without a rig the channels must name the face's targets.
@@ -211,7 +227,7 @@ void Avatar::SetUpScene()
   this->Window->SetMultiSamples(0);
   this->Window->AddRenderer(this->Renderer);
   this->Window->SetWindowName("MorphAvatar");
-  appkit::HeadActors::SetUpView(this->Renderer, this->Bounds);
+  appkit::HeadActors::SetUpView(this->Renderer, this->ViewBounds);
 }
 
 void Avatar::ApplyMethod()
@@ -227,7 +243,7 @@ void Avatar::ApplyMethod()
 bool Avatar::Update(double t)
 {
   this->Time = t;
-  if (!this->Gaze->UpdateTimeStep(t))
+  if (!this->Skin->UpdateTimeStep(t))
   {
     return false;
   }
@@ -242,13 +258,35 @@ bool Avatar::Update(double t)
     return false;
   }
   auto* weights = vtkTable::SafeDownCast(this->Behavior->GetOutputDataObject(0));
-  appkit::SetHeadPose(this->HeadPose, appkit::ReadHeadAngles(weights), this->Pivot);
+  // A skinned avatar turns its head by its joints; the whole body must not turn.
+  appkit::SetHeadPose(this->HeadPose,
+    this->Skin->GetHasHeadBones() ? morphnode::HeadAngles{} : appkit::ReadHeadAngles(weights), this->Pivot);
   return true;
+}
+
+void Avatar::FrameView()
+{
+  std::copy(this->Bounds, this->Bounds + 6, this->ViewBounds);
+  double head[6];
+  if (!this->Skin->GetHeadBounds(head))
+  {
+    return; // a head of its own: the portrait of its bounds
+  }
+  // The optimizer's error bound in face units, not the whole body's.
+  const double h = head[3] - head[2];
+  if (this->Opt.MaxError < 0.0)
+  {
+    const double diagonal = std::sqrt((head[1] - head[0]) * (head[1] - head[0]) + h * h +
+      (head[5] - head[4]) * (head[5] - head[4]));
+    this->MaxError = 0.005 * diagonal;
+    this->ApplyMethod();
+  }
+  appkit::FramingBox(head, this->Bounds, this->Opt.Framing, this->ViewBounds);
 }
 
 vtkDataObject* Avatar::GetHead() const
 {
-  return this->Gaze->GetOutputDataObject(0);
+  return this->Skin->GetOutputDataObject(0);
 }
 
 std::string Avatar::OverlayText(bool offscreen, int frame, int frames) const

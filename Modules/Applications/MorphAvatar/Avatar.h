@@ -6,8 +6,10 @@
 ///   vtkMorphTargetReader (the whole scene: a vtkPartitionedDataSetCollection of parts, or
 ///   one vtkPolyData for an OBJ set) -> vtkMorphNodeFilter (weights on port 1 from
 ///   vtkBehaviorTimeSource [-> vtkMorphRigFilter]) -> vtkEyeGazeFilter (the behaviour's
-///   EyeYaw/EyePitch turn the eye parts) -> one actor per part (AppKit/HeadActors);
-///   HeadYaw/Pitch/Roll -> one head pose transform shared by every part's actor
+///   EyeYaw/EyePitch turn the eye parts) -> vtkMorphSkinFilter (a skinned avatar: the
+///   behaviour's HeadYaw/Pitch/Roll turn its head and neck joints, EyeYaw/EyePitch its eye
+///   joints; arms relaxed) -> one actor per part (AppKit/HeadActors); for a head without
+///   head joints HeadYaw/Pitch/Roll -> one head pose transform shared by every part's actor
 ///
 /// the actors (head parts, overlay, caption) and the window, and the two ways to run it.
 
@@ -19,6 +21,7 @@
 #include "vtkEyeGazeFilter.h"
 #include "vtkMorphNodeFilter.h"
 #include "vtkMorphRigFilter.h"
+#include "vtkMorphSkinFilter.h"
 #include "vtkMorphTargetReader.h"
 #include "vtkNew.h"
 #include "vtkRenderWindow.h"
@@ -44,6 +47,15 @@ struct Avatar
   vtkNew<vtkMorphRigFilter> Rig;
   vtkNew<vtkMorphNodeFilter> Morph;
   vtkNew<vtkEyeGazeFilter> Gaze;
+  vtkNew<vtkMorphSkinFilter> Skin;
+  /// A rig chosen from the face's names (AvatarNaming.h), removed at exit.
+  struct TempFile
+  {
+    std::string Path;
+    ~TempFile();
+  } ChosenRig;
+  /// The box the camera frames (--frame: the head from its joints, the bust, the body).
+  double ViewBounds[6] = { 0, 1, 0, 1, 0, 1 };
   morphnode::appkit::HeadActors Head; // one actor per part
   vtkNew<vtkTransform> HeadPose;
   vtkNew<vtkRenderer> Renderer;
@@ -90,8 +102,13 @@ struct Avatar
   /// The optimizer of Method, Threshold and MaxError (and the option's hysteresis) on the
   /// morph filter.
   void ApplyMethod();
-  /// The morphed head with its eyes turned (a composite of parts, or a vtkPolyData).
+  /// The morphed head with its eyes turned (a composite of parts, or a vtkPolyData), a
+  /// skinned avatar posed.
   vtkDataObject* GetHead() const;
+  /// ViewBounds from --frame: the head found by its joints and the parts they move (a
+  /// skinned avatar; then also the optimizer's error bound from the head's size), else the
+  /// face's bounds.
+  void FrameView();
   /// Brings the face to time t: weights, blend, head pose. False on error.
   bool Update(double t);
   /// The overlay: frame rate, method, threshold or bound, active targets, time.

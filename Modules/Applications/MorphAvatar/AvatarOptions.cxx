@@ -52,8 +52,10 @@ Options ParseOptions(int argc, char* argv[])
   app.add_option("--voice", o.Voice, "eSpeak NG voice of --say and the script")
     ->capture_default_str()
     ->group(say);
-  app.add_option("--visemes", o.Visemes, "viseme set: paper6 (A E O S F L), oculus15, german16")
-    ->capture_default_str()
+  app.add_option("--visemes", o.Visemes,
+       "viseme set: paper6 (A E O S F L), oculus15, german16 (default: oculus15 for a face with "
+       "its own viseme_* targets, else paper6)")
+    ->check(CLI::IsMember({ "paper6", "oculus15", "german16" }))
     ->group(say);
   app.add_option("--script", o.Script, "a behaviour script (docs/behavior.md), e.g. Data/scripts/greeting.txt")
     ->check(CLI::ExistingFile)
@@ -101,8 +103,25 @@ Options ParseOptions(int argc, char* argv[])
     ->check(CLI::ExistingPath)
     ->group(face);
   app.add_option("--rig", o.Rig,
-       "a rig (docs/rigs.md, e.g. Data/rigs/arkit.json) mapping the channels onto the face's own targets")
+       "a rig (docs/rigs.md, e.g. Data/rigs/arkit.json) mapping the channels onto the face's own targets "
+       "(default: chosen from the face's target names, docs/avatars.md)")
     ->check(CLI::ExistingFile)
+    ->group(face);
+  app.add_option("--gaze", o.Gaze,
+       "how the eyes turn: bones (a skinned avatar's eye joints; its eyeLook* targets are then left "
+       "out), targets (eyeLook* targets, or eye parts turned as nodes), auto (bones when the avatar "
+       "has eye joints)")
+    ->check(CLI::IsMember({ "auto", "bones", "targets" }))
+    ->capture_default_str()
+    ->group(face);
+  app.add_option("--frame", o.Framing, "what the camera frames: face (head and shoulders), bust, body")
+    ->check(CLI::IsMember({ "face", "bust", "body" }))
+    ->capture_default_str()
+    ->group(face);
+  app.add_option("--pose", o.Pose,
+       "a skinned body's arms: relaxed (a T- or A-pose lowered) or stored (as in the file)")
+    ->check(CLI::IsMember({ "relaxed", "stored" }))
+    ->capture_default_str()
     ->group(face);
 
   const std::string optimizer = "The optimizer (keys 0-4 and +/- switch them while it runs)";

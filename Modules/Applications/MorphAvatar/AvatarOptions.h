@@ -16,7 +16,10 @@ struct Options
   std::string Rig;
   std::string Say;
   std::string Voice = "en";
-  std::string Visemes = "paper6";
+  std::string Visemes; // empty: chosen from the face (oculus15 when it has its own, else paper6)
+  std::string Gaze = "auto";      // eyes by: auto, bones (eye joints), targets (eyeLook*/eye nodes)
+  std::string Framing = "face";   // face, bust, body
+  std::string Pose = "relaxed";   // a skinned body's arms: relaxed (down) or stored
   std::string Script;
   std::string Audio;    // a recording to speak (WAV, FLAC, OGG)
   std::string Text;     // its transcript

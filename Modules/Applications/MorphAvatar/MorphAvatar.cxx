@@ -18,6 +18,7 @@
 #include "Avatar.h"
 #include "AvatarGltf.h"
 #include "AvatarLive.h"
+#include "AvatarNaming.h"
 #include "AvatarFrameBudget.h"
 #include "StopSignal.h"
 
@@ -40,7 +41,8 @@ int Run(int argc, char* argv[])
                  "offscreen too: run under `xvfb-run -a MorphAvatar ...`.\n";
     return 2;
   }
-  if (!a.SetUpBehavior() || !a.SetUpFace())
+  // The face's rig, visemes and gaze chosen from its names (unless given), printed.
+  if (!ChooseFaceSetup(a) || !a.SetUpBehavior() || !a.SetUpFace())
   {
     return 1;
   }

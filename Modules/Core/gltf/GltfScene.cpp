@@ -2,6 +2,7 @@
 #include "gltf/GltfScene.h"
 
 #include "GltfCheck.h"
+#include "GltfSkinRead.h"
 #include "TinyGltfConfig.h"
 
 #include "base/Error.h"
@@ -663,6 +664,7 @@ public:
     }
     this->BuildMeshes(scene);
     this->BuildNodes(scene);
+    scene.Skins = gltfskin::ReadSkins(this->Model, scene.Nodes, this->Source);
     this->BuildParts(scene);
     this->BuildAnimations(scene);
     return scene;
@@ -938,9 +940,22 @@ private:
     {
       throw InputError(this->Source + ": " + pp + ": weights and targets differ in number (internal check)");
     }
+    const int skin = this->Model.nodes[n].skin;
+    if (skin >= 0) // gltf/GltfSkin.cpp
+    {
+      gltfskin::ReadInfluences(this->Model, prim, skin, scene.Skins, pp,
+        [this](int a, const std::string& use) { return this->Read.Floats(a, use); }, this->Source, part);
+    }
     if (this->Options.ApplyTransforms)
     {
-      ApplyTransform(part, part.World);
+      if (part.Skin >= 0)
+      {
+        gltfskin::SkinAtRest(part, scene, this->Source + ": " + pp); // the node's transform ignored
+      }
+      else
+      {
+        ApplyTransform(part, part.World);
+      }
       // A finite but huge transform (1e300) can take points past the range of float.
       auto finite = [](const std::vector<float>& v) {
         return std::all_of(v.begin(), v.end(), [](float x) { return std::isfinite(x); });

@@ -30,6 +30,8 @@
 ///
 /// Nothing here depends on VTK.
 
+#include "skin/SkinInfluences.h"
+
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -119,6 +121,14 @@ struct GltfPart
   /// The default morph weights: the node's `weights`, else the mesh's, else zeros.
   std::vector<double> DefaultWeights;
 
+  /// A skinned part (gltf/GltfSkin.h): its node's skin (into GltfScene::Skins), -1 when the
+  /// part is not skinned, and every JOINTS_n/WEIGHTS_n set, weights renormalized. With
+  /// ApplyTransforms the part is skinned at rest (the joints as stored; the node's own
+  /// transform ignored as glTF requires), its deltas and normals with it; otherwise it is in
+  /// its bind space as in the file.
+  int Skin = -1;
+  SkinInfluences Influences;
+
   size_t GetNumberOfPoints() const { return this->Positions.size() / 3; }
   size_t GetNumberOfTriangles() const { return this->Triangles.size() / 3; }
 };
@@ -166,6 +176,15 @@ struct GltfAnimation
   std::vector<GltfAnimationChannel> Channels;
 };
 
+/// A skin: its joints (node indices) and inverse bind matrices (identity when absent).
+struct GltfSkin
+{
+  std::string Name;
+  std::vector<int> Joints;
+  std::vector<GltfMatrix> InverseBind;
+  int Skeleton = -1; ///< the `skeleton` node, -1 when absent
+};
+
 struct GltfScene
 {
   int Scene = -1; ///< the scene read (`scene`, else 0); -1: the file has no scenes
@@ -174,6 +193,7 @@ struct GltfScene
   std::vector<GltfMesh> Meshes;
   std::vector<GltfPart> Parts;
   std::vector<GltfAnimation> Animations;
+  std::vector<GltfSkin> Skins;
 
   size_t GetNumberOfPoints() const;
   /// Index of the part with this name, -1 if none.

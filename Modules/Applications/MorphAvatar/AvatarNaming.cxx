@@ -1,0 +1,169 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "AvatarNaming.h"
+
+#include "Avatar.h"
+#include "DataPaths.h"
+
+#include "base/Text.h"
+#include "capture/ArkitNames.h"
+#include "capture/FaceRig.h"
+#include "rig/Rig.h"
+
+#include "vtkMorphSkinFilter.h"
+
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <unistd.h>
+
+namespace morphavatar
+{
+namespace appkit = morphnode::appkit;
+
+namespace
+{
+/// Removes the terms on eyeLook* targets (any ARKit spelling) from every shape of a rig's
+/// JSON: with eye bones the eyes turn by their joints, not by targets too. Returns how
+/// many terms went.
+size_t DropEyeLookTerms(nlohmann::ordered_json& rig)
+{
+  size_t dropped = 0;
+  if (!rig.contains("shapes") || !rig["shapes"].is_object())
+  {
+    return 0;
+  }
+  for (auto& [shape, terms] : rig["shapes"].items())
+  {
+    if (!terms.is_object())
+    {
+      continue;
+    }
+    for (auto it = terms.begin(); it != terms.end();)
+    {
+      const int a = morphnode::FindArkitShape(it.key());
+      if (a >= 0 && morphnode::ArkitShapeNames()[static_cast<size_t>(a)].rfind("eyeLook", 0) == 0)
+      {
+        it = terms.erase(it);
+        ++dropped;
+      }
+      else
+      {
+        ++it;
+      }
+    }
+  }
+  return dropped;
+}
+} // namespace
+
+bool ChooseFaceSetup(Avatar& a)
+{
+  Options& o = a.Opt;
+  const std::string face = o.Face.empty() ? appkit::DefaultFace() : o.Face;
+  a.Reader->SetFileName(face.c_str());
+  a.Reader->Update();
+  std::vector<std::string> targets;
+  for (int t = 1; t < a.Reader->GetNumberOfTargets(); ++t)
+  {
+    targets.emplace_back(a.Reader->GetTargetName(t));
+  }
+  if (targets.empty())
+  {
+    if (o.Visemes.empty())
+    {
+      o.Visemes = "paper6";
+    }
+    return true; // SetUpFace reports what is wrong with the face
+  }
+  // The skeleton, if any: eye bones?
+  vtkNew<vtkMorphSkinFilter> skin;
+  skin->SetInputConnection(a.Reader->GetOutputPort());
+  skin->Update();
+  const bool eyeBones = skin->GetHasEyeBones();
+  std::ostream& log = o.CommandsStdin ? std::cerr : std::cout;
+
+  std::string rigJson;
+  bool ownVisemes = false;
+  try
+  {
+    if (o.Rig.empty())
+    {
+      const morphnode::Rig arkit = morphnode::Rig::LoadFile(appkit::DataPath("rigs/arkit.json"));
+      const morphnode::FaceRigChoice choice = morphnode::ChooseFaceRig(targets, arkit);
+      ownVisemes = choice.HasOwnVisemes;
+      if (!o.Quiet)
+      {
+        log << face << ": " << choice.Report()
+            << (choice.NeedsRig ? "rig: chosen from the face's names (--rig FILE overrides)\n" : "");
+      }
+      if (choice.NeedsRig)
+      {
+        rigJson = choice.RigJson;
+      }
+    }
+    else
+    {
+      rigJson = morphnode::text::ReadFile(o.Rig, "rig");
+      for (const auto& t : targets)
+      {
+        ownVisemes = ownVisemes || morphnode::text::ToLower(t).rfind("viseme_", 0) == 0;
+      }
+    }
+  }
+  catch (const std::exception& e)
+  {
+    std::cerr << "MorphAvatar: " << e.what() << "\n";
+    return false;
+  }
+  if (o.Visemes.empty())
+  {
+    o.Visemes = ownVisemes ? "oculus15" : "paper6";
+    if (!o.Quiet && ownVisemes)
+    {
+      log << "visemes: oculus15 (the face has its own viseme_* targets; --visemes overrides)\n";
+    }
+  }
+
+  // The eyes one way: bones or targets.
+  if (o.Gaze == "auto")
+  {
+    o.Gaze = eyeBones ? "bones" : "targets";
+  }
+  size_t dropped = 0;
+  if (o.Gaze == "bones" && !rigJson.empty())
+  {
+    nlohmann::ordered_json doc = nlohmann::ordered_json::parse(rigJson, nullptr, false);
+    if (!doc.is_discarded())
+    {
+      dropped = DropEyeLookTerms(doc);
+      if (dropped)
+      {
+        rigJson = doc.dump(2);
+      }
+    }
+  }
+  if (!o.Quiet)
+  {
+    if (o.Gaze == "bones")
+    {
+      log << "eyes: turned by the eye joints (" << (eyeBones ? skin->GetBones() : "none found") << ")"
+          << (dropped ? "; the rig's eyeLook* targets left out" : "") << " (--gaze targets overrides)\n";
+    }
+    else if (eyeBones)
+    {
+      log << "eyes: turned by eyeLook* targets; the eye joints stay (--gaze bones overrides)\n";
+    }
+  }
+  if (!rigJson.empty() && (o.Rig.empty() || dropped))
+  {
+    const std::filesystem::path file = std::filesystem::temp_directory_path() /
+      ("morphavatar-rig-" + std::to_string(::getpid()) + ".json");
+    std::ofstream(file) << rigJson;
+    a.ChosenRig.Path = file.string();
+    o.Rig = file.string();
+  }
+  return true;
+}
+} // namespace morphavatar

@@ -1,0 +1,198 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "skin/AvatarBones.h"
+
+#include "base/Error.h"
+#include "base/Text.h"
+#include "gaze/EyeRotation.h"
+
+#include <glm/gtc/quaternion.hpp>
+
+#include <cctype>
+#include <cmath>
+
+namespace morphnode
+{
+std::string CanonicalBoneName(const std::string& name)
+{
+  std::string lower = text::ToLower(name);
+  static const char* const prefixes[] = { "mixamorig:", "mixamorig_", "mixamorig", "cc_base_", "j_bip_c_",
+    "j_bip_", "j_adj_", "bip01 ", "bip01_", "def-", "org-", "armature|", "armature_" };
+  for (bool again = true; again;)
+  {
+    again = false;
+    for (const char* p : prefixes)
+    {
+      const std::string prefix(p);
+      if (lower.compare(0, prefix.size(), prefix) == 0)
+      {
+        lower.erase(0, prefix.size());
+        again = true;
+      }
+    }
+  }
+  std::string out;
+  for (char c : lower)
+  {
+    if (std::isalnum(static_cast<unsigned char>(c)))
+    {
+      out += c;
+    }
+  }
+  return out;
+}
+
+std::string AvatarBoneRoles::Describe(const Skeleton& skeleton) const
+{
+  std::string out;
+  auto add = [&](const char* role, int joint) {
+    if (!out.empty())
+    {
+      out += ", ";
+    }
+    out += std::string(role) + " " +
+      (joint >= 0 ? text::Quote(skeleton.GetJoint(static_cast<size_t>(joint)).Name) : std::string("none"));
+  };
+  add("head", this->Head);
+  add("neck", this->Neck);
+  add("left eye", this->LeftEye);
+  add("right eye", this->RightEye);
+  add("jaw", this->Jaw);
+  add("left arm", this->LeftUpperArm);
+  add("right arm", this->RightUpperArm);
+  return out;
+}
+
+AvatarBoneRoles FindAvatarBones(const Skeleton& skeleton)
+{
+  AvatarBoneRoles roles;
+  const size_t n = skeleton.GetNumberOfJoints();
+  auto find = [&](std::initializer_list<const char*> names) {
+    for (const char* want : names)
+    {
+      for (size_t j = 0; j < n; ++j)
+      {
+        if (CanonicalBoneName(skeleton.GetJoint(j).Name) == want)
+        {
+          return static_cast<int>(j);
+        }
+      }
+    }
+    return -1;
+  };
+  roles.Head = find({ "head" });
+  roles.Neck = find({ "neck", "necktwist01", "neck1", "neck01" });
+  roles.Jaw = find({ "jaw", "jawroot", "lowerjaw", "jawbone" });
+  roles.LeftUpperArm = find({ "leftarm", "leftupperarm", "lupperarm", "upperarml", "luparm", "larm" });
+  roles.LeftForeArm = find({ "leftforearm", "leftlowerarm", "lforearm", "forearml", "llowerarm" });
+  roles.RightUpperArm = find({ "rightarm", "rightupperarm", "rupperarm", "upperarmr", "ruparm", "rarm" });
+  roles.RightForeArm = find({ "rightforearm", "rightlowerarm", "rforearm", "forearmr", "rlowerarm" });
+  for (size_t j = 0; j < n; ++j)
+  {
+    const std::string& name = skeleton.GetJoint(j).Name;
+    // An eye bone lies below the head (when there is one) and is called an eye by the
+    // gaze concept's convention (not a lid, lash, brow, ... bone); its end bones are not.
+    const std::string canonical = CanonicalBoneName(name);
+    if (!EyeRig::MatchesDefaultConvention(name) || canonical.find("end") != std::string::npos ||
+      canonical.find("target") != std::string::npos ||
+      (roles.Head >= 0 && !skeleton.IsAncestor(roles.Head, static_cast<int>(j))))
+    {
+      continue;
+    }
+    EyeSide side = EyeRig::SideFromName(name);
+    if (side == EyeSide::Unknown && canonical.size() > 1 && canonical.find("eye") != std::string::npos)
+    {
+      // CC_Base_L_Eye, Bip01 LEye: a side letter the prefixes hid from SideFromName.
+      side = canonical[0] == 'l' ? EyeSide::Left : canonical[0] == 'r' ? EyeSide::Right : EyeSide::Unknown;
+    }
+    if (side == EyeSide::Left && roles.LeftEye < 0)
+    {
+      roles.LeftEye = static_cast<int>(j);
+    }
+    else if (side == EyeSide::Right && roles.RightEye < 0)
+    {
+      roles.RightEye = static_cast<int>(j);
+    }
+  }
+  return roles;
+}
+
+glm::dquat HeadRotation(double yaw, double pitch, double roll)
+{
+  const double d = glm::pi<double>() / 180.0;
+  return glm::angleAxis(yaw * d, glm::dvec3(0, 1, 0)) * glm::angleAxis(-pitch * d, glm::dvec3(1, 0, 0)) *
+    glm::angleAxis(-roll * d, glm::dvec3(0, 0, 1));
+}
+
+void PoseAvatarBones(SkeletonPose& pose, const AvatarBoneRoles& roles, const AvatarBonePose& a)
+{
+  for (double v : { a.HeadYaw, a.HeadPitch, a.HeadRoll, a.EyeYaw, a.EyePitch, a.Vergence, a.NeckShare })
+  {
+    if (!std::isfinite(v))
+    {
+      throw InputError("avatar bones: the head and gaze angles must be finite");
+    }
+  }
+  if (a.NeckShare < 0.0 || a.NeckShare > 1.0)
+  {
+    throw InputError("avatar bones: the neck's share of the head turn must lie in [0, 1]");
+  }
+  const glm::dquat frame = glm::quat_cast(a.FaceFrame);
+  auto inWorld = [&](const glm::dquat& q) { return frame * q * glm::inverse(frame); };
+  const glm::dquat head = HeadRotation(a.HeadYaw, a.HeadPitch, a.HeadRoll);
+  const bool headTurns = a.HeadYaw != 0.0 || a.HeadPitch != 0.0 || a.HeadRoll != 0.0;
+  const glm::dquat identity(1.0, 0.0, 0.0, 0.0);
+  double neckShare = roles.Neck >= 0 && roles.Head >= 0 ? a.NeckShare : (roles.Neck >= 0 ? 1.0 : 0.0);
+  if (roles.Neck >= 0 && neckShare > 0.0 && headTurns)
+  {
+    pose.TurnJoint(roles.Neck, inWorld(glm::slerp(identity, head, neckShare)));
+  }
+  if (roles.Head >= 0 && neckShare < 1.0 && headTurns)
+  {
+    pose.TurnJoint(roles.Head, inWorld(glm::slerp(identity, head, 1.0 - neckShare)));
+  }
+  if (a.RelaxArms)
+  {
+    for (const auto& [upper, fore] : { std::pair<int, int>{ roles.LeftUpperArm, roles.LeftForeArm },
+           std::pair<int, int>{ roles.RightUpperArm, roles.RightForeArm } })
+    {
+      if (upper < 0 || fore < 0)
+      {
+        continue;
+      }
+      const auto world = pose.World();
+      const glm::dvec3 from = glm::dvec3(world[static_cast<size_t>(fore)][3]) - glm::dvec3(world[static_cast<size_t>(upper)][3]);
+      const glm::dvec3 down = -a.FaceFrame[1];
+      const glm::dvec3 side = from - glm::dot(from, down) * down; // out to the side (and forward)
+      if (glm::length(from) <= 0.0 || glm::length(side) <= 1e-9 * glm::length(from))
+      {
+        continue; // already straight down
+      }
+      const double angle = a.ArmAngle * glm::pi<double>() / 180.0;
+      const glm::dvec3 to = std::cos(angle) * down + std::sin(angle) * glm::normalize(side);
+      const glm::dvec3 f = glm::normalize(from);
+      const glm::dvec3 axis = glm::cross(f, to);
+      if (glm::length(axis) > 1e-12)
+      {
+        pose.TurnJoint(upper, glm::angleAxis(std::acos(glm::clamp(glm::dot(f, to), -1.0, 1.0)), glm::normalize(axis)));
+      }
+    }
+  }
+  // The eyes turn in the face's frame as the head has turned it.
+  const glm::dquat turnedFrame = (roles.Head >= 0 || roles.Neck >= 0) ? head : identity;
+  for (const auto& [joint, side] : { std::pair<int, EyeSide>{ roles.LeftEye, EyeSide::Left },
+         std::pair<int, EyeSide>{ roles.RightEye, EyeSide::Right } })
+  {
+    if (joint < 0)
+    {
+      continue;
+    }
+    const GazeAngles angles = EyeAngles(GazeAngles{ a.EyeYaw, a.EyePitch }, a.Vergence, side, a.Limits);
+    if (angles.Yaw == 0.0 && angles.Pitch == 0.0)
+    {
+      continue;
+    }
+    const glm::dquat gaze = HeadRotation(angles.Yaw, angles.Pitch, 0.0);
+    pose.TurnJoint(joint, inWorld(turnedFrame * gaze * glm::inverse(turnedFrame)));
+  }
+}
+} // namespace morphnode

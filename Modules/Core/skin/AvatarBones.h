@@ -1,0 +1,74 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#pragma once
+/// @file AvatarBones.h
+/// @brief The bones of a head in a skeleton (head, neck, eyes, jaw) found by name, and
+/// their turn by the behaviour's head pose and gaze (docs/avatars.md).
+///
+/// Names: compared without case, separators and the usual prefixes (`mixamorig:`,
+/// `mixamorig_`, `CC_Base_`, `J_Bip_C_`, `J_Bip_`, `J_Adj_`, `Bip01 `, `DEF-`, `ORG-`), so
+/// that Mixamo / Ready Player Me / Avaturn / MPFB (`Head`, `Neck`, `LeftEye`), VRM humanoid
+/// (`head`, `neck`, `leftEye`, `jaw`), VRoid (`J_Bip_C_Head`, `J_Adj_L_FaceEye`),
+/// Character Creator (`CC_Base_Head`, `CC_Base_L_Eye`, `CC_Base_JawRoot`), Rocketbox
+/// (`Bip01 Head`, `Bip01 LEye`?) and Blender (`head`, `eye.L`) rigs are found. Eyes are the
+/// joints the gaze concept's default convention calls eyes (gaze/EyeRig.h), below the head.
+///
+/// Convention (behavior/HeadPose.h): the face's frame at rest is +X left, +Y up, +Z forward
+/// in world space (FaceFrame changes it). The head pose R = Ry(yaw) Rx(-pitch) Rz(-roll) is
+/// shared between the neck (NeckShare of the angle) and the head (the rest), each turned
+/// about its own pivot, so the head turns as a whole by R. Each eye turns about its own
+/// pivot by G = Ry(yaw) Rx(-pitch) of its angles (gaze/EyeRotation.h's EyeAngles: vergence,
+/// the eye rig's limits), in the face's frame as the head has turned it.
+
+#include "gaze/EyeRig.h"
+#include "skin/Skeleton.h"
+
+#include <glm/glm.hpp>
+
+#include <string>
+
+namespace morphnode
+{
+struct AvatarBoneRoles
+{
+  int Head = -1;
+  int Neck = -1;
+  int LeftEye = -1;
+  int RightEye = -1;
+  int Jaw = -1;
+  int LeftUpperArm = -1, LeftForeArm = -1;   ///< Mixamo LeftArm/LeftForeArm, VRM leftUpperArm/leftLowerArm, ...
+  int RightUpperArm = -1, RightForeArm = -1;
+
+  bool HasEyes() const { return this->LeftEye >= 0 || this->RightEye >= 0; }
+  /// "Head, Neck, LeftEye, RightEye" as found, for reports.
+  std::string Describe(const Skeleton& skeleton) const;
+};
+
+/// A joint name reduced for comparison: lower case, prefixes and separators removed.
+std::string CanonicalBoneName(const std::string& name);
+
+/// Finds the roles by name (see the file comment). Roles not found stay -1.
+AvatarBoneRoles FindAvatarBones(const Skeleton& skeleton);
+
+struct AvatarBonePose
+{
+  double HeadYaw = 0.0, HeadPitch = 0.0, HeadRoll = 0.0; ///< degrees (behavior/HeadPose.h)
+  double EyeYaw = 0.0, EyePitch = 0.0;                   ///< degrees, relative to the head
+  double Vergence = 0.0;                                 ///< degrees, >= 0
+  double NeckShare = 0.4; ///< of the head's angle taken by the neck, in [0, 1]
+  EyeLimits Limits;
+  /// Columns: the face's left, up and forward directions in world space at rest.
+  glm::dmat3 FaceFrame{ 1.0 };
+  /// Arms of a T- or A-pose lowered: each upper arm turned (about its pivot) so that it
+  /// hangs ArmAngle degrees out from straight down, in the plane of its rest direction and
+  /// the down direction. Off: the arms as stored.
+  bool RelaxArms = false;
+  double ArmAngle = 12.0;
+};
+
+/// The rotation R of the convention for the head angles (degrees), in the face's frame.
+glm::dquat HeadRotation(double yaw, double pitch, double roll);
+
+/// Turns the head, neck and eye joints of `pose` (from its current local transforms,
+/// normally rest) by `angles`. InputError for non-finite angles or a share outside [0, 1].
+void PoseAvatarBones(SkeletonPose& pose, const AvatarBoneRoles& roles, const AvatarBonePose& angles);
+} // namespace morphnode

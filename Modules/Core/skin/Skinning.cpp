@@ -1,0 +1,259 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "skin/Skinning.h"
+
+#include "base/Error.h"
+
+#include <cmath>
+
+namespace morphnode
+{
+namespace
+{
+bool Finite(const glm::dmat4& m)
+{
+  for (int c = 0; c < 4; ++c)
+  {
+    for (int r = 0; r < 4; ++r)
+    {
+      if (!std::isfinite(m[c][r]))
+      {
+        return false;
+      }
+    }
+  }
+  return true;
+}
+
+/// Relative size below which a 3x3 determinant counts as singular (against the product of
+/// the column lengths: a degenerate frame, not a small scale).
+constexpr double SingularTolerance = 1e-9;
+
+bool Singular(const glm::dmat3& m)
+{
+  const double scale = glm::length(m[0]) * glm::length(m[1]) * glm::length(m[2]);
+  return !(scale > 0.0) || std::abs(glm::determinant(m)) <= SingularTolerance * scale;
+}
+
+/// The inverse transpose of a 3x3, up to a positive factor (the cofactor matrix, its sign
+/// that of the determinant): what normals need before they are renormalized.
+glm::dmat3 NormalMatrix(const glm::dmat3& m)
+{
+  const glm::dmat3 cof(glm::cross(m[1], m[2]), glm::cross(m[2], m[0]), glm::cross(m[0], m[1]));
+  return glm::determinant(m) < 0.0 ? -cof : cof;
+}
+
+template <typename T>
+void StoreNormal(const glm::dvec3& n, T* out)
+{
+  const double len = glm::length(n);
+  const glm::dvec3 u = len > 0.0 ? n / len : n;
+  out[0] = static_cast<T>(u.x);
+  out[1] = static_cast<T>(u.y);
+  out[2] = static_cast<T>(u.z);
+}
+} // namespace
+
+void SkinJoints::Validate(const Skeleton& skeleton, const std::string& what) const
+{
+  if (this->Joints.empty())
+  {
+    throw InputError(what + ": the skin has no joints");
+  }
+  if (this->InverseBind.size() != this->Joints.size())
+  {
+    throw InputError(what + ": " + std::to_string(this->InverseBind.size()) + " inverse bind matrices for " +
+      std::to_string(this->Joints.size()) + " joints");
+  }
+  for (size_t k = 0; k < this->Joints.size(); ++k)
+  {
+    if (this->Joints[k] < 0 || static_cast<size_t>(this->Joints[k]) >= skeleton.GetNumberOfJoints())
+    {
+      throw InputError(what + ": joint " + std::to_string(k) + " is node " + std::to_string(this->Joints[k]) +
+        ", which does not exist");
+    }
+    const glm::dmat4& m = this->InverseBind[k];
+    const std::string jk = what + ": the inverse bind matrix of joint " + std::to_string(k) + " (" +
+      skeleton.GetJoint(static_cast<size_t>(this->Joints[k])).Name + ")";
+    if (!Finite(m))
+    {
+      throw InputError(jk + " is not finite");
+    }
+    if (std::abs(m[0][3]) > 1e-6 || std::abs(m[1][3]) > 1e-6 || std::abs(m[2][3]) > 1e-6 ||
+      std::abs(m[3][3] - 1.0) > 1e-6)
+    {
+      throw InputError(jk + " is not affine (its last row must be 0 0 0 1)");
+    }
+    if (Singular(glm::dmat3(m)))
+    {
+      throw InputError(jk + " is singular");
+    }
+  }
+}
+
+std::vector<glm::dmat4> SkinJoints::Matrices(const std::vector<glm::dmat4>& world) const
+{
+  std::vector<glm::dmat4> out(this->Joints.size());
+  for (size_t k = 0; k < this->Joints.size(); ++k)
+  {
+    out[k] = world.at(static_cast<size_t>(this->Joints[k])) * this->InverseBind[k];
+  }
+  return out;
+}
+
+glm::dmat4 BlendedMatrix(const SkinInfluences& influences, const std::vector<glm::dmat4>& matrices, size_t point)
+{
+  glm::dmat4 b(0.0);
+  const size_t per = influences.PerPoint;
+  for (size_t k = 0; k < per; ++k)
+  {
+    const float w = influences.Weights[point * per + k];
+    if (w != 0.0f)
+    {
+      b += static_cast<double>(w) * matrices[influences.Joints[point * per + k]];
+    }
+  }
+  return b;
+}
+
+template <typename T>
+void SkinPoints(const SkinInfluences& influences, const std::vector<glm::dmat4>& matrices, const T* points,
+  const T* normals, T* outPoints, T* outNormals, size_t begin, size_t end)
+{
+  for (size_t i = begin; i < end; ++i)
+  {
+    const glm::dmat4 b = BlendedMatrix(influences, matrices, i);
+    const glm::dvec3 p(points[3 * i], points[3 * i + 1], points[3 * i + 2]);
+    const glm::dvec3 q = glm::dvec3(b * glm::dvec4(p, 1.0));
+    outPoints[3 * i] = static_cast<T>(q.x);
+    outPoints[3 * i + 1] = static_cast<T>(q.y);
+    outPoints[3 * i + 2] = static_cast<T>(q.z);
+    if (normals && outNormals)
+    {
+      const glm::dvec3 n(normals[3 * i], normals[3 * i + 1], normals[3 * i + 2]);
+      StoreNormal(NormalMatrix(glm::dmat3(b)) * n, outNormals + 3 * i);
+    }
+  }
+}
+
+template void SkinPoints<float>(const SkinInfluences&, const std::vector<glm::dmat4>&, const float*, const float*,
+  float*, float*, size_t, size_t);
+template void SkinPoints<double>(const SkinInfluences&, const std::vector<glm::dmat4>&, const double*,
+  const double*, double*, double*, size_t, size_t);
+
+RestSkin::RestSkin(SkinInfluences influences, const std::vector<glm::dmat4>& restMatrices, const std::string& what)
+  : Influences(std::move(influences))
+  , Rest(restMatrices)
+  , Pose(restMatrices)
+  , Moved(restMatrices.size(), 0)
+  , Used(restMatrices.size(), 0)
+{
+  const size_t n = this->Influences.GetNumberOfPoints();
+  for (size_t i = 0; i < n * this->Influences.PerPoint; ++i)
+  {
+    if (this->Influences.Weights[i] != 0.0f && this->Influences.Joints[i] < restMatrices.size())
+    {
+      this->Used[this->Influences.Joints[i]] = 1;
+    }
+    if (this->Influences.Weights[i] != 0.0f && this->Influences.Joints[i] >= restMatrices.size())
+    {
+      throw InputError(what + ": point " + std::to_string(i / this->Influences.PerPoint) + " is bound to joint " +
+        std::to_string(this->Influences.Joints[i]) + ", but the skin has only " +
+        std::to_string(restMatrices.size()) + " joints");
+    }
+  }
+  this->RestInverse.resize(12 * n);
+  for (size_t i = 0; i < n; ++i)
+  {
+    const glm::dmat4 b = BlendedMatrix(this->Influences, this->Rest, i);
+    if (!Finite(b) || Singular(glm::dmat3(b)))
+    {
+      throw InputError(what + ": point " + std::to_string(i) + ": its rest skin transform is " +
+        (Finite(b) ? "singular" : "not finite"));
+    }
+    const glm::dmat4 inv = glm::inverse(b);
+    for (int c = 0; c < 4; ++c)
+    {
+      for (int r = 0; r < 3; ++r)
+      {
+        this->RestInverse[12 * i + static_cast<size_t>(3 * c + r)] = inv[c][r];
+      }
+    }
+  }
+}
+
+bool RestSkin::SetPose(const std::vector<glm::dmat4>& matrices)
+{
+  if (matrices.size() != this->Rest.size())
+  {
+    throw InputError("skin: " + std::to_string(matrices.size()) + " joint matrices for a skin of " +
+      std::to_string(this->Rest.size()) + " joints");
+  }
+  bool any = false;
+  for (size_t k = 0; k < matrices.size(); ++k)
+  {
+    if (!Finite(matrices[k]))
+    {
+      throw InputError("skin: the pose of joint " + std::to_string(k) + " is not finite");
+    }
+    this->Moved[k] = matrices[k] != this->Rest[k];
+    any = any || (this->Moved[k] && this->Used[k]);
+  }
+  this->Pose = matrices;
+  return any;
+}
+
+bool RestSkin::Moves(size_t point) const
+{
+  const size_t per = this->Influences.PerPoint;
+  for (size_t k = 0; k < per; ++k)
+  {
+    if (this->Influences.Weights[point * per + k] != 0.0f && this->Moved[this->Influences.Joints[point * per + k]])
+    {
+      return true;
+    }
+  }
+  return false;
+}
+
+template <typename T>
+void RestSkin::Apply(const T* points, const T* normals, T* outPoints, T* outNormals, size_t begin, size_t end) const
+{
+  for (size_t i = begin; i < end; ++i)
+  {
+    if (!this->Moves(i))
+    {
+      if (outPoints != points)
+      {
+        for (int k = 0; k < 3; ++k)
+        {
+          outPoints[3 * i + k] = points[3 * i + k];
+        }
+      }
+      if (normals && outNormals && outNormals != normals)
+      {
+        for (int k = 0; k < 3; ++k)
+        {
+          outNormals[3 * i + k] = normals[3 * i + k];
+        }
+      }
+      continue;
+    }
+    const double* r = &this->RestInverse[12 * i];
+    const glm::dmat4 inv(r[0], r[1], r[2], 0.0, r[3], r[4], r[5], 0.0, r[6], r[7], r[8], 0.0, r[9], r[10], r[11], 1.0);
+    const glm::dmat4 a = BlendedMatrix(this->Influences, this->Pose, i) * inv;
+    const glm::dvec3 p(points[3 * i], points[3 * i + 1], points[3 * i + 2]);
+    const glm::dvec3 q = glm::dvec3(a * glm::dvec4(p, 1.0));
+    outPoints[3 * i] = static_cast<T>(q.x);
+    outPoints[3 * i + 1] = static_cast<T>(q.y);
+    outPoints[3 * i + 2] = static_cast<T>(q.z);
+    if (normals && outNormals)
+    {
+      const glm::dvec3 n(normals[3 * i], normals[3 * i + 1], normals[3 * i + 2]);
+      StoreNormal(NormalMatrix(glm::dmat3(a)) * n, outNormals + 3 * i);
+    }
+  }
+}
+
+template void RestSkin::Apply<float>(const float*, const float*, float*, float*, size_t, size_t) const;
+template void RestSkin::Apply<double>(const double*, const double*, double*, double*, size_t, size_t) const;
+} // namespace morphnode

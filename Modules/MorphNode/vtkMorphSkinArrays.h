@@ -1,0 +1,70 @@
+// SPDX-License-Identifier: BSD-3-Clause
+/**
+ * @file   vtkMorphSkinArrays.h
+ * @brief  The skin convention in VTK data (private to the module): what a skinned part
+ *         carries so that it can be re-skinned when its joints move (docs/avatars.md).
+ *
+ * A skinned part (vtkMorphTargetReader's, of a glTF skin) is shown in its rest pose: its
+ * points, normals and `target<k>_*` deltas (vtkMorphTargetArrays.h) are skinned at the pose
+ * in `SkeletonRest`, so that a morph node blends them as any other part's. It also carries:
+ *
+ * - point data `SkinJoints` (vtkUnsignedShortArray) and `SkinWeights` (vtkFloatArray), the
+ *   same number of components (4 per glTF JOINTS_n/WEIGHTS_n set): joint indices into the
+ *   skin's joints and their weights, renormalized;
+ * - field data `SkinJointIndices` (vtkIntArray, one per joint of the skin: its index in the
+ *   skeleton) and `SkinInverseBind` (vtkDoubleArray, 16 components per joint of the skin:
+ *   the inverse bind matrix, column-major);
+ * - field data `SkeletonNames` (vtkStringArray), `SkeletonParents` (vtkIntArray, -1 for a
+ *   root) and `SkeletonRest` (vtkDoubleArray, 16 components per joint: the local transform
+ *   the part is shown at, column-major): every node of the scene.
+ *
+ * Functions throw morphnode::InputError for bad input; callers turn that into vtkErrorMacro.
+ */
+
+#ifndef vtkMorphSkinArrays_h
+#define vtkMorphSkinArrays_h
+
+#include "gltf/GltfScene.h"
+#include "skin/Skeleton.h"
+#include "skin/Skinning.h"
+
+#include <string>
+#include <vector>
+
+class vtkDataSet;
+class vtkPolyData;
+
+namespace vtkMorphSkinArrays
+{
+constexpr const char* JointsArray = "SkinJoints";
+constexpr const char* WeightsArray = "SkinWeights";
+constexpr const char* JointIndicesArray = "SkinJointIndices";
+constexpr const char* InverseBindArray = "SkinInverseBind";
+constexpr const char* SkeletonNamesArray = "SkeletonNames";
+constexpr const char* SkeletonParentsArray = "SkeletonParents";
+constexpr const char* SkeletonRestArray = "SkeletonRest";
+
+/// True when the data set carries `SkinWeights`.
+bool IsSkinned(vtkDataSet* data);
+
+/// Adds the convention's arrays for a skinned part (part.Skin >= 0) shown at the node local
+/// transforms `locals` (one per node of the scene); `scale` as the reader's Scale (applied
+/// to translations, so that the skin matches the scaled points).
+void AddSkin(vtkPolyData* poly, const morphnode::GltfScene& scene, const morphnode::GltfPart& part,
+  const std::vector<morphnode::GltfMatrix>& locals, double scale);
+
+/// A skinned part's skeleton (validated), skin joints and influences.
+struct Skin
+{
+  morphnode::Skeleton Bones;
+  morphnode::SkinJoints Joints;
+  morphnode::SkinInfluences Influences;
+  /// The skin's joint matrices at the pose the part is shown at.
+  std::vector<glm::dmat4> RestMatrices() const;
+};
+
+/// Reads the convention back, checked (sizes, indices, finite values). `what` names the part.
+Skin GetSkin(vtkDataSet* data, const std::string& what);
+} // namespace vtkMorphSkinArrays
+
+#endif

@@ -1,0 +1,181 @@
+// SPDX-License-Identifier: BSD-3-Clause
+/**
+ * @class   vtkMorphSkinFilter
+ * @brief   moves the bones of a skinned avatar (head and neck by the head pose, eyes by the
+ *          gaze, arms relaxed) and re-skins its morphed parts
+ *
+ * Input (port 0): a head or a whole avatar as vtkMorphTargetReader or vtkMorphNodeFilter
+ * give it (a vtkPartitionedDataSetCollection or any vtkCompositeDataSet of vtkPointSet
+ * leaves), or one vtkPointSet. Skinned parts carry the skin convention (SkinJoints,
+ * SkinWeights, the skeleton; see docs/avatars.md): they are shown in their rest pose, and
+ * morphed there by vtkMorphNodeFilter. This filter poses the skeleton and re-skins every
+ * skinned part exactly (morph first, then skin: morphnode::RestSkin); parts that are not
+ * skinned, and points whose joints did not move, pass through untouched (shared with the
+ * input). The input is never modified.
+ *
+ * The bones (morphnode::FindAvatarBones, any of the usual namings: Mixamo / Ready Player
+ * Me / Avaturn / MPFB, VRM, VRoid, Character Creator, Rocketbox, Blender):
+ * - the head pose HeadYaw, HeadPitch, HeadRoll (degrees, behavior/HeadPose.h) turns the
+ *   neck (NeckShare of it, default 0.4) and the head (the rest), each about its own pivot;
+ * - the gaze EyeYaw, EyePitch (degrees, relative to the head; Vergence) turns each eye
+ *   joint about its own pivot from its rest orientation, within MaxEyeYaw, MaxEyeUp,
+ *   MaxEyeDown (TurnEyes, default on; off when the eyes are driven by eyeLook* targets);
+ * - RelaxArms (default off) lowers the arms of a T- or A-pose to ArmAngle (12) degrees
+ *   from straight down.
+ * With a vtkTable on the optional port 1 (SetPoseConnection, e.g. vtkBehaviorTimeSource's
+ * port 0), its columns HeadYaw, HeadPitch, HeadRoll, EyeYaw and EyePitch (those present,
+ * first row) replace the properties, and its time steps are the output's.
+ *
+ * Every re-skinned part gets field data `SkinPose` (HeadYaw, HeadPitch, HeadRoll, EyeYaw,
+ * EyePitch as used). GetBones() reports the bones found.
+ *
+ * Errors (vtkErrorMacro, RequestData returns 0, empty output): non-finite angles, a damaged
+ * skin convention (sizes, joint indices, singular or non-finite matrices).
+ *
+ * @sa vtkMorphTargetReader vtkMorphNodeFilter vtkEyeGazeFilter morphnode::RestSkin
+ */
+
+#ifndef vtkMorphSkinFilter_h
+#define vtkMorphSkinFilter_h
+
+#include "vtkMorphNodeModule.h" // For export macro
+#include "vtkPassInputTypeAlgorithm.h"
+
+#include <memory> // For std::unique_ptr
+#include <string> // For std::string
+
+class VTKMORPHNODE_EXPORT vtkMorphSkinFilter : public vtkPassInputTypeAlgorithm
+{
+public:
+  static vtkMorphSkinFilter* New();
+  vtkTypeMacro(vtkMorphSkinFilter, vtkPassInputTypeAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  ///@{
+  /**
+   * The head pose in degrees (behavior/HeadPose.h; default 0). Ignored for the columns a
+   * pose table gives.
+   */
+  vtkSetMacro(HeadYaw, double);
+  vtkGetMacro(HeadYaw, double);
+  vtkSetMacro(HeadPitch, double);
+  vtkGetMacro(HeadPitch, double);
+  vtkSetMacro(HeadRoll, double);
+  vtkGetMacro(HeadRoll, double);
+  ///@}
+
+  ///@{
+  /**
+   * The gaze in degrees, relative to the head (yaw > 0 to the character's left, pitch > 0
+   * up), and the vergence (>= 0).
+   */
+  vtkSetMacro(EyeYaw, double);
+  vtkGetMacro(EyeYaw, double);
+  vtkSetMacro(EyePitch, double);
+  vtkGetMacro(EyePitch, double);
+  vtkSetClampMacro(Vergence, double, 0.0, 90.0);
+  vtkGetMacro(Vergence, double);
+  ///@}
+
+  ///@{
+  /**
+   * The eye limits in degrees, each in (0, 90] (defaults 40, 25, 35 as vtkEyeGazeFilter).
+   */
+  vtkSetClampMacro(MaxEyeYaw, double, 0.1, 90.0);
+  vtkGetMacro(MaxEyeYaw, double);
+  vtkSetClampMacro(MaxEyeUp, double, 0.1, 90.0);
+  vtkGetMacro(MaxEyeUp, double);
+  vtkSetClampMacro(MaxEyeDown, double, 0.1, 90.0);
+  vtkGetMacro(MaxEyeDown, double);
+  ///@}
+
+  ///@{
+  /** The neck's share of the head turn, in [0, 1] (default 0.4). */
+  vtkSetClampMacro(NeckShare, double, 0.0, 1.0);
+  vtkGetMacro(NeckShare, double);
+  ///@}
+
+  ///@{
+  /** Turn the head and neck joints (default on) and the eye joints (default on). */
+  vtkSetMacro(TurnHead, bool);
+  vtkGetMacro(TurnHead, bool);
+  vtkBooleanMacro(TurnHead, bool);
+  vtkSetMacro(TurnEyes, bool);
+  vtkGetMacro(TurnEyes, bool);
+  vtkBooleanMacro(TurnEyes, bool);
+  ///@}
+
+  ///@{
+  /** Lower T- or A-pose arms to ArmAngle degrees from straight down (default off, 12). */
+  vtkSetMacro(RelaxArms, bool);
+  vtkGetMacro(RelaxArms, bool);
+  vtkBooleanMacro(RelaxArms, bool);
+  vtkSetClampMacro(ArmAngle, double, 0.0, 90.0);
+  vtkGetMacro(ArmAngle, double);
+  ///@}
+
+  /**
+   * Connect a pose table (HeadYaw, HeadPitch, HeadRoll, EyeYaw, EyePitch columns, e.g.
+   * vtkBehaviorTimeSource's port 0) to port 1.
+   */
+  void SetPoseConnection(vtkAlgorithmOutput* output);
+
+  /** Skinned parts the last execution re-skinned or passed (0 before). */
+  vtkGetMacro(NumberOfSkinnedParts, int);
+
+  /**
+   * The bones the last execution found, e.g. "head 'Head', neck 'Neck', left eye 'LeftEye',
+   * ..." ("" before, or without a skinned part).
+   */
+  const char* GetBones() { return this->Bones.c_str(); }
+
+  /** True when the last execution found an eye joint, a head joint. */
+  vtkGetMacro(HasEyeBones, bool);
+  vtkGetMacro(HasHeadBones, bool);
+
+  /**
+   * The bounds of the head at rest as the last execution found it: every point of a skinned
+   * part whose largest weight is on the head joint or a joint below it (eyes, jaw, ...).
+   * False (bounds untouched) without a head joint. For framing a face.
+   */
+  bool GetHeadBounds(double bounds[6]);
+
+protected:
+  vtkMorphSkinFilter();
+  ~vtkMorphSkinFilter() override;
+
+  int FillInputPortInformation(int port, vtkInformation* info) override;
+  int RequestInformation(vtkInformation* request, vtkInformationVector** inputVector,
+    vtkInformationVector* outputVector) override;
+  int RequestData(vtkInformation* request, vtkInformationVector** inputVector,
+    vtkInformationVector* outputVector) override;
+
+  double HeadYaw = 0.0;
+  double HeadPitch = 0.0;
+  double HeadRoll = 0.0;
+  double EyeYaw = 0.0;
+  double EyePitch = 0.0;
+  double Vergence = 0.0;
+  double MaxEyeYaw = 40.0;
+  double MaxEyeUp = 25.0;
+  double MaxEyeDown = 35.0;
+  double NeckShare = 0.4;
+  bool TurnHead = true;
+  bool TurnEyes = true;
+  bool RelaxArms = false;
+  double ArmAngle = 12.0;
+  int NumberOfSkinnedParts = 0;
+  bool HasEyeBones = false;
+  bool HasHeadBones = false;
+  double HeadBounds[6] = { 0, -1, 0, -1, 0, -1 };
+  std::string Bones;
+
+private:
+  vtkMorphSkinFilter(const vtkMorphSkinFilter&) = delete;
+  void operator=(const vtkMorphSkinFilter&) = delete;
+
+  class vtkInternals;
+  std::unique_ptr<vtkInternals> Internals;
+};
+
+#endif

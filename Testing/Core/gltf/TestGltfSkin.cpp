@@ -1,0 +1,173 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// glTF skins read by the loader (gltf/GltfSkin.cpp): the hand-computed skinned quad (nested
+// joints, two weight sets of different types, a bind pose unlike the node pose, the skinned
+// node's own transform ignored, morph then skin), re-skinning it, damaged skins refused, and
+// the shared MakeHuman avatar at rest (its bind pose is its rest pose) with its bones found.
+#include "gltf/GltfSkin.h"
+
+#include "base/Error.h"
+#include "skin/AvatarBones.h"
+#include "GltfSkinnedTestFiles.h"
+#include "MorphNodeTestErrors.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+
+using namespace morphnode;
+using morphnode_test::ErrorOf;
+
+namespace
+{
+GltfScene Load(const std::string& glb, bool apply = true)
+{
+  GltfLoadOptions options;
+  options.ApplyTransforms = apply;
+  return LoadGltfSceneFromMemory(glb.data(), glb.size(), std::string(), options, "skinned.glb");
+}
+
+std::string Error(const gltftest::Builder& b)
+{
+  return ErrorOf([&] { Load(b.Glb()); });
+}
+} // namespace
+
+TEST(GltfSkin, SkinnedQuadAtRestMatchesHandComputedPoints)
+{
+  const GltfScene scene = Load(gltftest::SkinnedQuad().Glb());
+  ASSERT_EQ(scene.Skins.size(), 1u);
+  EXPECT_EQ(scene.Skins[0].Joints, (std::vector<int>{ 1, 2 }));
+  ASSERT_EQ(scene.Parts.size(), 1u);
+  const GltfPart& part = scene.Parts[0];
+  EXPECT_EQ(part.Skin, 0);
+  EXPECT_EQ(part.Influences.PerPoint, 8u); // both sets
+  EXPECT_NEAR(part.Influences.Weights[3 * 8 + 0], 0.2f, 1e-6);
+  EXPECT_NEAR(part.Influences.Weights[3 * 8 + 4], 0.8f, 1e-6);
+  const std::vector<double> expected = gltftest::SkinnedQuadRest();
+  for (size_t k = 0; k < expected.size(); ++k)
+  {
+    // 100 off in x if the mesh node's transform were applied; (1, 1, 0) for p3 if set 1 were ignored.
+    EXPECT_NEAR(part.Positions[k], expected[k], 1e-6) << k;
+  }
+  // Morph first, then skin: the rest delta of `Up` at p3 is Rz(90)(0, 1, 0) = (-1, 0, 0).
+  EXPECT_NEAR(part.Targets[0].PositionDeltas[9], -1.0, 1e-6);
+  EXPECT_NEAR(part.Targets[0].PositionDeltas[10], 0.0, 1e-6);
+  EXPECT_NEAR(part.Targets[1].PositionDeltas[0], 0.0, 1e-6); // Rz(90)(1, 0, 0) = (0, 1, 0)
+  EXPECT_NEAR(part.Targets[1].PositionDeltas[1], 1.0, 1e-6);
+  // Normals +Z stay +Z under rotations about Z.
+  EXPECT_NEAR(part.Normals[2], 1.0, 1e-6);
+
+  // Without ApplyTransforms the part stays in bind space, as in the file.
+  const GltfScene bind = Load(gltftest::SkinnedQuad().Glb(), false);
+  EXPECT_FLOAT_EQ(bind.Parts[0].Positions[9], 3.0f);
+  EXPECT_EQ(bind.Parts[0].Skin, 0);
+}
+
+TEST(GltfSkin, ReskinnedQuadFollowsItsJoints)
+{
+  const GltfScene rest = Load(gltftest::SkinnedQuad().Glb());
+  Skeleton skeleton = GltfSkeleton(rest);
+  const SkinJoints joints = GltfSkinJoints(rest, 0);
+  SkeletonPose pose(skeleton);
+  const std::vector<glm::dmat4> restMatrices = joints.Matrices(pose.World());
+  // Turn J2 by 90 degrees about +Z about its pivot: p2 (J2 only) turns about J2's origin.
+  pose.TurnJoint(2, glm::angleAxis(glm::half_pi<double>(), glm::dvec3(0, 0, 1)));
+  const glm::dvec3 pivot(pose.World()[2][3]);
+  RestSkin skin(rest.Parts[0].Influences, restMatrices, "quad");
+  ASSERT_TRUE(skin.SetPose(joints.Matrices(pose.World())));
+  std::vector<float> out(12);
+  skin.Apply<float>(rest.Parts[0].Positions.data(), nullptr, out.data(), nullptr, 0, 4);
+  // p2 at rest (1, 1, 0); J2 stands at (0, 1, 0) (Root) + (1, 0, 0) + Rz90 (0, 1, 0) = (0, 1, 0).
+  EXPECT_NEAR(pivot.x, 0.0, 1e-9);
+  EXPECT_NEAR(pivot.y, 1.0, 1e-9);
+  // (1, 1, 0) - (0, 1, 0) = (1, 0, 0) turned by 90 degrees -> (0, 1, 0), plus the pivot.
+  EXPECT_NEAR(out[6], 0.0, 1e-6);
+  EXPECT_NEAR(out[7], 2.0, 1e-6);
+  // p0 and p1 follow J1 only, which did not move.
+  for (int k = 0; k < 6; ++k)
+  {
+    EXPECT_EQ(out[static_cast<size_t>(k)], rest.Parts[0].Positions[static_cast<size_t>(k)]);
+  }
+}
+
+TEST(GltfSkin, DamagedSkinsAreRefusedWithAClearError)
+{
+  {
+    gltftest::Builder b = gltftest::SkinnedQuad();
+    b.Doc["skins"][0]["joints"] = { 1 }; // point 2 and 3 are bound to joint 1
+    EXPECT_NE(Error(b).find("bound to joint 1, but the skin has only 1 joints"), std::string::npos) << Error(b);
+  }
+  {
+    gltftest::Builder b = gltftest::SkinnedQuad();
+    b.Doc["skins"][0]["joints"] = { 1, 9 };
+    EXPECT_NE(Error(b).find("/skins/0/joints/1: node 9 does not exist"), std::string::npos) << Error(b);
+  }
+  {
+    gltftest::Builder b = gltftest::SkinnedQuad();
+    const std::vector<float> zero(32, 0.0f);
+    b.Doc["accessors"][b.Doc["skins"][0]["inverseBindMatrices"].get<int>()]["bufferView"] = b.View(zero);
+    EXPECT_NE(Error(b).find("is not affine"), std::string::npos) << Error(b);
+  }
+  {
+    gltftest::Builder b = gltftest::SkinnedQuad();
+    std::vector<float> singular(32, 0.0f);
+    singular[15] = singular[31] = 1.0f;
+    b.Doc["accessors"][b.Doc["skins"][0]["inverseBindMatrices"].get<int>()]["bufferView"] = b.View(singular);
+    EXPECT_NE(Error(b).find("singular"), std::string::npos) << Error(b);
+  }
+  {
+    gltftest::Builder b = gltftest::SkinnedQuad();
+    const int weights = b.Doc["meshes"][0]["primitives"][0]["attributes"]["WEIGHTS_0"].get<int>();
+    b.Doc["accessors"][weights]["bufferView"] = b.View(std::vector<float>(16, std::nanf("")));
+    EXPECT_NE(Error(b).find("NaN"), std::string::npos) << Error(b);
+  }
+  {
+    gltftest::Builder b = gltftest::SkinnedQuad();
+    b.Doc["meshes"][0]["primitives"][0]["attributes"].erase("WEIGHTS_1");
+    EXPECT_NE(Error(b).find("JOINTS_1 needs WEIGHTS_1"), std::string::npos) << Error(b);
+  }
+  {
+    gltftest::Builder b = gltftest::SkinnedQuad();
+    b.Doc["nodes"][3]["skin"] = 4;
+    EXPECT_NE(Error(b).find("skin 4 does not exist"), std::string::npos) << Error(b);
+  }
+  {
+    gltftest::Builder b = gltftest::SkinnedQuad();
+    const int joints = b.Doc["meshes"][0]["primitives"][0]["attributes"]["JOINTS_0"].get<int>();
+    b.Doc["accessors"][joints]["componentType"] = gltftest::Float;
+    b.Doc["accessors"][joints]["bufferView"] = b.View(std::vector<float>(16, 0.0f));
+    EXPECT_NE(Error(b).find("must be VEC4 of UNSIGNED_BYTE or UNSIGNED_SHORT"), std::string::npos) << Error(b);
+  }
+}
+
+TEST(GltfSkin, MakeHumanAvatarAtRestAndItsBones)
+{
+  const std::string file = std::string(MORPHNODE_AVATAR_DIR) + "/makehuman_avatar.glb";
+  if (!std::filesystem::exists(file))
+  {
+    GTEST_SKIP() << "MakeHuman avatar not found: " << file;
+  }
+  const GltfScene scene = LoadGltfScene(file);
+  const GltfScene bind = LoadGltfScene(file, GltfLoadOptions{ false });
+  ASSERT_EQ(scene.Skins.size(), 1u);
+  EXPECT_EQ(scene.Skins[0].Joints.size(), 76u);
+  double largest = 0.0;
+  for (size_t p = 0; p < scene.Parts.size(); ++p)
+  {
+    EXPECT_EQ(scene.Parts[p].Skin, 0) << scene.Parts[p].Name;
+    // Rest pose = bind pose: skinning at rest keeps the stored points.
+    for (size_t k = 0; k < scene.Parts[p].Positions.size(); ++k)
+    {
+      largest = std::max(largest, double(std::abs(scene.Parts[p].Positions[k] - bind.Parts[p].Positions[k])));
+    }
+  }
+  EXPECT_LT(largest, 1e-6 * 1.666);
+  const Skeleton skeleton = GltfSkeleton(scene);
+  const AvatarBoneRoles roles = FindAvatarBones(skeleton);
+  EXPECT_EQ(skeleton.GetJoint(static_cast<size_t>(roles.Head)).Name, "Head");
+  EXPECT_EQ(skeleton.GetJoint(static_cast<size_t>(roles.Neck)).Name, "Neck");
+  EXPECT_EQ(skeleton.GetJoint(static_cast<size_t>(roles.LeftEye)).Name, "LeftEye");
+  EXPECT_EQ(skeleton.GetJoint(static_cast<size_t>(roles.RightEye)).Name, "RightEye");
+  EXPECT_EQ(skeleton.GetJoint(static_cast<size_t>(roles.Jaw)).Name, "Jaw");
+}

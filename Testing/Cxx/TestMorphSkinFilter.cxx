@@ -1,0 +1,326 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// vtkMorphSkinFilter on the shared MakeHuman avatar (vtkMorphTargetReader ->
+// vtkMorphNodeFilter -> vtkMorphSkinFilter): at rest it passes every part on; the gaze turns
+// each eyeball about its eye joint (centre fixed within 0.5 mm, the cornea towards the gaze
+// within a degree, the eyes never leave the head) while vtkEyeGazeFilter leaves skinned eyes
+// alone; the head pose turns head, neck and eyes together and leaves the feet; morph then
+// skin (an open jaw turns with the head); relaxed arms hang down; bad skins are refused with
+// an empty output; the skinned quad re-skinned as hand-computed; PrintSelf.
+#include "vtkEyeGazeFilter.h"
+#include "vtkMorphNodeFilter.h"
+#include "vtkMorphSkinFilter.h"
+#include "vtkMorphTargetReader.h"
+
+#include "Core/gltf/GltfSkinnedTestFiles.h"
+#include "gltf/GltfSkin.h"
+
+#include "vtkCompositeDataIterator.h"
+#include "vtkCompositeDataSet.h"
+#include "vtkDataArray.h"
+#include "vtkExecutive.h"
+#include "vtkInformation.h"
+#include "vtkFieldData.h"
+#include "vtkNew.h"
+#include "vtkPointData.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkSmartPointer.h"
+#include "vtkStringArray.h"
+#include "vtkUnsignedShortArray.h"
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+namespace
+{
+using Vec3 = std::array<double, 3>;
+const std::string Avatar = std::string(MORPHNODE_AVATAR_DIR) + "/makehuman_avatar.glb";
+
+#define SKIP_WITHOUT_AVATAR()                                                                                        \
+  if (!std::filesystem::exists(Avatar))                                                                              \
+  GTEST_SKIP() << "MakeHuman avatar not found: " << Avatar
+
+std::map<std::string, vtkSmartPointer<vtkPolyData>> Parts(vtkDataObject* data)
+{
+  std::map<std::string, vtkSmartPointer<vtkPolyData>> parts;
+  auto* composite = vtkCompositeDataSet::SafeDownCast(data);
+  if (!composite)
+  {
+    return parts;
+  }
+  vtkSmartPointer<vtkCompositeDataIterator> it;
+  it.TakeReference(composite->NewIterator());
+  for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem())
+  {
+    if (auto* poly = vtkPolyData::SafeDownCast(it->GetCurrentDataObject()))
+    {
+      auto* name = vtkStringArray::SafeDownCast(poly->GetFieldData()->GetAbstractArray("PartName"));
+      parts[name && name->GetNumberOfValues() ? name->GetValue(0) : std::to_string(parts.size())] = poly;
+    }
+  }
+  return parts;
+}
+
+Vec3 Centroid(vtkPolyData* p)
+{
+  Vec3 c{ 0, 0, 0 };
+  for (vtkIdType i = 0; i < p->GetNumberOfPoints(); ++i)
+  {
+    double q[3];
+    p->GetPoint(i, q);
+    for (int k = 0; k < 3; ++k)
+    {
+      c[k] += q[k] / double(p->GetNumberOfPoints());
+    }
+  }
+  return c;
+}
+
+double Distance(const Vec3& a, const double* b)
+{
+  return std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
+}
+
+double Distance(const Vec3& a, const Vec3& b)
+{
+  return Distance(a, b.data());
+}
+
+/// The eyeball point furthest along +Z (the cornea) at rest, by index.
+vtkIdType Cornea(vtkPolyData* eye)
+{
+  vtkIdType best = 0;
+  double z = -1e30;
+  for (vtkIdType i = 0; i < eye->GetNumberOfPoints(); ++i)
+  {
+    double q[3];
+    eye->GetPoint(i, q);
+    if (q[2] > z)
+    {
+      z = q[2];
+      best = i;
+    }
+  }
+  return best;
+}
+
+struct Pipeline
+{
+  vtkNew<vtkMorphTargetReader> Reader;
+  vtkNew<vtkMorphNodeFilter> Morph;
+  vtkNew<vtkMorphSkinFilter> Skin;
+  Pipeline()
+  {
+    this->Reader->SetFileName(Avatar.c_str());
+    this->Morph->SetInputConnection(this->Reader->GetOutputPort());
+    this->Morph->SetWeightModeToRelative();
+    this->Skin->SetInputConnection(this->Morph->GetOutputPort());
+  }
+  std::map<std::string, vtkSmartPointer<vtkPolyData>> Run()
+  {
+    EXPECT_EQ(this->Skin->GetExecutive()->Update(), 1);
+    return Parts(this->Skin->GetOutputDataObject(0));
+  }
+};
+} // namespace
+
+TEST(MorphSkinFilter, AtRestEveryPartPassesAndTheBonesAreFound)
+{
+  SKIP_WITHOUT_AVATAR();
+  Pipeline p;
+  const auto parts = p.Run();
+  ASSERT_EQ(parts.size(), 7u);
+  EXPECT_EQ(p.Skin->GetNumberOfSkinnedParts(), 7);
+  EXPECT_TRUE(p.Skin->GetHasEyeBones());
+  EXPECT_NE(std::string(p.Skin->GetBones()).find("left eye 'LeftEye'"), std::string::npos) << p.Skin->GetBones();
+  // The morph node passed the skin arrays on.
+  EXPECT_NE(parts.at("Body")->GetPointData()->GetArray("SkinWeights"), nullptr);
+  // At rest nothing is re-skinned: the morph output's points are shared.
+  const auto morphed = Parts(p.Morph->GetOutputDataObject(0));
+  EXPECT_EQ(parts.at("Body")->GetPoints(), morphed.at("Body")->GetPoints());
+}
+
+TEST(MorphSkinFilter, EyesTurnAboutTheirJointsWithinTheLimits)
+{
+  SKIP_WITHOUT_AVATAR();
+  Pipeline p;
+  const auto rest = p.Run();
+  // The eye joint's position, from the core's skeleton.
+  const morphnode::GltfScene scene = morphnode::LoadGltfScene(Avatar);
+  const morphnode::Skeleton bones = morphnode::GltfSkeleton(scene);
+  const glm::dvec3 joint(bones.World(bones.RestLocals())[static_cast<size_t>(bones.FindJoint("LeftEye"))][3]);
+  const double leftEyeJoint[3] = { joint.x, joint.y, joint.z };
+  const Vec3 restCentre = Centroid(rest.at("EyeLeft"));
+  const vtkIdType cornea = Cornea(rest.at("EyeLeft"));
+  double restCornea[3];
+  rest.at("EyeLeft")->GetPoint(cornea, restCornea);
+  EXPECT_LT(Distance(restCentre, leftEyeJoint), 0.01);
+
+  for (double yaw : { 20.0, -15.0, 60.0 })
+  {
+    p.Skin->SetEyeYaw(yaw);
+    p.Skin->SetEyePitch(10.0);
+    const auto turned = p.Run();
+    vtkPolyData* eye = turned.at("EyeLeft");
+    // It turns about its joint, the sphere's centre: every point keeps its distance to it.
+    double worst = 0.0;
+    for (vtkIdType i = 0; i < eye->GetNumberOfPoints(); ++i)
+    {
+      double a[3];
+      rest.at("EyeLeft")->GetPoint(i, a);
+      worst = std::max(worst, std::abs(Distance(Vec3{ a[0], a[1], a[2] }, leftEyeJoint) -
+                                Distance(Vec3{ eye->GetPoint(i)[0], eye->GetPoint(i)[1], eye->GetPoint(i)[2] }, leftEyeJoint)));
+    }
+    EXPECT_LT(worst, 1e-5) << yaw;
+    EXPECT_GT(Distance(Centroid(eye), restCentre), 0.0005) << yaw; // and it did turn
+    // The cornea looks towards the gaze (clamped to 40 degrees), within a degree.
+    double q[3];
+    eye->GetPoint(cornea, q);
+    const double c = yaw > 40 ? 40 : yaw;
+    const double pitch = 10.0 * M_PI / 180, y = c * M_PI / 180;
+    const Vec3 want{ std::cos(pitch) * std::sin(y), std::sin(pitch), std::cos(pitch) * std::cos(y) };
+    const Vec3 restDir{ restCornea[0] - leftEyeJoint[0], restCornea[1] - leftEyeJoint[1], restCornea[2] - leftEyeJoint[2] };
+    const Vec3 dir{ q[0] - leftEyeJoint[0], q[1] - leftEyeJoint[1], q[2] - leftEyeJoint[2] };
+    // The rest cornea direction is not exactly +Z: compare the turn, not the direction.
+    const double restYaw = std::atan2(restDir[0], restDir[2]), restPitch = std::atan2(restDir[1], std::hypot(restDir[0], restDir[2]));
+    const double yawNow = std::atan2(dir[0], dir[2]), pitchNow = std::atan2(dir[1], std::hypot(dir[0], dir[2]));
+    EXPECT_NEAR((yawNow - restYaw) * 180 / M_PI, c, 1.0) << yaw;
+    EXPECT_NEAR((pitchNow - restPitch) * 180 / M_PI, 10.0, 1.0) << yaw;
+    (void)want;
+    // The body does not move with the eyes, but where its weights say (around the eye).
+    vtkIdType moved = 0;
+    double farthest = 0.0;
+    for (vtkIdType i = 0; i < rest.at("Body")->GetNumberOfPoints(); ++i)
+    {
+      double a[3], b[3];
+      rest.at("Body")->GetPoint(i, a);
+      turned.at("Body")->GetPoint(i, b);
+      if (a[0] != b[0] || a[1] != b[1] || a[2] != b[2])
+      {
+        ++moved;
+        farthest = std::max(farthest, Distance(Vec3{ a[0], a[1], a[2] }, leftEyeJoint));
+      }
+    }
+    EXPECT_LT(moved, rest.at("Body")->GetNumberOfPoints() / 50) << yaw;
+    EXPECT_LT(farthest, 0.1) << yaw; // both eyes turn: within the head
+  }
+
+  // vtkEyeGazeFilter leaves skinned eyes alone (their node origin is at the feet).
+  vtkNew<vtkEyeGazeFilter> gaze;
+  gaze->SetInputConnection(p.Morph->GetOutputPort());
+  gaze->SetEyeYaw(30);
+  ASSERT_EQ(gaze->GetExecutive()->Update(), 1);
+  EXPECT_EQ(gaze->GetNumberOfEyeParts(), 0);
+  EXPECT_LT(Distance(Centroid(Parts(gaze->GetOutputDataObject(0)).at("EyeLeft")), restCentre), 1e-9);
+}
+
+TEST(MorphSkinFilter, HeadPoseCarriesTheEyesAndLeavesTheFeet)
+{
+  SKIP_WITHOUT_AVATAR();
+  Pipeline p;
+  p.Morph->SetWeightByName("jawOpen", 1.0);
+  const auto rest = p.Run();
+  p.Skin->SetHeadYaw(30);
+  p.Skin->SetHeadPitch(-10);
+  const auto turned = p.Run();
+  // The nose tip (the body's foremost point above the chin) moves with the head.
+  vtkPolyData* restBody = rest.at("Body");
+  vtkIdType nose = 0;
+  for (vtkIdType i = 0; i < restBody->GetNumberOfPoints(); ++i)
+  {
+    const double* q = restBody->GetPoint(i);
+    nose = q[1] > 1.45 && q[2] > restBody->GetPoint(nose)[2] ? i : nose;
+  }
+  double n0[3], n1[3];
+  restBody->GetPoint(nose, n0);
+  turned.at("Body")->GetPoint(nose, n1);
+  EXPECT_GT(Distance(Vec3{ n0[0], n0[1], n0[2] }, n1), 0.03);
+  for (const char* eye : { "EyeLeft", "EyeRight" })
+  {
+    const Vec3 a = Centroid(rest.at(eye)), b = Centroid(turned.at(eye));
+    EXPECT_GT(Distance(a, b), 0.02) << eye; // the eyes moved with the head
+    EXPECT_NEAR(Distance(b, n1), Distance(a, n0), 1e-4) << eye; // and stay in it
+  }
+  EXPECT_NEAR(Distance(Centroid(turned.at("EyeLeft")), Centroid(turned.at("EyeRight"))),
+    Distance(Centroid(rest.at("EyeLeft")), Centroid(rest.at("EyeRight"))), 1e-5);
+  // The lowest body vertex (a foot) does not move.
+  vtkPolyData* body = rest.at("Body");
+  vtkIdType lowest = 0;
+  for (vtkIdType i = 0; i < body->GetNumberOfPoints(); ++i)
+  {
+    lowest = body->GetPoint(i)[1] < body->GetPoint(lowest)[1] ? i : lowest;
+  }
+  double a[3], b[3];
+  body->GetPoint(lowest, a);
+  turned.at("Body")->GetPoint(lowest, b);
+  EXPECT_LT(Distance(Vec3{ a[0], a[1], a[2] }, b), 1e-7);
+  // Morph then skin: the open jaw's teeth turn with the head (lower teeth left of rest).
+  EXPECT_GT(Centroid(turned.at("Teeth"))[0], Centroid(rest.at("Teeth"))[0] + 0.01);
+  // Field data says what was used.
+  auto* used = turned.at("Body")->GetFieldData()->GetArray("SkinPose");
+  ASSERT_NE(used, nullptr);
+  EXPECT_EQ(used->GetComponent(0, 0), 30.0);
+}
+
+TEST(MorphSkinFilter, RelaxedArmsHangDown)
+{
+  SKIP_WITHOUT_AVATAR();
+  Pipeline p;
+  const auto rest = p.Run();
+  p.Skin->RelaxArmsOn();
+  const auto relaxed = p.Run();
+  double rb[6], bb[6];
+  rest.at("Body")->GetBounds(rb);
+  relaxed.at("Body")->GetBounds(bb);
+  // A-pose hands reach +-0.496 m; hanging arms stay much closer to the body.
+  EXPECT_LT(bb[1] - bb[0], 0.8 * (rb[1] - rb[0]));
+  EXPECT_NEAR(bb[3], rb[3], 1e-4); // the head stays
+}
+
+TEST(MorphSkinFilter, SkinnedQuadAndDamagedSkins)
+{
+  const std::string file = std::string(MORPHNODE_TEST_OUTPUT_DIR) + "/skin_filter_quad.glb";
+  std::filesystem::create_directories(MORPHNODE_TEST_OUTPUT_DIR);
+  std::ofstream(file, std::ios::binary) << gltftest::SkinnedQuad().Glb();
+  vtkNew<vtkMorphTargetReader> reader;
+  reader->SetFileName(file.c_str());
+  vtkNew<vtkMorphSkinFilter> skin;
+  skin->SetInputConnection(reader->GetOutputPort());
+  ASSERT_EQ(skin->GetExecutive()->Update(), 1);
+  auto parts = Parts(skin->GetOutputDataObject(0));
+  ASSERT_EQ(parts.size(), 1u);
+  const std::vector<double> hand = gltftest::SkinnedQuadRest();
+  for (vtkIdType i = 0; i < 4; ++i)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      EXPECT_NEAR(parts.begin()->second->GetPoint(i)[k], hand[static_cast<size_t>(3 * i + k)], 1e-6);
+    }
+  }
+  EXPECT_STREQ(skin->GetBones(), "head none, neck none, left eye none, right eye none, jaw none, left arm none, right arm none");
+
+  // A joint index out of range in the skin arrays: an error, and nothing drawn.
+  vtkNew<vtkMorphSkinFilter> bad;
+  vtkSmartPointer<vtkPolyData> damaged = vtkSmartPointer<vtkPolyData>::New();
+  damaged->DeepCopy(parts.begin()->second);
+  auto* joints = vtkUnsignedShortArray::SafeDownCast(damaged->GetPointData()->GetArray("SkinJoints"));
+  ASSERT_NE(joints, nullptr);
+  joints->SetTypedComponent(0, 0, 7);
+  bad->SetInputData(damaged);
+  bad->SetHeadYaw(10);
+  testing::internal::CaptureStderr();
+  EXPECT_EQ(bad->GetExecutive()->Update(), 0);
+  const std::string err = testing::internal::GetCapturedStderr();
+  EXPECT_NE(err.find("bound to joint 7"), std::string::npos) << err;
+  EXPECT_EQ(vtkPolyData::SafeDownCast(bad->GetOutputDataObject(0))->GetNumberOfPoints(), 0);
+
+  std::ostringstream os;
+  skin->Print(os);
+  EXPECT_NE(os.str().find("NeckShare: 0.4"), std::string::npos);
+}
