@@ -33,6 +33,7 @@
 #include "vtkUnsignedCharArray.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <sstream>
@@ -246,6 +247,102 @@ void AddPartFieldData(vtkFieldData* fd, const morphnode::GltfScene& scene,
       }
     }
     AddDoubles(fd, "NodeAxes", axes, 9);
+  }
+}
+
+/// An image of the scene as a field-data array `<name>Image` (unsigned char RGBA, one tuple per
+/// pixel, rows as in the file: top first, which is where glTF's v = 0 is and where VTK's
+/// texture coordinate t = 0 samples) with `<name>ImageSize` (width, height) and
+/// `<name>Sampler` (magFilter, minFilter, wrapS, wrapT as glTF's enums).
+void AddImage(vtkFieldData* fd, const std::string& name, const morphnode::GltfImage& image,
+  const morphnode::GltfSampler& sampler)
+{
+  vtkNew<vtkUnsignedCharArray> pixels;
+  pixels->SetName((name + "Image").c_str());
+  pixels->SetNumberOfComponents(4);
+  pixels->SetNumberOfTuples(static_cast<vtkIdType>(image.Width) * image.Height);
+  std::copy(image.Pixels.begin(), image.Pixels.end(), pixels->GetPointer(0));
+  fd->AddArray(pixels);
+  const double size[2] = { double(image.Width), double(image.Height) };
+  AddDoubles(fd, (name + "ImageSize").c_str(), size, 2);
+  const double s[4] = { double(sampler.MagFilter), double(sampler.MinFilter), double(sampler.WrapS),
+    double(sampler.WrapT) };
+  AddDoubles(fd, (name + "Sampler").c_str(), s, 4);
+}
+
+/// The part's material as field data (docs/materials.md): MetallicFactor, RoughnessFactor,
+/// EmissiveFactor (times KHR_materials_emissive_strength), AlphaMode, AlphaCutoff,
+/// DoubleSided, Unlit; the textures' images (BaseColor, MetallicRoughness, Normal,
+/// Occlusion, Emissive) where they decoded and use the base colour's texture coordinates;
+/// point data TCoords: the base colour texture's TEXCOORD_n with its KHR_texture_transform
+/// applied (VTK draws all of a part's textures with one set of coordinates).
+void AddMaterial(vtkPolyData* poly, const morphnode::GltfScene& scene, const morphnode::GltfPart& part)
+{
+  if (part.Material < 0 || static_cast<size_t>(part.Material) >= scene.Materials.size())
+  {
+    return;
+  }
+  const morphnode::GltfMaterial& m = scene.Materials[static_cast<size_t>(part.Material)];
+  vtkFieldData* fd = poly->GetFieldData();
+  AddDoubles(fd, "MetallicFactor", &m.MetallicFactor, 1);
+  AddDoubles(fd, "RoughnessFactor", &m.RoughnessFactor, 1);
+  const double emissive[3] = { m.EmissiveFactor[0] * m.EmissiveStrength, m.EmissiveFactor[1] * m.EmissiveStrength,
+    m.EmissiveFactor[2] * m.EmissiveStrength };
+  AddDoubles(fd, "EmissiveFactor", emissive, 3);
+  AddString(fd, "AlphaMode", morphnode::GltfAlphaModeName(m.AlphaMode));
+  AddDoubles(fd, "AlphaCutoff", &m.AlphaCutoff, 1);
+  const double doubleSided = m.DoubleSided ? 1 : 0, unlit = m.Unlit ? 1 : 0;
+  AddDoubles(fd, "DoubleSided", &doubleSided, 1);
+  AddDoubles(fd, "Unlit", &unlit, 1);
+  // The texture coordinates: those of the base colour texture, else of the first texture.
+  const morphnode::GltfTextureRef* refs[5] = { &m.BaseColorTexture, &m.MetallicRoughnessTexture, &m.NormalTexture,
+    &m.OcclusionTexture, &m.EmissiveTexture };
+  const char* names[5] = { "BaseColor", "MetallicRoughness", "Normal", "Occlusion", "Emissive" };
+  const morphnode::GltfTextureRef* uv = nullptr;
+  for (const auto* ref : refs)
+  {
+    if (ref->IsSet() && !uv)
+    {
+      uv = ref;
+    }
+  }
+  if (!uv)
+  {
+    return;
+  }
+  const std::vector<float>& tc = uv->TexCoord == 0 ? part.TexCoords0 : part.TexCoords1;
+  if (tc.size() != 2 * part.GetNumberOfPoints())
+  {
+    return; // the primitive lacks the set: drawn without textures
+  }
+  const std::array<double, 9> t = uv->UvMatrix();
+  vtkNew<vtkFloatArray> tcoords;
+  tcoords->SetName("TCoords");
+  tcoords->SetNumberOfComponents(2);
+  tcoords->SetNumberOfTuples(static_cast<vtkIdType>(part.GetNumberOfPoints()));
+  for (size_t i = 0; i < part.GetNumberOfPoints(); ++i)
+  {
+    const double u = tc[2 * i], v = tc[2 * i + 1];
+    tcoords->SetTypedComponent(static_cast<vtkIdType>(i), 0, static_cast<float>(t[0] * u + t[1] * v + t[2]));
+    tcoords->SetTypedComponent(static_cast<vtkIdType>(i), 1, static_cast<float>(t[3] * u + t[4] * v + t[5]));
+  }
+  poly->GetPointData()->SetTCoords(tcoords);
+  for (int k = 0; k < 5; ++k)
+  {
+    const auto* ref = refs[k];
+    const bool sameUv = ref->TexCoord == uv->TexCoord && ref->UvMatrix() == uv->UvMatrix();
+    if (ref->IsSet() && sameUv && static_cast<size_t>(ref->Image) < scene.Images.size())
+    {
+      AddImage(fd, names[k], scene.Images[static_cast<size_t>(ref->Image)], ref->Sampler);
+      if (k == 2)
+      {
+        AddDoubles(fd, "NormalScale", &ref->Scale, 1);
+      }
+      if (k == 3)
+      {
+        AddDoubles(fd, "OcclusionStrength", &ref->Scale, 1);
+      }
+    }
   }
 }
 
@@ -771,6 +868,7 @@ int vtkMorphTargetReader::RequestData(
           auto poly = PartToPolyData(part);
           FinishMesh(poly, names, this->Scale, this->NormalsMode);
           AddPartFieldData(poly->GetFieldData(), scene, part, true, this->Scale);
+          AddMaterial(poly, scene, part);
           addWeightFields(poly->GetFieldData(), part);
           if (part.Skin >= 0)
           {
@@ -813,6 +911,7 @@ int vtkMorphTargetReader::RequestData(
         poly->ShallowCopy(PartToPolyData(part));
         FinishMesh(poly, names, this->Scale, this->NormalsMode);
         AddPartFieldData(poly->GetFieldData(), scene, part, false, this->Scale);
+        AddMaterial(poly, scene, part);
         addWeightFields(poly->GetFieldData(), part);
         this->TargetNames = names;
         this->PartNames.push_back(part.Name);

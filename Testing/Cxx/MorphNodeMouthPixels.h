@@ -4,8 +4,8 @@
 /// @file MorphNodeMouthPixels.h
 /// @brief Counts what an open mouth shows in a rendered frame: teeth (light, nearly grey:
 /// blue close to red) and tongue or gums (red well above green and blue), in the lower half
-/// of the frame (the mouth, not the whites of the eyes). Skin is neither (its blue is about
-/// 0.65 of its red). For render tests that must see teeth and a tongue, and their negative
+/// of the frame (the mouth, not the whites of the eyes). Skin is neither (its blue is at most
+/// 0.86 of its red, drawn gamma-correct as glTF materials are). For render tests that must see teeth and a tongue, and their negative
 /// controls (a closed mouth shows neither).
 
 #include "vtkImageData.h"
@@ -43,11 +43,15 @@ inline MouthPixels CountMouthPixels(vtkImageData* image)
   for (vtkIdType i = 0; i < lowerHalf; ++i)
   {
     const double r = rgb->GetValue(c * i), g = rgb->GetValue(c * i + 1), b = rgb->GetValue(c * i + 2);
-    if (r > 150 && g > 140 && b > 0.82 * r)
+    // (0.92: glTF's colours drawn gamma-correct, skin of linear (0.8, 0.62, 0.52) shows
+    // blue at 0.79 to 0.86 of red, teeth at 0.96 or more.)
+    if (r > 150 && g > 140 && b > 0.92 * r)
     {
       ++count.Teeth;
     }
-    else if (r > 60 && r > 1.9 * g && r > 1.6 * b)
+    // (1.45: a tongue of linear (0.55, 0.18, 0.2) drawn gamma-correct shows red 1.6 times
+    // green and 1.4 times blue; skin 1.1 times green.)
+    else if (r > 60 && r > 1.45 * g && r > 1.3 * b)
     {
       ++count.Tongue;
     }

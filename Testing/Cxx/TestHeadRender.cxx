@@ -48,11 +48,13 @@ const std::string DefaultHead = std::string(MORPHNODE_SOURCE_DIR) + "/Data/Defau
 const std::string IctHead = std::string(MORPHNODE_FACEKIT_DIR) + "/ict_head_full53.glb";
 const std::string Output = MORPHNODE_TEST_OUTPUT_DIR;
 
-/// VTK's legacy image metric. Measured (see the tests' output): a baseline's own render 0;
-/// the default head neutral against "O" (and back) 12.0; the ICT head with the mouth closed
-/// against the open one 29.0. The greeting frame of TestMorphAvatar uses 0.5, where the
-/// mouth is a smaller part of the frame; the same 0.5 here leaves a wide margin to both
-/// negative controls and forgives no other change (the frames have no text).
+/// The legacy image metric with a per-channel tolerance of 24 levels
+/// (morphnode_test::SensitiveBaselineError: glTF materials drawn gamma-correct, as PBR draws
+/// them, are too pale for vtkTesting's fixed 105, which saw no difference between an open
+/// and a closed mouth). Measured (see the tests' output): a baseline's own render 0; the
+/// default head neutral against "O" (and back) 93.8; the ICT head with the mouth closed
+/// against the open one 418. 0.5 leaves a wide margin to both negative controls and
+/// forgives no other change (the frames have no text).
 constexpr double Threshold = 0.5;
 
 struct Scene
@@ -144,9 +146,16 @@ std::string Baseline(const std::string& name)
 double ErrorAgainst(vtkRenderWindow* window, const std::string& baseline, const std::string& label)
 {
   WritePng(window, label + "-render.png"); // vtkTesting writes its own under the baseline's name
-  const double error = morphnode_test::BaselineError(window, Baseline(baseline), Output);
+  const double error = morphnode_test::SensitiveBaselineError(window, Baseline(baseline), Output);
   std::cout << label << " against " << baseline << ": image error " << error << "\n";
   return error;
+}
+
+/// True when the render matches the baseline within Threshold.
+bool Matches(vtkRenderWindow* window, const std::string& baseline)
+{
+  const double error = morphnode_test::SensitiveBaselineError(window, Baseline(baseline), Output);
+  return error >= 0 && error <= Threshold;
 }
 } // namespace
 
@@ -155,16 +164,14 @@ TEST(HeadRender, DefaultHeadNeutral)
   auto s = RenderHead(DefaultHead, {});
   EXPECT_EQ(s->Head.GetNumberOfParts(), 15);
   ErrorAgainst(s->Window, "TestHeadRenderDefaultNeutral.png", "TestHeadRenderDefaultNeutral");
-  EXPECT_TRUE(morphnode_test::MatchesBaseline(
-    s->Window, Baseline("TestHeadRenderDefaultNeutral.png"), Output, Threshold));
+  EXPECT_TRUE(Matches(s->Window, "TestHeadRenderDefaultNeutral.png"));
 }
 
 TEST(HeadRender, DefaultHeadSaysO)
 {
   auto s = RenderHead(DefaultHead, { { "O", 1.0 } });
   ErrorAgainst(s->Window, "TestHeadRenderDefaultO.png", "TestHeadRenderDefaultO");
-  EXPECT_TRUE(morphnode_test::MatchesBaseline(
-    s->Window, Baseline("TestHeadRenderDefaultO.png"), Output, Threshold));
+  EXPECT_TRUE(Matches(s->Window, "TestHeadRenderDefaultO.png"));
   // The round opening shows the lower teeth and the tongue (printed only: in a whole-head
   // frame skin highlights and lips pass the colour tests too; the ICT test below counts).
   const MouthPixels mouth = CountMouthPixels(s->Window);
@@ -178,8 +185,7 @@ TEST(HeadRender, DefaultHeadNeutralFailsTheOBaseline)
   auto s = RenderHead(DefaultHead, {});
   const double error = ErrorAgainst(s->Window, "TestHeadRenderDefaultO.png", "TestHeadRenderNeutralAsO");
   EXPECT_GT(error, Threshold) << "the comparison does not see the mouth";
-  EXPECT_FALSE(morphnode_test::MatchesBaseline(
-    s->Window, Baseline("TestHeadRenderDefaultO.png"), Output, Threshold));
+  EXPECT_FALSE(Matches(s->Window, "TestHeadRenderDefaultO.png"));
 }
 
 TEST(HeadRender, DefaultHeadOFailsTheNeutralBaseline)
@@ -188,8 +194,7 @@ TEST(HeadRender, DefaultHeadOFailsTheNeutralBaseline)
   const double error =
     ErrorAgainst(s->Window, "TestHeadRenderDefaultNeutral.png", "TestHeadRenderOAsNeutral");
   EXPECT_GT(error, Threshold) << "the comparison does not see the mouth";
-  EXPECT_FALSE(morphnode_test::MatchesBaseline(
-    s->Window, Baseline("TestHeadRenderDefaultNeutral.png"), Output, Threshold));
+  EXPECT_FALSE(Matches(s->Window, "TestHeadRenderDefaultNeutral.png"));
 }
 
 // The ICT head with the mouth open (jaw open, lips apart): the lower teeth and the tongue
@@ -207,8 +212,7 @@ TEST(HeadRender, IctHeadMouthOpenShowsTeethAndTongue)
   auto s = RenderHead(IctHead, IctOpenMouth, true);
   EXPECT_EQ(s->Head.GetNumberOfParts(), 11);
   ErrorAgainst(s->Window, "TestHeadRenderIctMouthOpen.png", "TestHeadRenderIctMouthOpen");
-  EXPECT_TRUE(morphnode_test::MatchesBaseline(
-    s->Window, Baseline("TestHeadRenderIctMouthOpen.png"), Output, Threshold));
+  EXPECT_TRUE(Matches(s->Window, "TestHeadRenderIctMouthOpen.png"));
   const MouthPixels open = CountMouthPixels(s->Window);
   std::cout << "open mouth: teeth pixels " << open.Teeth << ", tongue/gum pixels " << open.Tongue << "\n";
   EXPECT_GT(open.Teeth, 400) << "no teeth in the open mouth"; // measured 1286
@@ -228,8 +232,7 @@ TEST(HeadRender, IctHeadMouthClosedFailsTheOpenBaseline)
   const double error =
     ErrorAgainst(s->Window, "TestHeadRenderIctMouthOpen.png", "TestHeadRenderIctMouthClosed");
   EXPECT_GT(error, Threshold) << "the comparison does not see the mouth";
-  EXPECT_FALSE(morphnode_test::MatchesBaseline(
-    s->Window, Baseline("TestHeadRenderIctMouthOpen.png"), Output, Threshold));
+  EXPECT_FALSE(Matches(s->Window, "TestHeadRenderIctMouthOpen.png"));
   const MouthPixels closed = CountMouthPixels(s->Window);
   std::cout << "closed mouth: teeth pixels " << closed.Teeth << ", tongue/gum pixels "
             << closed.Tongue << "\n";

@@ -17,10 +17,13 @@
 #include "vtkRenderWindow.h"
 #include "vtkRenderer.h"
 #include "vtkScalarsToColors.h"
+#include "vtkImageData.h"
 #include "vtkStringArray.h"
+#include "vtkTexture.h"
 #include "vtkUnsignedCharArray.h"
 
 #include <algorithm>
+#include <cstdlib>
 #include <array>
 #include <cmath>
 #include <limits>
@@ -80,6 +83,125 @@ vtkSmartPointer<vtkUnsignedCharArray> PointColors(vtkPolyData* part, const std::
     }
   }
   return rgb;
+}
+double FieldNumber(vtkPolyData* part, const char* name, int component, double fallback)
+{
+  vtkDataArray* a = part->GetFieldData()->GetArray(name);
+  if (!a || a->GetNumberOfValues() <= component)
+  {
+    return fallback;
+  }
+  const double v = a->GetVariantValue(component).ToDouble();
+  return std::isfinite(v) ? v : fallback;
+}
+
+/// The texture of field data `<name>Image` (see vtkMorphTargetReader: RGBA rows top first,
+/// which VTK's t = 0 samples as glTF's v = 0), with its sampler's filters and wraps; null
+/// when the part has none. `mode`: "OPAQUE" drops alpha (so that the part stays in the
+/// opaque pass), "MASK" makes alpha 0 or 1 at the cutoff (glTF's alpha test, drawn by the
+/// translucent pass without blending artefacts), "BLEND" keeps it; `factor` multiplies
+/// the alpha first (baseColorFactor's alpha).
+vtkSmartPointer<vtkTexture> PartTexture(vtkPolyData* part, const std::string& name, bool srgb,
+  const std::string& mode = "BLEND", double cutoff = 0.5, double factor = 1.0)
+{
+  auto* pixels = vtkUnsignedCharArray::SafeDownCast(part->GetFieldData()->GetArray((name + "Image").c_str()));
+  const int width = static_cast<int>(FieldNumber(part, (name + "ImageSize").c_str(), 0, 0));
+  const int height = static_cast<int>(FieldNumber(part, (name + "ImageSize").c_str(), 1, 0));
+  if (!pixels || pixels->GetNumberOfComponents() != 4 || width <= 0 || height <= 0 ||
+    pixels->GetNumberOfTuples() != vtkIdType(width) * height)
+  {
+    return nullptr;
+  }
+  vtkNew<vtkImageData> image;
+  image->SetDimensions(width, height, 1);
+  const int components = mode == "OPAQUE" ? 3 : 4;
+  image->AllocateScalars(VTK_UNSIGNED_CHAR, components);
+  const unsigned char* in = pixels->GetPointer(0);
+  auto* out = static_cast<unsigned char*>(image->GetScalarPointer());
+  for (vtkIdType i = 0; i < pixels->GetNumberOfTuples(); ++i)
+  {
+    for (int c = 0; c < 3; ++c)
+    {
+      out[components * i + c] = in[4 * i + c];
+    }
+    if (components == 4)
+    {
+      const double alpha = in[4 * i + 3] / 255.0 * factor;
+      out[4 * i + 3] = mode == "MASK" ? (alpha >= cutoff ? 255 : 0)
+                                      : static_cast<unsigned char>(std::lround(std::clamp(alpha, 0.0, 1.0) * 255));
+    }
+  }
+  auto texture = vtkSmartPointer<vtkTexture>::New();
+  texture->SetInputData(image);
+  texture->SetUseSRGBColorSpace(srgb);
+  const int mag = static_cast<int>(FieldNumber(part, (name + "Sampler").c_str(), 0, 0));
+  const int min = static_cast<int>(FieldNumber(part, (name + "Sampler").c_str(), 1, 0));
+  const int wrap = static_cast<int>(FieldNumber(part, (name + "Sampler").c_str(), 2, 10497));
+  texture->SetInterpolate(mag != 9728); // NEAREST only when the file asks for it
+  texture->SetMipmap(min == 0 || min >= 9984);
+  texture->SetRepeat(wrap != 33071);
+  texture->SetEdgeClamp(wrap == 33071);
+  return texture;
+}
+
+/// Draws the part's glTF material (field data from vtkMorphTargetReader, docs/materials.md)
+/// with VTK 9.1's PBR: base colour (sRGB texture times factor), metallic and roughness
+/// (factors, and the ORM texture), normal and emissive textures, alpha modes, back faces
+/// culled unless double-sided, unlit as flat ambient colour. False when the part has no
+/// material fields (the classic look stays).
+bool ApplyMaterial(vtkPolyData* part, vtkProperty* property, const std::array<double, 4>& color)
+{
+  if (!part->GetFieldData()->GetArray("MetallicFactor"))
+  {
+    return false;
+  }
+  const std::string mode = FieldString(part, "AlphaMode");
+  const double cutoff = FieldNumber(part, "AlphaCutoff", 0, 0.5);
+  const bool textured = part->GetPointData()->GetTCoords() != nullptr;
+  property->SetInterpolationToPBR();
+  property->SetColor(color[0], color[1], color[2]);
+  property->SetMetallic(FieldNumber(part, "MetallicFactor", 0, 1.0));
+  property->SetRoughness(FieldNumber(part, "RoughnessFactor", 0, 1.0));
+  property->SetEmissiveFactor(FieldNumber(part, "EmissiveFactor", 0, 0), FieldNumber(part, "EmissiveFactor", 1, 0),
+    FieldNumber(part, "EmissiveFactor", 2, 0));
+  property->SetBackfaceCulling(FieldNumber(part, "DoubleSided", 0, 0) == 0);
+
+  // Opacity: BLEND takes the factor's alpha; MASK and OPAQUE draw whole where they draw.
+  property->SetOpacity(mode == "BLEND" ? color[3] : 1.0);
+  if (textured)
+  {
+    if (auto base = PartTexture(part, "BaseColor", true, mode.empty() ? "OPAQUE" : mode, cutoff,
+          mode == "BLEND" ? 1.0 : color[3]))
+    {
+      property->SetBaseColorTexture(base);
+    }
+    if (auto mr = PartTexture(part, "MetallicRoughness", false, "OPAQUE"))
+    {
+      property->SetORMTexture(mr); // glTF's G roughness, B metallic are VTK's ORM channels
+      property->SetOcclusionStrength(0.0); // R is not occlusion in a metallic-roughness image
+    }
+    // A normal map needs tangents (vtkPolyDataTangents), which the parts do not carry.
+    auto normal = part->GetPointData()->GetTangents() ? PartTexture(part, "Normal", false, "OPAQUE") : nullptr;
+    if (normal)
+    {
+      property->SetNormalTexture(normal);
+      property->SetNormalScale(FieldNumber(part, "NormalScale", 0, 1.0));
+    }
+    if (auto emissive = PartTexture(part, "Emissive", true, "OPAQUE"))
+    {
+      property->SetEmissiveTexture(emissive);
+    }
+  }
+  else if (mode == "MASK" && color[3] < cutoff)
+  {
+    property->SetOpacity(0.0); // the whole part falls below the cutoff
+  }
+  if (FieldNumber(part, "Unlit", 0, 0) != 0)
+  {
+    property->SetInterpolationToFlat();
+    property->LightingOff();
+  }
+  return true;
 }
 } // namespace
 
@@ -206,12 +328,15 @@ bool HeadActors::Build(vtkDataObject* head, vtkRenderer* renderer, vtkLinearTran
       part->Actor->SetUserTransform(pose);
     }
     vtkProperty* property = part->Actor->GetProperty();
-    property->SetColor(color[0], color[1], color[2]);
-    property->SetOpacity(color[3]);
-    property->SetAmbient(0.08);
-    property->SetDiffuse(0.92);
-    property->SetSpecular(0.15);
-    property->SetSpecularPower(20.0);
+    if (!ApplyMaterial(input, property, color))
+    {
+      property->SetColor(color[0], color[1], color[2]);
+      property->SetOpacity(color[3]);
+      property->SetAmbient(0.08);
+      property->SetDiffuse(0.92);
+      property->SetSpecular(0.15);
+      property->SetSpecularPower(20.0);
+    }
     renderer->AddActor(part->Actor);
     this->Parts.push_back(std::move(part));
   }
@@ -291,11 +416,83 @@ std::string HeadActors::GetPartName(int part) const
   return this->Parts[part]->Name.empty() ? "part " + std::to_string(part) : this->Parts[part]->Name;
 }
 
+namespace
+{
+/// How bright the environment is next to the light kit: chosen by looking at the default
+/// face, the ICT head and the avatar (docs/materials.md), so that skin keeps its colour.
+double EnvironmentScale = 0.3;
+}
+
+vtkSmartPointer<vtkTexture> HeadActors::MakeEnvironment()
+{
+  if (const char* s = std::getenv("MORPHNODE_ENVIRONMENT_SCALE"))
+  {
+    EnvironmentScale = std::atof(s);
+  }
+  // An equirectangular studio made here (no download): a bright neutral sky, a horizon
+  // and a darker floor, linear values. What PBR skin reflects and is lit by from all round,
+  // so that it does not look like plastic in the dark between the light kit's lights.
+  const int width = 64, height = 32;
+  vtkNew<vtkImageData> image;
+  image->SetDimensions(width, height, 1);
+  image->AllocateScalars(VTK_FLOAT, 3);
+  auto* p = static_cast<float*>(image->GetScalarPointer());
+  for (int y = 0; y < height; ++y)
+  {
+    const double up = (y + 0.5) / height * 2.0 - 1.0; // -1 floor .. +1 zenith (rows bottom first)
+    double rgb[3];
+    if (up >= 0)
+    {
+      const double t = std::pow(up, 0.5);
+      const double sky[3] = { 0.9, 0.9, 0.92 }, horizon[3] = { 0.95, 0.92, 0.88 };
+      for (int c = 0; c < 3; ++c)
+      {
+        rgb[c] = horizon[c] + (sky[c] - horizon[c]) * t;
+      }
+    }
+    else
+    {
+      const double t = std::pow(-up, 0.5);
+      const double floor[3] = { 0.3, 0.28, 0.26 }, horizon[3] = { 0.7, 0.67, 0.63 };
+      for (int c = 0; c < 3; ++c)
+      {
+        rgb[c] = horizon[c] + (floor[c] - horizon[c]) * t;
+      }
+    }
+    for (int x = 0; x < width; ++x)
+    {
+      for (int c = 0; c < 3; ++c)
+      {
+        p[3 * (y * width + x) + c] = static_cast<float>(EnvironmentScale * rgb[c]);
+      }
+    }
+  }
+  auto texture = vtkSmartPointer<vtkTexture>::New();
+  texture->SetInputData(image);
+  texture->InterpolateOn();
+  texture->MipmapOn();
+  return texture;
+}
+
 void HeadActors::SetUpView(vtkRenderer* renderer, const double bounds[6], double zoom)
 {
+  // Image-based lighting for the PBR materials (the classic parts ignore it), and depth
+  // peeling so that translucent parts (BLEND, MASK cards) are drawn after the opaque ones
+  // in depth order.
+  renderer->UseImageBasedLightingOn();
+  renderer->SetEnvironmentTexture(MakeEnvironment());
+  renderer->SetUseDepthPeeling(true);
+  renderer->SetMaximumNumberOfPeels(6);
+  renderer->SetOcclusionRatio(0.0);
   renderer->RemoveAllLights();
   vtkNew<vtkLightKit> lights;
   lights->SetKeyLightIntensity(0.85);
+  // White lights: glTF materials are drawn gamma-correct, where the kit's warm key and cool
+  // fill would tint the skin grey-green.
+  lights->SetKeyLightWarmth(0.5);
+  lights->SetFillLightWarmth(0.5);
+  lights->SetBackLightWarmth(0.5);
+  lights->SetHeadLightWarmth(0.5);
   lights->AddLightsToRenderer(renderer);
   renderer->SetBackground(0.15, 0.16, 0.2);
   renderer->SetBackground2(0.32, 0.34, 0.42);

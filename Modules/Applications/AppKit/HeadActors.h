@@ -5,7 +5,11 @@
 /// (docs/scene.md), or one vtkPolyData, as one actor per part in the part's own colour:
 /// field data `BaseColor` (linear RGBA) times point data `COLOR_0` (RGBA) where the part has
 /// it, as glTF defines a material's colour; a part without a material (an OBJ set, a GLB
-/// without materials) is skin-coloured. One transform (the head pose) moves every part.
+/// without materials) is skin-coloured. A part with the glTF material fields of
+/// vtkMorphTargetReader (docs/materials.md) is drawn with VTK's PBR: base colour texture
+/// (sRGB), metallic-roughness, emissive, alpha modes (MASK as a 0/1 alpha at the cutoff,
+/// BLEND translucent, both drawn after the opaque parts by depth peeling), back faces
+/// culled unless double-sided, unlit; SetUpView lights it with an environment made here. One transform (the head pose) moves every part.
 ///
 /// Why one actor per part and not vtkCompositePolyDataMapper2: VTK 9.1's composite display
 /// attributes set a colour, an opacity and a visibility per block, but not a material
@@ -29,6 +33,7 @@ class vtkPolyData;
 class vtkPolyDataMapper;
 class vtkRenderer;
 class vtkScalarsToColors;
+class vtkTexture;
 class vtkUnsignedCharArray;
 
 namespace morphnode
@@ -74,6 +79,10 @@ public:
   /// that `bounds` fill most of the view, a little above the middle. Call it after adding
   /// `renderer` to its window: on a window without multisampling it turns FXAA on.
   static void SetUpView(vtkRenderer* renderer, const double bounds[6], double zoom = 1.0);
+
+  /// The environment of image-based lighting SetUpView gives the renderer: an
+  /// equirectangular sky, horizon and floor made here (linear RGB, 64 x 32).
+  static vtkSmartPointer<vtkTexture> MakeEnvironment();
 
 private:
   HeadActors(const HeadActors&) = delete;

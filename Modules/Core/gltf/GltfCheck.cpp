@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "GltfCheck.h"
+#include "GltfExtensions.h"
 
 #include "base/Error.h"
 #include "base/Text.h"
@@ -381,6 +382,7 @@ private:
   std::vector<ViewInfo> Views;
   std::vector<AccessorInfo> Accessors;
   size_t NumMaterials = 0;
+  bool Quantized = false; ///< KHR_mesh_quantization is used
   struct MeshInfo
   {
     size_t Targets = 0;
@@ -425,6 +427,7 @@ void Checker::CheckAsset()
     {
       this->Fail(At("/extensionsUsed", i), "must be a string, got " + Describe(used[i]));
     }
+    this->Quantized = this->Quantized || used[i].get<std::string>() == "KHR_mesh_quantization";
   }
   const json& required = this->Array(this->Root, "extensionsRequired", "", false);
   for (size_t i = 0; i < required.size(); ++i)
@@ -434,12 +437,13 @@ void Checker::CheckAsset()
       this->Fail(At("/extensionsRequired", i), "must be a string, got " + Describe(required[i]));
     }
     const std::string name = required[i].get<std::string>();
-    // Extensions that change only the look (materials, textures) can be ignored; any other
-    // (Draco, meshopt, quantization, instancing, ...) changes what the geometry is.
-    if (name.rfind("KHR_materials_", 0) != 0 && name.rfind("KHR_texture_", 0) != 0)
+    // A required extension MorphNode does not implement is refused, never read as garbage
+    // (GltfExtensions.h lists those it implements).
+    if (!gltfext::IsImplemented(name))
     {
+      const std::string why = gltfext::WhyNotImplemented(name);
       this->Fail(At("/extensionsRequired", i), "the file requires the extension " + text::Quote(name) +
-          ", which MorphNode does not support");
+          ", which MorphNode does not support" + (why.empty() ? std::string() : " (" + why + ")"));
     }
   }
 }
@@ -453,6 +457,12 @@ void Checker::CheckBuffers()
     const json& buffer = buffers[b];
     const uint64_t length = this->Unsigned(buffer, "byteLength", p, true, 0, 1, MaxBytes);
     this->CheckNames(buffer, p);
+    if (gltfext::IsMeshoptFallback(buffer))
+    {
+      // EXT_meshopt_compression: no data; only its compressed views are read, decoded.
+      this->BufferLengths.push_back(length);
+      continue;
+    }
     if (!this->Member(buffer, "uri"))
     {
       if (!this->Input.Binary)
@@ -790,6 +800,37 @@ bool IsColor(const AccessorInfo& a)
       (a.Normalized && (a.ComponentType == UnsignedByte || a.ComponentType == UnsignedShort)));
 }
 
+// KHR_mesh_quantization widens the attribute types (its table of types).
+bool IsQuantizedPosition(const AccessorInfo& a)
+{
+  return a.Type == "VEC3" &&
+    (a.ComponentType == Float || a.ComponentType == Byte || a.ComponentType == UnsignedByte ||
+      a.ComponentType == Short || a.ComponentType == UnsignedShort);
+}
+
+bool IsQuantizedNormal(const AccessorInfo& a)
+{
+  return a.Type == "VEC3" && (a.ComponentType == Float || (a.Normalized && (a.ComponentType == Byte || a.ComponentType == Short)));
+}
+
+bool IsQuantizedTargetPosition(const AccessorInfo& a)
+{
+  return a.Type == "VEC3" && (a.ComponentType == Float || a.ComponentType == Byte || a.ComponentType == Short);
+}
+
+bool IsTexCoord(const AccessorInfo& a)
+{
+  return a.Type == "VEC2" &&
+    (a.ComponentType == Float || (a.Normalized && (a.ComponentType == UnsignedByte || a.ComponentType == UnsignedShort)));
+}
+
+bool IsQuantizedTexCoord(const AccessorInfo& a)
+{
+  return a.Type == "VEC2" &&
+    (a.ComponentType == Float || a.ComponentType == Byte || a.ComponentType == UnsignedByte ||
+      a.ComponentType == Short || a.ComponentType == UnsignedShort);
+}
+
 bool IsIndex(const AccessorInfo& a)
 {
   return a.Type == "SCALAR" && !a.Normalized &&
@@ -824,7 +865,8 @@ void Checker::CheckMeshes()
       }
       const AccessorInfo& position = this->Attribute(
         this->IndexValue((*attributes)["POSITION"], At(ap, "POSITION"), this->Accessors.size(), "accessor"),
-        At(ap, "POSITION"), "POSITION", "VEC3 of FLOAT", IsVec3Float);
+        At(ap, "POSITION"), "POSITION", this->Quantized ? "VEC3 of FLOAT or (normalized) BYTE/SHORT, unsigned too"
+        : "VEC3 of FLOAT (integers need KHR_mesh_quantization)", this->Quantized ? IsQuantizedPosition : IsVec3Float);
       prim.Points = position.Count;
       for (auto it = attributes->begin(); it != attributes->end(); ++it)
       {
@@ -838,8 +880,14 @@ void Checker::CheckMeshes()
         }
         if (it.key() == "NORMAL")
         {
-          this->Attribute(a, at, "NORMAL", "VEC3 of FLOAT", IsVec3Float);
+          this->Attribute(a, at, "NORMAL", this->Quantized ? "VEC3 of FLOAT or normalized BYTE/SHORT" : "VEC3 of FLOAT",
+            this->Quantized ? IsQuantizedNormal : IsVec3Float);
           prim.Normals = true;
+        }
+        else if (it.key() == "TEXCOORD_0" || it.key() == "TEXCOORD_1")
+        {
+          this->Attribute(a, at, it.key().c_str(), this->Quantized ? "VEC2 of FLOAT or (normalized) BYTE/SHORT, unsigned too"
+            : "VEC2 of FLOAT or normalized UNSIGNED_BYTE/SHORT", this->Quantized ? IsQuantizedTexCoord : IsTexCoord);
         }
         else if (it.key() == "COLOR_0")
         {
@@ -901,8 +949,11 @@ void Checker::CheckMeshes()
           }
           if (it.key() == "POSITION" || it.key() == "NORMAL")
           {
-            this->Attribute(a, at, it.key() == "POSITION" ? "a POSITION target" : "a NORMAL target",
-              "VEC3 of FLOAT", IsVec3Float);
+            const bool position = it.key() == "POSITION";
+            this->Attribute(a, at, position ? "a POSITION target" : "a NORMAL target",
+              !this->Quantized ? "VEC3 of FLOAT" : position ? "VEC3 of FLOAT or (normalized) BYTE/SHORT"
+                                                            : "VEC3 of FLOAT or normalized BYTE/SHORT",
+              !this->Quantized ? IsVec3Float : position ? IsQuantizedTargetPosition : IsQuantizedNormal);
             normals = normals || it.key() == "NORMAL";
           }
         }

@@ -3,6 +3,7 @@
 
 #include "GltfCheck.h"
 #include "GltfSkinRead.h"
+#include "GltfExtensions.h"
 #include "TinyGltfConfig.h"
 
 #include "base/Error.h"
@@ -184,14 +185,33 @@ void CheckBlendRange(const GltfPart& part, const std::string& where)
   }
 }
 
-bool SkipImage(tinygltf::Image*, const int, std::string*, std::string*, int, int, const unsigned char*,
-  int, void*)
+/// Keeps each image's encoded bytes (gltf/GltfMaterial.cpp decodes them after the checks).
+bool KeepImage(tinygltf::Image*, const int index, std::string*, std::string*, int, int, const unsigned char* bytes,
+  int size, void* user)
 {
-  return true; // images are not decoded
+  auto& images = *static_cast<std::vector<std::vector<unsigned char>>*>(user);
+  if (index >= 0 && static_cast<size_t>(index) < images.size() && bytes && size > 0)
+  {
+    images[static_cast<size_t>(index)].assign(bytes, bytes + size);
+  }
+  return true;
+}
+
+/// An image file named by a .gltf: a plain file name in the input's folder only.
+bool ReadImageFile(const std::string& uri, std::vector<unsigned char>& bytes, std::string& error, void* user)
+{
+  if (uri.empty() || uri == "." || uri == ".." || uri.find_first_of("/\\:%") != std::string::npos)
+  {
+    error = "not a plain file name in the glTF file's folder";
+    return false;
+  }
+  const Folder& folder = *static_cast<const Folder*>(user);
+  return !folder.Base.empty() && ReadWholeFile(&bytes, &error, folder.Base + uri, const_cast<Folder*>(&folder));
 }
 
 tinygltf::Model LoadModel(const unsigned char* data, size_t size, const gltfcheck::Container& container,
-  const std::string& baseDirectory, const json& root, const std::string& source)
+  const std::string& baseDirectory, const json& root, const std::string& source,
+  std::vector<std::vector<unsigned char>>& images)
 {
   Folder folder;
   folder.Base = baseDirectory.empty() ? std::string() : baseDirectory + "/";
@@ -203,10 +223,20 @@ tinygltf::Model LoadModel(const unsigned char* data, size_t size, const gltfchec
   tinygltf::TinyGLTF loader;
   tinygltf::FsCallbacks fs{ &FileExists, &ExpandFilePath, &ReadWholeFile, nullptr, &folder };
   loader.SetFsCallbacks(fs);
-  loader.SetImageLoader(&SkipImage, nullptr);
+  images.assign(root.value("images", json::array()).size(), {});
+  loader.SetImageLoader(&KeepImage, &images);
   tinygltf::Model model;
   std::string err, warn;
   bool ok = false;
+  // EXT_meshopt_compression's fallback buffers hold no data, which tinygltf cannot parse:
+  // it gets a copy of the document with those stubbed (GltfExtensions.h).
+  std::string patched;
+  if (gltfext::NeedsPatch(root))
+  {
+    patched = gltfext::PatchForTinygltf(root, container.Binary, container.Bin, container.BinSize);
+    data = reinterpret_cast<const unsigned char*>(patched.data());
+    size = patched.size();
+  }
   try
   {
     // CheckDocument ran before: every index and count fits tinygltf's int, every buffer
@@ -218,8 +248,9 @@ tinygltf::Model LoadModel(const unsigned char* data, size_t size, const gltfchec
     }
     else
     {
-      ok = loader.LoadASCIIFromString(&model, &err, &warn, container.Json,
-        static_cast<unsigned int>(container.JsonSize), baseDirectory.empty() ? std::string(".") : baseDirectory);
+      ok = loader.LoadASCIIFromString(&model, &err, &warn, patched.empty() ? container.Json : patched.data(),
+        static_cast<unsigned int>(patched.empty() ? container.JsonSize : patched.size()),
+        baseDirectory.empty() ? std::string(".") : baseDirectory);
     }
   }
   catch (const std::exception& e)
@@ -262,8 +293,9 @@ std::string Pointer(const char* array, size_t index)
 class Reader
 {
 public:
-  Reader(const tinygltf::Model& model, const std::string& source)
+  Reader(const tinygltf::Model& model, const gltfext::DecodedViews& decoded, const std::string& source)
     : Model(model)
+    , Decoded(decoded)
     , Source(source)
   {
   }
@@ -406,6 +438,12 @@ private:
     {
       this->Fail(p, "no such bufferView (internal check)");
     }
+    const auto decoded = this->Decoded.find(index);
+    if (decoded != this->Decoded.end())
+    {
+      size = decoded->second.size(); // EXT_meshopt_compression, decoded
+      return decoded->second.data();
+    }
     const tinygltf::BufferView& view = this->Model.bufferViews[static_cast<size_t>(index)];
     if (view.buffer < 0 || static_cast<size_t>(view.buffer) >= this->Model.buffers.size())
     {
@@ -516,6 +554,7 @@ private:
   }
 
   const tinygltf::Model& Model;
+  const gltfext::DecodedViews& Decoded;
   const std::string& Source;
 };
 
@@ -643,12 +682,12 @@ class SceneBuilder
 {
 public:
   SceneBuilder(const tinygltf::Model& model, const json& root, const gltfcheck::Document& doc,
-    const GltfLoadOptions& options, const std::string& source)
+    const GltfLoadOptions& options, const gltfext::DecodedViews& decoded, const std::string& source)
     : Model(model)
     , Root(root)
     , Doc(doc)
     , Options(options)
-    , Read(model, source)
+    , Read(model, decoded, source)
     , Source(source)
   {
   }
@@ -692,6 +731,10 @@ private:
     }
     for (size_t b = 0; b < this->Model.buffers.size(); ++b)
     {
+      if (gltfext::IsMeshoptFallback(this->Root["buffers"][b]))
+      {
+        continue; // stubbed for tinygltf; its views are decoded
+      }
       const uint64_t length = this->Root["buffers"][b]["byteLength"].get<uint64_t>();
       if (this->Model.buffers[b].data.size() != length)
       {
@@ -877,6 +920,16 @@ private:
     {
       part.Normals = this->Read.Floats(normal, "NORMAL of " + pp);
     }
+    const int uv0 = attribute(prim.attributes, "TEXCOORD_0");
+    if (uv0 >= 0)
+    {
+      part.TexCoords0 = this->Read.Floats(uv0, "TEXCOORD_0 of " + pp);
+    }
+    const int uv1 = attribute(prim.attributes, "TEXCOORD_1");
+    if (uv1 >= 0)
+    {
+      part.TexCoords1 = this->Read.Floats(uv1, "TEXCOORD_1 of " + pp);
+    }
     const int color = attribute(prim.attributes, "COLOR_0");
     if (color >= 0)
     {
@@ -1055,8 +1108,13 @@ GltfScene LoadGltfSceneFromMemory(const void* data, size_t size, const std::stri
   const json root = gltfcheck::ParseJson(container, sourceName);
   const gltfcheck::Document doc =
     gltfcheck::CheckDocument(root, container, !baseDirectory.empty(), options.MaxDecodedBytes, sourceName);
-  const tinygltf::Model model = LoadModel(bytes, size, container, baseDirectory, root, sourceName);
-  return SceneBuilder(model, root, doc, options, sourceName).Build();
+  std::vector<std::vector<unsigned char>> images;
+  const tinygltf::Model model = LoadModel(bytes, size, container, baseDirectory, root, sourceName, images);
+  const gltfext::DecodedViews decoded = gltfext::DecodeMeshopt(model, root, options.MaxDecodedBytes, sourceName);
+  GltfScene scene = SceneBuilder(model, root, doc, options, decoded, sourceName).Build();
+  Folder folder{ baseDirectory.empty() ? std::string() : baseDirectory + "/", options.MaxDecodedBytes };
+  gltfext::ReadMaterials(root, images, &ReadImageFile, &folder, scene, sourceName);
+  return scene;
 }
 
 GltfScene LoadGltfScene(const std::string& fileName, const GltfLoadOptions& options)

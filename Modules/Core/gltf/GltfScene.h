@@ -31,6 +31,7 @@
 /// Nothing here depends on VTK.
 
 #include "skin/SkinInfluences.h"
+#include "gltf/GltfMaterial.h"
 
 #include <array>
 #include <cstddef>
@@ -113,6 +114,9 @@ struct GltfPart
   std::vector<float> Positions; ///< 3 per point
   std::vector<float> Normals;   ///< 3 per point, or empty when the file has none
   std::vector<float> Colors;    ///< COLOR_0 as RGBA, 4 per point, or empty
+  /// TEXCOORD_0 and TEXCOORD_1, 2 per point (u, v as in the file: v down), or empty.
+  std::vector<float> TexCoords0;
+  std::vector<float> TexCoords1;
   /// 3 point indices per triangle (strips and fans converted; a primitive without indices
   /// uses its points in order).
   std::vector<uint32_t> Triangles;
@@ -194,6 +198,12 @@ struct GltfScene
   std::vector<GltfPart> Parts;
   std::vector<GltfAnimation> Animations;
   std::vector<GltfSkin> Skins;
+  /// The file's materials (GltfPart::Material indexes them) and images (decoded RGBA8).
+  std::vector<GltfMaterial> Materials;
+  std::vector<GltfImage> Images;
+  /// What was read but is not drawn or was left out, one line each (optional extensions
+  /// ignored, images that did not decode, ...).
+  std::vector<std::string> Notes;
 
   size_t GetNumberOfPoints() const;
   /// Index of the part with this name, -1 if none.
