@@ -214,13 +214,28 @@ void Avatar::SetUpScene()
   appkit::HeadActors::SetUpView(this->Renderer, this->Bounds);
 }
 
+bool Avatar::DecidesPerShape() const
+{
+  // With a rig the optimizer decides per rig shape (vtkMorphRigFilter, rig/RigOptimizer.h):
+  // a viseme's targets are kept or pruned together, so closures and roundings survive every
+  // method. The frame budget steers the morph filter's own threshold, per target.
+  return !this->Opt.Rig.empty() && this->Opt.FrameBudget <= 0.0;
+}
+
 void Avatar::ApplyMethod()
 {
   // The preset (morph/OptimizerPresets.h) reads the threshold and the error bound.
+  const bool perShape = this->DecidesPerShape();
+  this->Rig->SetThreshold(this->Threshold);
+  this->Rig->SetMaxVertexError(this->MaxError);
+  this->Rig->SetHysteresis(this->Opt.Hysteresis);
+  this->Rig->SetOptimizerPreset(perShape ? static_cast<int>(this->Method) : 0);
+  this->Rig->ResetHysteresis();
   this->Morph->SetThreshold(this->Threshold);
   this->Morph->SetMaxVertexError(this->MaxError);
   this->Morph->SetHysteresis(this->Opt.Hysteresis);
-  this->Morph->SetOptimizerPreset(static_cast<int>(this->Method));
+  this->Morph->SetOptimizerPreset(
+    perShape ? vtkMorphNodeFilter::OPTIMIZER_NONE : static_cast<int>(this->Method));
   this->Morph->ResetHysteresis();
 }
 
@@ -291,9 +306,10 @@ std::string Avatar::OverlayText(bool offscreen, int frame, int frames) const
       break;
   }
   const int targets = std::max(0, this->Morph->GetNumberOfTargets() - 1);
+  const double bound = this->DecidesPerShape() ? this->Rig->GetLastErrorBound() : this->Morph->GetErrorBound();
   os << "active targets " << this->Morph->GetActiveTargetCount() << " / " << targets
-     << "   error bound " << std::setprecision(2)
-     << 100.0 * this->Morph->GetErrorBound() / this->Diagonal << " %\n";
+     << (this->DecidesPerShape() ? " (decided per rig shape)" : "") << "   error bound "
+     << std::setprecision(2) << 100.0 * bound / this->Diagonal << " %\n";
   os << "t = " << std::setprecision(2) << this->Time << " s / " << this->Duration << " s";
   if (!offscreen)
   {

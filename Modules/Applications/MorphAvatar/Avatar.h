@@ -88,8 +88,11 @@ struct Avatar
   void SetUpScene();
 
   /// The optimizer of Method, Threshold and MaxError (and the option's hysteresis) on the
+  /// rig filter (deciding per rig shape) or, without a rig or with a frame budget, on the
   /// morph filter.
   void ApplyMethod();
+  /// Whether the optimizer decides per rig shape (a rig and no frame budget).
+  bool DecidesPerShape() const;
   /// The morphed head with its eyes turned (a composite of parts, or a vtkPolyData).
   vtkDataObject* GetHead() const;
   /// Brings the face to time t: weights, blend, head pose. False on error.
