@@ -6,7 +6,7 @@
 // default method (adjusted) deciding per face target left the ICT head's open (its PP lost
 // mouthClose and kept jawOpen), which the negative control shows the measure sees.
 // Also: the ICT head's rounded vowel oh is narrower than the mouth at rest and than aa.
-#include "RigLipStudy.h"
+#include "LipGapStudy.h"
 
 #include "MorphNodeTestSkips.h"
 #include "base/Text.h"
