@@ -503,3 +503,53 @@ TEST(MorphAvatar, SpeaksARecordingWithItsSound)
   }
   EXPECT_GT(largest, 2.0) << "the mouth region does not change while the recording plays";
 }
+
+// --audio with the cues Rhubarb Lip Sync computed from the recording (its main use): TSV,
+// JSON and XML, and a file whose extension does not tell with --timings-format. The mouth
+// is closed where the cues say A and open where they say D, with the recording's sound.
+TEST(MorphAvatar, SpeaksARecordingWithRhubarbCues)
+{
+  const std::string dir = Output + "/MorphAvatarRhubarb";
+  vtksys::SystemTools::RemoveADirectory(dir);
+  vtksys::SystemTools::MakeDirectory(dir);
+  morphnode::AudioBuffer tone;
+  tone.SampleRate = 16000;
+  tone.Channels = 1;
+  for (int i = 0; i < 32000; ++i)
+  {
+    tone.Samples.push_back(0.2f * static_cast<float>(std::sin(2.0 * 3.14159265 * 220.0 * i / 16000.0)));
+  }
+  morphnode::WriteWavFile(dir + "/take.wav", tone);
+  // X (rest) 0-0.4, A (closed) 0.4-0.8, D (wide open) 0.8-1.6, X to the end; the avatar
+  // places the recording at 0.5 s.
+  std::ofstream(dir + "/take.tsv") << "0.00\tX\n0.40\tA\n0.80\tD\n1.60\tX\n";
+  std::ofstream(dir + "/take.xml")
+    << "<?xml version=\"1.0\" encoding=\"utf-8\"?>\n<rhubarbResult><metadata><soundFile>take.wav"
+       "</soundFile><duration>2.00</duration></metadata><mouthCues>\n"
+       "<mouthCue start=\"0.00\" end=\"0.40\">X</mouthCue>\n<mouthCue start=\"0.40\" end=\"0.80\">A</mouthCue>\n"
+       "<mouthCue start=\"0.80\" end=\"1.60\">D</mouthCue>\n<mouthCue start=\"1.60\" end=\"2.00\">X</mouthCue>\n"
+       "</mouthCues></rhubarbResult>\n";
+  std::ofstream(dir + "/take.cues") << "0.00\tX\n0.40\tA\n0.80\tD\n1.60\tX\n";
+  double openMinusClosed = 0.0;
+  for (const std::string& cues : { std::string("take.tsv"), std::string("take.xml"),
+         std::string("take.cues' --timings-format 'rhubarb-tsv") })
+  {
+    const std::string frames = dir + "/frames_" + cues.substr(5, 3);
+    const AvatarRun run = RunAvatar("--audio '" + dir + "/take.wav' --timings '" + dir + "/" + cues +
+      "' --fps 10 --size 200x200 --duration 3 --no-overlay --seed 3 --frames '" + frames + "' --quiet");
+    ASSERT_EQ(run.ExitCode, 0) << cues << ": " << run.Text;
+    // 0.5 s + 0.6 s (closed) and 0.5 s + 1.2 s (open) against the first frame (rest).
+    auto rest = ReadPng(frames + "/frame_00000.png");
+    const double closed = MeanDifference(rest, ReadPng(frames + "/frame_00011.png"), 0.15, 0.45);
+    const double open = MeanDifference(rest, ReadPng(frames + "/frame_00017.png"), 0.15, 0.45);
+    EXPECT_GT(open, closed + 1.0) << cues << ": closed " << closed << ", open " << open;
+    openMinusClosed = open - closed;
+  }
+  EXPECT_GT(openMinusClosed, 0.0);
+  // A file whose extension and content do not tell, without --timings-format: a clear error.
+  std::ofstream(dir + "/take.bin") << "hello\n";
+  const AvatarRun bad = RunAvatar("--audio '" + dir + "/take.wav' --timings '" + dir +
+    "/take.bin' --fps 10 --size 64x64 --duration 1 --frames '" + dir + "/bad' --quiet");
+  EXPECT_NE(bad.ExitCode, 0);
+  EXPECT_NE(bad.Text.find("--timings-format"), std::string::npos) << bad.Text;
+}

@@ -42,6 +42,10 @@ bool Avatar::SetUpBehavior()
   const double speechStart = o.Script.empty() ? 0.5 : -1.0;
   if (!o.Audio.empty() || !o.Timings.empty())
   {
+    if (!behavior->SetTimingFormat(o.TimingsFormat.c_str()))
+    {
+      return false;
+    }
     std::string transcript = o.Text;
     if (!o.TextFile.empty())
     {

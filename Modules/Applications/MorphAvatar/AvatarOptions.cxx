@@ -75,12 +75,21 @@ Options ParseOptions(int argc, char* argv[])
     ->needs(audio)
     ->excludes(text)
     ->group(recorded);
-  app.add_option("--timings", o.Timings,
-       "a timing file (.pho, Rhubarb TSV/JSON, Praat TextGrid, Polly speech marks): of --audio, "
-       "or alone to move the mouth without sound")
+  auto* timings = app.add_option("--timings", o.Timings,
+       "a timing file (.pho, Rhubarb TSV/JSON/XML, Praat TextGrid, Polly speech marks): of "
+       "--audio (e.g. the cues Rhubarb Lip Sync computed from it), or alone to move the mouth "
+       "without sound")
     ->check(CLI::ExistingFile)
     ->excludes(text)
     ->excludes(textFile)
+    ->group(recorded);
+  app.add_option("--timings-format", o.TimingsFormat,
+       "the format of --timings where its extension does not tell: auto, pho, rhubarb-tsv, "
+       "rhubarb-json, rhubarb-xml, textgrid, speech-marks")
+    ->check(CLI::IsMember({ "auto", "pho", "rhubarb-tsv", "rhubarb-json", "rhubarb-xml",
+      "textgrid", "speech-marks" }, CLI::ignore_case))
+    ->capture_default_str()
+    ->needs(timings)
     ->group(recorded);
   app.add_option("--seed", o.Seed, "seed of the idle behaviour (default 1 or the script's)")
     ->check(appkit::UnsignedInteger())

@@ -22,6 +22,7 @@ struct Options
   std::string Text;     // its transcript
   std::string TextFile; // its transcript, from a file
   std::string Timings;  // a timing file (of the recording, or alone: speech without sound)
+  std::string TimingsFormat = "auto"; // its format where the extension does not tell
   double Duration = -1.0; // < 0: the script's, else automatic
   double Fps = -1.0;      // < 0: the script's, else 30
   int Width = 640;
