@@ -553,3 +553,118 @@ TEST(MorphAvatar, SpeaksARecordingWithRhubarbCues)
   EXPECT_NE(bad.ExitCode, 0);
   EXPECT_NE(bad.Text.find("--timings-format"), std::string::npos) << bad.Text;
 }
+
+namespace
+{
+/// The largest mean difference of the mouth region between the first frame of `dir` and
+/// frames first..last (step 1) at 10 fps.
+double LargestMouthChange(const std::string& dir, int first, int last)
+{
+  auto rest = ReadPng(dir + "/frame_00000.png");
+  double largest = 0.0;
+  for (int f = first; f <= last; ++f)
+  {
+    char name[32];
+    std::snprintf(name, sizeof(name), "/frame_%05d.png", f);
+    if (vtksys::SystemTools::FileExists(dir + name))
+    {
+      largest = std::max(largest, MeanDifference(rest, ReadPng(dir + name), 0.15, 0.45));
+    }
+  }
+  return largest;
+}
+} // namespace
+
+// An exported performance read back plays its own animation with its sound (it spoke the
+// default greeting instead); an animation the file lacks is named with the ones it has.
+TEST(MorphAvatar, PlaysTheFilesOwnAnimation)
+{
+  const std::string dir = Output + "/MorphAvatarAnimation";
+  vtksys::SystemTools::RemoveADirectory(dir);
+  vtksys::SystemTools::MakeDirectory(dir);
+  // The performance: a closure then wide open vowels, as Rhubarb cues (no eSpeak needed).
+  std::ofstream(dir + "/cues.tsv") << "0.00\tX\n0.60\tA\n0.90\tD\n2.00\tX\n";
+  const AvatarRun exported = RunAvatar("--timings '" + dir + "/cues.tsv' --duration 3 --fps 10 --gltf '" +
+    dir + "/performance.glb' --quiet");
+  ASSERT_EQ(exported.ExitCode, 0) << exported.Text;
+  // A sound for it.
+  morphnode::AudioBuffer tone;
+  tone.SampleRate = 16000;
+  tone.Channels = 1;
+  for (int i = 0; i < 40000; ++i)
+  {
+    tone.Samples.push_back(0.2f * static_cast<float>(std::sin(2.0 * 3.14159265 * 220.0 * i / 16000.0)));
+  }
+  morphnode::WriteWavFile(dir + "/sound.wav", tone);
+  for (const std::string& animation : { std::string("0"), std::string("performance") })
+  {
+    const std::string frames = dir + "/frames_" + animation;
+    const AvatarRun run = RunAvatar("--face '" + dir + "/performance.glb' --animation " + animation +
+      " --audio '" + dir + "/sound.wav' --fps 10 --size 200x200 --no-overlay --frames '" + frames +
+      "' --video '" + frames + "/take.ogv' --quiet");
+    ASSERT_EQ(run.ExitCode, 0) << run.Text;
+    // The animation: rest at 0 s, wide open in 1.0-1.9 s (the cues were placed at 0.5 s).
+    EXPECT_GT(LargestMouthChange(frames, 14, 24), 2.0) << animation << ": the mouth does not open";
+    EXPECT_LT(LargestMouthChange(frames, 1, 3), 1.0) << animation << ": the mouth moves before the performance";
+    // The sound: the recording (2.5 s) from 0 s; the run lasts the animation's 3 s.
+    const morphnode::AudioBuffer written = morphnode::ReadAudioFile(frames + "/take.wav");
+    EXPECT_NEAR(written.GetDuration(), 3.0, 0.15) << animation;
+    EXPECT_GT(morphnode::RootMeanSquare(morphnode::MixToMono(written)), 0.05) << animation;
+  }
+  const AvatarRun missing = RunAvatar("--face '" + dir + "/performance.glb' --animation walk --png '" +
+    dir + "/x.png' --at 1");
+  EXPECT_NE(missing.ExitCode, 0);
+  EXPECT_NE(missing.Text.find("no animation 'walk' (it has 0 'performance')"), std::string::npos)
+    << missing.Text;
+}
+
+// A Live Link Face take plays on an ARKit face (its shapes onto the face's targets by name):
+// jawOpen rises to 1 at 1 s and falls again.
+TEST(MorphAvatar, PlaysALiveLinkTake)
+{
+  const std::string ict = std::string(MORPHNODE_FACEKIT_DIR) + "/ict_face11248_sparse53.glb";
+  if (!vtksys::SystemTools::FileExists(ict))
+  {
+    GTEST_SKIP() << "ICT-FaceKit data not found: " << ict;
+  }
+  const std::string dir = Output + "/MorphAvatarCapture";
+  vtksys::SystemTools::RemoveADirectory(dir);
+  vtksys::SystemTools::MakeDirectory(dir);
+  // The take, 60 rows a second as the app writes them (header and timecodes: docs/capture.md).
+  {
+    std::ofstream take(dir + "/take.csv");
+    take << "Timecode,BlendShapeCount,EyeBlinkLeft,EyeLookDownLeft,EyeLookInLeft,EyeLookOutLeft,"
+            "EyeLookUpLeft,EyeSquintLeft,EyeWideLeft,EyeBlinkRight,EyeLookDownRight,EyeLookInRight,"
+            "EyeLookOutRight,EyeLookUpRight,EyeSquintRight,EyeWideRight,JawForward,JawRight,JawLeft,"
+            "JawOpen,MouthClose,MouthFunnel,MouthPucker,MouthRight,MouthLeft,MouthSmileLeft,"
+            "MouthSmileRight,MouthFrownLeft,MouthFrownRight,MouthDimpleLeft,MouthDimpleRight,"
+            "MouthStretchLeft,MouthStretchRight,MouthRollLower,MouthRollUpper,MouthShrugLower,"
+            "MouthShrugUpper,MouthPressLeft,MouthPressRight,MouthLowerDownLeft,MouthLowerDownRight,"
+            "MouthUpperUpLeft,MouthUpperUpRight,BrowDownLeft,BrowDownRight,BrowInnerUp,"
+            "BrowOuterUpLeft,BrowOuterUpRight,CheekPuff,CheekSquintLeft,CheekSquintRight,"
+            "NoseSneerLeft,NoseSneerRight,TongueOut,HeadYaw,HeadPitch,HeadRoll,LeftEyeYaw,"
+            "LeftEyePitch,LeftEyeRoll,RightEyeYaw,RightEyePitch,RightEyeRoll\n";
+    for (int row = 0; row <= 120; ++row)
+    {
+      char timecode[32];
+      std::snprintf(timecode, sizeof(timecode), "12:00:%02d:%02d.000", row / 60, row % 60);
+      take << timecode << ",61";
+      const double jaw = std::max(0.0, 1.0 - std::abs(row - 60) / 30.0);
+      for (int c = 0; c < 61; ++c)
+      {
+        take << "," << (c == 17 ? jaw : 0.0);
+      }
+      take << "\n";
+    }
+  }
+  const AvatarRun run = RunAvatar("--face '" + ict + "' --capture '" + dir + "/take.csv' --fps 10 " +
+    "--size 200x200 --no-overlay --frames '" + dir + "/frames'");
+  ASSERT_EQ(run.ExitCode, 0) << run.Text;
+  EXPECT_NE(run.Text.find("51 of 52 ARKit shapes drive 53 of 53 face targets"), std::string::npos)
+    << run.Text; // the mapping report
+  EXPECT_GT(LargestMouthChange(dir + "/frames", 9, 11), 2.0) << "the take's jawOpen does not open the mouth";
+  EXPECT_LT(LargestMouthChange(dir + "/frames", 20, 20), 1.0) << "the mouth is not closed again at 2 s";
+  const AvatarRun bad = RunAvatar("--face '" + ict + "' --capture '" + dir + "/take.csv' --say hi --png x.png");
+  EXPECT_EQ(bad.ExitCode, 2);
+  EXPECT_NE(bad.Text.find("--animation and --capture play a recorded performance"), std::string::npos) << bad.Text;
+}

@@ -17,6 +17,7 @@
 
 #include "vtkBehaviorTimeSource.h"
 #include "vtkEyeGazeFilter.h"
+#include "vtkLiveLinkFaceReader.h"
 #include "vtkMorphNodeFilter.h"
 #include "vtkMorphRigFilter.h"
 #include "vtkMorphTargetReader.h"
@@ -41,6 +42,11 @@ struct Avatar
   Options Opt;
   vtkNew<vtkBehaviorTimeSource> Behavior;
   vtkNew<vtkMorphTargetReader> Reader;
+  vtkNew<vtkLiveLinkFaceReader> Capture; // --capture
+  /// Where the weights (and the head and eye angles) come from: the behaviour, the reader's
+  /// animation (port 1) or the take.
+  vtkAlgorithm* WeightSource = nullptr;
+  int WeightPort = 0;
   vtkNew<vtkMorphRigFilter> Rig;
   vtkNew<vtkMorphNodeFilter> Morph;
   vtkNew<vtkEyeGazeFilter> Gaze;
@@ -86,6 +92,9 @@ struct Avatar
   bool SetUpFace();
   /// The actors, the overlay, the caption and the window.
   void SetUpScene();
+  /// --animation, --capture: checks the animation or the take and takes its length as the
+  /// duration (unless --duration). False with a message.
+  bool SetUpPerformance();
 
   /// The optimizer of Method, Threshold and MaxError (and the option's hysteresis) on the
   /// rig filter (deciding per rig shape) or, without a rig or with a frame budget, on the
