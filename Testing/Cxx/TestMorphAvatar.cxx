@@ -668,3 +668,38 @@ TEST(MorphAvatar, PlaysALiveLinkTake)
   EXPECT_EQ(bad.ExitCode, 2);
   EXPECT_NE(bad.Text.find("--animation and --capture play a recorded performance"), std::string::npos) << bad.Text;
 }
+
+// A content error reaches the terminal as `MorphAvatar: what: why` lines: no VTK log
+// decoration (time stamps, colour codes, source files, addresses), no pipeline echo.
+TEST(MorphAvatar, ContentErrorsReadAsProgramLines)
+{
+  const std::string dir = Output + "/MorphAvatarMessages";
+  vtksys::SystemTools::MakeDirectory(dir);
+  std::ofstream(dir + "/bad.pho") << "a 100\np not-a-number\n";
+  std::ofstream(dir + "/bad.json") << "{\"name\": \"bad\", \"shapes\": {\"A\": {\"jawOpn\": 1}}}";
+  for (const std::string& arguments :
+    { "--timings '" + dir + "/bad.pho' --png '" + dir + "/x.png' --at 1",
+      "--face '" + std::string(MORPHNODE_SOURCE_DIR) + "/Data/DefaultFace/default_head.glb' --rig '" +
+        dir + "/bad.json' --png '" + dir + "/x.png' --at 1" })
+  {
+    const AvatarRun run = RunAvatar(arguments);
+    EXPECT_NE(run.ExitCode, 0) << arguments;
+    EXPECT_EQ(run.Text.find("\x1b["), std::string::npos) << run.Text;
+    EXPECT_EQ(run.Text.find("ERR|"), std::string::npos) << run.Text;
+    EXPECT_EQ(run.Text.find("(0x"), std::string::npos) << run.Text;
+    EXPECT_EQ(run.Text.find(".cxx"), std::string::npos) << run.Text;
+    EXPECT_EQ(run.Text.find("returned failure"), std::string::npos) << run.Text;
+    std::istringstream lines(run.Text);
+    std::string line;
+    int count = 0;
+    while (std::getline(lines, line))
+    {
+      if (!line.empty())
+      {
+        EXPECT_EQ(line.rfind("MorphAvatar: ", 0), 0u) << "not a program line: " << line;
+        ++count;
+      }
+    }
+    EXPECT_GE(count, 1) << arguments;
+  }
+}
