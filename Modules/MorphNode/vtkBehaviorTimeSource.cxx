@@ -73,6 +73,9 @@ struct vtkBehaviorTimeSource::vtkInternals
   morphnode::BehaviorController Controller;
   std::shared_ptr<SpeechSettings> Speech = std::make_shared<SpeechSettings>();
 
+  /// The format of timing files (SetTimingFormat).
+  morphnode::TimingFileOptions Timing;
+
   /// The track of port 1, built once per preparation (null when stale).
   vtkSmartPointer<vtkTable> Track;
 
@@ -449,11 +452,31 @@ bool vtkBehaviorTimeSource::SpeakRhubarbCues(const char* cues, double start)
       start));
 }
 
+bool vtkBehaviorTimeSource::SetTimingFormat(const char* name)
+{
+  try
+  {
+    this->Internals->Timing.Format = morphnode::ParseTimingFormat(Str(name).empty() ? "auto" : Str(name));
+  }
+  catch (const std::exception& e)
+  {
+    vtkErrorMacro(<< "SetTimingFormat: " << e.what());
+    return false;
+  }
+  return true;
+}
+
+const char* vtkBehaviorTimeSource::GetTimingFormat()
+{
+  return morphnode::TimingFormatName(this->Internals->Timing.Format);
+}
+
 bool vtkBehaviorTimeSource::SpeakTimingFile(const char* path, double start)
 {
   MORPHNODE_COMMAND("SpeakTimingFile",
     this->Internals->Controller.Speak(
-      morphnode::LoadTimingFile(Str(path), this->Internals->Speech->Options()), start));
+      morphnode::LoadTimingFile(Str(path), this->Internals->Speech->Options(), this->Internals->Timing),
+      start));
 }
 
 bool vtkBehaviorTimeSource::SpeakAudioFile(const char* path, const char* transcript, double start)
@@ -469,6 +492,7 @@ bool vtkBehaviorTimeSource::SpeakAudioFileWithTimings(const char* path, const ch
 {
   morphnode::RecordingOptions recording;
   recording.TimingFile = Str(timingFile);
+  recording.Timing = this->Internals->Timing;
   if (recording.TimingFile.empty())
   {
     vtkErrorMacro(<< "SpeakAudioFileWithTimings: a timing file is needed (.TextGrid, .marks, .pho, "

@@ -166,6 +166,17 @@ public:
 
   ///@{
   /**
+   * The format of the timing files of SpeakTimingFile and SpeakAudioFileWithTimings where
+   * the extension does not tell (morphnode::TimingFormat names: auto (default), pho,
+   * rhubarb-tsv, rhubarb-json, rhubarb-xml, textgrid, speech-marks). An unknown name is an
+   * error: returns false and keeps the previous format.
+   */
+  bool SetTimingFormat(const char* name);
+  const char* GetTimingFormat();
+  ///@}
+
+  ///@{
+  /**
    * The figures of the idle behaviour, gestures and gaze (morphnode::BehaviorParameters,
    * docs/behavior.md) by name, e.g. "BlinkRateRest" (blinks per minute), "HeadShareOfGaze".
    * Names are matched as gestures are (case, '_' and '-' do not matter). An unknown name

@@ -5,7 +5,9 @@
 #include "vtkMorphTargetArrays.h"
 
 #include "base/Error.h"
+#include "morph/OptimizerPresets.h"
 #include "rig/Rig.h"
+#include "rig/RigOptimizer.h"
 
 #include "vtkAbstractArray.h"
 #include "vtkCompositeDataIterator.h"
@@ -17,6 +19,7 @@
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkObjectFactory.h"
+#include "vtkPointSet.h"
 #include "vtkSmartPointer.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkStringArray.h"
@@ -34,7 +37,51 @@ struct vtkMorphRigFilter::vtkInternals
 {
   vtkMorphRigCache Rig;
   vtkSmartPointer<vtkStringArray> TargetNames;
+  morphnode::RigOptimizer Optimizer;
+  /// What the shape figures were measured on (the face and its time, the rig's load time).
+  vtkMTimeType FiguresFace = 0;
+  vtkMTimeType FiguresRig = 0;
+  vtkDataObject* FiguresOf = nullptr;
 };
+
+namespace
+{
+/// The rig's shapes measured on every part of the face that carries target arrays.
+morphnode::TargetDistances MeasureShapes(const morphnode::Rig& rig, vtkDataObject* face)
+{
+  std::vector<morphnode::NamedTargetDistances> pieces;
+  auto add = [&](vtkDataObject* leaf) {
+    auto* points = vtkPointSet::SafeDownCast(leaf);
+    if (!points || !vtkMorphTargetArrays::HasTargets(points))
+    {
+      return;
+    }
+    vtkMorphTargetArrays::ReadOptions options;
+    options.Normals = false;
+    const auto read = vtkMorphTargetArrays::ToMorphMesh(points, options);
+    pieces.push_back(morphnode::ComputeShapeDistances(rig, read.Mesh));
+  };
+  if (auto* composite = vtkCompositeDataSet::SafeDownCast(face))
+  {
+    vtkSmartPointer<vtkCompositeDataIterator> it;
+    it.TakeReference(composite->NewIterator());
+    for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem())
+    {
+      add(it->GetCurrentDataObject());
+    }
+  }
+  else
+  {
+    add(face);
+  }
+  if (pieces.empty())
+  {
+    throw morphnode::InputError("rig-aware optimization measures the shapes on the face's "
+                                "geometry: connect a face with target arrays to port 1");
+  }
+  return morphnode::MakeTargetDistances(morphnode::CombineTargetDistances(pieces));
+}
+} // namespace
 
 
 //------------------------------------------------------------------------------
@@ -98,6 +145,24 @@ const char* vtkMorphRigFilter::GetShapeName(int index)
     return nullptr;
   }
   return rig->GetShapeNames()[static_cast<size_t>(index)].c_str();
+}
+
+//------------------------------------------------------------------------------
+void vtkMorphRigFilter::ResetHysteresis()
+{
+  this->Internals->Optimizer.ResetHistory();
+}
+
+//------------------------------------------------------------------------------
+double vtkMorphRigFilter::GetLastErrorBound()
+{
+  return this->OptimizerPreset != 0 ? this->Internals->Optimizer.GetLastErrorBound() : 0.0;
+}
+
+//------------------------------------------------------------------------------
+int vtkMorphRigFilter::GetLastActiveShapes()
+{
+  return this->OptimizerPreset != 0 ? this->Internals->Optimizer.GetLastActiveShapes() : 0;
 }
 
 //------------------------------------------------------------------------------
@@ -200,7 +265,34 @@ int vtkMorphRigFilter::RequestData(
       outColumns[t]->SetName(targets[t].c_str());
       outColumns[t]->SetNumberOfValues(rows);
     }
+    // Rig-aware optimization: the shapes measured on the face (again when the face or the
+    // rig changed), the settings of the method.
+    const bool optimize = this->OptimizerPreset != 0;
+    morphnode::RigOptimizer& optimizer = internals.Optimizer;
+    if (optimize)
+    {
+      const vtkMTimeType rigTime = this->vtkObject::GetMTime();
+      if (!face)
+      {
+        throw morphnode::InputError("rig-aware optimization measures the shapes on the face's "
+                                    "geometry: connect the face to port 1");
+      }
+      if (internals.FiguresOf != face || internals.FiguresFace != face->GetMTime() ||
+        internals.FiguresRig != rigTime || optimizer.GetNumberOfShapes() != rig.GetNumberOfShapes())
+      {
+        optimizer.SetShapeDistances(MeasureShapes(rig, face));
+        internals.FiguresOf = face;
+        internals.FiguresFace = face->GetMTime();
+        internals.FiguresRig = rigTime;
+      }
+      morphnode::OptimizerSettings settings = morphnode::MakeOptimizerSettings(
+        static_cast<morphnode::OptimizerPreset>(this->OptimizerPreset), this->Threshold,
+        this->MaxVertexError);
+      settings.Hysteresis = this->Hysteresis;
+      optimizer.SetSettings(settings);
+    }
     std::vector<double> shapeWeights(rig.GetNumberOfShapes());
+    std::vector<double> effective(rig.GetNumberOfShapes());
     std::vector<double> targetWeights(targets.size());
     for (vtkIdType r = 0; r < rows; ++r)
     {
@@ -217,7 +309,15 @@ int vtkMorphRigFilter::RequestData(
         }
         shapeWeights[sc.first] += w;
       }
-      rig.Expand(shapeWeights.data(), targetWeights.data());
+      if (optimize)
+      {
+        optimizer.Optimize(shapeWeights.data(), effective.data());
+        rig.Expand(effective.data(), targetWeights.data());
+      }
+      else
+      {
+        rig.Expand(shapeWeights.data(), targetWeights.data());
+      }
       for (size_t t = 0; t < targets.size(); ++t)
       {
         outColumns[t]->SetValue(r, targetWeights[t]);
@@ -254,6 +354,12 @@ void vtkMorphRigFilter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "RigFileName: " << (this->RigFileName.empty() ? "(none)" : this->RigFileName)
      << "\n";
   os << indent << "PassOtherColumns: " << (this->PassOtherColumns ? "On" : "Off") << "\n";
+  os << indent << "OptimizerPreset: "
+     << morphnode::OptimizerPresetName(static_cast<morphnode::OptimizerPreset>(this->OptimizerPreset))
+     << "\n";
+  os << indent << "Threshold: " << this->Threshold << "\n";
+  os << indent << "MaxVertexError: " << this->MaxVertexError << "\n";
+  os << indent << "Hysteresis: " << this->Hysteresis << "\n";
   os << indent << "TargetNames: ";
   if (this->Internals->TargetNames)
   {

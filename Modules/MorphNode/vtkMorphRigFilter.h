@@ -27,6 +27,16 @@
  * on (default); else dropped. A column named after a face target itself is always
  * dropped: the expanded value is the one the output carries.
  *
+ * Rig-aware optimization (OptimizerPreset other than OPTIMIZER_NONE, the default): the
+ * optimizer of the paper (morphnode::WeightOptimizer, presets as vtkMorphNodeFilter's)
+ * decides per rig shape, before the expansion (morphnode::RigOptimizer): a viseme's targets
+ * are kept or pruned together, so a closure (PP: jawOpen cancelled by mouthClose) or a
+ * rounding survives every method. The shapes are measured on the face's geometry (port 1,
+ * a point set or a composite of parts with `target<k>_position` arrays). Leave the
+ * optimizer of the vtkMorphNodeFilter downstream off (it would prune targets again). Rows
+ * are decided in order; the hysteresis history carries over from one execution to the
+ * next (ResetHysteresis forgets it).
+ *
  * Time: TIME_STEPS / TIME_RANGE flow from port 0 to the output and UPDATE_TIME_STEP back
  * up, so a temporal weight source animates the face through this filter.
  *
@@ -92,6 +102,28 @@ public:
 
   ///@{
   /**
+   * Rig-aware optimization: the method (vtkMorphNodeFilter::OptimizerPresets values 0..4:
+   * none, fixed-maximum, fixed-remaining, adjusted, error-bounded; default none), its
+   * threshold th_fix, its error bound eps (model units) and the hysteresis in [0, 1).
+   */
+  vtkSetClampMacro(OptimizerPreset, int, 0, 4);
+  vtkGetMacro(OptimizerPreset, int);
+  vtkSetClampMacro(Threshold, double, 0.0, 1.0);
+  vtkGetMacro(Threshold, double);
+  vtkSetClampMacro(MaxVertexError, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(MaxVertexError, double);
+  vtkSetClampMacro(Hysteresis, double, 0.0, 0.99);
+  vtkGetMacro(Hysteresis, double);
+  /// Forget which shapes were active (after a jump in time).
+  void ResetHysteresis();
+  /// The last row's optimizer bound on the vertex error and the shapes it kept (both 0 with
+  /// the optimizer off).
+  double GetLastErrorBound();
+  int GetLastActiveShapes();
+  ///@}
+
+  ///@{
+  /**
    * The rig as last read (empty / 0 before the first execution or after an error).
    */
   int GetNumberOfShapes();
@@ -107,6 +139,10 @@ protected:
 
   std::string RigFileName;
   bool PassOtherColumns = true;
+  int OptimizerPreset = 0;
+  double Threshold = 0.1;
+  double MaxVertexError = 0.0;
+  double Hysteresis = 0.0;
 
 private:
   vtkMorphRigFilter(const vtkMorphRigFilter&) = delete;

@@ -29,6 +29,8 @@
 #include "vtkProperty.h"
 #include "vtkRenderer.h"
 
+#include "Messages.h"
+
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -314,4 +316,19 @@ TEST(AppKitHeadActors, OneActorPerPartInItsColours)
   appkit::HeadActors none;
   vtkNew<vtkPartitionedDataSetCollection> empty;
   EXPECT_FALSE(none.Build(empty, renderer2, nullptr));
+}
+
+// Content errors read `Program: what: why`: VTK's location, class and address go.
+TEST(AppKit, ProgramMessagesDropVtkDecoration)
+{
+  using morphnode::appkit::ProgramMessage;
+  EXPECT_EQ(ProgramMessage("ERROR: In /build/vtkMorphRigFilter.cxx, line 412\nvtkMorphRigFilter "
+                           "(0x55d1c0ffee00): rig 'x.json': shape 'A', target 'jawOpn': unknown\n\n"),
+    "rig 'x.json': shape 'A', target 'jawOpn': unknown");
+  EXPECT_EQ(ProgramMessage("Warning: In a.cxx, line 3\nvtkBehaviorTimeSource (0x1): the voice is odd\n\n"),
+    "the voice is odd");
+  EXPECT_EQ(ProgramMessage("ERROR: In vtkExecutive.cxx, line 752\nvtkCompositeDataPipeline (0x5): "
+                           "Algorithm vtkEyeGazeFilter(0x6) returned failure for request: vtkInformation"),
+    "");
+  EXPECT_EQ(ProgramMessage("plain text"), "plain text");
 }

@@ -503,3 +503,203 @@ TEST(MorphAvatar, SpeaksARecordingWithItsSound)
   }
   EXPECT_GT(largest, 2.0) << "the mouth region does not change while the recording plays";
 }
+
+// --audio with the cues Rhubarb Lip Sync computed from the recording (its main use): TSV,
+// JSON and XML, and a file whose extension does not tell with --timings-format. The mouth
+// is closed where the cues say A and open where they say D, with the recording's sound.
+TEST(MorphAvatar, SpeaksARecordingWithRhubarbCues)
+{
+  const std::string dir = Output + "/MorphAvatarRhubarb";
+  vtksys::SystemTools::RemoveADirectory(dir);
+  vtksys::SystemTools::MakeDirectory(dir);
+  morphnode::AudioBuffer tone;
+  tone.SampleRate = 16000;
+  tone.Channels = 1;
+  for (int i = 0; i < 32000; ++i)
+  {
+    tone.Samples.push_back(0.2f * static_cast<float>(std::sin(2.0 * 3.14159265 * 220.0 * i / 16000.0)));
+  }
+  morphnode::WriteWavFile(dir + "/take.wav", tone);
+  // X (rest) 0-0.4, A (closed) 0.4-0.8, D (wide open) 0.8-1.6, X to the end; the avatar
+  // places the recording at 0.5 s.
+  std::ofstream(dir + "/take.tsv") << "0.00\tX\n0.40\tA\n0.80\tD\n1.60\tX\n";
+  std::ofstream(dir + "/take.xml")
+    << "<?xml version=\"1.0\" encoding=\"utf-8\"?>\n<rhubarbResult><metadata><soundFile>take.wav"
+       "</soundFile><duration>2.00</duration></metadata><mouthCues>\n"
+       "<mouthCue start=\"0.00\" end=\"0.40\">X</mouthCue>\n<mouthCue start=\"0.40\" end=\"0.80\">A</mouthCue>\n"
+       "<mouthCue start=\"0.80\" end=\"1.60\">D</mouthCue>\n<mouthCue start=\"1.60\" end=\"2.00\">X</mouthCue>\n"
+       "</mouthCues></rhubarbResult>\n";
+  std::ofstream(dir + "/take.cues") << "0.00\tX\n0.40\tA\n0.80\tD\n1.60\tX\n";
+  double openMinusClosed = 0.0;
+  for (const std::string& cues : { std::string("take.tsv"), std::string("take.xml"),
+         std::string("take.cues' --timings-format 'rhubarb-tsv") })
+  {
+    const std::string frames = dir + "/frames_" + cues.substr(5, 3);
+    const AvatarRun run = RunAvatar("--audio '" + dir + "/take.wav' --timings '" + dir + "/" + cues +
+      "' --fps 10 --size 200x200 --duration 3 --no-overlay --seed 3 --frames '" + frames + "' --quiet");
+    ASSERT_EQ(run.ExitCode, 0) << cues << ": " << run.Text;
+    // 0.5 s + 0.6 s (closed) and 0.5 s + 1.2 s (open) against the first frame (rest).
+    auto rest = ReadPng(frames + "/frame_00000.png");
+    const double closed = MeanDifference(rest, ReadPng(frames + "/frame_00011.png"), 0.15, 0.45);
+    const double open = MeanDifference(rest, ReadPng(frames + "/frame_00017.png"), 0.15, 0.45);
+    EXPECT_GT(open, closed + 1.0) << cues << ": closed " << closed << ", open " << open;
+    openMinusClosed = open - closed;
+  }
+  EXPECT_GT(openMinusClosed, 0.0);
+  // A file whose extension and content do not tell, without --timings-format: a clear error.
+  std::ofstream(dir + "/take.bin") << "hello\n";
+  const AvatarRun bad = RunAvatar("--audio '" + dir + "/take.wav' --timings '" + dir +
+    "/take.bin' --fps 10 --size 64x64 --duration 1 --frames '" + dir + "/bad' --quiet");
+  EXPECT_NE(bad.ExitCode, 0);
+  EXPECT_NE(bad.Text.find("--timings-format"), std::string::npos) << bad.Text;
+}
+
+namespace
+{
+/// The largest mean difference of the mouth region between the first frame of `dir` and
+/// frames first..last (step 1) at 10 fps.
+double LargestMouthChange(const std::string& dir, int first, int last)
+{
+  auto rest = ReadPng(dir + "/frame_00000.png");
+  double largest = 0.0;
+  for (int f = first; f <= last; ++f)
+  {
+    char name[32];
+    std::snprintf(name, sizeof(name), "/frame_%05d.png", f);
+    if (vtksys::SystemTools::FileExists(dir + name))
+    {
+      largest = std::max(largest, MeanDifference(rest, ReadPng(dir + name), 0.15, 0.45));
+    }
+  }
+  return largest;
+}
+} // namespace
+
+// An exported performance read back plays its own animation with its sound (it spoke the
+// default greeting instead); an animation the file lacks is named with the ones it has.
+TEST(MorphAvatar, PlaysTheFilesOwnAnimation)
+{
+  const std::string dir = Output + "/MorphAvatarAnimation";
+  vtksys::SystemTools::RemoveADirectory(dir);
+  vtksys::SystemTools::MakeDirectory(dir);
+  // The performance: a closure then wide open vowels, as Rhubarb cues (no eSpeak needed).
+  std::ofstream(dir + "/cues.tsv") << "0.00\tX\n0.60\tA\n0.90\tD\n2.00\tX\n";
+  const AvatarRun exported = RunAvatar("--timings '" + dir + "/cues.tsv' --duration 3 --fps 10 --gltf '" +
+    dir + "/performance.glb' --quiet");
+  ASSERT_EQ(exported.ExitCode, 0) << exported.Text;
+  // A sound for it.
+  morphnode::AudioBuffer tone;
+  tone.SampleRate = 16000;
+  tone.Channels = 1;
+  for (int i = 0; i < 40000; ++i)
+  {
+    tone.Samples.push_back(0.2f * static_cast<float>(std::sin(2.0 * 3.14159265 * 220.0 * i / 16000.0)));
+  }
+  morphnode::WriteWavFile(dir + "/sound.wav", tone);
+  for (const std::string& animation : { std::string("0"), std::string("performance") })
+  {
+    const std::string frames = dir + "/frames_" + animation;
+    const AvatarRun run = RunAvatar("--face '" + dir + "/performance.glb' --animation " + animation +
+      " --audio '" + dir + "/sound.wav' --fps 10 --size 200x200 --no-overlay --frames '" + frames +
+      "' --video '" + frames + "/take.ogv' --quiet");
+    ASSERT_EQ(run.ExitCode, 0) << run.Text;
+    // The animation: rest at 0 s, wide open in 1.0-1.9 s (the cues were placed at 0.5 s).
+    EXPECT_GT(LargestMouthChange(frames, 14, 24), 2.0) << animation << ": the mouth does not open";
+    EXPECT_LT(LargestMouthChange(frames, 1, 3), 1.0) << animation << ": the mouth moves before the performance";
+    // The sound: the recording (2.5 s) from 0 s; the run lasts the animation's 3 s.
+    const morphnode::AudioBuffer written = morphnode::ReadAudioFile(frames + "/take.wav");
+    EXPECT_NEAR(written.GetDuration(), 3.0, 0.15) << animation;
+    EXPECT_GT(morphnode::RootMeanSquare(morphnode::MixToMono(written)), 0.05) << animation;
+  }
+  const AvatarRun missing = RunAvatar("--face '" + dir + "/performance.glb' --animation walk --png '" +
+    dir + "/x.png' --at 1");
+  EXPECT_NE(missing.ExitCode, 0);
+  EXPECT_NE(missing.Text.find("no animation 'walk' (it has 0 'performance')"), std::string::npos)
+    << missing.Text;
+}
+
+// A Live Link Face take plays on an ARKit face (its shapes onto the face's targets by name):
+// jawOpen rises to 1 at 1 s and falls again.
+TEST(MorphAvatar, PlaysALiveLinkTake)
+{
+  const std::string ict = std::string(MORPHNODE_FACEKIT_DIR) + "/ict_face11248_sparse53.glb";
+  if (!vtksys::SystemTools::FileExists(ict))
+  {
+    GTEST_SKIP() << "ICT-FaceKit data not found: " << ict;
+  }
+  const std::string dir = Output + "/MorphAvatarCapture";
+  vtksys::SystemTools::RemoveADirectory(dir);
+  vtksys::SystemTools::MakeDirectory(dir);
+  // The take, 60 rows a second as the app writes them (header and timecodes: docs/capture.md).
+  {
+    std::ofstream take(dir + "/take.csv");
+    take << "Timecode,BlendShapeCount,EyeBlinkLeft,EyeLookDownLeft,EyeLookInLeft,EyeLookOutLeft,"
+            "EyeLookUpLeft,EyeSquintLeft,EyeWideLeft,EyeBlinkRight,EyeLookDownRight,EyeLookInRight,"
+            "EyeLookOutRight,EyeLookUpRight,EyeSquintRight,EyeWideRight,JawForward,JawRight,JawLeft,"
+            "JawOpen,MouthClose,MouthFunnel,MouthPucker,MouthRight,MouthLeft,MouthSmileLeft,"
+            "MouthSmileRight,MouthFrownLeft,MouthFrownRight,MouthDimpleLeft,MouthDimpleRight,"
+            "MouthStretchLeft,MouthStretchRight,MouthRollLower,MouthRollUpper,MouthShrugLower,"
+            "MouthShrugUpper,MouthPressLeft,MouthPressRight,MouthLowerDownLeft,MouthLowerDownRight,"
+            "MouthUpperUpLeft,MouthUpperUpRight,BrowDownLeft,BrowDownRight,BrowInnerUp,"
+            "BrowOuterUpLeft,BrowOuterUpRight,CheekPuff,CheekSquintLeft,CheekSquintRight,"
+            "NoseSneerLeft,NoseSneerRight,TongueOut,HeadYaw,HeadPitch,HeadRoll,LeftEyeYaw,"
+            "LeftEyePitch,LeftEyeRoll,RightEyeYaw,RightEyePitch,RightEyeRoll\n";
+    for (int row = 0; row <= 120; ++row)
+    {
+      char timecode[32];
+      std::snprintf(timecode, sizeof(timecode), "12:00:%02d:%02d.000", row / 60, row % 60);
+      take << timecode << ",61";
+      const double jaw = std::max(0.0, 1.0 - std::abs(row - 60) / 30.0);
+      for (int c = 0; c < 61; ++c)
+      {
+        take << "," << (c == 17 ? jaw : 0.0);
+      }
+      take << "\n";
+    }
+  }
+  const AvatarRun run = RunAvatar("--face '" + ict + "' --capture '" + dir + "/take.csv' --fps 10 " +
+    "--size 200x200 --no-overlay --frames '" + dir + "/frames'");
+  ASSERT_EQ(run.ExitCode, 0) << run.Text;
+  EXPECT_NE(run.Text.find("51 of 52 ARKit shapes drive 53 of 53 face targets"), std::string::npos)
+    << run.Text; // the mapping report
+  EXPECT_GT(LargestMouthChange(dir + "/frames", 9, 11), 2.0) << "the take's jawOpen does not open the mouth";
+  EXPECT_LT(LargestMouthChange(dir + "/frames", 20, 20), 1.0) << "the mouth is not closed again at 2 s";
+  const AvatarRun bad = RunAvatar("--face '" + ict + "' --capture '" + dir + "/take.csv' --say hi --png x.png");
+  EXPECT_EQ(bad.ExitCode, 2);
+  EXPECT_NE(bad.Text.find("--animation and --capture play a recorded performance"), std::string::npos) << bad.Text;
+}
+
+// A content error reaches the terminal as `MorphAvatar: what: why` lines: no VTK log
+// decoration (time stamps, colour codes, source files, addresses), no pipeline echo.
+TEST(MorphAvatar, ContentErrorsReadAsProgramLines)
+{
+  const std::string dir = Output + "/MorphAvatarMessages";
+  vtksys::SystemTools::MakeDirectory(dir);
+  std::ofstream(dir + "/bad.pho") << "a 100\np not-a-number\n";
+  std::ofstream(dir + "/bad.json") << "{\"name\": \"bad\", \"shapes\": {\"A\": {\"jawOpn\": 1}}}";
+  for (const std::string& arguments :
+    { "--timings '" + dir + "/bad.pho' --png '" + dir + "/x.png' --at 1",
+      "--face '" + std::string(MORPHNODE_SOURCE_DIR) + "/Data/DefaultFace/default_head.glb' --rig '" +
+        dir + "/bad.json' --png '" + dir + "/x.png' --at 1" })
+  {
+    const AvatarRun run = RunAvatar(arguments);
+    EXPECT_NE(run.ExitCode, 0) << arguments;
+    EXPECT_EQ(run.Text.find("\x1b["), std::string::npos) << run.Text;
+    EXPECT_EQ(run.Text.find("ERR|"), std::string::npos) << run.Text;
+    EXPECT_EQ(run.Text.find("(0x"), std::string::npos) << run.Text;
+    EXPECT_EQ(run.Text.find(".cxx"), std::string::npos) << run.Text;
+    EXPECT_EQ(run.Text.find("returned failure"), std::string::npos) << run.Text;
+    std::istringstream lines(run.Text);
+    std::string line;
+    int count = 0;
+    while (std::getline(lines, line))
+    {
+      if (!line.empty())
+      {
+        EXPECT_EQ(line.rfind("MorphAvatar: ", 0), 0u) << "not a program line: " << line;
+        ++count;
+      }
+    }
+    EXPECT_GE(count, 1) << arguments;
+  }
+}

@@ -672,3 +672,73 @@ TEST(MorphRigBaker, ErrorsGiveAnEmptyOutput)
   EXPECT_TRUE(messages->Errors.empty()) << messages->AllErrors();
   EXPECT_EQ(baker->GetOutput()->GetNumberOfPoints(), face->GetNumberOfPoints());
 }
+
+// Rig-aware optimization: the threshold methods decide per rig shape, so ARKit's PP keeps
+// mouthClose with jawOpen (per target on the ICT head, mouthClose 0.08 fell under the adjusted
+// threshold and jawOpen stayed: the lips parted), a small E beside it is pruned whole, and
+// the bound is reported.
+TEST(MorphRigFilter, OptimizerDecidesPerRigShape)
+{
+  if (!HaveIct())
+  {
+    GTEST_SKIP() << "ICT-FaceKit data not found at " << IctGlb;
+  }
+  vtkNew<vtkMorphTargetReader> reader;
+  reader->SetFileName(IctGlb.c_str());
+  reader->SetMeshIndex(0);
+  vtkNew<vtkMorphRigFilter> rigFilter;
+  rigFilter->SetInputData(MakeTable({ { "PP", { 1.0, 0.93 } }, { "E", { 0.0, 0.07 } } }));
+  rigFilter->SetFaceConnection(reader->GetOutputPort());
+  rigFilter->SetRigFileName(ArkitRig.c_str());
+  rigFilter->SetThreshold(0.1);
+  auto value = [&](const char* name, int row) {
+    vtkDataArray* a = vtkDataArray::SafeDownCast(rigFilter->GetOutput()->GetColumnByName(name));
+    return a ? a->GetComponent(row, 0) : -1.0;
+  };
+  for (int preset : { vtkMorphNodeFilter::OPTIMIZER_FIXED_MAXIMUM,
+         vtkMorphNodeFilter::OPTIMIZER_FIXED_REMAINING, vtkMorphNodeFilter::OPTIMIZER_ADJUSTED })
+  {
+    rigFilter->SetOptimizerPreset(preset);
+    rigFilter->Update();
+    ASSERT_EQ(rigFilter->GetOutput()->GetNumberOfRows(), 2);
+    // PP alone: the whole shape, mouthClose with jawOpen.
+    EXPECT_NEAR(value("mouthClose", 0), 0.08, 1e-12) << preset;
+    EXPECT_NEAR(value("jawOpen", 0), 0.08, 1e-12) << preset;
+    EXPECT_NEAR(value("mouthPress_L", 0), 0.45, 1e-12) << preset;
+  }
+  // With a little E beside it, the fixed threshold prunes E whole (its share of the weight
+  // goes to PP: the neutral's weight is 0 here), not some of E's targets.
+  rigFilter->SetOptimizerPreset(vtkMorphNodeFilter::OPTIMIZER_FIXED_REMAINING);
+  rigFilter->Update();
+  EXPECT_NEAR(value("mouthClose", 1), 0.08, 1e-12);
+  EXPECT_NEAR(value("jawOpen", 1), 0.08, 1e-12);
+  EXPECT_EQ(value("mouthStretch_L", 1), 0.0);
+  EXPECT_EQ(value("mouthSmile_L", 1), 0.0);
+  EXPECT_EQ(rigFilter->GetLastActiveShapes(), 1);
+  EXPECT_GT(rigFilter->GetLastErrorBound(), 0.0);
+  // Off: the plain expansion, E's targets included.
+  rigFilter->SetOptimizerPreset(vtkMorphNodeFilter::OPTIMIZER_NONE);
+  rigFilter->Update();
+  EXPECT_NEAR(value("mouthStretch_L", 1), 0.07 * 0.4, 1e-12);
+  EXPECT_EQ(rigFilter->GetLastErrorBound(), 0.0);
+}
+
+TEST(MorphRigFilter, OptimizerNeedsTheFacesGeometry)
+{
+  morphnode::Rig rig = morphnode::Rig::LoadFile(ArkitRig);
+  vtkNew<vtkMorphRigFilter> filter;
+  filter->SetInputData(MakeTable({ { "PP", { 1.0 } } }));
+  filter->SetTargetNames(NamesWithNeutral(rig.GetDeclaredTargets()));
+  filter->SetRigFileName(ArkitRig.c_str());
+  filter->SetOptimizerPreset(vtkMorphNodeFilter::OPTIMIZER_ADJUSTED);
+  vtkSmartPointer<MessageCollector> messages;
+  messages.TakeReference(MessageCollector::New());
+  messages->Watch(filter);
+  filter->Update();
+  EXPECT_TRUE(messages->HasError("measures the shapes on the face's geometry")) << messages->AllErrors();
+  EXPECT_EQ(filter->GetOutput()->GetNumberOfColumns(), 0);
+  // Off (the default), names alone are enough.
+  filter->SetOptimizerPreset(vtkMorphNodeFilter::OPTIMIZER_NONE);
+  filter->Update();
+  EXPECT_EQ(filter->GetOutput()->GetNumberOfColumns(), 53);
+}

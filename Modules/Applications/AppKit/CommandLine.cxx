@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "CommandLine.h"
 
+#include "Messages.h"
+
 #include "base/Error.h"
 #include "base/Text.h"
 
@@ -62,6 +64,8 @@ void ParseCommandLine(CLI::App& app, int argc, char** argv)
   {
     FailUsage(app, e.what());
   }
+  // Content errors from here on read `Program: what: why`, not as VTK's log lines.
+  UseProgramMessages(app.get_name());
 }
 
 void FailUsage(const CLI::App& app, const std::string& message)

@@ -19,6 +19,7 @@ namespace appkit
 {
 /// Parses the command line into `app`. --help prints the help and exits with 0; an error
 /// prints "<program>: <message>" and "(see <program> --help)" to stderr and exits with 2.
+/// Then VTK's errors print as "<program>: <message>" too (UseProgramMessages, Messages.h).
 void ParseCommandLine(CLI::App& app, int argc, char** argv);
 
 /// A usage error found after parsing (e.g. options that do not go together): prints it as

@@ -8,7 +8,13 @@
 #include "base/Text.h"
 #include "behavior/HeadPose.h"
 
+#include "audio/AudioFile.h"
+#include "speech/Rhubarb.h"
+#include "speech/Speech.h"
+
 #include "vtkCamera.h"
+#include "vtkInformation.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkCoordinate.h"
 #include "vtkProperty.h"
 #include "vtkSmartPointer.h"
@@ -50,8 +56,42 @@ bool Avatar::SetUpBehavior()
     return false;
   }
   const double speechStart = o.Script.empty() ? 0.5 : -1.0;
-  if (!o.Audio.empty() || !o.Timings.empty())
+  const bool performance = !o.Animation.empty() || !o.Capture.empty();
+  if (performance && !o.Audio.empty())
   {
+    // The performance's sound, from time 0 as the performance: the recording as it is,
+    // the mouth at rest (the performance moves the face, not the behaviour's visemes).
+    try
+    {
+      const morphnode::AudioBuffer sound = morphnode::MixToMono(morphnode::ReadAudioFile(o.Audio));
+      morphnode::SpeechOptions speech;
+      speech.Visemes = morphnode::ParseVisemeSet(behavior->GetVisemeSetAsString());
+      morphnode::Utterance u = morphnode::UtteranceFromMouthCues(
+        { morphnode::MouthCue{ 0.0, sound.GetDuration(), 'X' } }, speech);
+      u.SampleRate = sound.SampleRate;
+      u.Audio.resize(sound.Samples.size());
+      for (size_t i = 0; i < sound.Samples.size(); ++i)
+      {
+        u.Audio[i] = static_cast<int16_t>(std::lround(32767.0 * std::clamp(sound.Samples[i], -1.0f, 1.0f)));
+      }
+      u.Duration = std::max(u.Duration, sound.GetDuration());
+      if (!behavior->Speak(u, 0.0))
+      {
+        return false;
+      }
+    }
+    catch (const std::exception& e)
+    {
+      std::cerr << "MorphAvatar: " << e.what() << "\n";
+      return false;
+    }
+  }
+  else if (!o.Audio.empty() || !o.Timings.empty())
+  {
+    if (!behavior->SetTimingFormat(o.TimingsFormat.c_str()))
+    {
+      return false;
+    }
     std::string transcript = o.Text;
     if (!o.TextFile.empty())
     {
@@ -101,6 +141,44 @@ bool Avatar::SetUpBehavior()
   return true;
 }
 
+bool Avatar::SetUpPerformance()
+{
+  const Options& o = this->Opt;
+  double end = -1.0;
+  if (!o.Animation.empty())
+  {
+    end = this->Reader->GetAnimationEndTime();
+  }
+  else if (!o.Capture.empty())
+  {
+    this->Capture->UpdateInformation();
+    this->Capture->Update();
+    vtkInformation* info = this->Capture->GetOutputInformation(0);
+    if (this->Capture->GetOutput()->GetNumberOfColumns() == 0 ||
+      !info->Has(vtkStreamingDemandDrivenPipeline::TIME_RANGE()))
+    {
+      std::cerr << "MorphAvatar: cannot play the take " << o.Capture << " (see above)\n";
+      return false;
+    }
+    end = info->Get(vtkStreamingDemandDrivenPipeline::TIME_RANGE())[1];
+    if (!o.Quiet)
+    {
+      std::cout << this->Capture->GetMappingReport() << "\n";
+    }
+  }
+  if (end >= 0.0 && o.Duration < 0.0)
+  {
+    // The performance's length (and its sound's), unless --duration says otherwise.
+    for (int u = 0; u < this->Behavior->GetNumberOfUtterances(); ++u)
+    {
+      end = std::max(end, this->Behavior->GetUtteranceEnd(u));
+    }
+    this->Behavior->SetDuration(std::max(end, 1.0 / this->Fps));
+    this->Duration = this->Behavior->GetEffectiveDuration();
+  }
+  return true;
+}
+
 bool Avatar::SetUpFace()
 {
   const Options& o = this->Opt;
@@ -115,7 +193,49 @@ bool Avatar::SetUpFace()
   this->Morph->SetWeightModeToRelative();
   // For ParaView: colour by AnimatedRegion or Distance_<target>.
   this->Morph->SetGenerateDistanceArrays(!o.Pvd.empty());
-  if (!o.Rig.empty())
+  // The weights: the behaviour's (through the rig), or a recorded performance: the face
+  // file's own glTF animation (the reader's port 1, weights by target name) or a Live Link
+  // Face take (its ARKit shapes mapped onto the face's targets by name, its angles).
+  this->WeightSource = this->Behavior;
+  if (!o.Animation.empty())
+  {
+    // The file's animations (names, else animation<i>), checked before the reader reads
+    // the chosen one: a name or index it lacks is told with the ones it has.
+    this->Reader->UpdateInformation();
+    int index = -1;
+    if (!morphnode::text::ParseNumber(o.Animation, index))
+    {
+      index = -1;
+      for (int i = 0; i < this->Reader->GetNumberOfAnimations(); ++i)
+      {
+        index = o.Animation == this->Reader->GetAnimationNameByIndex(i) ? i : index;
+      }
+    }
+    if (index < 0 || index >= this->Reader->GetNumberOfAnimations())
+    {
+      std::ostringstream names;
+      for (int i = 0; i < this->Reader->GetNumberOfAnimations(); ++i)
+      {
+        names << (i ? ", " : "") << i << " '" << this->Reader->GetAnimationNameByIndex(i) << "'";
+      }
+      std::cerr << "MorphAvatar: " << this->FaceFile << ": no animation '" << o.Animation << "' ("
+                << (names.str().empty() ? std::string("the file has none") : "it has " + names.str())
+                << ")\n";
+      return false;
+    }
+    this->Reader->SetAnimationIndex(index);
+    this->Morph->SetWeightsConnection(this->Reader->GetOutputPort(1));
+    this->WeightSource = this->Reader;
+    this->WeightPort = 1;
+  }
+  else if (!o.Capture.empty())
+  {
+    this->Capture->SetFileName(o.Capture.c_str());
+    this->Capture->SetFaceConnection(this->Reader->GetOutputPort());
+    this->Morph->SetWeightsConnection(this->Capture->GetOutputPort(0));
+    this->WeightSource = this->Capture;
+  }
+  else if (!o.Rig.empty())
   {
     this->Rig->SetRigFileName(o.Rig.c_str());
     this->Rig->SetInputConnection(this->Behavior->GetOutputPort(0));
@@ -126,23 +246,33 @@ bool Avatar::SetUpFace()
   {
     this->Morph->SetWeightsConnection(this->Behavior->GetOutputPort(0));
   }
-  // The eyes look where the behaviour looks (saccades, LookAt, idle fixations): its EyeYaw
-  // and EyePitch turn the eye parts (found by the rig's "eyes" section, else by name).
+  // The eyes look where the behaviour (or the take) looks (saccades, LookAt, idle
+  // fixations): its EyeYaw and EyePitch turn the eye parts (found by the rig's "eyes"
+  // section, else by name).
   this->Gaze->SetInputConnection(this->Morph->GetOutputPort());
-  this->Gaze->SetGazeConnection(this->Behavior->GetOutputPort(0));
+  // (A glTF animation's weights carry no gaze angles: the eyes stay as the file has them.)
+  this->Gaze->SetGazeConnection(
+    o.Animation.empty() ? this->WeightSource->GetOutputPort(this->WeightPort) : nullptr);
   if (!o.Rig.empty())
   {
     this->Gaze->SetRigFileName(o.Rig.c_str());
   }
   // A skinned avatar: its bones follow the behaviour's head pose and gaze (docs/avatars.md).
   this->Skin->SetInputConnection(this->Gaze->GetOutputPort());
-  this->Skin->SetPoseConnection(this->Behavior->GetOutputPort(0));
+  // (A take carries the head pose and gaze; a glTF animation's weights do not: then the
+  // behaviour's idle pose.)
+  this->Skin->SetPoseConnection(o.Animation.empty() ? this->WeightSource->GetOutputPort(this->WeightPort)
+                                                    : this->Behavior->GetOutputPort(0));
   this->Skin->SetTurnEyes(o.Gaze != "targets");
   this->Skin->SetRelaxArms(o.Pose == "relaxed");
   this->Reader->Update();
   if (!appkit::HeadBounds(this->Reader->GetOutputDataObject(0), this->Bounds))
   {
     std::cerr << "MorphAvatar: cannot read a face from " << this->FaceFile << " (see above)\n";
+    return false;
+  }
+  if (!this->SetUpPerformance())
+  {
     return false;
   }
   const double* b = this->Bounds;
@@ -163,7 +293,7 @@ bool Avatar::SetUpFace()
     return false;
   }
   this->FrameView();
-  if (o.Rig.empty())
+  if (o.Rig.empty() && this->WeightSource == this->Behavior.GetPointer())
   {
     // Without a rig the channels must name the face's targets.
     int matched = 0;
@@ -212,6 +342,15 @@ void Avatar::SetUpScene()
   {
     caption += (caption.empty() ? "\"" : " + \"") + o.Say + "\"";
   }
+  if (!o.Capture.empty())
+  {
+    caption = std::filesystem::path(o.Capture).filename().string();
+  }
+  if (!o.Animation.empty())
+  {
+    caption = std::string("animation '") +
+      this->Reader->GetAnimationNameByIndex(this->Reader->GetChosenAnimation()) + "'";
+  }
   this->Caption->SetInput(caption.c_str());
   vtkTextProperty* captionText = this->Caption->GetTextProperty();
   captionText->SetFontSize(std::max(10, o.Height / 36));
@@ -230,13 +369,28 @@ void Avatar::SetUpScene()
   appkit::HeadActors::SetUpView(this->Renderer, this->ViewBounds);
 }
 
+bool Avatar::DecidesPerShape() const
+{
+  // With a rig the optimizer decides per rig shape (vtkMorphRigFilter, rig/RigOptimizer.h):
+  // a viseme's targets are kept or pruned together, so closures and roundings survive every
+  // method. The frame budget steers the morph filter's own threshold, per target.
+  return !this->Opt.Rig.empty() && this->Opt.FrameBudget <= 0.0;
+}
+
 void Avatar::ApplyMethod()
 {
   // The preset (morph/OptimizerPresets.h) reads the threshold and the error bound.
+  const bool perShape = this->DecidesPerShape();
+  this->Rig->SetThreshold(this->Threshold);
+  this->Rig->SetMaxVertexError(this->MaxError);
+  this->Rig->SetHysteresis(this->Opt.Hysteresis);
+  this->Rig->SetOptimizerPreset(perShape ? static_cast<int>(this->Method) : 0);
+  this->Rig->ResetHysteresis();
   this->Morph->SetThreshold(this->Threshold);
   this->Morph->SetMaxVertexError(this->MaxError);
   this->Morph->SetHysteresis(this->Opt.Hysteresis);
-  this->Morph->SetOptimizerPreset(static_cast<int>(this->Method));
+  this->Morph->SetOptimizerPreset(
+    perShape ? vtkMorphNodeFilter::OPTIMIZER_NONE : static_cast<int>(this->Method));
   this->Morph->ResetHysteresis();
 }
 
@@ -257,7 +411,7 @@ bool Avatar::Update(double t)
     std::cerr << "MorphAvatar: the head's parts changed while it ran\n";
     return false;
   }
-  auto* weights = vtkTable::SafeDownCast(this->Behavior->GetOutputDataObject(0));
+  auto* weights = vtkTable::SafeDownCast(this->WeightSource->GetOutputDataObject(this->WeightPort));
   // A skinned avatar turns its head by its joints; the whole body must not turn.
   appkit::SetHeadPose(this->HeadPose,
     this->Skin->GetHasHeadBones() ? morphnode::HeadAngles{} : appkit::ReadHeadAngles(weights), this->Pivot);
@@ -329,9 +483,10 @@ std::string Avatar::OverlayText(bool offscreen, int frame, int frames) const
       break;
   }
   const int targets = std::max(0, this->Morph->GetNumberOfTargets() - 1);
+  const double bound = this->DecidesPerShape() ? this->Rig->GetLastErrorBound() : this->Morph->GetErrorBound();
   os << "active targets " << this->Morph->GetActiveTargetCount() << " / " << targets
-     << "   error bound " << std::setprecision(2)
-     << 100.0 * this->Morph->GetErrorBound() / this->Diagonal << " %\n";
+     << (this->DecidesPerShape() ? " (decided per rig shape)" : "") << "   error bound "
+     << std::setprecision(2) << 100.0 * bound / this->Diagonal << " %\n";
   os << "t = " << std::setprecision(2) << this->Time << " s / " << this->Duration << " s";
   if (!offscreen)
   {

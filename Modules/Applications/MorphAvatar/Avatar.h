@@ -19,6 +19,7 @@
 
 #include "vtkBehaviorTimeSource.h"
 #include "vtkEyeGazeFilter.h"
+#include "vtkLiveLinkFaceReader.h"
 #include "vtkMorphNodeFilter.h"
 #include "vtkMorphRigFilter.h"
 #include "vtkMorphSkinFilter.h"
@@ -44,6 +45,11 @@ struct Avatar
   Options Opt;
   vtkNew<vtkBehaviorTimeSource> Behavior;
   vtkNew<vtkMorphTargetReader> Reader;
+  vtkNew<vtkLiveLinkFaceReader> Capture; // --capture
+  /// Where the weights (and the head and eye angles) come from: the behaviour, the reader's
+  /// animation (port 1) or the take.
+  vtkAlgorithm* WeightSource = nullptr;
+  int WeightPort = 0;
   vtkNew<vtkMorphRigFilter> Rig;
   vtkNew<vtkMorphNodeFilter> Morph;
   vtkNew<vtkEyeGazeFilter> Gaze;
@@ -98,10 +104,16 @@ struct Avatar
   bool SetUpFace();
   /// The actors, the overlay, the caption and the window.
   void SetUpScene();
+  /// --animation, --capture: checks the animation or the take and takes its length as the
+  /// duration (unless --duration). False with a message.
+  bool SetUpPerformance();
 
   /// The optimizer of Method, Threshold and MaxError (and the option's hysteresis) on the
+  /// rig filter (deciding per rig shape) or, without a rig or with a frame budget, on the
   /// morph filter.
   void ApplyMethod();
+  /// Whether the optimizer decides per rig shape (a rig and no frame budget).
+  bool DecidesPerShape() const;
   /// The morphed head with its eyes turned (a composite of parts, or a vtkPolyData), a
   /// skinned avatar posed.
   vtkDataObject* GetHead() const;

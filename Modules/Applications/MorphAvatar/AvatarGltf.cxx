@@ -33,7 +33,14 @@ bool ExportGltf(Avatar& a)
   {
     writer->SetPerformanceConnection(a.Behavior->GetOutputPort(1));
   }
-  writer->SetApplyOptimizer(o.GltfOptimized);
+  // With a rig the shapes are decided (rig/RigOptimizer.h) before the expansion; the writer
+  // then writes the expanded weights as they are.
+  const bool perShape = a.DecidesPerShape();
+  rig->SetOptimizerPreset(perShape && o.GltfOptimized ? static_cast<int>(a.Method) : 0);
+  rig->SetThreshold(a.Threshold);
+  rig->SetMaxVertexError(a.MaxError);
+  rig->SetHysteresis(o.Hysteresis);
+  writer->SetApplyOptimizer(o.GltfOptimized && !perShape);
   writer->SetOptimizerPreset(static_cast<int>(a.Method));
   writer->SetThreshold(a.Threshold);
   writer->SetMaxVertexError(a.MaxError);

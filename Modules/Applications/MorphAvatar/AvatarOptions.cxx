@@ -77,13 +77,38 @@ Options ParseOptions(int argc, char* argv[])
     ->needs(audio)
     ->excludes(text)
     ->group(recorded);
-  app.add_option("--timings", o.Timings,
-       "a timing file (.pho, Rhubarb TSV/JSON, Praat TextGrid, Polly speech marks): of --audio, "
-       "or alone to move the mouth without sound")
+  auto* timings = app.add_option("--timings", o.Timings,
+       "a timing file (.pho, Rhubarb TSV/JSON/XML, Praat TextGrid, Polly speech marks): of "
+       "--audio (e.g. the cues Rhubarb Lip Sync computed from it), or alone to move the mouth "
+       "without sound")
     ->check(CLI::ExistingFile)
     ->excludes(text)
     ->excludes(textFile)
     ->group(recorded);
+  app.add_option("--timings-format", o.TimingsFormat,
+       "the format of --timings where its extension does not tell: auto, pho, rhubarb-tsv, "
+       "rhubarb-json, rhubarb-xml, textgrid, speech-marks")
+    ->check(CLI::IsMember({ "auto", "pho", "rhubarb-tsv", "rhubarb-json", "rhubarb-xml",
+      "textgrid", "speech-marks" }, CLI::ignore_case))
+    ->capture_default_str()
+    ->needs(timings)
+    ->group(recorded);
+  const std::string played = "Recorded performances (docs/avatar.md)";
+  auto* animation = app.add_option("--animation", o.Animation,
+       "play the face file's own glTF animation (its name or index; e.g. a --gltf export read "
+       "back with --face), with --audio as its sound")
+    ->type_name("NAME|INDEX")
+    ->group(played);
+  auto* capture = app.add_option("--capture", o.Capture,
+       "play a Live Link Face take (CSV, docs/capture.md) on the face: its ARKit shapes onto the "
+       "face's targets by name, its head and eye angles; with --audio as its sound")
+    ->check(CLI::ExistingFile)
+    ->excludes(animation)
+    ->group(played);
+  for (CLI::Option* performance : { animation, capture })
+  {
+    performance->excludes(text)->excludes(textFile)->excludes(timings);
+  }
   app.add_option("--seed", o.Seed, "seed of the idle behaviour (default 1 or the script's)")
     ->check(appkit::UnsignedInteger())
     ->group(say);
@@ -228,7 +253,14 @@ Options ParseOptions(int argc, char* argv[])
     FailUsage("--listen and --commands-stdin run in real time; --frames, --video, --pvd, --png, "
               "--compare and --at render a fixed behaviour offline");
   }
-  if (o.Say.empty() && o.Script.empty() && o.Audio.empty() && o.Timings.empty() && !isLive)
+  const bool performance = !o.Animation.empty() || !o.Capture.empty();
+  if (performance && (isLive || !o.Say.empty() || !o.Script.empty() || !o.Gltf.empty()))
+  {
+    FailUsage("--animation and --capture play a recorded performance; leave out --say, --script, "
+              "--gltf, --listen and --commands-stdin");
+  }
+  if (o.Say.empty() && o.Script.empty() && o.Audio.empty() && o.Timings.empty() && !isLive &&
+    !performance)
   {
     o.Say = o.Voice.rfind("de", 0) == 0 ? "Hallo! Ich bin ein Avatar mit Morph-Targets."
                                         : "Hello! I am an avatar made of morph targets.";

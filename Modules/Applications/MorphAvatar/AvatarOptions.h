@@ -25,6 +25,9 @@ struct Options
   std::string Text;     // its transcript
   std::string TextFile; // its transcript, from a file
   std::string Timings;  // a timing file (of the recording, or alone: speech without sound)
+  std::string TimingsFormat = "auto"; // its format where the extension does not tell
+  std::string Animation; // play the face file's own glTF animation (a name or an index)
+  std::string Capture;   // play a Live Link Face take (CSV)
   double Duration = -1.0; // < 0: the script's, else automatic
   double Fps = -1.0;      // < 0: the script's, else 30
   int Width = 640;

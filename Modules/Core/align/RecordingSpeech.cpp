@@ -97,8 +97,40 @@ Utterance SpeakRecording(const AudioBuffer& recording, const SpeechOptions& spee
       {
         throw InputError("the timing-file route needs a timing file");
       }
-      phonemes = LoadTimedPhonemes(options.TimingFile, language, options.Timing);
       done.Score = 1.0;
+      const std::string bytes = text::ReadFile(options.TimingFile, "timing file");
+      const TimingFormat format = options.Timing.Format == TimingFormat::Auto
+        ? GuessTimingFormat(options.TimingFile, bytes)
+        : options.Timing.Format;
+      if (IsRhubarbFormat(format))
+      {
+        // Rhubarb's mouth cues (what it computes from a recording: its main use) become the
+        // visemes as they are; the recording is their sound, from time 0 as the cues.
+        TimingFileOptions timing = options.Timing;
+        timing.Format = format;
+        Utterance u = LoadTimingFile(options.TimingFile, speech, timing);
+        int rate = 0;
+        u.Audio = SoundOf(recording, rate);
+        u.SampleRate = rate;
+        const double seconds = static_cast<double>(u.Audio.size()) / rate;
+        if (u.Duration > seconds + 0.5 && speech.Warn)
+        {
+          speech.Warn("the mouth cues of '" + options.TimingFile + "' run " +
+            text::FormatNumber(std::round((u.Duration - seconds) * 100) / 100) +
+            " s past the end of the recording");
+        }
+        u.Duration = std::max(u.Duration, seconds);
+        if (options.Progress)
+        {
+          options.Progress(1.0);
+        }
+        if (report)
+        {
+          *report = std::move(done);
+        }
+        return u;
+      }
+      phonemes = LoadTimedPhonemes(options.TimingFile, language, options.Timing);
       const double end = phonemes.empty() ? 0.0 : phonemes.back().Start + phonemes.back().Duration;
       if (end > recording.GetDuration() + 0.5 && speech.Warn)
       {

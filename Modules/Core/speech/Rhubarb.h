@@ -44,8 +44,15 @@ std::vector<MouthCue> ReadRhubarbJson(std::istream& in);
 void WriteRhubarbJson(std::ostream& out, const std::vector<MouthCue>& cues,
   const std::string& soundFile = "", double duration = -1.0);
 
-/// Reads either export: JSON when the first non-blank character is '{', else TSV (the last
-/// TSV cue then has zero length, as Rhubarb ends with an X). InputError as the readers.
+/// Reads XML (`rhubarb --exportFormat xml`): `<rhubarbResult><metadata>..</metadata>
+/// <mouthCues><mouthCue start="0.00" end="0.23">X</mouthCue>..</mouthCues></rhubarbResult>`,
+/// parsed with expat (Debian's libexpat1-dev). InputError naming the line for malformed XML,
+/// a missing or bad start/end, an unknown shape, end < start or starts that decrease.
+std::vector<MouthCue> ReadRhubarbXml(std::istream& in);
+
+/// Reads any export: JSON when the first non-blank character is '{', XML when it is '<',
+/// else TSV (the last TSV cue then has zero length, as Rhubarb ends with an X). InputError
+/// as the readers.
 std::vector<MouthCue> ParseRhubarb(const std::string& text);
 /// Same from a file; InputError naming the file when it cannot be opened or is malformed.
 std::vector<MouthCue> ReadRhubarbFile(const std::string& path);

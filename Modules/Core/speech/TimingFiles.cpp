@@ -54,6 +54,12 @@ std::vector<TimedPhoneme> PhonemesFrom(TimingFormat format, const std::string& b
 }
 } // namespace
 
+bool IsRhubarbFormat(TimingFormat format)
+{
+  return format == TimingFormat::RhubarbTsv || format == TimingFormat::RhubarbJson ||
+    format == TimingFormat::RhubarbXml;
+}
+
 const char* TimingFormatName(TimingFormat format)
 {
   switch (format)
@@ -64,6 +70,8 @@ const char* TimingFormatName(TimingFormat format)
       return "rhubarb-tsv";
     case TimingFormat::RhubarbJson:
       return "rhubarb-json";
+    case TimingFormat::RhubarbXml:
+      return "rhubarb-xml";
     case TimingFormat::TextGrid:
       return "textgrid";
     case TimingFormat::SpeechMarks:
@@ -78,7 +86,8 @@ TimingFormat ParseTimingFormat(const std::string& name)
 {
   const std::string n = text::ToLower(name);
   for (TimingFormat f : { TimingFormat::Auto, TimingFormat::Pho, TimingFormat::RhubarbTsv,
-         TimingFormat::RhubarbJson, TimingFormat::TextGrid, TimingFormat::SpeechMarks })
+         TimingFormat::RhubarbJson, TimingFormat::RhubarbXml, TimingFormat::TextGrid,
+         TimingFormat::SpeechMarks })
   {
     if (n == TimingFormatName(f))
     {
@@ -86,7 +95,7 @@ TimingFormat ParseTimingFormat(const std::string& name)
     }
   }
   throw InputError("unknown timing format " + text::Quote(name) +
-    " (auto, pho, rhubarb-tsv, rhubarb-json, textgrid, speech-marks)");
+    " (auto, pho, rhubarb-tsv, rhubarb-json, rhubarb-xml, textgrid, speech-marks)");
 }
 
 TimingFormat GuessTimingFormat(const std::string& path, const std::string& bytes)
@@ -126,6 +135,10 @@ TimingFormat GuessTimingFormat(const std::string& path, const std::string& bytes
   {
     return TimingFormat::RhubarbJson;
   }
+  if (ascii.find("<rhubarbResult") != std::string::npos || EndsWith(path, ".xml"))
+  {
+    return TimingFormat::RhubarbXml;
+  }
   if (ascii.find("\"time\"") != std::string::npos && ascii.find("\"type\"") != std::string::npos)
   {
     return TimingFormat::SpeechMarks;
@@ -147,7 +160,7 @@ TimingFormat GuessTimingFormat(const std::string& path, const std::string& bytes
     return TimingFormat::Pho;
   }
   throw InputError("'" + path + "': cannot tell the timing format (use the extension .pho, "
-    ".tsv, .json, .TextGrid or .marks, or name the format)");
+    ".tsv, .json, .xml, .TextGrid or .marks, or name the format: --timings-format)");
 }
 
 std::vector<TimedPhoneme> LoadTimedPhonemes(const std::string& path, const std::string& language,
@@ -175,11 +188,12 @@ Utterance LoadTimingFile(const std::string& path, const SpeechOptions& speech,
   {
     const TimingFormat format =
       options.Format == TimingFormat::Auto ? GuessTimingFormat(path, bytes) : options.Format;
-    if (format == TimingFormat::RhubarbTsv || format == TimingFormat::RhubarbJson)
+    if (IsRhubarbFormat(format))
     {
       std::istringstream in(bytes);
-      const std::vector<MouthCue> cues =
-        format == TimingFormat::RhubarbTsv ? ReadRhubarbTsv(in) : ReadRhubarbJson(in);
+      const std::vector<MouthCue> cues = format == TimingFormat::RhubarbTsv ? ReadRhubarbTsv(in)
+        : format == TimingFormat::RhubarbJson                             ? ReadRhubarbJson(in)
+                                                                          : ReadRhubarbXml(in);
       return UtteranceFromMouthCues(cues, speech);
     }
     return UtteranceFromPhonemes(PhonemesFrom(format, bytes, LanguageOf(speech), options), speech);

@@ -18,12 +18,15 @@ enum class TimingFormat
   Pho,         ///< .pho
   RhubarbTsv,  ///< .tsv, .txt of `start<TAB>shape`
   RhubarbJson, ///< .json with "mouthCues"
+  RhubarbXml,  ///< .xml with <rhubarbResult>
   TextGrid,    ///< .TextGrid
   SpeechMarks  ///< .marks, .jsonl, .json of one object per line with "time" and "type"
 };
 
-/// "auto", "pho", "rhubarb-tsv", "rhubarb-json", "textgrid", "speech-marks".
+/// "auto", "pho", "rhubarb-tsv", "rhubarb-json", "rhubarb-xml", "textgrid", "speech-marks".
 const char* TimingFormatName(TimingFormat format);
+/// True for the three Rhubarb exports (mouth shapes, not phonemes).
+bool IsRhubarbFormat(TimingFormat format);
 /// Parses those names (case-insensitive); InputError for others.
 TimingFormat ParseTimingFormat(const std::string& name);
 

@@ -183,3 +183,58 @@ TEST(PhonemeRecognition, RealSpeechFromPocketsphinxTestdata)
   cancel.Progress = [](double) { return false; };
   EXPECT_NE(ErrorOf([&] { RecognizePhonemes(audio, cancel); }).find("cancelled"), std::string::npos);
 }
+
+// Rhubarb is run on recordings (its main use): its cues in TSV, JSON or XML with the
+// recording give the recording a mouth, in sync (the cues' times are the sound's times).
+TEST(RecordingSpeech, RhubarbCuesOfTheRecording)
+{
+  AudioBuffer audio;
+  audio.SampleRate = 16000;
+  audio.Channels = 1;
+  audio.Samples.assign(16000, 0.01f); // one second
+  const std::string tsv = Output + "/recording_cues.tsv";
+  const std::string json = Output + "/recording_cues.json";
+  const std::string xml = Output + "/recording_cues.xml";
+  const std::string unnamed = Output + "/recording_cues.dat";
+  std::ofstream(tsv) << "0.00\tX\n0.20\tA\n0.40\tD\n0.80\tX\n";
+  std::ofstream(json) << R"({"metadata": {"soundFile": "r.wav", "duration": 1.0}, "mouthCues": [
+    {"start": 0.0, "end": 0.2, "value": "X"}, {"start": 0.2, "end": 0.4, "value": "A"},
+    {"start": 0.4, "end": 0.8, "value": "D"}, {"start": 0.8, "end": 1.0, "value": "X"}]})";
+  const std::string xmlText = R"(<?xml version="1.0" encoding="utf-8"?>
+<rhubarbResult><metadata><soundFile>r.wav</soundFile><duration>1.00</duration></metadata>
+<mouthCues><mouthCue start="0.00" end="0.20">X</mouthCue><mouthCue start="0.20" end="0.40">A</mouthCue>
+<mouthCue start="0.40" end="0.80">D</mouthCue><mouthCue start="0.80" end="1.00">X</mouthCue></mouthCues>
+</rhubarbResult>)";
+  std::ofstream(xml) << xmlText;
+  std::ofstream(unnamed) << xmlText;
+  SpeechOptions speech;
+  for (const std::string& file : { tsv, json, xml, unnamed })
+  {
+    RecordingOptions options;
+    options.TimingFile = file;
+    if (file == unnamed)
+    {
+      options.Timing.Format = ParseTimingFormat("rhubarb-xml"); // --timings-format
+    }
+    RecordingReport report;
+    const Utterance u = SpeakRecording(audio, speech, options, &report);
+    EXPECT_EQ(report.Route, RecordingRoute::TimingFile) << file;
+    ASSERT_FALSE(u.Audio.empty()) << file;
+    EXPECT_NEAR(static_cast<double>(u.Audio.size()) / u.SampleRate, 1.0, 1e-3) << file;
+    // In sync: closed lips (A, 0.2-0.4 s) around 0.3 s less the mouth's lead, open (D,
+    // 0.4-0.8 s) around 0.6 s, rest before 0.1 s.
+    const double lead = speech.Coarticulation.Lead;
+    const int pp = u.Visemes.FindChannel("PP");
+    const int aa = u.Visemes.FindChannel("aa");
+    ASSERT_GE(pp, 0);
+    ASSERT_GE(aa, 0);
+    EXPECT_GT(u.Visemes.Sample(0.3 - lead, static_cast<size_t>(pp)), 0.99) << file;
+    EXPECT_GT(u.Visemes.Sample(0.6 - lead, static_cast<size_t>(aa)), 0.5) << file;
+    EXPECT_LT(u.Visemes.Sample(0.6 - lead, static_cast<size_t>(pp)), 0.1) << file;
+    EXPECT_LT(u.Visemes.Sample(0.05, static_cast<size_t>(aa)), 0.1) << file;
+  }
+  // Without the format, an unknown extension and XML content still tells (<rhubarbResult).
+  RecordingOptions guessed;
+  guessed.TimingFile = unnamed;
+  EXPECT_NO_THROW(SpeakRecording(audio, speech, guessed));
+}

@@ -161,3 +161,63 @@ TEST(Rhubarb, VisemesToShapesAndBack)
   EXPECT_GE(fromCues.Visemes.Sample(0.16, aa), 0.7);
   EXPECT_DOUBLE_EQ(fromCues.Duration, Cues().back().End);
 }
+
+// Rhubarb's XML export as its documentation shows it (`--exportFormat xml`).
+TEST(Rhubarb, XmlExportReadsLikeJson)
+{
+  const std::string xml = R"(<?xml version="1.0" encoding="utf-8"?>
+<rhubarbResult>
+  <metadata>
+    <soundFile>C:\Users\Daniel\Desktop\av\rhubarb\tests\resources\abcdefghx.wav</soundFile>
+    <duration>6.92</duration>
+  </metadata>
+  <mouthCues>
+    <mouthCue start="0.00" end="0.01">X</mouthCue>
+    <mouthCue start="0.01" end="0.08">E</mouthCue>
+    <mouthCue start="0.08" end="0.29">B</mouthCue>
+    <mouthCue start="0.29" end="0.36">A</mouthCue>
+    <mouthCue start="0.36" end="6.92">X</mouthCue>
+  </mouthCues>
+</rhubarbResult>
+)";
+  const std::string json = R"({"metadata": {"soundFile": "x.wav", "duration": 6.92}, "mouthCues": [
+    {"start": 0.00, "end": 0.01, "value": "X"}, {"start": 0.01, "end": 0.08, "value": "E"},
+    {"start": 0.08, "end": 0.29, "value": "B"}, {"start": 0.29, "end": 0.36, "value": "A"},
+    {"start": 0.36, "end": 6.92, "value": "X"}]})";
+  std::istringstream in(xml), jin(json);
+  const auto cues = ReadRhubarbXml(in);
+  ASSERT_EQ(cues.size(), 5u);
+  EXPECT_EQ(cues[3].Shape, 'A');
+  EXPECT_DOUBLE_EQ(cues[3].Start, 0.29);
+  EXPECT_DOUBLE_EQ(cues[4].End, 6.92);
+  ExpectSame(cues, ReadRhubarbJson(jin));
+  ExpectSame(ParseRhubarb(xml), cues); // '<' first: XML
+}
+
+TEST(Rhubarb, MalformedXmlIsRejected)
+{
+  auto error = [](const std::string& body) {
+    std::istringstream in("<rhubarbResult><mouthCues>\n" + body + "</mouthCues></rhubarbResult>");
+    try
+    {
+      ReadRhubarbXml(in);
+    }
+    catch (const InputError& e)
+    {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_EQ(error(R"(<mouthCue start="0" end="1">A</mouthCue>)"), "");
+  EXPECT_NE(error(R"(<mouthCue start="0" end="1">Q</mouthCue>)").find("line 2: a mouthCue's shape"), std::string::npos);
+  EXPECT_NE(error(R"(<mouthCue start="0">A</mouthCue>)").find("needs 'start' and 'end'"), std::string::npos);
+  EXPECT_NE(error(R"(<mouthCue start="x" end="1">A</mouthCue>)").find("time in seconds"), std::string::npos);
+  EXPECT_NE(error(R"(<mouthCue start="-1" end="1">A</mouthCue>)").find("time in seconds"), std::string::npos);
+  EXPECT_NE(error(R"(<mouthCue start="2" end="1">A</mouthCue>)").find("ends before it starts"), std::string::npos);
+  EXPECT_NE(error(R"(<mouthCue start="1" end="2">A</mouthCue><mouthCue start="0" end="1">X</mouthCue>)")
+              .find("starts before"), std::string::npos);
+  EXPECT_NE(error(R"(<mouthCue start="0" end="1"><b/>A</mouthCue>)").find("only its shape"), std::string::npos);
+  EXPECT_NE(error(R"(<mouthCue start="0" end="1">A</mouthCu>)").find("not valid XML"), std::string::npos);
+  std::istringstream empty("");
+  EXPECT_THROW(ReadRhubarbXml(empty), InputError);
+}
