@@ -18,6 +18,7 @@
 #include "Avatar.h"
 #include "AvatarGltf.h"
 #include "AvatarLive.h"
+#include "AvatarServe.h"
 #include "AvatarFrameBudget.h"
 
 #include <cstdlib>
@@ -28,6 +29,10 @@ int main(int argc, char* argv[])
   using namespace morphavatar;
   Avatar a;
   a.Opt = ParseOptions(argc, argv);
+  if (!a.Opt.Serve.empty())
+  {
+    return RunServe(a.Opt); // browsers are the faces (docs/streaming.md): no window, no display
+  }
   // --gltf alone writes a file and renders nothing.
   const bool render = a.Opt.Gltf.empty() || a.Opt.Offscreen || IsLive(a.Opt);
   if (render && !std::getenv("DISPLAY"))

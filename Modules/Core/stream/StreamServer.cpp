@@ -484,6 +484,17 @@ private:
     {
       return this->Respond(request, http::status::method_not_allowed, "text/plain", "GET only\n");
     }
+    if (path == "/status")
+    {
+      // The server's figures (sessions, frames, bytes) as JSON, for tests and monitors.
+      const size_t sessions = this->Server.CountSessions();
+      std::ostringstream j;
+      j << "{\"sessions\":" << sessions << ",\"started\":" << this->Server.SessionsStarted
+        << ",\"refused\":" << this->Server.SessionsRefused << ",\"clientErrors\":" << this->Server.ClientErrors
+        << ",\"frames\":" << this->Server.FramesSent << ",\"late\":" << this->Server.FramesLate
+        << ",\"bytes\":" << this->Server.BytesSent << "}\n";
+      return this->Respond(request, http::status::ok, "application/json", j.str());
+    }
     const auto file = this->Server.S.Files.find(path);
     if (file != this->Server.S.Files.end())
     {
