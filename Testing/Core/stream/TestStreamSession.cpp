@@ -13,7 +13,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <set>
 
 using namespace morphnode;
@@ -38,6 +40,20 @@ const GltfScene& DefaultHead()
   static const GltfScene scene =
     LoadGltfScene(std::string(MORPHNODE_SOURCE_DIR) + "/Data/DefaultFace/default_head.glb");
   return scene;
+}
+
+/// Writes the avatar file into the Khronos validator test's folder when it runs this
+/// program (MORPHNODE_GLTF_EXPORT_DIR; GltfValidatorStreamAvatar).
+void WriteForValidator(const StreamAvatar& avatar, const std::string& name)
+{
+  const char* dir = std::getenv("MORPHNODE_GLTF_EXPORT_DIR");
+  if (!dir || !*dir)
+  {
+    return;
+  }
+  std::filesystem::create_directories(dir);
+  std::ofstream out(std::string(dir) + "/" + name, std::ios::binary);
+  out.write(reinterpret_cast<const char*>(avatar.GetFile().data()), static_cast<std::streamsize>(avatar.GetFile().size()));
 }
 
 struct Decoded
@@ -88,6 +104,7 @@ TEST(StreamAvatar, DefaultHeadFileHasDrivenTargetsAndRotationNodes)
 {
   const SpeechOptions speech = Paper6();
   const StreamAvatar avatar(DefaultHead(), ChannelsOf(speech));
+  WriteForValidator(avatar, "stream_default_head.glb");
   const auto& targets = avatar.GetTargetNames();
   EXPECT_GE(targets.size(), 6u);
   EXPECT_NE(std::find(targets.begin(), targets.end(), "A"), targets.end());
@@ -124,6 +141,7 @@ TEST(StreamAvatar, IctHeadThroughTheRigLeavesUndrivenTargetsOut)
   const GltfScene head = LoadGltfScene(file);
   const Rig rig = Rig::LoadFile(std::string(MORPHNODE_SOURCE_DIR) + "/Data/rigs/arkit.json");
   const StreamAvatar avatar(head, ChannelsOf(Paper6()), &rig);
+  WriteForValidator(avatar, "stream_ict_head.glb");
   EXPECT_EQ(avatar.GetNumberOfFaceTargets(), 53u);
   EXPECT_LT(avatar.GetTargetNames().size(), 53u); // the paper's shapes do not use them all
   const auto& t = avatar.GetTargetNames();
