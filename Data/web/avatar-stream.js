@@ -87,9 +87,24 @@ async function startAudio(rate) {
   if (codec === 'opus' && 'AudioDecoder' in window) {
     opusDecoder = new AudioDecoder({
       output: (data) => {
-        const pcm = new Float32Array(data.numberOfFrames);
-        data.copyTo(pcm, { planeIndex: 0, format: 'f32-planar' });
-        player.port.postMessage({ type: 'chunk', sample: data.timestamp, data: pcm }, [pcm.buffer]);
+        const decoded = new Float32Array(data.numberOfFrames);
+        data.copyTo(decoded, { planeIndex: 0, format: 'f32-planar' });
+        // Opus decoders may give 48 kHz whatever the stream's rate: back to the stream's
+        // clock (linear interpolation; speech has little above 8 kHz).
+        let pcm = decoded;
+        if (data.sampleRate !== rate) {
+          const n = Math.round(decoded.length * rate / data.sampleRate);
+          pcm = new Float32Array(n);
+          for (let i = 0; i < n; ++i) {
+            const x = i * data.sampleRate / rate, k = Math.floor(x), f = x - k;
+            pcm[i] = (decoded[k] || 0) * (1 - f) + (decoded[k + 1] || 0) * f;
+          }
+        }
+        state.opusChunks = (state.opusChunks || 0) + 1;
+        // WebCodecs timestamps are microseconds (the decoder counts them on): back to samples.
+        const sample = Math.round(data.timestamp * rate / 1e6);
+        state.lastAudio = { sample, at: position() };
+        player.port.postMessage({ type: 'chunk', sample, data: pcm }, [pcm.buffer]);
         data.close();
       },
       error: (e) => console.warn('opus', e),
@@ -184,7 +199,7 @@ function onAudio(a) {
     for (let i = 0; i < a.frames; ++i) pcm[i] = v.getInt16(2 * i, true) / 32768;
     player.port.postMessage({ type: 'chunk', sample: a.sample, data: pcm }, [pcm.buffer]);
   } else if (opusDecoder) {
-    opusDecoder.decode(new EncodedAudioChunk({ type: 'key', timestamp: a.sample, data: a.payload }));
+    opusDecoder.decode(new EncodedAudioChunk({ type: 'key', timestamp: a.sample * 1e6 / audio.sampleRate, data: a.payload }));
   }
 }
 

@@ -39,7 +39,10 @@ class StreamPlayer extends AudioWorkletProcessor {
     let keep = 0;
     for (const c of this.chunks) {
       const cEnd = c.sample + c.data.length;
-      if (cEnd <= start) continue; // played
+      if (cEnd <= start) { // played, or came after its time had passed
+        if (!c.counted) this.late += c.data.length;
+        continue;
+      }
       if (c.sample >= end) { this.chunks[keep++] = c; continue; } // not yet due
       if (c.sample < start && !c.counted) {
         this.late += Math.min(start, cEnd) - c.sample; // came too late for its start

@@ -248,6 +248,21 @@ try {
     after = await status();
   }
   check(before.sessions >= 1 && after.sessions === 0, `a dropped connection ends its session (sessions ${before.sessions} -> ${after.sessions})`);
+  // Opus when the page asks: the page decodes it (WebCodecs) and plays it.
+  const opus = await open('?audio=opus');
+  const heard = await opus.evaluate(async () => {
+    const m = window.morphnode;
+    m.say('Hello there, this sound travels as Opus packets.');
+    let level = 0;
+    for (let i = 0; i < 60; ++i) {
+      await new Promise((r) => setTimeout(r, 50));
+      level = Math.max(level, m.audioLevel());
+    }
+    return { level, chunks: m.state.opusChunks || 0, codec: m.state.header.codec };
+  });
+  check(heard.codec === 'opus' && heard.chunks > 10 && heard.level > 0.002,
+    `?audio=opus: ${heard.chunks} Opus packets decoded, sound level ${heard.level.toFixed(4)}`);
+  await opus.close();
   const again = await open();
   check(await again.evaluate(() => window.morphnode.state.framesReceived > 0), 'the server serves a new session afterwards');
   await again.close();

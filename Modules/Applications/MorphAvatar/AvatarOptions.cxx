@@ -213,8 +213,10 @@ Options ParseOptions(int argc, char* argv[])
   app.add_option("--serve-origin", o.ServeOrigins,
        "an origin (e.g. https://example.org) whose pages may open sessions; repeatable")
     ->group(serve);
-  app.add_option("--serve-threads", o.ServeThreads, "threads running the sessions (default 1)")
-    ->check(CLI::Range(1, 256))
+  app.add_option("--serve-threads", o.ServeThreads,
+       "threads running the sessions (default 0: one per core, at least 2, so that a session "
+       "waiting for speech synthesis never holds up the others' frames)")
+    ->check(CLI::Range(0, 256))
     ->group(serve);
   app.add_option("--serve-max-sessions", o.ServeMaxSessions, "sessions at once (default 64)")
     ->check(CLI::Range(1, 100000))

@@ -56,7 +56,7 @@ struct Options
   bool ServeRemote = false;        // serve: allow non-loopback addresses (needs a token)
   std::string ServeToken;          // serve: the session token (made up when remote and empty)
   std::vector<std::string> ServeOrigins; // serve: origins allowed besides the server's own
-  int ServeThreads = 1;            // serve: threads running the sessions
+  int ServeThreads = 0;            // serve: threads running the sessions (0: cores, at least 2)
   int ServeMaxSessions = 64;       // serve: sessions at once
 };
 

@@ -16,6 +16,7 @@
 #include "stream/StreamServer.h"
 #endif
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -131,7 +132,8 @@ int RunServe(const Options& o)
       settings.Token = MakeToken();
     }
     settings.AllowedOrigins = o.ServeOrigins;
-    settings.Threads = o.ServeThreads;
+    settings.Threads = o.ServeThreads > 0 ? o.ServeThreads
+                                          : static_cast<int>(std::max(2u, std::thread::hardware_concurrency()));
     settings.MaxSessions = static_cast<size_t>(o.ServeMaxSessions);
     const std::string web = morphnode::appkit::DataPath("web");
     for (const char* file : { "index.html", "avatar-stream.js", "stream-worklet.js" })

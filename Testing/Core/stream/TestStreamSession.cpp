@@ -245,3 +245,57 @@ TEST(StreamSession, TheOptimizerSendsFewerTargets)
   const uint64_t pruned = count(MakeOptimizerSettings(OptimizerPreset::Adjusted, 0.1, 0.0));
   EXPECT_LT(pruned, all);
 }
+
+TEST(StreamSession, OpusWhenAskedIsSmallerThanPcm)
+{
+  MORPHNODE_SKIP_WITHOUT_ESPEAK();
+  if (!HasOpus())
+  {
+    GTEST_SKIP() << "built without libopus (libopus-dev)";
+  }
+  const SpeechOptions speech = Paper6();
+  const StreamAvatar avatar(DefaultHead(), ChannelsOf(speech));
+  auto audio = [&](AudioCodec codec, std::vector<AudioChunk>& chunks) {
+    StreamSettings settings;
+    settings.Codec = codec;
+    StreamSession s(avatar, SelectVisemeMap(speech).GetVisemes(),
+      [speech](const std::string& text) { return SpeakText(text, speech); }, settings);
+    const StreamHeader h = ParseHeader(s.Header("x", "/avatar.glb"));
+    EXPECT_EQ(h.Codec, codec);
+    dialog::SayCommand say;
+    say.Text = "Hello there.";
+    s.Say(say, 0.0);
+    s.Tick(0.0);
+    uint64_t bytes = 0;
+    for (const auto& m : s.TakeMessages())
+    {
+      const ServerMessage msg = DecodeServerMessage(m.data(), m.size(), &h);
+      if (auto* a = std::get_if<AudioChunk>(&msg))
+      {
+        chunks.push_back(*a);
+        bytes += m.size();
+      }
+    }
+    return bytes;
+  };
+  std::vector<AudioChunk> pcm, opus;
+  const uint64_t pcmBytes = audio(AudioCodec::Pcm16, pcm);
+  const uint64_t opusBytes = audio(AudioCodec::Opus, opus);
+  ASSERT_FALSE(opus.empty());
+  for (size_t i = 0; i < opus.size(); ++i)
+  {
+    EXPECT_EQ(opus[i].Frames, 480u); // 20 ms at 24 kHz
+    EXPECT_FALSE(opus[i].Payload.empty());
+    if (i > 0)
+    {
+      EXPECT_EQ(opus[i].Sample, opus[i - 1].Sample + 480u); // contiguous on the clock
+    }
+  }
+  EXPECT_EQ(opus.front().Sample, pcm.front().Sample);
+  EXPECT_LT(opusBytes * 5, pcmBytes) << "Opus at 24 kbit/s is far smaller than 384 kbit/s PCM";
+  // Opus needs one of its rates.
+  StreamSettings odd;
+  odd.Codec = AudioCodec::Opus;
+  odd.SampleRate = 22050;
+  EXPECT_THROW(StreamSession(avatar, SelectVisemeMap(speech).GetVisemes(), nullptr, odd), InputError);
+}
