@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Installs the npm tools MorphNode's tests use into a project-local prefix (default
 # .ci/npm-tools, which CMake looks in; ignored by git): the Khronos glTF validator
-# (gltf-validator), which checks the glTF exports (Testing/GltfValidator.cmake). Needs node
+# (gltf-validator), which checks the glTF exports (Testing/GltfValidator.cmake); three.js
+# (three), the browser face of the avatar stream (docs/streaming.md), and playwright-core,
+# which drives Debian's chromium in the stream's browser test (no browser download). Needs node
 # and npm: Debian's `nodejs` (.ci/packages.txt) and `npm`, installed here when npm is missing
 # (Node.js packages from elsewhere, e.g. NodeSource's, bring their own npm).
 set -euo pipefail
@@ -15,11 +17,22 @@ if ! command -v npm >/dev/null 2>&1; then
   $sudo apt-get update -q
   $sudo apt-get install -y -q --no-install-recommends npm
 fi
-if [ -f "$prefix/node_modules/gltf-validator/package.json" ] &&
-  grep -q "\"version\": \"$validator_version\"" "$prefix/node_modules/gltf-validator/package.json"; then
-  echo "install-npm-tools: gltf-validator $validator_version present in $prefix"
-  exit 0
-fi
+three_version="0.187.0"
+playwright_core_version="1.65.1"
+packages=("gltf-validator@$validator_version" "three@$three_version" "playwright-core@$playwright_core_version")
+missing=()
+for package in "${packages[@]}"; do
+  name="${package%@*}"
+  version="${package##*@}"
+  if [ -f "$prefix/node_modules/$name/package.json" ] &&
+    grep -q "\"version\": \"$version\"" "$prefix/node_modules/$name/package.json"; then
+    echo "install-npm-tools: $name $version present in $prefix"
+  else
+    missing+=("$package")
+  fi
+done
+[ "${#missing[@]}" -eq 0 ] && exit 0
 mkdir -p "$prefix"
-npm install --prefix "$prefix" --no-audit --no-fund --no-save "gltf-validator@$validator_version"
-echo "install-npm-tools: gltf-validator $validator_version installed in $prefix"
+# All of them in one call: npm install --no-save prunes what the call does not name.
+npm install --prefix "$prefix" --no-audit --no-fund --no-save "${packages[@]}"
+echo "install-npm-tools: ${packages[*]} installed in $prefix"

@@ -52,3 +52,8 @@ morphnode_add_gltf_validator_test(GltfValidatorNegativeControl
 morphnode_add_gltf_validator_test(GltfValidatorCoreExport
   PRODUCER TestCoreGltfWriter ARGS "--gtest_filter=GltfWriter.*RoundTrip*:GltfWriter.*WorldSpace*"
   LABELS core)
+# The avatar files MorphAvatar --serve sends browsers (stream::StreamAvatar): the default
+# head and the ICT head through the ARKit rig, driven targets only, rotation nodes added.
+morphnode_add_gltf_validator_test(GltfValidatorStreamAvatar
+  PRODUCER TestCoreStream ARGS "--gtest_filter=StreamAvatar.*"
+  LABELS "core;stream")

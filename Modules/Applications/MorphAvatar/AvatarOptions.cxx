@@ -241,12 +241,43 @@ Options ParseOptions(int argc, char* argv[])
        "let --listen use addresses other machines reach (anyone who connects commands the avatar)")
     ->group(live);
 
+  const std::string serve = "Serving browsers (the avatar stream, docs/streaming.md)";
+  app.add_option("--serve", o.Serve,
+       "serve the page, the avatar file and one WebSocket session per browser on HOST:PORT "
+       "(loopback only unless --serve-remote; PORT 0 picks a free port, printed on stderr); "
+       "--listen then commands every session")
+    ->type_name("ADDR")
+    ->group(serve);
+  app.add_flag("--serve-remote", o.ServeRemote,
+       "let --serve use addresses other machines reach; sessions then need the token")
+    ->group(serve);
+  app.add_option("--serve-token", o.ServeToken,
+       "the session token browsers pass as ?token= (made up and printed when remote and not given)")
+    ->group(serve);
+  app.add_option("--serve-origin", o.ServeOrigins,
+       "an origin (e.g. https://example.org) whose pages may open sessions; repeatable")
+    ->group(serve);
+  app.add_option("--serve-threads", o.ServeThreads,
+       "threads running the sessions (default 0: one per core, at least 2, so that a session "
+       "waiting for speech synthesis never holds up the others' frames)")
+    ->check(CLI::Range(0, 256))
+    ->group(serve);
+  app.add_option("--serve-max-sessions", o.ServeMaxSessions, "sessions at once (default 64)")
+    ->check(CLI::Range(1, 100000))
+    ->group(serve);
+
   appkit::ParseCommandLine(app, argc, argv);
   o.Overlay = app.count("--no-overlay") == 0;
   o.SeedSet = app.count("--seed") > 0;
   o.GltfOptimized = gltfWeights != "raw";
 
-  const bool isLive = !o.Listen.empty() || o.CommandsStdin;
+  const bool isLive = !o.Listen.empty() || o.CommandsStdin || !o.Serve.empty();
+  if (!o.Serve.empty() && (o.CommandsStdin || !o.Gltf.empty() || !o.Script.empty() || !o.Audio.empty() ||
+                            !o.Timings.empty()))
+  {
+    FailUsage("--serve takes its speech as commands from the pages (or --listen); leave out "
+              "--commands-stdin, --gltf, --script, --audio and --timings");
+  }
   if (isLive && (!o.FramesDir.empty() || !o.Video.empty() || !o.Pvd.empty() || !o.Png.empty() ||
                   !o.Compare.empty() || o.At >= 0.0))
   {

@@ -58,6 +58,12 @@ struct Options
   bool CommandsStdin = false;      // live: commands on stdin, events on stdout
   bool ListenRemote = false;       // live: allow non-loopback --listen addresses
   bool Mute = false;               // window and live: no sound (the steady clock)
+  std::string Serve;               // serve: the page and the stream on HOST:PORT (AvatarServe.h)
+  bool ServeRemote = false;        // serve: allow non-loopback addresses (needs a token)
+  std::string ServeToken;          // serve: the session token (made up when remote and empty)
+  std::vector<std::string> ServeOrigins; // serve: origins allowed besides the server's own
+  int ServeThreads = 0;            // serve: threads running the sessions (0: cores, at least 2)
+  int ServeMaxSessions = 64;       // serve: sessions at once
 };
 
 /// Reads the command line; --help and usage errors exit (0 and 2).

@@ -19,6 +19,7 @@
 #include "AvatarGltf.h"
 #include "AvatarLive.h"
 #include "AvatarNaming.h"
+#include "AvatarServe.h"
 #include "AvatarFrameBudget.h"
 #include "StopSignal.h"
 
@@ -33,6 +34,10 @@ int Run(int argc, char* argv[])
   morphnode::appkit::InstallStopSignals(); // SIGTERM/SIGINT end the run as quit does
   Avatar a;
   a.Opt = ParseOptions(argc, argv);
+  if (!a.Opt.Serve.empty())
+  {
+    return RunServe(a.Opt); // browsers are the faces (docs/streaming.md): no window, no display
+  }
   // --gltf alone writes a file and renders nothing.
   const bool render = a.Opt.Gltf.empty() || a.Opt.Offscreen || IsLive(a.Opt);
   if (render && !std::getenv("DISPLAY"))

@@ -6,6 +6,7 @@
 #include <exception>
 #include <limits>
 #include <type_traits>
+#include <utility>
 
 namespace morphnode
 {
@@ -24,15 +25,37 @@ Schedule::Schedule(double start, double end)
 }
 
 DialogSession::DialogSession(DialogServer& server, CommandSink& sink)
-  : Server(server)
+  : Server(&server)
   , Sink(sink)
 {
+}
+
+DialogSession::DialogSession(EventOutput output, CommandSink& sink)
+  : Output(std::move(output))
+  , Sink(sink)
+{
+}
+
+void DialogSession::Send(ClientId client, const Event& event)
+{
+  if (this->Server)
+  {
+    this->Server->Send(client, event);
+  }
+  else if (this->Output)
+  {
+    this->Output(client, event);
+  }
 }
 
 size_t DialogSession::Receive(double now, int timeoutMs)
 {
   size_t accepted = 0;
-  for (const DialogServer::Incoming& in : this->Server.Poll(timeoutMs))
+  if (!this->Server)
+  {
+    return 0;
+  }
+  for (const DialogServer::Incoming& in : this->Server->Poll(timeoutMs))
   {
     accepted += this->Execute(in.Client, in.Cmd, now, in.Arrived) ? 1 : 0;
   }
@@ -106,7 +129,7 @@ bool DialogSession::Execute(ClientId client, const Command& command, double now,
   catch (const std::exception& e)
   {
     ++this->Rejected;
-    this->Server.Send(client, MakeError(reason::Rejected, e.what(), t.Id, t.Cmd));
+    this->Send(client, MakeError(reason::Rejected, e.what(), t.Id, t.Cmd));
     return false;
   }
   if (!(std::isfinite(t.When.Start) && std::isfinite(t.When.End)))
@@ -115,7 +138,7 @@ bool DialogSession::Execute(ClientId client, const Command& command, double now,
   }
   t.When.End = std::max(t.When.End, t.When.Start);
   ++this->Accepted;
-  this->Server.Send(client, this->MakeEvent(EventKind::Accepted, t, now));
+  this->Send(client, this->MakeEvent(EventKind::Accepted, t, now));
   if (quit)
   {
     this->Quit = true;
@@ -145,13 +168,13 @@ void DialogSession::Advance(double now)
       t.Started = true;
       Event e = this->MakeEvent(EventKind::Started, t, now);
       e.LatencyMs = std::chrono::duration<double, std::milli>(wallNow - t.Arrived).count();
-      this->Server.Send(t.Client, e);
+      this->Send(t.Client, e);
     }
     if (now >= t.When.End)
     {
       Event e = this->MakeEvent(EventKind::Ended, t, now);
       e.Interrupted = t.Stopped;
-      this->Server.Send(t.Client, e);
+      this->Send(t.Client, e);
       t.Done = true;
     }
   }
@@ -171,7 +194,10 @@ void DialogSession::Shutdown(double now, int timeoutMs)
     }
   }
   this->Advance(now);
-  this->Server.Flush(timeoutMs);
+  if (this->Server)
+  {
+    this->Server->Flush(timeoutMs);
+  }
 }
 } // namespace dialog
 } // namespace morphnode

@@ -22,6 +22,7 @@
 
 #include <chrono>
 #include <cstddef>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -72,7 +73,14 @@ public:
   using ClientId = DialogServer::ClientId;
   using TimePoint = DialogServer::TimePoint;
 
+  /// Where events go when there is no DialogServer (e.g. a WebSocket session of
+  /// stream/StreamServer.h): called for every event, in order.
+  using EventOutput = std::function<void(ClientId client, const Event& event)>;
+
   DialogSession(DialogServer& server, CommandSink& sink);
+  /// A session whose commands come from elsewhere (Execute) and whose events go to
+  /// `output`; Receive() then returns 0 and Shutdown() flushes nothing.
+  DialogSession(EventOutput output, CommandSink& sink);
 
   /// Polls the server (waiting at most timeoutMs) and runs every command that arrived at
   /// the clock time `now`. Returns the number of commands run (accepted).
@@ -108,8 +116,10 @@ private:
     bool Done = false;
   };
   Event MakeEvent(EventKind kind, const Tracked& t, double now) const;
+  void Send(ClientId client, const Event& event);
 
-  DialogServer& Server;
+  DialogServer* Server = nullptr;
+  EventOutput Output;
   CommandSink& Sink;
   std::vector<Tracked> Running;
   bool Quit = false;

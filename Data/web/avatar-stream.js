@@ -1,0 +1,288 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// The MorphNode avatar stream's browser face (docs/streaming.md): three.js loads the avatar
+// file the server prepared, the frames' weights go to every mesh's morph targets by name
+// and their rotations to the named nodes, the speech plays in an AudioWorklet, and the
+// sound's clock (the AudioContext runs at the stream's rate) decides which frame is shown.
+// The page's figures: bytes per second, the audio-visual offset, underruns.
+//
+// URL parameters: token (remote servers), audio=opus (else pcm16), jitter=MS (the jitter
+// buffer, default 80), withhold (the test's negative control: weights are not applied).
+import * as THREE from 'three';
+import { GLTFLoader } from '/three/examples/jsm/loaders/GLTFLoader.js';
+
+const params = new URLSearchParams(location.search);
+const jitterMs = Math.max(0, Math.min(1000, Number(params.get('jitter') || 80)));
+const codec = params.get('audio') === 'opus' ? 'opus' : 'pcm16';
+const withhold = params.has('withhold');
+const still = params.has('still'); // rotations not applied (the tests' mouth pictures)
+
+// ---- the scene ------------------------------------------------------------------------
+const view = document.getElementById('view');
+const figures = document.getElementById('figures');
+const renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
+renderer.setPixelRatio(Math.min(window.devicePixelRatio, 2));
+view.appendChild(renderer.domElement);
+const scene = new THREE.Scene();
+scene.background = new THREE.Color(0x30343a);
+const camera = new THREE.PerspectiveCamera(30, 1, 0.01, 100);
+scene.add(new THREE.HemisphereLight(0xffffff, 0x404040, 2.0));
+const key = new THREE.DirectionalLight(0xffffff, 2.0);
+key.position.set(1, 1.5, 2);
+scene.add(key);
+function resize() {
+  const w = view.clientWidth, h = view.clientHeight;
+  renderer.setSize(w, h, false);
+  camera.aspect = w / Math.max(1, h);
+  camera.updateProjectionMatrix();
+}
+window.addEventListener('resize', resize);
+resize();
+
+// ---- the state the tests read (window.morphnode) ----------------------------------------
+const state = {
+  header: null, connected: false, closed: false, loaded: false,
+  bindings: [],          // per stream target: [{ mesh, index }]
+  rotationNodes: [],     // per rotation: an Object3D or null
+  rotations: [],         // current quaternion per rotation (as decoded)
+  frames: [],            // queued frames, by sample
+  log: [],               // the last frames received (for tests): { sample, targets }
+  shown: null,           // the frame shown last
+  bytes: 0, weightBytes: 0, audioBytes: 0, framesReceived: 0,
+  frameUnderruns: 0, audioLate: 0, offsetMs: 0, offsets: [], stops: 0,
+  offset: null,          // stream sample = ctx frame + offset
+  events: [],
+};
+window.morphnode = {
+  state,
+  send: (cmd) => ws.send(JSON.stringify(cmd)),
+  say: (text) => ws.send(JSON.stringify({ cmd: 'say', text })),
+  stop: () => ws.send(JSON.stringify({ cmd: 'stop' })),
+  position: () => position(),
+  // The influence a mesh applies for a stream target, read back from three.js.
+  influences: () => state.header ? state.header.targets.map((name, k) =>
+    state.bindings[k].length ? state.bindings[k][0].mesh.morphTargetInfluences[state.bindings[k][0].index] : null) : [],
+  audioLevel: () => { analyser.getFloatTimeDomainData(levelBuffer);
+    let s = 0; for (const v of levelBuffer) s += v * v; return Math.sqrt(s / levelBuffer.length); },
+  close: () => ws.close(),
+};
+
+// ---- sound: an AudioContext at the stream's rate, the worklet, a level meter -------------
+let audio = null, player = null, analyser = null, levelBuffer = null, opusDecoder = null;
+async function startAudio(rate) {
+  audio = new AudioContext({ sampleRate: rate, latencyHint: 'interactive' });
+  await audio.audioWorklet.addModule('/stream-worklet.js');
+  player = new AudioWorkletNode(audio, 'stream-player', { outputChannelCount: [1] });
+  analyser = audio.createAnalyser();
+  analyser.fftSize = 256;
+  levelBuffer = new Float32Array(analyser.fftSize);
+  player.connect(analyser);
+  analyser.connect(audio.destination);
+  player.port.onmessage = (e) => {
+    if (e.data.type === 'report') state.audioLate = e.data.late;
+    // The audio clock's time when the worklet dropped the sound (its next quantum is silent).
+    if (e.data.type === 'stopped') state.soundStoppedAt = e.data.frame / audio.sampleRate;
+  };
+  document.body.addEventListener('click', () => audio.resume(), { once: true });
+  if (audio.state !== 'running') audio.resume().catch(() => {});
+  if (codec === 'opus' && 'AudioDecoder' in window) {
+    opusDecoder = new AudioDecoder({
+      output: (data) => {
+        const decoded = new Float32Array(data.numberOfFrames);
+        data.copyTo(decoded, { planeIndex: 0, format: 'f32-planar' });
+        // Opus decoders may give 48 kHz whatever the stream's rate: back to the stream's
+        // clock (linear interpolation; speech has little above 8 kHz).
+        let pcm = decoded;
+        if (data.sampleRate !== rate) {
+          const n = Math.round(decoded.length * rate / data.sampleRate);
+          pcm = new Float32Array(n);
+          for (let i = 0; i < n; ++i) {
+            const x = i * data.sampleRate / rate, k = Math.floor(x), f = x - k;
+            pcm[i] = (decoded[k] || 0) * (1 - f) + (decoded[k + 1] || 0) * f;
+          }
+        }
+        state.opusChunks = (state.opusChunks || 0) + 1;
+        // WebCodecs timestamps are microseconds (the decoder counts them on): back to samples.
+        const sample = Math.round(data.timestamp * rate / 1e6);
+        state.lastAudio = { sample, at: position() };
+        player.port.postMessage({ type: 'chunk', sample, data: pcm }, [pcm.buffer]);
+        data.close();
+      },
+      error: (e) => console.warn('opus', e),
+    });
+    opusDecoder.configure({ codec: 'opus', sampleRate: rate, numberOfChannels: 1 });
+  }
+}
+/// The stream sample heard now: the context's frame (its output latency taken off).
+function position() {
+  if (!audio || state.offset === null) return null;
+  const latency = (audio.outputLatency || 0) + (audio.baseLatency || 0);
+  return (audio.currentTime - latency) * audio.sampleRate + state.offset;
+}
+
+// ---- the avatar --------------------------------------------------------------------------
+async function loadAvatar(header) {
+  const gltf = await new GLTFLoader().loadAsync(header.avatar);
+  scene.add(gltf.scene);
+  const meshes = [];
+  gltf.scene.traverse((o) => { if (o.isMesh && o.morphTargetDictionary) meshes.push(o); });
+  state.bindings = header.targets.map((name) => meshes
+    .filter((m) => name in m.morphTargetDictionary)
+    .map((m) => ({ mesh: m, index: m.morphTargetDictionary[name] })));
+  state.rotationNodes = header.rotations.map((name) =>
+    gltf.scene.getObjectByName(THREE.PropertyBinding.sanitizeNodeName(name)) || null);
+  // Frame the face.
+  const box = new THREE.Box3().setFromObject(gltf.scene);
+  const size = box.getSize(new THREE.Vector3()), center = box.getCenter(new THREE.Vector3());
+  const distance = 1.15 * Math.max(size.y, size.x / Math.max(camera.aspect, 0.3)) / (2 * Math.tan(Math.PI * camera.fov / 360));
+  camera.position.set(center.x, center.y, center.z + size.z / 2 + distance);
+  camera.near = distance / 50; camera.far = distance * 10;
+  camera.lookAt(center);
+  camera.updateProjectionMatrix();
+  state.loaded = true;
+}
+
+function applyFrame(frame) {
+  if (!withhold) {
+    for (const binding of state.bindings) for (const b of binding) b.mesh.morphTargetInfluences[b.index] = 0;
+    for (const [k, w] of frame.targets) for (const b of state.bindings[k]) b.mesh.morphTargetInfluences[b.index] = w / 255;
+  }
+  if (!still) frame.rotations.forEach((q, r) => {
+    const node = state.rotationNodes[r];
+    if (node && q) node.quaternion.set(q[0], q[1], q[2], q[3]);
+  });
+  state.shown = frame;
+}
+
+// ---- the stream --------------------------------------------------------------------------
+function decode(buffer) {
+  const v = new DataView(buffer);
+  const type = v.getUint8(0);
+  if (type === 1) {
+    const sample = v.getUint32(1, true), n = v.getUint8(5);
+    const targets = [];
+    let p = 6;
+    for (let i = 0; i < n; ++i, p += 2) targets.push([v.getUint8(p), v.getUint8(p + 1)]);
+    const mask = v.getUint8(p++);
+    for (let r = 0; r < 8; ++r) {
+      if (!(mask & (1 << r))) continue;
+      const x = v.getInt16(p, true) / 32767, y = v.getInt16(p + 2, true) / 32767, z = v.getInt16(p + 4, true) / 32767;
+      p += 6;
+      state.rotations[r] = [x, y, z, Math.sqrt(Math.max(0, 1 - x * x - y * y - z * z))];
+    }
+    return { type, sample, targets, rotations: state.rotations.slice() };
+  }
+  if (type === 2) {
+    return { type, codec: v.getUint8(1), sample: v.getUint32(2, true), frames: v.getUint16(6, true),
+      payload: new Uint8Array(buffer, 8) };
+  }
+  if (type === 3) return { type, sample: v.getUint32(1, true) };
+  return null;
+}
+
+function onFrame(f) {
+  state.framesReceived++;
+  if (state.offset === null && audio) {
+    // The jitter buffer: this frame is shown jitterMs from now, on the sound's clock.
+    state.offset = f.sample - audio.currentTime * audio.sampleRate - jitterMs / 1000 * audio.sampleRate;
+    state.offset = Math.round(state.offset);
+    player.port.postMessage({ type: 'offset', offset: state.offset });
+  }
+  state.frames.push(f);
+  state.log.push({ sample: f.sample, targets: f.targets });
+  if (state.log.length > 900) state.log.splice(0, state.log.length - 600);
+}
+
+function onAudio(a) {
+  if (a.codec === 0) {
+    const pcm = new Float32Array(a.frames);
+    const v = new DataView(a.payload.buffer, a.payload.byteOffset, a.payload.byteLength);
+    for (let i = 0; i < a.frames; ++i) pcm[i] = v.getInt16(2 * i, true) / 32768;
+    player.port.postMessage({ type: 'chunk', sample: a.sample, data: pcm }, [pcm.buffer]);
+  } else if (opusDecoder) {
+    opusDecoder.decode(new EncodedAudioChunk({ type: 'key', timestamp: a.sample * 1e6 / audio.sampleRate, data: a.payload }));
+  }
+}
+
+function onStop(s) {
+  state.stops++;
+  state.stopArrived = performance.now();
+  state.stopArrivedAudio = audio.currentTime;
+  state.stopSample = s.sample;
+  player.port.postMessage({ type: 'stop', sample: s.sample });
+  // The same jump on the picture's side: what was queued before the stop is skipped.
+  const now = position();
+  if (now !== null && s.sample > now) {
+    state.offset += s.sample - now;
+  }
+  state.frames = state.frames.filter((f) => f.sample >= s.sample);
+}
+
+const url = `${location.protocol === 'https:' ? 'wss' : 'ws'}://${location.host}/stream?audio=${codec}` +
+  (params.get('token') ? `&token=${encodeURIComponent(params.get('token'))}` : '') +
+  (params.get('seed') ? `&seed=${encodeURIComponent(params.get('seed'))}` : '');
+const ws = new WebSocket(url);
+ws.binaryType = 'arraybuffer';
+ws.onopen = () => { state.connected = true; };
+ws.onclose = () => { state.closed = true; state.connected = false; if (audio) audio.suspend(); };
+ws.onmessage = async (e) => {
+  if (typeof e.data === 'string') {
+    state.bytes += e.data.length;
+    const m = JSON.parse(e.data);
+    if (m.type === 'header') {
+      state.header = m;
+      await startAudio(m.sampleRate);
+      await loadAvatar(m);
+    } else {
+      state.events.push(m);
+      if (state.events.length > 200) state.events.shift();
+    }
+    return;
+  }
+  state.bytes += e.data.byteLength;
+  if (!player) return;
+  const m = decode(e.data);
+  if (!m) return;
+  if (m.type === 1) { state.weightBytes += e.data.byteLength; onFrame(m); }
+  else if (m.type === 2) { state.audioBytes += e.data.byteLength; onAudio(m); }
+  else if (m.type === 3) onStop(m);
+};
+
+// ---- the loop: the frame the sound's clock asks for ------------------------------------
+let lastFigures = performance.now(), lastBytes = 0, lastWeightBytes = 0, rate = 0, weightRate = 0;
+function tick() {
+  requestAnimationFrame(tick);
+  const now = position();
+  if (state.loaded && now !== null) {
+    let next = null;
+    while (state.frames.length && state.frames[0].sample <= now) next = state.frames.shift();
+    if (next) {
+      applyFrame(next);
+      const offset = (next.sample - now) / audio.sampleRate * 1000; // picture minus sound
+      state.offsetMs = offset;
+      state.offsets.push(offset);
+      if (state.offsets.length > 10000) state.offsets.splice(0, 5000);
+    } else if (state.shown && now - state.shown.sample > 2 * audio.sampleRate / state.header.fps) {
+      state.frameUnderruns++; // the frame for now has not come
+    }
+  }
+  renderer.render(scene, camera);
+  const t = performance.now();
+  if (t - lastFigures >= 1000) {
+    const s = (t - lastFigures) / 1000;
+    rate = (state.bytes - lastBytes) / s; weightRate = (state.weightBytes - lastWeightBytes) / s;
+    lastBytes = state.bytes; lastWeightBytes = state.weightBytes; lastFigures = t;
+    figures.textContent =
+      `${state.closed ? 'disconnected' : state.connected ? 'connected' : 'connecting...'}` +
+      `\n${(rate / 1024).toFixed(1)} KB/s, weights ${weightRate.toFixed(0)} B/s` +
+      `\nA/V offset ${state.offsetMs.toFixed(0)} ms (jitter buffer ${jitterMs} ms)` +
+      `\nunderruns: frames ${state.frameUnderruns}, sound ${(state.audioLate / (audio ? audio.sampleRate : 1) * 1000).toFixed(0)} ms` +
+      (withhold ? '\nweights withheld' : '');
+  }
+}
+requestAnimationFrame(tick);
+
+// ---- controls ----------------------------------------------------------------------------
+document.getElementById('say').onclick = () => { if (audio) audio.resume(); window.morphnode.say(document.getElementById('text').value); };
+document.getElementById('stop').onclick = () => window.morphnode.stop();
+document.getElementById('happy').onclick = () => window.morphnode.send({ cmd: 'mood', name: 'happy', intensity: 0.8 });
+document.getElementById('look').onclick = () => window.morphnode.send({ cmd: 'look_at', yaw: 25, pitch: 0, duration: 2 });

@@ -1,0 +1,291 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "stream/StreamAvatar.h"
+
+#include "base/Error.h"
+#include "behavior/HeadPose.h"
+#include "gaze/EyeRotation.h"
+#include "gltf/GltfMorphMesh.h"
+#include "gltf/GltfWriter.h"
+#include "stream/StreamProtocol.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <set>
+
+namespace morphnode
+{
+namespace stream
+{
+namespace
+{
+int Find(const std::vector<std::string>& names, const std::string& name)
+{
+  const auto it = std::find(names.begin(), names.end(), name);
+  return it == names.end() ? -1 : static_cast<int>(it - names.begin());
+}
+
+std::array<double, 4> ToQuaternion(const std::array<double, 9>& r)
+{
+  const std::array<double, 16> m{ { r[0], r[1], r[2], 0, r[3], r[4], r[5], 0, r[6], r[7], r[8], 0, 0, 0, 0, 1 } };
+  return GltfQuaternionFromRowMajor(m);
+}
+} // namespace
+
+StreamAvatar::StreamAvatar(const GltfScene& face, const std::vector<std::string>& channels, const Rig* rig)
+  : NumberOfChannels(channels.size())
+{
+  // The face's targets, in order of first appearance over the parts.
+  std::vector<std::string> faceTargets;
+  for (const GltfPart& part : face.Parts)
+  {
+    for (const GltfTarget& t : part.Targets)
+    {
+      if (Find(faceTargets, t.Name) < 0)
+      {
+        faceTargets.push_back(t.Name);
+      }
+    }
+  }
+  this->FaceTargets = faceTargets.size();
+
+  // What the channels drive.
+  std::set<std::string> driven;
+  if (rig)
+  {
+    this->BoundRig = std::make_unique<Rig>(*rig);
+    this->BoundRig->Bind(faceTargets); // InputError when the rig names a target the face lacks
+    this->ChannelShape.assign(channels.size(), -1);
+    for (size_t c = 0; c < channels.size(); ++c)
+    {
+      const int shape = this->BoundRig->FindShape(channels[c]);
+      this->ChannelShape[c] = shape;
+      if (shape >= 0)
+      {
+        for (const RigTerm& term : this->BoundRig->GetShapeTerms(static_cast<size_t>(shape)))
+        {
+          if (term.Coefficient != 0.0)
+          {
+            driven.insert(term.Target);
+          }
+        }
+      }
+    }
+  }
+  else
+  {
+    for (const std::string& channel : channels)
+    {
+      if (Find(faceTargets, channel) >= 0)
+      {
+        driven.insert(channel);
+      }
+    }
+  }
+  for (const std::string& name : faceTargets)
+  {
+    if (driven.count(name))
+    {
+      this->Targets.push_back(name);
+    }
+  }
+  if (this->Targets.empty())
+  {
+    throw InputError("the behaviour drives none of the face's " + std::to_string(faceTargets.size()) +
+      " targets: name them like the behaviour's channels, or give a rig");
+  }
+  if (this->Targets.size() > MaxTargets)
+  {
+    throw InputError("the behaviour drives " + std::to_string(this->Targets.size()) +
+      " targets; a stream carries at most " + std::to_string(MaxTargets));
+  }
+  if (this->BoundRig)
+  {
+    const auto& bound = this->BoundRig->GetBoundTargetNames();
+    this->RigTargetToStream.resize(bound.size());
+    for (size_t t = 0; t < bound.size(); ++t)
+    {
+      this->RigTargetToStream[t] = Find(this->Targets, bound[t]);
+    }
+  }
+  else
+  {
+    this->ChannelTarget.resize(channels.size());
+    for (size_t c = 0; c < channels.size(); ++c)
+    {
+      this->ChannelTarget[c] = Find(this->Targets, channels[c]);
+    }
+  }
+  this->HeadYaw = Find(channels, "HeadYaw");
+  this->HeadPitch = Find(channels, "HeadPitch");
+  this->HeadRoll = Find(channels, "HeadRoll");
+  this->EyeYaw = Find(channels, "EyeYaw");
+  this->EyePitch = Find(channels, "EyePitch");
+
+  // The reduced face: only the driven targets (and their default weights).
+  GltfScene reduced = face;
+  reduced.Animations.clear();
+  double bounds[6] = { std::numeric_limits<double>::max(), -std::numeric_limits<double>::max(),
+    std::numeric_limits<double>::max(), -std::numeric_limits<double>::max(),
+    std::numeric_limits<double>::max(), -std::numeric_limits<double>::max() };
+  for (GltfPart& part : reduced.Parts)
+  {
+    std::vector<GltfTarget> kept;
+    std::vector<double> weights;
+    for (size_t t = 0; t < part.Targets.size(); ++t)
+    {
+      if (driven.count(part.Targets[t].Name))
+      {
+        kept.push_back(std::move(part.Targets[t]));
+        weights.push_back(t < part.DefaultWeights.size() ? part.DefaultWeights[t] : 0.0);
+      }
+    }
+    part.Targets = std::move(kept);
+    part.DefaultWeights = std::move(weights);
+    for (size_t p = 0; p < part.Positions.size(); p += 3)
+    {
+      for (int k = 0; k < 3; ++k)
+      {
+        bounds[2 * k] = std::min(bounds[2 * k], static_cast<double>(part.Positions[p + k]));
+        bounds[2 * k + 1] = std::max(bounds[2 * k + 1], static_cast<double>(part.Positions[p + k]));
+      }
+    }
+  }
+  for (GltfMesh& mesh : reduced.Meshes)
+  {
+    std::vector<std::string> names;
+    std::vector<double> weights;
+    for (size_t t = 0; t < mesh.TargetNames.size(); ++t)
+    {
+      if (driven.count(mesh.TargetNames[t]))
+      {
+        names.push_back(mesh.TargetNames[t]);
+        weights.push_back(t < mesh.Weights.size() ? mesh.Weights[t] : 0.0);
+      }
+    }
+    mesh.TargetNames = std::move(names);
+    mesh.Weights = std::move(weights);
+  }
+  if (reduced.Parts.empty())
+  {
+    throw InputError("the face has no parts");
+  }
+
+  // The optimizer's model: the reduced parts.
+  std::vector<std::shared_ptr<const MorphMesh>> meshes;
+  for (const GltfPart& part : reduced.Parts)
+  {
+    meshes.push_back(std::make_shared<MorphMesh>(GltfPartToMorphMesh(part)));
+  }
+  this->Model = std::make_shared<MorphScene>();
+  this->Model->SetParts(meshes);
+  this->Model->SetWeightMode(WeightMode::Relative);
+
+  // Rotation nodes: the head about its pivot, each eye (one per node) about its centre.
+  GltfPerformance rest;
+  rest.Name = "rest";
+  rest.Times = { 0.0 };
+  GltfRotationTrack head;
+  head.Pivot = HeadPivot(bounds);
+  head.Rotations = { 0, 0, 0, 1 };
+  rest.Rotations.push_back(head);
+  this->RotationNames.push_back("HeadRotation");
+  const EyeRig eyes = (rig && rig->HasEyes()) ? rig->GetEyes() : EyeRig();
+  this->Limits = eyes.GetLimits();
+  std::set<int> eyeNodes;
+  for (const GltfPart& part : reduced.Parts)
+  {
+    const std::string nodeName =
+      part.Node >= 0 && static_cast<size_t>(part.Node) < reduced.Nodes.size() ? reduced.Nodes[part.Node].Name : "";
+    EyeSpec spec;
+    if (nodeName.empty() || eyeNodes.count(part.Node) || !eyes.FindEye(nodeName, part.Name, spec) ||
+      this->RotationNames.size() >= MaxRotations)
+    {
+      continue;
+    }
+    // The writer finds a node by name: it must be unique.
+    if (std::count_if(reduced.Nodes.begin(), reduced.Nodes.end(),
+          [&](const GltfNode& n) { return n.Name == nodeName; }) != 1)
+    {
+      continue;
+    }
+    eyeNodes.insert(part.Node);
+    const GltfMatrix& m = part.World; // column-major
+    std::array<double, 9> axes{};
+    for (int c = 0; c < 3; ++c)
+    {
+      const double length = std::sqrt(m[4 * c] * m[4 * c] + m[4 * c + 1] * m[4 * c + 1] + m[4 * c + 2] * m[4 * c + 2]);
+      for (int r = 0; r < 3; ++r)
+      {
+        axes[3 * c + r] = length > 0.0 ? m[4 * c + r] / length : (r == c ? 1.0 : 0.0);
+      }
+    }
+    GltfRotationTrack track;
+    track.Node = nodeName;
+    track.Pivot = { m[12], m[13], m[14] };
+    track.Rotations = { 0, 0, 0, 1 };
+    rest.Rotations.push_back(track);
+    this->RotationNames.push_back(nodeName + "Rotation");
+    this->Eyes.push_back({ spec, axes });
+  }
+  GltfWriteOptions options;
+  options.Binary = true;
+  this->File = WriteGltfSceneToMemory(reduced, &rest, options);
+}
+
+void StreamAvatar::Map(const double* channels, std::vector<double>& targetWeights,
+  std::vector<std::array<double, 4>>& rotations, std::vector<double>& scratch) const
+{
+  targetWeights.assign(this->Targets.size(), 0.0);
+  if (this->BoundRig)
+  {
+    const size_t shapes = this->BoundRig->GetNumberOfShapes();
+    const size_t bound = this->BoundRig->GetNumberOfBoundTargets();
+    scratch.assign(shapes + bound, 0.0);
+    for (size_t c = 0; c < this->ChannelShape.size(); ++c)
+    {
+      if (this->ChannelShape[c] >= 0 && std::isfinite(channels[c]))
+      {
+        scratch[static_cast<size_t>(this->ChannelShape[c])] = channels[c];
+      }
+    }
+    this->BoundRig->Expand(scratch.data(), scratch.data() + shapes);
+    for (size_t t = 0; t < bound; ++t)
+    {
+      const int s = this->RigTargetToStream[t];
+      if (s >= 0)
+      {
+        targetWeights[static_cast<size_t>(s)] = scratch[shapes + t];
+      }
+    }
+  }
+  else
+  {
+    for (size_t c = 0; c < this->ChannelTarget.size(); ++c)
+    {
+      const int s = this->ChannelTarget[c];
+      if (s >= 0)
+      {
+        targetWeights[static_cast<size_t>(s)] = std::isfinite(channels[c]) ? std::clamp(channels[c], 0.0, 1.0) : 0.0;
+      }
+    }
+  }
+  auto channel = [channels](int c) { return c >= 0 && std::isfinite(channels[c]) ? channels[c] : 0.0; };
+  rotations.resize(this->RotationNames.size());
+  HeadAngles head;
+  head.Yaw = channel(this->HeadYaw);
+  head.Pitch = channel(this->HeadPitch);
+  head.Roll = channel(this->HeadRoll);
+  rotations[0] = GltfQuaternionFromRowMajor(HeadPoseMatrix(head, { { 0, 0, 0 } }));
+  GazeAngles gaze;
+  gaze.Yaw = channel(this->EyeYaw);
+  gaze.Pitch = channel(this->EyePitch);
+  for (size_t e = 0; e < this->Eyes.size(); ++e)
+  {
+    const Eye& eye = this->Eyes[e];
+    const GazeAngles turned = EyeAngles(gaze, 0.0, eye.Spec.Side, this->Limits);
+    rotations[e + 1] = ToQuaternion(EyeRotationMatrix(turned, eye.Axes, eye.Spec.Forward, eye.Spec.Up));
+  }
+}
+} // namespace stream
+} // namespace morphnode

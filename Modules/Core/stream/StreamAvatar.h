@@ -1,0 +1,86 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#pragma once
+/// @file StreamAvatar.h
+/// @brief The avatar prepared once for streaming (shared, read-only, by every session):
+/// which of the face's targets the behaviour can drive (the stream's targets; the others
+/// are left out of the file and of the frames), the behaviour's channels mapped onto them
+/// (by name, or through a rig), the rotation nodes (head, eyes) and the file a remote face
+/// loads: the face with only the driven targets, sparse deltas, and a node above the head
+/// and above each eye whose rotation the frames set (gltf/GltfWriter.h).
+///
+///   morphnode::GltfScene face = morphnode::LoadGltfScene("default_head.glb");
+///   morphnode::stream::StreamAvatar avatar(face, live.GetChannelNames(), rig /* or null */);
+///   avatar.GetFile();                          // the GLB for the page
+///   avatar.Map(channels, targetWeights, quats); // one frame's weights and rotations
+///
+/// Nothing here depends on VTK.
+
+#include "gaze/EyeRig.h"
+#include "gltf/GltfScene.h"
+#include "morph/MorphScene.h"
+#include "rig/Rig.h"
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace morphnode
+{
+namespace stream
+{
+class StreamAvatar
+{
+public:
+  /// `face`: a scene as LoadGltfScene reads it (transforms applied). `channels`: the
+  /// behaviour's channel names (LiveBehavior::GetChannelNames). `rig`: null to drive
+  /// targets named like channels, else a rig whose shapes are named like channels (it is
+  /// copied and bound to the face's targets). InputError when no target can be driven,
+  /// more than MaxTargets can, or the rig does not fit the face.
+  StreamAvatar(const GltfScene& face, const std::vector<std::string>& channels, const Rig* rig = nullptr);
+
+  /// The stream's targets: those the channels can drive, in the face's order.
+  const std::vector<std::string>& GetTargetNames() const { return this->Targets; }
+  /// The face's target count (driven or not).
+  size_t GetNumberOfFaceTargets() const { return this->FaceTargets; }
+  /// The rotation nodes a frame sets, as named in GetFile(): HeadRotation first, then one
+  /// per eye (e.g. EyeLeftRotation).
+  const std::vector<std::string>& GetRotationNames() const { return this->RotationNames; }
+  /// The avatar file (GLB) for remote faces.
+  const std::vector<unsigned char>& GetFile() const { return this->File; }
+  /// The model the optimizer decides on (the face reduced to the stream's targets; its
+  /// target k + 1 is the stream's target k). Sessions copy it (each has its history).
+  const MorphScene& GetModel() const { return *this->Model; }
+
+  /// One frame: the behaviour's channel values (GetChannelNames order) -> the stream's
+  /// target weights (GetTargetNames order, clamped to [0, 1]) and one unit quaternion
+  /// (x, y, z, w) per rotation node. `scratch` is the caller's (one per session: Map is
+  /// const and may run on several threads at once). No allocation once sizes are known.
+  void Map(const double* channels, std::vector<double>& targetWeights,
+    std::vector<std::array<double, 4>>& rotations, std::vector<double>& scratch) const;
+
+private:
+  std::vector<std::string> Targets;
+  size_t FaceTargets = 0;
+  size_t NumberOfChannels = 0;
+  std::vector<std::string> RotationNames;
+  std::vector<unsigned char> File;
+  std::shared_ptr<MorphScene> Model;
+  /// Without a rig: channel -> stream target (-1: none).
+  std::vector<int> ChannelTarget;
+  /// With a rig: channel -> rig shape (-1: none), and rig bound target -> stream target.
+  std::unique_ptr<Rig> BoundRig;
+  std::vector<int> ChannelShape;
+  std::vector<int> RigTargetToStream;
+  int HeadYaw = -1, HeadPitch = -1, HeadRoll = -1, EyeYaw = -1, EyePitch = -1;
+  struct Eye
+  {
+    EyeSpec Spec;
+    std::array<double, 9> Axes;
+  };
+  std::vector<Eye> Eyes;
+  EyeLimits Limits;
+};
+} // namespace stream
+} // namespace morphnode

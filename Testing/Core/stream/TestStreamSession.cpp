@@ -1,0 +1,301 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// The avatar prepared for streaming and one session (stream/StreamAvatar.h,
+// StreamSession.h) on the default head and the ICT head: the file keeps only driven
+// targets and gains the rotation nodes; frames decode; speech opens the mouth and brings
+// sound; stop sends a stop and closes the mouth; the optimizer sends fewer targets.
+#include "stream/StreamSession.h"
+
+#include "MorphNodeTestSkips.h"
+#include "base/Error.h"
+#include "gltf/GltfScene.h"
+#include "speech/Speech.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <set>
+
+using namespace morphnode;
+using namespace morphnode::stream;
+
+namespace
+{
+SpeechOptions Paper6()
+{
+  SpeechOptions o;
+  o.Visemes = VisemeSet::Paper6;
+  return o;
+}
+
+std::vector<std::string> ChannelsOf(const SpeechOptions& speech)
+{
+  return LiveBehavior(SelectVisemeMap(speech).GetVisemes()).GetChannelNames();
+}
+
+const GltfScene& DefaultHead()
+{
+  static const GltfScene scene =
+    LoadGltfScene(std::string(MORPHNODE_SOURCE_DIR) + "/Data/DefaultFace/default_head.glb");
+  return scene;
+}
+
+/// Writes the avatar file into the Khronos validator test's folder when it runs this
+/// program (MORPHNODE_GLTF_EXPORT_DIR; GltfValidatorStreamAvatar).
+void WriteForValidator(const StreamAvatar& avatar, const std::string& name)
+{
+  const char* dir = std::getenv("MORPHNODE_GLTF_EXPORT_DIR");
+  if (!dir || !*dir)
+  {
+    return;
+  }
+  std::filesystem::create_directories(dir);
+  std::ofstream out(std::string(dir) + "/" + name, std::ios::binary);
+  out.write(reinterpret_cast<const char*>(avatar.GetFile().data()), static_cast<std::streamsize>(avatar.GetFile().size()));
+}
+
+struct Decoded
+{
+  std::vector<Frame> Frames;
+  std::vector<AudioChunk> Audio;
+  std::vector<StopMessage> Stops;
+};
+
+Decoded Decode(StreamSession& s, const StreamHeader& h)
+{
+  Decoded d;
+  for (const auto& m : s.TakeMessages())
+  {
+    const ServerMessage msg = DecodeServerMessage(m.data(), m.size(), &h);
+    if (auto* f = std::get_if<Frame>(&msg))
+    {
+      d.Frames.push_back(*f);
+    }
+    else if (auto* a = std::get_if<AudioChunk>(&msg))
+    {
+      d.Audio.push_back(*a);
+    }
+    else
+    {
+      d.Stops.push_back(std::get<StopMessage>(msg));
+    }
+  }
+  return d;
+}
+
+/// The largest weight (0..255) a frame gives any of `names`.
+int Largest(const Frame& f, const StreamHeader& h, const std::set<std::string>& names)
+{
+  int best = 0;
+  for (const auto& [index, weight] : f.Targets)
+  {
+    if (names.count(h.Targets[index]))
+    {
+      best = std::max(best, static_cast<int>(weight));
+    }
+  }
+  return best;
+}
+} // namespace
+
+TEST(StreamAvatar, DefaultHeadFileHasDrivenTargetsAndRotationNodes)
+{
+  const SpeechOptions speech = Paper6();
+  const StreamAvatar avatar(DefaultHead(), ChannelsOf(speech));
+  WriteForValidator(avatar, "stream_default_head.glb");
+  const auto& targets = avatar.GetTargetNames();
+  EXPECT_GE(targets.size(), 6u);
+  EXPECT_NE(std::find(targets.begin(), targets.end(), "A"), targets.end());
+  ASSERT_GE(avatar.GetRotationNames().size(), 1u);
+  EXPECT_EQ(avatar.GetRotationNames()[0], "HeadRotation");
+  // The file loads back with the stream's targets only, and has the rotation nodes.
+  const GltfScene back = LoadGltfSceneFromMemory(avatar.GetFile().data(), avatar.GetFile().size());
+  std::set<std::string> names;
+  for (const auto& part : back.Parts)
+  {
+    for (const auto& t : part.Targets)
+    {
+      names.insert(t.Name);
+    }
+  }
+  EXPECT_EQ(names, std::set<std::string>(targets.begin(), targets.end()));
+  for (const std::string& rotation : avatar.GetRotationNames())
+  {
+    EXPECT_TRUE(std::any_of(back.Nodes.begin(), back.Nodes.end(),
+      [&](const GltfNode& n) { return n.Name == rotation; }))
+      << rotation;
+  }
+  // A face the channels cannot drive is refused.
+  EXPECT_THROW(StreamAvatar(DefaultHead(), { "Nothing", "Else" }), InputError);
+}
+
+TEST(StreamAvatar, IctHeadThroughTheRigLeavesUndrivenTargetsOut)
+{
+  const std::string file = std::string(MORPHNODE_FACEKIT_DIR) + "/ict_head_full53.glb";
+  if (!std::filesystem::exists(file))
+  {
+    GTEST_SKIP() << "ICT-FaceKit data missing: " << file;
+  }
+  const GltfScene head = LoadGltfScene(file);
+  const Rig rig = Rig::LoadFile(std::string(MORPHNODE_SOURCE_DIR) + "/Data/rigs/arkit.json");
+  const StreamAvatar avatar(head, ChannelsOf(Paper6()), &rig);
+  WriteForValidator(avatar, "stream_ict_head.glb");
+  EXPECT_EQ(avatar.GetNumberOfFaceTargets(), 53u);
+  EXPECT_LT(avatar.GetTargetNames().size(), 53u); // the paper's shapes do not use them all
+  const auto& t = avatar.GetTargetNames();
+  EXPECT_NE(std::find(t.begin(), t.end(), "jawOpen"), t.end());
+  EXPECT_GE(avatar.GetRotationNames().size(), 3u); // head and two eyes
+  EXPECT_LT(avatar.GetFile().size(), 40u * 1024 * 1024);
+}
+
+TEST(StreamSession, IdleFramesDecodeAndRotationsAreSentWhenTheyChange)
+{
+  const SpeechOptions speech = Paper6();
+  const StreamAvatar avatar(DefaultHead(), ChannelsOf(speech));
+  StreamSettings settings;
+  StreamSession s(avatar, SelectVisemeMap(speech).GetVisemes(), nullptr, settings);
+  const StreamHeader h = ParseHeader(s.Header("x", "/avatar.glb"));
+  EXPECT_EQ(h.Targets, avatar.GetTargetNames());
+  size_t rotationsSent = 0;
+  for (int i = 0; i < 90; ++i)
+  {
+    s.Tick(i / 30.0);
+    const Decoded d = Decode(s, h);
+    ASSERT_EQ(d.Frames.size(), 1u);
+    EXPECT_EQ(d.Frames[0].Sample, static_cast<uint32_t>(std::lround(i / 30.0 * 24000)));
+    if (i == 0)
+    {
+      EXPECT_EQ(d.Frames[0].Rotations.size(), h.Rotations.size()); // all at first
+    }
+    rotationsSent += d.Frames[0].Rotations.size();
+  }
+  EXPECT_LT(rotationsSent, 90 * h.Rotations.size()); // eyes hold still between saccades
+  EXPECT_EQ(s.GetNumberOfFrames(), 90u);
+}
+
+TEST(StreamSession, SayOpensTheMouthBringsSoundAndStopClosesIt)
+{
+  MORPHNODE_SKIP_WITHOUT_ESPEAK();
+  const SpeechOptions speech = Paper6();
+  const StreamAvatar avatar(DefaultHead(), ChannelsOf(speech));
+  StreamSettings settings;
+  StreamSession s(avatar, SelectVisemeMap(speech).GetVisemes(),
+    [speech](const std::string& text) { return SpeakText(text, speech); }, settings);
+  const StreamHeader h = ParseHeader(s.Header("x", "/avatar.glb"));
+  const std::set<std::string> mouth = { "A", "E", "O", "S", "F", "L" };
+  s.Tick(0.0);
+  Decode(s, h);
+  dialog::SayCommand say;
+  say.Text = "Hello there, how are you doing today? I am fine.";
+  const dialog::Schedule when = s.Say(say, 0.1);
+  EXPECT_GE(when.Start, 0.1);
+  int open = 0;
+  size_t audioSamples = 0;
+  for (int i = 1; i <= 45; ++i) // 1.5 s
+  {
+    s.Tick(i / 30.0);
+    const Decoded d = Decode(s, h);
+    open = std::max(open, Largest(d.Frames.back(), h, mouth));
+    for (const auto& a : d.Audio)
+    {
+      EXPECT_GE(a.Sample, s.SampleOf(0.1) - 1);
+      audioSamples += a.Frames;
+    }
+  }
+  EXPECT_GT(open, 100) << "the mouth should open while speaking";
+  EXPECT_GT(audioSamples, 24000u / 2) << "half a second of sound at least";
+  // Stop: a stop message at its sample, then the mouth closes within the fade.
+  s.StopSpeaking(1.5);
+  Decoded d = Decode(s, h);
+  ASSERT_EQ(d.Stops.size(), 1u);
+  EXPECT_EQ(d.Stops[0].Sample, s.SampleOf(1.5));
+  int after = 255;
+  for (int i = 46; i <= 52; ++i)
+  {
+    s.Tick(i / 30.0);
+    d = Decode(s, h);
+    EXPECT_TRUE(d.Audio.empty()) << "no sound after stop";
+    after = Largest(d.Frames.back(), h, mouth);
+  }
+  EXPECT_LT(after, 10) << "the mouth is closed 0.23 s after stop";
+}
+
+TEST(StreamSession, TheOptimizerSendsFewerTargets)
+{
+  MORPHNODE_SKIP_WITHOUT_ESPEAK();
+  const SpeechOptions speech = Paper6();
+  const StreamAvatar avatar(DefaultHead(), ChannelsOf(speech));
+  auto count = [&](const OptimizerSettings& optimizer) {
+    StreamSettings settings;
+    settings.Optimizer = optimizer;
+    StreamSession s(avatar, SelectVisemeMap(speech).GetVisemes(),
+      [speech](const std::string& text) { return SpeakText(text, speech); }, settings);
+    dialog::SayCommand say;
+    say.Text = "One two three four five six seven.";
+    s.Say(say, 0.0);
+    for (int i = 0; i < 90; ++i)
+    {
+      s.Tick(i / 30.0);
+    }
+    return s.GetFrameBytes();
+  };
+  const uint64_t all = count(OptimizerSettings());
+  const uint64_t pruned = count(MakeOptimizerSettings(OptimizerPreset::Adjusted, 0.1, 0.0));
+  EXPECT_LT(pruned, all);
+}
+
+TEST(StreamSession, OpusWhenAskedIsSmallerThanPcm)
+{
+  MORPHNODE_SKIP_WITHOUT_ESPEAK();
+  if (!HasOpus())
+  {
+    GTEST_SKIP() << "built without libopus (libopus-dev)";
+  }
+  const SpeechOptions speech = Paper6();
+  const StreamAvatar avatar(DefaultHead(), ChannelsOf(speech));
+  auto audio = [&](AudioCodec codec, std::vector<AudioChunk>& chunks) {
+    StreamSettings settings;
+    settings.Codec = codec;
+    StreamSession s(avatar, SelectVisemeMap(speech).GetVisemes(),
+      [speech](const std::string& text) { return SpeakText(text, speech); }, settings);
+    const StreamHeader h = ParseHeader(s.Header("x", "/avatar.glb"));
+    EXPECT_EQ(h.Codec, codec);
+    dialog::SayCommand say;
+    say.Text = "Hello there.";
+    s.Say(say, 0.0);
+    s.Tick(0.0);
+    uint64_t bytes = 0;
+    for (const auto& m : s.TakeMessages())
+    {
+      const ServerMessage msg = DecodeServerMessage(m.data(), m.size(), &h);
+      if (auto* a = std::get_if<AudioChunk>(&msg))
+      {
+        chunks.push_back(*a);
+        bytes += m.size();
+      }
+    }
+    return bytes;
+  };
+  std::vector<AudioChunk> pcm, opus;
+  const uint64_t pcmBytes = audio(AudioCodec::Pcm16, pcm);
+  const uint64_t opusBytes = audio(AudioCodec::Opus, opus);
+  ASSERT_FALSE(opus.empty());
+  for (size_t i = 0; i < opus.size(); ++i)
+  {
+    EXPECT_EQ(opus[i].Frames, 480u); // 20 ms at 24 kHz
+    EXPECT_FALSE(opus[i].Payload.empty());
+    if (i > 0)
+    {
+      EXPECT_EQ(opus[i].Sample, opus[i - 1].Sample + 480u); // contiguous on the clock
+    }
+  }
+  EXPECT_EQ(opus.front().Sample, pcm.front().Sample);
+  EXPECT_LT(opusBytes * 5, pcmBytes) << "Opus at 24 kbit/s is far smaller than 384 kbit/s PCM";
+  // Opus needs one of its rates.
+  StreamSettings odd;
+  odd.Codec = AudioCodec::Opus;
+  odd.SampleRate = 22050;
+  EXPECT_THROW(StreamSession(avatar, SelectVisemeMap(speech).GetVisemes(), nullptr, odd), InputError);
+}
