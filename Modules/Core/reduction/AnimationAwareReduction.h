@@ -100,6 +100,13 @@ template <typename T>
 std::vector<T> GatherPoints(const std::vector<T>& values, int components, size_t numPoints,
   const std::vector<uint32_t>& originalPointIds);
 
+/// The mesh of the points `ids` of `input` (in that order; a subset or a permutation): every
+/// attribute's neutral and deltas gathered, the target names kept, `triangles` (in the new
+/// ids) as its topology. Deltas stored by `sparseCoverage` (MorphAttribute::AddRelativeTarget).
+/// Throws InputError for an id out of range.
+MorphMesh GatherMorphMesh(const MorphMesh& input, const std::vector<uint32_t>& ids,
+  std::vector<uint32_t> triangles, double sparseCoverage = MorphMesh::DefaultSparseCoverage);
+
 /// Hoppe-style geomorph of a fine level towards a coarser one nested in it:
 /// out[v] = (1 - alpha) * fine[v] + alpha * fine[representative[v]], where
 /// `representative` maps every fine point to the fine id of the point it collapses into.
