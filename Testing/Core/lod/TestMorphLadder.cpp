@@ -6,6 +6,7 @@
 #include "budget/DeviceProfile.h"
 #include "budget/FrameBudgetController.h"
 #include "lod/MorphLadder.h"
+#include "lod/ScalableMorph.h"
 #include "Core/reduction/ReductionTestMesh.h"
 
 #include <gtest/gtest.h>
@@ -387,4 +388,46 @@ TEST(MorphLadder, ProfilesFixBudgetFinestLevelAndPixelBounds)
     }
   }
   EXPECT_LE(over, 16);
+}
+
+TEST(ScalableMorph, BlendsTheShownLevelAndItsGeomorph)
+{
+  auto ladder = std::make_shared<const MorphLadder>(Ladder());
+  morphnode::ScalableMorph morph;
+  morphnode::ControllerSettings s;
+  s.Thresholds = { 0.0 };
+  s.PixelBound = 1.0;
+  s.MinFramesPerLevel = 1;
+  morph.SetSettings(s);
+  morph.SetLadder(ladder, morphnode::ScalableMorph::Calibrate(*ladder));
+  int transitions = 0;
+  for (int f = 0; f < 400; ++f)
+  {
+    const std::vector<double> w = Weights(f);
+    const double ppu = 20000.0 * std::pow(1e-3, f / 399.0);
+    const morphnode::ScalableFrame& frame = morph.Update(w, ppu);
+    const auto& d = frame.Decision;
+    ASSERT_EQ(frame.NumberOfPoints, ladder->Levels[d.Level].NumberOfPoints);
+    EXPECT_EQ(&morph.GetTriangles(), &ladder->Levels[d.Level].Triangles);
+    std::vector<float> expected = Blend(*ladder, d.Weights, frame.NumberOfPoints);
+    if (d.MorphTowards >= 0)
+    {
+      morphnode::GeomorphLadder(*ladder, d.Level, d.Alpha, expected.data());
+      ++transitions;
+    }
+    ASSERT_TRUE(std::equal(expected.begin(), expected.begin() + 3 * frame.NumberOfPoints,
+      morph.GetPositions().begin()))
+      << "frame " << f;
+    EXPECT_GE(frame.BlendSeconds, 0.0);
+  }
+  EXPECT_EQ(morph.GetController().GetCurrentLevel(), 3);
+  EXPECT_GE(transitions, 3 * (s.GeomorphFrames - 1));
+  // A phone's profile never shows the full mesh.
+  morph.SetProfile(morphnode::FindDeviceProfile("phone"));
+  for (int f = 0; f < 20; ++f)
+  {
+    EXPECT_GE(morph.Update(Weights(f), 1e6).Decision.Level, 1);
+  }
+  EXPECT_THROW(morph.Update({ 1.0 }, 100.0), morphnode::InputError);
+  EXPECT_THROW(morph.SetLadder(ladder, {}), morphnode::InputError);
 }
