@@ -168,7 +168,8 @@ void FrameBudgetController::SetSettings(const ControllerSettings& s)
   {
     throw InputError("FrameBudgetController: hysteresis must lie in [0, 1).");
   }
-  if (s.MinFramesPerLevel < 0 || s.GeomorphFrames < 0 || s.MeasurementWindow < 0)
+  if (s.MinFramesPerLevel < 0 || s.GeomorphFrames < 0 || s.MeasurementWindow < 0 ||
+    s.MaxGeomorphFrames < 0 || !std::isfinite(s.MaxGeomorphPixels) || s.MaxGeomorphPixels < 0.0)
   {
     throw InputError("FrameBudgetController: frame counts must be >= 0.");
   }
@@ -255,7 +256,7 @@ void FrameBudgetController::Reset(int level)
   this->Streak = 0;
   this->StreakDirection = 0;
   this->MorphFrom = -1;
-  this->MorphFrame = 0;
+  this->MorphProgress = 0.0;
   this->Switches = 0;
   std::fill(this->Chosen.begin(), this->Chosen.end(), -1);
   for (auto& perLevel : this->Optimizers)
@@ -469,14 +470,14 @@ ControllerDecision FrameBudgetController::Update(
       else if (direction > 0)
       {
         this->MorphFrom = this->Current; // coarsen: the fine level slides onto the coarse one
-        this->MorphFrame = 0;
+        this->MorphProgress = 0.0;
       }
       else
       {
         // refine: take the fine topology at once, shaped like the coarse level, and slide
         // out of it
         this->MorphFrom = this->Current;
-        this->MorphFrame = 0;
+        this->MorphProgress = 0.0;
         --this->Current;
         ++this->Switches;
       }
@@ -491,12 +492,30 @@ ControllerDecision FrameBudgetController::Update(
     const bool coarsening = this->MorphFrom == this->Current;
     const int fine = this->Current;
     shown = fine;
-    const double step =
-      static_cast<double>(this->MorphFrame + 1) / static_cast<double>(this->Settings.GeomorphFrames);
+    double delta = 1.0 / static_cast<double>(this->Settings.GeomorphFrames);
+    const auto& reach = this->Levels[fine].GeomorphReach;
+    if (onScreen && this->Settings.MaxGeomorphPixels > 0.0 && reach.size() == weights.size())
+    {
+      // The largest jump of a point over the whole transition, in pixels, under this
+      // frame's weights: slide slower where it is large.
+      double jump = reach[0];
+      for (size_t k = 1; k < reach.size(); ++k)
+      {
+        jump += std::abs(weights[k]) * reach[k];
+      }
+      jump *= pixelsPerUnit;
+      if (jump * delta > this->Settings.MaxGeomorphPixels)
+      {
+        delta = std::max(this->Settings.MaxGeomorphPixels / jump,
+          1.0 / static_cast<double>(std::max(this->Settings.MaxGeomorphFrames, this->Settings.GeomorphFrames)));
+      }
+    }
+    // Snap a progress within rounding of the end onto it.
+    this->MorphProgress = this->MorphProgress + delta >= 1.0 - 1e-9 ? 1.0 : this->MorphProgress + delta;
+    const double step = this->MorphProgress;
     d.MorphTowards = fine + 1;
     d.Alpha = coarsening ? step : 1.0 - step;
-    ++this->MorphFrame;
-    if (this->MorphFrame >= this->Settings.GeomorphFrames)
+    if (this->MorphProgress >= 1.0)
     {
       if (coarsening)
       {

@@ -101,6 +101,11 @@ struct LevelOfDetail
   /// Coarser level point -> this level's point (the coarser level's OriginalPointIds when it
   /// was reduced from this one); empty for the coarsest level.
   std::vector<uint32_t> CoarserToThis;
+  /// Bound on how far a point of this level moves during a whole geomorph towards the next
+  /// coarser level: GeomorphReach[0] + sum_k |w_k| GeomorphReach[k] under absolute weights w
+  /// (MorphLadder's LadderLevel::GeomorphReach); empty: unknown (MaxGeomorphPixels has no
+  /// effect on this level's transitions).
+  std::vector<double> GeomorphReach;
 };
 
 struct ControllerSettings
@@ -124,6 +129,12 @@ struct ControllerSettings
   /// ... for this many frames in a row.
   int MinFramesPerLevel = 20;
   int GeomorphFrames = 8;
+  /// On screen, no vertex may jump more than this many pixels in one frame of a geomorph:
+  /// a transition then takes more than GeomorphFrames frames where the points slide far
+  /// (the bound from GeomorphReach and the frame's weights), at most MaxGeomorphFrames.
+  /// 0: always GeomorphFrames.
+  double MaxGeomorphPixels = 0.0;
+  int MaxGeomorphFrames = 120;
   /// Measurements per level that ReportMeasuredSeconds refits its cost model to (the
   /// latest ones); 0 keeps the given models.
   int MeasurementWindow = 32;
@@ -249,7 +260,7 @@ private:
   int Streak = 0;          ///< consecutive frames preferring StreakDirection
   int StreakDirection = 0; ///< +1 coarser, -1 finer, 0 stay
   int MorphFrom = -1; ///< transition: the level we come from
-  int MorphFrame = 0;
+  double MorphProgress = 0.0; ///< of the transition, in [0, 1]
   size_t Switches = 0;
   double OptimizerBound = 0.0; ///< MaxVertexError the optimizers have now
 };

@@ -16,54 +16,62 @@ namespace morphnode
 {
 namespace
 {
-/// Squared distance from p to triangle abc (the closest point by Voronoi regions, Ericson,
-/// "Real-Time Collision Detection" 5.1.5). Written here because the core has no geometry
-/// library that does it (VTK's vtkTriangle is outside the VTK-free core).
-double PointTriangleDistance2(
-  const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c)
+/// Closest point to p on triangle abc as barycentric weights (by Voronoi regions, Ericson,
+/// "Real-Time Collision Detection" 5.1.5); returns the squared distance. Written here
+/// because the core has no geometry library that does it (VTK's vtkTriangle is outside the
+/// VTK-free core).
+double ClosestOnTriangle(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c,
+  glm::dvec3& bary)
 {
   const glm::dvec3 ab = b - a, ac = c - a, ap = p - a;
   const double d1 = glm::dot(ab, ap), d2 = glm::dot(ac, ap);
-  auto dist2 = [&](const glm::dvec3& q) { return glm::dot(p - q, p - q); };
+  auto at = [&](double u, double v, double w) {
+    bary = glm::dvec3(u, v, w);
+    const glm::dvec3 q = u * a + v * b + w * c;
+    return glm::dot(p - q, p - q);
+  };
   if (d1 <= 0.0 && d2 <= 0.0)
   {
-    return dist2(a);
+    return at(1, 0, 0);
   }
   const glm::dvec3 bp = p - b;
   const double d3 = glm::dot(ab, bp), d4 = glm::dot(ac, bp);
   if (d3 >= 0.0 && d4 <= d3)
   {
-    return dist2(b);
+    return at(0, 1, 0);
   }
   const double vc = d1 * d4 - d3 * d2;
   if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0)
   {
-    return dist2(a + (d1 / (d1 - d3)) * ab);
+    const double v = d1 / (d1 - d3);
+    return at(1 - v, v, 0);
   }
   const glm::dvec3 cp = p - c;
   const double d5 = glm::dot(ab, cp), d6 = glm::dot(ac, cp);
   if (d6 >= 0.0 && d5 <= d6)
   {
-    return dist2(c);
+    return at(0, 0, 1);
   }
   const double vb = d5 * d2 - d1 * d6;
   if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0)
   {
-    return dist2(a + (d2 / (d2 - d6)) * ac);
+    const double w = d2 / (d2 - d6);
+    return at(1 - w, 0, w);
   }
   const double va = d3 * d6 - d5 * d4;
   if (va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0)
   {
-    return dist2(b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b));
+    const double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+    return at(0, 1 - w, w);
   }
   const double denom = va + vb + vc;
   if (!(std::abs(denom) > 0.0))
   {
-    // Degenerate triangle: its closest vertex.
-    return std::min({ dist2(a), dist2(b), dist2(c) });
+    // Degenerate triangle: its first corner.
+    return at(1, 0, 0);
   }
   const double v = vb / denom, w = vc / denom;
-  return dist2(a + v * ab + w * ac);
+  return at(1 - v - w, v, w);
 }
 
 /// Dense position deltas per target (1..n) and the neutral, as doubles.
@@ -129,10 +137,7 @@ void LevelDistances(const DensePositions& positions, size_t n, LadderLevel& leve
   }
 }
 
-/// MaxError and RmsError of `level` (l > 0): every shared point against the level's
-/// triangles around its representative (its two-ring), in the neutral and every target's
-/// pose at weight 1. A local search, so a lip point is measured against its own lip's
-/// triangles, not the other lip's that a global closest point might find.
+/// Corners, Barycentrics, MaxError and RmsError of `level` (l > 0), see LadderLevel.
 void LevelErrors(const MorphLadder& ladder, size_t l, const DensePositions& positions, LadderLevel& level)
 {
   const size_t n = level.NumberOfPoints;
@@ -146,27 +151,52 @@ void LevelErrors(const MorphLadder& ladder, size_t l, const DensePositions& posi
       fan[tris[3 * t + c]].push_back(static_cast<uint32_t>(t));
     }
   }
-  std::vector<std::vector<uint32_t>> ring(n); // representative -> triangles of its two-ring
-  std::vector<uint32_t> reps(np);
+  auto neutral = [&](size_t p) {
+    return glm::dvec3(positions.Neutral[3 * p], positions.Neutral[3 * p + 1], positions.Neutral[3 * p + 2]);
+  };
+  level.Corners.resize(3 * np);
+  level.Barycentrics.resize(3 * np);
+  std::vector<uint32_t> ring;
   for (size_t p = 0; p < np; ++p)
   {
-    reps[p] = ladder.Representative(l, static_cast<uint32_t>(p));
-    auto& r = ring[reps[p]];
-    if (!r.empty())
+    const uint32_t r = ladder.Representative(l, static_cast<uint32_t>(p));
+    // A point the level keeps is its own carried point.
+    uint32_t corners[3] = { r, r, r };
+    glm::dvec3 best(1, 0, 0);
+    if (p >= n)
     {
-      continue;
-    }
-    for (uint32_t t : fan[reps[p]])
-    {
-      for (int c = 0; c < 3; ++c)
+      ring.clear();
+      for (uint32_t t : fan[r])
       {
-        const auto& more = fan[tris[3 * t + c]];
-        r.insert(r.end(), more.begin(), more.end());
+        for (int c = 0; c < 3; ++c)
+        {
+          const auto& more = fan[tris[3 * t + c]];
+          ring.insert(ring.end(), more.begin(), more.end());
+        }
+      }
+      double bestD = HUGE_VAL;
+      const glm::dvec3 q = neutral(p);
+      for (uint32_t t : ring)
+      {
+        glm::dvec3 bary;
+        const double d = ClosestOnTriangle(
+          q, neutral(tris[3 * t]), neutral(tris[3 * t + 1]), neutral(tris[3 * t + 2]), bary);
+        if (d < bestD)
+        {
+          bestD = d;
+          best = bary;
+          std::copy_n(&tris[3 * t], 3, corners);
+        }
       }
     }
-    std::sort(r.begin(), r.end());
-    r.erase(std::unique(r.begin(), r.end()), r.end());
+    for (int c = 0; c < 3; ++c)
+    {
+      level.Corners[3 * p + c] = corners[c];
+      level.Barycentrics[3 * p + c] = static_cast<float>(best[c]);
+    }
   }
+  // The carried points' distances in every pose.
+  std::vector<double> worst(np, 0.0); // per point, over the poses (squared)
   double maxError = 0.0, sum2 = 0.0;
   size_t count = 0;
   std::vector<double> pose(positions.Neutral.size());
@@ -176,30 +206,48 @@ void LevelErrors(const MorphLadder& ladder, size_t l, const DensePositions& posi
     {
       pose[i] = positions.Neutral[i] + (k > 0 ? positions.Deltas[k - 1][i] : 0.0);
     }
-    auto at = [&](size_t p) { return glm::dvec3(pose[3 * p], pose[3 * p + 1], pose[3 * p + 2]); };
-    for (size_t p = 0; p < np; ++p)
+    for (size_t p = n; p < np; ++p)
     {
-      double best = p < n ? 0.0 : HUGE_VAL; // a kept point lies on its own triangles
-      if (p >= n)
+      double d2 = 0.0;
+      for (int c = 0; c < 3; ++c)
       {
-        const glm::dvec3 q = at(p);
-        for (uint32_t t : ring[reps[p]])
+        double q = 0.0;
+        for (int i = 0; i < 3; ++i)
         {
-          best = std::min(best,
-            PointTriangleDistance2(q, at(tris[3 * t]), at(tris[3 * t + 1]), at(tris[3 * t + 2])));
+          q += double(level.Barycentrics[3 * p + i]) * pose[3 * level.Corners[3 * p + i] + c];
         }
-        if (!std::isfinite(best)) // a representative with no triangle: its distance
-        {
-          best = glm::dot(q - at(reps[p]), q - at(reps[p]));
-        }
+        d2 += (q - pose[3 * p + c]) * (q - pose[3 * p + c]);
       }
-      maxError = std::max(maxError, best);
-      sum2 += best;
-      ++count;
+      maxError = std::max(maxError, d2);
+      worst[p] = std::max(worst[p], d2);
+      sum2 += d2;
     }
+    count += np; // kept points count with distance 0
   }
   level.MaxError = std::sqrt(maxError);
+  const size_t q = (np * 99) / 100;
+  std::nth_element(worst.begin(), worst.begin() + static_cast<std::ptrdiff_t>(q), worst.end());
+  level.Error99 = std::sqrt(worst[q]);
   level.RmsError = count ? std::sqrt(sum2 / static_cast<double>(count)) : 0.0;
+}
+
+/// GeomorphReach of level l towards l + 1.
+void Reach(const MorphLadder& ladder, size_t l, const DensePositions& positions, LadderLevel& level)
+{
+  const size_t begin = ladder.Levels[l + 1].NumberOfPoints, end = level.NumberOfPoints;
+  level.GeomorphReach.assign(positions.Deltas.size() + 1, 0.0);
+  for (size_t k = 0; k <= positions.Deltas.size(); ++k)
+  {
+    const std::vector<double>& v = k == 0 ? positions.Neutral : positions.Deltas[k - 1];
+    double reach = 0.0;
+    for (size_t p = begin; p < end; ++p)
+    {
+      const size_t r = ladder.Parent[p];
+      const double dx = v[3 * p] - v[3 * r], dy = v[3 * p + 1] - v[3 * r + 1], dz = v[3 * p + 2] - v[3 * r + 2];
+      reach = std::max(reach, dx * dx + dy * dy + dz * dz);
+    }
+    level.GeomorphReach[k] = std::sqrt(reach);
+  }
 }
 } // namespace
 
@@ -322,6 +370,10 @@ MorphLadder BuildMorphLadder(const MorphMesh& mesh, const LadderSettings& settin
     {
       LevelErrors(ladder, l, positions, ladder.Levels[l]);
     }
+    if (l + 1 < levels)
+    {
+      Reach(ladder, l, positions, ladder.Levels[l]);
+    }
   }
   return ladder;
 }
@@ -356,7 +408,8 @@ LevelOfDetail ToLevelOfDetail(const MorphLadder& ladder, size_t l, const CostMod
   lod.NumberOfPoints = level.NumberOfPoints;
   lod.MovedPoints = level.MovedPoints;
   lod.Distances = level.Distances;
-  lod.GeometricError = level.MaxError;
+  lod.GeometricError = level.Error99;
+  lod.GeomorphReach = level.GeomorphReach;
   lod.Cost = cost;
   if (l + 1 < ladder.Levels.size())
   {

@@ -47,12 +47,33 @@ struct LadderLevel
   size_t NumberOfPoints = 0;
   /// Its index buffer: 3 shared point ids per triangle, all < NumberOfPoints.
   std::vector<uint32_t> Triangles;
-  /// Largest distance of a full-resolution point from this level's surface, over the
-  /// neutral and every target at weight 1 (model units; 0 for level 0). The level's error
-  /// for choosing it on screen: times the pixels per unit, its error in pixels.
+  /// Where every shared point sits on this level: the level triangle (3 shared ids) and
+  /// barycentric weights of its closest point in the neutral, searched among the triangles
+  /// around the point's representative (two rings), so that a lip point stays on its own
+  /// lip. Carried through the animation, it is what the level shows of the full-resolution
+  /// point. Empty for level 0 (every point is its own).
+  std::vector<uint32_t> Corners;
+  std::vector<float> Barycentrics;
+  /// Largest distance between a full-resolution point and its carried point (Corners,
+  /// Barycentrics) on this level, in the neutral and in every target's pose at weight 1
+  /// (model units; 0 for level 0): surface error plus the motion the level gets wrong
+  /// (sliding included). Times the pixels per unit: the level's error in pixels, by which
+  /// it is chosen on screen.
   double MaxError = 0.0;
+  /// The 99th percentile over the points of each point's largest distance over the poses:
+  /// the error the level is chosen by on screen (ToLevelOfDetail). The largest (MaxError)
+  /// belongs to a few points on a fold (a lid's or lip's margin) whose carried point crosses
+  /// to the other side when it opens, and would keep a level off the screen until the face
+  /// is a few pixels high (docs/lod.md has both).
+  double Error99 = 0.0;
   /// The same distances' RMS over points and poses.
   double RmsError = 0.0;
+  /// Towards the next coarser level (empty for the coarsest): over the points this level
+  /// has and the next lacks, the largest distance to their parent in the neutral (entry 0)
+  /// and the largest difference of their deltas from the parent's (entry k, target k). A
+  /// point and its parent are at most GeomorphReach[0] + sum_k |w_k| GeomorphReach[k] apart
+  /// under weights w: a whole geomorph's largest vertex jump.
+  std::vector<double> GeomorphReach;
   /// Over the level's points: the targets' distances (M_i for the optimizer's bound) and
   /// the points each target moves (the blend's cost).
   TargetDistances Distances;
@@ -88,7 +109,7 @@ template <typename T>
 void GeomorphLadder(const MorphLadder& ladder, size_t level, double alpha, T* positions);
 
 /// A level for the FrameBudgetController, with the level's cost model; GeometricError is
-/// the level's MaxError (the screen bounds the largest error, not the mean).
+/// the level's Error99.
 LevelOfDetail ToLevelOfDetail(const MorphLadder& ladder, size_t level, const CostModel& cost);
 
 extern template void GeomorphLadder(const MorphLadder&, size_t, double, float*);

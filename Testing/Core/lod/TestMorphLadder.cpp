@@ -431,3 +431,74 @@ TEST(ScalableMorph, BlendsTheShownLevelAndItsGeomorph)
   EXPECT_THROW(morph.Update({ 1.0 }, 100.0), morphnode::InputError);
   EXPECT_THROW(morph.SetLadder(ladder, {}), morphnode::InputError);
 }
+
+namespace
+{
+/// Every shared point as a level shows it (a point the level lacks sits on its
+/// representative), blended with `w` and geomorphed by (towards, alpha).
+std::vector<float> VertexView(const std::vector<double>& w, int level, int towards, double alpha)
+{
+  const MorphLadder& ladder = Ladder();
+  const size_t n = ladder.Levels[level].NumberOfPoints;
+  std::vector<float> shown = Blend(ladder, w, n);
+  if (towards >= 0)
+  {
+    morphnode::GeomorphLadder(ladder, level, alpha, shown.data());
+  }
+  std::vector<float> out(shown.size());
+  for (size_t p = 0; p < ladder.Mesh.GetNumberOfPoints(); ++p)
+  {
+    const size_t r = ladder.Representative(level, static_cast<uint32_t>(p));
+    std::copy_n(&shown[3 * r], 3, &out[3 * p]);
+  }
+  return out;
+}
+
+/// The largest screen-space jump of a vertex over a dolly-out (and back in), caused by level
+/// changes and geomorph steps alone (both states under the same frame's weights).
+double LargestJump(double maxGeomorphPixels, int geomorphFrames)
+{
+  morphnode::ControllerSettings s;
+  s.FrameBudget = 1.0;
+  s.Thresholds = { 0.0 };
+  s.PixelBound = 1.0;
+  s.MinFramesPerLevel = 1;
+  s.GeomorphFrames = geomorphFrames;
+  s.MaxGeomorphPixels = maxGeomorphPixels;
+  s.MaxGeomorphFrames = 4000; // never the limit here (it would be: the camera comes in fast)
+  morphnode::FrameBudgetController c = Controller(s);
+  int level = 0, towards = -1;
+  double alpha = 0.0, largest = 0.0;
+  for (int f = 0; f < 800; ++f)
+  {
+    const double t = f < 400 ? f / 399.0 : (799 - f) / 399.0; // out, then in again
+    const double ppu = 20000.0 * std::pow(1e-3, t);
+    const morphnode::ControllerDecision d = c.Update(Weights(f), ppu);
+    if (d.Level != level || d.MorphTowards != towards || d.Alpha != alpha)
+    {
+      const std::vector<float> now = VertexView(d.Weights, d.Level, d.MorphTowards, d.Alpha);
+      const std::vector<float> before = VertexView(d.Weights, level, towards, alpha);
+      const double j = MaxDeviation(now, before, now.size() / 3) * ppu;
+      largest = std::max(largest, j);
+    }
+    level = d.Level;
+    towards = d.MorphTowards;
+    alpha = d.Alpha;
+  }
+  EXPECT_EQ(c.GetNumberOfSwitches(), 6u);
+  return largest;
+}
+} // namespace
+
+TEST(MorphLadder, GeomorphKeepsEveryVertexJumpWithinAPixel)
+{
+  // Without geomorphs a switch jumps by many pixels; with eight fixed frames still by more
+  // than one near the camera; sliding by the pixel bound never by more than one pixel.
+  const double none = LargestJump(0.0, 0);
+  const double fixed = LargestJump(0.0, 8);
+  const double bounded = LargestJump(1.0, 8);
+  EXPECT_GT(none, 8.0);
+  EXPECT_GT(fixed, 1.0);
+  EXPECT_LE(bounded, 1.0 + 1e-3); // float positions
+  EXPECT_NEAR(fixed, none / 8.0, 0.05 * none);
+}
