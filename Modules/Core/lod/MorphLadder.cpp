@@ -290,6 +290,7 @@ MorphLadder BuildMorphLadder(const MorphMesh& mesh, const LadderSettings& settin
   std::vector<uint32_t> kept(np); // this level's point -> input id
   std::iota(kept.begin(), kept.end(), 0u);
   MorphMesh current;
+  size_t skipped = 0;
   for (size_t l = 1; l < levels; ++l)
   {
     ReductionSettings rs = settings.Reduction;
@@ -297,6 +298,10 @@ MorphLadder BuildMorphLadder(const MorphMesh& mesh, const LadderSettings& settin
     rs.TargetTriangles = std::max<size_t>(1,
       static_cast<size_t>(std::llround(settings.TriangleFractions[l - 1] * fullTriangles)));
     ReductionResult r = ReduceAnimationAware(l == 1 ? mesh : current, rs);
+    if (l == 1)
+    {
+      skipped = r.SkippedNonManifoldTriangles;
+    }
     std::vector<uint32_t> next(r.OriginalPointIds.size());
     for (size_t i = 0; i < next.size(); ++i)
     {
@@ -327,6 +332,7 @@ MorphLadder BuildMorphLadder(const MorphMesh& mesh, const LadderSettings& settin
 
   // Renumber: coarsest level's points first, then what each finer level adds.
   MorphLadder ladder;
+  ladder.SkippedTriangles = skipped;
   ladder.OriginalPointIds.reserve(np);
   for (size_t l = levels; l-- > 0;)
   {

@@ -38,7 +38,13 @@ struct LadderSettings
   /// (0, 1). Level 0 is always the full mesh.
   std::vector<double> TriangleFractions = { 0.5, 0.25, 0.1 };
   /// The reduction (its budget fields are ignored). AnimationWeight 0: plain quadric.
-  ReductionSettings Reduction;
+  /// SkipNonManifold is on: a few non-manifold triangles (the default head has two) stay in
+  /// the full level and are left out of the reduced ones (MorphLadder::SkippedTriangles).
+  ReductionSettings Reduction = [] {
+    ReductionSettings r;
+    r.SkipNonManifold = true;
+    return r;
+  }();
 };
 
 struct LadderLevel
@@ -92,6 +98,8 @@ struct MorphLadder
   std::vector<uint32_t> Parent;
   /// Finest (the full mesh) first.
   std::vector<LadderLevel> Levels;
+  /// Non-manifold triangles of the input the reduced levels leave out.
+  size_t SkippedTriangles = 0;
 
   /// The point `point` stands on at `level` (follows Parent until it is in the level).
   uint32_t Representative(size_t level, uint32_t point) const;

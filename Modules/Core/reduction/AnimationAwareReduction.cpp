@@ -381,7 +381,11 @@ ReductionResult Reduce(const MorphMesh& morph, const MorphAttribute<T>& position
       ++rejected;
     }
   }
-  if (rejected > 0)
+  if (rejected > 0 && settings.SkipNonManifold)
+  {
+    result.SkippedNonManifoldTriangles = rejected;
+  }
+  else if (rejected > 0)
   {
     throw InputError("Reduction: " + std::to_string(rejected) +
       " triangles make the mesh non-manifold (an edge shared by more than two triangles, or a "

@@ -63,6 +63,9 @@ struct ReductionSettings
   double BoundaryWeight = 1.0;
   /// Largest change of a neutral face normal a collapse may cause, degrees (0 = no check).
   double MaxNormalDeviation = 60.0;
+  /// Leave out the triangles OpenMesh cannot add (they would make the mesh non-manifold)
+  /// instead of refusing the mesh; counted in ReductionResult::SkippedNonManifoldTriangles.
+  bool SkipNonManifold = false;
   /// Storage of the reduced mesh's deltas (MorphAttribute::AddRelativeTarget); no effect on
   /// any value.
   double SparseCoverage = MorphMesh::DefaultSparseCoverage;
@@ -81,6 +84,8 @@ struct ReductionResult
   std::vector<uint32_t> Representatives;
   /// Degenerate input triangles (a repeated point id) that were dropped.
   size_t DroppedDegenerateTriangles = 0;
+  /// Non-manifold triangles left out (ReductionSettings::SkipNonManifold).
+  size_t SkippedNonManifoldTriangles = 0;
 };
 
 /// Reduces `mesh` to the settings' budget. The collapses are chosen on the mesh's triangles
