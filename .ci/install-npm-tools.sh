@@ -5,11 +5,14 @@
 # (three), the browser face of the avatar stream (docs/streaming.md), and playwright-core,
 # which drives Debian's chromium in the stream's browser test (no browser download). Needs node
 # and npm: Debian's `nodejs` (.ci/packages.txt) and `npm`, installed here when npm is missing
-# (Node.js packages from elsewhere, e.g. NodeSource's, bring their own npm).
+# (Node.js packages from elsewhere, e.g. NodeSource's, bring their own npm). Also gltfpack
+# 1.3.0 (meshoptimizer's WebAssembly build), the yardstick of the level-of-detail study
+# (docs/lod.md): Debian 12's /usr/bin/gltfpack is 0.18, older than the version compared.
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 prefix="${1:-$here/npm-tools}"
 validator_version="2.0.0-dev.3.10"
+gltfpack_version="1.3.0"
 if ! command -v npm >/dev/null 2>&1; then
   sudo=""
   [ "$(id -u)" -eq 0 ] || sudo="sudo"
@@ -19,7 +22,8 @@ if ! command -v npm >/dev/null 2>&1; then
 fi
 three_version="0.187.0"
 playwright_core_version="1.65.1"
-packages=("gltf-validator@$validator_version" "three@$three_version" "playwright-core@$playwright_core_version")
+packages=("gltf-validator@$validator_version" "three@$three_version" "playwright-core@$playwright_core_version"
+  "gltfpack@$gltfpack_version")
 missing=()
 for package in "${packages[@]}"; do
   name="${package%@*}"

@@ -5,6 +5,7 @@
 #include "vtkMorphTargetArrays.h"
 
 #include "base/Error.h"
+#include "budget/DeviceProfile.h"
 #include "budget/FrameBudgetController.h"
 #include "morph/MorphScene.h"
 #include "morph/OptimizerPresets.h"
@@ -779,7 +780,8 @@ struct vtkMorphNodeFilter::vtkInternals
   {
     this->BudgetDecided = false;
     self->FrameBudgetThreshold = -1.0;
-    if (self->FrameBudget <= 0.0 || !this->Ready)
+    const bool targetLod = self->PixelsPerUnit > 0.0 && self->TargetPixelBound > 0.0;
+    if ((self->FrameBudget <= 0.0 && !targetLod) || !this->Ready)
     {
       this->HasMeasurement = false;
       return;
@@ -803,7 +805,8 @@ struct vtkMorphNodeFilter::vtkInternals
       ? this->Scene.GetOptimizerSettings()
       : morphnode::OptimizerSettings{};
     morphnode::ControllerSettings cs;
-    cs.FrameBudget = 1e-3 * self->FrameBudget;
+    cs.FrameBudget = self->FrameBudget > 0.0 ? 1e-3 * self->FrameBudget : 1.0; // target LOD alone: no limit
+    cs.TargetPixelBound = targetLod ? self->TargetPixelBound : 0.0;
     cs.Strategy = settings.Strategy;
     cs.AdjustThreshold = settings.AdjustThreshold;
     cs.OptimizerHysteresis = settings.Hysteresis;
@@ -828,7 +831,8 @@ struct vtkMorphNodeFilter::vtkInternals
     if (!sameModel || this->Budget.GetNumberOfLevels() == 0 || was.FrameBudget != cs.FrameBudget ||
       was.Strategy != cs.Strategy || was.AdjustThreshold != cs.AdjustThreshold ||
       was.OptimizerHysteresis != cs.OptimizerHysteresis ||
-      was.MaxActiveTargets != cs.MaxActiveTargets || was.MaxVertexError != cs.MaxVertexError)
+      was.MaxActiveTargets != cs.MaxActiveTargets || was.MaxVertexError != cs.MaxVertexError ||
+      was.TargetPixelBound != cs.TargetPixelBound)
     {
       // A first guess (about a desktop's blend), replaced by measurements from the first
       // execution on; what was measured survives a change of method.
@@ -854,11 +858,19 @@ struct vtkMorphNodeFilter::vtkInternals
     std::vector<double> absolute;
     morphnode::ResolveWeights(this->Scene.GetWeightMode(), this->Requested.data(),
       this->Requested.size(), absolute);
-    const morphnode::ControllerDecision decision = this->Budget.Update(absolute);
+    const morphnode::ControllerDecision decision =
+      this->Budget.Update(absolute, targetLod ? self->PixelsPerUnit : 0.0);
     morphnode::OptimizerSettings chosen = settings;
-    chosen.Threshold = decision.Threshold;
+    chosen.Threshold = self->FrameBudget > 0.0 ? decision.Threshold : settings.Threshold;
+    if (decision.TargetErrorBound > 0.0)
+    {
+      // The target level of detail: the scene's own optimizer keeps the bound.
+      chosen.MaxVertexError = chosen.MaxVertexError > 0.0
+        ? std::min(chosen.MaxVertexError, decision.TargetErrorBound)
+        : decision.TargetErrorBound;
+    }
     this->Scene.SetOptimizerSettings(chosen);
-    self->FrameBudgetThreshold = decision.Threshold;
+    self->FrameBudgetThreshold = self->FrameBudget > 0.0 ? decision.Threshold : -1.0;
     this->BudgetDecided = true;
   }
 
@@ -1324,6 +1336,36 @@ vtkMorphNodeFilter::vtkMorphNodeFilter()
 vtkMorphNodeFilter::~vtkMorphNodeFilter()
 {
   this->SetController(nullptr);
+  delete[] this->DeviceProfile;
+}
+
+//------------------------------------------------------------------------------
+void vtkMorphNodeFilter::SetDeviceProfile(const char* name)
+{
+  if (!name || !*name)
+  {
+    if (this->DeviceProfile)
+    {
+      delete[] this->DeviceProfile;
+      this->DeviceProfile = nullptr;
+      this->Modified();
+    }
+    return;
+  }
+  try
+  {
+    const morphnode::DeviceProfile& profile = morphnode::FindDeviceProfile(name);
+    this->SetFrameBudget(1e3 * profile.FrameBudget);
+    this->SetTargetPixelBound(profile.TargetPixelBound);
+    delete[] this->DeviceProfile;
+    this->DeviceProfile = new char[profile.Name.size() + 1];
+    std::copy(profile.Name.c_str(), profile.Name.c_str() + profile.Name.size() + 1, this->DeviceProfile);
+    this->Modified();
+  }
+  catch (const morphnode::InputError& e)
+  {
+    vtkErrorMacro(<< e.what());
+  }
 }
 
 //------------------------------------------------------------------------------
@@ -1758,6 +1800,9 @@ void vtkMorphNodeFilter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "MaxActiveTargets: " << this->MaxActiveTargets << "\n";
   os << indent << "Hysteresis: " << this->Hysteresis << "\n";
   os << indent << "FrameBudget: " << this->FrameBudget << " ms\n";
+  os << indent << "PixelsPerUnit: " << this->PixelsPerUnit << "\n";
+  os << indent << "TargetPixelBound: " << this->TargetPixelBound << " px\n";
+  os << indent << "DeviceProfile: " << (this->DeviceProfile ? this->DeviceProfile : "(none)") << "\n";
   os << indent << "FrameBudgetThreshold: " << this->FrameBudgetThreshold << "\n";
   os << indent << "MorphTime: " << this->MorphTime << " ms\n";
   os << indent << "GenerateDistanceArrays: " << (this->GenerateDistanceArrays ? "On" : "Off") << "\n";

@@ -297,6 +297,32 @@ public:
   vtkGetMacro(FrameBudget, double);
   ///@}
 
+  ///@{
+  /**
+   * Target level of detail (docs/lod.md): PixelsPerUnit is how many pixels one model unit
+   * spans on screen at the avatar (the application sets it each frame from its camera,
+   * morphnode::ScreenPixelsPerUnit; 0, the default, is off). With TargetPixelBound > 0 too,
+   * targets whose weighted reach projects below TargetPixelBound pixels are left out
+   * through the optimizer's error bound (MaxVertexError becomes the smaller of its own and
+   * TargetPixelBound / PixelsPerUnit) and its hysteresis, whether or not FrameBudget is on.
+   */
+  vtkSetClampMacro(PixelsPerUnit, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(PixelsPerUnit, double);
+  vtkSetClampMacro(TargetPixelBound, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(TargetPixelBound, double);
+  ///@}
+
+  ///@{
+  /**
+   * A device profile (morphnode::DeviceProfiles: "desktop", "laptop", "phone"; empty: none)
+   * sets FrameBudget and TargetPixelBound to the profile's (and keeps its name); an unknown
+   * name is an error and changes nothing. Setting FrameBudget or TargetPixelBound afterwards
+   * overrides the profile's value.
+   */
+  void SetDeviceProfile(const char* name);
+  vtkGetStringMacro(DeviceProfile);
+  ///@}
+
   /**
    * The threshold the frame budget chose for the last execution; -1 when FrameBudget is
    * off or before an execution.
@@ -378,6 +404,9 @@ protected:
   int MaxActiveTargets = 0;
   double Hysteresis = 0.0;
   double FrameBudget = 0.0;
+  double PixelsPerUnit = 0.0;
+  double TargetPixelBound = 0.0;
+  char* DeviceProfile = nullptr;
   bool GenerateDistanceArrays = false;
   double SparseCoverage;
 

@@ -109,3 +109,25 @@ TEST(MorphAvatarFrameBudget, BadLogIsAUsageError)
   EXPECT_EQ(run.ExitCode, 2) << run.Text;
   EXPECT_NE(run.Text.find("--frame-budget-log"), std::string::npos) << run.Text;
 }
+
+TEST(MorphAvatarFrameBudget, ProfilesSetTheBudget)
+{
+  // --profile phone: the phone's 0.4 ms budget and its pixel bound, with the target level of
+  // detail from the camera; --frame-budget overrides the budget; an unknown profile is a
+  // usage error naming the known ones.
+  const std::string dir = Output + "/TestMorphAvatarFrameBudget_profile";
+  vtksys::SystemTools::RemoveADirectory(dir);
+  vtksys::SystemTools::MakeDirectory(dir);
+  const std::string log = dir + "/budget.csv";
+  const std::string common = "--duration 1 --fps 10 --size 96x96 --offscreen --frames '" + dir + "' ";
+  AvatarRun run = RunAvatar(common + "--profile phone --frame-budget-log '" + log + "'");
+  EXPECT_EQ(run.ExitCode, 0) << run.Text;
+  EXPECT_NE(run.Text.find("frame budget 0.4 ms"), std::string::npos) << run.Text;
+  EXPECT_GE(ReadLog(log).size(), 9u);
+  run = RunAvatar(common + "--profile laptop --frame-budget 3");
+  EXPECT_EQ(run.ExitCode, 0) << run.Text;
+  EXPECT_NE(run.Text.find("frame budget 3 ms"), std::string::npos) << run.Text;
+  run = RunAvatar(common + "--profile watch");
+  EXPECT_EQ(run.ExitCode, 2) << run.Text;
+  EXPECT_NE(run.Text.find("desktop|laptop|phone"), std::string::npos) << run.Text;
+}

@@ -7,6 +7,7 @@
 
 #include "base/Text.h"
 #include "behavior/HeadPose.h"
+#include "budget/FrameBudgetController.h"
 
 #include "audio/AudioFile.h"
 #include "speech/Rhubarb.h"
@@ -15,6 +16,8 @@
 #include "vtkCamera.h"
 #include "vtkInformation.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
+#include "vtkMath.h"
+#include "vtkRenderWindow.h"
 #include "vtkCoordinate.h"
 #include "vtkProperty.h"
 #include "vtkSmartPointer.h"
@@ -397,6 +400,18 @@ void Avatar::ApplyMethod()
 bool Avatar::Update(double t)
 {
   this->Time = t;
+  if (this->Opt.Lod || !this->Opt.Profile.empty())
+  {
+    // The target level of detail: how many pixels a model unit spans at the head.
+    vtkCamera* camera = this->Renderer->GetActiveCamera();
+    const double* b = this->Bounds;
+    const double center[3] = { 0.5 * (b[0] + b[1]), 0.5 * (b[2] + b[3]), 0.5 * (b[4] + b[5]) };
+    const double distance = std::sqrt(vtkMath::Distance2BetweenPoints(camera->GetPosition(), center));
+    const int height = this->Window->GetSize()[1] > 0 ? this->Window->GetSize()[1] : this->Opt.Height;
+    this->Morph->SetPixelsPerUnit(distance > 0.0 && !camera->GetParallelProjection()
+        ? morphnode::ScreenPixelsPerUnit(height, camera->GetViewAngle(), distance)
+        : 0.0);
+  }
   if (!this->Skin->UpdateTimeStep(t))
   {
     return false;
@@ -487,6 +502,13 @@ std::string Avatar::OverlayText(bool offscreen, int frame, int frames) const
   os << "active targets " << this->Morph->GetActiveTargetCount() << " / " << targets
      << (this->DecidesPerShape() ? " (decided per rig shape)" : "") << "   error bound "
      << std::setprecision(2) << 100.0 * bound / this->Diagonal << " %\n";
+  if (this->Morph->GetPixelsPerUnit() > 0.0)
+  {
+    // The level of detail: the filter shows the full mesh (level 0); targets by the screen.
+    os << "LOD " << (this->Opt.Profile.empty() ? "" : this->Opt.Profile + " ") << "level 0   targets "
+       << this->Morph->GetActiveTargetCount() << "   points "
+       << this->GetHead()->GetNumberOfElements(vtkDataObject::POINT) << "   face " << std::setprecision(0) << this->Morph->GetPixelsPerUnit() * this->Diagonal << " px\n";
+  }
   os << "t = " << std::setprecision(2) << this->Time << " s / " << this->Duration << " s";
   if (!offscreen)
   {

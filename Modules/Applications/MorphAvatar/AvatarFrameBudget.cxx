@@ -136,13 +136,18 @@ vtkSmartPointer<FrameBudgetWatch> ActiveWatch; // the one watch of the program, 
 
 void WatchFrameBudget(vtkMorphNodeFilter* morph, const Options& o)
 {
-  if (!(o.FrameBudget > 0.0))
+  // --frame-budget, else a --profile's budget (already set on the filter).
+  if (o.FrameBudget > 0.0)
+  {
+    morph->SetFrameBudget(o.FrameBudget);
+  }
+  const double budget = morph->GetFrameBudget();
+  if (!(budget > 0.0))
   {
     return;
   }
-  morph->SetFrameBudget(o.FrameBudget);
   vtkNew<FrameBudgetWatch> watch;
-  watch->Budget = o.FrameBudget;
+  watch->Budget = budget;
   watch->Quiet = o.Quiet;
   if (!o.FrameBudgetLog.empty())
   {

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "AvatarOptions.h"
 
+#include "budget/DeviceProfile.h"
+
 #include "CommandLine.h"
 
 #include <filesystem>
@@ -166,7 +168,26 @@ Options ParseOptions(int argc, char* argv[])
     "times (replaces --threshold; 0: off)")
     ->group(optimizer);
   app.add_option("--frame-budget-log", o.FrameBudgetLog,
-       "with --frame-budget: every frame's threshold, active targets and morph time as CSV")
+       "with --frame-budget or --profile: every frame's threshold, active targets and morph time as CSV")
+    ->group(optimizer);
+  app.add_flag("--lod", o.Lod,
+       "target level of detail: targets whose reach projects below half a pixel (the profile's "
+       "bound with --profile) on screen are left out, from the camera every frame (docs/lod.md)")
+    ->group(optimizer);
+  app.add_option("--profile", o.Profile,
+       "a device profile (" + morphnode::DeviceProfileNames() + "): its frame budget and pixel "
+       "bound (implies --lod; --frame-budget overrides its budget)")
+    ->check([](const std::string& name) {
+      try
+      {
+        morphnode::FindDeviceProfile(name);
+        return std::string();
+      }
+      catch (const std::exception& e)
+      {
+        return std::string(e.what());
+      }
+    })
     ->group(optimizer);
 
   const std::string output = "Output";

@@ -38,6 +38,8 @@ struct Options
   double Hysteresis = 0.0;
   double FrameBudget = 0.0;   // ms for the morph; 0: off (AvatarFrameBudget.h)
   std::string FrameBudgetLog; // CSV of every frame's choice
+  std::string Profile;        // a device profile (morphnode::DeviceProfiles); empty: none
+  bool Lod = false;           // target level of detail from the camera (docs/lod.md)
   bool SeedSet = false;
   unsigned long long Seed = 1;
   bool Offscreen = false;

@@ -60,6 +60,14 @@ int Run(int argc, char* argv[])
     return 0;
   }
   a.SetUpScene();
+  if (!a.Opt.Profile.empty())
+  {
+    a.Morph->SetDeviceProfile(a.Opt.Profile.c_str()); // before --frame-budget, which overrides
+  }
+  else if (a.Opt.Lod)
+  {
+    a.Morph->SetTargetPixelBound(0.5);
+  }
   WatchFrameBudget(a.Morph, a.Opt);
   if (!a.Opt.Quiet)
   {

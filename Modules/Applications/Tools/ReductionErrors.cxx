@@ -151,9 +151,46 @@ void SurfaceDistances(const std::vector<float>& full, const std::vector<float>& 
   }
 }
 
-Errors Measure(const std::string& method, double budget, const ReductionMesh& full, const Reduced& r,
-  const morphnode::WeightTrack& track, size_t stride, const std::vector<bool>& animatedRegion)
+LipsAndLids FindLipsAndLids(const Face& face)
 {
+  const ReductionMesh& m = face.Mesh;
+  LipsAndLids out;
+  out.Lips.assign(m.GetNumberOfPoints(), false);
+  out.Lids.assign(m.GetNumberOfPoints(), false);
+  for (size_t k = 0; k < m.GetNumberOfTargets(); ++k)
+  {
+    const std::string& name = face.Names[k + 1];
+    const bool lip = name.rfind("mouthRoll", 0) == 0 || name == "mouthFunnel" || name == "mouthPucker";
+    const bool lid = name.rfind("eyeBlink", 0) == 0;
+    if (!lip && !lid)
+    {
+      continue;
+    }
+    const auto& d = m.PositionDeltas[k];
+    std::vector<double> norm(m.GetNumberOfPoints());
+    double reach = 0.0;
+    for (size_t p = 0; p < norm.size(); ++p)
+    {
+      norm[p] = std::sqrt(double(d[3 * p]) * d[3 * p] + double(d[3 * p + 1]) * d[3 * p + 1] +
+        double(d[3 * p + 2]) * d[3 * p + 2]);
+      reach = std::max(reach, norm[p]);
+    }
+    for (size_t p = 0; p < norm.size(); ++p)
+    {
+      if (norm[p] > 0.25 * reach)
+      {
+        (lip ? out.Lips : out.Lids)[p] = true;
+      }
+    }
+  }
+  return out;
+}
+
+Errors Measure(const std::string& method, double budget, const ReductionMesh& full, const Reduced& r,
+  const morphnode::WeightTrack& track, size_t stride, const std::vector<bool>& animatedRegion,
+  const LipsAndLids* regions)
+{
+  std::vector<float> lips, lids;
   Errors e;
   e.Method = method;
   e.Budget = budget;
@@ -217,6 +254,14 @@ Errors Measure(const std::string& method, double budget, const ReductionMesh& fu
       }
       motionFrame += m2;
       motionAll.push_back(static_cast<float>(std::sqrt(m2)));
+      if (regions && regions->Lips[p])
+      {
+        lips.push_back(static_cast<float>(std::sqrt(m2)));
+      }
+      if (regions && regions->Lids[p])
+      {
+        lids.push_back(static_cast<float>(std::sqrt(m2)));
+      }
       e.MotionMax = std::max(e.MotionMax, std::sqrt(m2));
       if (animatedRegion[p])
       {
@@ -262,6 +307,18 @@ Errors Measure(const std::string& method, double budget, const ReductionMesh& fu
   e.MotionP95 = motionAll[motionAll.size() * 95 / 100];
   e.MotionP99 = motionAll[motionAll.size() * 99 / 100];
   e.MotionRegionRms = std::sqrt(motionRegionSum / std::max<size_t>(corrRegionCount, 1));
+  auto percentile = [](std::vector<float>& v, int q) {
+    if (v.empty())
+    {
+      return 0.0;
+    }
+    std::nth_element(v.begin(), v.begin() + v.size() * q / 100, v.end());
+    return double(v[v.size() * q / 100]);
+  };
+  e.LipsP95 = percentile(lips, 95);
+  e.LipsP99 = percentile(lips, 99);
+  e.LidsP95 = percentile(lids, 95);
+  e.LidsP99 = percentile(lids, 99);
   return e;
 }
 } // namespace reductionstudy

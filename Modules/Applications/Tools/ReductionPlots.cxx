@@ -26,7 +26,7 @@ namespace appkit = morphnode::appkit;
 
 namespace
 {
-const unsigned char Colors[3][3] = { { 214, 39, 40 }, { 31, 119, 180 }, { 127, 127, 127 } };
+const unsigned char Colors[4][3] = { { 214, 39, 40 }, { 31, 119, 180 }, { 127, 127, 127 }, { 44, 160, 44 } };
 
 } // namespace
 

@@ -60,19 +60,28 @@ void CompareReductions(const Options& o, const Face& face, const morphnode::Weig
     animatedCount += animated[p] ? 1 : 0;
   }
 
-  const std::vector<std::string> methods = { "animation-aware (ours)", "OpenMesh quadric",
+  std::vector<std::string> methods = { "animation-aware (ours)", "OpenMesh quadric",
     "vtkQuadricDecimation + nearest" };
+  if (!o.Gltfpack.empty())
+  {
+    methods.push_back("gltfpack 1.3 -si -noq");
+  }
+  const LipsAndLids regions = FindLipsAndLids(face);
   std::vector<Errors> all;
-  std::map<double, size_t> keptAnimated[3];
+  std::map<double, size_t> keptAnimated[4];
   for (double b : budgets)
   {
     const size_t triangles = static_cast<size_t>(std::round(b * full.GetNumberOfTriangles()));
-    Reduced reduced[3] = { ReduceOpenMesh(full, triangles, weight, o.Base), ReduceOpenMesh(full, triangles, 0.0, o.Base),
-      ReduceVTK(full, triangles) };
-    for (int m = 0; m < 3; ++m)
+    std::vector<Reduced> reduced = { ReduceOpenMesh(full, triangles, weight, o.Base),
+      ReduceOpenMesh(full, triangles, 0.0, o.Base), ReduceVTK(full, triangles) };
+    if (!o.Gltfpack.empty())
+    {
+      reduced.push_back(ReduceGltfpack(face, b, o.Gltfpack, outDir + "/gltfpack"));
+    }
+    for (size_t m = 0; m < reduced.size(); ++m)
     {
       const auto t0 = std::chrono::steady_clock::now();
-      all.push_back(Measure(methods[m], b, full, reduced[m], track, stride, animated));
+      all.push_back(Measure(methods[m], b, full, reduced[m], track, stride, animated, &regions));
       size_t kept = 0;
       for (uint32_t s : reduced[m].Source)
       {
@@ -82,7 +91,8 @@ void CompareReductions(const Options& o, const Face& face, const morphnode::Weig
       std::cerr << methods[m] << " at " << b << ": corr " << Mm(all.back().CorrRms) << " mm, anim "
                 << Mm(all.back().AnimRms) << " mm, motion " << Mm(all.back().MotionRms) << " / region "
                 << Mm(all.back().MotionRegionRms) << " / max " << Mm(all.back().MotionMax) << " / p95 " << Mm(all.back().MotionP95) << " / p99 "
-                << Mm(all.back().MotionP99) << " mm, static " << Mm(all.back().StaticRms) << " mm ("
+                << Mm(all.back().MotionP99) << " mm, lips p95 " << Mm(all.back().LipsP95) << ", lids p95 "
+                << Mm(all.back().LidsP95) << " mm, static " << Mm(all.back().StaticRms) << " mm ("
                 << Seconds(std::chrono::steady_clock::now() - t0) << " s)\n";
     }
   }
@@ -98,10 +108,15 @@ void CompareReductions(const Options& o, const Face& face, const morphnode::Weig
         "| motion error RMS, animated region | animated surface distance RMS | animated surface distance max "
         "| correspondence RMS | kept-vertex RMS |\n";
   md << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+  std::ostringstream lipsTable;
+  lipsTable << "\nThe lips (" << std::count(regions.Lips.begin(), regions.Lips.end(), true) << " points) and lids ("
+            << std::count(regions.Lids.begin(), regions.Lids.end(), true)
+            << " points) alone, motion error in mm:\n\n| triangles kept | method | lips p95 | lips p99 | lids p95 | lids p99 |\n"
+               "|---|---|---|---|---|---|\n";
   std::ofstream csv(outDir + "/reduction_errors.csv");
   csv << "budget,method,triangles,points,kept_animated,static_rms_mm,static_max_mm,anim_rms_mm,anim_max_mm,"
          "anim_region_rms_mm,corr_rms_mm,corr_max_mm,corr_region_rms_mm,kept_rms_mm,motion_p95_mm,motion_p99_mm,"
-         "motion_rms_mm,motion_region_rms_mm,motion_max_mm\n";
+         "motion_rms_mm,motion_region_rms_mm,motion_max_mm,lips_p95_mm,lips_p99_mm,lids_p95_mm,lids_p99_mm\n";
   for (const auto& e : all)
   {
     const int m = static_cast<int>(std::find(methods.begin(), methods.end(), e.Method) - methods.begin());
@@ -110,13 +125,17 @@ void CompareReductions(const Options& o, const Face& face, const morphnode::Weig
        << Mm(e.MotionP95) << " | " << Mm(e.MotionP99) << " | " << Mm(e.MotionRms) << " | "
        << Mm(e.MotionRegionRms) << " | " << Mm(e.AnimRms) << " | " << Mm(e.AnimMax) << " | " << Mm(e.CorrRms)
        << " | " << Mm(e.KeptRms) << " |\n";
+    lipsTable << "| " << 100.0 * e.Budget << " % | " << e.Method << " | " << Mm(e.LipsP95) << " | " << Mm(e.LipsP99)
+              << " | " << Mm(e.LidsP95) << " | " << Mm(e.LidsP99) << " |\n";
     csv << e.Budget << "," << e.Method << "," << e.Triangles << "," << e.Points << ","
         << keptAnimated[m][e.Budget] << "," << Mm(e.StaticRms, 5) << "," << Mm(e.StaticMax, 5) << ","
         << Mm(e.AnimRms, 5) << "," << Mm(e.AnimMax, 5) << "," << Mm(e.AnimRegionRms, 5) << ","
         << Mm(e.CorrRms, 5) << "," << Mm(e.CorrMax, 5) << "," << Mm(e.CorrRegionRms, 5) << ","
         << Mm(e.KeptRms, 5) << "," << Mm(e.MotionP95, 5) << "," << Mm(e.MotionP99, 5) << ","
-        << Mm(e.MotionRms, 5) << "," << Mm(e.MotionRegionRms, 5) << "," << Mm(e.MotionMax, 5) << "\n";
+        << Mm(e.MotionRms, 5) << "," << Mm(e.MotionRegionRms, 5) << "," << Mm(e.MotionMax, 5) << ","
+        << Mm(e.LipsP95, 5) << "," << Mm(e.LipsP99, 5) << "," << Mm(e.LidsP95, 5) << "," << Mm(e.LidsP99, 5) << "\n";
   }
+  md << lipsTable.str() << "\n";
   PlotVersusBudget(all, methods, budgets, outDir + "/reduction_error_vs_budget.png");
   PlotOverTime(all, methods, *std::min_element(budgets.begin(), budgets.end()), track, stride,
     outDir + "/reduction_error_over_time.png");
@@ -147,6 +166,10 @@ Options ParseOptions(int argc, char* argv[])
   appkit::AddNumberOption(app, "--seconds", o.Seconds, 1.0, 3600.0, "length of the synthetic track");
   appkit::AddNumberOption(app, "--motion", o.Base.MotionWeight, 0.0, 1e6, "MotionWeight of the reductions");
   appkit::AddNumberOption(app, "--boundary", o.Base.BoundaryWeight, 0.0, 1e6, "BoundaryWeight of the reductions");
+  app.add_option("--gltfpack", o.Gltfpack, "gltfpack executable (npm 1.3, .ci/install-npm-tools.sh) as a "
+                 "fourth method; empty: left out")
+    ->capture_default_str();
+  app.add_flag_callback("--no-controller", [&o]() { o.Controller = false; }, "skip the frame-budget part");
   app.add_flag_callback("--no-poses", [&o]() { o.Base.PoseQuadrics = false; }, "no pose quadrics");
   appkit::ParseCommandLine(app, argc, argv);
   return o;
@@ -193,7 +216,10 @@ int main(int argc, char* argv[])
     std::cerr << "track: " << track.GetNumberOfFrames() << " frames at " << track.GetFrameRate() << " fps\n";
     std::ofstream md(o.OutDir + "/reduction.md");
     CompareReductions(o, face, track, md);
-    RunController(o, face, track, md);
+    if (o.Controller)
+    {
+      RunController(o, face, track, md);
+    }
     std::cerr << "wrote " << o.OutDir << "/reduction.md\n";
   }
   catch (const std::exception& e)

@@ -37,6 +37,10 @@ struct Options
   double Seconds = 20.0;  ///< of the synthetic track
   /// MotionWeight, BoundaryWeight and PoseQuadrics of the compared reductions.
   morphnode::ReductionSettings Base;
+  /// gltfpack (npm 1.3) as a fourth method; empty: left out.
+  std::string Gltfpack;
+  /// Run the frame-budget controller part (ReductionController) too.
+  bool Controller = true;
 };
 
 // --- the face ------------------------------------------------------------------------------
@@ -120,14 +124,29 @@ struct Errors
   double CorrRms = 0, CorrMax = 0, CorrRegionRms = 0;
   double KeptRms = 0;
   double MotionRms = 0, MotionMax = 0, MotionRegionRms = 0, MotionP95 = 0, MotionP99 = 0;
+  /// The motion error's percentiles over the lips' and the lids' points (LipsAndLids).
+  double LipsP95 = 0, LipsP99 = 0, LidsP95 = 0, LidsP99 = 0;
   std::vector<double> PerFrameMotionRms; // 95th percentile over points, per frame
   std::vector<double> PerFrameAnimRms;
   std::vector<double> PerFrameCorrRms;
 };
 
+/// The lips' and the lids' points: those that the lip targets (mouthRoll*, mouthFunnel,
+/// mouthPucker) or the blinks (eyeBlink*) move by more than a quarter of the target's reach.
+struct LipsAndLids
+{
+  std::vector<bool> Lips, Lids;
+};
+LipsAndLids FindLipsAndLids(const Face& face);
+
 /// The errors of one reduction over the track (every `stride`-th frame).
 Errors Measure(const std::string& method, double budget, const ReductionMesh& full, const Reduced& r,
-  const morphnode::WeightTrack& track, size_t stride, const std::vector<bool>& animatedRegion);
+  const morphnode::WeightTrack& track, size_t stride, const std::vector<bool>& animatedRegion,
+  const LipsAndLids* regions = nullptr);
+
+/// gltfpack's simplification (`-si ratio -noq`) of the face, written to and read from
+/// workDir; points matched to the face's by position. Throws InputError when gltfpack fails.
+Reduced ReduceGltfpack(const Face& face, double ratio, const std::string& gltfpack, const std::string& workDir);
 
 // --- plots ---------------------------------------------------------------------------------
 

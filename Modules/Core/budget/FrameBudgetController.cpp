@@ -168,7 +168,8 @@ void FrameBudgetController::SetSettings(const ControllerSettings& s)
   {
     throw InputError("FrameBudgetController: hysteresis must lie in [0, 1).");
   }
-  if (s.MinFramesPerLevel < 0 || s.GeomorphFrames < 0 || s.MeasurementWindow < 0)
+  if (s.MinFramesPerLevel < 0 || s.GeomorphFrames < 0 || s.MeasurementWindow < 0 ||
+    s.MaxGeomorphFrames < 0 || !std::isfinite(s.MaxGeomorphPixels) || s.MaxGeomorphPixels < 0.0)
   {
     throw InputError("FrameBudgetController: frame counts must be >= 0.");
   }
@@ -180,7 +181,13 @@ void FrameBudgetController::SetSettings(const ControllerSettings& s)
   {
     throw InputError("FrameBudgetController: the optimizer's budget and error bound must be >= 0.");
   }
+  if (!std::isfinite(s.PixelBound) || s.PixelBound < 0.0 || !std::isfinite(s.TargetPixelBound) ||
+    s.TargetPixelBound < 0.0 || s.FinestLevel < 0)
+  {
+    throw InputError("FrameBudgetController: the pixel bounds and the finest level must be >= 0.");
+  }
   this->Settings = s;
+  this->OptimizerBound = s.MaxVertexError;
   // Rebuild the optimizers for the new thresholds.
   std::vector<LevelOfDetail> levels;
   levels.swap(this->Levels);
@@ -227,7 +234,7 @@ void FrameBudgetController::AddLevel(const LevelOfDetail& level)
     os.AdjustThreshold = this->Settings.AdjustThreshold;
     os.Hysteresis = this->Settings.OptimizerHysteresis;
     os.MaxActiveTargets = this->Settings.MaxActiveTargets;
-    os.MaxVertexError = this->Settings.MaxVertexError;
+    os.MaxVertexError = this->OptimizerBound;
     optimizers[t].SetSettings(os);
     optimizers[t].SetTargetDistances(level.Distances);
   }
@@ -243,11 +250,13 @@ void FrameBudgetController::AddLevel(const LevelOfDetail& level)
 
 void FrameBudgetController::Reset(int level)
 {
-  this->Current = std::clamp(level, 0, std::max(0, static_cast<int>(this->Levels.size()) - 1));
+  // Never finer than the finest level allowed (a device profile's largest level).
+  this->Current = std::clamp(std::max(level, this->Settings.FinestLevel), 0,
+    std::max(0, static_cast<int>(this->Levels.size()) - 1));
   this->Streak = 0;
   this->StreakDirection = 0;
   this->MorphFrom = -1;
-  this->MorphFrame = 0;
+  this->MorphProgress = 0.0;
   this->Switches = 0;
   std::fill(this->Chosen.begin(), this->Chosen.end(), -1);
   for (auto& perLevel : this->Optimizers)
@@ -317,6 +326,46 @@ FrameBudgetController::Candidate FrameBudgetController::Evaluate(
 
 ControllerDecision FrameBudgetController::Update(const std::vector<double>& weights)
 {
+  return this->Update(weights, 0.0);
+}
+
+void FrameBudgetController::SetOptimizerBound(double bound)
+{
+  if (bound == this->OptimizerBound)
+  {
+    return;
+  }
+  this->OptimizerBound = bound;
+  for (auto& perLevel : this->Optimizers)
+  {
+    for (auto& o : perLevel)
+    {
+      OptimizerSettings os = o.GetSettings();
+      os.MaxVertexError = bound;
+      o.SetSettings(os); // keeps the hysteresis history
+    }
+  }
+}
+
+double ScreenPixelsPerUnit(double viewportHeight, double fovYDegrees, double distance)
+{
+  if (!std::isfinite(viewportHeight) || viewportHeight <= 0.0 || !std::isfinite(distance) ||
+    distance <= 0.0 || !std::isfinite(fovYDegrees) || fovYDegrees <= 0.0 || fovYDegrees >= 180.0)
+  {
+    throw InputError("ScreenPixelsPerUnit: the viewport height and distance must be positive "
+                     "and the field of view in (0, 180) degrees.");
+  }
+  const double halfAngle = 0.5 * fovYDegrees * 3.14159265358979323846 / 180.0;
+  return viewportHeight / (2.0 * distance * std::tan(halfAngle));
+}
+
+ControllerDecision FrameBudgetController::Update(
+  const std::vector<double>& weights, double pixelsPerUnit)
+{
+  if (!std::isfinite(pixelsPerUnit))
+  {
+    throw InputError("FrameBudgetController: pixels per unit must be finite.");
+  }
   if (this->Levels.empty())
   {
     throw InputError("FrameBudgetController: no levels of detail.");
@@ -328,6 +377,39 @@ ControllerDecision FrameBudgetController::Update(const std::vector<double>& weig
   }
   const double budget = this->Settings.FrameBudget;
   const int last = static_cast<int>(this->Levels.size()) - 1;
+  const bool onScreen = pixelsPerUnit > 0.0;
+  // Target level of detail: the error the screen cannot see bounds the optimizer.
+  double bound = this->Settings.MaxVertexError;
+  double targetBound = 0.0;
+  if (onScreen && this->Settings.TargetPixelBound > 0.0)
+  {
+    targetBound = this->Settings.TargetPixelBound / pixelsPerUnit;
+    bound = bound > 0.0 ? std::min(bound, targetBound) : targetBound;
+  }
+  this->SetOptimizerBound(bound);
+  const int finest = std::clamp(this->Settings.FinestLevel, 0, last);
+  // The level the screen asks for: the coarsest whose error projects within the pixel
+  // bound, a coarser one than the current within (1 - LevelHysteresis) of it.
+  int screenLevel = -1;
+  if (onScreen && this->Settings.PixelBound > 0.0)
+  {
+    screenLevel = finest;
+    for (int l = last; l > finest; --l)
+    {
+      const double px = this->Levels[l].GeometricError * pixelsPerUnit;
+      const double allowed = this->Settings.PixelBound *
+        (l > this->Current ? 1.0 - this->Settings.LevelHysteresis : 1.0);
+      if (px <= allowed)
+      {
+        screenLevel = l;
+        break;
+      }
+    }
+  }
+  else if (finest > 0)
+  {
+    screenLevel = -2; // no screen, but a finest level: only the floor applies
+  }
   // Every level's optimizers see every frame, so their hysteresis histories stay current.
   std::vector<Candidate> candidates(this->Levels.size());
   for (size_t l = 0; l < this->Levels.size(); ++l)
@@ -345,17 +427,31 @@ ControllerDecision FrameBudgetController::Update(const std::vector<double>& weig
     // Finer: when it fits with a margin and is clearly better.
     int direction = 0;
     bool forced = false;
-    if (here.Seconds > budget && this->Current < last)
+    if ((here.Seconds > budget || this->Current < finest) && this->Current < last)
     {
       direction = +1;
       forced = true;
+    }
+    else if (screenLevel >= 0)
+    {
+      // On screen: towards the screen's level; finer only while it fits the budget with
+      // the margin (the budget breaks the tie as below).
+      if (screenLevel > this->Current)
+      {
+        direction = +1;
+      }
+      else if (screenLevel < this->Current &&
+        candidates[this->Current - 1].Seconds <= keep * budget)
+      {
+        direction = -1;
+      }
     }
     else if (this->Current < last && candidates[this->Current + 1].Seconds <= budget &&
       candidates[this->Current + 1].Error < keep * here.Error)
     {
       direction = +1;
     }
-    else if (this->Current > 0 && candidates[this->Current - 1].Seconds <= keep * budget &&
+    else if (this->Current > finest && candidates[this->Current - 1].Seconds <= keep * budget &&
       candidates[this->Current - 1].Error < keep * here.Error)
     {
       direction = -1;
@@ -374,14 +470,14 @@ ControllerDecision FrameBudgetController::Update(const std::vector<double>& weig
       else if (direction > 0)
       {
         this->MorphFrom = this->Current; // coarsen: the fine level slides onto the coarse one
-        this->MorphFrame = 0;
+        this->MorphProgress = 0.0;
       }
       else
       {
         // refine: take the fine topology at once, shaped like the coarse level, and slide
         // out of it
         this->MorphFrom = this->Current;
-        this->MorphFrame = 0;
+        this->MorphProgress = 0.0;
         --this->Current;
         ++this->Switches;
       }
@@ -396,12 +492,30 @@ ControllerDecision FrameBudgetController::Update(const std::vector<double>& weig
     const bool coarsening = this->MorphFrom == this->Current;
     const int fine = this->Current;
     shown = fine;
-    const double step =
-      static_cast<double>(this->MorphFrame + 1) / static_cast<double>(this->Settings.GeomorphFrames);
+    double delta = 1.0 / static_cast<double>(this->Settings.GeomorphFrames);
+    const auto& reach = this->Levels[fine].GeomorphReach;
+    if (onScreen && this->Settings.MaxGeomorphPixels > 0.0 && reach.size() == weights.size())
+    {
+      // The largest jump of a point over the whole transition, in pixels, under this
+      // frame's weights: slide slower where it is large.
+      double jump = reach[0];
+      for (size_t k = 1; k < reach.size(); ++k)
+      {
+        jump += std::abs(weights[k]) * reach[k];
+      }
+      jump *= pixelsPerUnit;
+      if (jump * delta > this->Settings.MaxGeomorphPixels)
+      {
+        delta = std::max(this->Settings.MaxGeomorphPixels / jump,
+          1.0 / static_cast<double>(std::max(this->Settings.MaxGeomorphFrames, this->Settings.GeomorphFrames)));
+      }
+    }
+    // Snap a progress within rounding of the end onto it.
+    this->MorphProgress = this->MorphProgress + delta >= 1.0 - 1e-9 ? 1.0 : this->MorphProgress + delta;
+    const double step = this->MorphProgress;
     d.MorphTowards = fine + 1;
     d.Alpha = coarsening ? step : 1.0 - step;
-    ++this->MorphFrame;
-    if (this->MorphFrame >= this->Settings.GeomorphFrames)
+    if (this->MorphProgress >= 1.0)
     {
       if (coarsening)
       {
@@ -432,6 +546,17 @@ ControllerDecision FrameBudgetController::Update(const std::vector<double>& weig
     d.PredictedError += d.Alpha * std::max(0.0, coarseError - this->Levels[shown].GeometricError);
   }
   d.WithinBudget = d.PredictedSeconds <= budget;
+  d.ScreenLevel = screenLevel >= 0 ? screenLevel : -1;
+  d.TargetErrorBound = targetBound;
+  if (onScreen)
+  {
+    double geometric = this->Levels[shown].GeometricError;
+    if (d.MorphTowards >= 0)
+    {
+      geometric += d.Alpha * std::max(0.0, this->Levels[d.MorphTowards].GeometricError - geometric);
+    }
+    d.LevelPixelError = geometric * pixelsPerUnit;
+  }
   this->LastLevel = shown;
   this->LastTargetPoints = c.TargetPoints;
   return d;

@@ -101,6 +101,11 @@ struct LevelOfDetail
   /// Coarser level point -> this level's point (the coarser level's OriginalPointIds when it
   /// was reduced from this one); empty for the coarsest level.
   std::vector<uint32_t> CoarserToThis;
+  /// Bound on how far a point of this level moves during a whole geomorph towards the next
+  /// coarser level: GeomorphReach[0] + sum_k |w_k| GeomorphReach[k] under absolute weights w
+  /// (MorphLadder's LadderLevel::GeomorphReach); empty: unknown (MaxGeomorphPixels has no
+  /// effect on this level's transitions).
+  std::vector<double> GeomorphReach;
 };
 
 struct ControllerSettings
@@ -124,6 +129,12 @@ struct ControllerSettings
   /// ... for this many frames in a row.
   int MinFramesPerLevel = 20;
   int GeomorphFrames = 8;
+  /// On screen, no vertex may jump more than this many pixels in one frame of a geomorph:
+  /// a transition then takes more than GeomorphFrames frames where the points slide far
+  /// (the bound from GeomorphReach and the frame's weights), at most MaxGeomorphFrames.
+  /// 0: always GeomorphFrames.
+  double MaxGeomorphPixels = 0.0;
+  int MaxGeomorphFrames = 120;
   /// Measurements per level that ReportMeasuredSeconds refits its cost model to (the
   /// latest ones); 0 keeps the given models.
   int MeasurementWindow = 32;
@@ -132,6 +143,21 @@ struct ControllerSettings
   /// its measurements' residuals (>= 0) to the fit, so that about this share of frames fits
   /// the budget rather than half. In [0.5, 1).
   double MeasuredQuantile = 0.9;
+
+  /// Chosen on screen (Update with pixelsPerUnit > 0; both bounds 0: off). The level is the
+  /// coarsest whose GeometricError projects to at most PixelBound pixels (a coarser level
+  /// than the current one only within (1 - LevelHysteresis) of it, so a level does not
+  /// flicker at the edge), never finer than FinestLevel; the frame budget then breaks the
+  /// tie between "as fine as the screen needs" and "as cheap as the budget needs" by
+  /// coarsening as without a screen. Levels change one step at a time, with geomorphs.
+  double PixelBound = 0.0;
+  /// Target level of detail (Seo and Magnenat-Thalmann): every candidate's optimizer gets
+  /// MaxVertexError = TargetPixelBound / pixelsPerUnit (the smaller with MaxVertexError), so
+  /// targets whose weighted reach projects below it are left out, with the optimizer's
+  /// guarantee (no vertex moves farther than that) and its hysteresis (no popping visemes).
+  double TargetPixelBound = 0.0;
+  /// The finest level shown (a device profile's largest level); clamped to the levels.
+  int FinestLevel = 0;
 };
 
 struct ControllerDecision
@@ -148,6 +174,12 @@ struct ControllerDecision
   /// (Alpha 0 = Level's own shape, 1 = Level + 1's shape). -1 when none.
   int MorphTowards = -1;
   double Alpha = 0.0;
+  /// Chosen on screen: the displayed level's geometric error in pixels (0 without a
+  /// screen), and the level the screen asked for (-1 without a screen).
+  double LevelPixelError = 0.0;
+  int ScreenLevel = -1;
+  /// The target level of detail's error bound this frame, model units (0: none).
+  double TargetErrorBound = 0.0;
 };
 
 class FrameBudgetController
@@ -170,6 +202,10 @@ public:
   /// Decides one frame from absolute weights (neutral first, summing to 1).
   /// Throws InputError when there is no level or the weight count is wrong.
   ControllerDecision Update(const std::vector<double>& absoluteWeights);
+  /// The same, chosen on screen: `pixelsPerUnit` is how many pixels one model unit spans at
+  /// the avatar (ScreenPixelsPerUnit); <= 0 decides as without a screen.
+  /// Throws InputError for a non-finite pixelsPerUnit.
+  ControllerDecision Update(const std::vector<double>& absoluteWeights, double pixelsPerUnit);
 
   int GetCurrentLevel() const { return this->Current; }
   size_t GetNumberOfSwitches() const { return this->Switches; }
@@ -204,6 +240,9 @@ private:
   };
   /// Best candidate of a level: least error within `budget`, else the cheapest.
   Candidate Evaluate(size_t level, const std::vector<double>& weights, double budget);
+  /// Gives every optimizer the frame's error bound (the settings' MaxVertexError and the
+  /// target level of detail's); keeps their histories.
+  void SetOptimizerBound(double maxVertexError);
 
   ControllerSettings Settings;
   std::vector<LevelOfDetail> Levels;
@@ -221,9 +260,16 @@ private:
   int Streak = 0;          ///< consecutive frames preferring StreakDirection
   int StreakDirection = 0; ///< +1 coarser, -1 finer, 0 stay
   int MorphFrom = -1; ///< transition: the level we come from
-  int MorphFrame = 0;
+  double MorphProgress = 0.0; ///< of the transition, in [0, 1]
   size_t Switches = 0;
+  double OptimizerBound = 0.0; ///< MaxVertexError the optimizers have now
 };
+
+/// Pixels one model unit spans at `distance` from a perspective camera with a vertical
+/// field of view `fovYDegrees` and a viewport `viewportHeight` pixels high:
+/// viewportHeight / (2 distance tan(fov / 2)). Throws InputError for a distance, field of
+/// view (in (0, 180)) or height that is not positive and finite.
+double ScreenPixelsPerUnit(double viewportHeight, double fovYDegrees, double distance);
 
 /// Points each target moves (non-zero delta), neutral first with 0: a level's MovedPoints.
 std::vector<double> MovedPointsPerTarget(const std::vector<std::vector<float>>& positionDeltas);

@@ -345,32 +345,6 @@ const AnyMorphAttribute& Validate(const MorphMesh& mesh, const ReductionSettings
 }
 
 /// The reduced mesh: every attribute of `input` gathered through `ids`.
-MorphMesh GatherMesh(const MorphMesh& input, const std::vector<uint32_t>& ids,
-  std::vector<uint32_t> triangles, double sparseCoverage)
-{
-  const size_t np = input.GetNumberOfPoints();
-  MorphMesh out(ids.size());
-  out.SetTargetNames(input.GetTargetNames());
-  for (size_t a = 0; a < input.GetNumberOfAttributes(); ++a)
-  {
-    std::visit(
-      [&](const auto& attribute) {
-        using T = typename std::decay_t<decltype(attribute.GetNeutral())>::value_type;
-        const int nc = attribute.GetNumberOfComponents();
-        auto& reduced = out.AddAttribute<T>(attribute.GetName(), attribute.GetRole(), nc);
-        reduced.SetNeutral(GatherPoints(attribute.GetNeutral(), nc, np, ids).data());
-        std::vector<T> dense(np * static_cast<size_t>(nc));
-        for (size_t k = 1; k < attribute.GetNumberOfTargets(); ++k)
-        {
-          attribute.GetTarget(k).ToDense(dense.data());
-          reduced.AddRelativeTarget(GatherPoints(dense, nc, np, ids).data(), sparseCoverage);
-        }
-      },
-      input.GetAttribute(a));
-  }
-  out.SetTriangles(std::move(triangles));
-  return out;
-}
 
 template <typename T>
 ReductionResult Reduce(const MorphMesh& morph, const MorphAttribute<T>& positions,
@@ -407,7 +381,11 @@ ReductionResult Reduce(const MorphMesh& morph, const MorphAttribute<T>& position
       ++rejected;
     }
   }
-  if (rejected > 0)
+  if (rejected > 0 && settings.SkipNonManifold)
+  {
+    result.SkippedNonManifoldTriangles = rejected;
+  }
+  else if (rejected > 0)
   {
     throw InputError("Reduction: " + std::to_string(rejected) +
       " triangles make the mesh non-manifold (an edge shared by more than two triangles, or a "
@@ -499,11 +477,38 @@ ReductionResult Reduce(const MorphMesh& morph, const MorphAttribute<T>& position
       reducedTriangles.push_back(reducedId[vh.idx()]);
     }
   }
-  result.Mesh = GatherMesh(
+  result.Mesh = GatherMorphMesh(
     morph, result.OriginalPointIds, std::move(reducedTriangles), settings.SparseCoverage);
   return result;
 }
 } // namespace
+
+MorphMesh GatherMorphMesh(const MorphMesh& input, const std::vector<uint32_t>& ids,
+  std::vector<uint32_t> triangles, double sparseCoverage)
+{
+  const size_t np = input.GetNumberOfPoints();
+  MorphMesh out(ids.size());
+  out.SetTargetNames(input.GetTargetNames());
+  for (size_t a = 0; a < input.GetNumberOfAttributes(); ++a)
+  {
+    std::visit(
+      [&](const auto& attribute) {
+        using T = typename std::decay_t<decltype(attribute.GetNeutral())>::value_type;
+        const int nc = attribute.GetNumberOfComponents();
+        auto& reduced = out.AddAttribute<T>(attribute.GetName(), attribute.GetRole(), nc);
+        reduced.SetNeutral(GatherPoints(attribute.GetNeutral(), nc, np, ids).data());
+        std::vector<T> dense(np * static_cast<size_t>(nc));
+        for (size_t k = 1; k < attribute.GetNumberOfTargets(); ++k)
+        {
+          attribute.GetTarget(k).ToDense(dense.data());
+          reduced.AddRelativeTarget(GatherPoints(dense, nc, np, ids).data(), sparseCoverage);
+        }
+      },
+      input.GetAttribute(a));
+  }
+  out.SetTriangles(std::move(triangles));
+  return out;
+}
 
 ReductionResult ReduceAnimationAware(const MorphMesh& mesh, const ReductionSettings& settings)
 {

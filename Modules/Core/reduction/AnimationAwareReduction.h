@@ -63,6 +63,9 @@ struct ReductionSettings
   double BoundaryWeight = 1.0;
   /// Largest change of a neutral face normal a collapse may cause, degrees (0 = no check).
   double MaxNormalDeviation = 60.0;
+  /// Leave out the triangles OpenMesh cannot add (they would make the mesh non-manifold)
+  /// instead of refusing the mesh; counted in ReductionResult::SkippedNonManifoldTriangles.
+  bool SkipNonManifold = false;
   /// Storage of the reduced mesh's deltas (MorphAttribute::AddRelativeTarget); no effect on
   /// any value.
   double SparseCoverage = MorphMesh::DefaultSparseCoverage;
@@ -81,6 +84,8 @@ struct ReductionResult
   std::vector<uint32_t> Representatives;
   /// Degenerate input triangles (a repeated point id) that were dropped.
   size_t DroppedDegenerateTriangles = 0;
+  /// Non-manifold triangles left out (ReductionSettings::SkipNonManifold).
+  size_t SkippedNonManifoldTriangles = 0;
 };
 
 /// Reduces `mesh` to the settings' budget. The collapses are chosen on the mesh's triangles
@@ -99,6 +104,13 @@ ReductionResult ReduceAnimationAware(const MorphMesh& mesh, const ReductionSetti
 template <typename T>
 std::vector<T> GatherPoints(const std::vector<T>& values, int components, size_t numPoints,
   const std::vector<uint32_t>& originalPointIds);
+
+/// The mesh of the points `ids` of `input` (in that order; a subset or a permutation): every
+/// attribute's neutral and deltas gathered, the target names kept, `triangles` (in the new
+/// ids) as its topology. Deltas stored by `sparseCoverage` (MorphAttribute::AddRelativeTarget).
+/// Throws InputError for an id out of range.
+MorphMesh GatherMorphMesh(const MorphMesh& input, const std::vector<uint32_t>& ids,
+  std::vector<uint32_t> triangles, double sparseCoverage = MorphMesh::DefaultSparseCoverage);
 
 /// Hoppe-style geomorph of a fine level towards a coarser one nested in it:
 /// out[v] = (1 - alpha) * fine[v] + alpha * fine[representative[v]], where
