@@ -63,6 +63,7 @@ public:
     vtkMorphSkinArrays::Skin Skin;
     morphnode::RestSkin Rest;
     std::vector<glm::dmat4> RestMatrices;
+    morphnode::AvatarBoneRoles Roles; ///< found once per skin
     bool HeadKnown = false;
     double HeadBounds[6] = { 1, -1, 1, -1, 1, -1 }; ///< empty when min > max
   };
@@ -84,6 +85,7 @@ public:
     entry.Time = weights->GetMTime();
     entry.Skin = vtkMorphSkinArrays::GetSkin(leaf, what);
     entry.RestMatrices = entry.Skin.RestMatrices();
+    entry.Roles = morphnode::FindAvatarBones(entry.Skin.Bones);
     entry.Rest = morphnode::RestSkin(entry.Skin.Influences, entry.RestMatrices, what);
     return this->Cache[weights] = std::move(entry);
   }
@@ -197,7 +199,7 @@ int vtkMorphSkinFilter::RequestData(
         return nullptr;
       }
       vtkInternals::Entry& entry = this->Internals->Get(leaf, what);
-      morphnode::AvatarBoneRoles roles = morphnode::FindAvatarBones(entry.Skin.Bones);
+      morphnode::AvatarBoneRoles roles = entry.Roles;
       this->HasEyeBones = this->HasEyeBones || roles.HasEyes();
       this->HasHeadBones = this->HasHeadBones || roles.Head >= 0;
       if (!entry.HeadKnown && roles.Head >= 0)

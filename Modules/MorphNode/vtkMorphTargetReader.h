@@ -38,6 +38,16 @@
  * about their own centre. Parts keep their own targets (an eye has none); the collection's
  * field data `TargetNames` lists every target of the scene by name (neutral first).
  *
+ * Skinned parts (a glTF skin, docs/avatars.md) are shown in their rest pose: skinned at the
+ * joints as stored (or as the animation has them with ANIMATION_TRANSFORMS), the mesh
+ * node's own transform ignored as glTF requires, every JOINTS_n/WEIGHTS_n set used; their
+ * target deltas and normals are skinned with them (morph first, then skin). They carry the
+ * skin (vtkMorphSkinArrays.h: point data `SkinJoints`, `SkinWeights`; field data
+ * `SkinJointIndices`, `SkinInverseBind`, `SkeletonNames`, `SkeletonParents`,
+ * `SkeletonRest`), so that vtkMorphSkinFilter re-skins them when joints move. Their
+ * NodeOrigin is the mesh node's (for a skinned eye not its centre: its joint turns it). In
+ * the one-mesh mode a skinned primitive stays in its bind space, without the skin arrays.
+ *
  * Parts (and the one vtkPolyData) of a glTF file also carry field data `DefaultWeights`:
  * the file's default morph weights of their targets (the node's `weights`, else the
  * mesh's, else zeros), one double per target in `TargetNames` order without the neutral.
@@ -78,7 +88,7 @@
  * fault) and give an empty output; the update fails. So does an animation name or index
  * the file does not have.
  *
- * @sa vtkMorphNodeFilter morphnode::LoadGltfScene
+ * @sa vtkMorphNodeFilter vtkMorphSkinFilter morphnode::LoadGltfScene
  */
 
 #ifndef vtkMorphTargetReader_h

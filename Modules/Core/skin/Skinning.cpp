@@ -3,6 +3,7 @@
 
 #include "base/Error.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace morphnode
@@ -40,6 +41,23 @@ glm::dmat3 NormalMatrix(const glm::dmat3& m)
 {
   const glm::dmat3 cof(glm::cross(m[1], m[2]), glm::cross(m[2], m[0]), glm::cross(m[0], m[1]));
   return glm::determinant(m) < 0.0 ? -cof : cof;
+}
+
+/// Equal within 1e-9 of the matrices' size: rest matrices that are one up to rounding (a
+/// rest pose that is the bind pose gives World * InverseBind = I in float rounding) blend as
+/// one, with an error far below the float points' own.
+bool NearlyEqual(const glm::dmat4& a, const glm::dmat4& b)
+{
+  double size = 1.0, diff = 0.0;
+  for (int c = 0; c < 4; ++c)
+  {
+    for (int r = 0; r < 3; ++r)
+    {
+      size = std::max(size, std::max(std::abs(a[c][r]), std::abs(b[c][r])));
+      diff = std::max(diff, std::abs(a[c][r] - b[c][r]));
+    }
+  }
+  return diff <= 1e-9 * size;
 }
 
 template <typename T>
@@ -162,8 +180,28 @@ RestSkin::RestSkin(SkinInfluences influences, const std::vector<glm::dmat4>& res
     }
   }
   this->RestInverse.resize(12 * n);
+  this->SharedRest.assign(n, 1);
+  this->Delta.assign(12 * restMatrices.size(), 0.0f);
+  const size_t per = this->Influences.PerPoint;
   for (size_t i = 0; i < n; ++i)
   {
+    int first = -1;
+    for (size_t k = 0; k < per; ++k)
+    {
+      if (this->Influences.Weights[i * per + k] == 0.0f)
+      {
+        continue;
+      }
+      const int j = this->Influences.Joints[i * per + k];
+      if (first < 0)
+      {
+        first = j;
+      }
+      else if (!NearlyEqual(this->Rest[static_cast<size_t>(j)], this->Rest[static_cast<size_t>(first)]))
+      {
+        this->SharedRest[i] = 0;
+      }
+    }
     const glm::dmat4 b = BlendedMatrix(this->Influences, this->Rest, i);
     if (!Finite(b) || Singular(glm::dmat3(b)))
     {
@@ -197,6 +235,14 @@ bool RestSkin::SetPose(const std::vector<glm::dmat4>& matrices)
     }
     this->Moved[k] = matrices[k] != this->Rest[k];
     any = any || (this->Moved[k] && this->Used[k]);
+    const glm::dmat4 d = matrices[k] * glm::inverse(this->Rest[k]);
+    for (int c = 0; c < 4; ++c)
+    {
+      for (int r = 0; r < 3; ++r)
+      {
+        this->Delta[12 * k + static_cast<size_t>(3 * c + r)] = static_cast<float>(d[c][r]);
+      }
+    }
   }
   this->Pose = matrices;
   return any;
@@ -234,6 +280,50 @@ void RestSkin::Apply(const T* points, const T* normals, T* outPoints, T* outNorm
         for (int k = 0; k < 3; ++k)
         {
           outNormals[3 * i + k] = normals[3 * i + k];
+        }
+      }
+      continue;
+    }
+    if (this->SharedRest[i])
+    {
+      // Linear blend skinning with the per-joint products, in float.
+      float a[12] = { 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0 };
+      const size_t per = this->Influences.PerPoint;
+      for (size_t k = 0; k < per; ++k)
+      {
+        const float w = this->Influences.Weights[i * per + k];
+        if (w != 0.0f)
+        {
+          const float* d = &this->Delta[12 * this->Influences.Joints[i * per + k]];
+          for (int e = 0; e < 12; ++e)
+          {
+            a[e] += w * d[e];
+          }
+        }
+      }
+      const float x = static_cast<float>(points[3 * i]), y = static_cast<float>(points[3 * i + 1]),
+                  z = static_cast<float>(points[3 * i + 2]);
+      outPoints[3 * i] = static_cast<T>(a[0] * x + a[3] * y + a[6] * z + a[9]);
+      outPoints[3 * i + 1] = static_cast<T>(a[1] * x + a[4] * y + a[7] * z + a[10]);
+      outPoints[3 * i + 2] = static_cast<T>(a[2] * x + a[5] * y + a[8] * z + a[11]);
+      if (normals && outNormals)
+      {
+        // The cofactor matrix of the linear part: the inverse transpose up to det, whose sign
+        // is kept; renormalized.
+        // Columns of the cofactor matrix: cross(col1, col2), cross(col2, col0), cross(col0, col1).
+        const float c0[3] = { a[4] * a[8] - a[5] * a[7], a[5] * a[6] - a[3] * a[8], a[3] * a[7] - a[4] * a[6] };
+        const float c1[3] = { a[7] * a[2] - a[8] * a[1], a[8] * a[0] - a[6] * a[2], a[6] * a[1] - a[7] * a[0] };
+        const float c2[3] = { a[1] * a[5] - a[2] * a[4], a[2] * a[3] - a[0] * a[5], a[0] * a[4] - a[1] * a[3] };
+        const float det = a[0] * c0[0] + a[1] * c0[1] + a[2] * c0[2];
+        const float nx = static_cast<float>(normals[3 * i]), ny = static_cast<float>(normals[3 * i + 1]),
+                    nz = static_cast<float>(normals[3 * i + 2]);
+        float m[3] = { c0[0] * nx + c1[0] * ny + c2[0] * nz, c0[1] * nx + c1[1] * ny + c2[1] * nz,
+          c0[2] * nx + c1[2] * ny + c2[2] * nz };
+        float len = std::sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
+        len = len > 0.0f ? (det < 0.0f ? -1.0f : 1.0f) / len : 1.0f;
+        for (int k = 0; k < 3; ++k)
+        {
+          outNormals[3 * i + k] = static_cast<T>(m[k] * len);
         }
       }
       continue;

@@ -56,7 +56,10 @@ void SkinPoints(const SkinInfluences& influences, const std::vector<glm::dmat4>&
 /// Re-skins geometry that is in its rest pose: for each point A_v = B_v(pose) B_v(rest)^-1
 /// (B_v(rest)^-1 computed once), applied to its (morphed) point and, by the inverse
 /// transpose, to its normal, renormalized. Points whose joints all keep their rest
-/// matrices are copied as they are.
+/// matrices are copied as they are. Where the joints of a point share one rest matrix (the
+/// usual case: a rest pose that is the bind pose, or one dequantization folded into every
+/// inverse bind matrix), A_v = sum_k w_k J_k(pose) J_k(rest)^-1 exactly, and the per-joint
+/// products are formed once per pose: plain linear blend skinning, in float.
 class RestSkin
 {
 public:
@@ -85,6 +88,8 @@ private:
   SkinInfluences Influences;
   std::vector<glm::dmat4> Rest;
   std::vector<double> RestInverse; ///< 12 per point: the 3x4 of B_v(rest)^-1, column-major
+  std::vector<char> SharedRest;    ///< per point: its joints share one rest matrix
+  std::vector<float> Delta;        ///< 12 per joint: J(pose) J(rest)^-1, column-major 3x4
   std::vector<glm::dmat4> Pose;
   std::vector<char> Moved; ///< per joint
   std::vector<char> Used;  ///< per joint: some point has a weight on it

@@ -5,6 +5,7 @@
 //   g++ -std=c++17 -ITesting/Core/gltf Testing/Fuzz/tools/MakeGltfSeeds.cpp -o /tmp/seeds &&
 //   /tmp/seeds Testing/Fuzz/corpus/gltf
 #include "GltfAnimatedTestFiles.h"
+#include "GltfSkinnedTestFiles.h"
 #include "GltfTestFiles.h"
 
 #include <cstdio>
@@ -197,6 +198,16 @@ int main(int argc, char** argv)
     doc["nodes"][2].erase("translation");
     doc["nodes"][2]["matrix"] = { 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0.3, 0.2, 0.1, 1 };
     Write("animated-matrix-node.glb", Builder::MakeGlb(doc.dump(), head.PaddedBin()));
+  }
+  {
+    // A skin: nested joints, inverse bind matrices, two weight sets (unsigned byte joints with
+    // float weights, unsigned short joints with normalized byte weights), and the same with a
+    // joint index beyond the skin's joints.
+    const Builder skinned = gltftest::SkinnedQuad();
+    Write("skinned-quad.glb", skinned.Glb());
+    json doc = skinned.Finished();
+    doc["skins"][0]["joints"] = { 1 };
+    Write("damaged-skin-joint-index.glb", Builder::MakeGlb(doc.dump(), skinned.PaddedBin()));
   }
   return 0;
 }

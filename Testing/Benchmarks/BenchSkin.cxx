@@ -1,0 +1,242 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// A skinned avatar per frame (issue 23's goals): the shared MakeHuman avatar (7 skinned
+// parts, 20,945 points, 67 targets, 76 joints) animated as a speaker is, with weights that
+// change every frame (jawOpen, viseme_O, eyeBlinkLeft, mouthSmileLeft/Right) and bones that
+// move every frame (head pose shared by head and neck, gaze by the eye joints):
+// - MorphAndSkin: vtkMorphNodeFilter (relative weights, no optimizer) then
+//   vtkMorphSkinFilter, one Update per frame: what MorphAvatar does for the avatar;
+// - MorphOnly: the same weights without the skin filter (the yardstick for the skin's cost:
+//   goal MorphAndSkin <= 1.5 x MorphOnly);
+// - VtkGltfReader: VTK 9.1's vtkGLTFReader on a copy of the avatar with the same frame as
+//   a glTF animation (the mesh weights and the Head/Neck/eye rotations), ApplyDeformations
+//   on (its CPU morph and skin), UpdateTimeStep per frame (goal: MorphAndSkin >= 20x faster).
+// Times are per frame (real time). The avatar is required; without it the benchmarks skip.
+#include "vtkMorphNodeFilter.h"
+#include "vtkMorphSkinFilter.h"
+#include "vtkMorphTargetReader.h"
+
+#include "vtkGLTFReader.h"
+#include "vtkNew.h"
+
+#include <benchmark/benchmark.h>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace
+{
+using json = nlohmann::json;
+const std::string Avatar = std::string(MORPHNODE_AVATAR_DIR) + "/makehuman_avatar.glb";
+constexpr double Fps = 30.0;
+constexpr int Keys = 61; // 2 s of animation
+
+/// Speech-like weight of a target at frame f.
+double Weight(int which, int f)
+{
+  const double t = f / Fps;
+  return 0.5 + 0.5 * std::sin(2.0 * t * (1.0 + 0.37 * which) + which);
+}
+double HeadYaw(int f)
+{
+  return 15.0 * std::sin(0.9 * f / Fps);
+}
+double EyeYaw(int f)
+{
+  return 20.0 * std::sin(1.7 * f / Fps);
+}
+
+const char* const Animated[] = { "jawOpen", "viseme_O", "eyeBlinkLeft", "mouthSmileLeft", "mouthSmileRight" };
+
+void Append(std::vector<unsigned char>& bin, json& doc, const std::vector<float>& values, const char* type,
+  size_t count, bool minmax)
+{
+  while (bin.size() % 4)
+  {
+    bin.push_back(0);
+  }
+  const size_t offset = bin.size();
+  bin.resize(offset + 4 * values.size());
+  std::memcpy(bin.data() + offset, values.data(), 4 * values.size());
+  doc["bufferViews"].push_back({ { "buffer", 0 }, { "byteOffset", offset }, { "byteLength", 4 * values.size() } });
+  json accessor = { { "bufferView", doc["bufferViews"].size() - 1 }, { "componentType", 5126 }, { "count", count },
+    { "type", type } };
+  if (minmax)
+  {
+    accessor["min"] = { *std::min_element(values.begin(), values.end()) };
+    accessor["max"] = { *std::max_element(values.begin(), values.end()) };
+  }
+  doc["accessors"].push_back(accessor);
+}
+
+/// The avatar with the benchmark's frames as a glTF animation, for vtkGLTFReader.
+std::string AnimatedCopy()
+{
+  const std::string out = (std::filesystem::temp_directory_path() / "morphnode_bench_skin_avatar.glb").string();
+  std::ifstream in(Avatar, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  const std::string glb = ss.str();
+  uint32_t jsonLength, binLength;
+  std::memcpy(&jsonLength, glb.data() + 12, 4);
+  json doc = json::parse(glb.substr(20, jsonLength));
+  std::memcpy(&binLength, glb.data() + 20 + jsonLength, 4);
+  std::vector<unsigned char> bin(glb.begin() + 28 + jsonLength, glb.begin() + 28 + jsonLength + binLength);
+
+  std::vector<float> times;
+  for (int k = 0; k < Keys; ++k)
+  {
+    times.push_back(static_cast<float>(k / Fps));
+  }
+  Append(bin, doc, times, "SCALAR", Keys, true);
+  const size_t input = doc["accessors"].size() - 1;
+  json animation = { { "name", "bench" }, { "samplers", json::array() }, { "channels", json::array() } };
+  const auto names = doc["meshes"][0]["extras"]["targetNames"].get<std::vector<std::string>>();
+  std::vector<float> weights;
+  for (int k = 0; k < Keys; ++k)
+  {
+    for (const auto& name : names)
+    {
+      float w = 0.0f;
+      for (int a = 0; a < 5; ++a)
+      {
+        w = name == Animated[a] ? static_cast<float>(Weight(a, k)) : w;
+      }
+      weights.push_back(w);
+    }
+  }
+  Append(bin, doc, weights, "SCALAR", weights.size(), false);
+  const size_t weightsOutput = doc["accessors"].size() - 1;
+  for (size_t n = 0; n < doc["nodes"].size(); ++n)
+  {
+    if (doc["nodes"][n].contains("mesh"))
+    {
+      animation["samplers"].push_back({ { "input", input }, { "output", weightsOutput } });
+      animation["channels"].push_back(
+        { { "sampler", animation["samplers"].size() - 1 }, { "target", { { "node", n }, { "path", "weights" } } } });
+    }
+    const std::string name = doc["nodes"][n].value("name", "");
+    if (name == "Head" || name == "LeftEye" || name == "RightEye")
+    {
+      std::vector<float> rotations;
+      const auto r = doc["nodes"][n]["rotation"].get<std::vector<double>>();
+      for (int k = 0; k < Keys; ++k)
+      {
+        // A turn about the joint's own axis, as large as the frame's angle (the exact axis
+        // does not change the cost).
+        const double a = (name == "Head" ? HeadYaw(k) : EyeYaw(k)) * M_PI / 360.0;
+        const double q[4] = { 0, 0, std::sin(a), std::cos(a) }; // about local Z
+        const double x = r[3] * q[0] + r[0] * q[3] + r[1] * q[2] - r[2] * q[1];
+        const double y = r[3] * q[1] - r[0] * q[2] + r[1] * q[3] + r[2] * q[0];
+        const double z = r[3] * q[2] + r[0] * q[1] - r[1] * q[0] + r[2] * q[3];
+        const double w = r[3] * q[3] - r[0] * q[0] - r[1] * q[1] - r[2] * q[2];
+        for (double v : { x, y, z, w })
+        {
+          rotations.push_back(static_cast<float>(v));
+        }
+      }
+      Append(bin, doc, rotations, "VEC4", Keys, false);
+      animation["samplers"].push_back({ { "input", input }, { "output", doc["accessors"].size() - 1 } });
+      animation["channels"].push_back(
+        { { "sampler", animation["samplers"].size() - 1 }, { "target", { { "node", n }, { "path", "rotation" } } } });
+    }
+  }
+  doc["animations"] = json::array({ animation });
+  while (bin.size() % 4)
+  {
+    bin.push_back(0);
+  }
+  doc["buffers"][0]["byteLength"] = bin.size();
+  std::string text = doc.dump();
+  while (text.size() % 4)
+  {
+    text += ' ';
+  }
+  std::string file;
+  auto u32 = [&file](uint32_t v) { file.append(reinterpret_cast<const char*>(&v), 4); };
+  u32(0x46546C67);
+  u32(2);
+  u32(static_cast<uint32_t>(12 + 8 + text.size() + 8 + bin.size()));
+  u32(static_cast<uint32_t>(text.size()));
+  u32(0x4E4F534A);
+  file += text;
+  u32(static_cast<uint32_t>(bin.size()));
+  u32(0x004E4942);
+  file.append(reinterpret_cast<const char*>(bin.data()), bin.size());
+  std::ofstream(out, std::ios::binary) << file;
+  return out;
+}
+
+void Ours(benchmark::State& state, bool skin)
+{
+  if (!std::filesystem::exists(Avatar))
+  {
+    state.SkipWithError(("MakeHuman avatar not found: " + Avatar).c_str());
+    return;
+  }
+  vtkNew<vtkMorphTargetReader> reader;
+  reader->SetFileName(Avatar.c_str());
+  reader->Update();
+  vtkNew<vtkMorphNodeFilter> morph;
+  morph->SetInputConnection(reader->GetOutputPort());
+  morph->SetWeightModeToRelative();
+  vtkNew<vtkMorphSkinFilter> skinFilter;
+  skinFilter->SetInputConnection(morph->GetOutputPort());
+  vtkAlgorithm* last = skin ? static_cast<vtkAlgorithm*>(skinFilter) : static_cast<vtkAlgorithm*>(morph);
+  int f = 0;
+  for (auto _ : state)
+  {
+    for (int a = 0; a < 5; ++a)
+    {
+      morph->SetWeightByName(Animated[a], Weight(a, f % Keys));
+    }
+    skinFilter->SetHeadYaw(HeadYaw(f % Keys));
+    skinFilter->SetEyeYaw(EyeYaw(f % Keys));
+    last->Update();
+    ++f;
+  }
+  state.SetLabel(skin ? "morph + skin" : "morph only");
+}
+
+void MorphAndSkin(benchmark::State& state)
+{
+  Ours(state, true);
+}
+void MorphOnly(benchmark::State& state)
+{
+  Ours(state, false);
+}
+
+void VtkGltfReader(benchmark::State& state)
+{
+  if (!std::filesystem::exists(Avatar))
+  {
+    state.SkipWithError(("MakeHuman avatar not found: " + Avatar).c_str());
+    return;
+  }
+  static const std::string file = AnimatedCopy();
+  vtkNew<vtkGLTFReader> reader;
+  reader->SetFileName(file.c_str());
+  reader->SetApplyDeformationsToGeometry(true);
+  reader->SetFrameRate(Fps);
+  reader->UpdateInformation();
+  reader->EnableAnimation(0);
+  reader->UpdateInformation();
+  reader->UpdateTimeStep(0.0);
+  int f = 1;
+  for (auto _ : state)
+  {
+    reader->UpdateTimeStep((f % Keys) / Fps);
+    ++f;
+  }
+  state.SetLabel("vtkGLTFReader animation, CPU morph + skin");
+}
+} // namespace
+
+BENCHMARK(MorphAndSkin)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(MorphOnly)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(VtkGltfReader)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_MAIN();
