@@ -208,7 +208,7 @@ int vtkMorphRigFilter::RequestData(
         targets.push_back(internals.TargetNames->GetValue(i));
       }
     }
-    else
+    else if (!face) // (the face's own names win over the rig's declared list)
     {
       targets = rig.GetDeclaredTargets();
       if (targets.empty())
