@@ -118,6 +118,10 @@ std::string NormalizeEspeakPhoneme(const std::string& espeakName, const std::str
   {
     return found;
   }
+  if (std::all_of(espeakName.begin(), espeakName.end(), IsVariantMark))
+  {
+    return ""; // a mark eSpeak reports on its own (the ';' of "i;" before a vowel): no sound
+  }
   std::string stripped = espeakName;
   while (stripped.size() > 1 && IsVariantMark(stripped.back()))
   {
@@ -174,6 +178,28 @@ std::vector<TimedPhoneme> NormalizeEvents(const std::vector<TimedPhoneme>& event
   return result;
 }
 } // namespace
+
+std::vector<std::string> EspeakLanguageSwitches(
+  const std::vector<TimedPhoneme>& espeakPhonemes, const std::string& voice)
+{
+  const std::string own = text::ToLower(voice.substr(0, voice.find('+')));
+  std::vector<std::string> switches;
+  for (const TimedPhoneme& e : espeakPhonemes)
+  {
+    if (e.Sampa.size() < 3 || e.Sampa.front() != '(' || e.Sampa.back() != ')')
+    {
+      continue;
+    }
+    const std::string language = text::ToLower(e.Sampa.substr(1, e.Sampa.size() - 2));
+    const bool same = own == language || own.rfind(language + "-", 0) == 0 ||
+      language.rfind(own + "-", 0) == 0;
+    if (!same && std::find(switches.begin(), switches.end(), language) == switches.end())
+    {
+      switches.push_back(language);
+    }
+  }
+  return switches;
+}
 
 std::vector<TimedPhoneme> NormalizeEspeakPhonemes(
   const std::vector<TimedPhoneme>& espeakPhonemes, const std::string& language)

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "base/Error.h"
 #include "speech/Sampa.h"
+#include "speech/Speech.h"
 #include "speech/SpeechSynthesizer.h"
 #include "audio/AudioFile.h"
 #include "MorphNodeTestSkips.h"
@@ -284,4 +285,60 @@ TEST(Synthesis, PitchEstimateOfASineWave)
   EXPECT_EQ(EstimatePitchHz(noise.data(), 0, noise.size(), 22050), 0.0);
   std::vector<int16_t> silence(4000, 0);
   EXPECT_EQ(EstimatePitchHz(silence.data(), 0, silence.size(), 22050), 0.0);
+}
+
+// eSpeak's "i;" before a vowel ("be in", "amiable") arrives as "i:" and a ';' of its own:
+// the mark joins the vowel, no "unknown phoneme ';'" warning, every phoneme in the inventory.
+TEST(Synthesis, PalatalMarkBeforeAVowelIsNoPhoneme)
+{
+  MORPHNODE_SKIP_WITHOUT_ESPEAK();
+  EXPECT_EQ(NormalizeEspeakPhoneme(";", "en"), "");
+  std::vector<std::string> warnings;
+  SpeechOptions options;
+  options.Warn = [&](const std::string& w) { warnings.push_back(w); };
+  const Utterance u = SpeakText("Be in, amiable, we see it. Three apples, free and easy.", options);
+  for (const auto& w : warnings)
+  {
+    ADD_FAILURE() << w;
+  }
+  for (const auto& p : u.Phonemes)
+  {
+    EXPECT_TRUE(IsSampaPhoneme(p.Sampa, "en")) << p.Sampa;
+  }
+}
+
+// Where a voice has no rules, eSpeak NG reads in another language and says so in its
+// phoneme stream ("(en)"): one clear warning; none for text the voice reads itself.
+TEST(Synthesis, LanguageSwitchesWarnOnce)
+{
+  MORPHNODE_SKIP_WITHOUT_ESPEAK();
+  auto warningsOf = [](const std::string& text, const std::string& voice) {
+    std::vector<std::string> warnings;
+    SpeechOptions options;
+    options.Voice = voice;
+    options.Warn = [&](const std::string& w) {
+      if (w.find("no rules") != std::string::npos)
+      {
+        warnings.push_back(w);
+      }
+    };
+    SpeakText(text, options);
+    return warnings;
+  };
+  const auto mandarin = warningsOf("ni3 hao3, xie4 xie4, zai4 jian4", "cmn");
+  ASSERT_EQ(mandarin.size(), 1u);
+  EXPECT_NE(mandarin[0].find("voice 'cmn' and reads it as 'en'"), std::string::npos) << mandarin[0];
+  const auto japanese = warningsOf("\xe6\xbc\xa2\xe5\xad\x97", "ja"); // kanji: "Chinese letter"
+  ASSERT_EQ(japanese.size(), 1u);
+  EXPECT_NE(japanese[0].find("'en'"), std::string::npos) << japanese[0];
+  EXPECT_TRUE(warningsOf("Hello there, how are you?", "en").empty());
+  EXPECT_TRUE(warningsOf("Hello there, how are you?", "en-us").empty());
+  EXPECT_TRUE(warningsOf("Guten Tag, wie geht es dir?", "de").empty());
+  EXPECT_TRUE(warningsOf("Buenos d\xc3\xad" "as, \xc2\xbf" "c\xc3\xb3mo est\xc3\xa1s?", "es").empty());
+  // The switches themselves.
+  EXPECT_EQ(EspeakLanguageSwitches({ { "(en)", 0, 0, {} }, { "n", 0, 0.1, {} }, { "(cmn)", 0.1, 0, {} },
+                                     { "(en)", 0.2, 0, {} } },
+              "cmn"),
+    std::vector<std::string>{ "en" });
+  EXPECT_TRUE(EspeakLanguageSwitches({ { "(en)", 0, 0, {} } }, "en-us").empty());
 }
