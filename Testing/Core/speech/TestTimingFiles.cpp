@@ -320,3 +320,33 @@ TEST(TimingFiles, EveryFormatThroughOneLoader)
   EXPECT_NE(ErrorOf([&] { LoadTimingFile(unknown, speech); }).find("cannot tell"), std::string::npos);
   EXPECT_EQ(ParseTimingFormat("TextGrid"), TimingFormat::TextGrid);
 }
+
+// Polly's viseme tables of other languages: Spanish "bebé", "sayo", "llave" bring B and J,
+// English "l" its own viseme. They read, and the Spanish mouth follows them: B near closed
+// lips (a bilabial), J not.
+TEST(SpeechMarks, PollyVisemesOfEveryLanguage)
+{
+  SpeechMarkOptions spanish;
+  spanish.Language = "es";
+  const SpeechMarks marks = ParseSpeechMarks(
+    "{\"time\":0,\"type\":\"word\",\"start\":0,\"end\":4,\"value\":\"bebé\"}\n"
+    "{\"time\":0,\"type\":\"viseme\",\"value\":\"p\"}\n"
+    "{\"time\":80,\"type\":\"viseme\",\"value\":\"e\"}\n"
+    "{\"time\":180,\"type\":\"viseme\",\"value\":\"B\"}\n"
+    "{\"time\":300,\"type\":\"viseme\",\"value\":\"e\"}\n"
+    "{\"time\":420,\"type\":\"viseme\",\"value\":\"J\"}\n"
+    "{\"time\":540,\"type\":\"viseme\",\"value\":\"a\"}\n"
+    "{\"time\":700,\"type\":\"viseme\",\"value\":\"sil\"}\n", spanish);
+  EXPECT_EQ(Names(marks.Phonemes), (std::vector<std::string>{ "p", "e", "B", "e", "j\\", "A:", "_" }));
+  SpeechOptions speech;
+  speech.Voice = "es";
+  std::vector<std::string> warnings;
+  speech.Warn = [&](const std::string& w) { warnings.push_back(w); };
+  const Utterance u = UtteranceFromPhonemes(marks.Phonemes, speech);
+  EXPECT_TRUE(warnings.empty()) << warnings.front();
+  const VisemeMap map = SelectVisemeMap(speech);
+  EXPECT_EQ(map.MapPhonemeName("B"), "PP");
+  EXPECT_NE(map.MapPhonemeName("j\\"), "PP");
+  EXPECT_EQ(PollyVisemeToSampa("l"), "l");
+  EXPECT_EQ(PollyVisemeToSampa("Q"), ""); // still no Polly viseme
+}
