@@ -76,7 +76,8 @@ Options ParseOptions(int argc, char* argv[])
     ->excludes(text)
     ->group(recorded);
   auto* timings = app.add_option("--timings", o.Timings,
-       "a timing file (.pho, Rhubarb TSV/JSON/XML, Praat TextGrid, Polly speech marks): of "
+       "a timing file (.pho, Rhubarb TSV/JSON/XML, Praat TextGrid, Polly speech marks, Azure "
+       "viseme IDs, ElevenLabs character alignments): of "
        "--audio (e.g. the cues Rhubarb Lip Sync computed from it), or alone to move the mouth "
        "without sound")
     ->check(CLI::ExistingFile)
@@ -85,9 +86,9 @@ Options ParseOptions(int argc, char* argv[])
     ->group(recorded);
   app.add_option("--timings-format", o.TimingsFormat,
        "the format of --timings where its extension does not tell: auto, pho, rhubarb-tsv, "
-       "rhubarb-json, rhubarb-xml, textgrid, speech-marks")
+       "rhubarb-json, rhubarb-xml, textgrid, speech-marks, azure-visemes, character-alignment")
     ->check(CLI::IsMember({ "auto", "pho", "rhubarb-tsv", "rhubarb-json", "rhubarb-xml",
-      "textgrid", "speech-marks" }, CLI::ignore_case))
+      "textgrid", "speech-marks", "azure-visemes", "character-alignment" }, CLI::ignore_case))
     ->capture_default_str()
     ->needs(timings)
     ->group(recorded);
