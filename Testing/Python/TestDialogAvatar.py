@@ -36,7 +36,8 @@ class DialogAvatarTest(unittest.TestCase):
         cls.err = open(os.path.join(cls.tmp.name, "stderr.txt"), "w+")
         cls.proc = subprocess.Popen(
             [EXE, "--offscreen", "--listen", "127.0.0.1:0", "--listen", "unix:" + cls.unix,
-             "--size", "160x160", "--fps", "30", "--quiet", "--exit-after", "240"],
+             "--size", "160x160", "--fps", "30", "--quiet", "--exit-after", "240",
+             "--speech-dir", cls.tmp.name],
             stdout=subprocess.DEVNULL, stderr=cls.err)
         cls.address = None
         deadline = time.monotonic() + 120
@@ -161,6 +162,49 @@ class DialogAvatarTest(unittest.TestCase):
         with self.assertRaises(AvatarError) as caught:
             c.wait(c.say("Hi", voice="xx-no-such-voice"), "accepted", 60)
         self.assertEqual(caught.exception.event["reason"], "rejected")
+
+    def test_7_external_speech(self):
+        """A dialog system with its own voice hands over a recording and its timings: the
+        avatar speaks the recording (its sound starts where the recording's does) for the
+        recording's length, with the mouth timed by Rhubarb cues or Azure viseme IDs."""
+        import math
+        import struct
+        import wave
+        c = self.client
+        wav = os.path.join(self.tmp.name, "take.wav")
+        with wave.open(wav, "wb") as w:  # 1.5 s: silence, a tone from 0.3 s to 1.3 s, silence
+            w.setnchannels(1)
+            w.setsampwidth(2)
+            w.setframerate(16000)
+            w.writeframes(b"".join(
+                struct.pack("<h", int(8000 * math.sin(2 * math.pi * 220 * i / 16000))
+                            if 0.3 * 16000 <= i < 1.3 * 16000 else 0) for i in range(24000)))
+        tsv = os.path.join(self.tmp.name, "take.tsv")
+        with open(tsv, "w") as f:
+            f.write("0.00\tX\n0.30\tA\n0.50\tD\n1.30\tX\n")
+        azure = os.path.join(self.tmp.name, "take.visemes")
+        with open(azure, "w") as f:
+            json.dump([{"AudioOffset": 0, "VisemeId": 0}, {"AudioOffset": 3000000, "VisemeId": 21},
+                       {"AudioOffset": 5000000, "VisemeId": 2}, {"AudioOffset": 13000000, "VisemeId": 0}], f)
+        for timings, fmt in ((tsv, None), (azure, "azure-visemes")):
+            fields = {"audio": wav, "timings": timings}
+            if fmt:
+                fields["timings_format"] = fmt
+            said = c.send("say", **fields)
+            accepted, started, ended = self.lifecycle(c, said)
+            self.assertEqual(accepted["cmd"], "say")
+            self.assertAlmostEqual(accepted["end"] - accepted["start"], 1.5, delta=0.15)
+            # The sound starts 0.3 s into the utterance, where the cues close the lips.
+            self.assertAlmostEqual(accepted["sound"] - accepted["start"], 0.3, delta=0.05)
+        # Names relative to the speech folder work too.
+        self.lifecycle(c, c.send("say", audio="take.wav", timings="take.tsv"))
+        # A recording the folder does not have, or a file outside it: rejected.
+        for audio in (os.path.join(self.tmp.name, "missing.wav"), "../" + os.path.basename(self.tmp.name) + "x/a.wav",
+                      os.path.abspath(__file__), "/etc/hostname"):
+            with self.assertRaises(AvatarError) as caught:
+                c.wait(c.send("say", audio=audio, timings=tsv), "accepted", 30)
+            self.assertEqual(caught.exception.event["reason"], "rejected")
+            self.assertIn("speech folder", caught.exception.event["message"])
 
     def test_9_quit(self):
         c = self.client

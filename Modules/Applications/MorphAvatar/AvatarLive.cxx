@@ -15,7 +15,9 @@
 #include "behavior/LiveBehavior.h"
 #include "dialog/DialogServer.h"
 #include "dialog/DialogSession.h"
+#include "align/RecordingSpeech.h"
 #include "speech/Speech.h"
+#include "speech/TimingFiles.h"
 
 #include "vtkAlgorithmOutput.h"
 #include "vtkDoubleArray.h"
@@ -29,6 +31,7 @@
 #include "vtkTableAlgorithm.h"
 
 #include <algorithm>
+#include <filesystem>
 #include <chrono>
 #include <cmath>
 #include <csignal>
@@ -109,6 +112,32 @@ void Rewire(vtkAlgorithmOutput* from, vtkAlgorithmOutput* to)
 
 /// The dialog's commands on the live behaviour (behavior/LiveBehavior.h): merged into what
 /// is scheduled, never rebuilding it; long texts synthesized in chunks.
+/// `path` when it names a file inside `folder` (--speech-dir), as its canonical path: a
+/// client may name files only there. InputError otherwise (and without a folder).
+std::string InsideFolder(const std::string& path, const std::string& folder, const char* field)
+{
+  namespace fs = std::filesystem;
+  if (folder.empty())
+  {
+    throw morphnode::InputError(std::string("'") + field + "' names a file: start the avatar with "
+      "--speech-dir DIR, the folder clients may name recordings and timings in");
+  }
+  std::error_code error;
+  const fs::path dir = fs::canonical(folder, error);
+  const fs::path file = fs::canonical(fs::path(folder) / path, error);
+  if (error || dir.empty())
+  {
+    throw morphnode::InputError(std::string("'") + field + "': no file '" + path + "' in the speech folder");
+  }
+  const std::string d = dir.string() + "/";
+  if (file.string().compare(0, d.size(), d) != 0 || !fs::is_regular_file(file))
+  {
+    throw morphnode::InputError(std::string("'") + field + "': '" + path + "' is not a file inside the "
+      "speech folder (--speech-dir)");
+  }
+  return file.string();
+}
+
 class LiveSink : public dialog::CommandSink
 {
 public:
@@ -121,7 +150,28 @@ public:
   dialog::Schedule Say(const dialog::SayCommand& c, double now) override
   {
     morphnode::LiveBehavior::Timing timing;
-    if (c.Voice.empty())
+    if (!c.Audio.empty())
+    {
+      // External speech: the dialog system's own voice, a recording on this machine with
+      // its timings (or its transcript); the recording is the sound, the mouth its timing.
+      const std::string folder = this->A ? this->A->Opt.SpeechDir : std::string();
+      const std::string audio = InsideFolder(c.Audio, folder, "audio");
+      const std::string timings = c.Timings.empty() ? "" : InsideFolder(c.Timings, folder, "timings");
+      morphnode::SpeechOptions options = this->Speech;
+      if (!c.Voice.empty())
+      {
+        options.Voice = c.Voice;
+      }
+      morphnode::RecordingOptions recording;
+      recording.Transcript = c.Text;
+      recording.TimingFile = timings;
+      if (!c.TimingsFormat.empty())
+      {
+        recording.Timing.Format = morphnode::ParseTimingFormat(c.TimingsFormat);
+      }
+      timing = this->Live.Speak(morphnode::SpeakAudioFile(audio, options, recording), now);
+    }
+    else if (c.Voice.empty())
     {
       timing = this->Live.Say(c.Text, now); // the first chunk now, the others later
     }

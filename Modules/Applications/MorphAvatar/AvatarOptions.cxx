@@ -219,6 +219,11 @@ Options ParseOptions(int argc, char* argv[])
   app.add_flag("--commands-stdin", o.CommandsStdin,
        "take commands on standard input; their events go to standard output")
     ->group(live);
+  app.add_option("--speech-dir", o.SpeechDir,
+       "live: the folder whose recordings and timing files `say` commands may name (external "
+       "speech from a dialog system's own voice, docs/dialog.md); without it they name no files")
+    ->check(CLI::ExistingDirectory)
+    ->group(live);
   app.add_flag("--listen-remote", o.ListenRemote,
        "let --listen use addresses other machines reach (anyone who connects commands the avatar)")
     ->group(live);
