@@ -234,6 +234,54 @@ class DialogWindowTest(unittest.TestCase):
         self.assertTrue(m and float(m[-1]) > 5.5, err.decode())
 
 
+class RecordedSessionTest(unittest.TestCase):
+    """--video and --frames while live record the session: the frames at the frame rate and
+    the sound as it was played, placed where the avatar said it would be (events' times)."""
+
+    def test_live_session_is_recorded(self):
+        import wave
+        tmp = tempfile.TemporaryDirectory()
+        self.addCleanup(tmp.cleanup)
+        wav = os.path.join(tmp.name, "take.wav")
+        with wave.open(wav, "wb") as w:  # 1 s of a tone
+            w.setnchannels(1)
+            w.setsampwidth(2)
+            w.setframerate(16000)
+            w.writeframes(b"".join(int(8000 * __import__("math").sin(i / 10.0)).to_bytes(2, "little", signed=True)
+                                   for i in range(16000)))
+        with open(os.path.join(tmp.name, "take.tsv"), "w") as f:
+            f.write("0.00\tA\n0.20\tD\n0.90\tX\n")
+        proc = subprocess.Popen(
+            [EXE, "--commands-stdin", "--speech-dir", tmp.name, "--size", "120x120", "--fps", "10",
+             "--frames", os.path.join(tmp.name, "frames"), "--video", os.path.join(tmp.name, "session.ogv")],
+            stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+        proc.stdin.write(b'{"cmd":"say","audio":"take.wav","timings":"take.tsv","id":"t"}\n')
+        proc.stdin.flush()
+        time.sleep(2.5)
+        proc.stdin.write(b'{"cmd":"quit"}\n')
+        proc.stdin.flush()
+        out, err = proc.communicate(timeout=120)
+        self.assertEqual(proc.returncode, 0, err.decode())
+        events = [json.loads(line) for line in out.decode().splitlines()]  # stdout: events only
+        accepted = next(e for e in events if e.get("id") == "t" and e["event"] == "accepted")
+        quit_time = next(e for e in events if e.get("cmd") == "quit")["time"]
+        frames = sorted(os.listdir(os.path.join(tmp.name, "frames")))
+        self.assertAlmostEqual(len(frames), int(quit_time * 10) + 1, delta=2)
+        with wave.open(os.path.join(tmp.name, "session.wav")) as w:
+            rate = w.getframerate()
+            samples = w.readframes(w.getnframes())
+        values = [int.from_bytes(samples[i:i + 2], "little", signed=True) for i in range(0, len(samples), 2)]
+
+        def loud(t0, t1):
+            part = values[int(t0 * rate):int(t1 * rate)]
+            return max((abs(v) for v in part), default=0) > 1000
+
+        # The recording sounds from the time the avatar announced, not before.
+        self.assertFalse(loud(0.0, max(0.0, accepted["sound"] - 0.05)))
+        self.assertTrue(loud(accepted["sound"] + 0.05, accepted["sound"] + 0.9))
+        self.assertIn("session.wav", err.decode())
+
+
 if __name__ == "__main__":
     EXE = sys.argv.pop(1)
     unittest.main(verbosity=2)

@@ -10,6 +10,7 @@
 #include "AvatarLive.h"
 
 #include "Avatar.h"
+#include "FrameRecorder.h"
 
 #include "base/Error.h"
 #include "behavior/LiveBehavior.h"
@@ -339,6 +340,51 @@ int RunHeadless(Live& live)
   Avatar& a = live.A;
   a.Window->OffScreenRenderingOn();
   const double frame = 1.0 / a.Fps;
+  // --frames / --video: the session recorded at the frame rate (the frame shown at each
+  // frame's time, repeated when a render comes late) with the sound as it was played.
+  std::unique_ptr<morphnode::appkit::FrameRecorder> recorder;
+  int recorded = 0;
+  if (!a.Opt.FramesDir.empty() || !a.Opt.Video.empty())
+  {
+    try
+    {
+      recorder = std::make_unique<morphnode::appkit::FrameRecorder>(a.Window, a.Fps);
+      if (a.Opt.CommandsStdin)
+      {
+        recorder->SetLog(std::cerr); // stdout carries the events
+      }
+      if (!a.Opt.FramesDir.empty())
+      {
+        recorder->SetFramesFolder(a.Opt.FramesDir);
+      }
+      if (!a.Opt.Video.empty())
+      {
+        recorder->SetVideo(a.Opt.Video);
+      }
+    }
+    catch (const std::exception& e)
+    {
+      std::cerr << "MorphAvatar: " << e.what() << "\n";
+      return 1;
+    }
+  }
+  auto finish = [&]() {
+    live.Session->Shutdown(live.Now());
+    if (!recorder)
+    {
+      return 0;
+    }
+    try
+    {
+      recorder->Finish([&a](const std::string& wav) { return a.WriteSessionSound(wav); });
+    }
+    catch (const std::exception& e)
+    {
+      std::cerr << "MorphAvatar: " << e.what() << "\n";
+      return 1;
+    }
+    return 0;
+  };
   auto next = Clock::now();
   for (;;)
   {
@@ -355,6 +401,20 @@ int RunHeadless(Live& live)
     a.Overlay->SetInput(a.OverlayText(true, ++a.FramesRendered, 0).c_str());
     a.Window->Render();
     live.After(t);
+    try
+    {
+      // Every frame slot up to now shows this render (none skipped, none twice).
+      for (const int last = static_cast<int>(std::floor(t * a.Fps + 1e-9)); recorder && recorded <= last; ++recorded)
+      {
+        recorder->Capture(recorded);
+      }
+    }
+    catch (const std::exception& e)
+    {
+      std::cerr << "MorphAvatar: " << e.what() << "\n";
+      live.Session->Shutdown(live.Now());
+      return 1;
+    }
     if (live.Finished() || (a.Opt.ExitAfter >= 0.0 && t >= a.Opt.ExitAfter))
     {
       break;
@@ -377,8 +437,7 @@ int RunHeadless(Live& live)
       }
     }
   }
-  live.Session->Shutdown(live.Now());
-  return 0;
+  return finish();
 }
 } // namespace
 
@@ -451,6 +510,7 @@ int RunLive(Avatar& a)
   }
   if (a.Opt.Offscreen)
   {
+    a.RecordSound = !a.Opt.Video.empty();
     return RunHeadless(live);
   }
   // The window's loop (AvatarInteractive.cxx) calls LiveFrame around every frame.

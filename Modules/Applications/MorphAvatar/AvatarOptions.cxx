@@ -234,11 +234,10 @@ Options ParseOptions(int argc, char* argv[])
   o.GltfOptimized = gltfWeights != "raw";
 
   const bool isLive = !o.Listen.empty() || o.CommandsStdin;
-  if (isLive && (!o.FramesDir.empty() || !o.Video.empty() || !o.Pvd.empty() || !o.Png.empty() ||
-                  !o.Compare.empty() || o.At >= 0.0))
+  if (isLive && (!o.Pvd.empty() || !o.Png.empty() || !o.Compare.empty() || o.At >= 0.0))
   {
-    FailUsage("--listen and --commands-stdin run in real time; --frames, --video, --pvd, --png, "
-              "--compare and --at render a fixed behaviour offline");
+    FailUsage("--listen and --commands-stdin run in real time; --pvd, --png, --compare and --at "
+              "render a fixed behaviour offline (--frames and --video record the live session)");
   }
   const bool performance = !o.Animation.empty() || !o.Capture.empty();
   if (performance && (isLive || !o.Say.empty() || !o.Script.empty() || !o.Gltf.empty()))
