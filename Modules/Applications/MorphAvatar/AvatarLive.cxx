@@ -376,6 +376,12 @@ int RunHeadless(Live& live)
     }
     try
     {
+      // The last frame shown holds until the session ends (a slow render or a quit that
+      // came before the next frame must not shorten the recording against its sound).
+      for (const int last = static_cast<int>(std::floor(live.Now() * a.Fps + 1e-9)); recorded <= last; ++recorded)
+      {
+        recorder->Capture(recorded);
+      }
       recorder->Finish([&a](const std::string& wav) { return a.WriteSessionSound(wav); });
     }
     catch (const std::exception& e)
