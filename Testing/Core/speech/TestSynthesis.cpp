@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "base/Error.h"
+#include "speech/Articulation.h"
 #include "speech/Sampa.h"
 #include "speech/Speech.h"
 #include "speech/SpeechSynthesizer.h"
@@ -7,6 +8,10 @@
 #include "MorphNodeTestSkips.h"
 
 #include <gtest/gtest.h>
+
+#include <map>
+
+#include <iterator>
 
 #include <cmath>
 #include <cstring>
@@ -156,7 +161,10 @@ TEST(Synthesis, NormalizationTable)
   EXPECT_EQ(NormalizeEspeakPhoneme("I2", "en"), "I");
   EXPECT_EQ(NormalizeEspeakPhoneme("_:", "en"), "_");
   EXPECT_EQ(NormalizeEspeakPhoneme("_|", "de"), "_");
-  EXPECT_EQ(NormalizeEspeakPhoneme("zz9", "en"), "zz9"); // unknown stays, to be warned about
+  EXPECT_EQ(NormalizeEspeakPhoneme("%%", "en"), "%%"); // unknown stays, to be warned about
+  // A base-table phoneme the English table lacks: its X-SAMPA (placed by articulation).
+  EXPECT_EQ(NormalizeEspeakPhoneme("n^", "en"), "J");
+  EXPECT_EQ(NormalizeEspeakPhoneme("zz9", "en"), "z");
   EXPECT_EQ(SpeechLanguageOf("de-DE"), "de");
   EXPECT_EQ(SpeechLanguageOf("en-us"), "en");
   // Pauses merge, zero-length pauses and language switches vanish.
@@ -341,4 +349,98 @@ TEST(Synthesis, LanguageSwitchesWarnOnce)
               "cmn"),
     std::vector<std::string>{ "en" });
   EXPECT_TRUE(EspeakLanguageSwitches({ { "(en)", 0, 0, {} } }, "en-us").empty());
+}
+
+// Every phoneme every eSpeak NG voice can emit (its phoneme table and the tables it
+// inherits, read from eSpeak NG's compiled `phontab`) normalizes: for English and German to
+// their SAMPA inventory or, for what their tables lack, to X-SAMPA the viseme tables place
+// by articulation; for every other voice to X-SAMPA that describes. Pauses, stress marks
+// and eSpeak's virtual phonemes are no sounds and are left out.
+TEST(Synthesis, EveryPhonemeOfEveryVoiceNormalizes)
+{
+  const std::string path = "/usr/lib/x86_64-linux-gnu/espeak-ng-data/phontab";
+  std::ifstream file(path, std::ios::binary);
+  if (!file)
+  {
+    GTEST_SKIP() << "eSpeak NG's phoneme tables not found at " << path;
+  }
+  const std::string d((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+  // phontab (eSpeak NG 1.51): int32 table count; per table: uint8 phoneme count, uint8
+  // included table (1-based, 0 = none), 2 pad bytes, 32 bytes name, then 16 bytes per
+  // phoneme: uint32 mnemonic (up to 4 chars), uint32 flags, uint16 program, uint8 code,
+  // uint8 type (0 pause, 1 stress, 2 vowel, ... 8 nasal, 9 virtual, 14 deleted).
+  struct Phoneme
+  {
+    std::string Name;
+    int Type;
+  };
+  ASSERT_GE(d.size(), 4u);
+  uint32_t count = 0;
+  std::memcpy(&count, d.data(), 4);
+  size_t at = 4;
+  std::vector<std::string> names;
+  std::vector<int> includes;
+  std::vector<std::map<int, Phoneme>> tables;
+  for (uint32_t t = 0; t < count; ++t)
+  {
+    ASSERT_LE(at + 36, d.size());
+    const int phonemes = static_cast<unsigned char>(d[at]);
+    includes.push_back(static_cast<unsigned char>(d[at + 1]));
+    names.emplace_back(d.data() + at + 4, strnlen(d.data() + at + 4, 32));
+    at += 36;
+    std::map<int, Phoneme> table;
+    for (int k = 0; k < phonemes; ++k, at += 16)
+    {
+      ASSERT_LE(at + 16, d.size());
+      char mnemonic[5] = { 0, 0, 0, 0, 0 };
+      std::memcpy(mnemonic, d.data() + at, 4);
+      table[static_cast<unsigned char>(d[at + 10])] = { mnemonic, static_cast<unsigned char>(d[at + 11]) };
+    }
+    tables.push_back(std::move(table));
+  }
+  ASSERT_GT(names.size(), 100u);
+  int checked = 0;
+  for (size_t t = 0; t < names.size(); ++t)
+  {
+    // The voice's effective table: its base tables first, its own entries over them.
+    std::vector<size_t> chain{ t };
+    while (includes[chain.front()] > 0 && chain.size() < names.size())
+    {
+      chain.insert(chain.begin(), static_cast<size_t>(includes[chain.front()] - 1));
+    }
+    std::map<int, Phoneme> effective;
+    for (size_t c : chain)
+    {
+      for (const auto& [code, p] : tables[c])
+      {
+        effective[code] = p;
+      }
+    }
+    const std::string& voice = names[t];
+    for (const auto& [code, p] : effective)
+    {
+      if (p.Type == 0 || p.Type == 1 || p.Type == 9 || p.Type >= 14 || code < 9)
+      {
+        continue;
+      }
+      ++checked;
+      auto describes = [](const std::string& x) {
+        const auto segments = SplitPhone(x);
+        return !segments.empty() && DescribePhone(segments[0]).IsKnown();
+      };
+      if (HasSampaTables(voice))
+      {
+        const std::string language = SpeechLanguageOf(voice);
+        const std::string s = NormalizeEspeakPhoneme(p.Name, language);
+        EXPECT_TRUE(s.empty() || IsSampaPhoneme(s, language) || describes(s))
+          << voice << ": eSpeak's " << p.Name << " -> " << s;
+      }
+      else
+      {
+        const std::string x = EspeakMnemonicToXSampa(p.Name, voice);
+        EXPECT_TRUE(x == "_" || describes(x)) << voice << ": eSpeak's " << p.Name << " -> " << x;
+      }
+    }
+  }
+  EXPECT_GT(checked, 10000);
 }
