@@ -9,6 +9,7 @@ morphed as one head and drawn one actor per part in its own colour; an OBJ set i
         Data/DefaultFace/default_head.glb --weight O=0.8 --weight BrowsUp=0.5 --png o.png
 """
 import argparse
+import math
 import os
 import sys
 
@@ -37,8 +38,10 @@ def main(argv=None):
     parser.add_argument("--mode", choices=["strict", "normalize", "relative"], default="normalize")
     parser.add_argument("--method", type=preset, default=0,
                         help="optimizer: 0-4 or " + ", ".join(preset_names()) + " (default none)")
-    parser.add_argument("--threshold", type=float, default=0.0, help="th_fix of the threshold methods")
-    parser.add_argument("--max-error", type=float, default=0.0, help="bound of error-bounded, model units")
+    parser.add_argument("--threshold", type=float, default=0.1,
+                        help="th_fix of the threshold methods (default 0.1, as MorphAvatar)")
+    parser.add_argument("--max-error", type=float, default=None,
+                        help="bound of error-bounded, model units (default 0.5 %% of the face's diagonal, as MorphAvatar)")
     parser.add_argument("--color", help="AnimatedRegion or Distance_<target>")
     parser.add_argument("--png", help="render offscreen to this file")
     parser.add_argument("--size", type=size, default=(600, 600), help="WxH (default 600x600)")
@@ -50,6 +53,14 @@ def main(argv=None):
     morph.SetInputConnection(reader.GetOutputPort())
     getattr(morph, "SetWeightModeTo" + args.mode.capitalize())()
     morph.SetThreshold(args.threshold)
+    if args.max_error is None:
+        # MorphAvatar's default: 0.5 % of the face's diagonal (a zero bound prunes nothing).
+        reader.Update()
+        rest = head_bounds(reader.GetOutputDataObject(0))
+        if rest is None:
+            print(f"{args.face}: no face to morph (see the errors above)", file=sys.stderr)
+            return 1
+        args.max_error = 0.005 * math.sqrt(sum((rest[2 * i + 1] - rest[2 * i]) ** 2 for i in range(3)))
     morph.SetMaxVertexError(args.max_error)
     morph.SetOptimizerPreset(args.method)
     morph.SetGenerateDistanceArrays(bool(args.color))
@@ -63,7 +74,8 @@ def main(argv=None):
         print("nothing to show (see the errors above)", file=sys.stderr)
         return 1
     print(f"{args.face}: {morph.GetNumberOfTargets()} targets, {morph.GetActiveTargetCount()} active, "
-          f"error bound {morph.GetErrorBound():g}")
+          f"error bound {morph.GetErrorBound():g} (method {morph.GetOptimizerPresetAsString()}, "
+          f"threshold {args.threshold:g}, max error {args.max_error:g})")
 
     renderer = vtkRenderer()
     head = HeadActors(face, renderer)  # one actor per part, in its own colour

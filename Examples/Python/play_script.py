@@ -16,7 +16,8 @@ import os
 import sys
 
 from example_support import HeadActors, ProgressBar, head_bounds, head_pivot, set_head_pose, set_up_view, size
-from morphnode import vtkBehaviorTimeSource, vtkEyeGazeFilter, vtkMorphNodeFilter, vtkMorphTargetReader
+from morphnode import (vtkBehaviorTimeSource, vtkEyeGazeFilter, vtkMorphNodeFilter, vtkMorphRigFilter,
+                       vtkMorphTargetReader)
 
 import vtkmodules.vtkInteractionStyle  # noqa: F401  (default interactor style)
 import vtkmodules.vtkRenderingOpenGL2  # noqa: F401  (the render backend)
@@ -34,6 +35,7 @@ def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("script", nargs="?", default=DEFAULT_SCRIPT)
     parser.add_argument("--face", default=DEFAULT_FACE)
+    parser.add_argument("--rig", help="a rig onto the face's targets, e.g. Data/rigs/arkit.json for an ARKit face")
     parser.add_argument("--out", default="play_script-out")
     parser.add_argument("--fps", type=float, help="override the script's frame rate")
     parser.add_argument("--duration", type=float, help="override the script's duration (s)")
@@ -72,7 +74,15 @@ def main(argv=None):
     # The whole scene: every part of the head (a vtkPartitionedDataSetCollection).
     morph = vtkMorphNodeFilter()
     morph.SetInputConnection(reader.GetOutputPort())
-    morph.SetWeightsConnection(behavior.GetOutputPort(0))
+    if args.rig:
+        # The behaviour's shapes (visemes, expressions) onto the face's own targets.
+        rig = vtkMorphRigFilter()
+        rig.SetRigFileName(args.rig)
+        rig.SetInputConnection(behavior.GetOutputPort(0))
+        rig.SetFaceConnection(reader.GetOutputPort())
+        morph.SetWeightsConnection(rig.GetOutputPort())
+    else:
+        morph.SetWeightsConnection(behavior.GetOutputPort(0))
     morph.SetWeightModeToRelative()  # the targets add on the neutral
     gaze = vtkEyeGazeFilter()  # the eyes look where the behaviour looks (EyeYaw, EyePitch)
     gaze.SetInputConnection(morph.GetOutputPort())
@@ -81,6 +91,11 @@ def main(argv=None):
     bounds = head_bounds(gaze.GetOutputDataObject(0))
     if bounds is None:
         print("nothing to show (see the errors above)", file=sys.stderr)
+        return 1
+    if not args.rig and not any(morph.GetTargetIndex(behavior.GetChannelName(c)) >= 0
+                                for c in range(behavior.GetNumberOfChannels())):
+        print(f"play_script.py: no behaviour channel names a target of {args.face}; give a rig with "
+              "--rig (e.g. Data/rigs/arkit.json)", file=sys.stderr)
         return 1
 
     pose = vtkTransform()  # the head pose channels turn every part about the neck

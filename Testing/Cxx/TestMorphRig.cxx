@@ -742,3 +742,23 @@ TEST(MorphRigFilter, OptimizerNeedsTheFacesGeometry)
   filter->Update();
   EXPECT_EQ(filter->GetOutput()->GetNumberOfColumns(), 53);
 }
+
+// The face on port 1 names the targets, also for a rig without a "targets" list (its
+// declared list used to replace the face's names: "no target names").
+TEST(MorphRigFilter, FaceNamesWinOverTheRigsDeclaredList)
+{
+  const std::string rigFile = TempFile("undeclared.json");
+  WriteFile(rigFile, R"({"name": "undeclared", "shapes": {"Open": {"A": 0.5, "O": 0.25}}})");
+  vtkNew<vtkMorphTargetReader> reader;
+  reader->SetFileName(DefaultFace.c_str());
+  reader->SetMeshIndex(0);
+  vtkNew<vtkMorphRigFilter> filter;
+  filter->SetInputData(MakeTable({ { "Open", { 1.0 } } }));
+  filter->SetFaceConnection(reader->GetOutputPort());
+  filter->SetRigFileName(rigFile.c_str());
+  filter->Update();
+  vtkTable* out = filter->GetOutput();
+  ASSERT_EQ(out->GetNumberOfColumns(), 12);
+  EXPECT_DOUBLE_EQ(vtkDataArray::SafeDownCast(out->GetColumnByName("A"))->GetComponent(0, 0), 0.5);
+  EXPECT_DOUBLE_EQ(vtkDataArray::SafeDownCast(out->GetColumnByName("O"))->GetComponent(0, 0), 0.25);
+}

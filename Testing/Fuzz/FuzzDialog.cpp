@@ -34,10 +34,17 @@ void CheckLine(std::string_view text, size_t limit)
     accepted.Id = p.Cmd.Id;
     accepted.Cmd = CommandName(p.Cmd.Body);
     CheckOneLine(FormatEvent(accepted));
-    if (std::holds_alternative<SayCommand>(p.Cmd.Body) &&
-      std::get<SayCommand>(p.Cmd.Body).Text.find_first_not_of(" \t\r\n") == std::string::npos)
+    if (std::holds_alternative<SayCommand>(p.Cmd.Body))
     {
-      std::abort(); // a say always has text
+      const SayCommand& say = std::get<SayCommand>(p.Cmd.Body);
+      if (say.Audio.empty() && say.Text.find_first_not_of(" \t\r\n") == std::string::npos)
+      {
+        std::abort(); // a say has text, or a recording (external speech)
+      }
+      if (say.Audio.empty() && (!say.Timings.empty() || !say.TimingsFormat.empty()))
+      {
+        std::abort(); // timings only with a recording
+      }
     }
     return;
   }

@@ -36,7 +36,8 @@ class DialogAvatarTest(unittest.TestCase):
         cls.err = open(os.path.join(cls.tmp.name, "stderr.txt"), "w+")
         cls.proc = subprocess.Popen(
             [EXE, "--offscreen", "--listen", "127.0.0.1:0", "--listen", "unix:" + cls.unix,
-             "--size", "160x160", "--fps", "30", "--quiet", "--exit-after", "240"],
+             "--size", "160x160", "--fps", "30", "--quiet", "--exit-after", "240",
+             "--speech-dir", cls.tmp.name],
             stdout=subprocess.DEVNULL, stderr=cls.err)
         cls.address = None
         deadline = time.monotonic() + 120
@@ -162,6 +163,49 @@ class DialogAvatarTest(unittest.TestCase):
             c.wait(c.say("Hi", voice="xx-no-such-voice"), "accepted", 60)
         self.assertEqual(caught.exception.event["reason"], "rejected")
 
+    def test_7_external_speech(self):
+        """A dialog system with its own voice hands over a recording and its timings: the
+        avatar speaks the recording (its sound starts where the recording's does) for the
+        recording's length, with the mouth timed by Rhubarb cues or Azure viseme IDs."""
+        import math
+        import struct
+        import wave
+        c = self.client
+        wav = os.path.join(self.tmp.name, "take.wav")
+        with wave.open(wav, "wb") as w:  # 1.5 s: silence, a tone from 0.3 s to 1.3 s, silence
+            w.setnchannels(1)
+            w.setsampwidth(2)
+            w.setframerate(16000)
+            w.writeframes(b"".join(
+                struct.pack("<h", int(8000 * math.sin(2 * math.pi * 220 * i / 16000))
+                            if 0.3 * 16000 <= i < 1.3 * 16000 else 0) for i in range(24000)))
+        tsv = os.path.join(self.tmp.name, "take.tsv")
+        with open(tsv, "w") as f:
+            f.write("0.00\tX\n0.30\tA\n0.50\tD\n1.30\tX\n")
+        azure = os.path.join(self.tmp.name, "take.visemes")
+        with open(azure, "w") as f:
+            json.dump([{"AudioOffset": 0, "VisemeId": 0}, {"AudioOffset": 3000000, "VisemeId": 21},
+                       {"AudioOffset": 5000000, "VisemeId": 2}, {"AudioOffset": 13000000, "VisemeId": 0}], f)
+        for timings, fmt in ((tsv, None), (azure, "azure-visemes")):
+            fields = {"audio": wav, "timings": timings}
+            if fmt:
+                fields["timings_format"] = fmt
+            said = c.send("say", **fields)
+            accepted, started, ended = self.lifecycle(c, said)
+            self.assertEqual(accepted["cmd"], "say")
+            self.assertAlmostEqual(accepted["end"] - accepted["start"], 1.5, delta=0.15)
+            # The sound starts 0.3 s into the utterance, where the cues close the lips.
+            self.assertAlmostEqual(accepted["sound"] - accepted["start"], 0.3, delta=0.05)
+        # Names relative to the speech folder work too.
+        self.lifecycle(c, c.send("say", audio="take.wav", timings="take.tsv"))
+        # A recording the folder does not have, or a file outside it: rejected.
+        for audio in (os.path.join(self.tmp.name, "missing.wav"), "../" + os.path.basename(self.tmp.name) + "x/a.wav",
+                      os.path.abspath(__file__), "/etc/hostname"):
+            with self.assertRaises(AvatarError) as caught:
+                c.wait(c.send("say", audio=audio, timings=tsv), "accepted", 30)
+            self.assertEqual(caught.exception.event["reason"], "rejected")
+            self.assertIn("speech folder", caught.exception.event["message"])
+
     def test_9_quit(self):
         c = self.client
         c.wait(c.quit(id="bye"), "accepted", 30)
@@ -188,6 +232,54 @@ class DialogWindowTest(unittest.TestCase):
         # Time ran on: the last overlay shows t beyond the 5 s the default behaviour lasts.
         m = re.findall(r"t = ([0-9.]+) s", err.decode())
         self.assertTrue(m and float(m[-1]) > 5.5, err.decode())
+
+
+class RecordedSessionTest(unittest.TestCase):
+    """--video and --frames while live record the session: the frames at the frame rate and
+    the sound as it was played, placed where the avatar said it would be (events' times)."""
+
+    def test_live_session_is_recorded(self):
+        import wave
+        tmp = tempfile.TemporaryDirectory()
+        self.addCleanup(tmp.cleanup)
+        wav = os.path.join(tmp.name, "take.wav")
+        with wave.open(wav, "wb") as w:  # 1 s of a tone
+            w.setnchannels(1)
+            w.setsampwidth(2)
+            w.setframerate(16000)
+            w.writeframes(b"".join(int(8000 * __import__("math").sin(i / 10.0)).to_bytes(2, "little", signed=True)
+                                   for i in range(16000)))
+        with open(os.path.join(tmp.name, "take.tsv"), "w") as f:
+            f.write("0.00\tA\n0.20\tD\n0.90\tX\n")
+        proc = subprocess.Popen(
+            [EXE, "--commands-stdin", "--speech-dir", tmp.name, "--size", "120x120", "--fps", "10",
+             "--frames", os.path.join(tmp.name, "frames"), "--video", os.path.join(tmp.name, "session.ogv")],
+            stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+        proc.stdin.write(b'{"cmd":"say","audio":"take.wav","timings":"take.tsv","id":"t"}\n')
+        proc.stdin.flush()
+        time.sleep(2.5)
+        proc.stdin.write(b'{"cmd":"quit"}\n')
+        proc.stdin.flush()
+        out, err = proc.communicate(timeout=120)
+        self.assertEqual(proc.returncode, 0, err.decode())
+        events = [json.loads(line) for line in out.decode().splitlines()]  # stdout: events only
+        accepted = next(e for e in events if e.get("id") == "t" and e["event"] == "accepted")
+        quit_time = next(e for e in events if e.get("cmd") == "quit")["time"]
+        frames = sorted(os.listdir(os.path.join(tmp.name, "frames")))
+        self.assertAlmostEqual(len(frames), int(quit_time * 10) + 1, delta=2)
+        with wave.open(os.path.join(tmp.name, "session.wav")) as w:
+            rate = w.getframerate()
+            samples = w.readframes(w.getnframes())
+        values = [int.from_bytes(samples[i:i + 2], "little", signed=True) for i in range(0, len(samples), 2)]
+
+        def loud(t0, t1):
+            part = values[int(t0 * rate):int(t1 * rate)]
+            return max((abs(v) for v in part), default=0) > 1000
+
+        # The recording sounds from the time the avatar announced, not before.
+        self.assertFalse(loud(0.0, max(0.0, accepted["sound"] - 0.05)))
+        self.assertTrue(loud(accepted["sound"] + 0.05, accepted["sound"] + 0.9))
+        self.assertIn("session.wav", err.decode())
 
 
 if __name__ == "__main__":

@@ -107,9 +107,14 @@ void FrameRecorder::Capture(int frame)
 
 void FrameRecorder::Finish(vtkBehaviorTimeSource* sound)
 {
+  this->Finish([sound](const std::string& wav) { return sound && sound->WriteAudio(wav.c_str()); });
+}
+
+void FrameRecorder::Finish(const std::function<bool(const std::string&)>& writeSound)
+{
   if (!this->Folder.empty())
   {
-    std::cout << "wrote " << this->Frames << " frames to " << this->Folder << "/frame_*.png at "
+    *this->Log << "wrote " << this->Frames << " frames to " << this->Folder << "/frame_*.png at "
               << this->Fps << " fps\n";
   }
   if (!this->VideoStarted)
@@ -118,17 +123,17 @@ void FrameRecorder::Finish(vtkBehaviorTimeSource* sound)
   }
   this->Video->End();
   this->VideoStarted = false;
-  std::cout << "wrote " << this->Ogv << " (silent)\n";
-  if (!sound || !sound->WriteAudio(this->Wav.c_str()))
+  *this->Log << "wrote " << this->Ogv << " (silent)\n";
+  if (!writeSound || !writeSound(this->Wav))
   {
     throw std::runtime_error("cannot write the audio " + this->Wav);
   }
-  std::cout << "wrote " << this->Wav << "\n";
+  *this->Log << "wrote " << this->Wav << "\n";
   const std::string mux = "-i " + ShellQuote(this->Ogv) + " -i " + ShellQuote(this->Wav) +
     " -c:v libx264 -pix_fmt yuv420p -c:a aac";
   if (!HasProgram("ffmpeg"))
   {
-    std::cout << "ffmpeg is not on PATH: no video with sound; kept the silent " << this->Ogv
+    *this->Log << "ffmpeg is not on PATH: no video with sound; kept the silent " << this->Ogv
               << " and " << this->Wav << " (mux them with: ffmpeg " << mux << " "
               << ShellQuote(this->Muxed) << ")\n";
     return;
@@ -140,7 +145,7 @@ void FrameRecorder::Finish(vtkBehaviorTimeSource* sound)
     throw std::runtime_error("ffmpeg could not mux " + this->Muxed + " (kept " + this->Ogv +
       " and " + this->Wav + ")");
   }
-  std::cout << "wrote " << this->Muxed << " (video with sound)\n";
+  *this->Log << "wrote " << this->Muxed << " (video with sound)\n";
 }
 } // namespace appkit
 } // namespace morphnode

@@ -7,6 +7,8 @@
 
 #include "vtkNew.h"
 
+#include <functional>
+#include <iostream>
 #include <string>
 
 class vtkBehaviorTimeSource;
@@ -38,8 +40,13 @@ public:
   /// Ends the video, writes the sound of `sound` beside it and muxes both with ffmpeg.
   /// Prints what it wrote to stdout. Throws std::runtime_error.
   void Finish(vtkBehaviorTimeSource* sound);
+  /// Same, the sound written by `writeSound(wavFile)` (false: it could not), e.g. the
+  /// sound of a live session.
+  void Finish(const std::function<bool(const std::string&)>& writeSound);
 
   const std::string& GetFramesFolder() const { return this->Folder; }
+  /// Where Finish says what it wrote (default stdout; stderr when stdout carries events).
+  void SetLog(std::ostream& log) { this->Log = &log; }
   const std::string& GetVideoFile() const { return this->Ogv; }
 
 private:
@@ -47,6 +54,7 @@ private:
   void operator=(const FrameRecorder&) = delete;
 
   double Fps;
+  std::ostream* Log = &std::cout;
   std::string Folder;
   std::string Ogv, Wav, Muxed;
   bool VideoStarted = false;

@@ -141,6 +141,20 @@ struct Avatar
   void PlaySound(const std::vector<int16_t>& samples, int sampleRate, double start);
   /// Silences the sound scheduled from t on (stop speaking).
   void CutSound(double t);
+
+  /// A live session's sound as played (--video with --listen): every segment scheduled,
+  /// cut where speech was stopped. Recorded only while RecordSound is set.
+  struct SoundSegment
+  {
+    std::vector<int16_t> Samples;
+    int SampleRate = 22050;
+    double Start = 0.0;
+    double End = 0.0; ///< cut here (stop), else the segment's own end
+  };
+  bool RecordSound = false;
+  std::vector<SoundSegment> SessionSound;
+  /// Mixes SessionSound into one mono 16-bit WAV at 22050 Hz. False when it cannot write.
+  bool WriteSessionSound(const std::string& wav) const;
 };
 
 /// A window where time runs in real time and keys switch the optimizer.

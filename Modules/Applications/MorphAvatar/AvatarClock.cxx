@@ -7,9 +7,13 @@
 #include "Avatar.h"
 
 #include "audio/AudioBuffer.h"
+#include "audio/AudioFile.h"
+#include "audio/Resample.h"
 #include "base/Error.h"
 #include "behavior/BehaviorAudio.h"
 
+#include <algorithm>
+#include <cmath>
 #include <iostream>
 
 namespace morphavatar
@@ -118,6 +122,11 @@ void Avatar::SeekClock(double t)
 
 void Avatar::PlaySound(const std::vector<int16_t>& samples, int sampleRate, double start)
 {
+  if (this->RecordSound && !samples.empty() && sampleRate > 0)
+  {
+    this->SessionSound.push_back(
+      { samples, sampleRate, start, start + static_cast<double>(samples.size()) / sampleRate });
+  }
   if (!this->Player || samples.empty())
   {
     return;
@@ -134,9 +143,63 @@ void Avatar::PlaySound(const std::vector<int16_t>& samples, int sampleRate, doub
 
 void Avatar::CutSound(double t)
 {
+  for (SoundSegment& segment : this->SessionSound)
+  {
+    segment.End = std::min(segment.End, std::max(t, segment.Start));
+  }
   if (this->Player)
   {
     this->Player->CutFrom(t);
   }
+}
+} // namespace morphavatar
+
+namespace morphavatar
+{
+bool Avatar::WriteSessionSound(const std::string& wav) const
+{
+  constexpr int rate = 22050;
+  std::vector<float> mix;
+  try
+  {
+    for (const SoundSegment& segment : this->SessionSound)
+    {
+      morphnode::AudioBuffer sound = morphnode::FromInt16Mono(segment.Samples, segment.SampleRate);
+      if (sound.SampleRate != rate)
+      {
+        sound = morphnode::Resample(sound, rate);
+      }
+      const size_t first = static_cast<size_t>(std::max(0.0, std::round(segment.Start * rate)));
+      const size_t count = std::min(sound.Samples.size(),
+        static_cast<size_t>(std::max(0.0, std::round((segment.End - segment.Start) * rate))));
+      if (mix.size() < first + count)
+      {
+        mix.resize(first + count, 0.0f);
+      }
+      for (size_t i = 0; i < count; ++i)
+      {
+        mix[first + i] += sound.Samples[i];
+      }
+    }
+    morphnode::AudioBuffer out;
+    out.SampleRate = rate;
+    out.Channels = 1;
+    out.Samples = std::move(mix);
+    for (float& v : out.Samples)
+    {
+      v = std::clamp(v, -1.0f, 1.0f);
+    }
+    if (out.Samples.empty())
+    {
+      out.Samples.assign(rate / 10, 0.0f); // a session without speech: a little silence
+    }
+    morphnode::WriteWavFile(wav, out);
+  }
+  catch (const std::exception& e)
+  {
+    std::cerr << "MorphAvatar: cannot write the session's sound " << wav << ": " << e.what() << "\n";
+    return false;
+  }
+  return true;
 }
 } // namespace morphavatar

@@ -10,13 +10,16 @@
 #include "AvatarLive.h"
 
 #include "Avatar.h"
+#include "FrameRecorder.h"
 #include "StopSignal.h"
 
 #include "base/Error.h"
 #include "behavior/LiveBehavior.h"
 #include "dialog/DialogServer.h"
 #include "dialog/DialogSession.h"
+#include "align/RecordingSpeech.h"
 #include "speech/Speech.h"
+#include "speech/TimingFiles.h"
 
 #include "vtkAlgorithmOutput.h"
 #include "vtkDoubleArray.h"
@@ -30,6 +33,7 @@
 #include "vtkTableAlgorithm.h"
 
 #include <algorithm>
+#include <filesystem>
 #include <chrono>
 #include <cmath>
 #include <csignal>
@@ -112,6 +116,32 @@ void Rewire(vtkAlgorithmOutput* from, vtkAlgorithmOutput* to)
 
 /// The dialog's commands on the live behaviour (behavior/LiveBehavior.h): merged into what
 /// is scheduled, never rebuilding it; long texts synthesized in chunks.
+/// `path` when it names a file inside `folder` (--speech-dir), as its canonical path: a
+/// client may name files only there. InputError otherwise (and without a folder).
+std::string InsideFolder(const std::string& path, const std::string& folder, const char* field)
+{
+  namespace fs = std::filesystem;
+  if (folder.empty())
+  {
+    throw morphnode::InputError(std::string("'") + field + "' names a file: start the avatar with "
+      "--speech-dir DIR, the folder clients may name recordings and timings in");
+  }
+  std::error_code error;
+  const fs::path dir = fs::canonical(folder, error);
+  const fs::path file = fs::canonical(fs::path(folder) / path, error);
+  if (error || dir.empty())
+  {
+    throw morphnode::InputError(std::string("'") + field + "': no file '" + path + "' in the speech folder");
+  }
+  const std::string d = dir.string() + "/";
+  if (file.string().compare(0, d.size(), d) != 0 || !fs::is_regular_file(file))
+  {
+    throw morphnode::InputError(std::string("'") + field + "': '" + path + "' is not a file inside the "
+      "speech folder (--speech-dir)");
+  }
+  return file.string();
+}
+
 class LiveSink : public dialog::CommandSink
 {
 public:
@@ -124,7 +154,28 @@ public:
   dialog::Schedule Say(const dialog::SayCommand& c, double now) override
   {
     morphnode::LiveBehavior::Timing timing;
-    if (c.Voice.empty())
+    if (!c.Audio.empty())
+    {
+      // External speech: the dialog system's own voice, a recording on this machine with
+      // its timings (or its transcript); the recording is the sound, the mouth its timing.
+      const std::string folder = this->A ? this->A->Opt.SpeechDir : std::string();
+      const std::string audio = InsideFolder(c.Audio, folder, "audio");
+      const std::string timings = c.Timings.empty() ? "" : InsideFolder(c.Timings, folder, "timings");
+      morphnode::SpeechOptions options = this->Speech;
+      if (!c.Voice.empty())
+      {
+        options.Voice = c.Voice;
+      }
+      morphnode::RecordingOptions recording;
+      recording.Transcript = c.Text;
+      recording.TimingFile = timings;
+      if (!c.TimingsFormat.empty())
+      {
+        recording.Timing.Format = morphnode::ParseTimingFormat(c.TimingsFormat);
+      }
+      timing = this->Live.Speak(morphnode::SpeakAudioFile(audio, options, recording), now);
+    }
+    else if (c.Voice.empty())
     {
       timing = this->Live.Say(c.Text, now); // the first chunk now, the others later
     }
@@ -321,6 +372,57 @@ int RunHeadless(Live& live)
   Avatar& a = live.A;
   a.Window->OffScreenRenderingOn();
   const double frame = 1.0 / a.Fps;
+  // --frames / --video: the session recorded at the frame rate (the frame shown at each
+  // frame's time, repeated when a render comes late) with the sound as it was played.
+  std::unique_ptr<morphnode::appkit::FrameRecorder> recorder;
+  int recorded = 0;
+  if (!a.Opt.FramesDir.empty() || !a.Opt.Video.empty())
+  {
+    try
+    {
+      recorder = std::make_unique<morphnode::appkit::FrameRecorder>(a.Window, a.Fps);
+      if (a.Opt.CommandsStdin)
+      {
+        recorder->SetLog(std::cerr); // stdout carries the events
+      }
+      if (!a.Opt.FramesDir.empty())
+      {
+        recorder->SetFramesFolder(a.Opt.FramesDir);
+      }
+      if (!a.Opt.Video.empty())
+      {
+        recorder->SetVideo(a.Opt.Video);
+      }
+    }
+    catch (const std::exception& e)
+    {
+      std::cerr << "MorphAvatar: " << e.what() << "\n";
+      return 1;
+    }
+  }
+  auto finish = [&]() {
+    live.Session->Shutdown(live.Now());
+    if (!recorder)
+    {
+      return 0;
+    }
+    try
+    {
+      // The last frame shown holds until the session ends (a slow render or a quit that
+      // came before the next frame must not shorten the recording against its sound).
+      for (const int last = static_cast<int>(std::floor(live.Now() * a.Fps + 1e-9)); recorded <= last; ++recorded)
+      {
+        recorder->Capture(recorded);
+      }
+      recorder->Finish([&a](const std::string& wav) { return a.WriteSessionSound(wav); });
+    }
+    catch (const std::exception& e)
+    {
+      std::cerr << "MorphAvatar: " << e.what() << "\n";
+      return 1;
+    }
+    return 0;
+  };
   auto next = Clock::now();
   for (;;)
   {
@@ -337,6 +439,20 @@ int RunHeadless(Live& live)
     a.Overlay->SetInput(a.OverlayText(true, ++a.FramesRendered, 0).c_str());
     a.Window->Render();
     live.After(t);
+    try
+    {
+      // Every frame slot up to now shows this render (none skipped, none twice).
+      for (const int last = static_cast<int>(std::floor(t * a.Fps + 1e-9)); recorder && recorded <= last; ++recorded)
+      {
+        recorder->Capture(recorded);
+      }
+    }
+    catch (const std::exception& e)
+    {
+      std::cerr << "MorphAvatar: " << e.what() << "\n";
+      live.Session->Shutdown(live.Now());
+      return 1;
+    }
     if (live.Finished() || (a.Opt.ExitAfter >= 0.0 && t >= a.Opt.ExitAfter))
     {
       break;
@@ -359,8 +475,7 @@ int RunHeadless(Live& live)
       }
     }
   }
-  live.Session->Shutdown(live.Now());
-  return 0;
+  return finish();
 }
 } // namespace
 
@@ -435,6 +550,7 @@ int RunLive(Avatar& a)
   }
   if (a.Opt.Offscreen)
   {
+    a.RecordSound = !a.Opt.Video.empty();
     return RunHeadless(live);
   }
   // The window's loop (AvatarInteractive.cxx) calls LiveFrame around every frame.

@@ -80,7 +80,8 @@ Options ParseOptions(int argc, char* argv[])
     ->excludes(text)
     ->group(recorded);
   auto* timings = app.add_option("--timings", o.Timings,
-       "a timing file (.pho, Rhubarb TSV/JSON/XML, Praat TextGrid, Polly speech marks): of "
+       "a timing file (.pho, Rhubarb TSV/JSON/XML, Praat TextGrid, Polly speech marks, Azure "
+       "viseme IDs, ElevenLabs character alignments): of "
        "--audio (e.g. the cues Rhubarb Lip Sync computed from it), or alone to move the mouth "
        "without sound")
     ->check(CLI::ExistingFile)
@@ -89,9 +90,9 @@ Options ParseOptions(int argc, char* argv[])
     ->group(recorded);
   app.add_option("--timings-format", o.TimingsFormat,
        "the format of --timings where its extension does not tell: auto, pho, rhubarb-tsv, "
-       "rhubarb-json, rhubarb-xml, textgrid, speech-marks")
+       "rhubarb-json, rhubarb-xml, textgrid, speech-marks, azure-visemes, character-alignment")
     ->check(CLI::IsMember({ "auto", "pho", "rhubarb-tsv", "rhubarb-json", "rhubarb-xml",
-      "textgrid", "speech-marks" }, CLI::ignore_case))
+      "textgrid", "speech-marks", "azure-visemes", "character-alignment" }, CLI::ignore_case))
     ->capture_default_str()
     ->needs(timings)
     ->group(recorded);
@@ -258,6 +259,11 @@ Options ParseOptions(int argc, char* argv[])
   app.add_flag("--commands-stdin", o.CommandsStdin,
        "take commands on standard input; their events go to standard output")
     ->group(live);
+  app.add_option("--speech-dir", o.SpeechDir,
+       "live: the folder whose recordings and timing files `say` commands may name (external "
+       "speech from a dialog system's own voice, docs/dialog.md); without it they name no files")
+    ->check(CLI::ExistingDirectory)
+    ->group(live);
   app.add_flag("--listen-remote", o.ListenRemote,
        "let --listen use addresses other machines reach (anyone who connects commands the avatar)")
     ->group(live);
@@ -294,16 +300,15 @@ Options ParseOptions(int argc, char* argv[])
 
   const bool isLive = !o.Listen.empty() || o.CommandsStdin || !o.Serve.empty();
   if (!o.Serve.empty() && (o.CommandsStdin || !o.Gltf.empty() || !o.Script.empty() || !o.Audio.empty() ||
-                            !o.Timings.empty()))
+                            !o.Timings.empty() || !o.FramesDir.empty() || !o.Video.empty()))
   {
-    FailUsage("--serve takes its speech as commands from the pages (or --listen); leave out "
-              "--commands-stdin, --gltf, --script, --audio and --timings");
+    FailUsage("--serve takes its speech as commands from the pages (or --listen) and draws nothing "
+              "itself; leave out --commands-stdin, --gltf, --script, --audio, --timings, --frames and --video");
   }
-  if (isLive && (!o.FramesDir.empty() || !o.Video.empty() || !o.Pvd.empty() || !o.Png.empty() ||
-                  !o.Compare.empty() || o.At >= 0.0))
+  if (isLive && (!o.Pvd.empty() || !o.Png.empty() || !o.Compare.empty() || o.At >= 0.0))
   {
-    FailUsage("--listen and --commands-stdin run in real time; --frames, --video, --pvd, --png, "
-              "--compare and --at render a fixed behaviour offline");
+    FailUsage("--listen and --commands-stdin run in real time; --pvd, --png, --compare and --at "
+              "render a fixed behaviour offline (--frames and --video record the live session)");
   }
   const bool performance = !o.Animation.empty() || !o.Capture.empty();
   if (performance && (isLive || !o.Say.empty() || !o.Script.empty() || !o.Gltf.empty()))

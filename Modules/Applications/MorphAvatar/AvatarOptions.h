@@ -59,6 +59,7 @@ struct Options
   std::vector<std::string> Listen; // live: command addresses (AvatarLive.h)
   bool CommandsStdin = false;      // live: commands on stdin, events on stdout
   bool ListenRemote = false;       // live: allow non-loopback --listen addresses
+  std::string SpeechDir;           // live: the folder `say` may name recordings and timings in
   bool Mute = false;               // window and live: no sound (the steady clock)
   std::string Serve;               // serve: the page and the stream on HOST:PORT (AvatarServe.h)
   bool ServeRemote = false;        // serve: allow non-loopback addresses (needs a token)

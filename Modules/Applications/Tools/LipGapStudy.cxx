@@ -166,7 +166,7 @@ int main(int argc, char* argv[])
                "optimizer method, deciding per face target or per rig shape, on the default "
                "face, the ICT head and the MakeHuman avatar (docs/optimizer-study.md)");
   app.add_option("--out", out, "output folder")->capture_default_str();
-  app.add_option("--text", textFile, "the text to speak")->capture_default_str();
+  app.add_option("--text", textFile, "the text to speak")->default_str("Data/scripts/long-text.txt");
   appkit::AddNumberOption(app, "--threshold", threshold, 0.0, 1.0, "th_fix of the threshold methods");
   appkit::AddNumberOption(app, "--plot-from", plotFrom, 0.0, 1e6, "plot window start (s)");
   appkit::AddNumberOption(app, "--plot-to", plotTo, 0.0, 1e6, "plot window end (s)");

@@ -90,10 +90,13 @@ int main(int argc, char* argv[])
   app.add_option("--out", out, "the CSV to write")->required();
   app.add_option("--livelink-csv", livelinkFile,
     "also write the performance as a Live Link Face CSV take (ARKit blendshapes, head and eye angles)");
-  app.add_option("--text", textFile, "what is said")->check(CLI::ExistingFile)->capture_default_str();
+  // Defaults shown as the project's paths, not this machine's.
+  app.add_option("--text", textFile, "what is said")
+    ->check(CLI::ExistingFile)
+    ->default_str("Data/scripts/long-text.txt");
   app.add_option("--rig", rigFile, "the rig onto the face's targets")
     ->check(CLI::ExistingFile)
-    ->capture_default_str();
+    ->default_str("Data/rigs/arkit.json");
   app.add_option("--seed", options.Seed, "seed of the behaviour")
     ->check(appkit::UnsignedInteger())
     ->capture_default_str();

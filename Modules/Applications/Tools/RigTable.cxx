@@ -103,9 +103,12 @@ int main(int argc, char* argv[])
   CLI::App app("RigTable: the paper's Table 1 (dist_norm of the 13 targets) on the default face "
                "and on the ICT face through the ARKit rig, as markdown (docs/rigs.md).",
     "RigTable");
-  app.add_option("default-face", defaultFace, "the default face")->capture_default_str();
-  app.add_option("ict-face", ictFace, "the ICT face (n/a when missing)")->capture_default_str();
-  app.add_option("rig", rig, "the ARKit rig")->capture_default_str();
+  // Defaults shown as the project's paths, not this machine's.
+  app.add_option("default-face", defaultFace, "the default face")
+    ->default_str("Data/DefaultFace/default_head.glb");
+  app.add_option("ict-face", ictFace, "the ICT face (n/a when missing)")
+    ->default_str("../shared/data/ict-facekit/ict_face11248_sparse53.glb");
+  app.add_option("rig", rig, "the ARKit rig")->default_str("Data/rigs/arkit.json");
   appkit::ParseCommandLine(app, argc, argv);
 
   const auto ours = DistNorm(defaultFace, "");

@@ -173,6 +173,13 @@ Utterance SpeakRecording(const AudioBuffer& recording, const SpeechOptions& spee
         throw InputError("without a transcript only English can be recognized (the voice is " +
           text::Quote(language) + "): give the transcript");
       }
+      if (speech.Warn)
+      {
+        // Say which route timed it: the least precise one, without words to go by.
+        speech.Warn("no transcript and no timing file: the recording is timed by English phoneme "
+                    "recognition, the least precise route (give the transcript or a timing file "
+                    "for better timing)");
+      }
       RecognitionOptions recognize;
       recognize.Warn = speech.Warn;
       recognize.Progress = Scaled(options.Progress, 0.0, 0.9);

@@ -122,9 +122,17 @@ CommandBody ParseBody(const std::string& cmd, const json& o)
 {
   if (cmd == "say")
   {
-    CheckKeys(o, "say", { "text", "voice" });
+    CheckKeys(o, "say", { "text", "voice", "audio", "timings", "timings_format" });
     SayCommand c;
-    c.Text = GetString(o, "text", true, true);
+    // External speech: a recording (and its timings) instead of synthesis; text optional.
+    c.Audio = GetString(o, "audio", false, true);
+    c.Timings = GetString(o, "timings", false, true);
+    c.TimingsFormat = GetString(o, "timings_format", false, true);
+    if (c.Audio.empty() && (o.contains("timings") || o.contains("timings_format")))
+    {
+      throw FieldError{ reason::BadField, "'timings' and 'timings_format' go with 'audio'" };
+    }
+    c.Text = GetString(o, "text", c.Audio.empty(), c.Audio.empty());
     c.Voice = GetString(o, "voice", false, false);
     if (o.contains("voice") && c.Voice.find_first_not_of(" \t") == std::string::npos)
     {

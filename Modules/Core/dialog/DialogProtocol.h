@@ -38,8 +38,16 @@ constexpr double MaxDuration = 600.0;
 // ---- commands ----------------------------------------------------------------------------
 struct SayCommand
 {
-  std::string Text;  ///< non-empty
+  std::string Text;  ///< non-empty, unless Audio is given (then the recording's transcript)
   std::string Voice; ///< empty: the avatar's voice
+  /// External speech (docs/dialog.md): a recording on the server (WAV, FLAC, OGG) that the
+  /// avatar speaks, timed by `Timings` (a timing file on the server in any format the
+  /// project reads: speech marks, Rhubarb, TextGrid, .pho, Azure viseme IDs, character
+  /// alignments; `TimingsFormat` where the extension does not tell), else by aligning
+  /// `Text`, else by recognition. Empty: the avatar synthesizes `Text`.
+  std::string Audio;
+  std::string Timings;
+  std::string TimingsFormat;
 };
 struct GestureCommand
 {

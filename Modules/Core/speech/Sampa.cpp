@@ -2,6 +2,7 @@
 #include "speech/Sampa.h"
 
 #include "base/Text.h"
+#include "speech/Articulation.h"
 #include "speech/PhoneSets.h"
 
 #include <algorithm>
@@ -118,13 +119,30 @@ std::string NormalizeEspeakPhoneme(const std::string& espeakName, const std::str
   {
     return found;
   }
+  if (std::all_of(espeakName.begin(), espeakName.end(), IsVariantMark))
+  {
+    return ""; // a mark eSpeak reports on its own (the ';' of "i;" before a vowel): no sound
+  }
   std::string stripped = espeakName;
   while (stripped.size() > 1 && IsVariantMark(stripped.back()))
   {
     stripped.pop_back();
   }
   found = Lookup(stripped, language);
-  return found.empty() ? espeakName : found;
+  if (!found.empty())
+  {
+    return found;
+  }
+  // Phonemes of eSpeak's shared base tables that the language's SAMPA table lacks (its
+  // phoneme inventory inherits them: c, B, n^, ...): their X-SAMPA, which the viseme tables
+  // place by articulation. A name even that does not describe stays, to be warned about.
+  const std::string xsampa = EspeakMnemonicToXSampa(espeakName, language);
+  const std::vector<std::string> segments = SplitPhone(xsampa);
+  if (!IsPausePhoneme(xsampa) && !segments.empty() && DescribePhone(segments[0]).IsKnown())
+  {
+    return xsampa;
+  }
+  return espeakName;
 }
 
 namespace
@@ -175,6 +193,28 @@ std::vector<TimedPhoneme> NormalizeEvents(const std::vector<TimedPhoneme>& event
 }
 } // namespace
 
+std::vector<std::string> EspeakLanguageSwitches(
+  const std::vector<TimedPhoneme>& espeakPhonemes, const std::string& voice)
+{
+  const std::string own = text::ToLower(voice.substr(0, voice.find('+')));
+  std::vector<std::string> switches;
+  for (const TimedPhoneme& e : espeakPhonemes)
+  {
+    if (e.Sampa.size() < 3 || e.Sampa.front() != '(' || e.Sampa.back() != ')')
+    {
+      continue;
+    }
+    const std::string language = text::ToLower(e.Sampa.substr(1, e.Sampa.size() - 2));
+    const bool same = own == language || own.rfind(language + "-", 0) == 0 ||
+      language.rfind(own + "-", 0) == 0;
+    if (!same && std::find(switches.begin(), switches.end(), language) == switches.end())
+    {
+      switches.push_back(language);
+    }
+  }
+  return switches;
+}
+
 std::vector<TimedPhoneme> NormalizeEspeakPhonemes(
   const std::vector<TimedPhoneme>& espeakPhonemes, const std::string& language)
 {
@@ -199,14 +239,27 @@ std::string EspeakMnemonicToXSampa(const std::string& name, const std::string& v
   {
     const char c = name[i];
     // eSpeak's variant and syllable marks; a palatalization mark inside (tS;h) too.
-    if (c != '-' && c != '!' && c != '/' && !(c == ';' && i + 1 < name.size()))
+    if (c != '-' && c != '!' && c != '/' && c != '<' && c != '>' && !(c == ';' && i + 1 < name.size()))
     {
       m += c;
     }
   }
-  while (m.size() > 1 && (std::isdigit(static_cast<unsigned char>(m.back())) || m.back() == '#'))
+  while (m.size() > 1 && (std::isdigit(static_cast<unsigned char>(m.back())) || m.back() == '#' ||
+                           m.back() == '+' || m.back() == '_'))
   {
-    m.pop_back();
+    m.pop_back(); // variant marks (O+ in Vietnamese, n_ in Russian, d_ ...)
+  }
+  if (m.size() == 2 && m[0] == 'h' && std::string("ptkbdgszmnlrwjSZ").find(m[1]) != std::string::npos)
+  {
+    m.erase(0, 1); // a voiceless or pre-aspirated consonant written with h first (Burmese hs, ht)
+  }
+  if (m.size() >= 3 && m.back() == 'h' && m[m.size() - 2] == '.' && (m[0] == 't' || m[0] == 'd'))
+  {
+    m.pop_back(); // an aspirated retroflex affricate (Mandarin ts.h)
+  }
+  if (m.size() == 2 && m.back() == 'H' && std::string("ptkcqbdg").find(m[0]) != std::string::npos)
+  {
+    m.pop_back(); // breathy-voiced or aspirated stop written with H (Hindi, Arabic dH, gH)
   }
   if (m.size() > 1 && m[0] == '?' && std::string("aeiouyAEIOUY@&0369V{").find(m[1]) != std::string::npos)
   {
@@ -231,7 +284,12 @@ std::string EspeakMnemonicToXSampa(const std::string& name, const std::string& v
   static const std::unordered_map<std::string, std::string> whole = { { "S;", "s\\" },
     { "Z;", "z\\" }, { "tS;", "ts\\" }, { "dZ;", "dz\\" }, { "ts;", "ts\\" }, { "dz;", "dz\\" },
     { "n^", "J" }, { "l^", "L" }, { "**", "4" }, { "*", "4" }, { "a#", "6" }, { "TS", "ts" },
-    { "@r", "@`" }, { "tz", "ts" }, { "sx", "x\\" }, { "ng", "N" } };
+    { "@r", "@`" }, { "tz", "ts" }, { "sx", "x\\" }, { "ng", "N" },
+    // Lateral affricate (Icelandic, Greenlandic tl), trilled r, Vietnamese tr, palatal k.
+    { "tl", "t" }, { "rR", "r" }, { "cr", "c" }, { "ky", "c" },
+    // Cantonese and Mandarin finals of a vowel and a velar nasal: the mouth shows the vowel.
+    { "ang", "a" }, { "aang", "a:" }, { "eng", "E" }, { "ing", "i" }, { "ong", "U" },
+    { "ung", "U" }, { "oeng", "9" } };
   if (const auto it = whole.find(m); it != whole.end())
   {
     return it->second;

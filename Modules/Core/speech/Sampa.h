@@ -53,6 +53,14 @@ std::string EspeakMnemonicToXSampa(const std::string& name, const std::string& v
 /// the previous phoneme).
 std::string NormalizeIpaPhoneme(const std::string& ipaName, const std::string& voice);
 
+/// The languages eSpeak NG switched to while speaking in `voice`: its phoneme stream marks
+/// a switch as an event "(en)" (and "(cmn)" back). A voice without rules for part of the
+/// text reads it in another language: eSpeak NG 1.51's Mandarin reads tone numbers ("ni3")
+/// as English digits, its Japanese reads kanji as "Chinese letter". Switches to the voice's
+/// own language are left out; each language once, in order of appearance.
+std::vector<std::string> EspeakLanguageSwitches(
+  const std::vector<TimedPhoneme>& espeakPhonemes, const std::string& voice);
+
 /// eSpeak's events of a voice: NormalizeEspeakPhonemes for German and English voices, else
 /// EspeakMnemonicToXSampa on every name (a lone modifier joins the previous phoneme).
 std::vector<TimedPhoneme> NormalizeVoicePhonemes(

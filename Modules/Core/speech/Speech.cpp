@@ -2,6 +2,7 @@
 #include "speech/Speech.h"
 
 #include "base/Error.h"
+#include "base/Text.h"
 #include "speech/Pho.h"
 #include "speech/Sampa.h"
 
@@ -78,6 +79,19 @@ Utterance SpeakText(const std::string& text, const SpeechOptions& options)
   synthesizer.SetDataPath(options.DataPath);
   synthesizer.SetEstimatePitch(options.EstimatePitch);
   SynthesisResult result = synthesizer.Synthesize(text);
+  const std::vector<std::string> switches = EspeakLanguageSwitches(result.EspeakPhonemes, options.Voice);
+  if (!switches.empty() && options.Warn)
+  {
+    // Once per text: where the voice has no rules, eSpeak NG reads in another language.
+    std::string languages;
+    for (const std::string& l : switches)
+    {
+      languages += (languages.empty() ? "" : ", ") + text::Quote(l);
+    }
+    options.Warn("eSpeak NG has no rules for part of this text in voice " + text::Quote(options.Voice) +
+      " and reads it as " + languages + " (e.g. tone numbers or characters the voice does not know): "
+      "sound and mouth follow that reading");
+  }
   return BuildUtterance(std::move(result.Phonemes), std::move(result.Audio), result.SampleRate,
     SelectVisemeMap(options), options);
 }

@@ -15,13 +15,18 @@ namespace morphnode
 {
 std::string PollyVisemeToSampa(const std::string& viseme)
 {
-  // Amazon Polly's viseme table (English): p = p b m, t = t d, S = S Z tS dZ, T = T D,
-  // f = f v, k = k g N, i = i I, r = r, s = s z, u = u U w, @ = @ V, a = A aI aU,
-  // e = e eI, E = E {, o = o @U, O = O OI, sil = silence.
+  // Amazon Polly's viseme tables (docs: "Phoneme and Viseme Tables for Supported
+  // Languages"): p = p b m, t = t d n, S = S Z tS dZ, T = T D, f = f v, k = k g N h,
+  // i = i I j, r = r\, s = s z, u = u U w, @ = @ V, a = A aI aU, e = e eI, E = E {,
+  // o = o @U, O = O OI, sil = silence; l = l (English); and the visemes other languages
+  // add, each named by X-SAMPA for its phones: B = B (Spanish, Catalan: the bilabial
+  // fricative of "bebe"), J = j\ L (Spanish: the palatals of "sayo", "llave"), which the
+  // viseme tables place by articulation.
   static const std::unordered_map<std::string, std::string> table = { { "p", "p" },
     { "t", "t" }, { "S", "S" }, { "T", "T" }, { "f", "f" }, { "k", "k" }, { "i", "i:" },
     { "r", "r" }, { "s", "s" }, { "u", "u:" }, { "@", "@" }, { "a", "A:" }, { "e", "e" },
-    { "E", "{" }, { "o", "@U" }, { "O", "O:" }, { "sil", "_" } };
+    { "E", "{" }, { "o", "@U" }, { "O", "O:" }, { "sil", "_" }, { "l", "l" }, { "B", "B" },
+    { "J", "j\\" } };
   const auto it = table.find(viseme);
   return it == table.end() ? std::string() : it->second;
 }
@@ -85,7 +90,7 @@ SpeechMarks ReadSpeechMarks(std::istream& in, const SpeechMarkOptions& options)
       if (sampa.empty())
       {
         throw InputError(where + "unknown viseme " + text::Quote(v) +
-          " (Polly's are p t S T f k i r s u @ a e E o O sil)");
+          " (Polly's are p t S T f k i r s u @ a e E o O l B J sil)");
       }
       events.push_back({ t, sampa, v, false });
     }

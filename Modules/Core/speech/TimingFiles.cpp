@@ -5,6 +5,7 @@
 #include "base/Text.h"
 #include "speech/Pho.h"
 #include "speech/Sampa.h"
+#include "speech/ServiceTimings.h"
 #include "speech/SpeechMarks.h"
 #include "speech/TextGrid.h"
 
@@ -40,6 +41,10 @@ std::vector<TimedPhoneme> PhonemesFrom(TimingFormat format, const std::string& b
       o.Language = language;
       return TextGridPhonemes(ParseTextGrid(bytes), o);
     }
+    case TimingFormat::AzureVisemes:
+      return ParseAzureVisemes(bytes);
+    case TimingFormat::CharacterAlignment:
+      return PhonemesOfAlignedWords(ParseCharacterAlignment(bytes), language);
     case TimingFormat::SpeechMarks:
     {
       SpeechMarkOptions o;
@@ -76,6 +81,10 @@ const char* TimingFormatName(TimingFormat format)
       return "textgrid";
     case TimingFormat::SpeechMarks:
       return "speech-marks";
+    case TimingFormat::AzureVisemes:
+      return "azure-visemes";
+    case TimingFormat::CharacterAlignment:
+      return "character-alignment";
     case TimingFormat::Auto:
       break;
   }
@@ -87,7 +96,7 @@ TimingFormat ParseTimingFormat(const std::string& name)
   const std::string n = text::ToLower(name);
   for (TimingFormat f : { TimingFormat::Auto, TimingFormat::Pho, TimingFormat::RhubarbTsv,
          TimingFormat::RhubarbJson, TimingFormat::RhubarbXml, TimingFormat::TextGrid,
-         TimingFormat::SpeechMarks })
+         TimingFormat::SpeechMarks, TimingFormat::AzureVisemes, TimingFormat::CharacterAlignment })
   {
     if (n == TimingFormatName(f))
     {
@@ -95,7 +104,8 @@ TimingFormat ParseTimingFormat(const std::string& name)
     }
   }
   throw InputError("unknown timing format " + text::Quote(name) +
-    " (auto, pho, rhubarb-tsv, rhubarb-json, rhubarb-xml, textgrid, speech-marks)");
+    " (auto, pho, rhubarb-tsv, rhubarb-json, rhubarb-xml, textgrid, speech-marks, azure-visemes, "
+    "character-alignment)");
 }
 
 TimingFormat GuessTimingFormat(const std::string& path, const std::string& bytes)
@@ -134,6 +144,14 @@ TimingFormat GuessTimingFormat(const std::string& path, const std::string& bytes
   if (bytes.find("\"mouthCues\"") != std::string::npos)
   {
     return TimingFormat::RhubarbJson;
+  }
+  if (ascii.find("isemeId\"") != std::string::npos)
+  {
+    return TimingFormat::AzureVisemes;
+  }
+  if (bytes.find("\"character_start_times_seconds\"") != std::string::npos)
+  {
+    return TimingFormat::CharacterAlignment;
   }
   if (ascii.find("<rhubarbResult") != std::string::npos || EndsWith(path, ".xml"))
   {

@@ -20,10 +20,13 @@ enum class TimingFormat
   RhubarbJson, ///< .json with "mouthCues"
   RhubarbXml,  ///< .xml with <rhubarbResult>
   TextGrid,    ///< .TextGrid
-  SpeechMarks  ///< .marks, .jsonl, .json of one object per line with "time" and "type"
+  SpeechMarks, ///< .marks, .jsonl, .json of one object per line with "time" and "type"
+  AzureVisemes,      ///< JSON of Azure/SAPI viseme IDs with audio offsets (ServiceTimings.h)
+  CharacterAlignment ///< JSON of ElevenLabs-style character alignments (ServiceTimings.h)
 };
 
-/// "auto", "pho", "rhubarb-tsv", "rhubarb-json", "rhubarb-xml", "textgrid", "speech-marks".
+/// "auto", "pho", "rhubarb-tsv", "rhubarb-json", "rhubarb-xml", "textgrid", "speech-marks",
+/// "azure-visemes", "character-alignment".
 const char* TimingFormatName(TimingFormat format);
 /// True for the three Rhubarb exports (mouth shapes, not phonemes).
 bool IsRhubarbFormat(TimingFormat format);

@@ -167,8 +167,15 @@ TEST(PhonemeRecognition, RealSpeechFromPocketsphinxTestdata)
   EXPECT_TRUE(has("s") || has("z"));
   // The recognizer route of SpeakRecording: the same phonemes, and the recording as sound.
   RecordingReport report;
-  const Utterance u = SpeakRecording(audio, SpeechOptions{}, RecordingOptions{}, &report);
+  SpeechOptions speech;
+  std::vector<std::string> warnings;
+  speech.Warn = CollectWarnings(warnings);
+  const Utterance u = SpeakRecording(audio, speech, RecordingOptions{}, &report);
   EXPECT_EQ(report.Route, RecordingRoute::Recognition);
+  // It says that it is the least precise route (the others do not: see above).
+  ASSERT_FALSE(warnings.empty());
+  EXPECT_NE(warnings[0].find("timed by English phoneme recognition, the least precise route"),
+    std::string::npos) << warnings[0];
   EXPECT_EQ(u.SampleRate, audio.SampleRate);
   // Silence: nothing recognized is an error, not an empty face track.
   AudioBuffer silence;

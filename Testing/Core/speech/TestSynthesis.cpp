@@ -1,11 +1,17 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "base/Error.h"
+#include "speech/Articulation.h"
 #include "speech/Sampa.h"
+#include "speech/Speech.h"
 #include "speech/SpeechSynthesizer.h"
 #include "audio/AudioFile.h"
 #include "MorphNodeTestSkips.h"
 
 #include <gtest/gtest.h>
+
+#include <map>
+
+#include <iterator>
 
 #include <cmath>
 #include <cstring>
@@ -155,7 +161,10 @@ TEST(Synthesis, NormalizationTable)
   EXPECT_EQ(NormalizeEspeakPhoneme("I2", "en"), "I");
   EXPECT_EQ(NormalizeEspeakPhoneme("_:", "en"), "_");
   EXPECT_EQ(NormalizeEspeakPhoneme("_|", "de"), "_");
-  EXPECT_EQ(NormalizeEspeakPhoneme("zz9", "en"), "zz9"); // unknown stays, to be warned about
+  EXPECT_EQ(NormalizeEspeakPhoneme("%%", "en"), "%%"); // unknown stays, to be warned about
+  // A base-table phoneme the English table lacks: its X-SAMPA (placed by articulation).
+  EXPECT_EQ(NormalizeEspeakPhoneme("n^", "en"), "J");
+  EXPECT_EQ(NormalizeEspeakPhoneme("zz9", "en"), "z");
   EXPECT_EQ(SpeechLanguageOf("de-DE"), "de");
   EXPECT_EQ(SpeechLanguageOf("en-us"), "en");
   // Pauses merge, zero-length pauses and language switches vanish.
@@ -284,4 +293,154 @@ TEST(Synthesis, PitchEstimateOfASineWave)
   EXPECT_EQ(EstimatePitchHz(noise.data(), 0, noise.size(), 22050), 0.0);
   std::vector<int16_t> silence(4000, 0);
   EXPECT_EQ(EstimatePitchHz(silence.data(), 0, silence.size(), 22050), 0.0);
+}
+
+// eSpeak's "i;" before a vowel ("be in", "amiable") arrives as "i:" and a ';' of its own:
+// the mark joins the vowel, no "unknown phoneme ';'" warning, every phoneme in the inventory.
+TEST(Synthesis, PalatalMarkBeforeAVowelIsNoPhoneme)
+{
+  MORPHNODE_SKIP_WITHOUT_ESPEAK();
+  EXPECT_EQ(NormalizeEspeakPhoneme(";", "en"), "");
+  std::vector<std::string> warnings;
+  SpeechOptions options;
+  options.Warn = [&](const std::string& w) { warnings.push_back(w); };
+  const Utterance u = SpeakText("Be in, amiable, we see it. Three apples, free and easy.", options);
+  for (const auto& w : warnings)
+  {
+    ADD_FAILURE() << w;
+  }
+  for (const auto& p : u.Phonemes)
+  {
+    EXPECT_TRUE(IsSampaPhoneme(p.Sampa, "en")) << p.Sampa;
+  }
+}
+
+// Where a voice has no rules, eSpeak NG reads in another language and says so in its
+// phoneme stream ("(en)"): one clear warning; none for text the voice reads itself.
+TEST(Synthesis, LanguageSwitchesWarnOnce)
+{
+  MORPHNODE_SKIP_WITHOUT_ESPEAK();
+  auto warningsOf = [](const std::string& text, const std::string& voice) {
+    std::vector<std::string> warnings;
+    SpeechOptions options;
+    options.Voice = voice;
+    options.Warn = [&](const std::string& w) {
+      if (w.find("no rules") != std::string::npos)
+      {
+        warnings.push_back(w);
+      }
+    };
+    SpeakText(text, options);
+    return warnings;
+  };
+  const auto mandarin = warningsOf("ni3 hao3, xie4 xie4, zai4 jian4", "cmn");
+  ASSERT_EQ(mandarin.size(), 1u);
+  EXPECT_NE(mandarin[0].find("voice 'cmn' and reads it as 'en'"), std::string::npos) << mandarin[0];
+  const auto japanese = warningsOf("\xe6\xbc\xa2\xe5\xad\x97", "ja"); // kanji: "Chinese letter"
+  ASSERT_EQ(japanese.size(), 1u);
+  EXPECT_NE(japanese[0].find("'en'"), std::string::npos) << japanese[0];
+  EXPECT_TRUE(warningsOf("Hello there, how are you?", "en").empty());
+  EXPECT_TRUE(warningsOf("Hello there, how are you?", "en-us").empty());
+  EXPECT_TRUE(warningsOf("Guten Tag, wie geht es dir?", "de").empty());
+  EXPECT_TRUE(warningsOf("Buenos d\xc3\xad" "as, \xc2\xbf" "c\xc3\xb3mo est\xc3\xa1s?", "es").empty());
+  // The switches themselves.
+  EXPECT_EQ(EspeakLanguageSwitches({ { "(en)", 0, 0, {} }, { "n", 0, 0.1, {} }, { "(cmn)", 0.1, 0, {} },
+                                     { "(en)", 0.2, 0, {} } },
+              "cmn"),
+    std::vector<std::string>{ "en" });
+  EXPECT_TRUE(EspeakLanguageSwitches({ { "(en)", 0, 0, {} } }, "en-us").empty());
+}
+
+// Every phoneme every eSpeak NG voice can emit (its phoneme table and the tables it
+// inherits, read from eSpeak NG's compiled `phontab`) normalizes: for English and German to
+// their SAMPA inventory or, for what their tables lack, to X-SAMPA the viseme tables place
+// by articulation; for every other voice to X-SAMPA that describes. Pauses, stress marks
+// and eSpeak's virtual phonemes are no sounds and are left out.
+TEST(Synthesis, EveryPhonemeOfEveryVoiceNormalizes)
+{
+  const std::string path = "/usr/lib/x86_64-linux-gnu/espeak-ng-data/phontab";
+  std::ifstream file(path, std::ios::binary);
+  if (!file)
+  {
+    GTEST_SKIP() << "eSpeak NG's phoneme tables not found at " << path;
+  }
+  const std::string d((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+  // phontab (eSpeak NG 1.51): int32 table count; per table: uint8 phoneme count, uint8
+  // included table (1-based, 0 = none), 2 pad bytes, 32 bytes name, then 16 bytes per
+  // phoneme: uint32 mnemonic (up to 4 chars), uint32 flags, uint16 program, uint8 code,
+  // uint8 type (0 pause, 1 stress, 2 vowel, ... 8 nasal, 9 virtual, 14 deleted).
+  struct Phoneme
+  {
+    std::string Name;
+    int Type;
+  };
+  ASSERT_GE(d.size(), 4u);
+  uint32_t count = 0;
+  std::memcpy(&count, d.data(), 4);
+  size_t at = 4;
+  std::vector<std::string> names;
+  std::vector<int> includes;
+  std::vector<std::map<int, Phoneme>> tables;
+  for (uint32_t t = 0; t < count; ++t)
+  {
+    ASSERT_LE(at + 36, d.size());
+    const int phonemes = static_cast<unsigned char>(d[at]);
+    includes.push_back(static_cast<unsigned char>(d[at + 1]));
+    names.emplace_back(d.data() + at + 4, strnlen(d.data() + at + 4, 32));
+    at += 36;
+    std::map<int, Phoneme> table;
+    for (int k = 0; k < phonemes; ++k, at += 16)
+    {
+      ASSERT_LE(at + 16, d.size());
+      char mnemonic[5] = { 0, 0, 0, 0, 0 };
+      std::memcpy(mnemonic, d.data() + at, 4);
+      table[static_cast<unsigned char>(d[at + 10])] = { mnemonic, static_cast<unsigned char>(d[at + 11]) };
+    }
+    tables.push_back(std::move(table));
+  }
+  ASSERT_GT(names.size(), 100u);
+  int checked = 0;
+  for (size_t t = 0; t < names.size(); ++t)
+  {
+    // The voice's effective table: its base tables first, its own entries over them.
+    std::vector<size_t> chain{ t };
+    while (includes[chain.front()] > 0 && chain.size() < names.size())
+    {
+      chain.insert(chain.begin(), static_cast<size_t>(includes[chain.front()] - 1));
+    }
+    std::map<int, Phoneme> effective;
+    for (size_t c : chain)
+    {
+      for (const auto& [code, p] : tables[c])
+      {
+        effective[code] = p;
+      }
+    }
+    const std::string& voice = names[t];
+    for (const auto& [code, p] : effective)
+    {
+      if (p.Type == 0 || p.Type == 1 || p.Type == 9 || p.Type >= 14 || code < 9)
+      {
+        continue;
+      }
+      ++checked;
+      auto describes = [](const std::string& x) {
+        const auto segments = SplitPhone(x);
+        return !segments.empty() && DescribePhone(segments[0]).IsKnown();
+      };
+      if (HasSampaTables(voice))
+      {
+        const std::string language = SpeechLanguageOf(voice);
+        const std::string s = NormalizeEspeakPhoneme(p.Name, language);
+        EXPECT_TRUE(s.empty() || IsSampaPhoneme(s, language) || describes(s))
+          << voice << ": eSpeak's " << p.Name << " -> " << s;
+      }
+      else
+      {
+        const std::string x = EspeakMnemonicToXSampa(p.Name, voice);
+        EXPECT_TRUE(x == "_" || describes(x)) << voice << ": eSpeak's " << p.Name << " -> " << x;
+      }
+    }
+  }
+  EXPECT_GT(checked, 10000);
 }

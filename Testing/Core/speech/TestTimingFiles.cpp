@@ -3,7 +3,10 @@
 // alphabets, and the one loader behind the behaviour control, scripts and the apps.
 #include "base/Error.h"
 #include "speech/PhoneSets.h"
+#include "speech/Sampa.h"
+#include "speech/ServiceTimings.h"
 #include "speech/SpeechMarks.h"
+#include "speech/SpeechSynthesizer.h"
 #include "speech/TextGrid.h"
 #include "speech/TimingFiles.h"
 #include "MorphNodeTestErrors.h"
@@ -319,4 +322,110 @@ TEST(TimingFiles, EveryFormatThroughOneLoader)
   const std::string unknown = write("timing.xyz", "hello\n");
   EXPECT_NE(ErrorOf([&] { LoadTimingFile(unknown, speech); }).find("cannot tell"), std::string::npos);
   EXPECT_EQ(ParseTimingFormat("TextGrid"), TimingFormat::TextGrid);
+}
+
+// Polly's viseme tables of other languages: Spanish "bebé", "sayo", "llave" bring B and J,
+// English "l" its own viseme. They read, and the Spanish mouth follows them: B near closed
+// lips (a bilabial), J not.
+TEST(SpeechMarks, PollyVisemesOfEveryLanguage)
+{
+  SpeechMarkOptions spanish;
+  spanish.Language = "es";
+  const SpeechMarks marks = ParseSpeechMarks(
+    "{\"time\":0,\"type\":\"word\",\"start\":0,\"end\":4,\"value\":\"bebé\"}\n"
+    "{\"time\":0,\"type\":\"viseme\",\"value\":\"p\"}\n"
+    "{\"time\":80,\"type\":\"viseme\",\"value\":\"e\"}\n"
+    "{\"time\":180,\"type\":\"viseme\",\"value\":\"B\"}\n"
+    "{\"time\":300,\"type\":\"viseme\",\"value\":\"e\"}\n"
+    "{\"time\":420,\"type\":\"viseme\",\"value\":\"J\"}\n"
+    "{\"time\":540,\"type\":\"viseme\",\"value\":\"a\"}\n"
+    "{\"time\":700,\"type\":\"viseme\",\"value\":\"sil\"}\n", spanish);
+  EXPECT_EQ(Names(marks.Phonemes), (std::vector<std::string>{ "p", "e", "B", "e", "j\\", "A:", "_" }));
+  SpeechOptions speech;
+  speech.Voice = "es";
+  std::vector<std::string> warnings;
+  speech.Warn = [&](const std::string& w) { warnings.push_back(w); };
+  const Utterance u = UtteranceFromPhonemes(marks.Phonemes, speech);
+  EXPECT_TRUE(warnings.empty()) << warnings.front();
+  const VisemeMap map = SelectVisemeMap(speech);
+  EXPECT_EQ(map.MapPhonemeName("B"), "PP");
+  EXPECT_NE(map.MapPhonemeName("j\\"), "PP");
+  EXPECT_EQ(PollyVisemeToSampa("l"), "l");
+  EXPECT_EQ(PollyVisemeToSampa("Q"), ""); // still no Polly viseme
+}
+
+// Azure's VisemeReceived events (AudioOffset in 100-ns ticks, VisemeId 0..21) as a program
+// collects them: "Bob met Pam" closes at its bilabials.
+TEST(ServiceTimings, AzureVisemeIds)
+{
+  const std::string path = std::string(MORPHNODE_TEST_OUTPUT_DIR) + "/azure_visemes.json";
+  std::ofstream(path) << R"([{"AudioOffset": 500000, "VisemeId": 0}, {"AudioOffset": 1000000, "VisemeId": 21},
+    {"AudioOffset": 1800000, "VisemeId": 3}, {"AudioOffset": 2600000, "VisemeId": 21},
+    {"AudioOffset": 3400000, "VisemeId": 0}])";
+  const auto phonemes = LoadTimedPhonemes(path, "en");
+  EXPECT_EQ(Names(phonemes), (std::vector<std::string>{ "_", "_", "p", "O:", "p", "_" }));
+  EXPECT_DOUBLE_EQ(phonemes[2].Start, 0.1);
+  EXPECT_NEAR(phonemes[2].Duration, 0.08, 1e-12);
+  const Utterance u = LoadTimingFile(path);
+  const int pp = u.Visemes.FindChannel("PP");
+  ASSERT_GE(pp, 0);
+  EXPECT_GT(u.Visemes.Sample(0.14 - 0.05, static_cast<size_t>(pp)), 0.9);
+  // An object with "visemes", offsets in milliseconds, lower-case keys.
+  EXPECT_EQ(Names(ParseAzureVisemes(R"({"visemes": [{"offsetMs": 0, "visemeId": 21}, {"offsetMs": 80, "visemeId": 6}]})")),
+    (std::vector<std::string>{ "p", "i:" }));
+  EXPECT_NE(ErrorOf([] { ParseAzureVisemes(R"([{"AudioOffset": 0, "VisemeId": 22}])"); }).find("not in 0..21"), std::string::npos);
+  EXPECT_NE(ErrorOf([] { ParseAzureVisemes(R"([{"AudioOffset": 0}])"); }).find("VisemeId"), std::string::npos);
+  EXPECT_NE(ErrorOf([] { ParseAzureVisemes(R"([{"AudioOffset": 9, "VisemeId": 1}, {"AudioOffset": 1, "VisemeId": 1}])"); })
+              .find("event 1: starts before"), std::string::npos);
+  EXPECT_NE(ErrorOf([] { ParseAzureVisemes(R"([{"AudioOffset": -1, "VisemeId": 1}])"); }).find(">= 0"), std::string::npos);
+  EXPECT_NE(ErrorOf([] { ParseAzureVisemes("[]"); }).find("no events"), std::string::npos);
+  EXPECT_NE(ErrorOf([] { ParseAzureVisemes("{"); }).find("not valid JSON"), std::string::npos);
+}
+
+// ElevenLabs-style character alignments ("with timestamps"): words from characters, read
+// by eSpeak NG into the words' times: the bilabials of "Bob met Pam" close at their words.
+TEST(ServiceTimings, CharacterAlignments)
+{
+  const std::string text = "Bob met Pam";
+  std::string characters, starts, ends;
+  for (size_t i = 0; i < text.size(); ++i)
+  {
+    characters += std::string(i ? ", " : "") + "\"" + text[i] + "\"";
+    starts += std::string(i ? ", " : "") + std::to_string(0.2 + 0.08 * static_cast<double>(i));
+    ends += std::string(i ? ", " : "") + std::to_string(0.28 + 0.08 * static_cast<double>(i));
+  }
+  const std::string json = R"({"audio_base64": "", "alignment": {"characters": [)" + characters +
+    R"(], "character_start_times_seconds": [)" + starts + R"(], "character_end_times_seconds": [)" +
+    ends + "]}}";
+  const auto words = ParseCharacterAlignment(json);
+  ASSERT_EQ(words.size(), 3u);
+  EXPECT_EQ(words[2].Text, "Pam");
+  EXPECT_NEAR(words[2].Start, 0.2 + 0.08 * 8, 1e-9);
+  EXPECT_NEAR(words[2].End, 0.28 + 0.08 * 10, 1e-9);
+  EXPECT_NE(ErrorOf([] { ParseCharacterAlignment(R"({"characters": ["a"], "character_start_times_seconds": [], "character_end_times_seconds": [1]})"); })
+              .find("1 characters, 0 start"), std::string::npos);
+  EXPECT_NE(ErrorOf([] { ParseCharacterAlignment(R"({"characters": ["a", "b"], "character_start_times_seconds": [1, 0.5], "character_end_times_seconds": [1, 1]})"); })
+              .find("must not decrease"), std::string::npos);
+  EXPECT_NE(ErrorOf([] { ParseCharacterAlignment(R"({"characters": [" "], "character_start_times_seconds": [0], "character_end_times_seconds": [1]})"); })
+              .find("no words"), std::string::npos);
+  if (!SpeechSynthesizer::IsAvailable())
+  {
+    GTEST_SKIP() << "built without eSpeak NG: words are read by eSpeak NG";
+  }
+  const std::string path = std::string(MORPHNODE_TEST_OUTPUT_DIR) + "/alignment.json";
+  std::ofstream(path) << json;
+  const auto phonemes = LoadTimedPhonemes(path, "en");
+  ASSERT_GE(phonemes.size(), 8u);
+  EXPECT_EQ(phonemes.front().Sampa, "_");
+  // Each word's first phoneme starts with the word; b and p are there.
+  for (const auto& w : words)
+  {
+    const auto at = std::find_if(phonemes.begin(), phonemes.end(),
+      [&](const TimedPhoneme& p) { return std::abs(p.Start - w.Start) < 1e-9 && !IsPausePhoneme(p.Sampa); });
+    EXPECT_NE(at, phonemes.end()) << w.Text;
+  }
+  EXPECT_EQ(std::count_if(phonemes.begin(), phonemes.end(),
+              [](const TimedPhoneme& p) { return p.Sampa == "b" || p.Sampa == "p" || p.Sampa == "m"; }),
+    5); // b b m p m
+  EXPECT_NEAR(phonemes.back().Start + phonemes.back().Duration, words.back().End, 1e-9);
 }
