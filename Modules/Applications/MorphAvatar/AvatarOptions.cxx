@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <filesystem>
 
 namespace morphavatar
@@ -49,6 +50,9 @@ void TransferTargetsOntoFace(Options& o, const std::string& source)
       ("morphavatar-" + std::to_string(getpid()) + "-face.glb")).string();
     morphnode::WriteGltfScene(file, face, nullptr);
     o.Face = file;
+    static std::string written; // removed when the program ends
+    written = file;
+    std::atexit([] { std::filesystem::remove(written); });
     if (o.Rig.empty() && std::find(s.TargetNames.begin(), s.TargetNames.end(), "jawOpen") != s.TargetNames.end())
     {
       o.Rig = appkit::DataPath("rigs/arkit.json");
