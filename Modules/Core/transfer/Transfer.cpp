@@ -277,15 +277,23 @@ SourceFeatures AnalyzeSource(const TransferSource& source, const TransferOptions
   if (lidTargets.size() == 2)
   {
     // The nose tip: the point furthest forward between the mouth and the eyes, near the
-    // middle. Forward is away from the mesh's centre.
-    glm::dvec3 centroid(0.0);
-    for (const auto& p : pts)
-      centroid += p;
-    centroid /= double(n);
+    // middle. Forward is where the skin the targets move most faces, on average (the
+    // mesh's centre says nothing on a whole body).
+    const std::vector<glm::dvec3> normals = ComputeVertexNormals(source.Surface);
+    glm::dvec3 facing(0.0);
+    for (const auto& d : source.Deltas)
+    {
+      double largest = 0;
+      for (const auto& v : d)
+        largest = std::max(largest, glm::length(v));
+      for (size_t i = 0; i < n; ++i)
+        if (glm::length(d[i]) > 0.2 * largest)
+          facing += normals[i];
+    }
     glm::dvec3 up = glm::normalize(eyeMid - mouthMid);
     up = glm::normalize(up - glm::dot(up, right) * right);
     glm::dvec3 forward = glm::cross(right, up);
-    if (glm::dot(forward, mouthMid - centroid) < 0)
+    if (glm::dot(forward, facing) < 0)
       forward = -forward;
     const double eyeDistance = glm::length(pts[f.Landmarks[0].second] - pts[f.Landmarks[1].second]);
     const double h = glm::dot(eyeMid - mouthMid, up);
