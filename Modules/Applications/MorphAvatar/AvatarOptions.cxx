@@ -4,7 +4,16 @@
 #include "budget/DeviceProfile.h"
 
 #include "CommandLine.h"
+#include "DataPaths.h"
+#include "MeshFiles.h"
 
+#include "gltf/GltfWriter.h"
+#include "transfer/TransferScene.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdlib>
 #include <filesystem>
 
 namespace morphavatar
@@ -24,6 +33,37 @@ CLI::App& App()
     "series or one frame compared with a baseline (docs/avatar.md).",
     Name);
   return app;
+}
+/// --targets-from: the face (a bare mesh) given the source's targets (docs/transfer.md),
+/// written to a temporary GLB that becomes the face. Source targets named like ARKit's
+/// get the ARKit rig unless --rig chose one.
+void TransferTargetsOntoFace(Options& o, const std::string& source)
+{
+  if (o.Face.empty())
+  {
+    appkit::FailUsage(App(), "--targets-from needs --face: the mesh to give the targets to");
+  }
+  try
+  {
+    const morphnode::TransferSource s = morphnode::MakeTransferSource(appkit::ReadMeshScene(source));
+    morphnode::GltfScene face = appkit::ReadMeshScene(o.Face);
+    morphnode::TransferOntoScene(s, face, {});
+    const std::string file = (std::filesystem::temp_directory_path() /
+      ("morphavatar-" + std::to_string(getpid()) + "-face.glb")).string();
+    morphnode::WriteGltfScene(file, face, nullptr);
+    o.Face = file;
+    static std::string written; // removed when the program ends
+    written = file;
+    std::atexit([] { std::filesystem::remove(written); });
+    if (o.Rig.empty() && std::find(s.TargetNames.begin(), s.TargetNames.end(), "jawOpen") != s.TargetNames.end())
+    {
+      o.Rig = appkit::DataPath("rigs/arkit.json");
+    }
+  }
+  catch (const std::exception& e)
+  {
+    appkit::FailUsage(App(), "--targets-from " + source + ": " + e.what());
+  }
 }
 } // namespace
 
@@ -150,6 +190,12 @@ Options ParseOptions(int argc, char* argv[])
        "a skinned body's arms: relaxed (a T- or A-pose lowered) or stored (as in the file)")
     ->check(CLI::IsMember({ "relaxed", "stored" }))
     ->capture_default_str()
+    ->group(face);
+  std::string targetsFrom;
+  app.add_option("--targets-from", targetsFrom,
+       "give --face (a mesh without targets: glTF, OBJ, PLY, STL, VTP) the targets of this face "
+       "first (docs/transfer.md); ARKit-named targets get Data/rigs/arkit.json unless --rig")
+    ->check(CLI::ExistingFile)
     ->group(face);
 
   const std::string optimizer = "The optimizer (keys 0-4 and +/- switch them while it runs)";
@@ -294,6 +340,10 @@ Options ParseOptions(int argc, char* argv[])
     ->group(serve);
 
   appkit::ParseCommandLine(app, argc, argv);
+  if (!targetsFrom.empty())
+  {
+    TransferTargetsOntoFace(o, targetsFrom);
+  }
   o.Overlay = app.count("--no-overlay") == 0;
   o.SeedSet = app.count("--seed") > 0;
   o.GltfOptimized = gltfWeights != "raw";

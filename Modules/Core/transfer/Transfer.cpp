@@ -277,15 +277,23 @@ SourceFeatures AnalyzeSource(const TransferSource& source, const TransferOptions
   if (lidTargets.size() == 2)
   {
     // The nose tip: the point furthest forward between the mouth and the eyes, near the
-    // middle. Forward is away from the mesh's centre.
-    glm::dvec3 centroid(0.0);
-    for (const auto& p : pts)
-      centroid += p;
-    centroid /= double(n);
+    // middle. Forward is where the skin the targets move most faces, on average (the
+    // mesh's centre says nothing on a whole body).
+    const std::vector<glm::dvec3> normals = ComputeVertexNormals(source.Surface);
+    glm::dvec3 facing(0.0);
+    for (const auto& d : source.Deltas)
+    {
+      double largest = 0;
+      for (const auto& v : d)
+        largest = std::max(largest, glm::length(v));
+      for (size_t i = 0; i < n; ++i)
+        if (glm::length(d[i]) > 0.2 * largest)
+          facing += normals[i];
+    }
     glm::dvec3 up = glm::normalize(eyeMid - mouthMid);
     up = glm::normalize(up - glm::dot(up, right) * right);
     glm::dvec3 forward = glm::cross(right, up);
-    if (glm::dot(forward, mouthMid - centroid) < 0)
+    if (glm::dot(forward, facing) < 0)
       forward = -forward;
     const double eyeDistance = glm::length(pts[f.Landmarks[0].second] - pts[f.Landmarks[1].second]);
     const double h = glm::dot(eyeMid - mouthMid, up);
@@ -616,9 +624,11 @@ TransferResult TransferTargets(
     for (size_t i = 0; i < faceIds.size(); i += stride)
       icpIds.push_back(faceIds[i]);
   }
+  std::vector<std::pair<glm::dvec3, glm::dvec3>> landmarkPairs;
   auto icp = [&](Similarity s, int iterations, bool withScale, double& residual) {
     // The search radius stays that of the start: a shrinking face must not see less.
     const double radius = 0.5 * s.Scale * sourceEyeDistance;
+    const double startScale = s.Scale;
     for (int it = 0; it < iterations; ++it)
     {
       std::vector<glm::dvec3> from, to, normalsOf;
@@ -692,6 +702,24 @@ TransferResult TransferTargets(
         ata += row * row.transpose();
         atb += row * glm::dot(nn, t2[k] - y[k]);
       }
+      // Landmarks (when given) hold the face where they put it: point to point, together
+      // weighing a fifth of the surface.
+      for (const auto& [from, to] : landmarkPairs)
+      {
+        const double wl = 0.2 * double(y.size()) / double(landmarkPairs.size());
+        const glm::dvec3 yl = s.Apply(from);
+        const glm::dvec3 q = yl - c;
+        for (int axis = 0; axis < 3; ++axis)
+        {
+          glm::dvec3 nn(0.0);
+          nn[axis] = 1.0;
+          const glm::dvec3 qn = glm::cross(q, nn);
+          Eigen::Matrix<double, 7, 1> row;
+          row << qn.x, qn.y, qn.z, nn.x, nn.y, nn.z, glm::dot(nn, q);
+          ata += wl * row * row.transpose();
+          atb += wl * row * glm::dot(nn, to - yl);
+        }
+      }
       ata += 1e-12 * ata.trace() * Eigen::Matrix<double, 7, 7>::Identity();
       const Eigen::Matrix<double, 7, 1> sol = ata.ldlt().solve(atb);
       const glm::dvec3 w(sol[0], sol[1], sol[2]);
@@ -706,6 +734,9 @@ TransferResult TransferTargets(
             step.R[b][a] = r(a, b);
       }
       step.Scale = withScale ? std::clamp(1.0 + sol[6], 0.8, 1.25) : 1.0;
+      // Point to plane sees little of a change of scale on a smooth face and lets it drift:
+      // the scale stays within 20 % of where it started (the landmarks' or the axes').
+      step.Scale = std::clamp(step.Scale * s.Scale, 0.8 * startScale, 1.25 * startScale) / s.Scale;
       step.T = c + glm::dvec3(sol[3], sol[4], sol[5]) - step.Scale * (step.R * c);
       const Similarity next = s.Then(step);
       // Residual: the trimmed mean, penalized by the share of the face that found nothing.
@@ -724,6 +755,12 @@ TransferResult TransferTargets(
   };
 
   Similarity align;
+  if (!options.TargetLandmarks.empty())
+  {
+    for (const auto& l : options.TargetLandmarks)
+      if (landmarkPoint(l.Name) >= 0)
+        landmarkPairs.emplace_back(source.Surface.Points[size_t(landmarkPoint(l.Name))], l.Position);
+  }
   if (!options.TargetLandmarks.empty())
   {
     std::vector<glm::dvec3> from, to;

@@ -88,8 +88,8 @@ struct TransferOptions
   bool ComputeAllMethods = false;
   /// Non-rigid ICP: stiffness per stage (annealed, high to low) and iterations per stage.
   /// Empty: no registration (the aligned source is used as is).
-  std::vector<double> Stiffness{ 100.0, 30.0, 10.0, 3.0, 1.0 };
-  int IterationsPerStage = 3;
+  std::vector<double> Stiffness{ 50.0, 20.0, 8.0, 3.0, 1.0, 0.5 };
+  int IterationsPerStage = 4;
   /// The largest accepted registration residual: the 95th percentile of the distances of
   /// the source's face region to the target, as a fraction of the eye distance. Above it
   /// the target is refused as "not a face like the source".
