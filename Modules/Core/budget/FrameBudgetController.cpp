@@ -195,6 +195,7 @@ void FrameBudgetController::SetSettings(const ControllerSettings& s)
   this->Models.clear();
   this->Margins.clear();
   this->Chosen.clear();
+  this->Evaluated.clear();
   this->Samples.clear();
   for (const auto& level : levels)
   {
@@ -243,6 +244,7 @@ void FrameBudgetController::AddLevel(const LevelOfDetail& level)
   this->Models.push_back(level.Cost);
   this->Margins.push_back(0.0);
   this->Chosen.push_back(-1);
+  this->Evaluated.push_back(false);
   this->Samples.emplace_back();
   this->LastLevel = -1;
   this->Reset(0);
@@ -259,6 +261,7 @@ void FrameBudgetController::Reset(int level)
   this->MorphProgress = 0.0;
   this->Switches = 0;
   std::fill(this->Chosen.begin(), this->Chosen.end(), -1);
+  std::fill(this->Evaluated.begin(), this->Evaluated.end(), false);
   for (auto& perLevel : this->Optimizers)
   {
     for (auto& o : perLevel)
@@ -410,11 +413,28 @@ ControllerDecision FrameBudgetController::Update(
   {
     screenLevel = -2; // no screen, but a finest level: only the floor applies
   }
-  // Every level's optimizers see every frame, so their hysteresis histories stay current.
+  // The decisions below look at the current level and its two neighbours only, so only
+  // they are evaluated (each level's optimizers at every threshold: the controller's own
+  // cost). A level entering this window starts without history (no incumbents, no chosen
+  // threshold), as after Reset.
   std::vector<Candidate> candidates(this->Levels.size());
-  for (size_t l = 0; l < this->Levels.size(); ++l)
+  const int lo = std::max(0, this->Current - 1), hi = std::min(last, this->Current + 1);
+  for (int l = 0; l <= last; ++l)
   {
-    candidates[l] = this->Evaluate(l, weights, budget);
+    const bool inWindow = l >= lo && l <= hi;
+    if (inWindow && !this->Evaluated[static_cast<size_t>(l)])
+    {
+      for (auto& o : this->Optimizers[static_cast<size_t>(l)])
+      {
+        o.ResetHistory();
+      }
+      this->Chosen[static_cast<size_t>(l)] = -1;
+    }
+    this->Evaluated[static_cast<size_t>(l)] = inWindow;
+    if (inWindow)
+    {
+      candidates[static_cast<size_t>(l)] = this->Evaluate(static_cast<size_t>(l), weights, budget);
+    }
   }
 
   // Start a transition when none is running.

@@ -253,6 +253,7 @@ private:
   std::vector<CostModel> Models;
   std::vector<double> Margins;
   std::vector<int> Chosen; ///< per level: the threshold index chosen last frame, -1: none
+  std::vector<bool> Evaluated; ///< per level: evaluated last frame (current level +- 1)
   std::vector<std::vector<std::pair<double, double>>> Samples;
   int LastLevel = -1; ///< displayed by the last Update, -1: none since the levels were set
   double LastTargetPoints = 0.0;

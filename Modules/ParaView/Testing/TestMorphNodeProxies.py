@@ -40,7 +40,7 @@ def run(c, args):
 
     t.load_plugin(args.plugin, globals())
     for proxy in ("MorphRig", "MorphRigBaker", "AnimationAwareDecimation", "MorphNodeFaceReader",
-                  "MorphNodeBehaviorTimeSource", "EyeGaze"):
+                  "MorphNodeBehaviorTimeSource", "EyeGaze", "MorphLevelOfDetail"):
         c.require(proxy in globals(), "the plugin defines %s" % proxy)
 
     ict = t.face_or_skip(args.face)
@@ -77,6 +77,26 @@ def run(c, args):
     kept_plain = np.count_nonzero(moving[plain["OriginalPointId"].astype(int)])
     c.check(kept_aware > kept_plain, "AnimationWeight > 0 keeps more strongly animated points than 0 "
             "(%d vs %d)" % (kept_aware, kept_plain))
+
+    # --- Morph Level Of Detail: the level the screen asks for (docs/lod.md) ---------------
+    lod = MorphLevelOfDetail(Input=face)  # noqa: F821
+    lod.Weights = ["24", "0.6", "11", "0.8"]  # jawOpen-ish and a blink, by number
+    lod.PixelsPerUnit = 1e6
+    near = sm.Fetch(lod)
+    c.check(near.GetNumberOfPoints() == 2948, "Morph Level Of Detail: a near face is the full mesh")
+    for i in range(100):  # one execution per frame: switches wait 20 frames, geomorphs 8+
+        lod.PixelsPerUnit = 20.0 + 1e-6 * i
+        far = sm.Fetch(lod)
+    c.check(far.GetNumberOfPoints() < 2948 // 2, "a far face shows a coarse level (%d points)"
+            % far.GetNumberOfPoints())
+    lod.FinestLevel = 1  # a phone's largest level
+    lod.PixelsPerUnit = 1e6
+    c.check(sm.Fetch(lod).GetNumberOfPoints() < 2948, "FinestLevel 1 never shows the full mesh")
+    morph_lod = MorphNode(Input=face)  # noqa: F821
+    morph_lod.DeviceProfile = "phone"
+    morph_lod.PixelsPerUnit = 20.0
+    morph_lod.TargetPixelBound = 1.0
+    c.check(sm.Fetch(morph_lod).GetNumberOfPoints() == 2948, "Morph Node with a device profile runs")
 
     # --- the rig proxies, on the ARKit-named ICT face ------------------------------------
     arkit = MorphNodeFaceReader(FileName=ict, MeshIndex=0)  # noqa: F821 - one mesh
