@@ -108,6 +108,8 @@ private:
     bool Done = false;
   };
   Event MakeEvent(EventKind kind, const Tracked& t, double now) const;
+  /// Half-closed clients with nothing running are closed (DialogServer::ReleaseEnded).
+  void ReleaseEnded();
 
   DialogServer& Server;
   CommandSink& Sink;
