@@ -205,6 +205,35 @@ class HostileInputTest(unittest.TestCase):
         self.assertTrue(os.path.isdir(self.path("dir.glb")))
         self.assertNoPartFiles()
 
+    # --- glTF memory amplification (issue point 4) ---------------------------------------
+
+    def test_thousand_instances(self):
+        exe = self.exe("MorphAvatar")
+        if not os.path.exists(FACE):
+            self.skipTest("no ICT-FaceKit face")
+        import json
+        with open(FACE, "rb") as f:
+            glb = f.read()
+        magic, version, _ = struct.unpack_from("<III", glb, 0)
+        jlen, jtype = struct.unpack_from("<II", glb, 12)
+        doc = json.loads(glb[20:20 + jlen])
+        rest = glb[20 + jlen:]
+        mesh = next(n["mesh"] for n in doc["nodes"] if "mesh" in n)
+        first = len(doc["nodes"])
+        doc["nodes"] += [{"mesh": mesh, "translation": [0.01 * k, 0, 0]} for k in range(1000)]
+        doc["scenes"][doc.get("scene", 0)]["nodes"] += list(range(first, first + 1000))
+        j = json.dumps(doc, separators=(",", ":")).encode()
+        j += b" " * ((4 - len(j) % 4) % 4)
+        bomb = self.path("instances.glb")  # about 1 MB: 1,000 nodes sharing one mesh
+        with open(bomb, "wb") as f:
+            f.write(struct.pack("<III", magic, version, 20 + len(j) + len(rest)) +
+                    struct.pack("<II", len(j), jtype) + j + rest)
+        out = self.path("instances-out.glb")
+        self.assertRefused(run([exe, "--face", bomb, "--rig", os.path.join(SOURCE, "Data", "rigs", "arkit.json"),
+                                "--gltf", out, "--duration", "1", "--quiet"], timeout=300),
+                           "more than the limit")
+        self.assertFalse(os.path.exists(out))
+
     # --- a timeline whose cost passes the budget (issue point 6) --------------------------
 
     def test_day_long_timeline(self):

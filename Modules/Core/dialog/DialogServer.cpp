@@ -553,11 +553,8 @@ std::vector<DialogServer::Incoming> DialogServer::Poll(int timeoutMs)
   {
     return out;
   }
-  int ready;
-  do
-  {
-    ready = ::poll(fds.data(), fds.size(), timeoutMs);
-  } while (ready < 0 && errno == EINTR);
+  // A signal ends the wait (EINTR: nothing read): a stop request (SIGTERM) is seen at once.
+  const int ready = ::poll(fds.data(), fds.size(), timeoutMs);
   if (ready <= 0)
   {
     return out;

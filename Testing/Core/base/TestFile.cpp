@@ -178,3 +178,12 @@ TEST(File, AFullDiskLeavesTheOldFileAndNoPartialFile)
   EXPECT_EQ(Get(f / "old.csv"), "old contents\n");
   EXPECT_EQ(PartFiles(f), 0u);
 }
+
+TEST(InputError, MessagesAreValidUtf8)
+{
+  // A quoted token with a broken sequence (issue 29: such a message never reached Python).
+  const InputError e(std::string("bad token 'a\xff\xfe" "b' and \xc3\xa9 kept"));
+  const std::string m = e.what();
+  EXPECT_EQ(m, "bad token 'a\xef\xbf\xbd\xef\xbf\xbd" "b' and \xc3\xa9 kept");
+  EXPECT_EQ(std::string(InputError("plain").what()), "plain");
+}
