@@ -3,7 +3,9 @@
 """SIGTERM and SIGINT stop MorphAvatar the way `quit` does (issue 29): a headless live avatar
 listening on a Unix socket runs a long gesture for a client; the signal arrives; the client
 gets the gesture's `ended` event (interrupted) within a second, the program exits 0 with
-"stopped by signal N", and the Unix socket file is gone. Before, --listen caught SIGTERM
+"stopped by signal N", and the Unix socket file is gone. Also: a lost X display ends the
+program with Xlib's error and removes the socket file; a refused --listen is announced
+before anything listens. Before, --listen caught SIGTERM
 and kept running, leaving the socket file behind.
 
 Usage: TestStopSignal.py MORPHAVATAR_EXE   (under xvfb-run, like the other render tests)
@@ -129,6 +131,16 @@ class StopSignalTest(unittest.TestCase):
             # Xlib's own words: "X connection to :N broken" or "XIO: fatal IO error ...".
             self.assertRegex(err, r"X connection|XIO")
             self.assertFalse(os.path.exists(path), "the Unix socket file was left behind")
+
+    def test_refused_listen_is_the_only_message(self):
+        """A refused --listen (remote host) after a good one: nothing is announced as
+        listening, the refusal is the message, exit 1 (issue 29: it came after 'listening on')."""
+        result = subprocess.run([EXE, "--offscreen", "--listen", "127.0.0.1:0", "--listen", "0.0.0.0:5999",
+                                 "--size", "120x120", "--exit-after", "5"],
+                                stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True, timeout=120)
+        self.assertEqual(result.returncode, 1, result.stderr)
+        self.assertIn("refusing to listen on '0.0.0.0:5999'", result.stderr)
+        self.assertNotIn("listening on", result.stderr)
 
     def test_sigterm(self):
         self.run_and_signal(signal.SIGTERM)
