@@ -234,6 +234,24 @@ class HostileInputTest(unittest.TestCase):
                            "more than the limit")
         self.assertFalse(os.path.exists(out))
 
+    def test_zero_accessor_without_buffer_view(self):
+        """267 bytes of glTF declaring 45 million zero points (an accessor without bufferView
+        is zero-filled): refused from the estimate, before anything is decoded."""
+        exe = self.exe("MorphAvatar")
+        import json
+        doc = {"asset": {"version": "2.0"},
+               "accessors": [{"componentType": 5126, "count": 45000000, "type": "VEC3",
+                              "min": [0, 0, 0], "max": [0, 0, 0]}],
+               "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
+               "nodes": [{"mesh": 0}], "scenes": [{"nodes": [0]}], "scene": 0}
+        face = self.path("zeros.gltf")
+        with open(face, "w") as f:
+            json.dump(doc, f)
+        out = self.path("zeros-out.glb")
+        self.assertRefused(run([exe, "--face", face, "--gltf", out, "--duration", "1", "--quiet"], timeout=300),
+                           "more than the limit")
+        self.assertFalse(os.path.exists(out))
+
     # --- a timeline whose cost passes the budget (issue point 6) --------------------------
 
     def test_day_long_timeline(self):
