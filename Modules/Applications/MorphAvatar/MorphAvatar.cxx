@@ -29,7 +29,6 @@ namespace
 int Run(int argc, char* argv[])
 {
   using namespace morphavatar;
-  morphnode::appkit::InstallStopSignals(); // SIGTERM/SIGINT end the run as quit does
   Avatar a;
   a.Opt = ParseOptions(argc, argv);
   // --gltf alone writes a file and renders nothing.
@@ -52,6 +51,9 @@ int Run(int argc, char* argv[])
   {
     return 0;
   }
+  // From here SIGTERM/SIGINT end the run as quit does (before: the default action, which
+  // ends a setup or a --gltf export at once; its files are renamed into place whole).
+  morphnode::appkit::InstallStopSignals();
   a.SetUpScene();
   WatchFrameBudget(a.Morph, a.Opt);
   if (!a.Opt.Quiet)

@@ -22,6 +22,7 @@
 #include "CommandLine.h"
 #include "DataPaths.h"
 #include "SpeechTrack.h"
+#include "StopSignal.h"
 
 #include "base/Error.h"
 #include "base/File.h"
@@ -117,6 +118,7 @@ int main(int argc, char* argv[])
     {
       std::ostringstream csv;
       track.WriteCsv(csv);
+      const appkit::DeferStopSignals whole; // a SIGTERM now: the whole file or none
       morphnode::file::WriteFileSafely(out, csv.str(), "--out"); // every write checked
     }
     std::cout << "wrote " << out << ": " << track.GetNumberOfFrames() << " frames at " << track.GetFrameRate()
@@ -162,6 +164,7 @@ int main(int argc, char* argv[])
       {
         std::ostringstream livelink;
         morphnode::WriteLiveLinkCsv(livelink, take);
+        const appkit::DeferStopSignals whole;
         morphnode::file::WriteFileSafely(livelinkFile, livelink.str(), "--livelink");
       }
       std::cout << "wrote " << livelinkFile << ": Live Link Face CSV, " << take.GetNumberOfRows() << " rows at "
