@@ -131,10 +131,12 @@ class StopSignalTest(unittest.TestCase):
                     proc.wait()
                 if server.poll() is None:
                     server.kill()
-            self.assertNotEqual(proc.returncode, 0)
-            # Xlib's own words: "X connection to :N broken" or "XIO: fatal IO error ...".
-            self.assertRegex(err, r"X connection|XIO")
-            self.assertFalse(os.path.exists(path), "the Unix socket file was left behind")
+            # An error exit (not a crash by a signal, where no exit hook would run), the socket
+            # file removed; Xlib's words ("X connection to :N broken", "XIO: fatal IO error")
+            # are usually on stderr.
+            self.assertGreater(proc.returncode, 0, err)
+            self.assertFalse(os.path.exists(path), "the Unix socket file was left behind: " + err)
+            print("lost display: exit %d, %s" % (proc.returncode, err.strip().splitlines()[-1][:120]))
 
     def test_refused_listen_is_the_only_message(self):
         """A refused --listen (remote host) after a good one: nothing is announced as
