@@ -566,6 +566,11 @@ std::shared_ptr<const morphnode::GltfScene> vtkMorphTargetReader::LoadScene(bool
   this->Cache.reset();
   morphnode::GltfLoadOptions options;
   options.ApplyTransforms = applyTransforms;
+  // The decoded limit counts what the VTK side derives too: the reader's output arrays,
+  // the morph filter's blended copy and the renderer's buffers hold about four copies of
+  // the scene (a GLB of 1,000 instances took 9 GB for one frame against a 2 GiB core
+  // limit, issue 29), so the core scene gets a quarter of the budget (docs/limits.md).
+  options.MaxDecodedBytes = morphnode::GltfLoadOptions().MaxDecodedBytes / 4;
   auto scene = std::make_shared<const morphnode::GltfScene>(morphnode::LoadGltfScene(this->FileName, options));
   if (!ec)
   {

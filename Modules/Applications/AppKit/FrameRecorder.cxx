@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "FrameRecorder.h"
 
+#include "base/File.h"
+
 #include "ImageOutput.h"
 
 #include "vtkBehaviorTimeSource.h"
@@ -81,12 +83,16 @@ void FrameRecorder::Capture(int frame)
   {
     char name[32];
     std::snprintf(name, sizeof(name), "/frame_%05d.png", frame);
-    this->Png->SetFileName((this->Folder + name).c_str());
+    // Beside the frame, renamed when complete (base/File.h): a full disk is an error and
+    // leaves no partial frame; a link or device at a frame's path is refused.
+    morphnode::file::SafeOutput out(this->Folder + name, "frame");
+    this->Png->SetFileName(out.GetTemporaryPath().c_str());
     this->Png->Write();
     if (this->Png->GetErrorCode() != 0)
     {
-      throw std::runtime_error("cannot write " + this->Folder + name);
+      throw std::runtime_error("cannot write " + this->Folder + name + " (the disk is full?)");
     }
+    out.Commit();
   }
   if (!this->Ogv.empty())
   {

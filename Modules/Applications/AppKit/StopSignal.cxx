@@ -41,5 +41,19 @@ int StopSignalNumber()
 {
   return static_cast<int>(Received);
 }
+
+DeferStopSignals::DeferStopSignals()
+{
+  sigset_t held;
+  sigemptyset(&held);
+  sigaddset(&held, SIGTERM);
+  sigaddset(&held, SIGINT);
+  sigprocmask(SIG_BLOCK, &held, &this->Previous);
+}
+
+DeferStopSignals::~DeferStopSignals()
+{
+  sigprocmask(SIG_SETMASK, &this->Previous, nullptr);
+}
 } // namespace appkit
 } // namespace morphnode

@@ -7,6 +7,8 @@
 /// sockets are closed and a Unix socket file removed, by the destructors that end every
 /// run). A second signal ends the program at once (the default action).
 
+#include <csignal>
+
 namespace morphnode
 {
 namespace appkit
@@ -18,5 +20,20 @@ void InstallStopSignals();
 bool StopRequested();
 /// The signal that asked to stop (0: none), for the message and the exit code.
 int StopSignalNumber();
+
+/// Holds SIGTERM and SIGINT back while it lives (a file being renamed into place): a signal
+/// arriving meanwhile takes effect when it ends, so a batch program killed while it writes
+/// its output leaves the whole file or none, never a `.part` file.
+class DeferStopSignals
+{
+public:
+  DeferStopSignals();
+  ~DeferStopSignals();
+  DeferStopSignals(const DeferStopSignals&) = delete;
+  DeferStopSignals& operator=(const DeferStopSignals&) = delete;
+
+private:
+  sigset_t Previous;
+};
 } // namespace appkit
 } // namespace morphnode

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "TimeSeriesWriter.h"
 
+#include "base/File.h"
+
 #include "HeadActors.h"
 #include "ImageOutput.h"
 
@@ -20,6 +22,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
+#include <sstream>
 #include <iostream>
 #include <locale>
 #include <stdexcept>
@@ -129,7 +132,7 @@ void TimeSeriesWriter::Write(vtkDataObject* face, vtkTable* weights, double t)
 
 void TimeSeriesWriter::Close()
 {
-  std::ofstream out(this->Pvd);
+  std::ostringstream out; // written safely below (base/File.h)
   out.imbue(std::locale::classic());
   out << "<?xml version=\"1.0\"?>\n"
       << "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
@@ -140,11 +143,7 @@ void TimeSeriesWriter::Close()
         << "\" group=\"\" part=\"0\" file=\"" << entry.second << "\"/>\n";
   }
   out << "  </Collection>\n</VTKFile>\n";
-  out.close();
-  if (!out)
-  {
-    throw std::runtime_error("cannot write " + this->Pvd);
-  }
+  morphnode::file::WriteFileSafely(this->Pvd, out.str(), "--pvd");
   std::cout << "wrote " << this->Pvd << " (" << this->Entries.size() << " time steps in "
             << this->FolderPath << "/)\n";
 }

@@ -505,11 +505,17 @@ int RunLive(Avatar& a)
       source->GetSeed());
     live.Behavior->SetSynthesizer(
       [speech](const std::string& text) { return morphnode::SpeakText(text, speech); });
+    // Every address bound before any is announced: a refused one (a remote host without
+    // --listen-remote, a port in use) is the only message, and nothing listens.
+    std::vector<std::string> bound;
     for (const std::string& address : a.Opt.Listen)
     {
-      const std::string bound = live.Server.Listen(address);
-      std::cerr << "MorphAvatar: listening on " << bound << std::endl;
-      RemoveAtExit(bound);
+      bound.push_back(live.Server.Listen(address));
+      RemoveAtExit(bound.back());
+    }
+    for (const std::string& address : bound)
+    {
+      std::cerr << "MorphAvatar: listening on " << address << std::endl;
     }
   }
   catch (const morphnode::InputError& e)

@@ -31,7 +31,6 @@ namespace
 int Run(int argc, char* argv[])
 {
   using namespace morphavatar;
-  morphnode::appkit::InstallStopSignals(); // SIGTERM/SIGINT end the run as quit does
   Avatar a;
   a.Opt = ParseOptions(argc, argv);
   if (!a.Opt.Serve.empty())
@@ -59,6 +58,9 @@ int Run(int argc, char* argv[])
   {
     return 0;
   }
+  // From here SIGTERM/SIGINT end the run as quit does (before: the default action, which
+  // ends a setup or a --gltf export at once; its files are renamed into place whole).
+  morphnode::appkit::InstallStopSignals();
   a.SetUpScene();
   if (!a.Opt.Profile.empty())
   {

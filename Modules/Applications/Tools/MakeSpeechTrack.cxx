@@ -22,6 +22,7 @@
 #include "CommandLine.h"
 #include "DataPaths.h"
 #include "SpeechTrack.h"
+#include "StopSignal.h"
 
 #include "base/Error.h"
 #include "base/File.h"
@@ -120,6 +121,7 @@ int main(int argc, char* argv[])
     {
       std::ostringstream csv;
       track.WriteCsv(csv);
+      const appkit::DeferStopSignals whole; // a SIGTERM now: the whole file or none
       morphnode::file::WriteFileSafely(out, csv.str(), "--out"); // every write checked
     }
     std::cout << "wrote " << out << ": " << track.GetNumberOfFrames() << " frames at " << track.GetFrameRate()
@@ -165,6 +167,7 @@ int main(int argc, char* argv[])
       {
         std::ostringstream livelink;
         morphnode::WriteLiveLinkCsv(livelink, take);
+        const appkit::DeferStopSignals whole;
         morphnode::file::WriteFileSafely(livelinkFile, livelink.str(), "--livelink");
       }
       std::cout << "wrote " << livelinkFile << ": Live Link Face CSV, " << take.GetNumberOfRows() << " rows at "

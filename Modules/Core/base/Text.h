@@ -108,28 +108,6 @@ inline std::string Quote(std::string_view token)
   return out + "'";
 }
 
-/// A library's exception text as a message for people: nlohmann/json's
-/// "[json.exception.parse_error.101] parse error at line 1, column 2: ..." loses its tag
-/// (what and where stay), control bytes become '?', and it is cut at 300 bytes.
-inline std::string LibraryMessage(std::string_view what)
-{
-  if (what.rfind("[json.exception.", 0) == 0)
-  {
-    const size_t bracket = what.find("] ");
-    if (bracket != std::string_view::npos)
-    {
-      what.remove_prefix(bracket + 2);
-    }
-  }
-  std::string out(what.substr(0, 300));
-  for (char& c : out)
-  {
-    const unsigned char u = static_cast<unsigned char>(c);
-    c = (u < 32 || u == 127) ? '?' : c;
-  }
-  return what.size() > 300 ? out + "..." : out;
-}
-
 /// ASCII lower case (names, keys and voices are ASCII; no locale).
 inline std::string ToLower(std::string_view s)
 {

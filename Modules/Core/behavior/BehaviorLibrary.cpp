@@ -2,6 +2,7 @@
 #include "behavior/BehaviorLibrary.h"
 
 #include "base/Error.h"
+#include "base/LibraryMessage.h"
 #include "base/Text.h"
 #include "behavior/BehaviorScript.h"
 #include "behavior/IdleSchedule.h"

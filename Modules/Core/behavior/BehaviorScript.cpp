@@ -2,6 +2,7 @@
 #include "behavior/BehaviorScript.h"
 
 #include "base/Error.h"
+#include "base/LibraryMessage.h"
 #include "base/Text.h"
 #include "behavior/BehaviorTypes.h"
 

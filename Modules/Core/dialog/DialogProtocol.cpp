@@ -7,6 +7,8 @@
 #include <cstring>
 #include <initializer_list>
 #include <limits>
+#include <set>
+#include <vector>
 
 namespace morphnode
 {
@@ -302,10 +304,34 @@ ParsedLine ParseCommand(std::string_view line, size_t maxLineBytes)
   {
     return fail(reason::Malformed, "the line contains a NUL byte");
   }
-  json j = json::parse(line.begin(), line.end(), nullptr, false);
+  // Duplicate keys are refused, not resolved to the last one (a command must mean one
+  // thing to every reader of the line).
+  std::vector<std::set<std::string>> keys;
+  std::string duplicate;
+  const json::parser_callback_t noteKeys = [&keys, &duplicate](int, json::parse_event_t event, json& parsed) {
+    if (event == json::parse_event_t::object_start)
+    {
+      keys.emplace_back();
+    }
+    else if (event == json::parse_event_t::object_end && !keys.empty())
+    {
+      keys.pop_back();
+    }
+    else if (event == json::parse_event_t::key && !keys.empty() && parsed.is_string() &&
+      !keys.back().insert(parsed.get_ref<const std::string&>()).second && duplicate.empty())
+    {
+      duplicate = parsed.get<std::string>();
+    }
+    return true;
+  };
+  json j = json::parse(line.begin(), line.end(), noteKeys, false);
   if (j.is_discarded())
   {
     return fail(reason::Malformed, "not a JSON value (one JSON object per line)");
+  }
+  if (!duplicate.empty())
+  {
+    return fail(reason::Malformed, "the key '" + duplicate.substr(0, 64) + "' appears twice in one object");
   }
   if (!j.is_object())
   {

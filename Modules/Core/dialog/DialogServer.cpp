@@ -29,6 +29,7 @@ struct DialogServer::Client
   bool Socket = true; ///< a socket (closed by the server) or the stream (never closed)
   bool Open = true;   ///< input still read
   bool Dead = false;  ///< to be removed (gone, or dropped)
+  bool Ended = false; ///< a socket whose input ended: kept for its events (ReleaseEnded)
   LineFramer Framer;
   std::string Output; ///< events not yet written
   explicit Client(size_t maxLine)
@@ -334,7 +335,7 @@ bool DialogServer::IsConnected(ClientId id) const
 size_t DialogServer::GetNumberOfClients() const
 {
   return static_cast<size_t>(std::count_if(this->Clients.begin(), this->Clients.end(),
-    [](const std::unique_ptr<Client>& c) { return c->Socket && !c->Dead; }));
+    [](const std::unique_ptr<Client>& c) { return c->Socket && !c->Dead && !c->Ended; }));
 }
 
 void DialogServer::Accept(const Listener& listener)
@@ -346,7 +347,10 @@ void DialogServer::Accept(const Listener& listener)
     {
       return; // EAGAIN (no more), or the client left already
     }
-    if (this->GetNumberOfClients() >= this->Config.MaxClients)
+    // Held half-closed clients count too: each still holds a socket.
+    const size_t held = static_cast<size_t>(std::count_if(this->Clients.begin(), this->Clients.end(),
+      [](const std::unique_ptr<Client>& c) { return c->Socket && !c->Dead; }));
+    if (held >= this->Config.MaxClients)
     {
       const std::string line = FormatEvent(MakeError(reason::TooManyClients,
         "the avatar serves at most " + std::to_string(this->Config.MaxClients) + " clients at once"));
@@ -490,8 +494,14 @@ void DialogServer::ReadClient(Client& client, std::vector<Incoming>& out)
       client.Open = false;
       if (client.Socket)
       {
-        this->FlushClient(client); // a half-closed client still reads its events
-        this->Close(client);
+        // A half-closed client still reads its events: the socket stays until the commands
+        // it sent have ended (ReleaseEnded), or until writing to it fails.
+        this->FlushClient(client);
+        client.Ended = n == 0 && !client.Dead && this->HoldEnded;
+        if (!client.Ended)
+        {
+          this->Close(client);
+        }
       }
       return;
     }
@@ -543,11 +553,8 @@ std::vector<DialogServer::Incoming> DialogServer::Poll(int timeoutMs)
   {
     return out;
   }
-  int ready;
-  do
-  {
-    ready = ::poll(fds.data(), fds.size(), timeoutMs);
-  } while (ready < 0 && errno == EINTR);
+  // A signal ends the wait (EINTR: nothing read): a stop request (SIGTERM) is seen at once.
+  const int ready = ::poll(fds.data(), fds.size(), timeoutMs);
   if (ready <= 0)
   {
     return out;
@@ -584,6 +591,22 @@ std::vector<DialogServer::Incoming> DialogServer::Poll(int timeoutMs)
   }
   this->RemoveClosed();
   return out;
+}
+
+void DialogServer::ReleaseEnded(const std::function<bool(ClientId)>& busy)
+{
+  for (auto& c : this->Clients)
+  {
+    if (c->Ended && !c->Dead && !busy(c->Id))
+    {
+      this->FlushClient(*c);
+      if (c->Output.empty() && !c->Dead)
+      {
+        this->Close(*c);
+      }
+    }
+  }
+  this->RemoveClosed();
 }
 
 void DialogServer::Send(ClientId id, const Event& event)

@@ -22,6 +22,7 @@
 #include "dialog/DialogProtocol.h"
 
 #include <chrono>
+#include <functional>
 #include <cstddef>
 #include <map>
 #include <memory>
@@ -89,6 +90,13 @@ public:
   void Broadcast(const Event& event);
   /// Writes pending events, waiting at most timeoutMs in total (e.g. before quitting).
   void Flush(int timeoutMs);
+  /// Keep socket clients whose input ended (a half-closed client, `nc -N`, still reads the
+  /// events of what it sent) until ReleaseEnded() lets them go; off: closed at the end of
+  /// their input. DialogSession turns it on.
+  void HoldEndedClients(bool hold) { this->HoldEnded = hold; }
+  /// Closes the held clients whose input ended once `busy(client)` is false and their
+  /// events are written (DialogSession calls it when commands end).
+  void ReleaseEnded(const std::function<bool(ClientId)>& busy);
 
   /// True while the client is connected (the stream: while its input is open).
   bool IsConnected(ClientId client) const;
@@ -129,6 +137,7 @@ private:
   std::vector<std::string> Addresses;
   ClientId NextClient = 1;
   size_t Errors = 0;
+  bool HoldEnded = false;
 };
 } // namespace dialog
 } // namespace morphnode

@@ -28,6 +28,7 @@ DialogSession::DialogSession(DialogServer& server, CommandSink& sink)
   : Server(&server)
   , Sink(sink)
 {
+  server.HoldEndedClients(true); // a half-closed client gets the events of what it sent
 }
 
 DialogSession::DialogSession(EventOutput output, CommandSink& sink)
@@ -59,6 +60,7 @@ size_t DialogSession::Receive(double now, int timeoutMs)
   {
     accepted += this->Execute(in.Client, in.Cmd, now, in.Arrived) ? 1 : 0;
   }
+  this->ReleaseEnded();
   return accepted;
 }
 
@@ -181,6 +183,19 @@ void DialogSession::Advance(double now)
   this->Running.erase(std::remove_if(this->Running.begin(), this->Running.end(),
                         [](const Tracked& t) { return t.Done; }),
     this->Running.end());
+  this->ReleaseEnded();
+}
+
+void DialogSession::ReleaseEnded()
+{
+  if (!this->Server)
+  {
+    return; // events go to a callback: no connections to close
+  }
+  this->Server->ReleaseEnded([this](ClientId client) {
+    return std::any_of(this->Running.begin(), this->Running.end(),
+      [client](const Tracked& t) { return t.Client == client; });
+  });
 }
 
 void DialogSession::Shutdown(double now, int timeoutMs)

@@ -117,6 +117,8 @@ private:
   };
   Event MakeEvent(EventKind kind, const Tracked& t, double now) const;
   void Send(ClientId client, const Event& event);
+  /// Half-closed clients with nothing running are closed (DialogServer::ReleaseEnded).
+  void ReleaseEnded();
 
   DialogServer* Server = nullptr;
   EventOutput Output;

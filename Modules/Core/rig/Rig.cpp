@@ -2,6 +2,7 @@
 #include "rig/Rig.h"
 
 #include "base/Error.h"
+#include "base/LibraryMessage.h"
 #include "base/Text.h"
 
 #include <nlohmann/json.hpp>

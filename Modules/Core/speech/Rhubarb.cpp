@@ -2,6 +2,7 @@
 #include "speech/Rhubarb.h"
 
 #include "base/Error.h"
+#include "base/LibraryMessage.h"
 #include "base/Text.h"
 
 #include <expat.h>

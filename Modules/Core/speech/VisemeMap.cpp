@@ -3,6 +3,7 @@
 
 #include "speech/BuiltinVisemeTables.h"
 #include "base/Error.h"
+#include "base/LibraryMessage.h"
 #include "base/Text.h"
 #include "speech/Rhubarb.h"
 #include "speech/Sampa.h"

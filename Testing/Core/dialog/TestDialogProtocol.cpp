@@ -338,3 +338,19 @@ TEST(LineFramer, Reset)
   ASSERT_EQ(items.size(), 1u);
   EXPECT_EQ(items[0].Line, "d");
 }
+
+// Issue 29: a duplicate key took the last value; a command means one thing to every reader.
+TEST(DialogProtocol, DuplicateKeysAreRefused)
+{
+  for (const char* line : { R"({"cmd":"say","text":"yes","text":"no"})",
+         R"({"cmd":"gesture","name":"nod","cmd":"quit"})",
+         R"({"cmd":"look_at","yaw":1,"pitch":2,"yaw":80})" })
+  {
+    const ParsedLine p = ParseCommand(line);
+    ASSERT_FALSE(p.Ok()) << line;
+    EXPECT_EQ(p.Error.Reason, reason::Malformed) << line;
+    EXPECT_NE(p.Error.Message.find("appears twice"), std::string::npos) << p.Error.Message;
+  }
+  // The same key in different objects is fine.
+  EXPECT_TRUE(ParseCommand(R"({"cmd":"say","text":"a","id":"text"})").Ok());
+}

@@ -255,3 +255,41 @@ TEST(DialogSession, RefreshedScheduleMovesTheEnd)
   EXPECT_EQ(e[0]["event"], "ended");
   EXPECT_DOUBLE_EQ(e[0]["end"].get<double>(), 3.5);
 }
+
+// Issue 29: a client that sends its commands and half-closes (`nc -N`) still gets their
+// events; its socket is released when they have ended.
+TEST(DialogSession, HalfClosedClientGetsItsEvents)
+{
+  DialogServer server;
+  RecordingSink sink;
+  DialogSession session(server, sink);
+  const std::string address = server.Listen("127.0.0.1:0");
+  const size_t colon = address.rfind(':');
+  sockaddr_in to{};
+  to.sin_family = AF_INET;
+  to.sin_port = htons(static_cast<uint16_t>(std::stoi(address.substr(colon + 1))));
+  to.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  const int fd = socket(AF_INET, SOCK_STREAM, 0);
+  ASSERT_EQ(connect(fd, reinterpret_cast<sockaddr*>(&to), sizeof(to)), 0);
+  const std::string line = R"({"cmd":"gesture","name":"nod","duration":1,"id":"h"})" "\n";
+  ASSERT_EQ(write(fd, line.data(), line.size()), static_cast<ssize_t>(line.size()));
+  shutdown(fd, SHUT_WR);
+  for (int i = 0; i < 20 && sink.Calls.empty(); ++i)
+  {
+    session.Receive(5.0, 50);
+  }
+  ASSERT_EQ(sink.Calls.size(), 1u);
+  session.Advance(5.0);
+  session.Advance(6.0); // ended
+  std::string pending;
+  const auto events = ReadEvents(fd, 3, &server, pending, 1000);
+  ASSERT_EQ(events.size(), 3u);
+  EXPECT_EQ(events[0]["event"], "accepted");
+  EXPECT_EQ(events[1]["event"], "started");
+  EXPECT_EQ(events[2]["event"], "ended");
+  EXPECT_EQ(events[2]["id"], "h");
+  // Released: the server closed its side, the client reads the end.
+  char byte;
+  EXPECT_EQ(read(fd, &byte, 1), 0);
+  close(fd);
+}

@@ -11,6 +11,7 @@
 // sound by the coarticulation's lead (50 ms), as Rhubarb's cues anticipate too.
 #include "CommandLine.h"
 #include "Progress.h"
+#include "StopSignal.h"
 
 #include "align/RecordingSpeech.h"
 #include "audio/AudioFile.h"
@@ -130,6 +131,7 @@ int main(int argc, char** argv)
     }
     if (!output.empty())
     {
+      const appkit::DeferStopSignals whole; // a SIGTERM now: the whole file or none
       file::WriteFileSafely(output, file.str(), "output");
     }
   }
