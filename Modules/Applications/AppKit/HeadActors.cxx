@@ -10,6 +10,10 @@
 #include "vtkLightKit.h"
 #include "vtkLinearTransform.h"
 #include "vtkMath.h"
+#include "vtkOpenGLRenderer.h"
+#include "vtkPBRIrradianceTexture.h"
+#include "vtkPBRLUTTexture.h"
+#include "vtkPBRPrefilterTexture.h"
 #include "vtkPointData.h"
 #include "vtkPolyData.h"
 #include "vtkPolyDataMapper.h"
@@ -474,13 +478,27 @@ vtkSmartPointer<vtkTexture> HeadActors::MakeEnvironment()
   return texture;
 }
 
-void HeadActors::SetUpView(vtkRenderer* renderer, const double bounds[6], double zoom)
+void HeadActors::SetUpLights(vtkRenderer* renderer, bool imageBasedLighting)
 {
   // Image-based lighting for the PBR materials (the classic parts ignore it), and depth
   // peeling so that translucent parts (BLEND, MASK cards) are drawn after the opaque ones
   // in depth order.
-  renderer->UseImageBasedLightingOn();
-  renderer->SetEnvironmentTexture(MakeEnvironment());
+  if (imageBasedLighting)
+  {
+    renderer->UseImageBasedLightingOn();
+    renderer->SetEnvironmentTexture(MakeEnvironment());
+    if (auto* gl = vtkOpenGLRenderer::SafeDownCast(renderer))
+    {
+      // The environment is a smooth gradient: small prefiltered maps with few samples look
+      // the same and take a fraction of the time VTK's defaults (128 pixels, 1024 samples,
+      // a LUT of 128) take on a software GL, where the first frame waited seconds.
+      gl->GetEnvMapPrefiltered()->SetPrefilterLevels(4);
+      gl->GetEnvMapPrefiltered()->SetPrefilterMaxSamples(64);
+      gl->GetEnvMapLookupTable()->SetLUTSize(64);
+      gl->GetEnvMapLookupTable()->SetLUTSamples(128);
+      gl->GetEnvMapIrradiance()->SetIrradianceSize(16);
+    }
+  }
   renderer->SetUseDepthPeeling(true);
   renderer->SetMaximumNumberOfPeels(6);
   renderer->SetOcclusionRatio(0.0);
@@ -494,6 +512,11 @@ void HeadActors::SetUpView(vtkRenderer* renderer, const double bounds[6], double
   lights->SetBackLightWarmth(0.5);
   lights->SetHeadLightWarmth(0.5);
   lights->AddLightsToRenderer(renderer);
+}
+
+void HeadActors::SetUpView(vtkRenderer* renderer, const double bounds[6], double zoom)
+{
+  SetUpLights(renderer);
   renderer->SetBackground(0.15, 0.16, 0.2);
   renderer->SetBackground2(0.32, 0.34, 0.42);
   renderer->GradientBackgroundOn();
