@@ -236,3 +236,27 @@ TEST(GltfMaterials, BadMaterialJsonNamesThePointer)
     EXPECT_NE(error.find(c.Expected), std::string::npos) << error;
   }
 }
+
+// The fuzz seeds of these paths (Testing/Fuzz/tools/MakeGltfSeeds.cpp) load as meant, so that
+// the fuzzer starts inside the decoders, not at their first check.
+TEST(GltfMaterials, FuzzSeedsReachTheDecoders)
+{
+  const std::string corpus = std::string(MORPHNODE_SOURCE_DIR) + "/Testing/Fuzz/corpus/gltf/";
+  const GltfScene meshopt = LoadGltfScene(corpus + "meshopt.glb");
+  ASSERT_EQ(meshopt.Parts.size(), 1u);
+  EXPECT_EQ(meshopt.Parts[0].Positions, (std::vector<float>{ 0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0 }));
+  EXPECT_EQ(meshopt.Parts[0].GetNumberOfTriangles(), 2u);
+  EXPECT_NEAR(meshopt.Parts[0].Normals[2], 1.0, 0.01); // OCTAHEDRAL filter decoded
+  const GltfScene quantized = LoadGltfScene(corpus + "quantized.glb");
+  EXPECT_NEAR(quantized.Parts[0].Positions[3], 1.0, 1e-6);
+  const GltfScene materials = LoadGltfScene(corpus + "materials.glb");
+  ASSERT_EQ(materials.Images.size(), 5u);
+  EXPECT_EQ(materials.Images[0].MimeType, "image/png");
+  EXPECT_EQ(materials.Images[1].MimeType, "image/webp");
+  EXPECT_EQ(materials.Images[2].MimeType, "image/jpeg");
+  EXPECT_FALSE(materials.Images[3].IsDecoded());
+  EXPECT_EQ(materials.Materials[0].BaseColorTexture.Image, 1); // the WebP
+  EXPECT_EQ(materials.Materials[0].AlphaMode, GltfAlphaMode::Mask);
+  EXPECT_TRUE(materials.Materials[1].Unlit);
+  EXPECT_FALSE(materials.Parts[0].TexCoords1.empty());
+}
