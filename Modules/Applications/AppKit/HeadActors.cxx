@@ -153,8 +153,9 @@ vtkSmartPointer<vtkTexture> PartTexture(vtkPolyData* part, const std::string& na
 /// (factors, and the ORM texture), normal and emissive textures, alpha modes, back faces
 /// culled unless double-sided, unlit as flat ambient colour. False when the part has no
 /// material fields (the classic look stays).
-bool ApplyMaterial(vtkPolyData* part, vtkProperty* property, const std::array<double, 4>& color)
+bool ApplyMaterial(vtkPolyData* part, vtkActor* actor, const std::array<double, 4>& color)
 {
+  vtkProperty* property = actor->GetProperty();
   if (!part->GetFieldData()->GetArray("MetallicFactor"))
   {
     return false;
@@ -202,8 +203,18 @@ bool ApplyMaterial(vtkPolyData* part, vtkProperty* property, const std::array<do
   }
   if (FieldNumber(part, "Unlit", 0, 0) != 0)
   {
+    // KHR_materials_unlit: the base colour as it is. VTK's PBR has no unlit mode and its
+    // base colour texture works only with PBR, so the classic path draws it, the texture
+    // as the actor's.
     property->SetInterpolationToFlat();
     property->LightingOff();
+    const auto& textures = property->GetAllTextures();
+    const auto albedo = textures.find("albedoTex");
+    if (albedo != textures.end())
+    {
+      actor->SetTexture(albedo->second);
+    }
+    property->RemoveAllTextures();
   }
   return true;
 }
@@ -332,7 +343,7 @@ bool HeadActors::Build(vtkDataObject* head, vtkRenderer* renderer, vtkLinearTran
       part->Actor->SetUserTransform(pose);
     }
     vtkProperty* property = part->Actor->GetProperty();
-    if (!ApplyMaterial(input, property, color))
+    if (!ApplyMaterial(input, part->Actor, color))
     {
       property->SetColor(color[0], color[1], color[2]);
       property->SetOpacity(color[3]);
