@@ -260,3 +260,39 @@ TEST(GltfMaterials, FuzzSeedsReachTheDecoders)
   EXPECT_TRUE(materials.Materials[1].Unlit);
   EXPECT_FALSE(materials.Parts[0].TexCoords1.empty());
 }
+
+// Decoded images count against GltfLoadOptions::MaxDecodedBytes with the geometry: an image
+// past the budget is left out (with its reason), the file still loads.
+TEST(GltfMaterials, ImagesPastTheDecodedSizeLimitAreLeftOut)
+{
+  const std::string bytes = TexturedTriangle().Glb();
+  auto loads = [&](uint64_t limit) {
+    morphnode::GltfLoadOptions options;
+    options.MaxDecodedBytes = limit;
+    try
+    {
+      morphnode::LoadGltfSceneFromMemory(bytes.data(), bytes.size(), "", options, "test.glb");
+      return true;
+    }
+    catch (const InputError&)
+    {
+      return false;
+    }
+  };
+  // The smallest limit the geometry needs (the check's estimate).
+  uint64_t lo = 0, hi = 1 << 20;
+  while (lo + 1 < hi)
+  {
+    const uint64_t mid = (lo + hi) / 2;
+    (loads(mid) ? hi : lo) = mid;
+  }
+  morphnode::GltfLoadOptions options;
+  options.MaxDecodedBytes = hi + 4; // room for one 1 x 1 RGBA image
+  const GltfScene scene = morphnode::LoadGltfSceneFromMemory(bytes.data(), bytes.size(), "", options, "test.glb");
+  ASSERT_EQ(scene.Images.size(), 3u);
+  EXPECT_TRUE(scene.Images[1].IsDecoded());
+  EXPECT_FALSE(scene.Images[2].IsDecoded());
+  EXPECT_NE(scene.Images[2].Error.find("more than the limit"), std::string::npos) << scene.Images[2].Error;
+  EXPECT_EQ(scene.Materials[0].MetallicRoughnessTexture.Image, 1);
+  EXPECT_EQ(scene.Materials[0].EmissiveTexture.Image, -1);
+}
