@@ -109,8 +109,12 @@ vtkSmartPointer<vtkTexture> PartTexture(vtkPolyData* part, const std::string& na
   const std::string& mode = "BLEND", double cutoff = 0.5, double factor = 1.0)
 {
   auto* pixels = vtkUnsignedCharArray::SafeDownCast(part->GetFieldData()->GetArray((name + "Image").c_str()));
-  const int width = static_cast<int>(FieldNumber(part, (name + "ImageSize").c_str(), 0, 0));
-  const int height = static_cast<int>(FieldNumber(part, (name + "ImageSize").c_str(), 1, 0));
+  // Sizes from field data another pipeline may have set: within int before the cast.
+  auto size = [&](int k) {
+    const double v = FieldNumber(part, (name + "ImageSize").c_str(), k, 0);
+    return v >= 1 && v <= 65536 ? static_cast<int>(v) : 0;
+  };
+  const int width = size(0), height = size(1);
   if (!pixels || pixels->GetNumberOfComponents() != 4 || width <= 0 || height <= 0 ||
     pixels->GetNumberOfTuples() != vtkIdType(width) * height)
   {
@@ -138,9 +142,11 @@ vtkSmartPointer<vtkTexture> PartTexture(vtkPolyData* part, const std::string& na
   auto texture = vtkSmartPointer<vtkTexture>::New();
   texture->SetInputData(image);
   texture->SetUseSRGBColorSpace(srgb);
-  const int mag = static_cast<int>(FieldNumber(part, (name + "Sampler").c_str(), 0, 0));
-  const int min = static_cast<int>(FieldNumber(part, (name + "Sampler").c_str(), 1, 0));
-  const int wrap = static_cast<int>(FieldNumber(part, (name + "Sampler").c_str(), 2, 10497));
+  auto sampler = [&](int k, double fallback) {
+    const double v = FieldNumber(part, (name + "Sampler").c_str(), k, fallback);
+    return v >= 0 && v <= 65535 ? static_cast<int>(v) : static_cast<int>(fallback);
+  };
+  const int mag = sampler(0, 0), min = sampler(1, 0), wrap = sampler(2, 10497);
   texture->SetInterpolate(mag != 9728); // NEAREST only when the file asks for it
   texture->SetMipmap(min == 0 || min >= 9984);
   texture->SetRepeat(wrap != 33071);
