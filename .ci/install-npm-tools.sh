@@ -2,8 +2,9 @@
 # Installs the npm tools MorphNode's tests use into a project-local prefix (default
 # .ci/npm-tools, which CMake looks in; ignored by git): the Khronos glTF validator
 # (gltf-validator), which checks the glTF exports (Testing/GltfValidator.cmake); three.js
-# (three), the browser face of the avatar stream (docs/streaming.md), and playwright-core,
-# which drives Debian's chromium in the stream's browser test (no browser download). Needs node
+# (three), the browser face of the avatar stream (docs/streaming.md) and the independent glTF
+# renderer beside MorphNode's (Testing/Browser, docs/materials.md), and playwright-core, which
+# drives Debian's chromium in those browser tests (no browser download). Needs node
 # and npm: Debian's `nodejs` (.ci/packages.txt) and `npm`, installed here when npm is missing
 # (Node.js packages from elsewhere, e.g. NodeSource's, bring their own npm). Also gltfpack
 # 1.3.0 (meshoptimizer's WebAssembly build), the yardstick of the level-of-detail study

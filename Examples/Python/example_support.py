@@ -10,9 +10,11 @@ import sys
 import time
 
 from morphnode import vtkMorphNodeFilter
-from vtkmodules.vtkCommonCore import vtkUnsignedCharArray
-from vtkmodules.vtkCommonDataModel import vtkPolyData
-from vtkmodules.vtkRenderingCore import vtkActor, vtkLightKit, vtkPolyDataMapper
+from vtkmodules.vtkCommonCore import vtkFloatArray, vtkUnsignedCharArray
+from vtkmodules.vtkCommonDataModel import vtkImageData, vtkPolyData
+from vtkmodules.vtkImagingCore import vtkImageExtractComponents, vtkImageThreshold
+from vtkmodules.vtkImagingCore import vtkImageAppendComponents
+from vtkmodules.vtkRenderingCore import vtkActor, vtkLightKit, vtkPolyDataMapper, vtkTexture
 
 SKIN = (0.86, 0.72, 0.62)  # a part without a material
 
@@ -139,6 +141,91 @@ def point_colors(part, base):
     return array
 
 
+def _field_number(part, name, component=0, default=0.0):
+    array = part.GetFieldData().GetArray(name)
+    if array is None or array.GetNumberOfValues() <= component:
+        return default
+    return array.GetValue(component)
+
+
+def part_texture(part, slot, srgb, mode="BLEND", cutoff=0.5):
+    """The texture of field data <slot>Image (vtkMorphTargetReader, docs/materials.md), as
+    AppKit/HeadActors makes it: OPAQUE drops alpha, MASK makes it 0 or 1 at the cutoff.
+    None when the part has no such image."""
+    pixels = part.GetFieldData().GetArray(slot + "Image")
+    width = int(_field_number(part, slot + "ImageSize", 0))
+    height = int(_field_number(part, slot + "ImageSize", 1))
+    if pixels is None or pixels.GetNumberOfComponents() != 4 or width * height != pixels.GetNumberOfTuples():
+        return None
+    image = vtkImageData()
+    image.SetDimensions(width, height, 1)
+    image.GetPointData().SetScalars(pixels)
+    rgb = vtkImageExtractComponents()
+    rgb.SetInputData(image)
+    rgb.SetComponents(0, 1, 2)
+    source = rgb
+    if mode != "OPAQUE":
+        alpha = vtkImageExtractComponents()
+        alpha.SetInputData(image)
+        alpha.SetComponents(3)
+        joined = vtkImageAppendComponents()
+        joined.AddInputConnection(rgb.GetOutputPort())
+        if mode == "MASK":
+            cut = vtkImageThreshold()
+            cut.SetInputConnection(alpha.GetOutputPort())
+            cut.ThresholdByUpper(cutoff * 255.0 - 1e-6)
+            cut.SetInValue(255)
+            cut.SetOutValue(0)
+            cut.ReplaceInOn()
+            cut.ReplaceOutOn()
+            joined.AddInputConnection(cut.GetOutputPort())
+        else:
+            joined.AddInputConnection(alpha.GetOutputPort())
+        source = joined
+    source.Update()
+    texture = vtkTexture()
+    texture.SetInputData(source.GetOutput())
+    texture.SetUseSRGBColorSpace(srgb)
+    texture.SetInterpolate(int(_field_number(part, slot + "Sampler", 0)) != 9728)
+    minification = int(_field_number(part, slot + "Sampler", 1))
+    texture.SetMipmap(minification == 0 or minification >= 9984)
+    texture.SetRepeat(int(_field_number(part, slot + "Sampler", 2, 10497)) != 33071)
+    return texture
+
+
+def apply_material(part, actor, color):
+    """The part's glTF material drawn with VTK's PBR, as AppKit/HeadActors draws it (base
+    colour, metallic, roughness, emissive, alpha modes, double-sided, unlit); False when the
+    part has no material fields."""
+    if part.GetFieldData().GetArray("MetallicFactor") is None:
+        return False
+    prop = actor.GetProperty()
+    mode = _field_string(part, "AlphaMode")
+    cutoff = _field_number(part, "AlphaCutoff", 0, 0.5)
+    prop.SetInterpolationToPBR()
+    prop.SetColor(color[:3])
+    prop.SetMetallic(_field_number(part, "MetallicFactor", 0, 1.0))
+    prop.SetRoughness(_field_number(part, "RoughnessFactor", 0, 1.0))
+    prop.SetEmissiveFactor(*[_field_number(part, "EmissiveFactor", k) for k in range(3)])
+    prop.SetBackfaceCulling(_field_number(part, "DoubleSided") == 0)
+    prop.SetOpacity(color[3] if mode == "BLEND" else 1.0)
+    base = None
+    if part.GetPointData().GetTCoords() is not None:
+        base = part_texture(part, "BaseColor", True, mode or "OPAQUE", cutoff)
+        if base is not None:
+            prop.SetBaseColorTexture(base)
+        emissive = part_texture(part, "Emissive", True, "OPAQUE")
+        if emissive is not None:
+            prop.SetEmissiveTexture(emissive)
+    if _field_number(part, "Unlit") != 0:
+        prop.SetInterpolationToFlat()
+        prop.LightingOff()
+        prop.RemoveAllTextures()
+        if base is not None:
+            actor.SetTexture(base)
+    return True
+
+
 class HeadActors:
     """One actor per part of a head, each in its own colour (BaseColor x COLOR_0), all moved
     by one transform (the head pose): the Python twin of AppKit/HeadActors, which says why
@@ -157,12 +244,13 @@ class HeadActors:
             if pose is not None:
                 actor.SetUserTransform(pose)
             prop = actor.GetProperty()
-            prop.SetColor(color[:3])
-            prop.SetOpacity(color[3])
-            prop.SetAmbient(0.08)
-            prop.SetDiffuse(0.92)
-            prop.SetSpecular(0.15)
-            prop.SetSpecularPower(20.0)
+            if not apply_material(part, actor, color):
+                prop.SetColor(color[:3])
+                prop.SetOpacity(color[3])
+                prop.SetAmbient(0.08)
+                prop.SetDiffuse(0.92)
+                prop.SetSpecular(0.15)
+                prop.SetSpecularPower(20.0)
             entry = {"display": display, "mapper": mapper, "actor": actor,
                      "colors": point_colors(part, color), "points": part.GetNumberOfPoints(),
                      "name": _field_string(part, "PartName")}
@@ -221,12 +309,48 @@ class HeadActors:
         return rng
 
 
+def make_environment(scale=0.3):
+    """The image-based lighting of AppKit HeadActors::MakeEnvironment: an equirectangular
+    neutral sky, horizon and floor made here (linear RGB, 64 x 32; nothing downloaded)."""
+    width, height = 64, 32
+    values = vtkFloatArray()
+    values.SetNumberOfComponents(3)
+    values.SetNumberOfTuples(width * height)
+    for y in range(height):
+        up = (y + 0.5) / height * 2.0 - 1.0
+        t = math.sqrt(abs(up))
+        if up >= 0:
+            a, b = (0.95, 0.92, 0.88), (0.9, 0.9, 0.92)
+        else:
+            a, b = (0.7, 0.67, 0.63), (0.3, 0.28, 0.26)
+        rgb = [scale * (a[c] + (b[c] - a[c]) * t) for c in range(3)]
+        for x in range(width):
+            values.SetTuple3(y * width + x, *rgb)
+    image = vtkImageData()
+    image.SetDimensions(width, height, 1)
+    image.GetPointData().SetScalars(values)
+    texture = vtkTexture()
+    texture.SetInputData(image)
+    texture.InterpolateOn()
+    texture.MipmapOn()
+    return texture
+
+
 def set_up_view(renderer, bounds, zoom=1.0):
-    """A light kit, a gradient background and the camera in front of the face (it looks along
-    +Z, +Y up), the head filling the view (AppKit HeadActors::SetUpView)."""
+    """A white light kit, image-based lighting (make_environment), depth peeling, a gradient
+    background and the camera in front of the face (it looks along +Z, +Y up), the head
+    filling the view (AppKit HeadActors::SetUpView)."""
+    renderer.UseImageBasedLightingOn()
+    renderer.SetEnvironmentTexture(make_environment())
+    renderer.SetUseDepthPeeling(True)
+    renderer.SetMaximumNumberOfPeels(6)
+    renderer.SetOcclusionRatio(0.0)
     renderer.RemoveAllLights()
     lights = vtkLightKit()
     lights.SetKeyLightIntensity(0.85)
+    for set_warmth in (lights.SetKeyLightWarmth, lights.SetFillLightWarmth, lights.SetBackLightWarmth,
+                       lights.SetHeadLightWarmth):
+        set_warmth(0.5)  # white lights: glTF's colours are drawn gamma-correct
     lights.AddLightsToRenderer(renderer)
     renderer.SetBackground(0.15, 0.16, 0.2)
     renderer.SetBackground2(0.32, 0.34, 0.42)

@@ -49,9 +49,10 @@ struct View
   double Azimuth = 0.0;
 };
 
-/// VTK's legacy image metric. Measured with the "O" cell showing "A"
-/// (MouthSwappedFailsTheBaseline) the default head's sheet scores 1.10, below VTK's usual
-/// 10, which does not see a mouth in one of 13 cells; the baselines' own renders score 0.
+/// VTK's legacy image metric with a per-channel tolerance of 24 levels
+/// (morphnode_test::SensitiveBaselineError; glTF materials drawn gamma-correct are too pale
+/// for vtkTesting's 105). Measured with the "O" cell showing "A" (MouthSwappedFailsTheBaseline)
+/// the default head's sheet scores 11.8; the baselines' own renders score 0.
 constexpr double Threshold = 0.5;
 
 /// Renders the 13 shapes of `face` (a dataset with relative targets named as in Table 1)
@@ -136,6 +137,9 @@ std::vector<double> RenderSheet(vtkAlgorithmOutput* face, const View& view,
     heads.push_back(std::make_unique<morphnode::appkit::HeadActors>());
     EXPECT_TRUE(heads.back()->Build(morph->GetOutputDataObject(0), renderer, nullptr))
       << PaperShapes[cell];
+    // The avatar's lights; no image-based lighting, which takes seconds per cell to prepare.
+    morphnode::appkit::HeadActors::SetUpLights(renderer, false);
+    renderer->GradientBackgroundOff();
 
     vtkNew<vtkTextActor> label;
     label->SetInput(PaperShapes[cell]);
@@ -173,18 +177,17 @@ std::vector<double> RenderSheet(vtkAlgorithmOutput* face, const View& view,
   writer->Write();
 
   const std::string expected = std::string(MORPHNODE_BASELINE_DIR) + "/" + baseline;
-  const double error = morphnode_test::BaselineError(window, expected, MORPHNODE_TEST_OUTPUT_DIR);
+  const double error = morphnode_test::SensitiveBaselineError(window, expected, MORPHNODE_TEST_OUTPUT_DIR);
   std::cout << "image error against " << baseline << (shapeInOCell ? " (O cell swapped): " : ": ")
             << error << "\n";
   if (shapeInOCell)
   {
     EXPECT_GT(error, Threshold) << "the comparison does not see the mouth of the O cell";
-    EXPECT_FALSE(morphnode_test::MatchesBaseline(window, expected, MORPHNODE_TEST_OUTPUT_DIR, Threshold));
+    EXPECT_FALSE(error >= 0 && error <= Threshold);
   }
   else
   {
-    EXPECT_TRUE(morphnode_test::MatchesBaseline(window, expected, MORPHNODE_TEST_OUTPUT_DIR, Threshold))
-      << "rendered sheet: " << written;
+    EXPECT_TRUE(error >= 0 && error <= Threshold) << "rendered sheet: " << written;
   }
   return moved;
 }

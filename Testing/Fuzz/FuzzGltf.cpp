@@ -196,7 +196,10 @@ json Interesting(std::minstd_rand& rng, const json& current)
   static const char* const strings[] = { "SCALAR", "VEC2", "VEC3", "VEC4", "MAT2", "MAT3", "MAT4", "POSITION",
     "NORMAL", "COLOR_0", "LINEAR", "STEP", "CUBICSPLINE", "translation", "rotation", "scale", "weights", "",
     "2.0", "1.0", "data:application/octet-stream;base64,AAAA", "x.bin", "../x.bin",
-    "KHR_draco_mesh_compression", "KHR_materials_unlit", "data:image/png;base64,AAAA", "a~b/c" };
+    "KHR_draco_mesh_compression", "KHR_materials_unlit", "data:image/png;base64,AAAA", "a~b/c",
+    "KHR_mesh_quantization", "EXT_meshopt_compression", "EXT_texture_webp", "KHR_texture_transform",
+    "KHR_texture_basisu", "ATTRIBUTES", "TRIANGLES", "INDICES", "OCTAHEDRAL", "QUATERNION", "EXPONENTIAL",
+    "OPAQUE", "MASK", "BLEND", "TEXCOORD_0", "TEXCOORD_1", "image/webp", "image/jpeg" };
   switch (rng() % 8)
   {
     case 0:
@@ -269,7 +272,9 @@ void MutateJson(json& root, std::minstd_rand& rng)
           "indices", "targets", "weights", "matrix", "children", "mesh", "scene", "mode", "material",
           "normalized", "extras", "rotation", "scale", "translation", "node", "sampler", "images", "uri",
           "extensionsRequired", "path", "interpolation", "type", "componentType", "byteLength", "input",
-          "output", "attributes", "POSITION", "NORMAL", "COLOR_0", "targetNames", "baseColorFactor" };
+          "output", "attributes", "POSITION", "NORMAL", "COLOR_0", "targetNames", "baseColorFactor",
+          "baseColorTexture", "index", "texCoord", "alphaMode", "alphaCutoff", "doubleSided", "source",
+          "extensions", "filter", "fallback", "TEXCOORD_0", "emissiveFactor", "normalTexture", "offset" };
         (*s.Value)[keys[rng() % (sizeof(keys) / sizeof(keys[0]))]] = Interesting(rng, json());
       }
       break;

@@ -10,6 +10,10 @@
 #include "vtkLightKit.h"
 #include "vtkLinearTransform.h"
 #include "vtkMath.h"
+#include "vtkOpenGLRenderer.h"
+#include "vtkPBRIrradianceTexture.h"
+#include "vtkPBRLUTTexture.h"
+#include "vtkPBRPrefilterTexture.h"
 #include "vtkPointData.h"
 #include "vtkPolyData.h"
 #include "vtkPolyDataMapper.h"
@@ -105,8 +109,12 @@ vtkSmartPointer<vtkTexture> PartTexture(vtkPolyData* part, const std::string& na
   const std::string& mode = "BLEND", double cutoff = 0.5, double factor = 1.0)
 {
   auto* pixels = vtkUnsignedCharArray::SafeDownCast(part->GetFieldData()->GetArray((name + "Image").c_str()));
-  const int width = static_cast<int>(FieldNumber(part, (name + "ImageSize").c_str(), 0, 0));
-  const int height = static_cast<int>(FieldNumber(part, (name + "ImageSize").c_str(), 1, 0));
+  // Sizes from field data another pipeline may have set: within int before the cast.
+  auto size = [&](int k) {
+    const double v = FieldNumber(part, (name + "ImageSize").c_str(), k, 0);
+    return v >= 1 && v <= 65536 ? static_cast<int>(v) : 0;
+  };
+  const int width = size(0), height = size(1);
   if (!pixels || pixels->GetNumberOfComponents() != 4 || width <= 0 || height <= 0 ||
     pixels->GetNumberOfTuples() != vtkIdType(width) * height)
   {
@@ -134,9 +142,11 @@ vtkSmartPointer<vtkTexture> PartTexture(vtkPolyData* part, const std::string& na
   auto texture = vtkSmartPointer<vtkTexture>::New();
   texture->SetInputData(image);
   texture->SetUseSRGBColorSpace(srgb);
-  const int mag = static_cast<int>(FieldNumber(part, (name + "Sampler").c_str(), 0, 0));
-  const int min = static_cast<int>(FieldNumber(part, (name + "Sampler").c_str(), 1, 0));
-  const int wrap = static_cast<int>(FieldNumber(part, (name + "Sampler").c_str(), 2, 10497));
+  auto sampler = [&](int k, double fallback) {
+    const double v = FieldNumber(part, (name + "Sampler").c_str(), k, fallback);
+    return v >= 0 && v <= 65535 ? static_cast<int>(v) : static_cast<int>(fallback);
+  };
+  const int mag = sampler(0, 0), min = sampler(1, 0), wrap = sampler(2, 10497);
   texture->SetInterpolate(mag != 9728); // NEAREST only when the file asks for it
   texture->SetMipmap(min == 0 || min >= 9984);
   texture->SetRepeat(wrap != 33071);
@@ -149,8 +159,9 @@ vtkSmartPointer<vtkTexture> PartTexture(vtkPolyData* part, const std::string& na
 /// (factors, and the ORM texture), normal and emissive textures, alpha modes, back faces
 /// culled unless double-sided, unlit as flat ambient colour. False when the part has no
 /// material fields (the classic look stays).
-bool ApplyMaterial(vtkPolyData* part, vtkProperty* property, const std::array<double, 4>& color)
+bool ApplyMaterial(vtkPolyData* part, vtkActor* actor, const std::array<double, 4>& color)
 {
+  vtkProperty* property = actor->GetProperty();
   if (!part->GetFieldData()->GetArray("MetallicFactor"))
   {
     return false;
@@ -198,8 +209,18 @@ bool ApplyMaterial(vtkPolyData* part, vtkProperty* property, const std::array<do
   }
   if (FieldNumber(part, "Unlit", 0, 0) != 0)
   {
+    // KHR_materials_unlit: the base colour as it is. VTK's PBR has no unlit mode and its
+    // base colour texture works only with PBR, so the classic path draws it, the texture
+    // as the actor's.
     property->SetInterpolationToFlat();
     property->LightingOff();
+    const auto& textures = property->GetAllTextures();
+    const auto albedo = textures.find("albedoTex");
+    if (albedo != textures.end())
+    {
+      actor->SetTexture(albedo->second);
+    }
+    property->RemoveAllTextures();
   }
   return true;
 }
@@ -328,7 +349,7 @@ bool HeadActors::Build(vtkDataObject* head, vtkRenderer* renderer, vtkLinearTran
       part->Actor->SetUserTransform(pose);
     }
     vtkProperty* property = part->Actor->GetProperty();
-    if (!ApplyMaterial(input, property, color))
+    if (!ApplyMaterial(input, part->Actor, color))
     {
       property->SetColor(color[0], color[1], color[2]);
       property->SetOpacity(color[3]);
@@ -474,13 +495,27 @@ vtkSmartPointer<vtkTexture> HeadActors::MakeEnvironment()
   return texture;
 }
 
-void HeadActors::SetUpView(vtkRenderer* renderer, const double bounds[6], double zoom)
+void HeadActors::SetUpLights(vtkRenderer* renderer, bool imageBasedLighting)
 {
   // Image-based lighting for the PBR materials (the classic parts ignore it), and depth
   // peeling so that translucent parts (BLEND, MASK cards) are drawn after the opaque ones
   // in depth order.
-  renderer->UseImageBasedLightingOn();
-  renderer->SetEnvironmentTexture(MakeEnvironment());
+  if (imageBasedLighting)
+  {
+    renderer->UseImageBasedLightingOn();
+    renderer->SetEnvironmentTexture(MakeEnvironment());
+    if (auto* gl = vtkOpenGLRenderer::SafeDownCast(renderer))
+    {
+      // The environment is a smooth gradient: small prefiltered maps with few samples look
+      // the same and take a fraction of the time VTK's defaults (128 pixels, 1024 samples,
+      // a LUT of 128) take on a software GL, where the first frame waited seconds.
+      gl->GetEnvMapPrefiltered()->SetPrefilterLevels(4);
+      gl->GetEnvMapPrefiltered()->SetPrefilterMaxSamples(64);
+      gl->GetEnvMapLookupTable()->SetLUTSize(64);
+      gl->GetEnvMapLookupTable()->SetLUTSamples(128);
+      gl->GetEnvMapIrradiance()->SetIrradianceSize(16);
+    }
+  }
   renderer->SetUseDepthPeeling(true);
   renderer->SetMaximumNumberOfPeels(6);
   renderer->SetOcclusionRatio(0.0);
@@ -494,6 +529,11 @@ void HeadActors::SetUpView(vtkRenderer* renderer, const double bounds[6], double
   lights->SetBackLightWarmth(0.5);
   lights->SetHeadLightWarmth(0.5);
   lights->AddLightsToRenderer(renderer);
+}
+
+void HeadActors::SetUpView(vtkRenderer* renderer, const double bounds[6], double zoom)
+{
+  SetUpLights(renderer);
   renderer->SetBackground(0.15, 0.16, 0.2);
   renderer->SetBackground2(0.32, 0.34, 0.42);
   renderer->GradientBackgroundOn();

@@ -80,6 +80,11 @@ public:
   /// `renderer` to its window: on a window without multisampling it turns FXAA on.
   static void SetUpView(vtkRenderer* renderer, const double bounds[6], double zoom = 1.0);
 
+  /// The lights of SetUpView alone: the light kit (white), image-based lighting from
+  /// MakeEnvironment (optional: it costs a few seconds per renderer on a software GL, where
+  /// it is computed), depth peeling for the translucent parts.
+  static void SetUpLights(vtkRenderer* renderer, bool imageBasedLighting = true);
+
   /// The environment of image-based lighting SetUpView gives the renderer: an
   /// equirectangular sky, horizon and floor made here (linear RGB, 64 x 32).
   static vtkSmartPointer<vtkTexture> MakeEnvironment();

@@ -26,6 +26,7 @@
 #include <iostream>
 #include <locale>
 #include <stdexcept>
+#include <string>
 
 namespace morphnode
 {
@@ -76,6 +77,12 @@ void TimeSeriesWriter::Write(vtkDataObject* face, vtkTable* weights, double t)
     copy->ShallowCopy(part);
     vtkNew<vtkFieldData> fieldData;
     fieldData->ShallowCopy(part->GetFieldData()); // the part's own stays untouched
+    // A textured part's images (field data <Slot>Image, megabytes each) would be written
+    // again in every step: they stay in the glTF file.
+    for (const char* slot : { "BaseColor", "MetallicRoughness", "Normal", "Occlusion", "Emissive" })
+    {
+      fieldData->RemoveArray((std::string(slot) + "Image").c_str());
+    }
     for (int a = 0; a < step->GetNumberOfArrays(); ++a)
     {
       fieldData->AddArray(step->GetAbstractArray(a));

@@ -276,7 +276,7 @@ Options ParseOptions(int argc, char* argv[])
     ->type_name("FILE")
     ->group(output);
   app.add_option("--compare", o.Compare,
-       "compare the single frame with a baseline PNG (VTK's image comparison); exit code 1 when it differs")
+       "compare the single frame with a baseline PNG (VTK's image difference, 24 levels of tolerance a channel); exit code 1 when it differs")
     ->check(CLI::ExistingFile)
     ->group(output);
   appkit::AddNumberOption(app, "--compare-threshold", o.CompareThreshold, 0.0, 1000.0,

@@ -68,10 +68,11 @@ namespace gltfext
 /// Images, Notes). `imageBytes[i]`: the encoded bytes of image i as tinygltf handed them to
 /// its image loader (a bufferView or a data URI), empty for an image in a file;
 /// `readFile(uri, bytes, error)` reads such a file (null: not allowed). An image that does
-/// not decode keeps its index with an Error, and the textures using it draw without it.
+/// not decode keeps its index with an Error, and the textures using it draw without it;
+/// so does one that would take the decoded images past `maxBytes` in all.
 /// Malformed material JSON: InputError naming the pointer.
 void ReadMaterials(const nlohmann::json& root, const std::vector<std::vector<unsigned char>>& imageBytes,
   bool (*readFile)(const std::string& uri, std::vector<unsigned char>& bytes, std::string& error, void* user),
-  void* user, GltfScene& scene, const std::string& source);
+  void* user, uint64_t maxBytes, GltfScene& scene, const std::string& source);
 } // namespace gltfext
 } // namespace morphnode

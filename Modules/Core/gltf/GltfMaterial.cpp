@@ -9,6 +9,7 @@
 #include "base/Error.h"
 #include "base/Text.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace morphnode
@@ -144,8 +145,10 @@ public:
   }
 
   void ReadImages(const std::vector<std::vector<unsigned char>>& bytes,
-    bool (*readFile)(const std::string&, std::vector<unsigned char>&, std::string&, void*), void* user)
+    bool (*readFile)(const std::string&, std::vector<unsigned char>&, std::string&, void*), void* user,
+    uint64_t maxBytes)
   {
+    uint64_t total = 0;
     const json& images = this->Array("images");
     for (size_t i = 0; i < images.size(); ++i)
     {
@@ -179,7 +182,11 @@ public:
         }
         else
         {
-          GltfDecodeImage(data->data(), data->size(), image);
+          // What is left of the decoded-size budget bounds this image (a small PNG can
+          // declare a huge canvas of one colour).
+          const uint64_t left = maxBytes > total ? (maxBytes - total) / 4 : 0;
+          GltfDecodeImage(data->data(), data->size(), image, std::min<uint64_t>(left, uint64_t(1) << 26));
+          total += image.Pixels.size();
         }
       }
       if (!image.Error.empty())
@@ -429,10 +436,10 @@ public:
 
 void ReadMaterials(const json& root, const std::vector<std::vector<unsigned char>>& imageBytes,
   bool (*readFile)(const std::string&, std::vector<unsigned char>&, std::string&, void*), void* user,
-  GltfScene& scene, const std::string& source)
+  uint64_t maxBytes, GltfScene& scene, const std::string& source)
 {
   MaterialReader reader(root, scene, source);
-  reader.ReadImages(imageBytes, readFile, user);
+  reader.ReadImages(imageBytes, readFile, user, maxBytes);
   reader.ReadTextures();
   reader.ReadMaterials();
   // Optional extensions the loader does not implement.

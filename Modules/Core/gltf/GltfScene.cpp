@@ -1113,7 +1113,16 @@ GltfScene LoadGltfSceneFromMemory(const void* data, size_t size, const std::stri
   const gltfext::DecodedViews decoded = gltfext::DecodeMeshopt(model, root, options.MaxDecodedBytes, sourceName);
   GltfScene scene = SceneBuilder(model, root, doc, options, decoded, sourceName).Build();
   Folder folder{ baseDirectory.empty() ? std::string() : baseDirectory + "/", options.MaxDecodedBytes };
-  gltfext::ReadMaterials(root, images, &ReadImageFile, &folder, scene, sourceName);
+  const uint64_t used = doc.DecodedBytes + [&decoded] {
+    uint64_t n = 0;
+    for (const auto& view : decoded)
+    {
+      n += view.second.size();
+    }
+    return n;
+  }();
+  gltfext::ReadMaterials(root, images, &ReadImageFile, &folder,
+    options.MaxDecodedBytes > used ? options.MaxDecodedBytes - used : 0, scene, sourceName);
   return scene;
 }
 

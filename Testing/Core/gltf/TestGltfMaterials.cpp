@@ -236,3 +236,63 @@ TEST(GltfMaterials, BadMaterialJsonNamesThePointer)
     EXPECT_NE(error.find(c.Expected), std::string::npos) << error;
   }
 }
+
+// The fuzz seeds of these paths (Testing/Fuzz/tools/MakeGltfSeeds.cpp) load as meant, so that
+// the fuzzer starts inside the decoders, not at their first check.
+TEST(GltfMaterials, FuzzSeedsReachTheDecoders)
+{
+  const std::string corpus = std::string(MORPHNODE_SOURCE_DIR) + "/Testing/Fuzz/corpus/gltf/";
+  const GltfScene meshopt = LoadGltfScene(corpus + "meshopt.glb");
+  ASSERT_EQ(meshopt.Parts.size(), 1u);
+  EXPECT_EQ(meshopt.Parts[0].Positions, (std::vector<float>{ 0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0 }));
+  EXPECT_EQ(meshopt.Parts[0].GetNumberOfTriangles(), 2u);
+  EXPECT_NEAR(meshopt.Parts[0].Normals[2], 1.0, 0.01); // OCTAHEDRAL filter decoded
+  const GltfScene quantized = LoadGltfScene(corpus + "quantized.glb");
+  EXPECT_NEAR(quantized.Parts[0].Positions[3], 1.0, 1e-6);
+  const GltfScene materials = LoadGltfScene(corpus + "materials.glb");
+  ASSERT_EQ(materials.Images.size(), 5u);
+  EXPECT_EQ(materials.Images[0].MimeType, "image/png");
+  EXPECT_EQ(materials.Images[1].MimeType, "image/webp");
+  EXPECT_EQ(materials.Images[2].MimeType, "image/jpeg");
+  EXPECT_FALSE(materials.Images[3].IsDecoded());
+  EXPECT_EQ(materials.Materials[0].BaseColorTexture.Image, 1); // the WebP
+  EXPECT_EQ(materials.Materials[0].AlphaMode, GltfAlphaMode::Mask);
+  EXPECT_TRUE(materials.Materials[1].Unlit);
+  EXPECT_FALSE(materials.Parts[0].TexCoords1.empty());
+}
+
+// Decoded images count against GltfLoadOptions::MaxDecodedBytes with the geometry: an image
+// past the budget is left out (with its reason), the file still loads.
+TEST(GltfMaterials, ImagesPastTheDecodedSizeLimitAreLeftOut)
+{
+  const std::string bytes = TexturedTriangle().Glb();
+  auto loads = [&](uint64_t limit) {
+    morphnode::GltfLoadOptions options;
+    options.MaxDecodedBytes = limit;
+    try
+    {
+      morphnode::LoadGltfSceneFromMemory(bytes.data(), bytes.size(), "", options, "test.glb");
+      return true;
+    }
+    catch (const InputError&)
+    {
+      return false;
+    }
+  };
+  // The smallest limit the geometry needs (the check's estimate).
+  uint64_t lo = 0, hi = 1 << 20;
+  while (lo + 1 < hi)
+  {
+    const uint64_t mid = (lo + hi) / 2;
+    (loads(mid) ? hi : lo) = mid;
+  }
+  morphnode::GltfLoadOptions options;
+  options.MaxDecodedBytes = hi + 4; // room for one 1 x 1 RGBA image
+  const GltfScene scene = morphnode::LoadGltfSceneFromMemory(bytes.data(), bytes.size(), "", options, "test.glb");
+  ASSERT_EQ(scene.Images.size(), 3u);
+  EXPECT_TRUE(scene.Images[1].IsDecoded());
+  EXPECT_FALSE(scene.Images[2].IsDecoded());
+  EXPECT_NE(scene.Images[2].Error.find("more than the limit"), std::string::npos) << scene.Images[2].Error;
+  EXPECT_EQ(scene.Materials[0].MetallicRoughnessTexture.Image, 1);
+  EXPECT_EQ(scene.Materials[0].EmissiveTexture.Image, -1);
+}
