@@ -238,8 +238,10 @@ function tick() {
   requestAnimationFrame(tick);
   const now = position();
   if (state.loaded && now !== null) {
+    // The frame nearest to what is heard (a frame is due from half a frame before its sample).
+    const half = 0.5 * audio.sampleRate / state.header.fps;
     let next = null;
-    while (state.frames.length && state.frames[0].sample <= now) next = state.frames.shift();
+    while (state.frames.length && state.frames[0].sample <= now + half) next = state.frames.shift();
     if (next) {
       applyFrame(next);
       const offset = (next.sample - now) / audio.sampleRate * 1000; // picture minus sound
