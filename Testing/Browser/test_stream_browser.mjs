@@ -79,44 +79,43 @@ async function open(query = '') {
   return page;
 }
 
-/// Pixels of the mouth region (the lower middle of the face) that differ by more than 24
-/// levels between two captures of the canvas.
-async function capture(page) {
-  return page.evaluate(() => {
+/// The mouth region (the lower middle of the canvas) and the widest mouth weight of the
+/// frame it shows, read in one task (the canvas holds the render of state.shown). `idle`
+/// keeps the region as the reference; otherwise returns how many of its pixels differ from
+/// the reference by more than 24 levels (counted in the page: no pixels cross the wire).
+async function capture(page, idle) {
+  return page.evaluate(([names, keep]) => {
+    const s = window.morphnode.state;
+    let open = 0;
+    if (s.shown) for (const [k, v] of s.shown.targets) if (names.includes(s.header.targets[k])) open = Math.max(open, v);
     const src = document.querySelector('#view canvas');
     const c = document.createElement('canvas');
     c.width = src.width; c.height = src.height;
     c.getContext('2d').drawImage(src, 0, 0);
     const x0 = Math.floor(c.width * 0.3), y0 = Math.floor(c.height * 0.5);
     const w = Math.floor(c.width * 0.4), h = Math.floor(c.height * 0.3);
-    return Array.from(c.getContext('2d').getImageData(x0, y0, w, h).data);
-  });
-}
-function changed(a, b) {
-  let n = 0;
-  for (let i = 0; i < a.length; i += 4) {
-    if (Math.abs(a[i] - b[i]) + Math.abs(a[i + 1] - b[i + 1]) + Math.abs(a[i + 2] - b[i + 2]) > 24) n++;
-  }
-  return n;
+    const px = c.getContext('2d').getImageData(x0, y0, w, h).data;
+    if (keep) { window.__mouthReference = px; return { open, changed: 0 }; }
+    const a = window.__mouthReference;
+    let n = 0;
+    for (let i = 0; i < a.length; i += 4) {
+      if (Math.abs(a[i] - px[i]) + Math.abs(a[i + 1] - px[i + 1]) + Math.abs(a[i + 2] - px[i + 2]) > 24) n++;
+    }
+    return { open, changed: n };
+  }, [['A', 'E', 'O', 'jawOpen'], idle]);
 }
 const mouthTargets = ['A', 'E', 'O', 'S', 'F', 'L', 'jawOpen'];
 /// Says a sentence and returns the mouth's pixel change at the widest opening seen.
 async function mouthChange(page) {
-  const idle = await capture(page);
+  await capture(page, true);
   await page.evaluate(() => window.morphnode.say('Ah, what a wonderful large apple, Anna.'));
   let best = 0, widest = 0;
   for (let i = 0; i < 40; ++i) {
     await page.waitForTimeout(50);
-    const open = await page.evaluate((names) => {
-      const s = window.morphnode.state;
-      const sent = s.log.length ? s.log[s.log.length - 1] : null;
-      let w = 0;
-      if (s.shown) for (const [k, v] of s.shown.targets) if (names.includes(s.header.targets[k])) w = Math.max(w, v);
-      return w;
-    }, ['A', 'E', 'O', 'jawOpen']);
-    if (open > widest) {
-      widest = open;
-      best = changed(idle, await capture(page));
+    const now = await capture(page, false);
+    if (now.open > widest) {
+      widest = now.open;
+      best = now.changed;
     }
   }
   await page.evaluate(() => window.morphnode.stop());

@@ -43,7 +43,7 @@ struct StreamSettings
   int PcmChunkMs = 100;
   /// A rotation is sent again once it turned more than this (degrees) from the one last
   /// sent: micro-motion below it is not worth its 6 bytes. 0: whenever it changes.
-  double RotationDeadband = 0.05;
+  double RotationDeadband = 0.1;
   BehaviorParameters Behavior;
   uint64_t Seed = 1;
 };
