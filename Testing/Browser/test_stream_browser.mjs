@@ -9,7 +9,8 @@
 //   4. `stop` silences sound and mouth within 100 ms;
 //   5. bad messages get error events and the session goes on; an oversized one ends that
 //      session only; a dropped connection ends its session on the server, which serves on.
-// Exit 0: passed; 1: failed; 77: skipped (no chromium / playwright-core), unless CI=true.
+// Exit 0: passed; 1: failed; 77: skipped (no chromium / playwright-core, unless CI=true; a
+// build without speech synthesis).
 // Env: MORPHAVATAR (the binary), NPM_TOOLS (.ci/npm-tools), CHROMIUM (/usr/bin/chromium),
 // SCREENSHOT_DIR (optional: where the phone screenshot goes).
 import { spawn } from 'node:child_process';
@@ -25,6 +26,10 @@ const npmTools = resolve(process.env.NPM_TOOLS || '.ci/npm-tools');
 function skip(why) {
   if (ci) { console.error(`FAIL (CI=true): ${why}`); process.exit(1); }
   console.log(`SKIP: ${why}`); process.exit(SKIP);
+}
+if (process.env.MORPHNODE_HAVE_SPEECH === '0') {
+  console.log('SKIP: built without eSpeak NG (MORPHNODE_ENABLE_ESPEAK=OFF): the avatar cannot speak');
+  process.exit(SKIP);
 }
 if (!existsSync(chromiumPath)) skip(`no chromium at ${chromiumPath} (Debian package chromium)`);
 let chromium;
