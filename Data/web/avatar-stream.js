@@ -84,32 +84,16 @@ async function startAudio(rate) {
   };
   document.body.addEventListener('click', () => audio.resume(), { once: true });
   if (audio.state !== 'running') audio.resume().catch(() => {});
-  if (codec === 'opus' && 'AudioDecoder' in window) {
-    opusDecoder = new AudioDecoder({
-      output: (data) => {
-        const decoded = new Float32Array(data.numberOfFrames);
-        data.copyTo(decoded, { planeIndex: 0, format: 'f32-planar' });
-        // Opus decoders may give 48 kHz whatever the stream's rate: back to the stream's
-        // clock (linear interpolation; speech has little above 8 kHz).
-        let pcm = decoded;
-        if (data.sampleRate !== rate) {
-          const n = Math.round(decoded.length * rate / data.sampleRate);
-          pcm = new Float32Array(n);
-          for (let i = 0; i < n; ++i) {
-            const x = i * data.sampleRate / rate, k = Math.floor(x), f = x - k;
-            pcm[i] = (decoded[k] || 0) * (1 - f) + (decoded[k + 1] || 0) * f;
-          }
-        }
-        state.opusChunks = (state.opusChunks || 0) + 1;
-        // WebCodecs timestamps are microseconds (the decoder counts them on): back to samples.
-        const sample = Math.round(data.timestamp * rate / 1e6);
-        state.lastAudio = { sample, at: position() };
-        player.port.postMessage({ type: 'chunk', sample, data: pcm }, [pcm.buffer]);
-        data.close();
-      },
-      error: (e) => console.warn('opus', e),
-    });
-    opusDecoder.configure({ codec: 'opus', sampleRate: rate, numberOfChannels: 1 });
+  if (codec === 'opus') {
+    // Decoded in a worker that feeds the worklet directly.
+    const channel = new MessageChannel();
+    player.port.postMessage({ type: 'port', port: channel.port1 }, [channel.port1]);
+    opusDecoder = new Worker('/opus-worker.js');
+    opusDecoder.onmessage = (e) => {
+      if (e.data.type === 'decoded') state.opusChunks = (state.opusChunks || 0) + 1;
+      else console.warn('opus', e.data.message);
+    };
+    opusDecoder.postMessage({ type: 'init', port: channel.port2, rate }, [channel.port2]);
   }
 }
 /// The stream sample heard now: the context's frame (its output latency taken off).
@@ -199,7 +183,8 @@ function onAudio(a) {
     for (let i = 0; i < a.frames; ++i) pcm[i] = v.getInt16(2 * i, true) / 32768;
     player.port.postMessage({ type: 'chunk', sample: a.sample, data: pcm }, [pcm.buffer]);
   } else if (opusDecoder) {
-    opusDecoder.decode(new EncodedAudioChunk({ type: 'key', timestamp: a.sample * 1e6 / audio.sampleRate, data: a.payload }));
+    const payload = a.payload.slice();
+    opusDecoder.postMessage({ type: 'packet', sample: a.sample, payload }, [payload.buffer]);
   }
 }
 
@@ -253,8 +238,10 @@ function tick() {
   requestAnimationFrame(tick);
   const now = position();
   if (state.loaded && now !== null) {
+    // The frame nearest to what is heard (a frame is due from half a frame before its sample).
+    const half = 0.5 * audio.sampleRate / state.header.fps;
     let next = null;
-    while (state.frames.length && state.frames[0].sample <= now) next = state.frames.shift();
+    while (state.frames.length && state.frames[0].sample <= now + half) next = state.frames.shift();
     if (next) {
       applyFrame(next);
       const offset = (next.sample - now) / audio.sampleRate * 1000; // picture minus sound

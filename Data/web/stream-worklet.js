@@ -10,8 +10,9 @@ class StreamPlayer extends AudioWorkletProcessor {
     this.chunks = [];     // { sample, data: Float32Array }, sorted by sample
     this.late = 0;        // samples that arrived after they were due
     this.played = 0;      // audible samples played
-    this.port.onmessage = (e) => {
+    const receive = (e) => {
       const m = e.data;
+      if (m.type === 'port') { m.port.onmessage = receive; return; } // the Opus worker's
       if (m.type === 'offset') {
         this.offset = m.offset;
       } else if (m.type === 'chunk') {
@@ -28,6 +29,7 @@ class StreamPlayer extends AudioWorkletProcessor {
         }
       }
     };
+    this.port.onmessage = receive;
     this.lastReport = 0;
   }
   process(inputs, outputs) {

@@ -174,7 +174,9 @@ void Bandwidth(std::ostream& md, const std::string& title, const GltfScene& face
   const SpeechOptions& speech, double seconds, int errorStride)
 {
   const std::vector<std::string> visemes = SelectVisemeMap(speech).GetVisemes();
-  const StreamAvatar avatar(face, LiveBehavior(visemes).GetChannelNames(), rig);
+  // (float deltas: the loader reads them back; the file the page gets has 16-bit deltas,
+  // a step of 1/32767 model units, not counted here)
+  const StreamAvatar avatar(face, LiveBehavior(visemes).GetChannelNames(), rig, false);
   Blender blender(avatar);
   const double diagonal = Diagonal(face);
   const size_t n = avatar.GetTargetNames().size();

@@ -32,6 +32,7 @@ bool AllFinite(const std::vector<float>& v)
 struct ModelBuilder
 {
   tinygltf::Model Model;
+  bool Quantized = false; ///< some accessor uses KHR_mesh_quantization
 
   ModelBuilder()
   {
@@ -110,8 +111,9 @@ struct ModelBuilder
     return this->AddAccessor(std::move(a));
   }
 
-  /// Target deltas (3 per point): sparse when that is smaller, no data when all zero.
-  int AddDeltas(const std::vector<float>& deltas)
+  /// Target deltas (3 per point): sparse when that is smaller, no data when all zero;
+  /// sparse values as normalized shorts when `quantize` and they fit (Quantized is set).
+  int AddDeltas(const std::vector<float>& deltas, bool quantize = false)
   {
     const size_t n = deltas.size() / 3;
     std::vector<uint32_t> moved;
@@ -167,7 +169,36 @@ struct ModelBuilder
         a.sparse.indices.componentType = TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
       }
       a.sparse.indices.byteOffset = 0;
-      a.sparse.values.bufferView = this->AddView(values.data(), values.size() * sizeof(float), 0);
+      const bool fits = std::all_of(values.begin(), values.end(), [](float v) { return v >= -1.0f && v <= 1.0f; });
+      if (quantize && fits)
+      {
+        // KHR_mesh_quantization: normalized SHORT, value = max(q / 32767, -1); min and max
+        // in the integer domain (with the zeros of the points not moved).
+        std::vector<int16_t> q(values.size());
+        for (size_t i = 0; i < values.size(); ++i)
+        {
+          q[i] = static_cast<int16_t>(std::lround(static_cast<double>(values[i]) * 32767.0));
+        }
+        a.componentType = TINYGLTF_COMPONENT_TYPE_SHORT;
+        a.normalized = true;
+        for (int c = 0; c < 3; ++c)
+        {
+          double lo = moved.size() < n ? 0.0 : 32767.0, hi = moved.size() < n ? 0.0 : -32767.0;
+          for (size_t i = static_cast<size_t>(c); i < q.size(); i += 3)
+          {
+            lo = std::min(lo, static_cast<double>(q[i]));
+            hi = std::max(hi, static_cast<double>(q[i]));
+          }
+          a.minValues[static_cast<size_t>(c)] = lo;
+          a.maxValues[static_cast<size_t>(c)] = hi;
+        }
+        a.sparse.values.bufferView = this->AddView(q.data(), q.size() * sizeof(int16_t), 0);
+        this->Quantized = true;
+      }
+      else
+      {
+        a.sparse.values.bufferView = this->AddView(values.data(), values.size() * sizeof(float), 0);
+      }
       a.sparse.values.byteOffset = 0;
     }
     return this->AddAccessor(std::move(a));
@@ -620,10 +651,10 @@ std::vector<unsigned char> WriteGltfSceneToMemory(const GltfScene& scene,
       for (const auto& target : part->Targets)
       {
         std::map<std::string, int> attributes;
-        attributes["POSITION"] = b.AddDeltas(target.PositionDeltas);
+        attributes["POSITION"] = b.AddDeltas(target.PositionDeltas, options.QuantizeTargets);
         if (!target.NormalDeltas.empty())
         {
-          attributes["NORMAL"] = b.AddDeltas(target.NormalDeltas);
+          attributes["NORMAL"] = b.AddDeltas(target.NormalDeltas, options.QuantizeTargets);
         }
         prim.targets.push_back(attributes);
       }
@@ -815,6 +846,11 @@ std::vector<unsigned char> WriteGltfSceneToMemory(const GltfScene& scene,
   s.nodes = roots;
   m.scenes.push_back(s);
   m.defaultScene = 0;
+  if (b.Quantized)
+  {
+    m.extensionsUsed.push_back("KHR_mesh_quantization");
+    m.extensionsRequired.push_back("KHR_mesh_quantization");
+  }
   while (b.Bin().size() % 4 != 0)
   {
     b.Bin().push_back(0);

@@ -78,6 +78,11 @@ struct GltfWriteOptions
   bool Binary = true;
   /// asset.generator
   std::string Generator = "MorphNode";
+  /// Sparse target deltas whose values all lie in [-1, 1] (model units) as normalized
+  /// 16-bit integers (KHR_mesh_quantization, then used and required): half the bytes of
+  /// float, a step of 1/32767 (30 micrometres for a head in metres). Dense and larger
+  /// deltas stay float.
+  bool QuantizeTargets = false;
 };
 
 /// The file in memory. `performance` may be null (no animation). Throws InputError.

@@ -32,7 +32,8 @@ std::array<double, 4> ToQuaternion(const std::array<double, 9>& r)
 }
 } // namespace
 
-StreamAvatar::StreamAvatar(const GltfScene& face, const std::vector<std::string>& channels, const Rig* rig)
+StreamAvatar::StreamAvatar(const GltfScene& face, const std::vector<std::string>& channels, const Rig* rig,
+  bool quantizeDeltas)
   : NumberOfChannels(channels.size())
 {
   // The face's targets, in order of first appearance over the parts.
@@ -230,6 +231,7 @@ StreamAvatar::StreamAvatar(const GltfScene& face, const std::vector<std::string>
   }
   GltfWriteOptions options;
   options.Binary = true;
+  options.QuantizeTargets = quantizeDeltas; // sparse deltas as normalized shorts (KHR_mesh_quantization)
   this->File = WriteGltfSceneToMemory(reduced, &rest, options);
 }
 

@@ -37,8 +37,12 @@ public:
   /// behaviour's channel names (LiveBehavior::GetChannelNames). `rig`: null to drive
   /// targets named like channels, else a rig whose shapes are named like channels (it is
   /// copied and bound to the face's targets). InputError when no target can be driven,
-  /// more than MaxTargets can, or the rig does not fit the face.
-  StreamAvatar(const GltfScene& face, const std::vector<std::string>& channels, const Rig* rig = nullptr);
+  /// more than MaxTargets can, or the rig does not fit the face. `quantizeDeltas`: the
+  /// file's sparse target deltas as normalized 16-bit integers (KHR_mesh_quantization,
+  /// GltfWriteOptions::QuantizeTargets), which three.js reads; MorphNode's own loader does
+  /// not take that extension yet, so tools that read the file back ask for floats.
+  StreamAvatar(const GltfScene& face, const std::vector<std::string>& channels, const Rig* rig = nullptr,
+    bool quantizeDeltas = true);
 
   /// The stream's targets: those the channels can drive, in the face's order.
   const std::vector<std::string>& GetTargetNames() const { return this->Targets; }

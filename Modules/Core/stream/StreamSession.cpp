@@ -5,6 +5,7 @@
 #include "base/Error.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
 
@@ -252,7 +253,11 @@ dialog::Schedule StreamSession::Say(const dialog::SayCommand& c, double now)
   {
     throw InputError("a stream session speaks with the server's voice (no 'voice' field)");
   }
-  const LiveBehavior::Timing timing = this->Live->Say(c.Text, now);
+  const auto started = std::chrono::steady_clock::now();
+  const LiveBehavior::Timing timing = this->Live->Say(c.Text, now + this->SayLead);
+  const double took = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  // A running estimate that follows a slower machine at once and a faster one slowly.
+  this->SayLead = took > this->SayLead ? std::min(took, 1.0) : 0.8 * this->SayLead + 0.2 * took;
   dialog::Schedule s(timing.Start, timing.End);
   s.Handle = timing.Id;
   for (const LiveBehavior::AudioSegment& segment : this->Live->TakeAudio())

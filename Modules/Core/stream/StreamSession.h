@@ -43,7 +43,7 @@ struct StreamSettings
   int PcmChunkMs = 100;
   /// A rotation is sent again once it turned more than this (degrees) from the one last
   /// sent: micro-motion below it is not worth its 6 bytes. 0: whenever it changes.
-  double RotationDeadband = 0.05;
+  double RotationDeadband = 0.1;
   BehaviorParameters Behavior;
   uint64_t Seed = 1;
 };
@@ -75,7 +75,12 @@ public:
   uint32_t SampleOf(double t) const;
 
   // ---- dialog::CommandSink --------------------------------------------------------------
+  /// Synthesizes the first chunk and schedules it at now + the time synthesis takes (a
+  /// running estimate, measured on every say): the client hears the sound's start rather
+  /// than losing what "passed" while it was synthesized.
   dialog::Schedule Say(const dialog::SayCommand& command, double now) override;
+  /// Seconds a say is scheduled after its command (the synthesis estimate).
+  double GetSayLead() const { return this->SayLead; }
   dialog::Schedule Gesture(const dialog::GestureCommand& command, double now) override;
   dialog::Schedule Mood(const dialog::MoodCommand& command, double now) override;
   dialog::Schedule LookAt(const dialog::LookAtCommand& command, double now) override;
@@ -109,6 +114,7 @@ private:
   Frame Last;
   std::vector<std::vector<uint8_t>> Outbox;
   double LastTime = 0.0;
+  double SayLead = 0.05;
   uint64_t FrameBytes = 0, AudioBytes = 0, Frames = 0;
   struct OpusState;
   std::unique_ptr<OpusState> Opus;

@@ -103,8 +103,18 @@ int Largest(const Frame& f, const StreamHeader& h, const std::set<std::string>& 
 TEST(StreamAvatar, DefaultHeadFileHasDrivenTargetsAndRotationNodes)
 {
   const SpeechOptions speech = Paper6();
-  const StreamAvatar avatar(DefaultHead(), ChannelsOf(speech));
-  WriteForValidator(avatar, "stream_default_head.glb");
+  const StreamAvatar avatar(DefaultHead(), ChannelsOf(speech), nullptr, false);
+  const StreamAvatar quantized(DefaultHead(), ChannelsOf(speech));
+  WriteForValidator(quantized, "stream_default_head.glb");
+  // The quantized file: KHR_mesh_quantization, fewer bytes (the deltas are half of them).
+  const auto& glb = quantized.GetFile();
+  ASSERT_GT(glb.size(), 20u);
+  const size_t jsonLength = glb[12] | (glb[13] << 8) | (glb[14] << 16) | (static_cast<size_t>(glb[15]) << 24);
+  ASSERT_LE(20 + jsonLength, glb.size());
+  const std::string json(glb.begin() + 20, glb.begin() + 20 + static_cast<std::ptrdiff_t>(jsonLength));
+  EXPECT_NE(json.find("KHR_mesh_quantization"), std::string::npos);
+  EXPECT_LT(quantized.GetFile().size(), avatar.GetFile().size());
+  EXPECT_EQ(quantized.GetTargetNames(), avatar.GetTargetNames());
   const auto& targets = avatar.GetTargetNames();
   EXPECT_GE(targets.size(), 6u);
   EXPECT_NE(std::find(targets.begin(), targets.end(), "A"), targets.end());
