@@ -16,6 +16,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <sstream>
 #include <unistd.h>
 
 namespace morphavatar
@@ -82,7 +83,17 @@ bool ChooseFaceSetup(Avatar& a)
   skin->SetInputConnection(a.Reader->GetOutputPort());
   skin->Update();
   const bool eyeBones = skin->GetHasEyeBones();
-  std::ostream& log = o.CommandsStdin ? std::cerr : std::cout;
+  std::ostream& out = o.CommandsStdin ? std::cerr : std::cout;
+  // Every line a program line ("MorphAvatar: ..."), as the content errors are.
+  std::ostringstream log;
+  const auto flush = [&]() {
+    std::istringstream lines(log.str());
+    for (std::string line; std::getline(lines, line);)
+    {
+      out << "MorphAvatar: " << line << "\n";
+    }
+    log.str("");
+  };
 
   std::string rigJson;
   bool ownVisemes = false;
@@ -114,6 +125,7 @@ bool ChooseFaceSetup(Avatar& a)
   }
   catch (const std::exception& e)
   {
+    flush();
     std::cerr << "MorphAvatar: " << e.what() << "\n";
     return false;
   }
@@ -164,6 +176,7 @@ bool ChooseFaceSetup(Avatar& a)
     a.ChosenRig.Path = file.string();
     o.Rig = file.string();
   }
+  flush();
   return true;
 }
 } // namespace morphavatar

@@ -75,7 +75,9 @@ int RunServe(const Options& o)
     const morphnode::GltfScene face = morphnode::LoadGltfScene(faceFile);
     morphnode::SpeechOptions speech;
     speech.Voice = o.Voice;
-    if (o.Visemes == "paper6")
+    // (The rig and viseme set are not yet chosen from the face's names here, as the window
+    // does (AvatarNaming): without --visemes the paper's set, as before.)
+    if (o.Visemes == "paper6" || o.Visemes.empty())
     {
       speech.Visemes = morphnode::VisemeSet::Paper6;
     }

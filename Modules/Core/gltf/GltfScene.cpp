@@ -688,6 +688,7 @@ public:
     , Doc(doc)
     , Options(options)
     , Read(model, decoded, source)
+    , Decoded(decoded)
     , Source(source)
   {
   }
@@ -703,7 +704,7 @@ public:
     }
     this->BuildMeshes(scene);
     this->BuildNodes(scene);
-    scene.Skins = gltfskin::ReadSkins(this->Model, scene.Nodes, this->Source);
+    scene.Skins = gltfskin::ReadSkins(this->Model, scene.Nodes, this->Source, &this->Decoded);
     this->BuildParts(scene);
     this->BuildAnimations(scene);
     return scene;
@@ -1087,6 +1088,7 @@ private:
   const gltfcheck::Document& Doc;
   const GltfLoadOptions& Options;
   Reader Read;
+  const gltfext::DecodedViews& Decoded; // EXT_meshopt_compression's views (skins read them too)
   const std::string& Source;
 };
 } // namespace

@@ -79,7 +79,7 @@ std::string SkinPointer(size_t s)
 
 /// A MAT4 FLOAT accessor's matrices, bounds-checked (the loader's reader reads vectors only).
 std::vector<GltfMatrix> ReadMatrices(const tinygltf::Model& model, int index, const std::string& source,
-  const std::string& use)
+  const std::string& use, const std::map<int, std::vector<unsigned char>>* decoded)
 {
   const std::string p = "/accessors/" + std::to_string(index);
   if (index < 0 || static_cast<size_t>(index) >= model.accessors.size())
@@ -106,15 +106,21 @@ std::vector<GltfMatrix> ReadMatrices(const tinygltf::Model& model, int index, co
   {
     throw InputError(source + ": /bufferViews/" + std::to_string(v) + ": no such buffer");
   }
-  const std::vector<unsigned char>& data = model.buffers[static_cast<size_t>(view.buffer)].data;
+  // The view's bytes: decoded by the loader (EXT_meshopt_compression) or in its buffer.
+  const auto found = decoded ? decoded->find(static_cast<int>(v)) : decltype(decoded->end()){};
+  const bool isDecoded = decoded && found != decoded->end();
+  const std::vector<unsigned char>& data =
+    isDecoded ? found->second : model.buffers[static_cast<size_t>(view.buffer)].data;
+  const size_t viewOffset = isDecoded ? 0 : view.byteOffset;
+  const size_t viewLength = isDecoded ? found->second.size() : view.byteLength;
   const uint64_t stride = view.byteStride ? view.byteStride : 64;
-  if (a.count == 0 || stride < 64 || view.byteOffset > data.size() || view.byteLength > data.size() - view.byteOffset ||
-    uint64_t(a.byteOffset) + stride * (a.count - 1) + 64 > view.byteLength)
+  if (a.count == 0 || stride < 64 || viewOffset > data.size() || viewLength > data.size() - viewOffset ||
+    uint64_t(a.byteOffset) + stride * (a.count - 1) + 64 > viewLength)
   {
     throw InputError(source + ": " + p + ": the inverse bind matrices (" + use + ") run past bufferView " +
       std::to_string(v));
   }
-  const unsigned char* bytes = data.data() + view.byteOffset + a.byteOffset;
+  const unsigned char* bytes = data.data() + viewOffset + a.byteOffset;
   std::vector<GltfMatrix> out(a.count);
   for (size_t i = 0; i < a.count; ++i)
   {
@@ -129,7 +135,8 @@ std::vector<GltfMatrix> ReadMatrices(const tinygltf::Model& model, int index, co
 }
 } // namespace
 
-std::vector<GltfSkin> ReadSkins(const tinygltf::Model& model, const std::vector<GltfNode>& nodes, const std::string& source)
+std::vector<GltfSkin> ReadSkins(const tinygltf::Model& model, const std::vector<GltfNode>& nodes, const std::string& source,
+  const std::map<int, std::vector<unsigned char>>* decoded)
 {
   std::vector<GltfSkin> skins;
   for (size_t s = 0; s < model.skins.size(); ++s)
@@ -165,7 +172,7 @@ std::vector<GltfSkin> ReadSkins(const tinygltf::Model& model, const std::vector<
     out.Skeleton = skin.skeleton;
     if (skin.inverseBindMatrices >= 0)
     {
-      out.InverseBind = ReadMatrices(model, skin.inverseBindMatrices, source, sp + "/inverseBindMatrices");
+      out.InverseBind = ReadMatrices(model, skin.inverseBindMatrices, source, sp + "/inverseBindMatrices", decoded);
       if (out.InverseBind.size() < out.Joints.size())
       {
         throw InputError(source + ": " + sp + "/inverseBindMatrices: " + std::to_string(out.InverseBind.size()) +

@@ -7,6 +7,7 @@
 #include "gltf/GltfScene.h"
 
 #include <functional>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -20,8 +21,10 @@ using FloatReader = std::function<std::vector<float>(int accessor, const std::st
 /// The skins of the model: joints, skeleton and inverse bind matrices, each checked (indices
 /// in range, joints unique, MAT4 FLOAT accessors inside their buffer views, matrices finite,
 /// affine and invertible). Also checks every node's `skin` index. Throws InputError.
+/// `decoded`: buffer views decoded by the loader (EXT_meshopt_compression), read instead of
+/// their (empty) fallback buffers.
 std::vector<GltfSkin> ReadSkins(const tinygltf::Model& model, const std::vector<GltfNode>& nodes,
-  const std::string& source);
+  const std::string& source, const std::map<int, std::vector<unsigned char>>* decoded = nullptr);
 
 /// The part's JOINTS_n / WEIGHTS_n, every set, checked and renormalized, into
 /// part.Influences; part.Skin set. `pp` is the primitive's JSON pointer.
