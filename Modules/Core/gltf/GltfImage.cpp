@@ -3,6 +3,8 @@
 // API), libjpeg-turbo (TurboJPEG API) and libwebp. See GltfMaterial.h.
 #include "gltf/GltfMaterial.h"
 
+#include "base/Error.h"
+
 #include <png.h>
 #include <turbojpeg.h>
 #include <webp/decode.h>
@@ -168,5 +170,33 @@ bool GltfDecodeImage(const unsigned char* bytes, size_t size, GltfImage& image, 
   }
   image.Error = "neither PNG, JPEG nor WebP";
   return false;
+}
+
+std::vector<uint8_t> GltfEncodePng(const GltfImage& image)
+{
+  if (image.Width <= 0 || image.Height <= 0 ||
+    image.Pixels.size() != 4 * static_cast<size_t>(image.Width) * static_cast<size_t>(image.Height))
+  {
+    throw InputError("PNG encoding: the image '" + image.Name + "' has no decoded pixels");
+  }
+  png_image png;
+  std::memset(&png, 0, sizeof(png));
+  png.version = PNG_IMAGE_VERSION;
+  png.width = static_cast<png_uint_32>(image.Width);
+  png.height = static_cast<png_uint_32>(image.Height);
+  png.format = PNG_FORMAT_RGBA;
+  // First call: the size; second: the bytes (libpng's simplified API).
+  png_alloc_size_t size = 0;
+  if (!png_image_write_to_memory(&png, nullptr, &size, 0, image.Pixels.data(), 0, nullptr))
+  {
+    throw InputError(std::string("PNG encoding: ") + png.message);
+  }
+  std::vector<uint8_t> bytes(size);
+  if (!png_image_write_to_memory(&png, bytes.data(), &size, 0, image.Pixels.data(), 0, nullptr))
+  {
+    throw InputError(std::string("PNG encoding: ") + png.message);
+  }
+  bytes.resize(size);
+  return bytes;
 }
 } // namespace morphnode

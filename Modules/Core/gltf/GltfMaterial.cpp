@@ -186,6 +186,7 @@ public:
           // declare a huge canvas of one colour).
           const uint64_t left = maxBytes > total ? (maxBytes - total) / 4 : 0;
           GltfDecodeImage(data->data(), data->size(), image, std::min<uint64_t>(left, uint64_t(1) << 26));
+          image.Encoded.assign(data->begin(), data->end());
           total += image.Pixels.size();
         }
       }

@@ -22,6 +22,9 @@ struct GltfImage
   int Width = 0;
   int Height = 0;
   std::vector<uint8_t> Pixels; ///< 4 * Width * Height; empty when not decoded
+  /// The image's bytes as the file holds them (PNG, JPEG or WebP), kept so that an export
+  /// writes them back unchanged; empty when the image had no data.
+  std::vector<uint8_t> Encoded;
   /// Why the image could not be decoded (empty when it was). Such an image is left out of
   /// the textures that use it; the other images keep their indices.
   std::string Error;
@@ -94,4 +97,8 @@ const char* GltfAlphaModeName(GltfAlphaMode mode);
 /// through libpng, libjpeg-turbo and libwebp. Returns false with `error` set when the bytes
 /// are not an image these decode or it is larger than `maxPixels`.
 bool GltfDecodeImage(const unsigned char* bytes, size_t size, GltfImage& image, uint64_t maxPixels = uint64_t(1) << 26);
+
+/// Encodes a decoded image (RGBA8) as PNG through libpng. Throws InputError when the
+/// image has no pixels or libpng fails.
+std::vector<uint8_t> GltfEncodePng(const GltfImage& image);
 } // namespace morphnode

@@ -65,6 +65,8 @@ struct ModelBuilder
     {
       case 1:
         return TINYGLTF_TYPE_SCALAR;
+      case 2:
+        return TINYGLTF_TYPE_VEC2;
       case 3:
         return TINYGLTF_TYPE_VEC3;
       default:
@@ -248,6 +250,14 @@ void CheckPart(const GltfPart& part, size_t index, const GltfScene& scene)
   {
     Fail(where + ": " + std::to_string(part.Colors.size()) + " colour values for " +
       std::to_string(n) + " points (RGBA: 4 per point)");
+  }
+  for (const auto* uv : { &part.TexCoords0, &part.TexCoords1 })
+  {
+    if (!uv->empty() && (uv->size() != 2 * n || !AllFinite(*uv)))
+    {
+      Fail(where + ": texture coordinates must be 2 finite values per point (got " + std::to_string(uv->size()) +
+        " values for " + std::to_string(n) + " points)");
+    }
   }
   if (part.Triangles.empty() || part.Triangles.size() % 3 != 0)
   {
@@ -550,9 +560,130 @@ std::vector<unsigned char> WriteGltfSceneToMemory(const GltfScene& scene,
     }
   }
 
-  // Materials, shared by equal name and colour.
+  // The scene's own materials (GltfScene::Materials, what the loader read) are written
+  // back whole, with their textures, samplers and images; parts without one get a
+  // material from their name and base colour, shared by equal name and colour.
+  std::map<int, int> sceneMaterials; // scene material -> written material
+  std::map<int, int> sceneImages;    // scene image -> written image
+  std::map<std::array<int, 4>, int> samplers;
+  std::map<std::pair<int, int>, int> textures; // (written image, sampler) -> texture
+  bool textureTransform = false, unlit = false, emissiveStrength = false;
+  auto imageOf = [&](int index) {
+    const auto it = sceneImages.find(index);
+    if (it != sceneImages.end())
+    {
+      return it->second;
+    }
+    const GltfImage& src = scene.Images[static_cast<size_t>(index)];
+    tinygltf::Image image;
+    image.name = src.Name;
+    // PNG and JPEG go back as the file held them (no loss, the original size); WebP and
+    // images without their bytes are re-encoded as PNG from the decoded pixels, so that
+    // the file needs no extension.
+    const bool original = !src.Encoded.empty() && (src.MimeType == "image/png" || src.MimeType == "image/jpeg");
+    const std::vector<uint8_t> bytes = original ? src.Encoded : GltfEncodePng(src);
+    image.mimeType = original ? src.MimeType : "image/png";
+    image.bufferView = b.AddView(bytes.data(), bytes.size(), 0);
+    m.images.push_back(image);
+    const int written = static_cast<int>(m.images.size() - 1);
+    sceneImages[index] = written;
+    return written;
+  };
+  // A texture reference as textureInfo: index, texCoord and KHR_texture_transform; -1 when
+  // the reference has no decoded image.
+  auto textureOf = [&](const GltfTextureRef& ref, tinygltf::ExtensionMap& extensions, int& texCoord) {
+    if (!ref.IsSet() || static_cast<size_t>(ref.Image) >= scene.Images.size() ||
+      !scene.Images[static_cast<size_t>(ref.Image)].IsDecoded())
+    {
+      return -1;
+    }
+    const int image = imageOf(ref.Image);
+    const std::array<int, 4> key{ { ref.Sampler.MagFilter, ref.Sampler.MinFilter, ref.Sampler.WrapS, ref.Sampler.WrapT } };
+    auto sit = samplers.find(key);
+    if (sit == samplers.end())
+    {
+      tinygltf::Sampler sampler;
+      sampler.magFilter = ref.Sampler.MagFilter > 0 ? ref.Sampler.MagFilter : -1;
+      sampler.minFilter = ref.Sampler.MinFilter > 0 ? ref.Sampler.MinFilter : -1;
+      sampler.wrapS = ref.Sampler.WrapS;
+      sampler.wrapT = ref.Sampler.WrapT;
+      m.samplers.push_back(sampler);
+      sit = samplers.emplace(key, static_cast<int>(m.samplers.size() - 1)).first;
+    }
+    auto tit = textures.find({ image, sit->second });
+    if (tit == textures.end())
+    {
+      tinygltf::Texture texture;
+      texture.source = image;
+      texture.sampler = sit->second;
+      m.textures.push_back(texture);
+      tit = textures.emplace(std::make_pair(image, sit->second), static_cast<int>(m.textures.size() - 1)).first;
+    }
+    texCoord = ref.TexCoord;
+    if (ref.HasTransform)
+    {
+      tinygltf::Value::Object t;
+      t["offset"] = tinygltf::Value(tinygltf::Value::Array{ tinygltf::Value(ref.Offset[0]), tinygltf::Value(ref.Offset[1]) });
+      t["rotation"] = tinygltf::Value(ref.Rotation);
+      t["scale"] = tinygltf::Value(tinygltf::Value::Array{ tinygltf::Value(ref.UvScale[0]), tinygltf::Value(ref.UvScale[1]) });
+      extensions["KHR_texture_transform"] = tinygltf::Value(t);
+      textureTransform = true;
+    }
+    return tit->second;
+  };
+  auto writeMaterial = [&](const GltfMaterial& src) {
+    tinygltf::Material mat;
+    mat.name = src.Name;
+    auto& pbr = mat.pbrMetallicRoughness;
+    pbr.baseColorFactor.assign(src.BaseColorFactor.begin(), src.BaseColorFactor.end());
+    pbr.metallicFactor = src.MetallicFactor;
+    pbr.roughnessFactor = src.RoughnessFactor;
+    pbr.baseColorTexture.index =
+      textureOf(src.BaseColorTexture, pbr.baseColorTexture.extensions, pbr.baseColorTexture.texCoord);
+    pbr.metallicRoughnessTexture.index = textureOf(
+      src.MetallicRoughnessTexture, pbr.metallicRoughnessTexture.extensions, pbr.metallicRoughnessTexture.texCoord);
+    mat.normalTexture.index = textureOf(src.NormalTexture, mat.normalTexture.extensions, mat.normalTexture.texCoord);
+    mat.normalTexture.scale = src.NormalTexture.Scale;
+    mat.occlusionTexture.index =
+      textureOf(src.OcclusionTexture, mat.occlusionTexture.extensions, mat.occlusionTexture.texCoord);
+    mat.occlusionTexture.strength = src.OcclusionTexture.Scale;
+    mat.emissiveTexture.index =
+      textureOf(src.EmissiveTexture, mat.emissiveTexture.extensions, mat.emissiveTexture.texCoord);
+    mat.emissiveFactor.assign(src.EmissiveFactor.begin(), src.EmissiveFactor.end());
+    mat.alphaMode = GltfAlphaModeName(src.AlphaMode);
+    if (src.AlphaMode == GltfAlphaMode::Mask)
+    {
+      mat.alphaCutoff = src.AlphaCutoff;
+    }
+    mat.doubleSided = src.DoubleSided;
+    if (src.Unlit)
+    {
+      mat.extensions["KHR_materials_unlit"] = tinygltf::Value(tinygltf::Value::Object());
+      unlit = true;
+    }
+    if (src.EmissiveStrength != 1.0)
+    {
+      tinygltf::Value::Object e;
+      e["emissiveStrength"] = tinygltf::Value(src.EmissiveStrength);
+      mat.extensions["KHR_materials_emissive_strength"] = tinygltf::Value(e);
+      emissiveStrength = true;
+    }
+    m.materials.push_back(mat);
+    return static_cast<int>(m.materials.size() - 1);
+  };
   std::map<std::pair<std::string, std::array<double, 4>>, int> materials;
   auto materialOf = [&](const GltfPart& part) {
+    if (part.Material >= 0 && static_cast<size_t>(part.Material) < scene.Materials.size())
+    {
+      const auto it = sceneMaterials.find(part.Material);
+      if (it != sceneMaterials.end())
+      {
+        return it->second;
+      }
+      const int index = writeMaterial(scene.Materials[static_cast<size_t>(part.Material)]);
+      sceneMaterials[part.Material] = index;
+      return index;
+    }
     const bool none = part.Material < 0 && part.MaterialName.empty() &&
       part.BaseColor == std::array<double, 4>{ { 1, 1, 1, 1 } };
     if (none)
@@ -645,6 +776,15 @@ std::vector<unsigned char> WriteGltfSceneToMemory(const GltfScene& scene,
           c = std::min(1.0f, std::max(0.0f, c));
         }
         prim.attributes["COLOR_0"] = b.AddFloats(colors, 4, false, TINYGLTF_TARGET_ARRAY_BUFFER);
+      }
+      const size_t points = part->GetNumberOfPoints();
+      if (part->TexCoords0.size() == 2 * points && points > 0)
+      {
+        prim.attributes["TEXCOORD_0"] = b.AddFloats(part->TexCoords0, 2, false, TINYGLTF_TARGET_ARRAY_BUFFER);
+      }
+      if (part->TexCoords1.size() == 2 * points && points > 0)
+      {
+        prim.attributes["TEXCOORD_1"] = b.AddFloats(part->TexCoords1, 2, false, TINYGLTF_TARGET_ARRAY_BUFFER);
       }
       prim.indices = b.AddIndices(part->Triangles, part->GetNumberOfPoints());
       prim.material = materialOf(*part);
@@ -846,6 +986,15 @@ std::vector<unsigned char> WriteGltfSceneToMemory(const GltfScene& scene,
   s.nodes = roots;
   m.scenes.push_back(s);
   m.defaultScene = 0;
+  const std::pair<bool, const char*> used[] = { { textureTransform, "KHR_texture_transform" },
+    { unlit, "KHR_materials_unlit" }, { emissiveStrength, "KHR_materials_emissive_strength" } };
+  for (const auto& [on, name] : used)
+  {
+    if (on)
+    {
+      m.extensionsUsed.emplace_back(name);
+    }
+  }
   if (b.Quantized)
   {
     m.extensionsUsed.push_back("KHR_mesh_quantization");

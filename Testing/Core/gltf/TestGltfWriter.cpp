@@ -11,6 +11,7 @@
 
 #include "base/Error.h"
 
+#include <gtest/gtest-spi.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -570,4 +571,144 @@ TEST(GltfWriter, BadInput)
   bad.Nodes[1].Parent = 2;
   ExpectError(bad, good, "is not a node whose parent it is");
   EXPECT_THROW(WriteGltfScene("/nonexistent-folder/x.glb", head, &good), InputError);
+}
+
+namespace
+{
+const std::string AvatarDir = MORPHNODE_AVATAR_DIR;
+
+/// The materials of `a`'s parts equal those of `b`'s parts of the same name: factors,
+/// alpha, sides, and each texture's sampler, texture coordinate set, transform and image
+/// (name, size, decoded pixels). Returns how many textures were compared.
+size_t ExpectSameMaterials(const GltfScene& a, const GltfScene& b)
+{
+  size_t textures = 0;
+  for (const auto& part : a.Parts)
+  {
+    const int j = b.FindPart(part.Name);
+    EXPECT_GE(j, 0) << part.Name;
+    if (j < 0 || part.Material < 0)
+    {
+      continue;
+    }
+    const GltfPart& other = b.Parts[static_cast<size_t>(j)];
+    EXPECT_EQ(other.TexCoords0, part.TexCoords0) << part.Name;
+    EXPECT_EQ(other.TexCoords1, part.TexCoords1) << part.Name;
+    EXPECT_GE(other.Material, 0) << part.Name;
+    if (other.Material < 0)
+    {
+      continue;
+    }
+    const GltfMaterial& m = a.Materials[static_cast<size_t>(part.Material)];
+    const GltfMaterial& n = b.Materials[static_cast<size_t>(other.Material)];
+    const std::string where = part.Name + " (" + m.Name + ")";
+    EXPECT_EQ(n.Name, m.Name) << where;
+    EXPECT_EQ(n.BaseColorFactor, m.BaseColorFactor) << where;
+    EXPECT_EQ(n.MetallicFactor, m.MetallicFactor) << where;
+    EXPECT_EQ(n.RoughnessFactor, m.RoughnessFactor) << where;
+    EXPECT_EQ(n.EmissiveFactor, m.EmissiveFactor) << where;
+    EXPECT_EQ(n.EmissiveStrength, m.EmissiveStrength) << where;
+    EXPECT_EQ(n.AlphaMode, m.AlphaMode) << where;
+    EXPECT_EQ(n.AlphaCutoff, m.AlphaCutoff) << where;
+    EXPECT_EQ(n.DoubleSided, m.DoubleSided) << where;
+    EXPECT_EQ(n.Unlit, m.Unlit) << where;
+    const std::pair<const GltfTextureRef*, const GltfTextureRef*> refs[] = {
+      { &m.BaseColorTexture, &n.BaseColorTexture },
+      { &m.MetallicRoughnessTexture, &n.MetallicRoughnessTexture }, { &m.NormalTexture, &n.NormalTexture },
+      { &m.OcclusionTexture, &n.OcclusionTexture }, { &m.EmissiveTexture, &n.EmissiveTexture }
+    };
+    for (const auto& [r, s] : refs)
+    {
+      EXPECT_EQ(s->IsSet(), r->IsSet()) << where;
+      if (!r->IsSet() || !s->IsSet())
+      {
+        continue;
+      }
+      ++textures;
+      EXPECT_EQ(s->TexCoord, r->TexCoord) << where;
+      EXPECT_EQ(s->Scale, r->Scale) << where;
+      EXPECT_EQ(s->Sampler.MagFilter, r->Sampler.MagFilter) << where;
+      EXPECT_EQ(s->Sampler.MinFilter, r->Sampler.MinFilter) << where;
+      EXPECT_EQ(s->Sampler.WrapS, r->Sampler.WrapS) << where;
+      EXPECT_EQ(s->Sampler.WrapT, r->Sampler.WrapT) << where;
+      EXPECT_EQ(s->HasTransform, r->HasTransform) << where;
+      EXPECT_EQ(s->UvMatrix(), r->UvMatrix()) << where;
+      const GltfImage& x = a.Images[static_cast<size_t>(r->Image)];
+      const GltfImage& y = b.Images[static_cast<size_t>(s->Image)];
+      EXPECT_EQ(y.Name, x.Name) << where;
+      EXPECT_EQ(y.Width, x.Width) << where;
+      EXPECT_EQ(y.Height, x.Height) << where;
+      EXPECT_TRUE(y.Pixels == x.Pixels) << where << ": the pixels of image '" << x.Name << "' differ";
+    }
+  }
+  return textures;
+}
+} // namespace
+
+// The shared MakeHuman avatar (skinned, 17 textures) written and read back: every part
+// keeps its material (factors, alpha mode and cutoff, double-sided), its textures
+// (samplers, texture coordinate sets) and their images, PNG and JPEG byte for byte.
+TEST(GltfWriter, AvatarMaterialsRoundTrip)
+{
+  const std::string file = AvatarDir + "/makehuman_avatar.glb";
+  if (!std::filesystem::exists(file))
+  {
+    GTEST_SKIP() << "MakeHuman avatar not found: " << file;
+  }
+  const GltfScene avatar = LoadGltfScene(file);
+  ASSERT_FALSE(avatar.Materials.empty());
+  ASSERT_FALSE(avatar.Images.empty());
+  const std::string out = OutputDir() + "/makehuman_avatar_materials.glb";
+  WriteGltfScene(out, avatar, nullptr);
+  const GltfScene back = LoadGltfScene(out);
+  EXPECT_EQ(back.Parts.size(), avatar.Parts.size());
+  EXPECT_GT(ExpectSameMaterials(avatar, back), 0u);
+  EXPECT_EQ(back.Images.size(), avatar.Images.size()) << "every image of the avatar is used by a material";
+  // PNG and JPEG go back as the file held them.
+  for (const auto& image : back.Images)
+  {
+    const auto it = std::find_if(avatar.Images.begin(), avatar.Images.end(),
+      [&image](const GltfImage& i) { return i.Name == image.Name; });
+    ASSERT_NE(it, avatar.Images.end()) << image.Name;
+    EXPECT_EQ(image.MimeType, it->MimeType) << image.Name;
+    EXPECT_TRUE(image.Encoded == it->Encoded) << image.Name << ": not the original bytes";
+  }
+  // Negative control of the comparison: a material changed in the scene is seen.
+  GltfScene changed = avatar;
+  for (auto& m : changed.Materials)
+  {
+    if (m.BaseColorTexture.IsSet())
+    {
+      m.BaseColorTexture.TexCoord = 1 - m.BaseColorTexture.TexCoord;
+      break;
+    }
+  }
+  ::testing::TestPartResultArray failures;
+  {
+    ::testing::ScopedFakeTestPartResultReporter reporter(
+      ::testing::ScopedFakeTestPartResultReporter::INTERCEPT_ONLY_CURRENT_THREAD, &failures);
+    ExpectSameMaterials(changed, back);
+  }
+  EXPECT_GT(failures.size(), 0) << "a changed texture coordinate set went unnoticed";
+}
+
+// The WebP variant: its images (EXT_texture_webp) are written as PNG from the decoded
+// pixels, so the file needs no extension and the pixels are the same.
+TEST(GltfWriter, AvatarWebpImagesAsPngRoundTrip)
+{
+  const std::string file = AvatarDir + "/makehuman_avatar_webp.glb";
+  if (!std::filesystem::exists(file))
+  {
+    GTEST_SKIP() << "MakeHuman WebP avatar not found: " << file;
+  }
+  const GltfScene avatar = LoadGltfScene(file);
+  const std::vector<unsigned char> glb = WriteGltfSceneToMemory(avatar, nullptr);
+  const nlohmann::json json = GlbJson(glb);
+  EXPECT_FALSE(json.contains("extensionsRequired")) << json["extensionsRequired"].dump();
+  for (const auto& image : json["images"])
+  {
+    EXPECT_EQ(image["mimeType"], "image/png");
+  }
+  const GltfScene back = LoadGltfSceneFromMemory(glb.data(), glb.size());
+  EXPECT_GT(ExpectSameMaterials(avatar, back), 0u);
 }
