@@ -711,4 +711,7 @@ TEST(GltfWriter, AvatarWebpImagesAsPngRoundTrip)
   }
   const GltfScene back = LoadGltfSceneFromMemory(glb.data(), glb.size());
   EXPECT_GT(ExpectSameMaterials(avatar, back), 0u);
+  // For the validator (GltfValidatorCoreExport).
+  std::ofstream(OutputDir() + "/makehuman_avatar_webp_as_png.glb", std::ios::binary)
+    .write(reinterpret_cast<const char*>(glb.data()), static_cast<std::streamsize>(glb.size()));
 }
