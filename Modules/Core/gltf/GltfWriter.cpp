@@ -69,6 +69,8 @@ struct ModelBuilder
         return TINYGLTF_TYPE_VEC2;
       case 3:
         return TINYGLTF_TYPE_VEC3;
+      case 16:
+        return TINYGLTF_TYPE_MAT4;
       default:
         return TINYGLTF_TYPE_VEC4;
     }
@@ -711,6 +713,78 @@ std::vector<unsigned char> WriteGltfSceneToMemory(const GltfScene& scene,
     return index;
   };
 
+  // Skins: written when the parts are in their nodes' frames (bind space as in the file,
+  // GltfLoadOptions::ApplyTransforms off), the nodes then keeping their transforms. With the
+  // transforms applied the parts are the skinned rest pose in world space and the nodes
+  // are written without transforms, so the skins are left out (the rest pose stays).
+  const bool skinned = !applied && !scene.Skins.empty();
+  if (skinned)
+  {
+    for (size_t k = 0; k < scene.Skins.size(); ++k)
+    {
+      const GltfSkin& src = scene.Skins[k];
+      const std::string where = "skin " + std::to_string(k) + " (" + src.Name + ")";
+      if (src.Joints.empty() || src.InverseBind.size() != src.Joints.size())
+      {
+        Fail(where + ": " + std::to_string(src.Joints.size()) + " joints and " +
+          std::to_string(src.InverseBind.size()) + " inverse bind matrices");
+      }
+      tinygltf::Skin skin;
+      skin.name = src.Name;
+      for (int j : src.Joints)
+      {
+        if (j < 0 || static_cast<size_t>(j) >= numNodes)
+        {
+          Fail(where + ": joint " + std::to_string(j) + " is not a node");
+        }
+      }
+      skin.joints = src.Joints;
+      skin.skeleton = src.Skeleton >= 0 && static_cast<size_t>(src.Skeleton) < numNodes ? src.Skeleton : -1;
+      std::vector<float> matrices;
+      for (const auto& ibm : src.InverseBind)
+      {
+        for (double v : ibm)
+        {
+          if (!std::isfinite(v))
+          {
+            Fail(where + ": an inverse bind matrix is not finite");
+          }
+          matrices.push_back(static_cast<float>(v));
+        }
+      }
+      skin.inverseBindMatrices = b.AddFloats(matrices, 16, false, 0);
+      m.skins.push_back(skin);
+    }
+    for (const auto& part : scene.Parts)
+    {
+      if (part.Skin < 0)
+      {
+        continue;
+      }
+      if (static_cast<size_t>(part.Skin) >= scene.Skins.size() || part.Influences.PerPoint % 4 != 0 ||
+        part.Influences.PerPoint == 0 || part.Influences.GetNumberOfPoints() != part.GetNumberOfPoints() ||
+        part.Influences.Joints.size() != part.Influences.Weights.size())
+      {
+        Fail("part '" + part.Name + "': its skin " + std::to_string(part.Skin) + " or influences do not fit");
+      }
+      const size_t jointCount = scene.Skins[static_cast<size_t>(part.Skin)].Joints.size();
+      for (size_t i = 0; i < part.Influences.Joints.size(); ++i)
+      {
+        if (part.Influences.Weights[i] > 0.0f && part.Influences.Joints[i] >= jointCount)
+        {
+          Fail("part '" + part.Name + "': joint index " + std::to_string(part.Influences.Joints[i]) +
+            " beyond its skin's " + std::to_string(jointCount) + " joints");
+        }
+      }
+      tinygltf::Node& node = m.nodes[static_cast<size_t>(part.Node)];
+      if (node.skin >= 0 && node.skin != part.Skin)
+      {
+        Fail("the parts of node '" + NodeLabel(scene, part.Node) + "' have different skins");
+      }
+      node.skin = part.Skin;
+    }
+  }
+
   // Meshes: the parts of each node, in part order.
   std::vector<std::vector<std::string>> meshTargets; // per written mesh
   std::vector<int> meshNode;
@@ -785,6 +859,45 @@ std::vector<unsigned char> WriteGltfSceneToMemory(const GltfScene& scene,
       if (part->TexCoords1.size() == 2 * points && points > 0)
       {
         prim.attributes["TEXCOORD_1"] = b.AddFloats(part->TexCoords1, 2, false, TINYGLTF_TARGET_ARRAY_BUFFER);
+      }
+      if (skinned && part->Skin >= 0)
+      {
+        // JOINTS_n / WEIGHTS_n, 4 influences per set, joints as unsigned byte when the skin
+        // has at most 256 joints, else unsigned short; weights as float (renormalized by
+        // the loader, so each point's sum is 1 within float rounding).
+        const SkinInfluences& inf = part->Influences;
+        const size_t jointCount = scene.Skins[static_cast<size_t>(part->Skin)].Joints.size();
+        for (size_t set = 0; set < inf.PerPoint / 4; ++set)
+        {
+          std::vector<float> weights(4 * points);
+          std::vector<uint16_t> joints(4 * points);
+          for (size_t i = 0; i < points; ++i)
+          {
+            for (size_t k = 0; k < 4; ++k)
+            {
+              const size_t at = i * inf.PerPoint + 4 * set + k;
+              weights[4 * i + k] = inf.Weights[at];
+              joints[4 * i + k] = weights[4 * i + k] > 0.0f ? inf.Joints[at] : 0;
+            }
+          }
+          tinygltf::Accessor a;
+          a.type = TINYGLTF_TYPE_VEC4;
+          a.count = points;
+          if (jointCount <= 256)
+          {
+            std::vector<uint8_t> small(joints.begin(), joints.end());
+            a.componentType = TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
+            a.bufferView = b.AddView(small.data(), small.size(), TINYGLTF_TARGET_ARRAY_BUFFER);
+          }
+          else
+          {
+            a.componentType = TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT;
+            a.bufferView = b.AddView(joints.data(), joints.size() * 2, TINYGLTF_TARGET_ARRAY_BUFFER);
+          }
+          prim.attributes["JOINTS_" + std::to_string(set)] = b.AddAccessor(std::move(a));
+          prim.attributes["WEIGHTS_" + std::to_string(set)] =
+            b.AddFloats(weights, 4, false, TINYGLTF_TARGET_ARRAY_BUFFER);
+        }
       }
       prim.indices = b.AddIndices(part->Triangles, part->GetNumberOfPoints());
       prim.material = materialOf(*part);

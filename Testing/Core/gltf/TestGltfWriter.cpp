@@ -715,3 +715,108 @@ TEST(GltfWriter, AvatarWebpImagesAsPngRoundTrip)
   std::ofstream(OutputDir() + "/makehuman_avatar_webp_as_png.glb", std::ios::binary)
     .write(reinterpret_cast<const char*>(glb.data()), static_cast<std::streamsize>(glb.size()));
 }
+
+// The skinned avatar read in its nodes' frames (bind space) and written: the same skin
+// (joints by name, inverse bind matrices), the same influences on every part (both weight
+// sets where there are two), and, read back as the loader shows it (skinned at rest in
+// world space), the same points. The performance turns the Head, Neck and eye joints
+// (about their own origins); the file plays: GltfValidatorCoreExport checks it.
+TEST(GltfWriter, AvatarSkinRoundTrip)
+{
+  const std::string file = AvatarDir + "/makehuman_avatar.glb";
+  if (!std::filesystem::exists(file))
+  {
+    GTEST_SKIP() << "MakeHuman avatar not found: " << file;
+  }
+  GltfLoadOptions nodeFrames;
+  nodeFrames.ApplyTransforms = false;
+  const GltfScene avatar = LoadGltfScene(file, nodeFrames);
+  ASSERT_EQ(avatar.Skins.size(), 1u);
+  GltfPerformance p = RandomPerformance(avatar, 12, 5, false);
+  p.Rotations.clear();
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> u(-0.2, 0.2);
+  for (const char* joint : { "Neck", "Head", "LeftEye", "RightEye" })
+  {
+    const int n = FindNode(avatar, joint);
+    ASSERT_GE(n, 0) << joint;
+    GltfRotationTrack track;
+    track.Node = joint;
+    track.Pivot = avatar.Nodes[static_cast<size_t>(n)].Translation;
+    for (size_t f = 0; f < p.Times.size(); ++f)
+    {
+      const double a = u(rng);
+      track.Rotations.insert(track.Rotations.end(), { std::sin(a / 2), 0.0, 0.0, std::cos(a / 2) });
+    }
+    p.Rotations.push_back(track);
+  }
+  const std::string out = OutputDir() + "/makehuman_avatar_skinned.glb";
+  WriteGltfScene(out, avatar, &p);
+
+  const GltfScene back = LoadGltfScene(out, nodeFrames);
+  ASSERT_EQ(back.Skins.size(), 1u);
+  const GltfSkin& s0 = avatar.Skins[0];
+  const GltfSkin& s1 = back.Skins[0];
+  ASSERT_EQ(s1.Joints.size(), s0.Joints.size());
+  for (size_t j = 0; j < s0.Joints.size(); ++j)
+  {
+    EXPECT_EQ(back.Nodes[static_cast<size_t>(s1.Joints[j])].Name, avatar.Nodes[static_cast<size_t>(s0.Joints[j])].Name);
+    for (size_t c = 0; c < 16; ++c)
+    {
+      EXPECT_NEAR(s1.InverseBind[j][c], s0.InverseBind[j][c], 1e-6 * (1 + std::abs(s0.InverseBind[j][c])));
+    }
+  }
+  size_t skinnedParts = 0;
+  for (const auto& part : avatar.Parts)
+  {
+    const int j = back.FindPart(part.Name);
+    ASSERT_GE(j, 0) << part.Name;
+    const GltfPart& other = back.Parts[static_cast<size_t>(j)];
+    EXPECT_EQ(other.Skin >= 0, part.Skin >= 0) << part.Name;
+    if (part.Skin < 0)
+    {
+      continue;
+    }
+    ++skinnedParts;
+    ASSERT_EQ(other.Influences.PerPoint, part.Influences.PerPoint) << part.Name;
+    ASSERT_EQ(other.Influences.Weights.size(), part.Influences.Weights.size()) << part.Name;
+    for (size_t i = 0; i < part.Influences.Weights.size(); ++i)
+    {
+      EXPECT_NEAR(other.Influences.Weights[i], part.Influences.Weights[i], 1e-6) << part.Name << " " << i;
+      if (part.Influences.Weights[i] > 0.0f)
+      {
+        EXPECT_EQ(other.Influences.Joints[i], part.Influences.Joints[i]) << part.Name << " " << i;
+      }
+    }
+  }
+  EXPECT_GT(skinnedParts, 0u);
+
+  // The rest pose as the loader shows it: skinned, in world space.
+  const GltfScene rest = LoadGltfScene(file);
+  const GltfScene restBack = LoadGltfScene(out);
+  ASSERT_EQ(restBack.Parts.size(), rest.Parts.size());
+  double worst = 0.0;
+  for (const auto& part : rest.Parts)
+  {
+    const int j = restBack.FindPart(part.Name);
+    ASSERT_GE(j, 0) << part.Name;
+    const auto& q = restBack.Parts[static_cast<size_t>(j)].Positions;
+    ASSERT_EQ(q.size(), part.Positions.size()) << part.Name;
+    for (size_t i = 0; i < q.size(); ++i)
+    {
+      worst = std::max(worst, static_cast<double>(std::abs(q[i] - part.Positions[i])));
+    }
+  }
+  EXPECT_LT(worst, 1e-5) << "rest pose points moved by the export";
+  // The joints' channels are in the file, on the inserted rotation nodes above them.
+  ASSERT_EQ(back.Animations.size(), 1u);
+  for (const char* joint : { "NeckRotation", "HeadRotation", "LeftEyeRotation", "RightEyeRotation" })
+  {
+    const int n = FindNode(back, joint);
+    ASSERT_GE(n, 0) << joint;
+    const auto& channels = back.Animations[0].Channels;
+    EXPECT_TRUE(std::any_of(channels.begin(), channels.end(), [n](const GltfAnimationChannel& c) {
+      return c.Node == n && c.Path == GltfAnimationPath::Rotation;
+    })) << joint;
+  }
+}
