@@ -1039,6 +1039,38 @@ std::vector<unsigned char> WriteGltfSceneToMemory(const GltfScene& scene,
           Fail("the performance turns the node '" + r.Node + "', which the scene does not have");
         }
       }
+      // A skin's joint turned about its own origin (the pivot is its translation) gets the
+      // channel itself: T(t) R T(-t) T(t) R0 S = T(t) (R R0) S, so the channel holds R R0
+      // and the skeleton stays as the avatar's maker made it (no inserted nodes).
+      if (turned >= 0 && skinned)
+      {
+        const GltfNode& joint = scene.Nodes[static_cast<size_t>(turned)];
+        const bool isJoint = std::any_of(scene.Skins.begin(), scene.Skins.end(), [turned](const GltfSkin& skin) {
+          return std::find(skin.Joints.begin(), skin.Joints.end(), turned) != skin.Joints.end();
+        });
+        const bool atOrigin = std::abs(r.Pivot[0] - joint.Translation[0]) < 1e-9 &&
+          std::abs(r.Pivot[1] - joint.Translation[1]) < 1e-9 && std::abs(r.Pivot[2] - joint.Translation[2]) < 1e-9;
+        if (isJoint && !joint.HasMatrix && atOrigin)
+        {
+          const auto& q0 = joint.Rotation;
+          std::vector<double> turnedRest(r.Rotations.size());
+          for (size_t k = 0; k < r.Rotations.size() / 4; ++k)
+          {
+            const double* a = r.Rotations.data() + 4 * k;
+            double len = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2] + a[3] * a[3]);
+            const double x = a[0] / len, y = a[1] / len, z = a[2] / len, w = a[3] / len;
+            // (x, y, z, w) * q0, Hamilton product.
+            double* o = turnedRest.data() + 4 * k;
+            o[0] = w * q0[0] + x * q0[3] + y * q0[2] - z * q0[1];
+            o[1] = w * q0[1] - x * q0[2] + y * q0[3] + z * q0[0];
+            o[2] = w * q0[2] + x * q0[1] - y * q0[0] + z * q0[3];
+            o[3] = w * q0[3] - x * q0[0] - y * q0[1] - z * q0[2];
+          }
+          std::vector<float> values = Quaternions(turnedRest);
+          addChannel(addSampler(b.AddFloats(values, 4, false, 0)), turned, "rotation");
+          continue;
+        }
+      }
       const std::string base = r.Node.empty() ? std::string("Head") : r.Node;
       tinygltf::Node rotation;
       rotation.name = base + "Rotation";

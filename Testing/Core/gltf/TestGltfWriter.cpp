@@ -808,9 +808,11 @@ TEST(GltfWriter, AvatarSkinRoundTrip)
     }
   }
   EXPECT_LT(worst, 1e-5) << "rest pose points moved by the export";
-  // The joints' channels are in the file, on the inserted rotation nodes above them.
+  // The joints' channels are on the joints themselves (no nodes inserted), each key the
+  // turn times the joint's rest rotation.
   ASSERT_EQ(back.Animations.size(), 1u);
-  for (const char* joint : { "NeckRotation", "HeadRotation", "LeftEyeRotation", "RightEyeRotation" })
+  EXPECT_EQ(back.Nodes.size(), avatar.Nodes.size());
+  for (const char* joint : { "Neck", "Head", "LeftEye", "RightEye" })
   {
     const int n = FindNode(back, joint);
     ASSERT_GE(n, 0) << joint;
@@ -819,4 +821,27 @@ TEST(GltfWriter, AvatarSkinRoundTrip)
       return c.Node == n && c.Path == GltfAnimationPath::Rotation;
     })) << joint;
   }
+  // Re-read, it plays: at a key the joints hold turn * rest rotation about their own
+  // origin, and the eyes ride on the turned head (their centres move).
+  const GltfAnimationPlayer player(back, 0);
+  const size_t key = 3;
+  const GltfSceneSample sample = player.Sample(p.Times[key]);
+  const GltfSceneSample restPose = GltfRestPose(back);
+  for (const auto& track : p.Rotations)
+  {
+    const int n = FindNode(back, track.Node);
+    const auto& q0 = avatar.Nodes[static_cast<size_t>(FindNode(avatar, track.Node))].Rotation;
+    const double* r = track.Rotations.data() + 4 * key; // (sin, 0, 0, cos): about x
+    const std::array<double, 4> expected{ { r[3] * q0[0] + r[0] * q0[3], r[3] * q0[1] - r[0] * q0[2],
+      r[3] * q0[2] + r[0] * q0[1], r[3] * q0[3] - r[0] * q0[0] } };
+    const auto& got = sample.Nodes[static_cast<size_t>(n)].Rotation;
+    const double dot = got[0] * expected[0] + got[1] * expected[1] + got[2] * expected[2] + got[3] * expected[3];
+    EXPECT_NEAR(std::abs(dot), 1.0, 1e-6) << track.Node;
+    EXPECT_EQ(sample.Nodes[static_cast<size_t>(n)].Translation, avatar.Nodes[static_cast<size_t>(n)].Translation);
+  }
+  const int eye = FindNode(back, "LeftEye");
+  const auto& w1 = sample.Nodes[static_cast<size_t>(eye)].World;
+  const auto& w0 = restPose.Nodes[static_cast<size_t>(eye)].World;
+  EXPECT_GT(std::abs(w1[12] - w0[12]) + std::abs(w1[13] - w0[13]) + std::abs(w1[14] - w0[14]), 1e-4)
+    << "the left eye did not move with the turned neck and head";
 }
