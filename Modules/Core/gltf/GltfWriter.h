@@ -7,8 +7,18 @@
 /// What is written (docs/gltf.md, "Export"):
 /// - every part as a triangle primitive: POSITION (with min/max), NORMAL (normalized),
 ///   COLOR_0 (float RGBA, clamped to [0, 1]), indices (unsigned short below 65535 points,
-///   else unsigned int), its material (baseColorFactor, the material's name; alpha below 1
-///   blends); the parts of one node form one mesh, named by the node;
+///   else unsigned int), TEXCOORD_0/_1, its material; the parts of one node form one mesh,
+///   named by the node;
+/// - materials: the scene's own (GltfScene::Materials) whole, with textures, samplers,
+///   texture coordinate sets, KHR_texture_transform, alpha mode and cutoff, double-sided,
+///   unlit and emissive strength; the images they use in the buffer, PNG and JPEG as the
+///   file held them (GltfImage::Encoded), WebP and images without bytes re-encoded as PNG.
+///   A part without a scene material gets one from its name and base colour (alpha below
+///   1 blends);
+/// - skins, when the parts are in their nodes' frames (not TransformApplied): joints,
+///   inverse bind matrices, every JOINTS_n/WEIGHTS_n set, the skin on the mesh nodes. A
+///   rotation track on a joint about its own translation becomes a rotation channel on the
+///   joint (turn times rest rotation) instead of inserted nodes;
 /// - every target as POSITION (and NORMAL, when the part has normal deltas) deltas:
 ///   SPARSE (an accessor without bufferView, the moved points' indices and values) when
 ///   that takes fewer bytes than dense storage, so sparse targets stay sparse; a target
