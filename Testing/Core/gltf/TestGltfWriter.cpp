@@ -845,3 +845,106 @@ TEST(GltfWriter, AvatarSkinRoundTrip)
   EXPECT_GT(std::abs(w1[12] - w0[12]) + std::abs(w1[13] - w0[13]) + std::abs(w1[14] - w0[14]), 1e-4)
     << "the left eye did not move with the turned neck and head";
 }
+
+// A second weight set (JOINTS_1/WEIGHTS_1) goes out and comes back: every point of the
+// avatar's skinned parts has half of its first influence moved into a second set, which
+// skins the same; written, read back, the part has 8 influences per point and the same
+// rest pose. The avatar itself has one set.
+TEST(GltfWriter, SecondWeightSetRoundTrip)
+{
+  const std::string file = AvatarDir + "/makehuman_avatar.glb";
+  if (!std::filesystem::exists(file))
+  {
+    GTEST_SKIP() << "MakeHuman avatar not found: " << file;
+  }
+  GltfLoadOptions nodeFrames;
+  nodeFrames.ApplyTransforms = false;
+  GltfScene avatar = LoadGltfScene(file, nodeFrames);
+  size_t changed = 0;
+  for (auto& part : avatar.Parts)
+  {
+    SkinInfluences& inf = part.Influences;
+    if (part.Skin < 0 || inf.PerPoint != 4)
+    {
+      continue;
+    }
+    SkinInfluences two;
+    two.PerPoint = 8;
+    for (size_t i = 0; i < inf.GetNumberOfPoints(); ++i)
+    {
+      const float half = inf.Weights[4 * i] / 2;
+      for (size_t k = 0; k < 4; ++k)
+      {
+        two.Joints.push_back(inf.Joints[4 * i + k]);
+        two.Weights.push_back(k == 0 ? half : inf.Weights[4 * i + k]);
+      }
+      two.Joints.insert(two.Joints.end(), { inf.Joints[4 * i], 0, 0, 0 });
+      two.Weights.insert(two.Weights.end(), { half, 0.0f, 0.0f, 0.0f });
+    }
+    inf = two;
+    ++changed;
+  }
+  ASSERT_GT(changed, 0u) << "the avatar has no skinned part with one weight set";
+  const std::vector<unsigned char> glb = WriteGltfSceneToMemory(avatar, nullptr);
+  const GltfScene back = LoadGltfSceneFromMemory(glb.data(), glb.size(), std::string(), nodeFrames);
+  for (const auto& part : avatar.Parts)
+  {
+    const GltfPart& other = back.Parts[static_cast<size_t>(back.FindPart(part.Name))];
+    EXPECT_EQ(other.Influences.PerPoint, part.Influences.PerPoint) << part.Name;
+    EXPECT_EQ(other.Influences.Weights.size(), part.Influences.Weights.size()) << part.Name;
+  }
+  const GltfScene rest = LoadGltfScene(file);
+  const GltfScene restBack = LoadGltfSceneFromMemory(glb.data(), glb.size());
+  double worst = 0.0;
+  for (const auto& part : rest.Parts)
+  {
+    const auto& q = restBack.Parts[static_cast<size_t>(restBack.FindPart(part.Name))].Positions;
+    ASSERT_EQ(q.size(), part.Positions.size()) << part.Name;
+    for (size_t i = 0; i < q.size(); ++i)
+    {
+      worst = std::max(worst, static_cast<double>(std::abs(q[i] - part.Positions[i])));
+    }
+  }
+  EXPECT_LT(worst, 1e-5);
+}
+
+// Skins and texture coordinates that do not fit are refused with an InputError naming them.
+TEST(GltfWriter, BadSkinAndTexCoords)
+{
+  const std::string file = AvatarDir + "/makehuman_avatar.glb";
+  if (!std::filesystem::exists(file))
+  {
+    GTEST_SKIP() << "MakeHuman avatar not found: " << file;
+  }
+  GltfLoadOptions nodeFrames;
+  nodeFrames.ApplyTransforms = false;
+  const GltfScene avatar = LoadGltfScene(file, nodeFrames);
+  const auto skinned = std::find_if(avatar.Parts.begin(), avatar.Parts.end(), [](const GltfPart& p) { return p.Skin >= 0; });
+  ASSERT_NE(skinned, avatar.Parts.end());
+  const size_t k = static_cast<size_t>(skinned - avatar.Parts.begin());
+  auto expectError = [](const GltfScene& scene, const std::string& words) {
+    try
+    {
+      WriteGltfSceneToMemory(scene, nullptr);
+      ADD_FAILURE() << "no error for: " << words;
+    }
+    catch (const InputError& e)
+    {
+      EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
+    }
+  };
+  GltfScene bad = avatar;
+  const auto w = std::find_if(bad.Parts[k].Influences.Weights.begin(), bad.Parts[k].Influences.Weights.end(),
+    [](float x) { return x > 0.0f; });
+  bad.Parts[k].Influences.Joints[static_cast<size_t>(w - bad.Parts[k].Influences.Weights.begin())] = 60000;
+  expectError(bad, "beyond its skin's");
+  bad = avatar;
+  bad.Parts[k].Influences.Weights.pop_back();
+  expectError(bad, "influences do not fit");
+  bad = avatar;
+  bad.Skins[0].InverseBind[0][5] = std::nan("");
+  expectError(bad, "not finite");
+  bad = avatar;
+  bad.Parts[k].TexCoords0.resize(3);
+  expectError(bad, "texture coordinates");
+}
