@@ -3,6 +3,7 @@
 
 #include "vtkActor.h"
 #include "vtkCamera.h"
+#include "vtkCellArray.h"
 #include "vtkCompositeDataIterator.h"
 #include "vtkCompositeDataSet.h"
 #include "vtkDataArray.h"
@@ -199,13 +200,15 @@ vtkSmartPointer<vtkTexture> OrmTexture(vtkPolyData* part)
 
 /// Tangents (vtkPolyDataTangents: per triangle from positions and texture coordinates,
 /// averaged at the points) for a part whose material has a normal texture; null when it has no
-/// normal texture, no normals, no texture coordinates or no triangles. Computed once on the
+/// normal texture, no normals, no texture coordinates, or cells other than triangles (the
+/// filter takes triangles only; glTF parts are). Computed once on the
 /// part as Build sees it and kept for later frames: morph targets move the points a little
 /// and the shader orthogonalizes the tangent against the current normal.
 vtkSmartPointer<vtkDataArray> PartTangents(vtkPolyData* part)
 {
   if (!part->GetFieldData()->GetArray("NormalImage") || !part->GetPointData()->GetTCoords() ||
-    !part->GetPointData()->GetNormals() || part->GetNumberOfPolys() == 0)
+    !part->GetPointData()->GetNormals() || part->GetNumberOfPolys() == 0 ||
+    part->GetPolys()->GetMaxCellSize() != 3 || part->GetNumberOfStrips() > 0)
   {
     return nullptr;
   }
