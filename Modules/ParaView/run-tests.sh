@@ -4,6 +4,7 @@
 #                                   when there is no X display)
 #   2. TestMorphNodeProxies.py      pvbatch: every class's proxy through its properties
 #      TestMorphGltfWriterProxy.py  pvbatch: the glTF writer (File > Save Data)
+#      TestMorphNodeTextures.py     pvbatch: a part's base colour texture on screen
 #   3. TestMorphNodeDistributed.py  pvbatch on one rank (reference), then
 #                                   mpiexec -n 2 pvbatch, compared with it
 # Exits non-zero when the build or a test fails; a test whose data is missing is
@@ -103,6 +104,12 @@ record TestMorphNodeProxies $?
 say "TestMorphGltfWriterProxy (pvbatch)"
 timeout -k 10 "$test_timeout" pvbatch "$here/Testing/TestMorphGltfWriterProxy.py" --plugin "$plugin"
 record TestMorphGltfWriterProxy $?
+
+# --- 2c. a part's base colour texture shown through the representation's Texture ---------
+say "TestMorphNodeTextures (pvbatch)"
+timeout -k 10 "$test_timeout" "${x11[@]}" pvbatch --force-offscreen-rendering \
+  "$here/Testing/TestMorphNodeTextures.py" --plugin "$plugin"
+record TestMorphNodeTextures $?
 
 # --- 3. the face split across two MPI ranks ------------------------------------------------
 say "TestMorphNodeDistributed (pvbatch, 1 rank: the reference)"

@@ -8,13 +8,23 @@
 //     the file: it is drawn after the opaque part (depth peeling), so the overlap mixes
 //     green and red; where it does not overlap the red, it mixes with the background.
 //   - unlit: a quad with KHR_materials_unlit shows its base colour texture unshaded.
+//   - normal map: a grey quad lit from the front, with and without a normal texture whose
+//     one texel tilts the normal by about 75 degrees: with it the quad is much darker (so
+//     the normal texture is drawn, which VTK does only with tangents) and its drawn part
+//     carries Tangents; a separate occlusion texture lands in the R channel of VTK's ORM
+//     texture beside the metallic-roughness texture's G and B.
 // Run under `xvfb-run -a`.
 #include "HeadActors.h"
 
 #include "Core/gltf/GltfTestFiles.h"
 #include "vtkMorphTargetReader.h"
 
+#include "vtkActor.h"
 #include "vtkCamera.h"
+#include "vtkMapper.h"
+#include "vtkPolyData.h"
+#include "vtkProperty.h"
+#include "vtkTexture.h"
 #include "vtkImageData.h"
 #include "vtkLight.h"
 #include "vtkNew.h"
@@ -134,10 +144,49 @@ struct Frame
   }
 };
 
-std::unique_ptr<Frame> Render(double cutoff)
+/// One grey quad over the whole view with an occlusion texture (R 40) and a
+/// metallic-roughness texture (G 200, B 10); with `normalMap` also a normal texture (one
+/// texel (230, 128, 150): the tangent-space normal (0.8, 0, 0.18), tilted towards +u).
+std::string WriteBumpyScene(bool normalMap)
+{
+  Builder b;
+  json material = { { "name", "Bumpy" },
+    { "pbrMetallicRoughness", { { "baseColorFactor", { 0.5, 0.5, 0.5, 1 } }, { "metallicFactor", 0 } } } };
+  const int normal = b.View(Png({ { 230, 128, 150, 255 } }));
+  const int occlusion = b.View(Png({ { 40, 0, 0, 255 } }));
+  const int mr = b.View(Png({ { 0, 200, 10, 255 } }));
+  b.Doc["images"] = { { { "bufferView", normal }, { "mimeType", "image/png" } },
+    { { "bufferView", occlusion }, { "mimeType", "image/png" } }, { { "bufferView", mr }, { "mimeType", "image/png" } } };
+  b.Doc["samplers"] = { { { "magFilter", 9728 }, { "minFilter", 9728 } } };
+  b.Doc["textures"] = { { { "source", 0 }, { "sampler", 0 } }, { { "source", 1 }, { "sampler", 0 } },
+    { { "source", 2 }, { "sampler", 0 } } };
+  if (normalMap)
+  {
+    material["normalTexture"] = { { "index", 0 } };
+  }
+  material["occlusionTexture"] = { { "index", 1 }, { "strength", 0.75 } };
+  material["pbrMetallicRoughness"]["metallicRoughnessTexture"] = { { "index", 2 } };
+  b.Doc["materials"] = { material };
+  b.Mesh({ { "primitives", { Quad(b, -1.0f, -1.0f, 1.0f, 1.0f, 0.0f, 0) } } });
+  b.Doc["nodes"] = { { { "name", "Bumpy" }, { "mesh", 0 } } };
+  b.Doc["scenes"] = { { { "nodes", { 0 } } } };
+  const std::string file = Output + (normalMap ? "/TestMaterialNormalMap.glb" : "/TestMaterialNoNormalMap.glb");
+  const std::string bytes = b.Glb();
+  std::ofstream(file, std::ios::binary).write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  return file;
+}
+
+/// What the test looks at in the drawn parts besides the frame.
+struct Drawn
+{
+  bool Tangents = false; // the first part's drawn copy has point Tangents
+  std::array<int, 4> Orm = { -1, -1, -1, -1 }; // first texel of its ORM texture, channels
+};
+
+std::unique_ptr<Frame> Render(const std::string& file, int parts, Drawn* drawn = nullptr)
 {
   vtkNew<vtkMorphTargetReader> reader;
-  reader->SetFileName(WriteScene(cutoff).c_str());
+  reader->SetFileName(file.c_str());
   reader->Update();
   vtkNew<vtkRenderer> renderer;
   vtkNew<vtkRenderWindow> window;
@@ -147,7 +196,23 @@ std::unique_ptr<Frame> Render(double cutoff)
   window->AddRenderer(renderer);
   morphnode::appkit::HeadActors head;
   EXPECT_TRUE(head.Build(reader->GetOutputDataObject(0), renderer, nullptr));
-  EXPECT_EQ(head.GetNumberOfParts(), 4);
+  EXPECT_EQ(head.GetNumberOfParts(), parts);
+  if (drawn && head.GetNumberOfParts() > 0)
+  {
+    vtkActor* actor = head.GetActor(0);
+    drawn->Tangents = actor->GetMapper()->GetInput()->GetPointData()->GetTangents() != nullptr;
+    const auto& textures = actor->GetProperty()->GetAllTextures();
+    const auto orm = textures.find("materialTex");
+    if (orm != textures.end())
+    {
+      auto* image = vtkImageData::SafeDownCast(orm->second->GetInputDataObject(0, 0));
+      const int n = image ? image->GetNumberOfScalarComponents() : 0;
+      for (int c = 0; c < n && c < 4; ++c)
+      {
+        drawn->Orm[c] = static_cast<int>(image->GetScalarComponentAsDouble(0, 0, 0, c));
+      }
+    }
+  }
   renderer->SetBackground(0, 0, 0);
   renderer->SetUseDepthPeeling(true);
   renderer->RemoveAllLights();
@@ -174,6 +239,11 @@ std::unique_ptr<Frame> Render(double cutoff)
   auto frame = std::make_unique<Frame>();
   frame->Image->DeepCopy(grab->GetOutput());
   return frame;
+}
+
+std::unique_ptr<Frame> Render(double cutoff)
+{
+  return Render(WriteScene(cutoff), 4);
 }
 
 std::string Text(const std::array<int, 3>& c)
@@ -232,4 +302,24 @@ TEST(MaterialAlpha, UnlitShowsItsTexture)
   EXPECT_GT(sign[0], 240) << Text(sign);
   EXPECT_GT(sign[1], 240) << Text(sign);
   EXPECT_LT(sign[2], 20) << Text(sign);
+}
+
+TEST(MaterialNormalMap, NormalTextureTiltsTheShading)
+{
+  Drawn plain, bumpy;
+  auto flat = Render(WriteBumpyScene(false), 1, &plain);
+  auto tilted = Render(WriteBumpyScene(true), 1, &bumpy);
+  const auto a = flat->At(0.0, 0.0), b = tilted->At(0.0, 0.0);
+  std::cout << "without normal texture " << Text(a) << ", with " << Text(b) << "\n";
+  EXPECT_FALSE(plain.Tangents) << "tangents for a part without a normal texture";
+  EXPECT_TRUE(bumpy.Tangents) << "no Tangents on the part with a normal texture";
+  // Lit head-on, the untilted quad is bright; the normal tilted by ~75 degrees turns it away
+  // from the light (N.L about 0.2): without the normal texture drawn both frames are equal.
+  EXPECT_GT(a[0], 60) << Text(a);
+  EXPECT_GT(a[0] - b[0], 40) << "normal texture not drawn: " << Text(a) << " vs " << Text(b);
+  // Occlusion R (40), roughness G (200), metallic B (10) in one ORM texture.
+  EXPECT_EQ(plain.Orm[0], 40);
+  EXPECT_EQ(bumpy.Orm[0], 40);
+  EXPECT_EQ(bumpy.Orm[1], 200);
+  EXPECT_EQ(bumpy.Orm[2], 10);
 }

@@ -3,6 +3,7 @@
 
 #include "vtkActor.h"
 #include "vtkCamera.h"
+#include "vtkCellArray.h"
 #include "vtkCompositeDataIterator.h"
 #include "vtkCompositeDataSet.h"
 #include "vtkDataArray.h"
@@ -17,6 +18,7 @@
 #include "vtkPointData.h"
 #include "vtkPolyData.h"
 #include "vtkPolyDataMapper.h"
+#include "vtkPolyDataTangents.h"
 #include "vtkProperty.h"
 #include "vtkRenderWindow.h"
 #include "vtkRenderer.h"
@@ -154,12 +156,83 @@ vtkSmartPointer<vtkTexture> PartTexture(vtkPolyData* part, const std::string& na
   return texture;
 }
 
+/// VTK's ORM texture (R occlusion, G roughness, B metallic) from glTF's separate occlusion
+/// texture (its R) and metallic-roughness texture (its G and B), which VTK 9.1 cannot take
+/// apart: one image when both have the same size, else the metallic-roughness one alone
+/// (R is then set to 255, no occlusion). Null when the part has neither.
+vtkSmartPointer<vtkTexture> OrmTexture(vtkPolyData* part)
+{
+  auto mr = PartTexture(part, "MetallicRoughness", false, "OPAQUE");
+  auto occlusion = PartTexture(part, "Occlusion", false, "OPAQUE");
+  if (!occlusion && !mr)
+  {
+    return nullptr;
+  }
+  vtkSmartPointer<vtkTexture> orm = mr ? mr : occlusion;
+  auto* image = vtkImageData::SafeDownCast(orm->GetInputDataObject(0, 0));
+  auto* other = occlusion && mr ? vtkImageData::SafeDownCast(occlusion->GetInputDataObject(0, 0)) : nullptr;
+  int dims[3], otherDims[3] = { 0, 0, 0 };
+  image->GetDimensions(dims);
+  if (other)
+  {
+    other->GetDimensions(otherDims);
+  }
+  const bool combine = other && dims[0] == otherDims[0] && dims[1] == otherDims[1];
+  auto* rgb = static_cast<unsigned char*>(image->GetScalarPointer());
+  const auto* ao = combine ? static_cast<const unsigned char*>(other->GetScalarPointer()) : nullptr;
+  for (vtkIdType i = 0; i < vtkIdType(dims[0]) * dims[1]; ++i)
+  {
+    if (!occlusion)
+    {
+      rgb[3 * i] = 255; // R is not occlusion in a metallic-roughness image
+    }
+    else if (!mr)
+    {
+      rgb[3 * i + 1] = rgb[3 * i + 2] = 255; // the factors alone
+    }
+    else
+    {
+      rgb[3 * i] = combine ? ao[3 * i] : 255;
+    }
+  }
+  return orm;
+}
+
+/// Tangents (vtkPolyDataTangents: per triangle from positions and texture coordinates,
+/// averaged at the points) for a part whose material has a normal texture; null when it has no
+/// normal texture, no normals, no texture coordinates, or cells other than triangles (the
+/// filter takes triangles only; glTF parts are). Computed once on the
+/// part as Build sees it and kept for later frames: morph targets move the points a little
+/// and the shader orthogonalizes the tangent against the current normal.
+vtkSmartPointer<vtkDataArray> PartTangents(vtkPolyData* part)
+{
+  if (!part->GetFieldData()->GetArray("NormalImage") || !part->GetPointData()->GetTCoords() ||
+    !part->GetPointData()->GetNormals() || part->GetNumberOfPolys() == 0 ||
+    part->GetPolys()->GetMaxCellSize() != 3 || part->GetNumberOfStrips() > 0)
+  {
+    return nullptr;
+  }
+  vtkNew<vtkPolyData> copy;
+  copy->ShallowCopy(part);
+  vtkNew<vtkPolyDataTangents> tangents;
+  tangents->SetInputData(copy);
+  tangents->ComputePointTangentsOn();
+  tangents->ComputeCellTangentsOff();
+  tangents->Update();
+  vtkDataArray* result = tangents->GetOutput()->GetPointData()->GetTangents();
+  if (!result || result->GetNumberOfTuples() != part->GetNumberOfPoints())
+  {
+    return nullptr;
+  }
+  return result;
+}
+
 /// Draws the part's glTF material (field data from vtkMorphTargetReader, docs/materials.md)
 /// with VTK 9.1's PBR: base colour (sRGB texture times factor), metallic and roughness
 /// (factors, and the ORM texture), normal and emissive textures, alpha modes, back faces
 /// culled unless double-sided, unlit as flat ambient colour. False when the part has no
 /// material fields (the classic look stays).
-bool ApplyMaterial(vtkPolyData* part, vtkActor* actor, const std::array<double, 4>& color)
+bool ApplyMaterial(vtkPolyData* part, vtkActor* actor, const std::array<double, 4>& color, bool tangents)
 {
   vtkProperty* property = actor->GetProperty();
   if (!part->GetFieldData()->GetArray("MetallicFactor"))
@@ -186,13 +259,13 @@ bool ApplyMaterial(vtkPolyData* part, vtkActor* actor, const std::array<double, 
     {
       property->SetBaseColorTexture(base);
     }
-    if (auto mr = PartTexture(part, "MetallicRoughness", false, "OPAQUE"))
+    if (auto orm = OrmTexture(part))
     {
-      property->SetORMTexture(mr); // glTF's G roughness, B metallic are VTK's ORM channels
-      property->SetOcclusionStrength(0.0); // R is not occlusion in a metallic-roughness image
+      property->SetORMTexture(orm);
+      property->SetOcclusionStrength(FieldNumber(part, "OcclusionStrength", 0, 0.0));
     }
-    // A normal map needs tangents (vtkPolyDataTangents), which the parts do not carry.
-    auto normal = part->GetPointData()->GetTangents() ? PartTexture(part, "Normal", false, "OPAQUE") : nullptr;
+    // A normal map needs tangents: PartTangents gives the drawn copy of the part its own.
+    auto normal = tangents ? PartTexture(part, "Normal", false, "OPAQUE") : nullptr;
     if (normal)
     {
       property->SetNormalTexture(normal);
@@ -232,6 +305,7 @@ struct HeadActors::Part
   vtkNew<vtkPolyDataMapper> Mapper;
   vtkNew<vtkActor> Actor;
   vtkSmartPointer<vtkUnsignedCharArray> Colors; // COLOR_0 x BaseColor, or null
+  vtkSmartPointer<vtkDataArray> Tangents; // for a normal texture (PartTangents), or null
   vtkIdType Points = 0;
   std::string Name;
 
@@ -242,6 +316,10 @@ struct HeadActors::Part
     if (this->Colors)
     {
       this->Display->GetPointData()->AddArray(this->Colors);
+    }
+    if (this->Tangents)
+    {
+      this->Display->GetPointData()->SetTangents(this->Tangents);
     }
   }
 
@@ -340,6 +418,7 @@ bool HeadActors::Build(vtkDataObject* head, vtkRenderer* renderer, vtkLinearTran
     part->Colors = PointColors(input, color);
     part->Points = input->GetNumberOfPoints();
     part->Name = FieldString(input, "PartName");
+    part->Tangents = PartTangents(input);
     part->Take(input);
     part->Mapper->SetInputData(part->Display);
     part->ShowOwnColors();
@@ -349,7 +428,7 @@ bool HeadActors::Build(vtkDataObject* head, vtkRenderer* renderer, vtkLinearTran
       part->Actor->SetUserTransform(pose);
     }
     vtkProperty* property = part->Actor->GetProperty();
-    if (!ApplyMaterial(input, part->Actor, color))
+    if (!ApplyMaterial(input, part->Actor, color, part->Tangents != nullptr))
     {
       property->SetColor(color[0], color[1], color[2]);
       property->SetOpacity(color[3]);
