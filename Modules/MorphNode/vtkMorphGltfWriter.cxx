@@ -8,6 +8,7 @@
 #include "behavior/HeadPose.h"
 #include "gaze/EyeRig.h"
 #include "gaze/EyeRotation.h"
+#include "gltf/GltfScene.h"
 #include "gltf/GltfWriter.h"
 #include "morph/MorphScene.h"
 #include "morph/OptimizerPresets.h"
@@ -127,6 +128,15 @@ morphnode::GltfPart ToPart(vtkPolyData* poly, const std::string& fallbackName, s
       {
         part.Colors[4 * i + c] = c < nc ? static_cast<float>(colors->GetComponent(i, c) * scale) : 1.0f;
       }
+    }
+  }
+  // The texture coordinates the reader gave the part (its base colour texture's set), written
+  // as TEXCOORD_0 for the source file's material (see RequestData).
+  if (vtkDataArray* tc = pd->GetTCoords())
+  {
+    if (tc->GetNumberOfComponents() == 2 && tc->GetNumberOfTuples() == n)
+    {
+      part.TexCoords0 = ToFloats(tc);
     }
   }
   part.Triangles = arrays::GetTriangles(poly, true);
@@ -352,6 +362,49 @@ void vtkMorphGltfWriter::WriteData()
         meshes.push_back(std::make_shared<morphnode::MorphMesh>(arrays::ToMorphMesh(leaves[i], options).Mesh));
       }
       scene.Parts.push_back(std::move(part));
+    }
+    // The materials and images of the file the parts were read from (vtkMorphTargetReader's
+    // MaterialIndex and MaterialSource field data): the source scene's own, written back whole
+    // by the core writer. Parts from several files, or a source that no longer loads, keep the
+    // base colour materials made from their field data.
+    {
+      std::string source;
+      bool one = true;
+      std::vector<int> indices;
+      for (vtkPolyData* leaf : leaves)
+      {
+        const std::string file = FieldString(leaf->GetFieldData(), "MaterialSource");
+        const std::vector<double> index = FieldNumbers(leaf->GetFieldData(), "MaterialIndex", 1);
+        indices.push_back(file.empty() || index.size() != 1 ? -1 : static_cast<int>(index[0]));
+        if (!file.empty())
+        {
+          one = one && (source.empty() || source == file);
+          source = file;
+        }
+      }
+      if (!source.empty() && one)
+      {
+        try
+        {
+          morphnode::GltfScene src = morphnode::LoadGltfScene(source);
+          scene.Materials = std::move(src.Materials);
+          scene.Images = std::move(src.Images);
+          for (size_t i = 0; i < indices.size(); ++i)
+          {
+            if (indices[i] >= 0 && static_cast<size_t>(indices[i]) < scene.Materials.size())
+            {
+              scene.Parts[i].Material = indices[i];
+            }
+          }
+        }
+        catch (const std::exception& e)
+        {
+          vtkWarningMacro(<< "the materials of " << source << " are not written (" << e.what()
+                          << "); base colours only");
+          scene.Materials.clear();
+          scene.Images.clear();
+        }
+      }
     }
     scene.SceneName = "MorphNode";
     this->NumberOfParts = static_cast<int>(scene.Parts.size());

@@ -29,7 +29,10 @@
  * `target<k>_normal`, field data `TargetNames`), point data `Normals` (active normals) and
  * `COLOR_0`, and field data `PartName`, `NodeName`, `MaterialName`, `BaseColor`,
  * `NodeOrigin` (docs/scene.md). Leaves of one `NodeName` become the primitives of one glTF
- * node and mesh; points are in world space, so nodes carry no transform.
+ * node and mesh; points are in world space, so nodes carry no transform. Leaves that all
+ * name one glTF file in `MaterialSource` (with `MaterialIndex`, as vtkMorphTargetReader
+ * gives them) get that file's materials and images written back, point data `TCoords` as
+ * `TEXCOORD_0`; other leaves a base colour material.
  *
  * Input port 1 (optional): the performance as ONE vtkTable holding the whole track, a
  * row per frame: a time column (TimeArrayName, default `Time`, seconds, strictly

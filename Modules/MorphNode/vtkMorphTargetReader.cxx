@@ -276,7 +276,8 @@ void AddImage(vtkFieldData* fd, const std::string& name, const morphnode::GltfIm
 /// Occlusion, Emissive) where they decoded and use the base colour's texture coordinates;
 /// point data TCoords: the base colour texture's TEXCOORD_n with its KHR_texture_transform
 /// applied (VTK draws all of a part's textures with one set of coordinates).
-void AddMaterial(vtkPolyData* poly, const morphnode::GltfScene& scene, const morphnode::GltfPart& part)
+void AddMaterial(vtkPolyData* poly, const morphnode::GltfScene& scene, const morphnode::GltfPart& part,
+  const std::string& fileName)
 {
   if (part.Material < 0 || static_cast<size_t>(part.Material) >= scene.Materials.size())
   {
@@ -284,6 +285,11 @@ void AddMaterial(vtkPolyData* poly, const morphnode::GltfScene& scene, const mor
   }
   const morphnode::GltfMaterial& m = scene.Materials[static_cast<size_t>(part.Material)];
   vtkFieldData* fd = poly->GetFieldData();
+  // Where the material came from: vtkMorphGltfWriter writes the file's material (and its
+  // images) back from these.
+  const double index = part.Material;
+  AddDoubles(fd, "MaterialIndex", &index, 1);
+  AddString(fd, "MaterialSource", fileName);
   AddDoubles(fd, "MetallicFactor", &m.MetallicFactor, 1);
   AddDoubles(fd, "RoughnessFactor", &m.RoughnessFactor, 1);
   const double emissive[3] = { m.EmissiveFactor[0] * m.EmissiveStrength, m.EmissiveFactor[1] * m.EmissiveStrength,
@@ -873,7 +879,7 @@ int vtkMorphTargetReader::RequestData(
           auto poly = PartToPolyData(part);
           FinishMesh(poly, names, this->Scale, this->NormalsMode);
           AddPartFieldData(poly->GetFieldData(), scene, part, true, this->Scale);
-          AddMaterial(poly, scene, part);
+          AddMaterial(poly, scene, part, this->FileName);
           addWeightFields(poly->GetFieldData(), part);
           if (part.Skin >= 0)
           {
@@ -916,7 +922,7 @@ int vtkMorphTargetReader::RequestData(
         poly->ShallowCopy(PartToPolyData(part));
         FinishMesh(poly, names, this->Scale, this->NormalsMode);
         AddPartFieldData(poly->GetFieldData(), scene, part, false, this->Scale);
-        AddMaterial(poly, scene, part);
+        AddMaterial(poly, scene, part, this->FileName);
         addWeightFields(poly->GetFieldData(), part);
         this->TargetNames = names;
         this->PartNames.push_back(part.Name);

@@ -6,6 +6,7 @@
 #include "MorphAvatarRun.h"
 #include "audio/AudioBuffer.h"
 #include "audio/AudioFile.h"
+#include "gltf/GltfScene.h"
 
 #include "vtkDataArray.h"
 #include "vtkFieldData.h"
@@ -704,4 +705,60 @@ TEST(MorphAvatar, ContentErrorsReadAsProgramLines)
     }
     EXPECT_GE(count, 1) << arguments;
   }
+}
+
+// --gltf writes the face's own materials and images back (vtkMorphTargetReader's
+// MaterialIndex/MaterialSource, vtkMorphGltfWriter): the MakeHuman avatar's export re-read by
+// the core loader has the source's materials, in the same order on the same parts, and every
+// base colour texture with the source's pixels and the part's texture coordinates. Without
+// them the export had one untextured material per base colour.
+TEST(MorphAvatar, GltfExportKeepsTheFacesMaterials)
+{
+  const std::string avatar = std::string(MORPHNODE_AVATAR_DIR) + "/makehuman_avatar.glb";
+  if (!vtksys::SystemTools::FileExists(avatar, true))
+  {
+    GTEST_SKIP() << "MakeHuman avatar not found: " << avatar;
+  }
+  const std::string dir = Output + "/MorphAvatarGltfMaterials";
+  vtksys::SystemTools::RemoveADirectory(dir);
+  vtksys::SystemTools::MakeDirectory(dir);
+  std::ofstream(dir + "/cues.tsv") << "0.00\tX\n0.30\tA\n0.60\tX\n";
+  const AvatarRun run = RunAvatar("--face '" + avatar + "' --timings '" + dir +
+    "/cues.tsv' --duration 1 --fps 10 --gltf '" + dir + "/avatar.glb' --quiet");
+  ASSERT_EQ(run.ExitCode, 0) << run.Text;
+  const morphnode::GltfScene source = morphnode::LoadGltfScene(avatar);
+  const morphnode::GltfScene back = morphnode::LoadGltfScene(dir + "/avatar.glb");
+  // The control: what is compared is the avatar's materials and textures, not empty lists.
+  ASSERT_EQ(source.Materials.size(), 6u);
+  ASSERT_EQ(source.Images.size(), 3u);
+  EXPECT_EQ(back.Materials.size(), source.Materials.size());
+  EXPECT_EQ(back.Images.size(), source.Images.size());
+  ASSERT_EQ(back.Parts.size(), source.Parts.size());
+  int textured = 0;
+  for (const morphnode::GltfPart& part : back.Parts)
+  {
+    const auto it = std::find_if(source.Parts.begin(), source.Parts.end(),
+      [&](const morphnode::GltfPart& p) { return p.Name == part.Name; });
+    ASSERT_NE(it, source.Parts.end()) << part.Name;
+    ASSERT_GE(part.Material, 0) << part.Name;
+    ASSERT_EQ(part.Material, it->Material) << part.Name;
+    const morphnode::GltfMaterial& was = source.Materials[static_cast<size_t>(it->Material)];
+    const morphnode::GltfMaterial& is = back.Materials[static_cast<size_t>(part.Material)];
+    EXPECT_EQ(is.Name, was.Name) << part.Name;
+    EXPECT_EQ(is.AlphaMode, was.AlphaMode) << part.Name;
+    EXPECT_EQ(is.BaseColorTexture.IsSet(), was.BaseColorTexture.IsSet()) << part.Name;
+    if (!was.BaseColorTexture.IsSet() || !is.BaseColorTexture.IsSet())
+    {
+      continue;
+    }
+    ++textured;
+    const morphnode::GltfImage& a = source.Images[static_cast<size_t>(was.BaseColorTexture.Image)];
+    const morphnode::GltfImage& b = back.Images[static_cast<size_t>(is.BaseColorTexture.Image)];
+    EXPECT_EQ(b.Width, a.Width) << part.Name;
+    EXPECT_EQ(b.Height, a.Height) << part.Name;
+    EXPECT_TRUE(b.Pixels == a.Pixels) << part.Name << ": the base colour image differs";
+    EXPECT_EQ(part.TexCoords0.size(), it->TexCoords0.size()) << part.Name << ": no texture coordinates";
+  }
+  // The eyes, eyebrows and eyelashes are the avatar's textured parts.
+  EXPECT_EQ(textured, 4);
 }
