@@ -15,6 +15,7 @@
 
 #include "base/Error.h"
 #include "GltfTestFiles.h"
+#include "MorphNodeTestErrors.h"
 
 #include <gtest/gtest.h>
 
@@ -351,17 +352,10 @@ GltfScene Load(const std::string& bytes)
   return morphnode::LoadGltfSceneFromMemory(bytes.data(), bytes.size(), "", {}, "test.glb");
 }
 
+/// The message of the InputError that loading `bytes` gives (Testing/MorphNodeTestErrors.h).
 std::string ErrorOf(const std::string& bytes)
 {
-  try
-  {
-    Load(bytes);
-  }
-  catch (const InputError& e)
-  {
-    return e.what();
-  }
-  return std::string();
+  return morphnode_test::ErrorOf([&] { Load(bytes); });
 }
 } // namespace
 

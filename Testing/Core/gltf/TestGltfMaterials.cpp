@@ -7,6 +7,7 @@
 
 #include "base/Error.h"
 #include "GltfTestFiles.h"
+#include "MorphNodeTestErrors.h"
 
 #include <gtest/gtest.h>
 
@@ -34,17 +35,10 @@ GltfScene Load(const std::string& bytes)
   return morphnode::LoadGltfSceneFromMemory(bytes.data(), bytes.size(), "", {}, "test.glb");
 }
 
+/// The message of the InputError that loading `bytes` gives (Testing/MorphNodeTestErrors.h).
 std::string ErrorOf(const std::string& bytes)
 {
-  try
-  {
-    Load(bytes);
-  }
-  catch (const InputError& e)
-  {
-    return e.what();
-  }
-  return std::string();
+  return morphnode_test::ErrorOf([&] { Load(bytes); });
 }
 
 // A 1x1 RGBA PNG (red, alpha 128), made with Python's zlib.
