@@ -240,6 +240,22 @@ BuiltModel BuildFromRelativeTargets(vtkPointSet* input, double sparseCoverage)
   return built;
 }
 
+std::vector<vtkPointSet*> AbsoluteShapes(vtkDataObject* input)
+{
+  std::vector<vtkPointSet*> shapes;
+  auto* set = vtkPartitionedDataSet::SafeDownCast(input);
+  for (unsigned int i = 0; set && i < set->GetNumberOfPartitions(); ++i)
+  {
+    auto* shape = vtkPointSet::SafeDownCast(set->GetPartitionAsDataObject(i));
+    if (!shape || HasRelativeTargets(shape))
+    {
+      return {};
+    }
+    shapes.push_back(shape);
+  }
+  return shapes;
+}
+
 BuiltModel BuildModel(const std::vector<vtkPointSet*>& inputs, double sparseCoverage)
 {
   return inputs.size() == 1 && HasRelativeTargets(inputs[0]) ? BuildFromRelativeTargets(inputs[0], sparseCoverage)

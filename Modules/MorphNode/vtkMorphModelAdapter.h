@@ -27,6 +27,7 @@
 
 class vtkCompositeDataSet;
 class vtkDataArray;
+class vtkDataObject;
 class vtkFieldData;
 class vtkMultiProcessController;
 class vtkPointData;
@@ -94,6 +95,11 @@ bool HasRelativeTargets(vtkPointSet* input);
 BuiltModel BuildFromAbsoluteTargets(const std::vector<vtkPointSet*>& inputs, double sparseCoverage);
 /// glTF form: one point set with relative target arrays (vtkMorphTargetArrays::ToMorphMesh).
 BuiltModel BuildFromRelativeTargets(vtkPointSet* input, double sparseCoverage);
+/// The Java3D form in one data set: the partitions of a vtkPartitionedDataSet none of which
+/// carries target arrays (partition 0 the neutral, the others absolute targets), so that
+/// the 14 geometries of a Java3D Morph cost the pipeline one connection, not 14. Empty for
+/// anything else (a vtkPartitionedDataSet of parts with target arrays is a head).
+std::vector<vtkPointSet*> AbsoluteShapes(vtkDataObject* input);
 /// The glTF form when `inputs` is one point set with target arrays, else the Java3D form.
 BuiltModel BuildModel(const std::vector<vtkPointSet*>& inputs, double sparseCoverage);
 

@@ -116,6 +116,13 @@ struct vtkMorphNodeFilter::vtkInternals
     this->Inputs.clear();
     this->LeafInputs.clear();
     this->CompositeInput = vtkCompositeDataSet::GetData(port0, 0);
+    std::vector<vtkPointSet*> shapes = adapter::AbsoluteShapes(this->CompositeInput);
+    if (!shapes.empty() && port0->GetNumberOfInformationObjects() == 1)
+    {
+      this->CompositeInput = nullptr; // the Java3D form in one connection
+      this->Inputs = std::move(shapes);
+      return;
+    }
     if (!this->CompositeInput)
     {
       for (int i = 0; i < port0->GetNumberOfInformationObjects(); ++i)
@@ -463,14 +470,17 @@ int vtkMorphNodeFilter::RequestDataObject(
 {
   vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);
   vtkDataObject* input = inInfo ? vtkDataObject::GetData(inInfo) : nullptr;
-  if (auto* composite = vtkCompositeDataSet::SafeDownCast(input))
+  const std::vector<vtkPointSet*> shapes = adapter::AbsoluteShapes(input);
+  // The output is of the input's type; the Java3D form in one data set gives the neutral's.
+  vtkDataObject* like = shapes.empty() ? input : shapes[0];
+  if (vtkCompositeDataSet::SafeDownCast(input))
   {
     vtkInformation* outInfo = outputVector->GetInformationObject(0);
     vtkDataObject* output = vtkDataObject::GetData(outInfo);
-    if (!output || !output->IsA(composite->GetClassName()))
+    if (!output || !output->IsA(like->GetClassName()))
     {
       vtkSmartPointer<vtkDataObject> fresh;
-      fresh.TakeReference(composite->NewInstance());
+      fresh.TakeReference(like->NewInstance());
       outInfo->Set(vtkDataObject::DATA_OBJECT(), fresh);
     }
     return 1;
@@ -496,8 +506,11 @@ int vtkMorphNodeFilter::GetNumberOfTargets()
   {
     return connections;
   }
-  // A composite: every leaf's target names, by name; one point set: its target arrays.
-  return 1 + static_cast<int>(vtkMorphTargetArrays::CountFaceTargets(this->GetInputDataObject(0, 0)));
+  // The Java3D form in one data set: its shapes; a composite: every leaf's target names, by
+  // name; one point set: its target arrays.
+  vtkDataObject* input = this->GetInputDataObject(0, 0);
+  const size_t shapes = adapter::AbsoluteShapes(input).size();
+  return static_cast<int>(shapes ? shapes : 1 + vtkMorphTargetArrays::CountFaceTargets(input));
 }
 
 //------------------------------------------------------------------------------

@@ -10,6 +10,11 @@
  * - Java3D style: several connections (AddInputConnection(0, ...)), each an absolute
  *   geometry (any vtkPointSet). Connection 0 is the neutral. All targets have the same
  *   number of points; cells come from the neutral.
+ *   The same geometries may come as the partitions of one vtkPartitionedDataSet on one
+ *   connection (partition 0 the neutral; no partition carries target arrays): the same
+ *   result, but VTK's executive handles one connection instead of one per geometry (each
+ *   connection costs it about 1.2 us per update, see docs/benchmarks.md). The output is
+ *   then of the neutral's type.
  * - glTF style: one vtkPointSet carrying relative targets as point-data arrays
  *   `target<k>_position` (and `target<k>_normal`), as vtkGLTFReader produces with
  *   ApplyDeformationsToGeometry off. Target 0 is the base mesh, `target<k>_*` target k+1.

@@ -14,6 +14,7 @@
 #include "vtkInformationVector.h"
 #include "vtkIntArray.h"
 #include "vtkMath.h"
+#include "vtkPartitionedDataSet.h"
 #include "vtkPointData.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
@@ -307,6 +308,59 @@ TEST(MorphNodeFilter, OptimizerPresets)
   rig.Filter->SetRedistributionStrategyToRemaining();
   EXPECT_EQ(rig.Filter->GetMTime(), before);
   EXPECT_EQ(rig.Filter->GetOptimizerPreset(), vtkMorphNodeFilter::OPTIMIZER_FIXED_REMAINING);
+}
+
+// Java3D's geometries as the partitions of one vtkPartitionedDataSet: one connection, the
+// same result as one connection per geometry; partitions with target arrays stay a head.
+TEST(MorphNodeFilter, Java3DFormInOneConnection)
+{
+  Rig connections(ThreeQuads());
+  vtkNew<vtkPartitionedDataSet> shapes;
+  for (const auto& quad : ThreeQuads())
+  {
+    shapes->SetPartition(shapes->GetNumberOfPartitions(), quad);
+  }
+  vtkNew<vtkMorphNodeFilter> one;
+  one->SetInputData(0, shapes);
+  EXPECT_EQ(one->GetNumberOfTargets(), 3);
+  for (vtkMorphNodeFilter* filter : { connections.Filter.Get(), one.Get() })
+  {
+    filter->SetWeightModeToStrict();
+    filter->SetWeight(0, 0.25);
+    filter->SetWeight(2, 0.75);
+    filter->Update();
+  }
+  auto* expected = vtkPolyData::SafeDownCast(connections.Filter->GetOutputDataObject(0));
+  auto* got = vtkPolyData::SafeDownCast(one->GetOutputDataObject(0));
+  ASSERT_TRUE(expected && got) << one->GetOutputDataObject(0)->GetClassName();
+  ASSERT_EQ(got->GetNumberOfPoints(), expected->GetNumberOfPoints());
+  EXPECT_EQ(got->GetNumberOfPolys(), expected->GetNumberOfPolys());
+  for (vtkIdType i = 0; i < got->GetNumberOfPoints(); ++i)
+  {
+    double a[3], b[3];
+    got->GetPoint(i, a);
+    expected->GetPoint(i, b);
+    EXPECT_DOUBLE_EQ(a[0], b[0]);
+    EXPECT_DOUBLE_EQ(a[1], b[1]);
+  }
+  EXPECT_STREQ(one->GetTargetName(2), "target1");
+  EXPECT_EQ(one->GetActiveTargetCount(), 1);
+
+  // A partition with target arrays: a head of parts, as before.
+  vtkNew<vtkFloatArray> delta;
+  delta->SetName("target0_position");
+  delta->SetNumberOfComponents(3);
+  delta->SetNumberOfTuples(4);
+  delta->FillValue(0.5f);
+  auto part = MakeQuad(0.0);
+  part->GetPointData()->AddArray(delta);
+  vtkNew<vtkPartitionedDataSet> head;
+  head->SetPartition(0, part);
+  vtkNew<vtkMorphNodeFilter> parts;
+  parts->SetInputData(0, head);
+  parts->SetWeight(1, 1.0);
+  parts->Update();
+  EXPECT_TRUE(vtkPartitionedDataSet::SafeDownCast(parts->GetOutputDataObject(0)));
 }
 
 TEST(MorphNodeFilter, NormalizeModeDividesBySum)
