@@ -163,6 +163,12 @@ const morphnode::BehaviorController& vtkBehaviorTimeSource::GetController()
 }
 
 //------------------------------------------------------------------------------
+morphnode::SpeechOptions vtkBehaviorTimeSource::GetSpeechOptions()
+{
+  return this->Internals->Speech->Options();
+}
+
+//------------------------------------------------------------------------------
 int vtkBehaviorTimeSource::FillOutputPortInformation(int, vtkInformation* info)
 {
   info->Set(vtkDataObject::DATA_TYPE_NAME(), "vtkTable");

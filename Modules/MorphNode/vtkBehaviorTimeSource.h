@@ -75,6 +75,7 @@ namespace morphnode
 {
 class BehaviorController;
 struct BehaviorParameters;
+struct SpeechOptions;
 struct Utterance;
 }
 #endif
@@ -314,6 +315,10 @@ public:
   bool SetBehaviorParameters(const morphnode::BehaviorParameters& parameters);
   const morphnode::BehaviorParameters& GetBehaviorParameters();
   ///@}
+
+  /// The speech settings of Say() now (voice, rate, viseme set or table), warnings to this
+  /// source: for a live behaviour with the same voice (vtkLiveBehaviorSource::CopySettings).
+  morphnode::SpeechOptions GetSpeechOptions();
 #endif
 
 protected:
