@@ -108,8 +108,9 @@ public:
   double GetBehaviorTime(double t);
 
 #ifndef __VTK_WRAP__
-  /// The core behaviour (made on first use), for C++ code that commands it directly (call
-  /// Modified() after its commands) and takes its sound (TakeAudio) and errors.
+  /// The core behaviour, for C++ code that commands it directly (call Modified() after its
+  /// commands) and takes its sound (TakeAudio) and errors. The reference holds until the
+  /// settings change (CopySettings, SetSeed, SetVisemeSetFromString start a new one).
   morphnode::LiveBehavior& GetLiveBehavior();
 #endif
 

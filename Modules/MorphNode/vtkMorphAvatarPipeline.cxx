@@ -76,12 +76,13 @@ void vtkMorphAvatarPipeline::Connect()
 {
   vtkAlgorithmOutput* weights = this->Weights;
   const bool rig = !this->RigFileName.empty();
+  const bool mapped = rig && this->RigMapsWeights && !this->UseFaceAnimation;
   this->Morph->SetInputConnection(this->Reader->GetOutputPort());
   if (this->UseFaceAnimation)
   {
     this->Morph->SetWeightsConnection(this->Reader->GetOutputPort(1));
   }
-  else if (rig)
+  else if (mapped)
   {
     this->Rig->SetInputConnection(weights);
     this->Rig->SetFaceConnection(this->Reader->GetOutputPort());
@@ -91,12 +92,12 @@ void vtkMorphAvatarPipeline::Connect()
   {
     this->Morph->SetWeightsConnection(weights);
   }
-  if (this->UseFaceAnimation || !rig)
+  if (!mapped)
   {
     this->Rig->SetInputConnection(nullptr);
     this->Rig->SetFaceConnection(nullptr);
   }
-  this->Rig->SetRigFileName(rig ? this->RigFileName.c_str() : nullptr);
+  this->Rig->SetRigFileName(mapped ? this->RigFileName.c_str() : nullptr);
   this->Gaze->SetInputConnection(this->Morph->GetOutputPort());
   this->Gaze->SetGazeConnection(this->UseFaceAnimation ? nullptr : weights);
   this->Gaze->SetRigFileName(rig ? this->RigFileName.c_str() : nullptr);
@@ -147,6 +148,17 @@ void vtkMorphAvatarPipeline::SetWeightsConnection(vtkAlgorithmOutput* output)
 vtkAlgorithmOutput* vtkMorphAvatarPipeline::GetWeightsConnection()
 {
   return this->Weights;
+}
+
+//------------------------------------------------------------------------------
+void vtkMorphAvatarPipeline::SetRigMapsWeights(bool maps)
+{
+  if (maps != this->RigMapsWeights)
+  {
+    this->RigMapsWeights = maps;
+    this->Connect();
+    this->Modified();
+  }
 }
 
 //------------------------------------------------------------------------------
@@ -262,6 +274,7 @@ void vtkMorphAvatarPipeline::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "FileName: " << (this->Reader->GetFileName() ? this->Reader->GetFileName() : "(none)") << "\n";
   os << indent << "RigFileName: " << (this->RigFileName.empty() ? "(none)" : this->RigFileName) << "\n";
   os << indent << "WeightsConnection: " << this->Weights.GetPointer() << "\n";
+  os << indent << "RigMapsWeights: " << this->RigMapsWeights << "\n";
   os << indent << "UseFaceAnimation: " << this->UseFaceAnimation << "\n";
   os << indent << "HeadPivot: (" << this->Pivot[0] << ", " << this->Pivot[1] << ", " << this->Pivot[2] << ")\n";
   os << indent << "Reader: " << this->Reader.GetPointer() << "\n";

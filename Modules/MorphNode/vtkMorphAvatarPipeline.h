@@ -89,6 +89,18 @@ public:
 
   ///@{
   /**
+   * On (default): with a rig, the weights are its channels (a behaviour's, live or not) and
+   * the rig maps them onto the face's targets. Off: the weights name the face's targets
+   * already (a capture take mapped by vtkLiveLinkFaceReader); the rig then only names the
+   * eye parts for the gaze.
+   */
+  void SetRigMapsWeights(bool maps);
+  vtkGetMacro(RigMapsWeights, bool);
+  vtkBooleanMacro(RigMapsWeights, bool);
+  ///@}
+
+  ///@{
+  /**
    * Off (default): the morph's weights are the weights connection's. On: the face file's own
    * glTF animation drives the morph (the reader's port 1; choose it on GetReader()); its
    * weights carry no angles, so the eyes stay as the file has them, the head pose is the
@@ -158,6 +170,7 @@ private:
   vtkSmartPointer<vtkAlgorithmOutput> Weights;
   std::string RigFileName;
   bool UseFaceAnimation = false;
+  bool RigMapsWeights = true;
   double Pivot[3] = { 0.0, 0.0, 0.0 };
   vtkMTimeType PivotTime = 0; ///< the reader output's MTime the pivot is of
 };
