@@ -237,9 +237,7 @@ int vtkLiveBehaviorSource::RequestData(
   vtkInformation* outInfo = outputVector->GetInformationObject(0);
   vtkTable* output = vtkTable::GetData(outputVector, 0);
   output->Initialize();
-  const double requested = outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP())
-    ? outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP())
-    : 0.0;
+  const double requested = GetRequestedTime(outInfo);
   if (!std::isfinite(requested))
   {
     vtkErrorMacro(<< "cannot sample the live behaviour at t = " << requested);

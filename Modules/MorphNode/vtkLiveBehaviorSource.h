@@ -37,14 +37,14 @@
  * command returns false. Settings apply when the behaviour is made: at the first command
  * or update after CopySettings, SetSeed or SetVisemeSetFromString (which start it anew).
  *
- * @sa vtkBehaviorTimeSource vtkMorphAvatarPipeline morphnode::LiveBehavior
+ * @sa vtkTemporalWeightsSource vtkBehaviorTimeSource vtkMorphAvatarPipeline morphnode::LiveBehavior
  */
 
 #ifndef vtkLiveBehaviorSource_h
 #define vtkLiveBehaviorSource_h
 
 #include "vtkMorphNodeModule.h" // For export macro
-#include "vtkTableAlgorithm.h"
+#include "vtkTemporalWeightsSource.h"
 
 #include <memory> // For std::unique_ptr
 
@@ -56,11 +56,11 @@ class LiveBehavior;
 }
 #endif
 
-class VTKMORPHNODE_EXPORT vtkLiveBehaviorSource : public vtkTableAlgorithm
+class VTKMORPHNODE_EXPORT vtkLiveBehaviorSource : public vtkTemporalWeightsSource
 {
 public:
   static vtkLiveBehaviorSource* New();
-  vtkTypeMacro(vtkLiveBehaviorSource, vtkTableAlgorithm);
+  vtkTypeMacro(vtkLiveBehaviorSource, vtkTemporalWeightsSource);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   /**

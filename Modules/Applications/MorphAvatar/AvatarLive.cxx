@@ -472,7 +472,9 @@ int RunLive(Avatar& a)
   if (!a.Opt.Say.empty())
   {
     dialog::Command greeting;
-    greeting.Body = dialog::SayCommand{ a.Opt.Say, std::string() };
+    dialog::SayCommand say;
+    say.Text = a.Opt.Say;
+    greeting.Body = say;
     live.Session->Execute(dialog::DialogServer::StreamClient, greeting, 0.5, Clock::now());
   }
   if (a.Opt.Offscreen)
