@@ -12,31 +12,28 @@
 //   ffmpeg -framerate 30 -i DIR/frame_%05d.png -i DIR/speech.wav -shortest out.mp4
 //
 // The pipeline: vtkBehaviorTimeSource (port 0: the weights at the requested time) drives
-// vtkMorphNodeFilter in Relative mode (targets add on the neutral) on the whole head (every
-// part of the glTF scene, one actor per part in its own colour: AppKit/HeadActors); the
-// head pose channels turn all parts about the neck by one transform (behavior/HeadPose.h),
-// since the face has no head-pose targets; vtkEyeGazeFilter turns the eye parts by the
-// behaviour's EyeYaw/EyePitch (saccades, looks). Command line, frames, progress, head pose
-// and the head's actors come from AppKit.
+// vtkMorphAvatarPipeline, the avatar's chain in one class: vtkMorphNodeFilter in Relative
+// mode (targets add on the neutral) on the whole head (every part of the glTF scene, one
+// actor per part in its own colour: AppKit/HeadActors), vtkEyeGazeFilter turning the eye
+// parts by the behaviour's EyeYaw/EyePitch (saccades, looks), and the head pose: the head
+// pose channels turn all parts about the neck by one transform (behavior/HeadPose.h), since
+// the face has no head-pose targets. Command line, frames, progress and the head's actors
+// come from AppKit.
 #include "CommandLine.h"
 #include "DataPaths.h"
 #include "FrameRecorder.h"
 #include "HeadActors.h"
-#include "HeadPoseTransform.h"
 #include "ImageOutput.h"
 #include "Progress.h"
 
 #include "vtkBehaviorTimeSource.h"
-#include "vtkEyeGazeFilter.h"
-#include "vtkMorphNodeFilter.h"
-#include "vtkMorphTargetReader.h"
+#include "vtkMorphAvatarPipeline.h"
 
 #include "vtkDelimitedTextWriter.h"
 #include "vtkNew.h"
 #include "vtkRenderWindow.h"
 #include "vtkRenderer.h"
-#include "vtkTable.h"
-#include "vtkTransform.h"
+#include "vtkTransform.h" // the head pose, for the actors
 
 #include <cmath>
 #include <iostream>
@@ -102,29 +99,21 @@ int main(int argc, char* argv[])
       return 1;
     }
 
-    // The face, animated through time.
-    vtkNew<vtkMorphTargetReader> reader;
-    reader->SetFileName(face.c_str()); // the whole scene: every part of the head
-    vtkNew<vtkMorphNodeFilter> morph;
-    morph->SetInputConnection(reader->GetOutputPort());
-    morph->SetWeightsConnection(behavior->GetOutputPort(0));
-    morph->SetWeightModeToRelative();
-    // The eyes look where the behaviour looks: its EyeYaw/EyePitch at the requested time.
-    vtkNew<vtkEyeGazeFilter> gaze;
-    gaze->SetInputConnection(morph->GetOutputPort());
-    gaze->SetGazeConnection(behavior->GetOutputPort(0));
-    gaze->UpdateTimeStep(0.0);
+    // The face, animated through time: the whole scene (every part of the head) morphed by
+    // the behaviour, the eyes looking where it looks, the head turned by its pose.
+    vtkNew<vtkMorphAvatarPipeline> avatar;
+    avatar->SetFileName(face.c_str());
+    avatar->SetWeightsConnection(behavior->GetOutputPort(0));
+    avatar->UpdateTimeStep(0.0);
     double bounds[6];
-    if (!appkit::HeadBounds(gaze->GetOutputDataObject(0), bounds))
+    if (!appkit::HeadBounds(avatar->GetOutputDataObject(), bounds))
     {
       std::cerr << "nothing to show (see the errors above)\n";
       return 1;
     }
-    vtkNew<vtkTransform> headPose; // one transform for every part
     vtkNew<vtkRenderer> renderer;
     appkit::HeadActors head;
-    head.Build(gaze->GetOutputDataObject(0), renderer, headPose);
-    const auto pivot = morphnode::HeadPivot(bounds);
+    head.Build(avatar->GetOutputDataObject(), renderer, avatar->GetHeadPose());
     vtkNew<vtkRenderWindow> window;
     window->SetSize(width, height);
     window->SetMultiSamples(0);
@@ -145,13 +134,11 @@ int main(int argc, char* argv[])
     appkit::ProgressBar progress(count);
     for (int f = 0; f < count; ++f)
     {
-      if (!gaze->UpdateTimeStep(f / rate) || !head.Update(gaze->GetOutputDataObject(0)))
+      if (!avatar->UpdateTimeStep(f / rate) || !head.Update(avatar->GetOutputDataObject()))
       {
         std::cerr << "\nthe face could not be morphed at t = " << f / rate << "\n";
         return 1;
       }
-      auto* weights = vtkTable::SafeDownCast(behavior->GetOutputDataObject(0));
-      appkit::SetHeadPose(headPose, appkit::ReadHeadAngles(weights), pivot);
       window->Render();
       recorder.Capture(f);
       progress.Show(f + 1);

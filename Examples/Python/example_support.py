@@ -1,8 +1,9 @@
 # SPDX-License-Identifier: BSD-3-Clause
 """What the Python examples share, as the C++ programs share Modules/Applications/AppKit:
 the optimizer presets by name (from vtkMorphNodeFilter, which spells them as
-morph/OptimizerPresets.h does), WxH sizes, the head pose, a head's parts as actors in their
-own colours (AppKit/HeadActors), and a progress bar.
+morph/OptimizerPresets.h does), WxH sizes, a head's parts as actors in their own colours
+(AppKit/HeadActors), and a progress bar. The pipeline and the head pose are the wrapped
+vtkMorphAvatarPipeline's, as in the C++ programs.
 """
 import argparse
 import math
@@ -50,31 +51,6 @@ def size(text):
     if not (16 <= w <= 8192 and 16 <= h <= 8192):
         raise argparse.ArgumentTypeError(f"W and H must be in [16, 8192]; got {text!r}")
     return w, h
-
-
-def head_pivot(bounds):
-    """The pivot the head turns about: the top of the neck (behavior/HeadPose.h HeadPivot)."""
-    x0, x1, y0, y1, z0, z1 = bounds
-    return ((x0 + x1) / 2, y0 + 0.25 * (y1 - y0), (z0 + z1) / 2)
-
-
-def set_head_pose(transform, weights, pivot):
-    """The head angles of a behaviour weight table (row 0 of HeadYaw, HeadPitch, HeadRoll, in
-    degrees) on a vtkTransform, in the one convention of behavior/HeadPose.h (the C++
-    programs call HeadPoseMatrix through AppKit; this mirrors it, the core not being
-    wrapped): seen from the character, yaw > 0 turns to its left (+X; it looks along +Z),
-    pitch > 0 looks up, roll > 0 tilts the crown to its left; R = Ry(yaw) Rx(-pitch)
-    Rz(-roll) about the pivot."""
-    def channel(name):
-        column = weights.GetColumnByName(name) if weights is not None else None
-        return column.GetValue(0) if column is not None and column.GetNumberOfTuples() else 0.0
-
-    transform.Identity()  # PreMultiply: the calls compose right to left on a point
-    transform.Translate(pivot)
-    transform.RotateY(channel("HeadYaw"))
-    transform.RotateX(-channel("HeadPitch"))
-    transform.RotateZ(-channel("HeadRoll"))
-    transform.Translate(-pivot[0], -pivot[1], -pivot[2])
 
 
 def head_parts(head):

@@ -3,11 +3,11 @@
 """MorphAvatar in Python: an avatar speaks a sentence or plays a behaviour script, with
 idle behaviour, through the weight optimizer of Berner (WSCG 2004, Figure 6).
 
-    vtkMorphTargetReader (the whole scene: every part of the head) -> vtkMorphNodeFilter
-    (weights from vtkBehaviorTimeSource [-> vtkMorphRigFilter]) -> vtkEyeGazeFilter (the
-    behaviour's EyeYaw/EyePitch turn the eyes) -> one actor per part in its own colour
-    (example_support.HeadActors); HeadYaw/Pitch/Roll -> one vtkTransform shared by every
-    part's actor
+    vtkBehaviorTimeSource -> vtkMorphAvatarPipeline (the avatar's chain in one class:
+    vtkMorphTargetReader, the whole scene -> [vtkMorphRigFilter] -> vtkMorphNodeFilter ->
+    vtkEyeGazeFilter, the behaviour's EyeYaw/EyePitch turn the eyes -> vtkMorphSkinFilter;
+    HeadYaw/Pitch/Roll -> its head pose transform) -> one actor per part in its own colour
+    (example_support.HeadActors), all turned by the head pose
 
 Offscreen, every frame at the frame rate to PNG frames (and optionally a Theora video and
 the WAV); without --frames/--video a window where time runs in real time (keys 0-4
@@ -22,14 +22,12 @@ import os
 import sys
 import time
 
-from example_support import (HeadActors, ProgressBar, head_bounds, head_pivot, preset, preset_names,
-                             set_head_pose, set_up_view, size)
-from morphnode import vtkBehaviorTimeSource, vtkEyeGazeFilter, vtkMorphNodeFilter, vtkMorphTargetReader
+from example_support import HeadActors, ProgressBar, head_bounds, preset, preset_names, set_up_view, size
+from morphnode import vtkBehaviorTimeSource, vtkMorphAvatarPipeline
 
 import vtkmodules.vtkInteractionStyle  # noqa: F401  (default interactor style)
 import vtkmodules.vtkRenderingFreeType  # noqa: F401  (text)
 import vtkmodules.vtkRenderingOpenGL2  # noqa: F401  (the render backend)
-from vtkmodules.vtkCommonTransforms import vtkTransform
 from vtkmodules.vtkIOImage import vtkPNGWriter
 from vtkmodules.vtkRenderingCore import (
     vtkRenderer,
@@ -92,40 +90,26 @@ class Avatar:
         self.fps = self.behavior.GetFrameRate()
         self.duration = self.behavior.GetEffectiveDuration()
 
-        self.reader = vtkMorphTargetReader()
-        self.reader.SetFileName(args.face)
-        self.morph = vtkMorphNodeFilter()
-        self.morph.SetInputConnection(self.reader.GetOutputPort())
-        self.morph.SetWeightModeToRelative()  # channels add their targets' deltas
+        # The face morphed by the behaviour (through the rig), the eyes looking where it looks
+        # (its "eyes" section names the eye parts), the head pose as one transform.
+        self.avatar = vtkMorphAvatarPipeline()
+        self.avatar.SetFileName(args.face)
         if args.rig:
-            from morphnode import vtkMorphRigFilter
-            self.rig = vtkMorphRigFilter()
-            self.rig.SetRigFileName(args.rig)
-            self.rig.SetInputConnection(self.behavior.GetOutputPort(0))
-            self.rig.SetFaceConnection(self.reader.GetOutputPort())
-            self.morph.SetWeightsConnection(self.rig.GetOutputPort())
-        else:
-            self.morph.SetWeightsConnection(self.behavior.GetOutputPort(0))
-        # The eyes look where the behaviour looks (saccades, looks, idle fixations).
-        self.gaze = vtkEyeGazeFilter()
-        self.gaze.SetInputConnection(self.morph.GetOutputPort())
-        self.gaze.SetGazeConnection(self.behavior.GetOutputPort(0))
-        if args.rig:
-            self.gaze.SetRigFileName(args.rig)  # its "eyes" section names the eye parts
+            self.avatar.SetRigFileName(args.rig)
+        self.avatar.SetWeightsConnection(self.behavior.GetOutputPort(0))
+        self.morph = self.avatar.GetMorph()
         self.method, self.threshold = args.method, args.threshold
         self.head = None  # the parts' actors, made below
-        self.pose = vtkTransform()  # the head pose: one transform for every part
         if not self.update(0.0):
             raise SystemExit(f"morph_avatar: cannot morph the face {args.face} (see above)")
-        b = head_bounds(self.gaze.GetOutputDataObject(0))
+        b = head_bounds(self.avatar.GetOutputDataObject())
         self.diagonal = math.dist((b[0], b[2], b[4]), (b[1], b[3], b[5])) or 1.0
-        self.pivot = head_pivot(b)
         self.max_error = args.max_error if args.max_error is not None else 0.005 * self.diagonal
         self.apply_method()
         self.update(0.0)
 
         self.renderer = vtkRenderer()
-        self.head = HeadActors(self.gaze.GetOutputDataObject(0), self.renderer, self.pose)
+        self.head = HeadActors(self.avatar.GetOutputDataObject(), self.renderer, self.avatar.GetHeadPose())
         w, h = args.size
         self.overlay = vtkTextActor()
         tp = self.overlay.GetTextProperty()
@@ -155,18 +139,14 @@ class Avatar:
         m.ResetHysteresis()
 
     def update(self, t):
-        """The face at time t: weights, blend, head pose."""
+        """The face at time t: weights, blend, eyes, head pose."""
         self.time = t
-        if not self.gaze.UpdateTimeStep(t):
+        if not self.avatar.UpdateTimeStep(t):
             return False
-        face = self.gaze.GetOutputDataObject(0)  # the reader's structure: parts, or one mesh
+        face = self.avatar.GetOutputDataObject()  # the reader's structure: parts, or one mesh
         if head_bounds(face) is None:
             return False
-        if self.head is not None and not self.head.update(face):
-            return False
-        if hasattr(self, "pivot"):
-            set_head_pose(self.pose, self.behavior.GetOutputDataObject(0), self.pivot)
-        return True
+        return self.head is None or self.head.update(face)
 
     def overlay_text(self, first_line):
         lines = [first_line, f"method {self.method}: {self.morph.GetOptimizerPresetAsString()}"]

@@ -15,13 +15,11 @@ import math
 import os
 import sys
 
-from example_support import HeadActors, ProgressBar, head_bounds, head_pivot, set_head_pose, set_up_view, size
-from morphnode import (vtkBehaviorTimeSource, vtkEyeGazeFilter, vtkMorphNodeFilter, vtkMorphRigFilter,
-                       vtkMorphTargetReader)
+from example_support import HeadActors, ProgressBar, head_bounds, set_up_view, size
+from morphnode import vtkBehaviorTimeSource, vtkMorphAvatarPipeline
 
 import vtkmodules.vtkInteractionStyle  # noqa: F401  (default interactor style)
 import vtkmodules.vtkRenderingOpenGL2  # noqa: F401  (the render backend)
-from vtkmodules.vtkCommonTransforms import vtkTransform
 from vtkmodules.vtkIOCore import vtkDelimitedTextWriter
 from vtkmodules.vtkIOImage import vtkPNGWriter
 from vtkmodules.vtkRenderingCore import vtkRenderer, vtkRenderWindow, vtkWindowToImageFilter
@@ -69,39 +67,29 @@ def main(argv=None):
     if wav and not behavior.WriteAudio(wav):
         return 1
 
-    reader = vtkMorphTargetReader()
-    reader.SetFileName(args.face)
-    # The whole scene: every part of the head (a vtkPartitionedDataSetCollection).
-    morph = vtkMorphNodeFilter()
-    morph.SetInputConnection(reader.GetOutputPort())
+    # The avatar's pipeline in one class: the whole scene (every part of the head) morphed by
+    # the behaviour's weights (through the rig onto an ARKit face's own targets), the eyes
+    # looking where it looks (EyeYaw, EyePitch), the head pose as one transform.
+    avatar = vtkMorphAvatarPipeline()
+    avatar.SetFileName(args.face)
     if args.rig:
-        # The behaviour's shapes (visemes, expressions) onto the face's own targets.
-        rig = vtkMorphRigFilter()
-        rig.SetRigFileName(args.rig)
-        rig.SetInputConnection(behavior.GetOutputPort(0))
-        rig.SetFaceConnection(reader.GetOutputPort())
-        morph.SetWeightsConnection(rig.GetOutputPort())
-    else:
-        morph.SetWeightsConnection(behavior.GetOutputPort(0))
-    morph.SetWeightModeToRelative()  # the targets add on the neutral
-    gaze = vtkEyeGazeFilter()  # the eyes look where the behaviour looks (EyeYaw, EyePitch)
-    gaze.SetInputConnection(morph.GetOutputPort())
-    gaze.SetGazeConnection(behavior.GetOutputPort(0))
-    gaze.UpdateTimeStep(0.0)
-    bounds = head_bounds(gaze.GetOutputDataObject(0))
+        avatar.SetRigFileName(args.rig)
+    avatar.SetWeightsConnection(behavior.GetOutputPort(0))
+    avatar.UpdateTimeStep(0.0)
+    bounds = head_bounds(avatar.GetOutputDataObject())
     if bounds is None:
         print("nothing to show (see the errors above)", file=sys.stderr)
         return 1
+    morph = avatar.GetMorph()
     if not args.rig and not any(morph.GetTargetIndex(behavior.GetChannelName(c)) >= 0
                                 for c in range(behavior.GetNumberOfChannels())):
         print(f"play_script.py: no behaviour channel names a target of {args.face}; give a rig with "
               "--rig (e.g. Data/rigs/arkit.json)", file=sys.stderr)
         return 1
 
-    pose = vtkTransform()  # the head pose channels turn every part about the neck
     renderer = vtkRenderer()
-    head = HeadActors(gaze.GetOutputDataObject(0), renderer, pose)  # one actor per part
-    pivot = head_pivot(bounds)
+    # One actor per part, all turned by the head pose.
+    head = HeadActors(avatar.GetOutputDataObject(), renderer, avatar.GetHeadPose())
     window = vtkRenderWindow()
     window.SetSize(*args.size)
     window.SetMultiSamples(0)
@@ -122,10 +110,9 @@ def main(argv=None):
           f"{behavior.GetNumberOfChannels()} channels -> {args.out}", file=sys.stderr)
     progress = ProgressBar(frames)
     for f in range(frames):
-        if not gaze.UpdateTimeStep(f / rate) or not head.update(gaze.GetOutputDataObject(0)):
+        if not avatar.UpdateTimeStep(f / rate) or not head.update(avatar.GetOutputDataObject()):
             print(f"\nthe face could not be morphed at t = {f / rate:g}", file=sys.stderr)
             return 1
-        set_head_pose(pose, behavior.GetOutputDataObject(0), pivot)
         window.Render()
         grab.Modified()
         png.SetFileName(os.path.join(args.out, f"frame_{f:05d}.png"))

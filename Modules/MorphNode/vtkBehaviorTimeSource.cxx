@@ -163,26 +163,16 @@ const morphnode::BehaviorController& vtkBehaviorTimeSource::GetController()
 }
 
 //------------------------------------------------------------------------------
+morphnode::SpeechOptions vtkBehaviorTimeSource::GetSpeechOptions()
+{
+  return this->Internals->Speech->Options();
+}
+
+//------------------------------------------------------------------------------
 int vtkBehaviorTimeSource::FillOutputPortInformation(int, vtkInformation* info)
 {
   info->Set(vtkDataObject::DATA_TYPE_NAME(), "vtkTable");
   return 1;
-}
-
-//------------------------------------------------------------------------------
-vtkTypeBool vtkBehaviorTimeSource::ProcessRequest(
-  vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
-{
-  // A request on port 0 (a time step) need not build the whole track of port 1: mark it
-  // as not generated, so it stays out of date and executes when port 1 is asked for.
-  if (request->Has(vtkDemandDrivenPipeline::REQUEST_DATA_NOT_GENERATED()) &&
-    request->Has(vtkDemandDrivenPipeline::FROM_OUTPUT_PORT()) &&
-    request->Get(vtkDemandDrivenPipeline::FROM_OUTPUT_PORT()) == 0)
-  {
-    outputVector->GetInformationObject(1)->Set(vtkDemandDrivenPipeline::DATA_NOT_GENERATED(), 1);
-    return 1;
-  }
-  return this->Superclass::ProcessRequest(request, inputVector, outputVector);
 }
 
 //------------------------------------------------------------------------------
@@ -765,8 +755,7 @@ int vtkBehaviorTimeSource::RequestData(
     return 0;
   }
   frame->Initialize();
-  const bool trackWanted =
-    !outputVector->GetInformationObject(1)->Get(vtkDemandDrivenPipeline::DATA_NOT_GENERATED());
+  const bool trackWanted = this->IsTrackRequested(outputVector);
   if (trackWanted)
   {
     track->Initialize();
@@ -779,9 +768,7 @@ int vtkBehaviorTimeSource::RequestData(
   const auto& names = controller.GetChannelNames();
 
   // Port 0: the behaviour at the requested time.
-  const double t = frameInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP())
-    ? frameInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP())
-    : 0.0;
+  const double t = GetRequestedTime(frameInfo);
   std::vector<double> row(names.size());
   std::string message;
   if (!Guarded(this, [&]() { controller.Sample(t, row.data()); }, message))

@@ -59,14 +59,14 @@
  * morphnode::Utterance it built itself (Speak); every change goes through this class, so
  * the modification time is always right.
  *
- * @sa vtkMorphNodeFilter morphnode::BehaviorController morphnode::SpeakText
+ * @sa vtkTemporalWeightsSource vtkMorphNodeFilter morphnode::BehaviorController morphnode::SpeakText
  */
 
 #ifndef vtkBehaviorTimeSource_h
 #define vtkBehaviorTimeSource_h
 
 #include "vtkMorphNodeModule.h" // For export macro
-#include "vtkTableAlgorithm.h"
+#include "vtkTemporalWeightsSource.h"
 
 #include <memory> // For std::unique_ptr
 
@@ -75,15 +75,16 @@ namespace morphnode
 {
 class BehaviorController;
 struct BehaviorParameters;
+struct SpeechOptions;
 struct Utterance;
 }
 #endif
 
-class VTKMORPHNODE_EXPORT vtkBehaviorTimeSource : public vtkTableAlgorithm
+class VTKMORPHNODE_EXPORT vtkBehaviorTimeSource : public vtkTemporalWeightsSource
 {
 public:
   static vtkBehaviorTimeSource* New();
-  vtkTypeMacro(vtkBehaviorTimeSource, vtkTableAlgorithm);
+  vtkTypeMacro(vtkBehaviorTimeSource, vtkTemporalWeightsSource);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   /// Viseme sets of Say(); values match morphnode::VisemeSet.
@@ -314,6 +315,10 @@ public:
   bool SetBehaviorParameters(const morphnode::BehaviorParameters& parameters);
   const morphnode::BehaviorParameters& GetBehaviorParameters();
   ///@}
+
+  /// The speech settings of Say() now (voice, rate, viseme set or table), warnings to this
+  /// source: for a live behaviour with the same voice (vtkLiveBehaviorSource::CopySettings).
+  morphnode::SpeechOptions GetSpeechOptions();
 #endif
 
 protected:
@@ -321,9 +326,6 @@ protected:
   ~vtkBehaviorTimeSource() override;
 
   int FillOutputPortInformation(int port, vtkInformation* info) override;
-  /// Marks the track (port 1) as not generated when only port 0 is asked for.
-  vtkTypeBool ProcessRequest(
-    vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 

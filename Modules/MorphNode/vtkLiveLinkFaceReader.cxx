@@ -187,21 +187,6 @@ bool vtkLiveLinkFaceReader::EnsureRead()
 }
 
 //------------------------------------------------------------------------------
-vtkTypeBool vtkLiveLinkFaceReader::ProcessRequest(
-  vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
-{
-  // A time step on port 0 need not build the whole take of port 1 (as vtkBehaviorTimeSource).
-  if (request->Has(vtkDemandDrivenPipeline::REQUEST_DATA_NOT_GENERATED()) &&
-    request->Has(vtkDemandDrivenPipeline::FROM_OUTPUT_PORT()) &&
-    request->Get(vtkDemandDrivenPipeline::FROM_OUTPUT_PORT()) == 0)
-  {
-    outputVector->GetInformationObject(1)->Set(vtkDemandDrivenPipeline::DATA_NOT_GENERATED(), 1);
-    return 1;
-  }
-  return this->Superclass::ProcessRequest(request, inputVector, outputVector);
-}
-
-//------------------------------------------------------------------------------
 int vtkLiveLinkFaceReader::RequestInformation(
   vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
 {
@@ -236,7 +221,7 @@ int vtkLiveLinkFaceReader::RequestData(
     return 0;
   }
   frame->Initialize();
-  const bool takeWanted = !outputVector->GetInformationObject(1)->Get(vtkDemandDrivenPipeline::DATA_NOT_GENERATED());
+  const bool takeWanted = this->IsTrackRequested(outputVector);
   if (takeWanted)
   {
     take->Initialize();

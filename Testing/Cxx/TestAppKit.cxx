@@ -4,11 +4,12 @@
 // series.
 #include "CommandLine.h"
 #include "HeadActors.h"
-#include "HeadPoseTransform.h"
 #include "TimeSeriesWriter.h"
 
 #include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
+#include "vtkMatrix4x4.h"
+#include "vtkMorphAvatarPipeline.h"
 #include "vtkNew.h"
 #include "vtkPolyData.h"
 #include "vtkSphereSource.h"
@@ -113,8 +114,10 @@ TEST(AppKitCommandLine, OptimizerMethodsByPresetName)
     "0|none, 1|fixed-maximum, 2|fixed-remaining, 3|adjusted, 4|error-bounded");
 }
 
-TEST(AppKitHeadPose, TheTransformIsTheCoreConvention)
+TEST(HeadPoseFromWeights, TheTransformIsTheCoreConvention)
 {
+  // The head pose of every avatar program: vtkMorphAvatarPipeline::SetHeadPoseFromWeights
+  // (AppKit had it until the pipeline was assembled in one class).
   vtkNew<vtkTable> weights;
   for (const auto& [name, value] : { std::pair<const char*, double>{ "HeadYaw", 12.0 }, { "HeadPitch", -7.0 },
          { "HeadRoll", 4.0 } })
@@ -124,18 +127,12 @@ TEST(AppKitHeadPose, TheTransformIsTheCoreConvention)
     column->InsertNextValue(value);
     weights->AddColumn(column);
   }
-  const HeadAngles angles = appkit::ReadHeadAngles(weights);
-  EXPECT_EQ(angles.Yaw, 12.0);
-  EXPECT_EQ(angles.Pitch, -7.0);
-  EXPECT_EQ(angles.Roll, 4.0);
-  EXPECT_EQ(appkit::ReadHeadAngles(nullptr).Yaw, 0.0);
-
-  const std::array<double, 3> pivot{ 0.1, -0.2, 0.3 };
+  const double pivot[3] = { 0.1, -0.2, 0.3 };
   vtkNew<vtkTransform> pose;
-  appkit::SetHeadPose(pose, angles, pivot);
+  vtkMorphAvatarPipeline::SetHeadPoseFromWeights(pose, weights, pivot);
   // The composition the programs used before the convention had one home: the same matrix.
   vtkNew<vtkTransform> before;
-  before->Translate(pivot.data());
+  before->Translate(pivot);
   before->RotateY(12.0);
   before->RotateX(7.0);
   before->RotateZ(-4.0);
@@ -147,8 +144,17 @@ TEST(AppKitHeadPose, TheTransformIsTheCoreConvention)
       EXPECT_NEAR(pose->GetMatrix()->GetElement(i, j), before->GetMatrix()->GetElement(i, j), 1e-12);
     }
   }
+  // No table, no angles: the identity.
+  vtkMorphAvatarPipeline::SetHeadPoseFromWeights(pose, nullptr, pivot);
+  EXPECT_TRUE(pose->GetMatrix()->IsIdentity());
   // Seen from the character: a yaw to its left moves the nose (+Z) towards +X.
-  appkit::SetHeadPose(pose, { 30.0, 0.0, 0.0 }, { 0, 0, 0 });
+  vtkNew<vtkTable> yaw;
+  vtkNew<vtkDoubleArray> column;
+  column->SetName("HeadYaw");
+  column->InsertNextValue(30.0);
+  yaw->AddColumn(column);
+  const double origin[3] = { 0, 0, 0 };
+  vtkMorphAvatarPipeline::SetHeadPoseFromWeights(pose, yaw, origin);
   double nose[3] = { 0, 0, 1 };
   pose->TransformPoint(nose, nose);
   EXPECT_GT(nose[0], 0.4);

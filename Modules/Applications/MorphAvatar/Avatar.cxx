@@ -3,10 +3,8 @@
 
 #include "DataPaths.h"
 #include "Framing.h"
-#include "HeadPoseTransform.h"
 
 #include "base/Text.h"
-#include "behavior/HeadPose.h"
 #include "budget/FrameBudgetController.h"
 
 #include "audio/AudioFile.h"
@@ -188,18 +186,16 @@ bool Avatar::SetUpFace()
   this->FaceFile = o.Face.empty() ? appkit::DefaultFace() : o.Face;
   // The whole scene: every part (skin, mouth, teeth, tongue, eyes, ...) as a
   // vtkPartitionedDataSetCollection in world space (docs/scene.md); an OBJ set is one
-  // vtkPolyData. The morph filter gives the same structure back.
-  this->Reader->SetFileName(this->FaceFile.c_str());
-  this->Morph->SetInputConnection(this->Reader->GetOutputPort());
-  // The behaviour's channels are glTF-style weights: each adds its target's deltas, so a
-  // blink does not weaken a vowel (RELATIVE mode).
-  this->Morph->SetWeightModeToRelative();
+  // vtkPolyData. The pipeline (vtkMorphAvatarPipeline) gives the same structure back.
+  this->Pipeline->SetFileName(this->FaceFile.c_str());
   // For ParaView: colour by AnimatedRegion or Distance_<target>.
   this->Morph->SetGenerateDistanceArrays(!o.Pvd.empty());
   // The weights: the behaviour's (through the rig), or a recorded performance: the face
   // file's own glTF animation (the reader's port 1, weights by target name) or a Live Link
-  // Face take (its ARKit shapes mapped onto the face's targets by name, its angles).
-  this->WeightSource = this->Behavior;
+  // Face take (its ARKit shapes mapped onto the face's targets by name, its angles). The
+  // rig's "eyes" section names the eye parts in every case.
+  this->Pipeline->SetRigFileName(o.Rig.c_str());
+  this->Pipeline->SetWeightsConnection(this->Behavior->GetOutputPort(0));
   if (!o.Animation.empty())
   {
     // The file's animations (names, else animation<i>), checked before the reader reads
@@ -227,45 +223,18 @@ bool Avatar::SetUpFace()
       return false;
     }
     this->Reader->SetAnimationIndex(index);
-    this->Morph->SetWeightsConnection(this->Reader->GetOutputPort(1));
-    this->WeightSource = this->Reader;
-    this->WeightPort = 1;
+    // (Its weights carry no gaze or head angles: the eyes stay as the file has them, a
+    // skinned avatar takes the behaviour's idle pose.)
+    this->Pipeline->SetUseFaceAnimation(true);
   }
   else if (!o.Capture.empty())
   {
     this->Capture->SetFileName(o.Capture.c_str());
     this->Capture->SetFaceConnection(this->Reader->GetOutputPort());
-    this->Morph->SetWeightsConnection(this->Capture->GetOutputPort(0));
-    this->WeightSource = this->Capture;
+    this->Pipeline->SetWeightsConnection(this->Capture->GetOutputPort(0));
+    this->Pipeline->SetRigMapsWeights(false); // the take names the face's targets
   }
-  else if (!o.Rig.empty())
-  {
-    this->Rig->SetRigFileName(o.Rig.c_str());
-    this->Rig->SetInputConnection(this->Behavior->GetOutputPort(0));
-    this->Rig->SetFaceConnection(this->Reader->GetOutputPort());
-    this->Morph->SetWeightsConnection(this->Rig->GetOutputPort());
-  }
-  else
-  {
-    this->Morph->SetWeightsConnection(this->Behavior->GetOutputPort(0));
-  }
-  // The eyes look where the behaviour (or the take) looks (saccades, LookAt, idle
-  // fixations): its EyeYaw and EyePitch turn the eye parts (found by the rig's "eyes"
-  // section, else by name).
-  this->Gaze->SetInputConnection(this->Morph->GetOutputPort());
-  // (A glTF animation's weights carry no gaze angles: the eyes stay as the file has them.)
-  this->Gaze->SetGazeConnection(
-    o.Animation.empty() ? this->WeightSource->GetOutputPort(this->WeightPort) : nullptr);
-  if (!o.Rig.empty())
-  {
-    this->Gaze->SetRigFileName(o.Rig.c_str());
-  }
-  // A skinned avatar: its bones follow the behaviour's head pose and gaze (docs/avatars.md).
-  this->Skin->SetInputConnection(this->Gaze->GetOutputPort());
-  // (A take carries the head pose and gaze; a glTF animation's weights do not: then the
-  // behaviour's idle pose.)
-  this->Skin->SetPoseConnection(o.Animation.empty() ? this->WeightSource->GetOutputPort(this->WeightPort)
-                                                    : this->Behavior->GetOutputPort(0));
+  // A skinned avatar: its bones follow the head pose and gaze (docs/avatars.md).
   this->Skin->SetTurnEyes(o.Gaze != "targets");
   this->Skin->SetRelaxArms(o.Pose == "relaxed");
   this->Reader->Update();
@@ -285,7 +254,6 @@ bool Avatar::SetUpFace()
   {
     this->Diagonal = 1.0;
   }
-  this->Pivot = morphnode::HeadPivot(this->Bounds);
   this->Method = o.Method;
   this->Threshold = o.Threshold;
   this->MaxError = o.MaxError >= 0.0 ? o.MaxError : 0.005 * this->Diagonal;
@@ -296,7 +264,7 @@ bool Avatar::SetUpFace()
     return false;
   }
   this->FrameView();
-  if (o.Rig.empty() && this->WeightSource == this->Behavior.GetPointer())
+  if (o.Rig.empty() && o.Animation.empty() && o.Capture.empty())
   {
     // Without a rig the channels must name the face's targets.
     int matched = 0;
@@ -318,7 +286,7 @@ void Avatar::SetUpScene()
 {
   const Options& o = this->Opt;
   // Every part in its own colour; the head pose moves them all (one transform).
-  this->Head.Build(this->GetHead(), this->Renderer, this->HeadPose);
+  this->Head.Build(this->GetHead(), this->Renderer, this->Pipeline->GetHeadPose());
 
   vtkTextProperty* text = this->Overlay->GetTextProperty();
   text->SetFontFamilyToCourier();
@@ -412,7 +380,7 @@ bool Avatar::Update(double t)
         ? morphnode::ScreenPixelsPerUnit(height, camera->GetViewAngle(), distance)
         : 0.0);
   }
-  if (!this->Skin->UpdateTimeStep(t))
+  if (!this->Pipeline->UpdateTimeStep(t)) // the head and its pose
   {
     return false;
   }
@@ -426,10 +394,6 @@ bool Avatar::Update(double t)
     std::cerr << "MorphAvatar: the head's parts changed while it ran\n";
     return false;
   }
-  auto* weights = vtkTable::SafeDownCast(this->WeightSource->GetOutputDataObject(this->WeightPort));
-  // A skinned avatar turns its head by its joints; the whole body must not turn.
-  appkit::SetHeadPose(this->HeadPose,
-    this->Skin->GetHasHeadBones() ? morphnode::HeadAngles{} : appkit::ReadHeadAngles(weights), this->Pivot);
   return true;
 }
 
@@ -455,7 +419,7 @@ void Avatar::FrameView()
 
 vtkDataObject* Avatar::GetHead() const
 {
-  return this->Skin->GetOutputDataObject(0);
+  return this->Pipeline->GetOutputDataObject();
 }
 
 std::string Avatar::OverlayText(bool offscreen, int frame, int frames) const

@@ -1,15 +1,17 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// @file Avatar.h
-/// @brief MorphAvatar's scene: the pipeline
+/// @brief MorphAvatar's scene: the pipeline (vtkMorphAvatarPipeline, the one place it is
+/// assembled)
 ///
 ///   vtkMorphTargetReader (the whole scene: a vtkPartitionedDataSetCollection of parts, or
 ///   one vtkPolyData for an OBJ set) -> vtkMorphNodeFilter (weights on port 1 from
-///   vtkBehaviorTimeSource [-> vtkMorphRigFilter]) -> vtkEyeGazeFilter (the behaviour's
-///   EyeYaw/EyePitch turn the eye parts) -> vtkMorphSkinFilter (a skinned avatar: the
-///   behaviour's HeadYaw/Pitch/Roll turn its head and neck joints, EyeYaw/EyePitch its eye
-///   joints; arms relaxed) -> one actor per part (AppKit/HeadActors); for a head without
-///   head joints HeadYaw/Pitch/Roll -> one head pose transform shared by every part's actor
+///   vtkBehaviorTimeSource [-> vtkMorphRigFilter], live from vtkLiveBehaviorSource) ->
+///   vtkEyeGazeFilter (the behaviour's EyeYaw/EyePitch turn the eye parts) ->
+///   vtkMorphSkinFilter (a skinned avatar: the behaviour's HeadYaw/Pitch/Roll turn its head
+///   and neck joints, EyeYaw/EyePitch its eye joints; arms relaxed) -> one actor per part
+///   (AppKit/HeadActors); for a head without head joints HeadYaw/Pitch/Roll -> the
+///   pipeline's head pose transform shared by every part's actor
 ///
 /// the actors (head parts, overlay, caption) and the window, and the two ways to run it.
 
@@ -20,6 +22,7 @@
 #include "vtkBehaviorTimeSource.h"
 #include "vtkEyeGazeFilter.h"
 #include "vtkLiveLinkFaceReader.h"
+#include "vtkMorphAvatarPipeline.h"
 #include "vtkMorphNodeFilter.h"
 #include "vtkMorphRigFilter.h"
 #include "vtkMorphSkinFilter.h"
@@ -44,16 +47,16 @@ struct Avatar
 {
   Options Opt;
   vtkNew<vtkBehaviorTimeSource> Behavior;
-  vtkNew<vtkMorphTargetReader> Reader;
   vtkNew<vtkLiveLinkFaceReader> Capture; // --capture
-  /// Where the weights (and the head and eye angles) come from: the behaviour, the reader's
-  /// animation (port 1) or the take.
-  vtkAlgorithm* WeightSource = nullptr;
-  int WeightPort = 0;
-  vtkNew<vtkMorphRigFilter> Rig;
-  vtkNew<vtkMorphNodeFilter> Morph;
-  vtkNew<vtkEyeGazeFilter> Gaze;
-  vtkNew<vtkMorphSkinFilter> Skin;
+  /// Reader -> [rig] -> morph -> gaze -> skin and the head pose, on the weights of the
+  /// behaviour, the face's animation, the take or (live) a vtkLiveBehaviorSource.
+  vtkNew<vtkMorphAvatarPipeline> Pipeline;
+  // The pipeline's filters, for their settings (the connections are the pipeline's).
+  vtkMorphTargetReader* const Reader = Pipeline->GetReader();
+  vtkMorphRigFilter* const Rig = Pipeline->GetRig();
+  vtkMorphNodeFilter* const Morph = Pipeline->GetMorph();
+  vtkEyeGazeFilter* const Gaze = Pipeline->GetGaze();
+  vtkMorphSkinFilter* const Skin = Pipeline->GetSkin();
   /// A rig chosen from the face's names (AvatarNaming.h), removed at exit.
   struct TempFile
   {
@@ -63,13 +66,11 @@ struct Avatar
   /// The box the camera frames (--frame: the head from its joints, the bust, the body).
   double ViewBounds[6] = { 0, 1, 0, 1, 0, 1 };
   morphnode::appkit::HeadActors Head; // one actor per part
-  vtkNew<vtkTransform> HeadPose;
   vtkNew<vtkRenderer> Renderer;
   vtkNew<vtkRenderWindow> Window;
   vtkNew<vtkTextActor> Overlay;
   vtkNew<vtkTextActor> Caption;
   std::string FaceFile;
-  std::array<double, 3> Pivot{ 0, 0, 0 };
   double Bounds[6] = { 0, 1, 0, 1, 0, 1 };
   double Diagonal = 1.0;
   double Duration = 5.0;

@@ -2,11 +2,12 @@
 // MorphAvatar live (AvatarLive.h): the dialog server and session of Modules/Core/dialog on
 // the avatar's behaviour, in the window's loop or a headless real-time loop.
 //
-// The behaviour is a morphnode::LiveBehavior (behavior/LiveBehavior.h): endless, never
-// looping, every command merged into what is scheduled without rebuilding it, long texts
-// synthesized in chunks. It is sampled once per frame at the clock's time into a one-row
-// table that takes the place of the vtkBehaviorTimeSource's output for every filter that
-// read it (the source keeps only its settings: seed, parameters, voice, viseme set).
+// The behaviour is a vtkLiveBehaviorSource over morphnode::LiveBehavior
+// (behavior/LiveBehavior.h): endless, never looping, every command merged into what is
+// scheduled without rebuilding it, long texts synthesized in chunks. It is the avatar
+// pipeline's weights source in live mode (the same pipeline, another source), sampled at
+// the clock's time of each frame; the vtkBehaviorTimeSource gives it its settings (seed,
+// parameters, voice, viseme set).
 #include "AvatarLive.h"
 
 #include "Avatar.h"
@@ -21,16 +22,8 @@
 #include "speech/Speech.h"
 #include "speech/TimingFiles.h"
 
-#include "vtkAlgorithmOutput.h"
-#include "vtkDoubleArray.h"
-#include "vtkExecutive.h"
-#include "vtkInformation.h"
-#include "vtkInformationExecutivePortVectorKey.h"
-#include "vtkInformationVector.h"
+#include "vtkLiveBehaviorSource.h"
 #include "vtkNew.h"
-#include "vtkObjectFactory.h"
-#include "vtkTable.h"
-#include "vtkTableAlgorithm.h"
 
 #include <algorithm>
 #include <filesystem>
@@ -67,51 +60,6 @@ double FirstSound(const std::vector<int16_t>& samples, int sampleRate)
     }
   }
   return std::nan("");
-}
-
-/// One row of weights, filled by the live loop before each frame: the weights input of
-/// the pipeline in live mode, in place of the vtkBehaviorTimeSource's output.
-class LiveWeightsSource : public vtkTableAlgorithm
-{
-public:
-  static LiveWeightsSource* New();
-  vtkTypeMacro(LiveWeightsSource, vtkTableAlgorithm);
-  vtkNew<vtkTable> Row;
-
-protected:
-  LiveWeightsSource() { this->SetNumberOfInputPorts(0); }
-  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector* out) override
-  {
-    vtkTable::GetData(out)->ShallowCopy(this->Row);
-    return 1;
-  }
-};
-vtkStandardNewMacro(LiveWeightsSource);
-
-/// Connects every consumer of `from` to `to` instead (the morph filter or the rig, and any
-/// other filter reading the behaviour, e.g. the eyes' gaze).
-void Rewire(vtkAlgorithmOutput* from, vtkAlgorithmOutput* to)
-{
-  vtkInformation* info = from->GetProducer()->GetExecutive()->GetOutputInformation(from->GetIndex());
-  const int n = vtkExecutive::CONSUMERS()->Length(info);
-  std::vector<std::pair<vtkAlgorithm*, int>> consumers;
-  for (int i = 0; i < n; ++i)
-  {
-    consumers.emplace_back(vtkExecutive::CONSUMERS()->GetExecutives(info)[i]->GetAlgorithm(),
-      vtkExecutive::CONSUMERS()->GetPorts(info)[i]);
-  }
-  for (const auto& [algorithm, port] : consumers)
-  {
-    if (algorithm->GetNumberOfInputConnections(port) == 1)
-    {
-      algorithm->SetInputConnection(port, to);
-    }
-    else
-    {
-      algorithm->RemoveInputConnection(port, from);
-      algorithm->AddInputConnection(port, to);
-    }
-  }
 }
 
 /// The dialog's commands on the live behaviour (behavior/LiveBehavior.h): merged into what
@@ -269,11 +217,11 @@ struct Live
 {
   Avatar& A;
   dialog::DialogServer Server;
-  std::unique_ptr<morphnode::LiveBehavior> Behavior;
+  /// The weights source of the pipeline in live mode; its core behaviour takes the
+  /// commands (LiveSink) and gives the sound of later chunks and their errors.
+  vtkNew<vtkLiveBehaviorSource> Source;
   std::unique_ptr<LiveSink> Sink;
   std::unique_ptr<dialog::DialogSession> Session;
-  vtkNew<LiveWeightsSource> Weights;
-  std::vector<double> Values;
   bool Stdin = false;
 
   Live(Avatar& avatar, const dialog::DialogServer::Settings& settings)
@@ -284,49 +232,31 @@ struct Live
   /// The avatar's clock (AvatarClock.cxx): the sound's where it plays, else the window's
   /// (pausable) time or seconds since the start.
   double Now() const { return this->A.ClockNow(); }
-  /// Before a frame at t: commands that arrived run now, the behaviour is sampled into the
-  /// weights row (and into the behaviour source's output, where the head pose is read).
-  /// False to stop.
+  /// Before a frame at t: commands that arrived run now; the frame's update samples the
+  /// source at t. False to stop.
   bool Before(double t)
   {
-    t = this->BehaviorTime(t);
-    this->Session->Receive(t, 0);
-    this->Behavior->Sample(t, this->Values.data());
-    for (const auto& segment : this->Behavior->TakeAudio()) // later chunks of long texts
+    this->Session->Receive(this->BehaviorTime(t), 0);
+    this->Source->Modified(); // commands may have come
+    return !this->Session->QuitRequested() && !morphnode::appkit::StopRequested(); // SIGTERM/SIGINT: as quit
+  }
+  /// After the frame at t is on the screen: the sound of chunks synthesized while sampling
+  /// (later chunks of long texts) and their errors, then started / ended events.
+  void After(double t)
+  {
+    for (const auto& segment : this->Source->GetLiveBehavior().TakeAudio())
     {
       this->A.PlaySound(segment.Samples, segment.SampleRate, segment.Start);
     }
-    for (const std::string& error : this->Behavior->TakeErrors())
+    for (const std::string& error : this->Source->GetLiveBehavior().TakeErrors())
     {
       std::cerr << "MorphAvatar: " << error << "\n";
     }
-    vtkTable* row = this->Weights->Row;
-    for (vtkIdType c = 0; c < row->GetNumberOfColumns(); ++c)
-    {
-      row->GetColumn(c)->SetVariantValue(0, this->Values[static_cast<size_t>(c)]);
-    }
-    row->Modified();
-    this->Weights->Modified();
-    if (auto* shown = vtkTable::SafeDownCast(this->A.Behavior->GetOutputDataObject(0)))
-    {
-      shown->ShallowCopy(row);
-    }
-    return !this->Session->QuitRequested() && !morphnode::appkit::StopRequested(); // SIGTERM/SIGINT: as quit
+    this->Session->Advance(this->BehaviorTime(t));
   }
-  /// After the frame at t is on the screen: started / ended events.
-  void After(double t) { this->Session->Advance(this->BehaviorTime(t)); }
   /// The behaviour's time for the clock's t: the same, unless the window's clock went back
   /// ('r' restarts it), where the behaviour goes on from where it was.
-  double BehaviorTime(double t)
-  {
-    const double last = this->Behavior->GetLastSampleTime();
-    if (t + this->Offset < last)
-    {
-      this->Offset = last - t;
-    }
-    return t + this->Offset;
-  }
-  double Offset = 0.0;
+  double BehaviorTime(double t) { return this->Source->GetBehaviorTime(t); }
   /// Headless with commands on stdin only: stdin ended and nothing runs any more.
   bool Finished() const
   {
@@ -493,18 +423,13 @@ int RunLive(Avatar& a)
   // The live behaviour: the behaviour source's settings (seed, parameters, voice, viseme
   // set); the speech, gestures, moods and looks come as commands.
   vtkBehaviorTimeSource* source = a.Behavior;
-  morphnode::SpeechOptions speech;
-  speech.Voice = source->GetVoice();
-  speech.Rate = source->GetSpeechRate();
-  speech.Visemes = static_cast<morphnode::VisemeSet>(source->GetVisemeSet());
-  speech.VisemeTablePath = source->GetVisemeTableFileName() ? source->GetVisemeTableFileName() : "";
+  if (!live.Source->CopySettings(source))
+  {
+    return 1; // the error is reported
+  }
+  const morphnode::SpeechOptions speech = source->GetSpeechOptions();
   try
   {
-    live.Behavior = std::make_unique<morphnode::LiveBehavior>(
-      morphnode::SelectVisemeMap(speech).GetVisemes(), source->GetBehaviorParameters(),
-      source->GetSeed());
-    live.Behavior->SetSynthesizer(
-      [speech](const std::string& text) { return morphnode::SpeakText(text, speech); });
     // Every address bound before any is announced: a refused one (a remote host without
     // --listen-remote, a port in use) is the only message, and nothing listens.
     std::vector<std::string> bound;
@@ -533,17 +458,13 @@ int RunLive(Avatar& a)
     live.Server.AddStream(0, 1);
     live.Stdin = true;
   }
-  for (const std::string& name : live.Behavior->GetChannelNames())
+  // The same pipeline with another weights source in the behaviour's place (the rig, the
+  // morph, the eyes, the skin and the head pose read it; a take stays the take).
+  if (a.Pipeline->GetWeightsConnection() == source->GetOutputPort(0))
   {
-    vtkNew<vtkDoubleArray> column;
-    column->SetName(name.c_str());
-    column->SetNumberOfValues(1);
-    column->SetValue(0, 0.0);
-    live.Weights->Row->AddColumn(column);
+    a.Pipeline->SetWeightsConnection(live.Source->GetOutputPort());
   }
-  live.Values.assign(live.Behavior->GetNumberOfChannels(), 0.0);
-  Rewire(source->GetOutputPort(0), live.Weights->GetOutputPort());
-  live.Sink = std::make_unique<LiveSink>(*live.Behavior, speech);
+  live.Sink = std::make_unique<LiveSink>(live.Source->GetLiveBehavior(), speech);
   live.Sink->A = &a;
   live.Session = std::make_unique<dialog::DialogSession>(live.Server, *live.Sink);
   a.Duration = std::numeric_limits<double>::infinity(); // no end, no loop
@@ -551,7 +472,9 @@ int RunLive(Avatar& a)
   if (!a.Opt.Say.empty())
   {
     dialog::Command greeting;
-    greeting.Body = dialog::SayCommand{ a.Opt.Say, std::string() };
+    dialog::SayCommand say;
+    say.Text = a.Opt.Say;
+    greeting.Body = say;
     live.Session->Execute(dialog::DialogServer::StreamClient, greeting, 0.5, Clock::now());
   }
   if (a.Opt.Offscreen)
