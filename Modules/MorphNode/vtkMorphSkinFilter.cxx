@@ -7,8 +7,8 @@
 #include "skin/AvatarBones.h"
 #include "skin/Skinning.h"
 
-#include "vtkCompositeDataIterator.h"
 #include "vtkCompositeDataSet.h"
+#include "vtkCompositeDataSetRange.h"
 #include "vtkDataArray.h"
 #include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
@@ -308,24 +308,20 @@ int vtkMorphSkinFilter::RequestData(
     {
       auto* out = vtkCompositeDataSet::SafeDownCast(output);
       out->ShallowCopy(composite);
-      vtkSmartPointer<vtkCompositeDataIterator> it;
-      it.TakeReference(out->NewIterator());
-      it->SkipEmptyNodesOn();
-      for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem())
+      for (auto node : vtk::Range(out, vtk::CompositeDataSetOptions::SkipEmptyNodes))
       {
-        auto* leaf = vtkPointSet::SafeDownCast(it->GetCurrentDataObject());
+        auto* leaf = vtkPointSet::SafeDownCast(node);
         if (!leaf)
         {
           continue;
         }
-        std::string name = "part " + std::to_string(it->GetCurrentFlatIndex());
-        if (it->HasCurrentMetaData() && it->GetCurrentMetaData()->Has(vtkCompositeDataSet::NAME()))
-        {
-          name = std::string("part '") + it->GetCurrentMetaData()->Get(vtkCompositeDataSet::NAME()) + "'";
-        }
+        const bool named = node.HasMetaData() && node.GetMetaData()->Has(vtkCompositeDataSet::NAME());
+        const std::string name = named
+          ? std::string("part '") + node.GetMetaData()->Get(vtkCompositeDataSet::NAME()) + "'"
+          : "part " + std::to_string(node.GetFlatIndex());
         if (auto posed = reskin(leaf, name))
         {
-          out->SetDataSet(it, posed);
+          node = posed;
         }
       }
     }

@@ -7,8 +7,8 @@
 #include "vtkArrayDispatch.h"
 #include "vtkCellArray.h"
 #include "vtkCellArrayIterator.h"
-#include "vtkCompositeDataIterator.h"
 #include "vtkCompositeDataSet.h"
+#include "vtkCompositeDataSetRange.h"
 #include "vtkDataArray.h"
 #include "vtkDataArrayRange.h"
 #include "vtkFieldData.h"
@@ -277,11 +277,9 @@ bool GetFaceTargetNames(vtkDataObject* face, std::vector<std::string>& targets)
   };
   if (auto* composite = vtkCompositeDataSet::SafeDownCast(face))
   {
-    vtkSmartPointer<vtkCompositeDataIterator> it;
-    it.TakeReference(composite->NewIterator());
-    for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem())
+    for (vtkDataObject* leaf : vtk::Range(composite, vtk::CompositeDataSetOptions::SkipEmptyNodes))
     {
-      add(it->GetCurrentDataObject());
+      add(leaf);
     }
   }
   else

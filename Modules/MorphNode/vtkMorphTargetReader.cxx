@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkMorphTargetReader.h"
 
+#include "vtkMorphPartData.h"
 #include "vtkMorphSkinArrays.h"
 #include "vtkMorphTargetArrays.h"
 
@@ -46,51 +47,18 @@ namespace
 {
 using morphnode::InputError;
 namespace arrays = vtkMorphTargetArrays;
+namespace partdata = vtkMorphPartData;
 using arrays::Kind;
-
-bool EndsWith(const std::string& s, const std::string& suffix)
-{
-  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
-}
 
 bool IsGltf(const std::string& fileName)
 {
-  const std::string lower = morphnode::text::ToLower(fileName);
-  return EndsWith(lower, ".glb") || EndsWith(lower, ".gltf");
+  return morphnode::text::HasExtension(fileName, ".glb") || morphnode::text::HasExtension(fileName, ".gltf");
 }
 
 vtkSmartPointer<vtkDataArray> MakeVectors(const std::string& name, const std::vector<float>& values)
 {
   return arrays::NewArray(
     VTK_FLOAT, name.c_str(), 3, static_cast<vtkIdType>(values.size() / 3), values.data());
-}
-
-void AddString(vtkFieldData* fd, const char* name, const std::string& value)
-{
-  vtkNew<vtkStringArray> array;
-  array->SetName(name);
-  array->InsertNextValue(value);
-  fd->AddArray(array);
-}
-
-void AddDoubles(vtkFieldData* fd, const char* name, const double* values, int count)
-{
-  vtkNew<vtkDoubleArray> array;
-  array->SetName(name);
-  array->SetNumberOfValues(count);
-  std::copy_n(values, count, array->GetPointer(0));
-  fd->AddArray(array);
-}
-
-std::string MeshNameOf(const morphnode::GltfScene& scene, size_t m)
-{
-  return scene.Meshes[m].Name.empty() ? "mesh" + std::to_string(m) : scene.Meshes[m].Name;
-}
-
-std::string NodeNameOf(const morphnode::GltfScene& scene, int n)
-{
-  return scene.Nodes[static_cast<size_t>(n)].Name.empty() ? "node" + std::to_string(n)
-                                                          : scene.Nodes[static_cast<size_t>(n)].Name;
 }
 
 /// A part as the convention's vtkPolyData: float points, triangles, normals `Normals` (when
@@ -224,134 +192,6 @@ std::vector<std::string> TargetNamesOf(const morphnode::GltfPart& part)
   return names;
 }
 
-/// PartName, NodeName, MaterialName, BaseColor; with `world`, NodeOrigin and NodeAxes too.
-void AddPartFieldData(vtkFieldData* fd, const morphnode::GltfScene& scene,
-  const morphnode::GltfPart& part, bool world, double scale)
-{
-  AddString(fd, "PartName", part.Name);
-  AddString(fd, "NodeName", NodeNameOf(scene, part.Node));
-  AddString(fd, "MaterialName", part.MaterialName);
-  AddDoubles(fd, "BaseColor", part.BaseColor.data(), 4);
-  if (world)
-  {
-    const morphnode::GltfMatrix& m = part.World; // column-major
-    const double origin[3] = { scale * m[12], scale * m[13], scale * m[14] };
-    AddDoubles(fd, "NodeOrigin", origin, 3);
-    double axes[9];
-    for (int c = 0; c < 3; ++c)
-    {
-      const double length = std::sqrt(m[4 * c] * m[4 * c] + m[4 * c + 1] * m[4 * c + 1] + m[4 * c + 2] * m[4 * c + 2]);
-      for (int r = 0; r < 3; ++r)
-      {
-        axes[3 * c + r] = length > 0.0 ? m[4 * c + r] / length : (r == c ? 1.0 : 0.0);
-      }
-    }
-    AddDoubles(fd, "NodeAxes", axes, 9);
-  }
-}
-
-/// An image of the scene as a field-data array `<name>Image` (unsigned char RGBA, one tuple per
-/// pixel, rows as in the file: top first, which is where glTF's v = 0 is and where VTK's
-/// texture coordinate t = 0 samples) with `<name>ImageSize` (width, height) and
-/// `<name>Sampler` (magFilter, minFilter, wrapS, wrapT as glTF's enums).
-void AddImage(vtkFieldData* fd, const std::string& name, const morphnode::GltfImage& image,
-  const morphnode::GltfSampler& sampler)
-{
-  vtkNew<vtkUnsignedCharArray> pixels;
-  pixels->SetName((name + "Image").c_str());
-  pixels->SetNumberOfComponents(4);
-  pixels->SetNumberOfTuples(static_cast<vtkIdType>(image.Width) * image.Height);
-  std::copy(image.Pixels.begin(), image.Pixels.end(), pixels->GetPointer(0));
-  fd->AddArray(pixels);
-  const double size[2] = { double(image.Width), double(image.Height) };
-  AddDoubles(fd, (name + "ImageSize").c_str(), size, 2);
-  const double s[4] = { double(sampler.MagFilter), double(sampler.MinFilter), double(sampler.WrapS),
-    double(sampler.WrapT) };
-  AddDoubles(fd, (name + "Sampler").c_str(), s, 4);
-}
-
-/// The part's material as field data (docs/materials.md): MetallicFactor, RoughnessFactor,
-/// EmissiveFactor (times KHR_materials_emissive_strength), AlphaMode, AlphaCutoff,
-/// DoubleSided, Unlit; the textures' images (BaseColor, MetallicRoughness, Normal,
-/// Occlusion, Emissive) where they decoded and use the base colour's texture coordinates;
-/// point data TCoords: the base colour texture's TEXCOORD_n with its KHR_texture_transform
-/// applied (VTK draws all of a part's textures with one set of coordinates).
-void AddMaterial(vtkPolyData* poly, const morphnode::GltfScene& scene, const morphnode::GltfPart& part,
-  const std::string& fileName)
-{
-  if (part.Material < 0 || static_cast<size_t>(part.Material) >= scene.Materials.size())
-  {
-    return;
-  }
-  const morphnode::GltfMaterial& m = scene.Materials[static_cast<size_t>(part.Material)];
-  vtkFieldData* fd = poly->GetFieldData();
-  // Where the material came from: vtkMorphGltfWriter writes the file's material (and its
-  // images) back from these.
-  const double index = part.Material;
-  AddDoubles(fd, "MaterialIndex", &index, 1);
-  AddString(fd, "MaterialSource", fileName);
-  AddDoubles(fd, "MetallicFactor", &m.MetallicFactor, 1);
-  AddDoubles(fd, "RoughnessFactor", &m.RoughnessFactor, 1);
-  const double emissive[3] = { m.EmissiveFactor[0] * m.EmissiveStrength, m.EmissiveFactor[1] * m.EmissiveStrength,
-    m.EmissiveFactor[2] * m.EmissiveStrength };
-  AddDoubles(fd, "EmissiveFactor", emissive, 3);
-  AddString(fd, "AlphaMode", morphnode::GltfAlphaModeName(m.AlphaMode));
-  AddDoubles(fd, "AlphaCutoff", &m.AlphaCutoff, 1);
-  const double doubleSided = m.DoubleSided ? 1 : 0, unlit = m.Unlit ? 1 : 0;
-  AddDoubles(fd, "DoubleSided", &doubleSided, 1);
-  AddDoubles(fd, "Unlit", &unlit, 1);
-  // The texture coordinates: those of the base colour texture, else of the first texture.
-  const morphnode::GltfTextureRef* refs[5] = { &m.BaseColorTexture, &m.MetallicRoughnessTexture, &m.NormalTexture,
-    &m.OcclusionTexture, &m.EmissiveTexture };
-  const char* names[5] = { "BaseColor", "MetallicRoughness", "Normal", "Occlusion", "Emissive" };
-  const morphnode::GltfTextureRef* uv = nullptr;
-  for (const auto* ref : refs)
-  {
-    if (ref->IsSet() && !uv)
-    {
-      uv = ref;
-    }
-  }
-  if (!uv)
-  {
-    return;
-  }
-  const std::vector<float>& tc = uv->TexCoord == 0 ? part.TexCoords0 : part.TexCoords1;
-  if (tc.size() != 2 * part.GetNumberOfPoints())
-  {
-    return; // the primitive lacks the set: drawn without textures
-  }
-  const std::array<double, 9> t = uv->UvMatrix();
-  vtkNew<vtkFloatArray> tcoords;
-  tcoords->SetName("TCoords");
-  tcoords->SetNumberOfComponents(2);
-  tcoords->SetNumberOfTuples(static_cast<vtkIdType>(part.GetNumberOfPoints()));
-  for (size_t i = 0; i < part.GetNumberOfPoints(); ++i)
-  {
-    const double u = tc[2 * i], v = tc[2 * i + 1];
-    tcoords->SetTypedComponent(static_cast<vtkIdType>(i), 0, static_cast<float>(t[0] * u + t[1] * v + t[2]));
-    tcoords->SetTypedComponent(static_cast<vtkIdType>(i), 1, static_cast<float>(t[3] * u + t[4] * v + t[5]));
-  }
-  poly->GetPointData()->SetTCoords(tcoords);
-  for (int k = 0; k < 5; ++k)
-  {
-    const auto* ref = refs[k];
-    const bool sameUv = ref->TexCoord == uv->TexCoord && ref->UvMatrix() == uv->UvMatrix();
-    if (ref->IsSet() && sameUv && static_cast<size_t>(ref->Image) < scene.Images.size())
-    {
-      AddImage(fd, names[k], scene.Images[static_cast<size_t>(ref->Image)], ref->Sampler);
-      if (k == 2)
-      {
-        AddDoubles(fd, "NormalScale", &ref->Scale, 1);
-      }
-      if (k == 3)
-      {
-        AddDoubles(fd, "OcclusionStrength", &ref->Scale, 1);
-      }
-    }
-  }
-}
-
 /// The node tree of the scene as a data assembly, each part's index on its node.
 vtkSmartPointer<vtkDataAssembly> MakeAssembly(const morphnode::GltfScene& scene, const std::string& fileName)
 {
@@ -382,7 +222,7 @@ vtkSmartPointer<vtkDataAssembly> MakeAssembly(const morphnode::GltfScene& scene,
     stack.pop_back();
     const morphnode::GltfNode& gltfNode = scene.Nodes[static_cast<size_t>(node)];
     const int id = assembly->AddNode(
-      vtkDataAssembly::MakeValidNodeName(NodeNameOf(scene, node).c_str()).c_str(), parent);
+      vtkDataAssembly::MakeValidNodeName(morphnode::GltfNodeName(scene, node).c_str()).c_str(), parent);
     for (unsigned int p : partsOfNode[static_cast<size_t>(node)])
     {
       assembly->AddDataSetIndex(id, p);
@@ -598,9 +438,7 @@ int vtkMorphTargetReader::ResolveAnimation(const morphnode::GltfScene& scene) co
   {
     for (size_t a = 0; a < scene.Animations.size(); ++a)
     {
-      const std::string name = scene.Animations[a].Name.empty() ? "animation" + std::to_string(a)
-                                                                 : scene.Animations[a].Name;
-      if (name == this->AnimationName)
+      if (morphnode::GltfAnimationName(scene, a) == this->AnimationName)
       {
         return static_cast<int>(a);
       }
@@ -609,7 +447,7 @@ int vtkMorphTargetReader::ResolveAnimation(const morphnode::GltfScene& scene) co
     msg << "'" << this->FileName << "' has no animation named '" << this->AnimationName << "'; animations:";
     for (size_t a = 0; a < scene.Animations.size(); ++a)
     {
-      msg << " " << (scene.Animations[a].Name.empty() ? "animation" + std::to_string(a) : scene.Animations[a].Name);
+      msg << " " << morphnode::GltfAnimationName(scene, a);
     }
     if (scene.Animations.empty())
     {
@@ -678,8 +516,7 @@ int vtkMorphTargetReader::RequestInformation(
       const auto scene = this->LoadScene(whole && transformsApplied);
       for (size_t a = 0; a < scene->Animations.size(); ++a)
       {
-        this->AnimationNames.push_back(
-          scene->Animations[a].Name.empty() ? "animation" + std::to_string(a) : scene->Animations[a].Name);
+        this->AnimationNames.push_back(morphnode::GltfAnimationName(*scene, a));
       }
       const int chosen = this->ResolveAnimation(*scene);
       if (chosen >= 0)
@@ -786,7 +623,7 @@ int vtkMorphTargetReader::RequestData(
       this->UpdateProgress(0.5);
       for (size_t m = 0; m < scene.Meshes.size(); ++m)
       {
-        this->MeshNames.push_back(MeshNameOf(scene, m));
+        this->MeshNames.push_back(morphnode::GltfMeshName(scene, m));
       }
       if (scene.Parts.empty())
       {
@@ -850,11 +687,11 @@ int vtkMorphTargetReader::RequestData(
         return posed;
       };
       auto addWeightFields = [&](vtkFieldData* fd, const morphnode::GltfPart& part) {
-        AddDoubles(fd, "DefaultWeights", part.DefaultWeights.data(), static_cast<int>(part.DefaultWeights.size()));
+        partdata::SetNumbers(fd, partdata::DefaultWeightsArray, part.DefaultWeights.data(), static_cast<int>(part.DefaultWeights.size()));
         if (applyWeights)
         {
           const std::vector<double>& w = sample.Nodes[static_cast<size_t>(part.Node)].Weights;
-          AddDoubles(fd, "AppliedWeights", w.data(), static_cast<int>(std::min(w.size(), part.Targets.size())));
+          partdata::SetNumbers(fd, partdata::AppliedWeightsArray, w.data(), static_cast<int>(std::min(w.size(), part.Targets.size())));
         }
       };
 
@@ -878,8 +715,8 @@ int vtkMorphTargetReader::RequestData(
           const std::vector<std::string> names = TargetNamesOf(part);
           auto poly = PartToPolyData(part);
           FinishMesh(poly, names, this->Scale, this->NormalsMode);
-          AddPartFieldData(poly->GetFieldData(), scene, part, true, this->Scale);
-          AddMaterial(poly, scene, part, this->FileName);
+          partdata::SetPartFields(poly->GetFieldData(), partdata::FromGltfPart(scene, part, true, this->Scale));
+          partdata::SetMaterial(poly, scene, part, this->FileName);
           addWeightFields(poly->GetFieldData(), part);
           if (part.Skin >= 0)
           {
@@ -921,8 +758,8 @@ int vtkMorphTargetReader::RequestData(
         const std::vector<std::string> names = TargetNamesOf(part);
         poly->ShallowCopy(PartToPolyData(part));
         FinishMesh(poly, names, this->Scale, this->NormalsMode);
-        AddPartFieldData(poly->GetFieldData(), scene, part, false, this->Scale);
-        AddMaterial(poly, scene, part, this->FileName);
+        partdata::SetPartFields(poly->GetFieldData(), partdata::FromGltfPart(scene, part, false, this->Scale));
+        partdata::SetMaterial(poly, scene, part, this->FileName);
         addWeightFields(poly->GetFieldData(), part);
         this->TargetNames = names;
         this->PartNames.push_back(part.Name);
@@ -941,7 +778,7 @@ int vtkMorphTargetReader::RequestData(
       for (int n : animatedNodes)
       {
         const morphnode::GltfNodeSample& node = sample.Nodes[static_cast<size_t>(n)];
-        const std::string name = NodeNameOf(scene, n);
+        const std::string name = morphnode::GltfNodeName(scene, n);
         if (node.TranslationAnimated)
         {
           const double t[3] = { this->Scale * node.Translation[0], this->Scale * node.Translation[1],
@@ -957,24 +794,17 @@ int vtkMorphTargetReader::RequestData(
           AddColumn(weightsOutput, name + ".scale", node.Scale.data(), 3);
         }
       }
-      AddDoubles(weightsOutput->GetFieldData(), "Time", &time, 1);
-      std::string animationName;
-      if (animation >= 0)
-      {
-        animationName = scene.Animations[static_cast<size_t>(animation)].Name;
-        if (animationName.empty())
-        {
-          animationName = "animation" + std::to_string(animation);
-        }
-      }
-      AddString(weightsOutput->GetFieldData(), "AnimationName", animationName);
+      partdata::SetNumbers(weightsOutput->GetFieldData(), "Time", &time, 1);
+      const std::string animationName =
+        animation >= 0 ? morphnode::GltfAnimationName(scene, static_cast<size_t>(animation)) : std::string();
+      partdata::SetString(weightsOutput->GetFieldData(), "AnimationName", animationName);
       if (animation >= 0)
       {
         output->GetInformation()->Set(vtkDataObject::DATA_TIME_STEP(), time);
         weightsOutput->GetInformation()->Set(vtkDataObject::DATA_TIME_STEP(), time);
       }
     }
-    else if (EndsWith(morphnode::text::ToLower(this->FileName), ".obj") ||
+    else if (morphnode::text::HasExtension(this->FileName, ".obj") ||
       std::filesystem::is_directory(this->FileName))
     {
       auto* poly = vtkPolyData::SafeDownCast(output);
