@@ -59,14 +59,14 @@
  * morphnode::Utterance it built itself (Speak); every change goes through this class, so
  * the modification time is always right.
  *
- * @sa vtkMorphNodeFilter morphnode::BehaviorController morphnode::SpeakText
+ * @sa vtkMorphTrackSource vtkMorphNodeFilter morphnode::BehaviorController morphnode::SpeakText
  */
 
 #ifndef vtkBehaviorTimeSource_h
 #define vtkBehaviorTimeSource_h
 
 #include "vtkMorphNodeModule.h" // For export macro
-#include "vtkTableAlgorithm.h"
+#include "vtkMorphTrackSource.h"
 
 #include <memory> // For std::unique_ptr
 
@@ -79,11 +79,11 @@ struct Utterance;
 }
 #endif
 
-class VTKMORPHNODE_EXPORT vtkBehaviorTimeSource : public vtkTableAlgorithm
+class VTKMORPHNODE_EXPORT vtkBehaviorTimeSource : public vtkMorphTrackSource
 {
 public:
   static vtkBehaviorTimeSource* New();
-  vtkTypeMacro(vtkBehaviorTimeSource, vtkTableAlgorithm);
+  vtkTypeMacro(vtkBehaviorTimeSource, vtkMorphTrackSource);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   /// Viseme sets of Say(); values match morphnode::VisemeSet.
@@ -320,10 +320,6 @@ protected:
   vtkBehaviorTimeSource();
   ~vtkBehaviorTimeSource() override;
 
-  int FillOutputPortInformation(int port, vtkInformation* info) override;
-  /// Marks the track (port 1) as not generated when only port 0 is asked for.
-  vtkTypeBool ProcessRequest(
-    vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 

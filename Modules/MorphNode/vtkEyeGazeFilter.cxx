@@ -188,7 +188,6 @@ public:
 vtkEyeGazeFilter::vtkEyeGazeFilter()
   : Internals(new vtkInternals)
 {
-  this->SetNumberOfInputPorts(2);
 }
 
 //------------------------------------------------------------------------------
@@ -238,39 +237,6 @@ const char* vtkEyeGazeFilter::GetEyeName(int i)
 void vtkEyeGazeFilter::SetGazeConnection(vtkAlgorithmOutput* output)
 {
   this->SetInputConnection(1, output);
-}
-
-//------------------------------------------------------------------------------
-int vtkEyeGazeFilter::FillInputPortInformation(int port, vtkInformation* info)
-{
-  if (port == 0)
-  {
-    info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPointSet");
-    info->Append(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkCompositeDataSet");
-    return 1;
-  }
-  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkTable");
-  info->Set(vtkAlgorithm::INPUT_IS_OPTIONAL(), 1);
-  return 1;
-}
-
-//------------------------------------------------------------------------------
-int vtkEyeGazeFilter::RequestInformation(
-  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
-{
-  // A gaze table animates the eyes: its time steps win over the head's (the executive
-  // copies only those of port 0).
-  vtkInformation* outInfo = outputVector->GetInformationObject(0);
-  vtkInformation* gazeInfo = inputVector[1]->GetInformationObject(0);
-  if (gazeInfo && gazeInfo->Has(vtkStreamingDemandDrivenPipeline::TIME_STEPS()))
-  {
-    outInfo->CopyEntry(gazeInfo, vtkStreamingDemandDrivenPipeline::TIME_STEPS());
-  }
-  if (gazeInfo && gazeInfo->Has(vtkStreamingDemandDrivenPipeline::TIME_RANGE()))
-  {
-    outInfo->CopyEntry(gazeInfo, vtkStreamingDemandDrivenPipeline::TIME_RANGE());
-  }
-  return 1;
 }
 
 //------------------------------------------------------------------------------
@@ -350,12 +316,7 @@ int vtkEyeGazeFilter::RequestData(
       throw morphnode::InputError(std::string("cannot turn eyes in a ") + input->GetClassName());
     }
 
-    vtkInformation* outInfo = outputVector->GetInformationObject(0);
-    if (outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP()))
-    {
-      output->GetInformation()->Set(vtkDataObject::DATA_TIME_STEP(),
-        outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP()));
-    }
+    vtkMorphTrackFilter::StampTime(output, outputVector);
     this->UpdateProgress(1.0);
     return 1;
   }

@@ -55,7 +55,6 @@ vtkLiveLinkFaceReader::vtkLiveLinkFaceReader()
   : Internals(new vtkInternals)
 {
   this->SetNumberOfInputPorts(1);
-  this->SetNumberOfOutputPorts(2);
 }
 
 vtkLiveLinkFaceReader::~vtkLiveLinkFaceReader() = default;
@@ -85,12 +84,6 @@ int vtkLiveLinkFaceReader::FillInputPortInformation(int, vtkInformation* info)
 {
   info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkDataObject");
   info->Set(vtkAlgorithm::INPUT_IS_OPTIONAL(), 1);
-  return 1;
-}
-
-int vtkLiveLinkFaceReader::FillOutputPortInformation(int, vtkInformation* info)
-{
-  info->Set(vtkDataObject::DATA_TYPE_NAME(), "vtkTable");
   return 1;
 }
 
@@ -187,39 +180,17 @@ bool vtkLiveLinkFaceReader::EnsureRead()
 }
 
 //------------------------------------------------------------------------------
-vtkTypeBool vtkLiveLinkFaceReader::ProcessRequest(
-  vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
-{
-  // A time step on port 0 need not build the whole take of port 1 (as vtkBehaviorTimeSource).
-  if (request->Has(vtkDemandDrivenPipeline::REQUEST_DATA_NOT_GENERATED()) &&
-    request->Has(vtkDemandDrivenPipeline::FROM_OUTPUT_PORT()) &&
-    request->Get(vtkDemandDrivenPipeline::FROM_OUTPUT_PORT()) == 0)
-  {
-    outputVector->GetInformationObject(1)->Set(vtkDemandDrivenPipeline::DATA_NOT_GENERATED(), 1);
-    return 1;
-  }
-  return this->Superclass::ProcessRequest(request, inputVector, outputVector);
-}
-
-//------------------------------------------------------------------------------
 int vtkLiveLinkFaceReader::RequestInformation(
   vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
 {
-  for (int port = 0; port < 2; ++port)
-  {
-    vtkInformation* outInfo = outputVector->GetInformationObject(port);
-    outInfo->Remove(vtkStreamingDemandDrivenPipeline::TIME_STEPS());
-    outInfo->Remove(vtkStreamingDemandDrivenPipeline::TIME_RANGE());
-  }
+  vtkMorphTrackSource::ClearTimeInformation(outputVector);
   if (!this->EnsureRead())
   {
     return 0;
   }
   const auto& times = this->Internals->Capture.Times;
-  vtkInformation* outInfo = outputVector->GetInformationObject(0);
-  outInfo->Set(vtkStreamingDemandDrivenPipeline::TIME_STEPS(), times.data(), static_cast<int>(times.size()));
-  double range[2] = { 0.0, this->Internals->Capture.GetDuration() };
-  outInfo->Set(vtkStreamingDemandDrivenPipeline::TIME_RANGE(), range, 2);
+  vtkMorphTrackSource::SetTimeInformation(
+    outputVector, times.data(), static_cast<int>(times.size()), this->Internals->Capture.GetDuration());
   return 1;
 }
 
@@ -227,7 +198,6 @@ int vtkLiveLinkFaceReader::RequestInformation(
 int vtkLiveLinkFaceReader::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
-  vtkInformation* frameInfo = outputVector->GetInformationObject(0);
   vtkTable* frame = vtkTable::GetData(outputVector, 0);
   vtkTable* take = vtkTable::GetData(outputVector, 1);
   if (!frame || !take)
@@ -236,7 +206,7 @@ int vtkLiveLinkFaceReader::RequestData(
     return 0;
   }
   frame->Initialize();
-  const bool takeWanted = !outputVector->GetInformationObject(1)->Get(vtkDemandDrivenPipeline::DATA_NOT_GENERATED());
+  const bool takeWanted = vtkMorphTrackSource::IsTrackWanted(outputVector);
   if (takeWanted)
   {
     take->Initialize();
@@ -346,9 +316,7 @@ int vtkLiveLinkFaceReader::RequestData(
       row[c] = capture.Sample(time, static_cast<size_t>(source[c]));
     }
   };
-  const double t = frameInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP())
-    ? frameInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP())
-    : 0.0;
+  const double t = vtkMorphTrackSource::RequestedTime(outputVector);
   try
   {
     fill(t);

@@ -95,7 +95,6 @@ public:
 vtkMorphSkinFilter::vtkMorphSkinFilter()
   : Internals(new vtkInternals)
 {
-  this->SetNumberOfInputPorts(2);
 }
 
 //------------------------------------------------------------------------------
@@ -105,38 +104,6 @@ vtkMorphSkinFilter::~vtkMorphSkinFilter() = default;
 void vtkMorphSkinFilter::SetPoseConnection(vtkAlgorithmOutput* output)
 {
   this->SetInputConnection(1, output);
-}
-
-//------------------------------------------------------------------------------
-int vtkMorphSkinFilter::FillInputPortInformation(int port, vtkInformation* info)
-{
-  if (port == 0)
-  {
-    info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPointSet");
-    info->Append(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkCompositeDataSet");
-    return 1;
-  }
-  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkTable");
-  info->Set(vtkAlgorithm::INPUT_IS_OPTIONAL(), 1);
-  return 1;
-}
-
-//------------------------------------------------------------------------------
-int vtkMorphSkinFilter::RequestInformation(
-  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
-{
-  // A pose table animates the bones: its time steps win (the executive copies port 0's only).
-  vtkInformation* outInfo = outputVector->GetInformationObject(0);
-  vtkInformation* poseInfo = inputVector[1]->GetInformationObject(0);
-  if (poseInfo && poseInfo->Has(vtkStreamingDemandDrivenPipeline::TIME_STEPS()))
-  {
-    outInfo->CopyEntry(poseInfo, vtkStreamingDemandDrivenPipeline::TIME_STEPS());
-  }
-  if (poseInfo && poseInfo->Has(vtkStreamingDemandDrivenPipeline::TIME_RANGE()))
-  {
-    outInfo->CopyEntry(poseInfo, vtkStreamingDemandDrivenPipeline::TIME_RANGE());
-  }
-  return 1;
 }
 
 //------------------------------------------------------------------------------
@@ -335,12 +302,7 @@ int vtkMorphSkinFilter::RequestData(
     {
       throw morphnode::InputError(std::string("cannot pose a ") + input->GetClassName());
     }
-    vtkInformation* outInfo = outputVector->GetInformationObject(0);
-    if (outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP()))
-    {
-      output->GetInformation()->Set(
-        vtkDataObject::DATA_TIME_STEP(), outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP()));
-    }
+    vtkMorphTrackFilter::StampTime(output, outputVector);
     return 1;
   }
   catch (const std::exception& e)
