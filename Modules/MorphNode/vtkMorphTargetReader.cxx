@@ -8,7 +8,7 @@
 #include "base/Error.h"
 #include "base/Text.h"
 #include "gltf/GltfAnimation.h"
-#include "gltf/GltfSkin.h"
+#include "gltf/GltfPose.h"
 #include "gltf/GltfScene.h"
 #include "morph/MorphMesh.h"
 #include "morph/Normals.h"
@@ -39,7 +39,6 @@
 #include <filesystem>
 #include <sstream>
 #include <system_error>
-#include <unordered_set>
 
 vtkStandardNewMacro(vtkMorphTargetReader);
 
@@ -235,92 +234,6 @@ vtkSmartPointer<vtkDataAssembly> MakeAssembly(const morphnode::GltfScene& scene,
   return assembly;
 }
 
-/// The part of one mesh and primitive, chosen by name or index (single-mesh mode).
-const morphnode::GltfPart& SelectPart(const morphnode::GltfScene& scene,
-  const std::vector<std::string>& meshNames, const std::string& fileName, const std::string& meshName,
-  int meshIndexWanted, int primitiveWanted)
-{
-  size_t meshIndex = static_cast<size_t>(std::max(meshIndexWanted, 0));
-  if (!meshName.empty())
-  {
-    auto it = std::find(meshNames.begin(), meshNames.end(), meshName);
-    if (it == meshNames.end())
-    {
-      std::ostringstream msg;
-      msg << "'" << fileName << "' has no mesh named '" << meshName << "'; meshes:";
-      for (const auto& n : meshNames)
-      {
-        msg << " " << n;
-      }
-      throw InputError(msg.str());
-    }
-    meshIndex = static_cast<size_t>(it - meshNames.begin());
-  }
-  if (meshIndex >= meshNames.size())
-  {
-    std::ostringstream msg;
-    msg << "mesh index " << meshIndex << " out of range: '" << fileName << "' has "
-        << meshNames.size() << " meshes";
-    throw InputError(msg.str());
-  }
-  const int primitive = std::max(primitiveWanted, 0);
-  if (static_cast<size_t>(primitive) >= scene.Meshes[meshIndex].NumberOfPrimitives)
-  {
-    std::ostringstream msg;
-    msg << "primitive " << primitive << " out of range: mesh '" << meshNames[meshIndex]
-        << "' has " << scene.Meshes[meshIndex].NumberOfPrimitives;
-    throw InputError(msg.str());
-  }
-  for (const morphnode::GltfPart& part : scene.Parts)
-  {
-    if (part.Mesh == static_cast<int>(meshIndex) && part.Primitive == primitive)
-    {
-      return part;
-    }
-  }
-  throw InputError("mesh '" + meshNames[meshIndex] + "' of '" + fileName +
-    "' is on no node of the scene");
-}
-
-/// Blends a part's weights into its points and normals (glTF: base + sum w_k delta_k;
-/// normals renormalized), as a glTF viewer shows the morphed mesh.
-void BlendWeights(morphnode::GltfPart& part, const std::vector<double>& weights)
-{
-  const size_t n = part.GetNumberOfPoints();
-  std::vector<double> p(part.Positions.begin(), part.Positions.end());
-  std::vector<double> normals(part.Normals.begin(), part.Normals.end());
-  for (size_t k = 0; k < part.Targets.size() && k < weights.size(); ++k)
-  {
-    const double w = weights[k];
-    if (w == 0.0)
-    {
-      continue;
-    }
-    const auto& target = part.Targets[k];
-    for (size_t i = 0; i < 3 * n; ++i)
-    {
-      p[i] += w * double(target.PositionDeltas[i]);
-    }
-    if (!normals.empty() && !target.NormalDeltas.empty())
-    {
-      for (size_t i = 0; i < 3 * n; ++i)
-      {
-        normals[i] += w * double(target.NormalDeltas[i]);
-      }
-    }
-  }
-  std::copy(p.begin(), p.end(), part.Positions.begin());
-  for (size_t i = 0; i < n && !normals.empty(); ++i)
-  {
-    double* v = &normals[3 * i];
-    const double length = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-    for (size_t c = 0; c < 3; ++c)
-    {
-      part.Normals[3 * i + c] = static_cast<float>(length > 0 ? v[c] / length : v[c]);
-    }
-  }
-}
-
 void AddColumn(vtkTable* table, const std::string& name, const double* values, int components)
 {
   vtkNew<vtkDoubleArray> column;
@@ -331,25 +244,62 @@ void AddColumn(vtkTable* table, const std::string& name, const double* values, i
   table->AddColumn(column);
 }
 
-/// The time steps advertised: key times, or a regular grid at `rate` over the keys' range.
-std::vector<double> TimeSteps(const morphnode::GltfAnimationPlayer& player, double rate)
+/// A posed part in the convention with the part's field data (vtkMorphPartData.h): its
+/// weights, and for a part of a whole scene its world frame and skin.
+vtkSmartPointer<vtkPolyData> PartOutput(const morphnode::GltfScene& scene, const morphnode::GltfPose& pose,
+  const morphnode::GltfPart& part, bool whole, double scale, int normalsMode)
 {
-  if (rate <= 0.0)
+  auto poly = PartToPolyData(part);
+  FinishMesh(poly, TargetNamesOf(part), scale, normalsMode);
+  vtkFieldData* fd = poly->GetFieldData();
+  partdata::SetPartFields(fd, partdata::FromGltfPart(scene, part, whole, scale));
+  partdata::SetMaterial(poly, scene, part, pose.Options.Source);
+  partdata::SetNumbers(fd, partdata::DefaultWeightsArray, part.DefaultWeights.data(),
+    static_cast<int>(part.DefaultWeights.size()));
+  if (pose.Options.ApplyWeights)
   {
-    return player.GetKeyTimes();
+    const std::vector<double>& w = pose.Sample.Nodes[static_cast<size_t>(part.Node)].Weights;
+    partdata::SetNumbers(fd, partdata::AppliedWeightsArray, w.data(),
+      static_cast<int>(std::min(w.size(), part.Targets.size())));
   }
-  std::vector<double> steps;
-  const double start = player.GetStartTime(), end = player.GetEndTime();
-  const double count = std::floor((end - start) * rate + 1e-9);
-  for (double i = 0; i <= count && steps.size() < 1000000; ++i)
+  if (whole && part.Skin >= 0)
   {
-    steps.push_back(start + i / rate);
+    vtkMorphSkinArrays::AddSkin(poly, scene, part, pose.Locals, scale);
   }
-  if (steps.empty() || steps.back() < end - 1e-12)
+  return poly;
+}
+
+/// Port 1: one row of weights by target name, the animated nodes' TRS (`<node>.translation`
+/// scaled, `.rotation`, `.scale`), field data Time and AnimationName.
+void FillWeights(vtkTable* table, const morphnode::GltfScene& scene, const morphnode::GltfPose& pose,
+  const std::vector<std::string>& names, const std::vector<double>& values, double scale)
+{
+  for (size_t k = 0; k < names.size(); ++k)
   {
-    steps.push_back(end);
+    AddColumn(table, names[k], &values[k], 1);
   }
-  return steps;
+  for (int n : pose.AnimatedNodes)
+  {
+    const morphnode::GltfNodeSample& node = pose.Sample.Nodes[static_cast<size_t>(n)];
+    const std::string name = morphnode::GltfNodeName(scene, n);
+    if (node.TranslationAnimated)
+    {
+      const double t[3] = { scale * node.Translation[0], scale * node.Translation[1], scale * node.Translation[2] };
+      AddColumn(table, name + ".translation", t, 3);
+    }
+    if (node.RotationAnimated)
+    {
+      AddColumn(table, name + ".rotation", node.Rotation.data(), 4);
+    }
+    if (node.ScaleAnimated)
+    {
+      AddColumn(table, name + ".scale", node.Scale.data(), 3);
+    }
+  }
+  partdata::SetNumbers(table->GetFieldData(), "Time", &pose.Time, 1);
+  const int animation = pose.Options.Animation;
+  partdata::SetString(table->GetFieldData(), "AnimationName",
+    animation >= 0 ? morphnode::GltfAnimationName(scene, static_cast<size_t>(animation)) : std::string());
 }
 } // namespace
 
@@ -522,7 +472,7 @@ int vtkMorphTargetReader::RequestInformation(
       if (chosen >= 0)
       {
         const morphnode::GltfAnimationPlayer player(*scene, chosen, this->FileName);
-        steps = TimeSteps(player, this->FrameRate);
+        steps = morphnode::GltfTimeSteps(player, this->FrameRate);
         this->ChosenAnimation = chosen;
         this->AnimationRange[0] = player.GetStartTime();
         this->AnimationRange[1] = player.GetEndTime();
@@ -613,196 +563,7 @@ int vtkMorphTargetReader::RequestData(
     this->UpdateProgress(0.0);
     if (IsGltf(this->FileName))
     {
-      const bool whole = this->GetReadsWholeScene();
-      const bool chosen = this->AnimationIndex >= 0 || !this->AnimationName.empty();
-      // Animated transforms are applied here, to parts read in their nodes' frames.
-      const bool applyTransforms = chosen && whole && this->ApplyAnimation != ANIMATION_NOT_APPLIED;
-      const bool applyWeights = chosen && this->ApplyAnimation == ANIMATION_TRANSFORMS_AND_WEIGHTS;
-      const std::shared_ptr<const morphnode::GltfScene> scenePointer = this->LoadScene(whole && !applyTransforms);
-      const morphnode::GltfScene& scene = *scenePointer;
-      this->UpdateProgress(0.5);
-      for (size_t m = 0; m < scene.Meshes.size(); ++m)
-      {
-        this->MeshNames.push_back(morphnode::GltfMeshName(scene, m));
-      }
-      if (scene.Parts.empty())
-      {
-        throw InputError("'" + this->FileName + "' has no mesh on a node of its scene");
-      }
-
-      // The scene at the time requested (the rest pose without animation).
-      const int animation = this->ResolveAnimation(scene);
-      morphnode::GltfSceneSample sample;
-      std::vector<int> animatedNodes;
-      double time = 0.0;
-      if (animation >= 0)
-      {
-        const morphnode::GltfAnimationPlayer player(scene, animation, this->FileName);
-        time = player.GetStartTime();
-        for (int port = 0; port < 2; ++port)
-        {
-          vtkInformation* outInfo = outputVector->GetInformationObject(port);
-          if (outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP()))
-          {
-            time = outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP());
-            break;
-          }
-        }
-        if (!std::isfinite(time))
-        {
-          throw InputError("the time requested is not a finite number");
-        }
-        sample = player.Sample(time);
-        animatedNodes = player.GetAnimatedNodes();
-      }
-      else
-      {
-        sample = morphnode::GltfRestPose(scene);
-      }
-      // Node transforms at the time sampled: skins pose their parts with them, and skinned
-      // parts carry them as the rest of their skeleton (vtkMorphSkinArrays.h).
-      std::vector<morphnode::GltfMatrix> worlds, locals;
-      for (size_t n = 0; n < scene.Nodes.size(); ++n)
-      {
-        const bool sampled = applyTransforms && n < sample.Nodes.size();
-        worlds.push_back(sampled ? sample.Nodes[n].World : scene.Nodes[n].World);
-        locals.push_back(sampled ? sample.Nodes[n].Local : scene.Nodes[n].Local);
-      }
-      auto prepare = [&](const morphnode::GltfPart& part) {
-        const morphnode::GltfNodeSample& node = sample.Nodes[static_cast<size_t>(part.Node)];
-        morphnode::GltfPart posed = part;
-        if (applyWeights)
-        {
-          BlendWeights(posed, node.Weights);
-        }
-        if (applyTransforms && posed.Skin >= 0)
-        {
-          morphnode::GltfSkinPart(posed, scene, worlds, this->FileName); // gltf/GltfSkin.h
-        }
-        else if (applyTransforms)
-        {
-          morphnode::GltfTransformPart(posed, node.World);
-          posed.World = node.World;
-        }
-        return posed;
-      };
-      auto addWeightFields = [&](vtkFieldData* fd, const morphnode::GltfPart& part) {
-        partdata::SetNumbers(fd, partdata::DefaultWeightsArray, part.DefaultWeights.data(), static_cast<int>(part.DefaultWeights.size()));
-        if (applyWeights)
-        {
-          const std::vector<double>& w = sample.Nodes[static_cast<size_t>(part.Node)].Weights;
-          partdata::SetNumbers(fd, partdata::AppliedWeightsArray, w.data(), static_cast<int>(std::min(w.size(), part.Targets.size())));
-        }
-      };
-
-      // Port 1: weights by target name, and the animated nodes' TRS.
-      std::vector<std::string> weightNames;
-      std::vector<double> weightValues;
-
-      if (whole)
-      {
-        auto* collection = vtkPartitionedDataSetCollection::SafeDownCast(output);
-        if (!collection)
-        {
-          throw InputError("internal: the output is not a vtkPartitionedDataSetCollection");
-        }
-        collection->Initialize();
-        collection->SetNumberOfPartitionedDataSets(static_cast<unsigned int>(scene.Parts.size()));
-        std::unordered_set<std::string> seen;
-        for (size_t p = 0; p < scene.Parts.size(); ++p)
-        {
-          const morphnode::GltfPart part = prepare(scene.Parts[p]);
-          const std::vector<std::string> names = TargetNamesOf(part);
-          auto poly = PartToPolyData(part);
-          FinishMesh(poly, names, this->Scale, this->NormalsMode);
-          partdata::SetPartFields(poly->GetFieldData(), partdata::FromGltfPart(scene, part, true, this->Scale));
-          partdata::SetMaterial(poly, scene, part, this->FileName);
-          addWeightFields(poly->GetFieldData(), part);
-          if (part.Skin >= 0)
-          {
-            vtkMorphSkinArrays::AddSkin(poly, scene, part, locals, this->Scale);
-          }
-          collection->SetPartition(static_cast<unsigned int>(p), 0, poly);
-          collection->GetMetaData(static_cast<unsigned int>(p))->Set(vtkCompositeDataSet::NAME(), part.Name.c_str());
-          this->PartNames.push_back(part.Name);
-          if (this->TargetNames.empty())
-          {
-            this->TargetNames.push_back(names[0]);
-            seen.insert(names[0]);
-          }
-          for (size_t k = 1; k < names.size(); ++k)
-          {
-            if (seen.insert(names[k]).second)
-            {
-              this->TargetNames.push_back(names[k]);
-            }
-          }
-          this->UpdateProgress(0.5 + 0.5 * double(p + 1) / double(scene.Parts.size()));
-        }
-        collection->SetDataAssembly(MakeAssembly(scene, this->FileName));
-        arrays::SetTargetNames(collection->GetFieldData(), this->TargetNames);
-        const morphnode::GltfNamedWeights named = morphnode::GltfWeightsByTargetName(scene, sample);
-        weightNames = named.Names;
-        weightValues = named.Values;
-      }
-      else
-      {
-        auto* poly = vtkPolyData::SafeDownCast(output);
-        if (!poly)
-        {
-          throw InputError("internal: the output is not a vtkPolyData");
-        }
-        const morphnode::GltfPart& selected = SelectPart(
-          scene, this->MeshNames, this->FileName, this->MeshName, this->MeshIndex, this->PrimitiveIndex);
-        const morphnode::GltfPart part = prepare(selected);
-        const std::vector<std::string> names = TargetNamesOf(part);
-        poly->ShallowCopy(PartToPolyData(part));
-        FinishMesh(poly, names, this->Scale, this->NormalsMode);
-        partdata::SetPartFields(poly->GetFieldData(), partdata::FromGltfPart(scene, part, false, this->Scale));
-        partdata::SetMaterial(poly, scene, part, this->FileName);
-        addWeightFields(poly->GetFieldData(), part);
-        this->TargetNames = names;
-        this->PartNames.push_back(part.Name);
-        const std::vector<double>& w = sample.Nodes[static_cast<size_t>(part.Node)].Weights;
-        for (size_t k = 0; k < part.Targets.size() && k < w.size(); ++k)
-        {
-          weightNames.push_back(part.Targets[k].Name);
-          weightValues.push_back(w[k]);
-        }
-      }
-
-      for (size_t k = 0; k < weightNames.size(); ++k)
-      {
-        AddColumn(weightsOutput, weightNames[k], &weightValues[k], 1);
-      }
-      for (int n : animatedNodes)
-      {
-        const morphnode::GltfNodeSample& node = sample.Nodes[static_cast<size_t>(n)];
-        const std::string name = morphnode::GltfNodeName(scene, n);
-        if (node.TranslationAnimated)
-        {
-          const double t[3] = { this->Scale * node.Translation[0], this->Scale * node.Translation[1],
-            this->Scale * node.Translation[2] };
-          AddColumn(weightsOutput, name + ".translation", t, 3);
-        }
-        if (node.RotationAnimated)
-        {
-          AddColumn(weightsOutput, name + ".rotation", node.Rotation.data(), 4);
-        }
-        if (node.ScaleAnimated)
-        {
-          AddColumn(weightsOutput, name + ".scale", node.Scale.data(), 3);
-        }
-      }
-      partdata::SetNumbers(weightsOutput->GetFieldData(), "Time", &time, 1);
-      const std::string animationName =
-        animation >= 0 ? morphnode::GltfAnimationName(scene, static_cast<size_t>(animation)) : std::string();
-      partdata::SetString(weightsOutput->GetFieldData(), "AnimationName", animationName);
-      if (animation >= 0)
-      {
-        output->GetInformation()->Set(vtkDataObject::DATA_TIME_STEP(), time);
-        weightsOutput->GetInformation()->Set(vtkDataObject::DATA_TIME_STEP(), time);
-      }
+      this->ReadGltf(output, weightsOutput, outputVector);
     }
     else if (morphnode::text::HasExtension(this->FileName, ".obj") ||
       std::filesystem::is_directory(this->FileName))
@@ -835,6 +596,102 @@ int vtkMorphTargetReader::RequestData(
     this->TargetNames.clear();
     this->PartNames.clear();
     return 0;
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkMorphTargetReader::ReadGltf(
+  vtkDataObject* output, vtkTable* weightsOutput, vtkInformationVector* outputVector)
+{
+  const bool whole = this->GetReadsWholeScene();
+  morphnode::GltfPoseOptions options;
+  options.Source = this->FileName;
+  const bool chosen = this->AnimationIndex >= 0 || !this->AnimationName.empty();
+  // Animated transforms are applied to parts read in their nodes' frames.
+  options.ApplyTransforms = chosen && whole && this->ApplyAnimation != ANIMATION_NOT_APPLIED;
+  options.ApplyWeights = chosen && this->ApplyAnimation == ANIMATION_TRANSFORMS_AND_WEIGHTS;
+  const auto scenePointer = this->LoadScene(whole && !options.ApplyTransforms);
+  const morphnode::GltfScene& scene = *scenePointer;
+  this->UpdateProgress(0.5);
+  for (size_t m = 0; m < scene.Meshes.size(); ++m)
+  {
+    this->MeshNames.push_back(morphnode::GltfMeshName(scene, m));
+  }
+  if (scene.Parts.empty())
+  {
+    throw InputError("'" + this->FileName + "' has no mesh on a node of its scene");
+  }
+  options.Animation = this->ResolveAnimation(scene);
+  for (int port = 0; port < 2 && !options.Time; ++port)
+  {
+    vtkInformation* outInfo = outputVector->GetInformationObject(port);
+    if (outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP()))
+    {
+      options.Time = outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP());
+    }
+  }
+  const morphnode::GltfPose pose = morphnode::PoseGltfScene(scene, options);
+
+  std::vector<std::string> weightNames;
+  std::vector<double> weightValues;
+  if (whole)
+  {
+    auto* collection = vtkPartitionedDataSetCollection::SafeDownCast(output);
+    if (!collection)
+    {
+      throw InputError("internal: the output is not a vtkPartitionedDataSetCollection");
+    }
+    collection->Initialize();
+    collection->SetNumberOfPartitionedDataSets(static_cast<unsigned int>(scene.Parts.size()));
+    for (size_t p = 0; p < scene.Parts.size(); ++p)
+    {
+      const morphnode::GltfPart part = morphnode::PoseGltfPart(scene, pose, scene.Parts[p]);
+      collection->SetPartition(static_cast<unsigned int>(p), 0,
+        PartOutput(scene, pose, part, true, this->Scale, this->NormalsMode));
+      collection->GetMetaData(static_cast<unsigned int>(p))->Set(vtkCompositeDataSet::NAME(), part.Name.c_str());
+      this->PartNames.push_back(part.Name);
+      this->UpdateProgress(0.5 + 0.5 * double(p + 1) / double(scene.Parts.size()));
+    }
+    // The neutral, then the parts' targets (a target named like the neutral is the neutral).
+    const std::string neutral = morphnode::DefaultTargetNames(1)[0];
+    this->TargetNames = { neutral };
+    for (const std::string& name : morphnode::GltfTargetNames(scene))
+    {
+      if (name != neutral)
+      {
+        this->TargetNames.push_back(name);
+      }
+    }
+    collection->SetDataAssembly(MakeAssembly(scene, this->FileName));
+    arrays::SetTargetNames(collection->GetFieldData(), this->TargetNames);
+    const morphnode::GltfNamedWeights named = morphnode::GltfWeightsByTargetName(scene, pose.Sample);
+    weightNames = named.Names;
+    weightValues = named.Values;
+  }
+  else
+  {
+    auto* poly = vtkPolyData::SafeDownCast(output);
+    if (!poly)
+    {
+      throw InputError("internal: the output is not a vtkPolyData");
+    }
+    const morphnode::GltfPart part = morphnode::PoseGltfPart(scene, pose,
+      morphnode::FindGltfPart(scene, this->MeshName, this->MeshIndex, this->PrimitiveIndex, this->FileName));
+    poly->ShallowCopy(PartOutput(scene, pose, part, false, this->Scale, this->NormalsMode));
+    this->TargetNames = TargetNamesOf(part);
+    this->PartNames.push_back(part.Name);
+    const std::vector<double>& w = pose.Sample.Nodes[static_cast<size_t>(part.Node)].Weights;
+    for (size_t k = 0; k < part.Targets.size() && k < w.size(); ++k)
+    {
+      weightNames.push_back(part.Targets[k].Name);
+      weightValues.push_back(w[k]);
+    }
+  }
+  FillWeights(weightsOutput, scene, pose, weightNames, weightValues, this->Scale);
+  if (options.Animation >= 0)
+  {
+    output->GetInformation()->Set(vtkDataObject::DATA_TIME_STEP(), pose.Time);
+    weightsOutput->GetInformation()->Set(vtkDataObject::DATA_TIME_STEP(), pose.Time);
   }
 }
 
