@@ -4,12 +4,10 @@
 #include "vtkMorphTargetArrays.h"
 
 #include "base/Error.h"
-#include "capture/ArkitNames.h"
+#include "capture/CaptureMapping.h"
 #include "capture/LiveLinkCsv.h"
 
 #include "vtkAlgorithmOutput.h"
-#include "vtkCompositeDataIterator.h"
-#include "vtkCompositeDataSet.h"
 #include "vtkDataObject.h"
 #include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
@@ -24,6 +22,7 @@
 #include "vtkTimeStamp.h"
 
 #include <exception>
+#include <memory>
 #include <vector>
 
 vtkStandardNewMacro(vtkLiveLinkFaceReader);
@@ -41,14 +40,6 @@ struct vtkLiveLinkFaceReader::vtkInternals
   std::vector<std::string> Unmapped;
   std::string Report;
 };
-
-namespace
-{
-bool IsAngle(const std::string& name)
-{
-  return morphnode::FindArkitShape(name) < 0;
-}
-} // namespace
 
 //------------------------------------------------------------------------------
 vtkLiveLinkFaceReader::vtkLiveLinkFaceReader()
@@ -240,82 +231,22 @@ int vtkLiveLinkFaceReader::RequestData(
     }
   }
 
-  // Output column c = capture channel Source[c] (Mapped: through the rig instead).
-  std::vector<int> source;
-  std::vector<int> shapeChannel(morphnode::ArkitShapeCount, -1);
-  morphnode::Rig rig;
-  const bool mapped = !targets.empty();
-  internals.Unmapped = capture.UnknownColumns;
+  // The capture's channels as the face's (capture/CaptureMapping.h).
+  std::unique_ptr<morphnode::CaptureFaceMapping> mapping;
   try
   {
-    if (mapped)
-    {
-      morphnode::ArkitFaceMapping mapping;
-      rig = morphnode::MakeArkitRig(targets, &mapping);
-      internals.Channels = targets;
-      source.assign(targets.size(), -1);
-      for (size_t c = 0; c < capture.Channels.size(); ++c)
-      {
-        const int s = morphnode::FindArkitShape(capture.Channels[c]);
-        if (s >= 0)
-        {
-          shapeChannel[static_cast<size_t>(s)] = static_cast<int>(c);
-          if (mapping.Targets[static_cast<size_t>(s)].empty())
-          {
-            internals.Unmapped.push_back(capture.Channels[c]);
-          }
-        }
-      }
-      internals.Report = mapping.Report();
-    }
-    else
-    {
-      internals.Report = "no face: the " + std::to_string(morphnode::ArkitShapeCount - capture.MissingShapes.size()) +
-        " ARKit shapes of the take by Apple's names";
-    }
+    mapping = std::make_unique<morphnode::CaptureFaceMapping>(capture, targets);
   }
   catch (const std::exception& e)
   {
     vtkErrorMacro(<< e.what());
-    internals.Channels.clear();
     return 0;
   }
-  for (size_t c = 0; c < capture.Channels.size(); ++c)
-  {
-    if (!mapped || IsAngle(capture.Channels[c]))
-    {
-      internals.Channels.push_back(capture.Channels[c]);
-      source.push_back(static_cast<int>(c));
-    }
-  }
-  if (!internals.Unmapped.empty())
-  {
-    internals.Report += "; names that map to nothing:";
-    for (const auto& name : internals.Unmapped)
-    {
-      internals.Report += " " + name;
-    }
-  }
-
-  // One row of output values at `time`.
-  std::vector<double> shapes(morphnode::ArkitShapeCount, 0.0);
+  internals.Channels = mapping->GetChannels();
+  internals.Unmapped = mapping->GetUnmapped();
+  internals.Report = mapping->GetReport();
   std::vector<double> row(internals.Channels.size(), 0.0);
-  auto fill = [&](double time) {
-    size_t first = 0;
-    if (mapped)
-    {
-      for (size_t s = 0; s < shapes.size(); ++s)
-      {
-        shapes[s] = shapeChannel[s] >= 0 ? capture.Sample(time, static_cast<size_t>(shapeChannel[s])) : 0.0;
-      }
-      rig.Expand(shapes.data(), row.data());
-      first = rig.GetNumberOfBoundTargets();
-    }
-    for (size_t c = first; c < row.size(); ++c)
-    {
-      row[c] = capture.Sample(time, static_cast<size_t>(source[c]));
-    }
-  };
+  auto fill = [&](double time) { mapping->Sample(time, row.data()); };
   const double t = vtkMorphTrackSource::RequestedTime(outputVector);
   try
   {
