@@ -39,6 +39,29 @@ struct vtkLiveLinkFaceReader::vtkInternals
   std::vector<std::string> Channels;
   std::vector<std::string> Unmapped;
   std::string Report;
+
+  /// The face's target names (relative, no neutral): the connected face's, else
+  /// SetTargetNames()'s, else none. False (an error reported) for a face without TargetNames.
+  bool FaceTargets(vtkLiveLinkFaceReader* self, vtkInformationVector** inputVector, std::vector<std::string>& targets)
+  {
+    if (self->GetNumberOfInputConnections(0) > 0)
+    {
+      if (!vtkMorphTargetArrays::GetFaceTargetNames(vtkDataObject::GetData(inputVector[0], 0), targets))
+      {
+        vtkErrorWithObjectMacro(self, << "the face on input port 0 has no field data '"
+                                      << vtkMorphTargetArrays::TargetNamesArray << "' (neutral first)");
+        return false;
+      }
+    }
+    else if (this->TargetNames)
+    {
+      for (vtkIdType i = 1; i < this->TargetNames->GetNumberOfValues(); ++i)
+      {
+        targets.push_back(this->TargetNames->GetValue(i));
+      }
+    }
+    return true;
+  }
 };
 
 //------------------------------------------------------------------------------
@@ -212,23 +235,10 @@ int vtkLiveLinkFaceReader::RequestData(
   }
   const morphnode::LiveLinkCapture& capture = internals.Capture;
 
-  // The face's target names: the connected face, else SetTargetNames(), else none.
   std::vector<std::string> targets;
-  if (this->GetNumberOfInputConnections(0) > 0)
+  if (!internals.FaceTargets(this, inputVector, targets))
   {
-    if (!vtkMorphTargetArrays::GetFaceTargetNames(vtkDataObject::GetData(inputVector[0], 0), targets))
-    {
-      vtkErrorMacro(<< "the face on input port 0 has no field data '" << vtkMorphTargetArrays::TargetNamesArray
-                    << "' (neutral first)");
-      return 0;
-    }
-  }
-  else if (internals.TargetNames)
-  {
-    for (vtkIdType i = 1; i < internals.TargetNames->GetNumberOfValues(); ++i)
-    {
-      targets.push_back(internals.TargetNames->GetValue(i));
-    }
+    return 0;
   }
 
   // The capture's channels as the face's (capture/CaptureMapping.h).

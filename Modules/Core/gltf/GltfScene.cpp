@@ -883,7 +883,7 @@ private:
         for (size_t k = 0; k < mesh.primitives.size(); ++k)
         {
           GltfPart part = this->BuildPart(scene, n, k);
-          std::string name = node.Name.empty() ? "node" + std::to_string(n) : node.Name;
+          std::string name = GltfNodeName(scene, static_cast<int>(n));
           if (mesh.primitives.size() > 1)
           {
             name += "/" + (part.MaterialName.empty() ? "primitive" + std::to_string(k) : part.MaterialName);
