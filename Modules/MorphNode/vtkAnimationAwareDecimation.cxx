@@ -6,16 +6,11 @@
 #include "base/Error.h"
 #include "reduction/AnimationAwareReduction.h"
 
-#include "vtkCellArray.h"
-#include "vtkFieldData.h"
-#include "vtkIdList.h"
-#include "vtkIdTypeArray.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
-#include "vtkPoints.h"
 #include "vtkPolyData.h"
 
 #include <cmath>
@@ -76,56 +71,8 @@ int vtkAnimationAwareDecimation::RequestData(
     const morphnode::ReductionResult result = morphnode::ReduceAnimationAware(mesh, settings);
     this->UpdateProgress(0.9);
 
-    const auto& ids = result.OriginalPointIds;
-    const vtkIdType n = static_cast<vtkIdType>(ids.size());
-    vtkNew<vtkIdList> from;
-    from->SetNumberOfIds(n);
-    for (vtkIdType i = 0; i < n; ++i)
-    {
-      from->SetId(i, static_cast<vtkIdType>(ids[i]));
-    }
-    vtkNew<vtkPoints> points;
-    points->SetDataType(input->GetPoints()->GetDataType());
-    points->SetNumberOfPoints(n);
-    input->GetPoints()->GetData()->GetTuples(from, points->GetData());
-
-    vtkNew<vtkCellArray> polys;
-    const std::vector<uint32_t>& triangles = result.Mesh.GetTriangles();
-    polys->AllocateExact(static_cast<vtkIdType>(result.Mesh.GetNumberOfTriangles()),
-      static_cast<vtkIdType>(triangles.size()));
-    for (size_t t = 0; t < result.Mesh.GetNumberOfTriangles(); ++t)
-    {
-      const vtkIdType tri[3] = { triangles[3 * t], triangles[3 * t + 1], triangles[3 * t + 2] };
-      polys->InsertNextCell(3, tri);
-    }
-
-    output->Initialize();
-    output->SetPoints(points);
-    output->SetPolys(polys);
-    // Every point array (normals, texture coordinates, every target's deltas) comes
-    // unchanged from the point each output point is.
-    vtkPointData* inPD = input->GetPointData();
-    vtkPointData* outPD = output->GetPointData();
-    outPD->CopyAllocate(inPD, n);
-    outPD->SetNumberOfTuples(n);
-    for (int a = 0; a < outPD->GetNumberOfArrays(); ++a)
-    {
-      vtkAbstractArray* target = outPD->GetAbstractArray(a);
-      vtkAbstractArray* source = inPD->GetAbstractArray(target->GetName());
-      if (source)
-      {
-        source->GetTuples(from, target);
-      }
-    }
-    vtkNew<vtkIdTypeArray> original;
-    original->SetName("OriginalPointId");
-    original->SetNumberOfTuples(n);
-    for (vtkIdType i = 0; i < n; ++i)
-    {
-      original->SetValue(i, from->GetId(i));
-    }
-    outPD->AddArray(original);
-    output->GetFieldData()->PassData(input->GetFieldData());
+    vtkMorphTargetArrays::ExtractPointSubset(input, result.OriginalPointIds,
+      static_cast<vtkIdType>(result.OriginalPointIds.size()), result.Mesh.GetTriangles(), output);
   }
   catch (const std::exception& e)
   {

@@ -135,8 +135,6 @@ std::string Str(const char* s)
 vtkBehaviorTimeSource::vtkBehaviorTimeSource()
   : Internals(new vtkInternals)
 {
-  this->SetNumberOfInputPorts(0);
-  this->SetNumberOfOutputPorts(2);
   // The synthesizer and the phoneme loader (of Say, SpeakPhonemeFile and the scripts) read
   // the speech settings when called, so they always use the current voice, rate and table.
   // The loader reads every timing file (.pho, Rhubarb, TextGrid, speech marks), so a script's
@@ -166,13 +164,6 @@ const morphnode::BehaviorController& vtkBehaviorTimeSource::GetController()
 morphnode::SpeechOptions vtkBehaviorTimeSource::GetSpeechOptions()
 {
   return this->Internals->Speech->Options();
-}
-
-//------------------------------------------------------------------------------
-int vtkBehaviorTimeSource::FillOutputPortInformation(int, vtkInformation* info)
-{
-  info->Set(vtkDataObject::DATA_TYPE_NAME(), "vtkTable");
-  return 1;
 }
 
 //------------------------------------------------------------------------------
@@ -719,26 +710,24 @@ bool vtkBehaviorTimeSource::WriteAudio(const char* path)
 int vtkBehaviorTimeSource::RequestInformation(
   vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
 {
-  vtkInformation* outInfo = outputVector->GetInformationObject(0);
-  outInfo->Remove(vtkStreamingDemandDrivenPipeline::TIME_STEPS());
-  outInfo->Remove(vtkStreamingDemandDrivenPipeline::TIME_RANGE());
+  vtkMorphTrackSource::ClearTimeInformation(outputVector);
   if (!this->EnsurePrepared())
   {
     return 0;
   }
   const auto& controller = this->Internals->Controller;
   const size_t frames = controller.GetNumberOfFrames();
+  std::vector<double> steps;
   if (frames <= static_cast<size_t>(GetMaximumNumberOfTimeSteps()))
   {
-    std::vector<double> steps(frames);
+    steps.resize(frames);
     for (size_t f = 0; f < frames; ++f)
     {
       steps[f] = controller.GetFrameTime(f);
     }
-    outInfo->Set(vtkStreamingDemandDrivenPipeline::TIME_STEPS(), steps.data(), static_cast<int>(frames));
   }
-  double range[2] = { 0.0, controller.GetEffectiveDuration() };
-  outInfo->Set(vtkStreamingDemandDrivenPipeline::TIME_RANGE(), range, 2);
+  vtkMorphTrackSource::SetTimeInformation(
+    outputVector, steps.data(), static_cast<int>(steps.size()), controller.GetEffectiveDuration());
   return 1;
 }
 
@@ -746,7 +735,6 @@ int vtkBehaviorTimeSource::RequestInformation(
 int vtkBehaviorTimeSource::RequestData(
   vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
 {
-  vtkInformation* frameInfo = outputVector->GetInformationObject(0);
   vtkTable* frame = vtkTable::GetData(outputVector, 0);
   vtkTable* track = vtkTable::GetData(outputVector, 1);
   if (!frame || !track)
@@ -755,7 +743,7 @@ int vtkBehaviorTimeSource::RequestData(
     return 0;
   }
   frame->Initialize();
-  const bool trackWanted = this->IsTrackRequested(outputVector);
+  const bool trackWanted = vtkMorphTrackSource::IsTrackWanted(outputVector);
   if (trackWanted)
   {
     track->Initialize();
@@ -768,7 +756,7 @@ int vtkBehaviorTimeSource::RequestData(
   const auto& names = controller.GetChannelNames();
 
   // Port 0: the behaviour at the requested time.
-  const double t = GetRequestedTime(frameInfo);
+  const double t = vtkMorphTrackSource::RequestedTime(outputVector);
   std::vector<double> row(names.size());
   std::string message;
   if (!Guarded(this, [&]() { controller.Sample(t, row.data()); }, message))

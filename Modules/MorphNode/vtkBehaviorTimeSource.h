@@ -59,14 +59,14 @@
  * morphnode::Utterance it built itself (Speak); every change goes through this class, so
  * the modification time is always right.
  *
- * @sa vtkTemporalWeightsSource vtkMorphNodeFilter morphnode::BehaviorController morphnode::SpeakText
+ * @sa vtkMorphTrackSource vtkMorphNodeFilter morphnode::BehaviorController morphnode::SpeakText
  */
 
 #ifndef vtkBehaviorTimeSource_h
 #define vtkBehaviorTimeSource_h
 
 #include "vtkMorphNodeModule.h" // For export macro
-#include "vtkTemporalWeightsSource.h"
+#include "vtkMorphTrackSource.h"
 
 #include <memory> // For std::unique_ptr
 
@@ -80,11 +80,11 @@ struct Utterance;
 }
 #endif
 
-class VTKMORPHNODE_EXPORT vtkBehaviorTimeSource : public vtkTemporalWeightsSource
+class VTKMORPHNODE_EXPORT vtkBehaviorTimeSource : public vtkMorphTrackSource
 {
 public:
   static vtkBehaviorTimeSource* New();
-  vtkTypeMacro(vtkBehaviorTimeSource, vtkTemporalWeightsSource);
+  vtkTypeMacro(vtkBehaviorTimeSource, vtkMorphTrackSource);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   /// Viseme sets of Say(); values match morphnode::VisemeSet.
@@ -325,7 +325,6 @@ protected:
   vtkBehaviorTimeSource();
   ~vtkBehaviorTimeSource() override;
 
-  int FillOutputPortInformation(int port, vtkInformation* info) override;
   int RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkEyeGazeFilter.h"
 
+#include "vtkMorphPartData.h"
 #include "vtkMorphRigCache.h"
 #include "vtkMorphSkinArrays.h"
 
@@ -10,8 +11,8 @@
 #include "gaze/EyeRotation.h"
 
 #include "vtkCellData.h"
-#include "vtkCompositeDataIterator.h"
 #include "vtkCompositeDataSet.h"
+#include "vtkCompositeDataSetRange.h"
 #include "vtkDataArray.h"
 #include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
@@ -36,38 +37,6 @@ vtkStandardNewMacro(vtkEyeGazeFilter);
 
 namespace
 {
-std::string StringOf(vtkFieldData* fd, const char* name)
-{
-  auto* array = fd ? vtkStringArray::SafeDownCast(fd->GetAbstractArray(name)) : nullptr;
-  return array && array->GetNumberOfValues() > 0 ? array->GetValue(0) : std::string();
-}
-
-/// `count` doubles of a field data array, false when it is absent; InputError when it has
-/// another size or holds a value that is not finite.
-bool DoublesOf(vtkFieldData* fd, const char* name, double* values, int count, const std::string& part)
-{
-  vtkDataArray* array = fd ? fd->GetArray(name) : nullptr;
-  if (!array)
-  {
-    return false;
-  }
-  if (array->GetNumberOfValues() != count)
-  {
-    throw morphnode::InputError("eye part " + morphnode::text::Quote(part) + ": field data " + name +
-      " has " + std::to_string(array->GetNumberOfValues()) + " values, not " + std::to_string(count));
-  }
-  for (int i = 0; i < count; ++i)
-  {
-    values[i] = array->GetComponent(i / array->GetNumberOfComponents(), i % array->GetNumberOfComponents());
-    if (!std::isfinite(values[i]))
-    {
-      throw morphnode::InputError("eye part " + morphnode::text::Quote(part) + ": field data " + name +
-        " is not finite");
-    }
-  }
-  return true;
-}
-
 /// A new array of `in`'s type and name holding `in`'s 3-vectors turned (points when
 /// `points`, else directions).
 vtkSmartPointer<vtkDataArray> Turned(vtkDataArray* in, const morphnode::RigidTurn& turn, bool points)
@@ -154,12 +123,8 @@ public:
       return nullptr; // a skinned eye turns with its joint (vtkMorphSkinFilter)
     }
     vtkFieldData* fd = leaf->GetFieldData();
-    const std::string nodeName = StringOf(fd, "NodeName");
-    std::string partName = StringOf(fd, "PartName");
-    if (partName.empty())
-    {
-      partName = blockName;
-    }
+    const std::string nodeName = vtkMorphPartData::GetNodeName(fd);
+    const std::string partName = vtkMorphPartData::GetPartName(fd, blockName);
     morphnode::EyeSpec eye;
     if (!rig.FindEye(nodeName, partName, eye))
     {
@@ -168,12 +133,11 @@ public:
     const std::string name = partName.empty() ? nodeName : partName;
     std::array<double, 3> origin{ { 0, 0, 0 } };
     std::array<double, 9> axes{ { 1, 0, 0, 0, 1, 0, 0, 0, 1 } };
-    DoublesOf(fd, "NodeOrigin", origin.data(), 3, name);
-    DoublesOf(fd, "NodeAxes", axes.data(), 9, name);
     const morphnode::GazeAngles angles = morphnode::EyeAngles(gaze, vergence, eye.Side, rig.GetLimits());
     morphnode::RigidTurn turn;
     try
     {
+      vtkMorphPartData::GetNodeFrame(fd, origin, axes);
       turn = morphnode::EyeTurn(angles, origin, axes, eye);
     }
     catch (const morphnode::InputError& e)
@@ -224,7 +188,6 @@ public:
 vtkEyeGazeFilter::vtkEyeGazeFilter()
   : Internals(new vtkInternals)
 {
-  this->SetNumberOfInputPorts(2);
 }
 
 //------------------------------------------------------------------------------
@@ -277,39 +240,6 @@ void vtkEyeGazeFilter::SetGazeConnection(vtkAlgorithmOutput* output)
 }
 
 //------------------------------------------------------------------------------
-int vtkEyeGazeFilter::FillInputPortInformation(int port, vtkInformation* info)
-{
-  if (port == 0)
-  {
-    info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPointSet");
-    info->Append(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkCompositeDataSet");
-    return 1;
-  }
-  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkTable");
-  info->Set(vtkAlgorithm::INPUT_IS_OPTIONAL(), 1);
-  return 1;
-}
-
-//------------------------------------------------------------------------------
-int vtkEyeGazeFilter::RequestInformation(
-  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
-{
-  // A gaze table animates the eyes: its time steps win over the head's (the executive
-  // copies only those of port 0).
-  vtkInformation* outInfo = outputVector->GetInformationObject(0);
-  vtkInformation* gazeInfo = inputVector[1]->GetInformationObject(0);
-  if (gazeInfo && gazeInfo->Has(vtkStreamingDemandDrivenPipeline::TIME_STEPS()))
-  {
-    outInfo->CopyEntry(gazeInfo, vtkStreamingDemandDrivenPipeline::TIME_STEPS());
-  }
-  if (gazeInfo && gazeInfo->Has(vtkStreamingDemandDrivenPipeline::TIME_RANGE()))
-  {
-    outInfo->CopyEntry(gazeInfo, vtkStreamingDemandDrivenPipeline::TIME_RANGE());
-  }
-  return 1;
-}
-
-//------------------------------------------------------------------------------
 int vtkEyeGazeFilter::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
@@ -352,24 +282,18 @@ int vtkEyeGazeFilter::RequestData(
     {
       auto* out = vtkCompositeDataSet::SafeDownCast(output);
       out->ShallowCopy(composite); // the structure, names, assembly; leaves shared
-      vtkSmartPointer<vtkCompositeDataIterator> it;
-      it.TakeReference(out->NewIterator());
-      it->SkipEmptyNodesOn();
-      for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem())
+      for (auto node : vtk::Range(out, vtk::CompositeDataSetOptions::SkipEmptyNodes))
       {
-        auto* leaf = vtkPointSet::SafeDownCast(it->GetCurrentDataObject());
+        auto* leaf = vtkPointSet::SafeDownCast(node);
         if (!leaf)
         {
           continue;
         }
-        std::string blockName;
-        if (it->HasCurrentMetaData() && it->GetCurrentMetaData()->Has(vtkCompositeDataSet::NAME()))
-        {
-          blockName = it->GetCurrentMetaData()->Get(vtkCompositeDataSet::NAME());
-        }
+        const bool named = node.HasMetaData() && node.GetMetaData()->Has(vtkCompositeDataSet::NAME());
+        const std::string blockName = named ? node.GetMetaData()->Get(vtkCompositeDataSet::NAME()) : "";
         if (auto turned = this->Internals->Turn(leaf, blockName, rig, gaze, this->Vergence))
         {
-          out->SetDataSet(it, turned);
+          node = turned;
           ++this->NumberOfEyeParts;
         }
       }
@@ -392,12 +316,7 @@ int vtkEyeGazeFilter::RequestData(
       throw morphnode::InputError(std::string("cannot turn eyes in a ") + input->GetClassName());
     }
 
-    vtkInformation* outInfo = outputVector->GetInformationObject(0);
-    if (outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP()))
-    {
-      output->GetInformation()->Set(vtkDataObject::DATA_TIME_STEP(),
-        outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP()));
-    }
+    vtkMorphTrackFilter::StampTime(output, outputVector);
     this->UpdateProgress(1.0);
     return 1;
   }

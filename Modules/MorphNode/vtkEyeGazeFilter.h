@@ -48,22 +48,22 @@
  * size, degenerate directions, a rig file that does not read, a gaze table without the
  * columns or rows.
  *
- * @sa vtkMorphTargetReader vtkMorphNodeFilter vtkBehaviorTimeSource morphnode::EyeRig
+ * @sa vtkMorphTrackFilter vtkMorphTargetReader vtkMorphNodeFilter vtkBehaviorTimeSource morphnode::EyeRig
  */
 
 #ifndef vtkEyeGazeFilter_h
 #define vtkEyeGazeFilter_h
 
 #include "vtkMorphNodeModule.h" // For export macro
-#include "vtkPassInputTypeAlgorithm.h"
+#include "vtkMorphTrackFilter.h"
 
 #include <memory> // For std::unique_ptr
 
-class VTKMORPHNODE_EXPORT vtkEyeGazeFilter : public vtkPassInputTypeAlgorithm
+class VTKMORPHNODE_EXPORT vtkEyeGazeFilter : public vtkMorphTrackFilter
 {
 public:
   static vtkEyeGazeFilter* New();
-  vtkTypeMacro(vtkEyeGazeFilter, vtkPassInputTypeAlgorithm);
+  vtkTypeMacro(vtkEyeGazeFilter, vtkMorphTrackFilter);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   ///@{
@@ -154,9 +154,6 @@ protected:
   vtkEyeGazeFilter();
   ~vtkEyeGazeFilter() override;
 
-  int FillInputPortInformation(int port, vtkInformation* info) override;
-  int RequestInformation(vtkInformation* request, vtkInformationVector** inputVector,
-    vtkInformationVector* outputVector) override;
   int RequestData(vtkInformation* request, vtkInformationVector** inputVector,
     vtkInformationVector* outputVector) override;
 

@@ -234,10 +234,9 @@ int vtkLiveBehaviorSource::RequestInformation(
 int vtkLiveBehaviorSource::RequestData(
   vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
 {
-  vtkInformation* outInfo = outputVector->GetInformationObject(0);
   vtkTable* output = vtkTable::GetData(outputVector, 0);
   output->Initialize();
-  const double requested = GetRequestedTime(outInfo);
+  const double requested = vtkMorphTrackSource::RequestedTime(outputVector);
   if (!std::isfinite(requested))
   {
     vtkErrorMacro(<< "cannot sample the live behaviour at t = " << requested);

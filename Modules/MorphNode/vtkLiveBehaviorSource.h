@@ -37,14 +37,14 @@
  * command returns false. Settings apply when the behaviour is made: at the first command
  * or update after CopySettings, SetSeed or SetVisemeSetFromString (which start it anew).
  *
- * @sa vtkTemporalWeightsSource vtkBehaviorTimeSource vtkMorphAvatarPipeline morphnode::LiveBehavior
+ * @sa vtkMorphTrackSource vtkBehaviorTimeSource vtkMorphAvatarPipeline morphnode::LiveBehavior
  */
 
 #ifndef vtkLiveBehaviorSource_h
 #define vtkLiveBehaviorSource_h
 
 #include "vtkMorphNodeModule.h" // For export macro
-#include "vtkTemporalWeightsSource.h"
+#include "vtkMorphTrackSource.h"
 
 #include <memory> // For std::unique_ptr
 
@@ -56,11 +56,11 @@ class LiveBehavior;
 }
 #endif
 
-class VTKMORPHNODE_EXPORT vtkLiveBehaviorSource : public vtkTemporalWeightsSource
+class VTKMORPHNODE_EXPORT vtkLiveBehaviorSource : public vtkMorphTrackSource
 {
 public:
   static vtkLiveBehaviorSource* New();
-  vtkTypeMacro(vtkLiveBehaviorSource, vtkTemporalWeightsSource);
+  vtkTypeMacro(vtkLiveBehaviorSource, vtkMorphTrackSource);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   /**

@@ -4,12 +4,10 @@
 #include "vtkMorphTargetArrays.h"
 
 #include "base/Error.h"
-#include "capture/ArkitNames.h"
+#include "capture/CaptureMapping.h"
 #include "capture/LiveLinkCsv.h"
 
 #include "vtkAlgorithmOutput.h"
-#include "vtkCompositeDataIterator.h"
-#include "vtkCompositeDataSet.h"
 #include "vtkDataObject.h"
 #include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
@@ -24,6 +22,7 @@
 #include "vtkTimeStamp.h"
 
 #include <exception>
+#include <memory>
 #include <vector>
 
 vtkStandardNewMacro(vtkLiveLinkFaceReader);
@@ -40,22 +39,36 @@ struct vtkLiveLinkFaceReader::vtkInternals
   std::vector<std::string> Channels;
   std::vector<std::string> Unmapped;
   std::string Report;
-};
 
-namespace
-{
-bool IsAngle(const std::string& name)
-{
-  return morphnode::FindArkitShape(name) < 0;
-}
-} // namespace
+  /// The face's target names (relative, no neutral): the connected face's, else
+  /// SetTargetNames()'s, else none. False (an error reported) for a face without TargetNames.
+  bool FaceTargets(vtkLiveLinkFaceReader* self, vtkInformationVector** inputVector, std::vector<std::string>& targets)
+  {
+    if (self->GetNumberOfInputConnections(0) > 0)
+    {
+      if (!vtkMorphTargetArrays::GetFaceTargetNames(vtkDataObject::GetData(inputVector[0], 0), targets))
+      {
+        vtkErrorWithObjectMacro(self, << "the face on input port 0 has no field data '"
+                                      << vtkMorphTargetArrays::TargetNamesArray << "' (neutral first)");
+        return false;
+      }
+    }
+    else if (this->TargetNames)
+    {
+      for (vtkIdType i = 1; i < this->TargetNames->GetNumberOfValues(); ++i)
+      {
+        targets.push_back(this->TargetNames->GetValue(i));
+      }
+    }
+    return true;
+  }
+};
 
 //------------------------------------------------------------------------------
 vtkLiveLinkFaceReader::vtkLiveLinkFaceReader()
   : Internals(new vtkInternals)
 {
   this->SetNumberOfInputPorts(1);
-  this->SetNumberOfOutputPorts(2);
 }
 
 vtkLiveLinkFaceReader::~vtkLiveLinkFaceReader() = default;
@@ -85,12 +98,6 @@ int vtkLiveLinkFaceReader::FillInputPortInformation(int, vtkInformation* info)
 {
   info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkDataObject");
   info->Set(vtkAlgorithm::INPUT_IS_OPTIONAL(), 1);
-  return 1;
-}
-
-int vtkLiveLinkFaceReader::FillOutputPortInformation(int, vtkInformation* info)
-{
-  info->Set(vtkDataObject::DATA_TYPE_NAME(), "vtkTable");
   return 1;
 }
 
@@ -190,21 +197,14 @@ bool vtkLiveLinkFaceReader::EnsureRead()
 int vtkLiveLinkFaceReader::RequestInformation(
   vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
 {
-  for (int port = 0; port < 2; ++port)
-  {
-    vtkInformation* outInfo = outputVector->GetInformationObject(port);
-    outInfo->Remove(vtkStreamingDemandDrivenPipeline::TIME_STEPS());
-    outInfo->Remove(vtkStreamingDemandDrivenPipeline::TIME_RANGE());
-  }
+  vtkMorphTrackSource::ClearTimeInformation(outputVector);
   if (!this->EnsureRead())
   {
     return 0;
   }
   const auto& times = this->Internals->Capture.Times;
-  vtkInformation* outInfo = outputVector->GetInformationObject(0);
-  outInfo->Set(vtkStreamingDemandDrivenPipeline::TIME_STEPS(), times.data(), static_cast<int>(times.size()));
-  double range[2] = { 0.0, this->Internals->Capture.GetDuration() };
-  outInfo->Set(vtkStreamingDemandDrivenPipeline::TIME_RANGE(), range, 2);
+  vtkMorphTrackSource::SetTimeInformation(
+    outputVector, times.data(), static_cast<int>(times.size()), this->Internals->Capture.GetDuration());
   return 1;
 }
 
@@ -212,7 +212,6 @@ int vtkLiveLinkFaceReader::RequestInformation(
 int vtkLiveLinkFaceReader::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
-  vtkInformation* frameInfo = outputVector->GetInformationObject(0);
   vtkTable* frame = vtkTable::GetData(outputVector, 0);
   vtkTable* take = vtkTable::GetData(outputVector, 1);
   if (!frame || !take)
@@ -221,7 +220,7 @@ int vtkLiveLinkFaceReader::RequestData(
     return 0;
   }
   frame->Initialize();
-  const bool takeWanted = this->IsTrackRequested(outputVector);
+  const bool takeWanted = vtkMorphTrackSource::IsTrackWanted(outputVector);
   if (takeWanted)
   {
     take->Initialize();
@@ -236,104 +235,29 @@ int vtkLiveLinkFaceReader::RequestData(
   }
   const morphnode::LiveLinkCapture& capture = internals.Capture;
 
-  // The face's target names: the connected face, else SetTargetNames(), else none.
   std::vector<std::string> targets;
-  if (this->GetNumberOfInputConnections(0) > 0)
+  if (!internals.FaceTargets(this, inputVector, targets))
   {
-    if (!vtkMorphTargetArrays::GetFaceTargetNames(vtkDataObject::GetData(inputVector[0], 0), targets))
-    {
-      vtkErrorMacro(<< "the face on input port 0 has no field data '" << vtkMorphTargetArrays::TargetNamesArray
-                    << "' (neutral first)");
-      return 0;
-    }
-  }
-  else if (internals.TargetNames)
-  {
-    for (vtkIdType i = 1; i < internals.TargetNames->GetNumberOfValues(); ++i)
-    {
-      targets.push_back(internals.TargetNames->GetValue(i));
-    }
+    return 0;
   }
 
-  // Output column c = capture channel Source[c] (Mapped: through the rig instead).
-  std::vector<int> source;
-  std::vector<int> shapeChannel(morphnode::ArkitShapeCount, -1);
-  morphnode::Rig rig;
-  const bool mapped = !targets.empty();
-  internals.Unmapped = capture.UnknownColumns;
+  // The capture's channels as the face's (capture/CaptureMapping.h).
+  std::unique_ptr<morphnode::CaptureFaceMapping> mapping;
   try
   {
-    if (mapped)
-    {
-      morphnode::ArkitFaceMapping mapping;
-      rig = morphnode::MakeArkitRig(targets, &mapping);
-      internals.Channels = targets;
-      source.assign(targets.size(), -1);
-      for (size_t c = 0; c < capture.Channels.size(); ++c)
-      {
-        const int s = morphnode::FindArkitShape(capture.Channels[c]);
-        if (s >= 0)
-        {
-          shapeChannel[static_cast<size_t>(s)] = static_cast<int>(c);
-          if (mapping.Targets[static_cast<size_t>(s)].empty())
-          {
-            internals.Unmapped.push_back(capture.Channels[c]);
-          }
-        }
-      }
-      internals.Report = mapping.Report();
-    }
-    else
-    {
-      internals.Report = "no face: the " + std::to_string(morphnode::ArkitShapeCount - capture.MissingShapes.size()) +
-        " ARKit shapes of the take by Apple's names";
-    }
+    mapping = std::make_unique<morphnode::CaptureFaceMapping>(capture, targets);
   }
   catch (const std::exception& e)
   {
     vtkErrorMacro(<< e.what());
-    internals.Channels.clear();
     return 0;
   }
-  for (size_t c = 0; c < capture.Channels.size(); ++c)
-  {
-    if (!mapped || IsAngle(capture.Channels[c]))
-    {
-      internals.Channels.push_back(capture.Channels[c]);
-      source.push_back(static_cast<int>(c));
-    }
-  }
-  if (!internals.Unmapped.empty())
-  {
-    internals.Report += "; names that map to nothing:";
-    for (const auto& name : internals.Unmapped)
-    {
-      internals.Report += " " + name;
-    }
-  }
-
-  // One row of output values at `time`.
-  std::vector<double> shapes(morphnode::ArkitShapeCount, 0.0);
+  internals.Channels = mapping->GetChannels();
+  internals.Unmapped = mapping->GetUnmapped();
+  internals.Report = mapping->GetReport();
   std::vector<double> row(internals.Channels.size(), 0.0);
-  auto fill = [&](double time) {
-    size_t first = 0;
-    if (mapped)
-    {
-      for (size_t s = 0; s < shapes.size(); ++s)
-      {
-        shapes[s] = shapeChannel[s] >= 0 ? capture.Sample(time, static_cast<size_t>(shapeChannel[s])) : 0.0;
-      }
-      rig.Expand(shapes.data(), row.data());
-      first = rig.GetNumberOfBoundTargets();
-    }
-    for (size_t c = first; c < row.size(); ++c)
-    {
-      row[c] = capture.Sample(time, static_cast<size_t>(source[c]));
-    }
-  };
-  const double t = frameInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP())
-    ? frameInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP())
-    : 0.0;
+  auto fill = [&](double time) { mapping->Sample(time, row.data()); };
+  const double t = vtkMorphTrackSource::RequestedTime(outputVector);
   try
   {
     fill(t);

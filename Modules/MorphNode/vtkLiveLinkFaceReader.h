@@ -41,25 +41,25 @@
  * and both outputs are empty. The file is read again after any change of the reader
  * (a setting, Modified()), not for each time step.
  *
- * @sa vtkTemporalWeightsSource vtkMorphNodeFilter vtkBehaviorTimeSource vtkMorphRigFilter morphnode::ReadLiveLinkCsv
+ * @sa vtkMorphTrackSource vtkMorphNodeFilter vtkBehaviorTimeSource vtkMorphRigFilter morphnode::ReadLiveLinkCsv
  */
 
 #ifndef vtkLiveLinkFaceReader_h
 #define vtkLiveLinkFaceReader_h
 
 #include "vtkMorphNodeModule.h" // For export macro
-#include "vtkTemporalWeightsSource.h"
+#include "vtkMorphTrackSource.h"
 
 #include <memory> // For std::unique_ptr
 #include <string> // For std::string
 
 class vtkStringArray;
 
-class VTKMORPHNODE_EXPORT vtkLiveLinkFaceReader : public vtkTemporalWeightsSource
+class VTKMORPHNODE_EXPORT vtkLiveLinkFaceReader : public vtkMorphTrackSource
 {
 public:
   static vtkLiveLinkFaceReader* New();
-  vtkTypeMacro(vtkLiveLinkFaceReader, vtkTemporalWeightsSource);
+  vtkTypeMacro(vtkLiveLinkFaceReader, vtkMorphTrackSource);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   ///@{
@@ -122,7 +122,6 @@ protected:
   ~vtkLiveLinkFaceReader() override;
 
   int FillInputPortInformation(int port, vtkInformation* info) override;
-  int FillOutputPortInformation(int port, vtkInformation* info) override;
   int RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 

@@ -8,11 +8,8 @@
 #include "lod/MorphLadder.h"
 #include "lod/ScalableMorph.h"
 
-#include "vtkCellArray.h"
 #include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
-#include "vtkIdList.h"
-#include "vtkIdTypeArray.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkNew.h"
@@ -189,46 +186,9 @@ int vtkMorphLevelOfDetail::RequestData(
     points->SetDataTypeToFloat();
     points->SetNumberOfPoints(n);
     std::copy_n(in.Morph.GetPositions().data(), 3 * n, static_cast<float*>(points->GetData()->GetVoidPointer(0)));
-    const auto& triangles = in.Morph.GetTriangles();
-    vtkNew<vtkCellArray> polys;
-    polys->AllocateExact(static_cast<vtkIdType>(triangles.size() / 3), static_cast<vtkIdType>(triangles.size()));
-    for (size_t t = 0; t + 2 < triangles.size(); t += 3)
-    {
-      const vtkIdType tri[3] = { triangles[t], triangles[t + 1], triangles[t + 2] };
-      polys->InsertNextCell(3, tri);
-    }
-    vtkNew<vtkIdList> from;
-    from->SetNumberOfIds(n);
-    for (vtkIdType i = 0; i < n; ++i)
-    {
-      from->SetId(i, static_cast<vtkIdType>(ladder.OriginalPointIds[static_cast<size_t>(i)]));
-    }
-    output->Initialize();
-    output->SetPoints(points);
-    output->SetPolys(polys);
-    vtkPointData* inPD = input->GetPointData();
-    vtkPointData* outPD = output->GetPointData();
-    outPD->CopyAllocate(inPD, n);
-    outPD->SetNumberOfTuples(n);
-    for (int a = 0; a < outPD->GetNumberOfArrays(); ++a)
-    {
-      vtkAbstractArray* target = outPD->GetAbstractArray(a);
-      vtkAbstractArray* source = inPD->GetAbstractArray(target->GetName());
-      if (source)
-      {
-        source->GetTuples(from, target);
-      }
-    }
-    vtkMorphTargetArrays::RemoveTargetArrays(outPD);
-    vtkNew<vtkIdTypeArray> original;
-    original->SetName("OriginalPointId");
-    original->SetNumberOfTuples(n);
-    for (vtkIdType i = 0; i < n; ++i)
-    {
-      original->SetValue(i, from->GetId(i));
-    }
-    outPD->AddArray(original);
-    output->GetFieldData()->PassData(input->GetFieldData());
+    vtkMorphTargetArrays::ExtractPointSubset(
+      input, ladder.OriginalPointIds, n, in.Morph.GetTriangles(), output, points);
+    vtkMorphTargetArrays::RemoveTargetArrays(output->GetPointData());
     vtkNew<vtkDoubleArray> lod;
     lod->SetName("LevelOfDetail");
     lod->SetNumberOfComponents(4);

@@ -10,8 +10,8 @@
 #include "rig/RigOptimizer.h"
 
 #include "vtkAbstractArray.h"
-#include "vtkCompositeDataIterator.h"
 #include "vtkCompositeDataSet.h"
+#include "vtkCompositeDataSetRange.h"
 #include "vtkDataArray.h"
 #include "vtkDataObject.h"
 #include "vtkDoubleArray.h"
@@ -63,11 +63,9 @@ morphnode::TargetDistances MeasureShapes(const morphnode::Rig& rig, vtkDataObjec
   };
   if (auto* composite = vtkCompositeDataSet::SafeDownCast(face))
   {
-    vtkSmartPointer<vtkCompositeDataIterator> it;
-    it.TakeReference(composite->NewIterator());
-    for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem())
+    for (vtkDataObject* leaf : vtk::Range(composite, vtk::CompositeDataSetOptions::SkipEmptyNodes))
     {
-      add(it->GetCurrentDataObject());
+      add(leaf);
     }
   }
   else

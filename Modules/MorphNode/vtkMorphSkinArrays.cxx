@@ -102,7 +102,7 @@ void AddSkin(vtkPolyData* poly, const morphnode::GltfScene& scene, const morphno
   parents->SetName(SkeletonParentsArray);
   for (size_t i = 0; i < scene.Nodes.size(); ++i)
   {
-    names->InsertNextValue(scene.Nodes[i].Name.empty() ? "node" + std::to_string(i) : scene.Nodes[i].Name);
+    names->InsertNextValue(morphnode::GltfNodeName(scene, static_cast<int>(i)));
     parents->InsertNextValue(scene.Nodes[i].Parent);
   }
   fd->AddArray(names);

@@ -7,8 +7,8 @@
 #include "skin/AvatarBones.h"
 #include "skin/Skinning.h"
 
-#include "vtkCompositeDataIterator.h"
 #include "vtkCompositeDataSet.h"
+#include "vtkCompositeDataSetRange.h"
 #include "vtkDataArray.h"
 #include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
@@ -40,6 +40,21 @@ void Reskin(const morphnode::RestSkin& skin, const T* points, const T* normals, 
   vtkSMPTools::For(0, static_cast<vtkIdType>(n), 2048, [&](vtkIdType begin, vtkIdType end) {
     skin.Apply<T>(points, normals, outPoints, outNormals, static_cast<size_t>(begin), static_cast<size_t>(end));
   });
+}
+
+/// Grows `bounds` (xmin, xmax, ..., empty when min > max) to take [lo, hi] on each axis
+/// (a point: lo = hi; axes of other bounds that are empty add nothing).
+void AddToBounds(double bounds[6], const double lo[3], const double hi[3])
+{
+  for (int k = 0; k < 3; ++k)
+  {
+    if (lo[k] <= hi[k])
+    {
+      const bool empty = bounds[2 * k] > bounds[2 * k + 1];
+      bounds[2 * k] = empty ? lo[k] : std::min(bounds[2 * k], lo[k]);
+      bounds[2 * k + 1] = empty ? hi[k] : std::max(bounds[2 * k + 1], hi[k]);
+    }
+  }
 }
 
 vtkSmartPointer<vtkDataArray> NewLike(vtkDataArray* in)
@@ -89,13 +104,113 @@ public:
     entry.Rest = morphnode::RestSkin(entry.Skin.Influences, entry.RestMatrices, what);
     return this->Cache[weights] = std::move(entry);
   }
+
+  /// The leaf re-skinned at the pose `angles` asks (a new data set sharing all but points and
+  /// normals), nullptr when it is not skinned or stays at rest; updates the filter's report
+  /// (skinned parts, eye and head bones, head bounds, bones).
+  vtkSmartPointer<vtkPointSet> Repose(vtkMorphSkinFilter* self, vtkPointSet* leaf, const std::string& what,
+    const morphnode::AvatarBonePose& angles)
+  {
+    if (!vtkMorphSkinArrays::IsSkinned(leaf))
+    {
+      return nullptr;
+    }
+    vtkInternals::Entry& entry = this->Get(leaf, what);
+    morphnode::AvatarBoneRoles roles = entry.Roles;
+    self->HasEyeBones = self->HasEyeBones || roles.HasEyes();
+    self->HasHeadBones = self->HasHeadBones || roles.Head >= 0;
+    if (!entry.HeadKnown && roles.Head >= 0)
+    {
+      // The points whose largest weight is on the head or below it, at rest.
+      for (size_t i : morphnode::PointsUnderJoint(entry.Skin.Bones, entry.Skin.Joints, entry.Skin.Influences, roles.Head))
+      {
+        if (static_cast<vtkIdType>(i) < leaf->GetNumberOfPoints())
+        {
+          const double* q = leaf->GetPoint(static_cast<vtkIdType>(i));
+          AddToBounds(entry.HeadBounds, q, q);
+        }
+      }
+      entry.HeadKnown = true;
+    }
+    if (entry.HeadKnown)
+    {
+      const double* b = entry.HeadBounds;
+      const double lo[3] = { b[0], b[2], b[4] }, hi[3] = { b[1], b[3], b[5] };
+      AddToBounds(self->HeadBounds, lo, hi);
+    }
+    if (!self->TurnEyes)
+    {
+      roles.LeftEye = roles.RightEye = -1;
+    }
+    if (self->Bones.empty())
+    {
+      self->Bones = roles.Describe(entry.Skin.Bones);
+    }
+    morphnode::SkeletonPose pose(entry.Skin.Bones);
+    morphnode::PoseAvatarBones(pose, roles, angles);
+    ++self->NumberOfSkinnedParts;
+    if (!entry.Rest.SetPose(entry.Skin.Joints.Matrices(pose.World())))
+    {
+      return nullptr; // at rest
+    }
+    vtkSmartPointer<vtkPointSet> out;
+    out.TakeReference(leaf->NewInstance());
+    out->ShallowCopy(leaf);
+    vtkDataArray* points = leaf->GetPoints()->GetData();
+    vtkDataArray* normals = leaf->GetPointData()->GetNormals();
+    if (normals && (normals->GetNumberOfComponents() != 3 || normals->GetDataType() != points->GetDataType()))
+    {
+      normals = nullptr;
+    }
+    auto newPoints = NewLike(points);
+    auto newNormals = normals ? NewLike(normals) : nullptr;
+    const size_t n = static_cast<size_t>(leaf->GetNumberOfPoints());
+    if (entry.Rest.GetNumberOfPoints() != n)
+    {
+      throw morphnode::InputError(what + ": the skin has " + std::to_string(entry.Rest.GetNumberOfPoints()) +
+        " points, the part " + std::to_string(n));
+    }
+    if (auto* f = vtkFloatArray::FastDownCast(points))
+    {
+      Reskin<float>(entry.Rest, f->GetPointer(0), normals ? vtkFloatArray::FastDownCast(normals)->GetPointer(0) : nullptr,
+        vtkFloatArray::FastDownCast(newPoints)->GetPointer(0),
+        normals ? vtkFloatArray::FastDownCast(newNormals)->GetPointer(0) : nullptr, n);
+    }
+    else if (auto* d = vtkDoubleArray::FastDownCast(points))
+    {
+      Reskin<double>(entry.Rest, d->GetPointer(0), normals ? vtkDoubleArray::FastDownCast(normals)->GetPointer(0) : nullptr,
+        vtkDoubleArray::FastDownCast(newPoints)->GetPointer(0),
+        normals ? vtkDoubleArray::FastDownCast(newNormals)->GetPointer(0) : nullptr, n);
+    }
+    else
+    {
+      throw morphnode::InputError(what + ": skinned points must be float or double");
+    }
+    vtkNew<vtkPoints> p;
+    p->SetData(newPoints);
+    out->SetPoints(p);
+    if (newNormals)
+    {
+      out->GetPointData()->SetNormals(newNormals);
+    }
+    vtkNew<vtkFieldData> field;
+    field->ShallowCopy(leaf->GetFieldData());
+    vtkNew<vtkDoubleArray> used;
+    used->SetName("SkinPose");
+    for (double v : { angles.HeadYaw, angles.HeadPitch, angles.HeadRoll, angles.EyeYaw, angles.EyePitch })
+    {
+      used->InsertNextValue(v);
+    }
+    field->AddArray(used);
+    out->SetFieldData(field);
+    return out;
+  }
 };
 
 //------------------------------------------------------------------------------
 vtkMorphSkinFilter::vtkMorphSkinFilter()
   : Internals(new vtkInternals)
 {
-  this->SetNumberOfInputPorts(2);
 }
 
 //------------------------------------------------------------------------------
@@ -105,38 +220,6 @@ vtkMorphSkinFilter::~vtkMorphSkinFilter() = default;
 void vtkMorphSkinFilter::SetPoseConnection(vtkAlgorithmOutput* output)
 {
   this->SetInputConnection(1, output);
-}
-
-//------------------------------------------------------------------------------
-int vtkMorphSkinFilter::FillInputPortInformation(int port, vtkInformation* info)
-{
-  if (port == 0)
-  {
-    info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPointSet");
-    info->Append(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkCompositeDataSet");
-    return 1;
-  }
-  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkTable");
-  info->Set(vtkAlgorithm::INPUT_IS_OPTIONAL(), 1);
-  return 1;
-}
-
-//------------------------------------------------------------------------------
-int vtkMorphSkinFilter::RequestInformation(
-  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
-{
-  // A pose table animates the bones: its time steps win (the executive copies port 0's only).
-  vtkInformation* outInfo = outputVector->GetInformationObject(0);
-  vtkInformation* poseInfo = inputVector[1]->GetInformationObject(0);
-  if (poseInfo && poseInfo->Has(vtkStreamingDemandDrivenPipeline::TIME_STEPS()))
-  {
-    outInfo->CopyEntry(poseInfo, vtkStreamingDemandDrivenPipeline::TIME_STEPS());
-  }
-  if (poseInfo && poseInfo->Has(vtkStreamingDemandDrivenPipeline::TIME_RANGE()))
-  {
-    outInfo->CopyEntry(poseInfo, vtkStreamingDemandDrivenPipeline::TIME_RANGE());
-  }
-  return 1;
 }
 
 //------------------------------------------------------------------------------
@@ -193,139 +276,28 @@ int vtkMorphSkinFilter::RequestData(
     angles.ArmAngle = this->ArmAngle;
 
     // One pose per skeleton; parts of one avatar share it (computed for the first part).
-    auto reskin = [&](vtkPointSet* leaf, const std::string& what) -> vtkSmartPointer<vtkPointSet> {
-      if (!vtkMorphSkinArrays::IsSkinned(leaf))
-      {
-        return nullptr;
-      }
-      vtkInternals::Entry& entry = this->Internals->Get(leaf, what);
-      morphnode::AvatarBoneRoles roles = entry.Roles;
-      this->HasEyeBones = this->HasEyeBones || roles.HasEyes();
-      this->HasHeadBones = this->HasHeadBones || roles.Head >= 0;
-      if (!entry.HeadKnown && roles.Head >= 0)
-      {
-        // The points whose largest weight is on the head or below it, at rest.
-        const morphnode::SkinInfluences& inf = entry.Skin.Influences;
-        for (vtkIdType i = 0; i < leaf->GetNumberOfPoints(); ++i)
-        {
-          size_t best = 0;
-          for (size_t k = 1; k < inf.PerPoint; ++k)
-          {
-            best = inf.Weights[static_cast<size_t>(i) * inf.PerPoint + k] > inf.Weights[static_cast<size_t>(i) * inf.PerPoint + best] ? k : best;
-          }
-          const int joint = entry.Skin.Joints.Joints[inf.Joints[static_cast<size_t>(i) * inf.PerPoint + best]];
-          if (entry.Skin.Bones.IsAncestor(roles.Head, joint))
-          {
-            const double* q = leaf->GetPoint(i);
-            for (int k = 0; k < 3; ++k)
-            {
-              const bool empty = entry.HeadBounds[2 * k] > entry.HeadBounds[2 * k + 1];
-              entry.HeadBounds[2 * k] = empty ? q[k] : std::min(entry.HeadBounds[2 * k], q[k]);
-              entry.HeadBounds[2 * k + 1] = empty ? q[k] : std::max(entry.HeadBounds[2 * k + 1], q[k]);
-            }
-          }
-        }
-        entry.HeadKnown = true;
-      }
-      for (int k = 0; k < 3 && entry.HeadKnown; ++k)
-      {
-        if (entry.HeadBounds[2 * k] <= entry.HeadBounds[2 * k + 1])
-        {
-          const bool empty = this->HeadBounds[2 * k] > this->HeadBounds[2 * k + 1];
-          this->HeadBounds[2 * k] = empty ? entry.HeadBounds[2 * k] : std::min(this->HeadBounds[2 * k], entry.HeadBounds[2 * k]);
-          this->HeadBounds[2 * k + 1] = empty ? entry.HeadBounds[2 * k + 1] : std::max(this->HeadBounds[2 * k + 1], entry.HeadBounds[2 * k + 1]);
-        }
-      }
-      if (!this->TurnEyes)
-      {
-        roles.LeftEye = roles.RightEye = -1;
-      }
-      if (this->Bones.empty())
-      {
-        this->Bones = roles.Describe(entry.Skin.Bones);
-      }
-      morphnode::SkeletonPose pose(entry.Skin.Bones);
-      morphnode::PoseAvatarBones(pose, roles, angles);
-      ++this->NumberOfSkinnedParts;
-      if (!entry.Rest.SetPose(entry.Skin.Joints.Matrices(pose.World())))
-      {
-        return nullptr; // at rest
-      }
-      vtkSmartPointer<vtkPointSet> out;
-      out.TakeReference(leaf->NewInstance());
-      out->ShallowCopy(leaf);
-      vtkDataArray* points = leaf->GetPoints()->GetData();
-      vtkDataArray* normals = leaf->GetPointData()->GetNormals();
-      if (normals && (normals->GetNumberOfComponents() != 3 || normals->GetDataType() != points->GetDataType()))
-      {
-        normals = nullptr;
-      }
-      auto newPoints = NewLike(points);
-      auto newNormals = normals ? NewLike(normals) : nullptr;
-      const size_t n = static_cast<size_t>(leaf->GetNumberOfPoints());
-      if (entry.Rest.GetNumberOfPoints() != n)
-      {
-        throw morphnode::InputError(what + ": the skin has " + std::to_string(entry.Rest.GetNumberOfPoints()) +
-          " points, the part " + std::to_string(n));
-      }
-      if (auto* f = vtkFloatArray::FastDownCast(points))
-      {
-        Reskin<float>(entry.Rest, f->GetPointer(0), normals ? vtkFloatArray::FastDownCast(normals)->GetPointer(0) : nullptr,
-          vtkFloatArray::FastDownCast(newPoints)->GetPointer(0),
-          normals ? vtkFloatArray::FastDownCast(newNormals)->GetPointer(0) : nullptr, n);
-      }
-      else if (auto* d = vtkDoubleArray::FastDownCast(points))
-      {
-        Reskin<double>(entry.Rest, d->GetPointer(0), normals ? vtkDoubleArray::FastDownCast(normals)->GetPointer(0) : nullptr,
-          vtkDoubleArray::FastDownCast(newPoints)->GetPointer(0),
-          normals ? vtkDoubleArray::FastDownCast(newNormals)->GetPointer(0) : nullptr, n);
-      }
-      else
-      {
-        throw morphnode::InputError(what + ": skinned points must be float or double");
-      }
-      vtkNew<vtkPoints> p;
-      p->SetData(newPoints);
-      out->SetPoints(p);
-      if (newNormals)
-      {
-        out->GetPointData()->SetNormals(newNormals);
-      }
-      vtkNew<vtkFieldData> field;
-      field->ShallowCopy(leaf->GetFieldData());
-      vtkNew<vtkDoubleArray> used;
-      used->SetName("SkinPose");
-      for (double v : { angles.HeadYaw, angles.HeadPitch, angles.HeadRoll, angles.EyeYaw, angles.EyePitch })
-      {
-        used->InsertNextValue(v);
-      }
-      field->AddArray(used);
-      out->SetFieldData(field);
-      return out;
+    auto reskin = [&](vtkPointSet* leaf, const std::string& what) {
+      return this->Internals->Repose(this, leaf, what, angles);
     };
 
     if (auto* composite = vtkCompositeDataSet::SafeDownCast(input))
     {
       auto* out = vtkCompositeDataSet::SafeDownCast(output);
       out->ShallowCopy(composite);
-      vtkSmartPointer<vtkCompositeDataIterator> it;
-      it.TakeReference(out->NewIterator());
-      it->SkipEmptyNodesOn();
-      for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem())
+      for (auto node : vtk::Range(out, vtk::CompositeDataSetOptions::SkipEmptyNodes))
       {
-        auto* leaf = vtkPointSet::SafeDownCast(it->GetCurrentDataObject());
+        auto* leaf = vtkPointSet::SafeDownCast(node);
         if (!leaf)
         {
           continue;
         }
-        std::string name = "part " + std::to_string(it->GetCurrentFlatIndex());
-        if (it->HasCurrentMetaData() && it->GetCurrentMetaData()->Has(vtkCompositeDataSet::NAME()))
-        {
-          name = std::string("part '") + it->GetCurrentMetaData()->Get(vtkCompositeDataSet::NAME()) + "'";
-        }
+        const bool named = node.HasMetaData() && node.GetMetaData()->Has(vtkCompositeDataSet::NAME());
+        const std::string name = named
+          ? std::string("part '") + node.GetMetaData()->Get(vtkCompositeDataSet::NAME()) + "'"
+          : "part " + std::to_string(node.GetFlatIndex());
         if (auto posed = reskin(leaf, name))
         {
-          out->SetDataSet(it, posed);
+          node = posed;
         }
       }
     }
@@ -339,12 +311,7 @@ int vtkMorphSkinFilter::RequestData(
     {
       throw morphnode::InputError(std::string("cannot pose a ") + input->GetClassName());
     }
-    vtkInformation* outInfo = outputVector->GetInformationObject(0);
-    if (outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP()))
-    {
-      output->GetInformation()->Set(
-        vtkDataObject::DATA_TIME_STEP(), outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP()));
-    }
+    vtkMorphTrackFilter::StampTime(output, outputVector);
     return 1;
   }
   catch (const std::exception& e)

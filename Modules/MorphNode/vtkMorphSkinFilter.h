@@ -32,23 +32,23 @@
  * Errors (vtkErrorMacro, RequestData returns 0, empty output): non-finite angles, a damaged
  * skin convention (sizes, joint indices, singular or non-finite matrices).
  *
- * @sa vtkMorphTargetReader vtkMorphNodeFilter vtkEyeGazeFilter morphnode::RestSkin
+ * @sa vtkMorphTrackFilter vtkMorphTargetReader vtkMorphNodeFilter vtkEyeGazeFilter morphnode::RestSkin
  */
 
 #ifndef vtkMorphSkinFilter_h
 #define vtkMorphSkinFilter_h
 
 #include "vtkMorphNodeModule.h" // For export macro
-#include "vtkPassInputTypeAlgorithm.h"
+#include "vtkMorphTrackFilter.h"
 
 #include <memory> // For std::unique_ptr
 #include <string> // For std::string
 
-class VTKMORPHNODE_EXPORT vtkMorphSkinFilter : public vtkPassInputTypeAlgorithm
+class VTKMORPHNODE_EXPORT vtkMorphSkinFilter : public vtkMorphTrackFilter
 {
 public:
   static vtkMorphSkinFilter* New();
-  vtkTypeMacro(vtkMorphSkinFilter, vtkPassInputTypeAlgorithm);
+  vtkTypeMacro(vtkMorphSkinFilter, vtkMorphTrackFilter);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   ///@{
@@ -144,9 +144,6 @@ protected:
   vtkMorphSkinFilter();
   ~vtkMorphSkinFilter() override;
 
-  int FillInputPortInformation(int port, vtkInformation* info) override;
-  int RequestInformation(vtkInformation* request, vtkInformationVector** inputVector,
-    vtkInformationVector* outputVector) override;
   int RequestData(vtkInformation* request, vtkInformationVector** inputVector,
     vtkInformationVector* outputVector) override;
 

@@ -7,11 +7,13 @@
 #include "vtkArrayDispatch.h"
 #include "vtkCellArray.h"
 #include "vtkCellArrayIterator.h"
-#include "vtkCompositeDataIterator.h"
 #include "vtkCompositeDataSet.h"
+#include "vtkCompositeDataSetRange.h"
 #include "vtkDataArray.h"
 #include "vtkDataArrayRange.h"
 #include "vtkFieldData.h"
+#include "vtkIdList.h"
+#include "vtkIdTypeArray.h"
 #include "vtkNew.h"
 #include "vtkPointData.h"
 #include "vtkPointSet.h"
@@ -278,11 +280,9 @@ bool GetFaceTargetNames(vtkDataObject* face, std::vector<std::string>& targets)
   };
   if (auto* composite = vtkCompositeDataSet::SafeDownCast(face))
   {
-    vtkSmartPointer<vtkCompositeDataIterator> it;
-    it.TakeReference(composite->NewIterator());
-    for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem())
+    for (vtkDataObject* leaf : vtk::Range(composite, vtk::CompositeDataSetOptions::SkipEmptyNodes))
     {
-      add(it->GetCurrentDataObject());
+      add(leaf);
     }
   }
   else
@@ -687,4 +687,58 @@ template vtkSmartPointer<vtkDataArray> NewArray<float>(
   int, const char*, int, vtkIdType, const float*);
 template vtkSmartPointer<vtkDataArray> NewArray<double>(
   int, const char*, int, vtkIdType, const double*);
+//------------------------------------------------------------------------------
+void ExtractPointSubset(vtkPolyData* input, const std::vector<uint32_t>& ids, vtkIdType numPoints,
+  const std::vector<uint32_t>& triangles, vtkPolyData* output, vtkPoints* points)
+{
+  const vtkIdType n = std::min(numPoints, static_cast<vtkIdType>(ids.size()));
+  vtkNew<vtkIdList> from;
+  from->SetNumberOfIds(n);
+  for (vtkIdType i = 0; i < n; ++i)
+  {
+    from->SetId(i, static_cast<vtkIdType>(ids[static_cast<size_t>(i)]));
+  }
+  vtkSmartPointer<vtkPoints> outPoints = points;
+  if (!outPoints)
+  {
+    outPoints = vtkSmartPointer<vtkPoints>::New();
+    outPoints->SetDataType(input->GetPoints()->GetDataType());
+    outPoints->SetNumberOfPoints(n);
+    input->GetPoints()->GetData()->GetTuples(from, outPoints->GetData());
+  }
+  vtkNew<vtkCellArray> polys;
+  polys->AllocateExact(static_cast<vtkIdType>(triangles.size() / 3), static_cast<vtkIdType>(triangles.size()));
+  for (size_t t = 0; t + 2 < triangles.size(); t += 3)
+  {
+    const vtkIdType tri[3] = { triangles[t], triangles[t + 1], triangles[t + 2] };
+    polys->InsertNextCell(3, tri);
+  }
+  output->Initialize();
+  output->SetPoints(outPoints);
+  output->SetPolys(polys);
+  // Every point array (normals, texture coordinates, target deltas) comes unchanged from
+  // the point each output point is.
+  vtkPointData* inPD = input->GetPointData();
+  vtkPointData* outPD = output->GetPointData();
+  outPD->CopyAllocate(inPD, n);
+  outPD->SetNumberOfTuples(n);
+  for (int a = 0; a < outPD->GetNumberOfArrays(); ++a)
+  {
+    vtkAbstractArray* target = outPD->GetAbstractArray(a);
+    if (vtkAbstractArray* source = inPD->GetAbstractArray(target->GetName()))
+    {
+      source->GetTuples(from, target);
+    }
+  }
+  vtkNew<vtkIdTypeArray> original;
+  original->SetName("OriginalPointId");
+  original->SetNumberOfTuples(n);
+  for (vtkIdType i = 0; i < n; ++i)
+  {
+    original->SetValue(i, from->GetId(i));
+  }
+  outPD->AddArray(original);
+  output->GetFieldData()->PassData(input->GetFieldData());
+}
+
 } // namespace vtkMorphTargetArrays

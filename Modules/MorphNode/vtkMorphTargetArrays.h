@@ -35,6 +35,7 @@ class vtkDataObject;
 class vtkFieldData;
 class vtkPointData;
 class vtkPointSet;
+class vtkPoints;
 class vtkPolyData;
 class vtkStringArray;
 
@@ -162,6 +163,15 @@ MeshFromVTK ToMorphMesh(vtkPointSet* input, const ReadOptions& options);
 /// names.
 void AddTargetArrays(const morphnode::MorphMesh& mesh, vtkPointData* pd, int positionType = -1,
   int normalType = -1);
+
+/// `output` becomes a subset of `input`'s points: the first `numPoints` of `ids` (input point
+/// ids), every point array gathered with them (vtkAbstractArray::GetTuples) plus
+/// `OriginalPointId` (each point's id in the input), the triangles `triangles` (3 indices
+/// into the subset each) and the input's field data. The points are `points` when given
+/// (e.g. blended positions), else gathered from the input's in their type. The reduction and
+/// level-of-detail filters' output.
+void ExtractPointSubset(vtkPolyData* input, const std::vector<uint32_t>& ids, vtkIdType numPoints,
+  const std::vector<uint32_t>& triangles, vtkPolyData* output, vtkPoints* points = nullptr);
 
 /// The mesh in the convention: points (the Position attribute's neutral, same type), the
 /// triangles, active normals (the Normal attribute, if any), target arrays and

@@ -1,13 +1,14 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkMorphTargetReader.h"
 
+#include "vtkMorphPartData.h"
 #include "vtkMorphSkinArrays.h"
 #include "vtkMorphTargetArrays.h"
 
 #include "base/Error.h"
 #include "base/Text.h"
 #include "gltf/GltfAnimation.h"
-#include "gltf/GltfSkin.h"
+#include "gltf/GltfPose.h"
 #include "gltf/GltfScene.h"
 #include "morph/MorphMesh.h"
 #include "morph/Normals.h"
@@ -18,7 +19,6 @@
 #include "vtkDataAssembly.h"
 #include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
-#include "vtkFloatArray.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkObjectFactory.h"
@@ -28,17 +28,14 @@
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
-#include "vtkStringArray.h"
 #include "vtkTable.h"
 #include "vtkUnsignedCharArray.h"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <filesystem>
 #include <sstream>
 #include <system_error>
-#include <unordered_set>
 
 vtkStandardNewMacro(vtkMorphTargetReader);
 
@@ -46,51 +43,18 @@ namespace
 {
 using morphnode::InputError;
 namespace arrays = vtkMorphTargetArrays;
+namespace partdata = vtkMorphPartData;
 using arrays::Kind;
-
-bool EndsWith(const std::string& s, const std::string& suffix)
-{
-  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
-}
 
 bool IsGltf(const std::string& fileName)
 {
-  const std::string lower = morphnode::text::ToLower(fileName);
-  return EndsWith(lower, ".glb") || EndsWith(lower, ".gltf");
+  return morphnode::text::HasExtension(fileName, ".glb") || morphnode::text::HasExtension(fileName, ".gltf");
 }
 
 vtkSmartPointer<vtkDataArray> MakeVectors(const std::string& name, const std::vector<float>& values)
 {
   return arrays::NewArray(
     VTK_FLOAT, name.c_str(), 3, static_cast<vtkIdType>(values.size() / 3), values.data());
-}
-
-void AddString(vtkFieldData* fd, const char* name, const std::string& value)
-{
-  vtkNew<vtkStringArray> array;
-  array->SetName(name);
-  array->InsertNextValue(value);
-  fd->AddArray(array);
-}
-
-void AddDoubles(vtkFieldData* fd, const char* name, const double* values, int count)
-{
-  vtkNew<vtkDoubleArray> array;
-  array->SetName(name);
-  array->SetNumberOfValues(count);
-  std::copy_n(values, count, array->GetPointer(0));
-  fd->AddArray(array);
-}
-
-std::string MeshNameOf(const morphnode::GltfScene& scene, size_t m)
-{
-  return scene.Meshes[m].Name.empty() ? "mesh" + std::to_string(m) : scene.Meshes[m].Name;
-}
-
-std::string NodeNameOf(const morphnode::GltfScene& scene, int n)
-{
-  return scene.Nodes[static_cast<size_t>(n)].Name.empty() ? "node" + std::to_string(n)
-                                                          : scene.Nodes[static_cast<size_t>(n)].Name;
 }
 
 /// A part as the convention's vtkPolyData: float points, triangles, normals `Normals` (when
@@ -224,134 +188,6 @@ std::vector<std::string> TargetNamesOf(const morphnode::GltfPart& part)
   return names;
 }
 
-/// PartName, NodeName, MaterialName, BaseColor; with `world`, NodeOrigin and NodeAxes too.
-void AddPartFieldData(vtkFieldData* fd, const morphnode::GltfScene& scene,
-  const morphnode::GltfPart& part, bool world, double scale)
-{
-  AddString(fd, "PartName", part.Name);
-  AddString(fd, "NodeName", NodeNameOf(scene, part.Node));
-  AddString(fd, "MaterialName", part.MaterialName);
-  AddDoubles(fd, "BaseColor", part.BaseColor.data(), 4);
-  if (world)
-  {
-    const morphnode::GltfMatrix& m = part.World; // column-major
-    const double origin[3] = { scale * m[12], scale * m[13], scale * m[14] };
-    AddDoubles(fd, "NodeOrigin", origin, 3);
-    double axes[9];
-    for (int c = 0; c < 3; ++c)
-    {
-      const double length = std::sqrt(m[4 * c] * m[4 * c] + m[4 * c + 1] * m[4 * c + 1] + m[4 * c + 2] * m[4 * c + 2]);
-      for (int r = 0; r < 3; ++r)
-      {
-        axes[3 * c + r] = length > 0.0 ? m[4 * c + r] / length : (r == c ? 1.0 : 0.0);
-      }
-    }
-    AddDoubles(fd, "NodeAxes", axes, 9);
-  }
-}
-
-/// An image of the scene as a field-data array `<name>Image` (unsigned char RGBA, one tuple per
-/// pixel, rows as in the file: top first, which is where glTF's v = 0 is and where VTK's
-/// texture coordinate t = 0 samples) with `<name>ImageSize` (width, height) and
-/// `<name>Sampler` (magFilter, minFilter, wrapS, wrapT as glTF's enums).
-void AddImage(vtkFieldData* fd, const std::string& name, const morphnode::GltfImage& image,
-  const morphnode::GltfSampler& sampler)
-{
-  vtkNew<vtkUnsignedCharArray> pixels;
-  pixels->SetName((name + "Image").c_str());
-  pixels->SetNumberOfComponents(4);
-  pixels->SetNumberOfTuples(static_cast<vtkIdType>(image.Width) * image.Height);
-  std::copy(image.Pixels.begin(), image.Pixels.end(), pixels->GetPointer(0));
-  fd->AddArray(pixels);
-  const double size[2] = { double(image.Width), double(image.Height) };
-  AddDoubles(fd, (name + "ImageSize").c_str(), size, 2);
-  const double s[4] = { double(sampler.MagFilter), double(sampler.MinFilter), double(sampler.WrapS),
-    double(sampler.WrapT) };
-  AddDoubles(fd, (name + "Sampler").c_str(), s, 4);
-}
-
-/// The part's material as field data (docs/materials.md): MetallicFactor, RoughnessFactor,
-/// EmissiveFactor (times KHR_materials_emissive_strength), AlphaMode, AlphaCutoff,
-/// DoubleSided, Unlit; the textures' images (BaseColor, MetallicRoughness, Normal,
-/// Occlusion, Emissive) where they decoded and use the base colour's texture coordinates;
-/// point data TCoords: the base colour texture's TEXCOORD_n with its KHR_texture_transform
-/// applied (VTK draws all of a part's textures with one set of coordinates).
-void AddMaterial(vtkPolyData* poly, const morphnode::GltfScene& scene, const morphnode::GltfPart& part,
-  const std::string& fileName)
-{
-  if (part.Material < 0 || static_cast<size_t>(part.Material) >= scene.Materials.size())
-  {
-    return;
-  }
-  const morphnode::GltfMaterial& m = scene.Materials[static_cast<size_t>(part.Material)];
-  vtkFieldData* fd = poly->GetFieldData();
-  // Where the material came from: vtkMorphGltfWriter writes the file's material (and its
-  // images) back from these.
-  const double index = part.Material;
-  AddDoubles(fd, "MaterialIndex", &index, 1);
-  AddString(fd, "MaterialSource", fileName);
-  AddDoubles(fd, "MetallicFactor", &m.MetallicFactor, 1);
-  AddDoubles(fd, "RoughnessFactor", &m.RoughnessFactor, 1);
-  const double emissive[3] = { m.EmissiveFactor[0] * m.EmissiveStrength, m.EmissiveFactor[1] * m.EmissiveStrength,
-    m.EmissiveFactor[2] * m.EmissiveStrength };
-  AddDoubles(fd, "EmissiveFactor", emissive, 3);
-  AddString(fd, "AlphaMode", morphnode::GltfAlphaModeName(m.AlphaMode));
-  AddDoubles(fd, "AlphaCutoff", &m.AlphaCutoff, 1);
-  const double doubleSided = m.DoubleSided ? 1 : 0, unlit = m.Unlit ? 1 : 0;
-  AddDoubles(fd, "DoubleSided", &doubleSided, 1);
-  AddDoubles(fd, "Unlit", &unlit, 1);
-  // The texture coordinates: those of the base colour texture, else of the first texture.
-  const morphnode::GltfTextureRef* refs[5] = { &m.BaseColorTexture, &m.MetallicRoughnessTexture, &m.NormalTexture,
-    &m.OcclusionTexture, &m.EmissiveTexture };
-  const char* names[5] = { "BaseColor", "MetallicRoughness", "Normal", "Occlusion", "Emissive" };
-  const morphnode::GltfTextureRef* uv = nullptr;
-  for (const auto* ref : refs)
-  {
-    if (ref->IsSet() && !uv)
-    {
-      uv = ref;
-    }
-  }
-  if (!uv)
-  {
-    return;
-  }
-  const std::vector<float>& tc = uv->TexCoord == 0 ? part.TexCoords0 : part.TexCoords1;
-  if (tc.size() != 2 * part.GetNumberOfPoints())
-  {
-    return; // the primitive lacks the set: drawn without textures
-  }
-  const std::array<double, 9> t = uv->UvMatrix();
-  vtkNew<vtkFloatArray> tcoords;
-  tcoords->SetName("TCoords");
-  tcoords->SetNumberOfComponents(2);
-  tcoords->SetNumberOfTuples(static_cast<vtkIdType>(part.GetNumberOfPoints()));
-  for (size_t i = 0; i < part.GetNumberOfPoints(); ++i)
-  {
-    const double u = tc[2 * i], v = tc[2 * i + 1];
-    tcoords->SetTypedComponent(static_cast<vtkIdType>(i), 0, static_cast<float>(t[0] * u + t[1] * v + t[2]));
-    tcoords->SetTypedComponent(static_cast<vtkIdType>(i), 1, static_cast<float>(t[3] * u + t[4] * v + t[5]));
-  }
-  poly->GetPointData()->SetTCoords(tcoords);
-  for (int k = 0; k < 5; ++k)
-  {
-    const auto* ref = refs[k];
-    const bool sameUv = ref->TexCoord == uv->TexCoord && ref->UvMatrix() == uv->UvMatrix();
-    if (ref->IsSet() && sameUv && static_cast<size_t>(ref->Image) < scene.Images.size())
-    {
-      AddImage(fd, names[k], scene.Images[static_cast<size_t>(ref->Image)], ref->Sampler);
-      if (k == 2)
-      {
-        AddDoubles(fd, "NormalScale", &ref->Scale, 1);
-      }
-      if (k == 3)
-      {
-        AddDoubles(fd, "OcclusionStrength", &ref->Scale, 1);
-      }
-    }
-  }
-}
-
 /// The node tree of the scene as a data assembly, each part's index on its node.
 vtkSmartPointer<vtkDataAssembly> MakeAssembly(const morphnode::GltfScene& scene, const std::string& fileName)
 {
@@ -382,7 +218,7 @@ vtkSmartPointer<vtkDataAssembly> MakeAssembly(const morphnode::GltfScene& scene,
     stack.pop_back();
     const morphnode::GltfNode& gltfNode = scene.Nodes[static_cast<size_t>(node)];
     const int id = assembly->AddNode(
-      vtkDataAssembly::MakeValidNodeName(NodeNameOf(scene, node).c_str()).c_str(), parent);
+      vtkDataAssembly::MakeValidNodeName(morphnode::GltfNodeName(scene, node).c_str()).c_str(), parent);
     for (unsigned int p : partsOfNode[static_cast<size_t>(node)])
     {
       assembly->AddDataSetIndex(id, p);
@@ -395,92 +231,6 @@ vtkSmartPointer<vtkDataAssembly> MakeAssembly(const morphnode::GltfScene& scene,
   return assembly;
 }
 
-/// The part of one mesh and primitive, chosen by name or index (single-mesh mode).
-const morphnode::GltfPart& SelectPart(const morphnode::GltfScene& scene,
-  const std::vector<std::string>& meshNames, const std::string& fileName, const std::string& meshName,
-  int meshIndexWanted, int primitiveWanted)
-{
-  size_t meshIndex = static_cast<size_t>(std::max(meshIndexWanted, 0));
-  if (!meshName.empty())
-  {
-    auto it = std::find(meshNames.begin(), meshNames.end(), meshName);
-    if (it == meshNames.end())
-    {
-      std::ostringstream msg;
-      msg << "'" << fileName << "' has no mesh named '" << meshName << "'; meshes:";
-      for (const auto& n : meshNames)
-      {
-        msg << " " << n;
-      }
-      throw InputError(msg.str());
-    }
-    meshIndex = static_cast<size_t>(it - meshNames.begin());
-  }
-  if (meshIndex >= meshNames.size())
-  {
-    std::ostringstream msg;
-    msg << "mesh index " << meshIndex << " out of range: '" << fileName << "' has "
-        << meshNames.size() << " meshes";
-    throw InputError(msg.str());
-  }
-  const int primitive = std::max(primitiveWanted, 0);
-  if (static_cast<size_t>(primitive) >= scene.Meshes[meshIndex].NumberOfPrimitives)
-  {
-    std::ostringstream msg;
-    msg << "primitive " << primitive << " out of range: mesh '" << meshNames[meshIndex]
-        << "' has " << scene.Meshes[meshIndex].NumberOfPrimitives;
-    throw InputError(msg.str());
-  }
-  for (const morphnode::GltfPart& part : scene.Parts)
-  {
-    if (part.Mesh == static_cast<int>(meshIndex) && part.Primitive == primitive)
-    {
-      return part;
-    }
-  }
-  throw InputError("mesh '" + meshNames[meshIndex] + "' of '" + fileName +
-    "' is on no node of the scene");
-}
-
-/// Blends a part's weights into its points and normals (glTF: base + sum w_k delta_k;
-/// normals renormalized), as a glTF viewer shows the morphed mesh.
-void BlendWeights(morphnode::GltfPart& part, const std::vector<double>& weights)
-{
-  const size_t n = part.GetNumberOfPoints();
-  std::vector<double> p(part.Positions.begin(), part.Positions.end());
-  std::vector<double> normals(part.Normals.begin(), part.Normals.end());
-  for (size_t k = 0; k < part.Targets.size() && k < weights.size(); ++k)
-  {
-    const double w = weights[k];
-    if (w == 0.0)
-    {
-      continue;
-    }
-    const auto& target = part.Targets[k];
-    for (size_t i = 0; i < 3 * n; ++i)
-    {
-      p[i] += w * double(target.PositionDeltas[i]);
-    }
-    if (!normals.empty() && !target.NormalDeltas.empty())
-    {
-      for (size_t i = 0; i < 3 * n; ++i)
-      {
-        normals[i] += w * double(target.NormalDeltas[i]);
-      }
-    }
-  }
-  std::copy(p.begin(), p.end(), part.Positions.begin());
-  for (size_t i = 0; i < n && !normals.empty(); ++i)
-  {
-    double* v = &normals[3 * i];
-    const double length = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-    for (size_t c = 0; c < 3; ++c)
-    {
-      part.Normals[3 * i + c] = static_cast<float>(length > 0 ? v[c] / length : v[c]);
-    }
-  }
-}
-
 void AddColumn(vtkTable* table, const std::string& name, const double* values, int components)
 {
   vtkNew<vtkDoubleArray> column;
@@ -491,25 +241,62 @@ void AddColumn(vtkTable* table, const std::string& name, const double* values, i
   table->AddColumn(column);
 }
 
-/// The time steps advertised: key times, or a regular grid at `rate` over the keys' range.
-std::vector<double> TimeSteps(const morphnode::GltfAnimationPlayer& player, double rate)
+/// A posed part in the convention with the part's field data (vtkMorphPartData.h): its
+/// weights, and for a part of a whole scene its world frame and skin.
+vtkSmartPointer<vtkPolyData> PartOutput(const morphnode::GltfScene& scene, const morphnode::GltfPose& pose,
+  const morphnode::GltfPart& part, bool whole, double scale, int normalsMode)
 {
-  if (rate <= 0.0)
+  auto poly = PartToPolyData(part);
+  FinishMesh(poly, TargetNamesOf(part), scale, normalsMode);
+  vtkFieldData* fd = poly->GetFieldData();
+  partdata::SetPartFields(fd, partdata::FromGltfPart(scene, part, whole, scale));
+  partdata::SetMaterial(poly, scene, part, pose.Options.Source);
+  partdata::SetNumbers(fd, partdata::DefaultWeightsArray, part.DefaultWeights.data(),
+    static_cast<int>(part.DefaultWeights.size()));
+  if (pose.Options.ApplyWeights)
   {
-    return player.GetKeyTimes();
+    const std::vector<double>& w = pose.Sample.Nodes[static_cast<size_t>(part.Node)].Weights;
+    partdata::SetNumbers(fd, partdata::AppliedWeightsArray, w.data(),
+      static_cast<int>(std::min(w.size(), part.Targets.size())));
   }
-  std::vector<double> steps;
-  const double start = player.GetStartTime(), end = player.GetEndTime();
-  const double count = std::floor((end - start) * rate + 1e-9);
-  for (double i = 0; i <= count && steps.size() < 1000000; ++i)
+  if (whole && part.Skin >= 0)
   {
-    steps.push_back(start + i / rate);
+    vtkMorphSkinArrays::AddSkin(poly, scene, part, pose.Locals, scale);
   }
-  if (steps.empty() || steps.back() < end - 1e-12)
+  return poly;
+}
+
+/// Port 1: one row of weights by target name, the animated nodes' TRS (`<node>.translation`
+/// scaled, `.rotation`, `.scale`), field data Time and AnimationName.
+void FillWeights(vtkTable* table, const morphnode::GltfScene& scene, const morphnode::GltfPose& pose,
+  const std::vector<std::string>& names, const std::vector<double>& values, double scale)
+{
+  for (size_t k = 0; k < names.size(); ++k)
   {
-    steps.push_back(end);
+    AddColumn(table, names[k], &values[k], 1);
   }
-  return steps;
+  for (int n : pose.AnimatedNodes)
+  {
+    const morphnode::GltfNodeSample& node = pose.Sample.Nodes[static_cast<size_t>(n)];
+    const std::string name = morphnode::GltfNodeName(scene, n);
+    if (node.TranslationAnimated)
+    {
+      const double t[3] = { scale * node.Translation[0], scale * node.Translation[1], scale * node.Translation[2] };
+      AddColumn(table, name + ".translation", t, 3);
+    }
+    if (node.RotationAnimated)
+    {
+      AddColumn(table, name + ".rotation", node.Rotation.data(), 4);
+    }
+    if (node.ScaleAnimated)
+    {
+      AddColumn(table, name + ".scale", node.Scale.data(), 3);
+    }
+  }
+  partdata::SetNumbers(table->GetFieldData(), "Time", &pose.Time, 1);
+  const int animation = pose.Options.Animation;
+  partdata::SetString(table->GetFieldData(), "AnimationName",
+    animation >= 0 ? morphnode::GltfAnimationName(scene, static_cast<size_t>(animation)) : std::string());
 }
 } // namespace
 
@@ -598,9 +385,7 @@ int vtkMorphTargetReader::ResolveAnimation(const morphnode::GltfScene& scene) co
   {
     for (size_t a = 0; a < scene.Animations.size(); ++a)
     {
-      const std::string name = scene.Animations[a].Name.empty() ? "animation" + std::to_string(a)
-                                                                 : scene.Animations[a].Name;
-      if (name == this->AnimationName)
+      if (morphnode::GltfAnimationName(scene, a) == this->AnimationName)
       {
         return static_cast<int>(a);
       }
@@ -609,7 +394,7 @@ int vtkMorphTargetReader::ResolveAnimation(const morphnode::GltfScene& scene) co
     msg << "'" << this->FileName << "' has no animation named '" << this->AnimationName << "'; animations:";
     for (size_t a = 0; a < scene.Animations.size(); ++a)
     {
-      msg << " " << (scene.Animations[a].Name.empty() ? "animation" + std::to_string(a) : scene.Animations[a].Name);
+      msg << " " << morphnode::GltfAnimationName(scene, a);
     }
     if (scene.Animations.empty())
     {
@@ -678,14 +463,13 @@ int vtkMorphTargetReader::RequestInformation(
       const auto scene = this->LoadScene(whole && transformsApplied);
       for (size_t a = 0; a < scene->Animations.size(); ++a)
       {
-        this->AnimationNames.push_back(
-          scene->Animations[a].Name.empty() ? "animation" + std::to_string(a) : scene->Animations[a].Name);
+        this->AnimationNames.push_back(morphnode::GltfAnimationName(*scene, a));
       }
       const int chosen = this->ResolveAnimation(*scene);
       if (chosen >= 0)
       {
         const morphnode::GltfAnimationPlayer player(*scene, chosen, this->FileName);
-        steps = TimeSteps(player, this->FrameRate);
+        steps = morphnode::GltfTimeSteps(player, this->FrameRate);
         this->ChosenAnimation = chosen;
         this->AnimationRange[0] = player.GetStartTime();
         this->AnimationRange[1] = player.GetEndTime();
@@ -776,205 +560,9 @@ int vtkMorphTargetReader::RequestData(
     this->UpdateProgress(0.0);
     if (IsGltf(this->FileName))
     {
-      const bool whole = this->GetReadsWholeScene();
-      const bool chosen = this->AnimationIndex >= 0 || !this->AnimationName.empty();
-      // Animated transforms are applied here, to parts read in their nodes' frames.
-      const bool applyTransforms = chosen && whole && this->ApplyAnimation != ANIMATION_NOT_APPLIED;
-      const bool applyWeights = chosen && this->ApplyAnimation == ANIMATION_TRANSFORMS_AND_WEIGHTS;
-      const std::shared_ptr<const morphnode::GltfScene> scenePointer = this->LoadScene(whole && !applyTransforms);
-      const morphnode::GltfScene& scene = *scenePointer;
-      this->UpdateProgress(0.5);
-      for (size_t m = 0; m < scene.Meshes.size(); ++m)
-      {
-        this->MeshNames.push_back(MeshNameOf(scene, m));
-      }
-      if (scene.Parts.empty())
-      {
-        throw InputError("'" + this->FileName + "' has no mesh on a node of its scene");
-      }
-
-      // The scene at the time requested (the rest pose without animation).
-      const int animation = this->ResolveAnimation(scene);
-      morphnode::GltfSceneSample sample;
-      std::vector<int> animatedNodes;
-      double time = 0.0;
-      if (animation >= 0)
-      {
-        const morphnode::GltfAnimationPlayer player(scene, animation, this->FileName);
-        time = player.GetStartTime();
-        for (int port = 0; port < 2; ++port)
-        {
-          vtkInformation* outInfo = outputVector->GetInformationObject(port);
-          if (outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP()))
-          {
-            time = outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP());
-            break;
-          }
-        }
-        if (!std::isfinite(time))
-        {
-          throw InputError("the time requested is not a finite number");
-        }
-        sample = player.Sample(time);
-        animatedNodes = player.GetAnimatedNodes();
-      }
-      else
-      {
-        sample = morphnode::GltfRestPose(scene);
-      }
-      // Node transforms at the time sampled: skins pose their parts with them, and skinned
-      // parts carry them as the rest of their skeleton (vtkMorphSkinArrays.h).
-      std::vector<morphnode::GltfMatrix> worlds, locals;
-      for (size_t n = 0; n < scene.Nodes.size(); ++n)
-      {
-        const bool sampled = applyTransforms && n < sample.Nodes.size();
-        worlds.push_back(sampled ? sample.Nodes[n].World : scene.Nodes[n].World);
-        locals.push_back(sampled ? sample.Nodes[n].Local : scene.Nodes[n].Local);
-      }
-      auto prepare = [&](const morphnode::GltfPart& part) {
-        const morphnode::GltfNodeSample& node = sample.Nodes[static_cast<size_t>(part.Node)];
-        morphnode::GltfPart posed = part;
-        if (applyWeights)
-        {
-          BlendWeights(posed, node.Weights);
-        }
-        if (applyTransforms && posed.Skin >= 0)
-        {
-          morphnode::GltfSkinPart(posed, scene, worlds, this->FileName); // gltf/GltfSkin.h
-        }
-        else if (applyTransforms)
-        {
-          morphnode::GltfTransformPart(posed, node.World);
-          posed.World = node.World;
-        }
-        return posed;
-      };
-      auto addWeightFields = [&](vtkFieldData* fd, const morphnode::GltfPart& part) {
-        AddDoubles(fd, "DefaultWeights", part.DefaultWeights.data(), static_cast<int>(part.DefaultWeights.size()));
-        if (applyWeights)
-        {
-          const std::vector<double>& w = sample.Nodes[static_cast<size_t>(part.Node)].Weights;
-          AddDoubles(fd, "AppliedWeights", w.data(), static_cast<int>(std::min(w.size(), part.Targets.size())));
-        }
-      };
-
-      // Port 1: weights by target name, and the animated nodes' TRS.
-      std::vector<std::string> weightNames;
-      std::vector<double> weightValues;
-
-      if (whole)
-      {
-        auto* collection = vtkPartitionedDataSetCollection::SafeDownCast(output);
-        if (!collection)
-        {
-          throw InputError("internal: the output is not a vtkPartitionedDataSetCollection");
-        }
-        collection->Initialize();
-        collection->SetNumberOfPartitionedDataSets(static_cast<unsigned int>(scene.Parts.size()));
-        std::unordered_set<std::string> seen;
-        for (size_t p = 0; p < scene.Parts.size(); ++p)
-        {
-          const morphnode::GltfPart part = prepare(scene.Parts[p]);
-          const std::vector<std::string> names = TargetNamesOf(part);
-          auto poly = PartToPolyData(part);
-          FinishMesh(poly, names, this->Scale, this->NormalsMode);
-          AddPartFieldData(poly->GetFieldData(), scene, part, true, this->Scale);
-          AddMaterial(poly, scene, part, this->FileName);
-          addWeightFields(poly->GetFieldData(), part);
-          if (part.Skin >= 0)
-          {
-            vtkMorphSkinArrays::AddSkin(poly, scene, part, locals, this->Scale);
-          }
-          collection->SetPartition(static_cast<unsigned int>(p), 0, poly);
-          collection->GetMetaData(static_cast<unsigned int>(p))->Set(vtkCompositeDataSet::NAME(), part.Name.c_str());
-          this->PartNames.push_back(part.Name);
-          if (this->TargetNames.empty())
-          {
-            this->TargetNames.push_back(names[0]);
-            seen.insert(names[0]);
-          }
-          for (size_t k = 1; k < names.size(); ++k)
-          {
-            if (seen.insert(names[k]).second)
-            {
-              this->TargetNames.push_back(names[k]);
-            }
-          }
-          this->UpdateProgress(0.5 + 0.5 * double(p + 1) / double(scene.Parts.size()));
-        }
-        collection->SetDataAssembly(MakeAssembly(scene, this->FileName));
-        arrays::SetTargetNames(collection->GetFieldData(), this->TargetNames);
-        const morphnode::GltfNamedWeights named = morphnode::GltfWeightsByTargetName(scene, sample);
-        weightNames = named.Names;
-        weightValues = named.Values;
-      }
-      else
-      {
-        auto* poly = vtkPolyData::SafeDownCast(output);
-        if (!poly)
-        {
-          throw InputError("internal: the output is not a vtkPolyData");
-        }
-        const morphnode::GltfPart& selected = SelectPart(
-          scene, this->MeshNames, this->FileName, this->MeshName, this->MeshIndex, this->PrimitiveIndex);
-        const morphnode::GltfPart part = prepare(selected);
-        const std::vector<std::string> names = TargetNamesOf(part);
-        poly->ShallowCopy(PartToPolyData(part));
-        FinishMesh(poly, names, this->Scale, this->NormalsMode);
-        AddPartFieldData(poly->GetFieldData(), scene, part, false, this->Scale);
-        AddMaterial(poly, scene, part, this->FileName);
-        addWeightFields(poly->GetFieldData(), part);
-        this->TargetNames = names;
-        this->PartNames.push_back(part.Name);
-        const std::vector<double>& w = sample.Nodes[static_cast<size_t>(part.Node)].Weights;
-        for (size_t k = 0; k < part.Targets.size() && k < w.size(); ++k)
-        {
-          weightNames.push_back(part.Targets[k].Name);
-          weightValues.push_back(w[k]);
-        }
-      }
-
-      for (size_t k = 0; k < weightNames.size(); ++k)
-      {
-        AddColumn(weightsOutput, weightNames[k], &weightValues[k], 1);
-      }
-      for (int n : animatedNodes)
-      {
-        const morphnode::GltfNodeSample& node = sample.Nodes[static_cast<size_t>(n)];
-        const std::string name = NodeNameOf(scene, n);
-        if (node.TranslationAnimated)
-        {
-          const double t[3] = { this->Scale * node.Translation[0], this->Scale * node.Translation[1],
-            this->Scale * node.Translation[2] };
-          AddColumn(weightsOutput, name + ".translation", t, 3);
-        }
-        if (node.RotationAnimated)
-        {
-          AddColumn(weightsOutput, name + ".rotation", node.Rotation.data(), 4);
-        }
-        if (node.ScaleAnimated)
-        {
-          AddColumn(weightsOutput, name + ".scale", node.Scale.data(), 3);
-        }
-      }
-      AddDoubles(weightsOutput->GetFieldData(), "Time", &time, 1);
-      std::string animationName;
-      if (animation >= 0)
-      {
-        animationName = scene.Animations[static_cast<size_t>(animation)].Name;
-        if (animationName.empty())
-        {
-          animationName = "animation" + std::to_string(animation);
-        }
-      }
-      AddString(weightsOutput->GetFieldData(), "AnimationName", animationName);
-      if (animation >= 0)
-      {
-        output->GetInformation()->Set(vtkDataObject::DATA_TIME_STEP(), time);
-        weightsOutput->GetInformation()->Set(vtkDataObject::DATA_TIME_STEP(), time);
-      }
+      this->ReadGltf(output, weightsOutput, outputVector);
     }
-    else if (EndsWith(morphnode::text::ToLower(this->FileName), ".obj") ||
+    else if (morphnode::text::HasExtension(this->FileName, ".obj") ||
       std::filesystem::is_directory(this->FileName))
     {
       auto* poly = vtkPolyData::SafeDownCast(output);
@@ -1005,6 +593,102 @@ int vtkMorphTargetReader::RequestData(
     this->TargetNames.clear();
     this->PartNames.clear();
     return 0;
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkMorphTargetReader::ReadGltf(
+  vtkDataObject* output, vtkTable* weightsOutput, vtkInformationVector* outputVector)
+{
+  const bool whole = this->GetReadsWholeScene();
+  morphnode::GltfPoseOptions options;
+  options.Source = this->FileName;
+  const bool chosen = this->AnimationIndex >= 0 || !this->AnimationName.empty();
+  // Animated transforms are applied to parts read in their nodes' frames.
+  options.ApplyTransforms = chosen && whole && this->ApplyAnimation != ANIMATION_NOT_APPLIED;
+  options.ApplyWeights = chosen && this->ApplyAnimation == ANIMATION_TRANSFORMS_AND_WEIGHTS;
+  const auto scenePointer = this->LoadScene(whole && !options.ApplyTransforms);
+  const morphnode::GltfScene& scene = *scenePointer;
+  this->UpdateProgress(0.5);
+  for (size_t m = 0; m < scene.Meshes.size(); ++m)
+  {
+    this->MeshNames.push_back(morphnode::GltfMeshName(scene, m));
+  }
+  if (scene.Parts.empty())
+  {
+    throw InputError("'" + this->FileName + "' has no mesh on a node of its scene");
+  }
+  options.Animation = this->ResolveAnimation(scene);
+  for (int port = 0; port < 2 && !options.Time; ++port)
+  {
+    vtkInformation* outInfo = outputVector->GetInformationObject(port);
+    if (outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP()))
+    {
+      options.Time = outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP());
+    }
+  }
+  const morphnode::GltfPose pose = morphnode::PoseGltfScene(scene, options);
+
+  std::vector<std::string> weightNames;
+  std::vector<double> weightValues;
+  if (whole)
+  {
+    auto* collection = vtkPartitionedDataSetCollection::SafeDownCast(output);
+    if (!collection)
+    {
+      throw InputError("internal: the output is not a vtkPartitionedDataSetCollection");
+    }
+    collection->Initialize();
+    collection->SetNumberOfPartitionedDataSets(static_cast<unsigned int>(scene.Parts.size()));
+    for (size_t p = 0; p < scene.Parts.size(); ++p)
+    {
+      const morphnode::GltfPart part = morphnode::PoseGltfPart(scene, pose, scene.Parts[p]);
+      collection->SetPartition(static_cast<unsigned int>(p), 0,
+        PartOutput(scene, pose, part, true, this->Scale, this->NormalsMode));
+      collection->GetMetaData(static_cast<unsigned int>(p))->Set(vtkCompositeDataSet::NAME(), part.Name.c_str());
+      this->PartNames.push_back(part.Name);
+      this->UpdateProgress(0.5 + 0.5 * double(p + 1) / double(scene.Parts.size()));
+    }
+    // The neutral, then the parts' targets (a target named like the neutral is the neutral).
+    const std::string neutral = morphnode::DefaultTargetNames(1)[0];
+    this->TargetNames = { neutral };
+    for (const std::string& name : morphnode::GltfTargetNames(scene))
+    {
+      if (name != neutral)
+      {
+        this->TargetNames.push_back(name);
+      }
+    }
+    collection->SetDataAssembly(MakeAssembly(scene, this->FileName));
+    arrays::SetTargetNames(collection->GetFieldData(), this->TargetNames);
+    const morphnode::GltfNamedWeights named = morphnode::GltfWeightsByTargetName(scene, pose.Sample);
+    weightNames = named.Names;
+    weightValues = named.Values;
+  }
+  else
+  {
+    auto* poly = vtkPolyData::SafeDownCast(output);
+    if (!poly)
+    {
+      throw InputError("internal: the output is not a vtkPolyData");
+    }
+    const morphnode::GltfPart part = morphnode::PoseGltfPart(scene, pose,
+      morphnode::FindGltfPart(scene, this->MeshName, this->MeshIndex, this->PrimitiveIndex, this->FileName));
+    poly->ShallowCopy(PartOutput(scene, pose, part, false, this->Scale, this->NormalsMode));
+    this->TargetNames = TargetNamesOf(part);
+    this->PartNames.push_back(part.Name);
+    const std::vector<double>& w = pose.Sample.Nodes[static_cast<size_t>(part.Node)].Weights;
+    for (size_t k = 0; k < part.Targets.size() && k < w.size(); ++k)
+    {
+      weightNames.push_back(part.Targets[k].Name);
+      weightValues.push_back(w[k]);
+    }
+  }
+  FillWeights(weightsOutput, scene, pose, weightNames, weightValues, this->Scale);
+  if (options.Animation >= 0)
+  {
+    output->GetInformation()->Set(vtkDataObject::DATA_TIME_STEP(), pose.Time);
+    weightsOutput->GetInformation()->Set(vtkDataObject::DATA_TIME_STEP(), pose.Time);
   }
 }
 

@@ -269,6 +269,8 @@ private:
   void operator=(const vtkMorphTargetReader&) = delete;
 
   void ReadObjSet(vtkPolyData* output);
+  /// The glTF file into the outputs at the time `outputVector` asks for.
+  void ReadGltf(vtkDataObject* output, vtkTable* weights, vtkInformationVector* outputVector);
   struct SceneCache;
   /// The glTF scene read with these transform options; kept while the file and the
   /// reader's properties are unchanged, so that a new time step reads nothing again.

@@ -6,8 +6,8 @@
 #define MorphNodeMergeParts_h
 
 #include "vtkCellArray.h"
-#include "vtkCompositeDataIterator.h"
 #include "vtkCompositeDataSet.h"
+#include "vtkCompositeDataSetRange.h"
 #include "vtkFieldData.h"
 #include "vtkFloatArray.h"
 #include "vtkPointData.h"
@@ -31,11 +31,9 @@ inline std::vector<vtkPolyData*> PolyDataLeaves(vtkDataObject* data)
   {
     return leaves;
   }
-  vtkSmartPointer<vtkCompositeDataIterator> it;
-  it.TakeReference(composite->NewIterator());
-  for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem())
+  for (vtkDataObject* leaf : vtk::Range(composite, vtk::CompositeDataSetOptions::SkipEmptyNodes))
   {
-    leaves.push_back(vtkPolyData::SafeDownCast(it->GetCurrentDataObject()));
+    leaves.push_back(vtkPolyData::SafeDownCast(leaf));
   }
   return leaves;
 }

@@ -12,6 +12,7 @@
 #include "MorphNodeTestUtilities.h"
 
 #include "vtkMorphNodeFilter.h"
+#include "vtkMorphPartData.h"
 #include "vtkMorphSkinFilter.h"
 #include "vtkMorphTargetReader.h"
 
@@ -51,9 +52,8 @@ void PaintIrises(vtkDataObject* head)
 {
   for (vtkPolyData* part : appkit::HeadParts(head))
   {
-    auto* name = vtkStringArray::SafeDownCast(part->GetFieldData()->GetAbstractArray("PartName"));
-    if (!name || name->GetValue(0).rfind("Eye", 0) != 0 ||
-      name->GetValue(0).find("lash") != std::string::npos || name->GetValue(0).find("brow") != std::string::npos)
+    const std::string name = vtkMorphPartData::GetPartName(part->GetFieldData());
+    if (name.rfind("Eye", 0) != 0 || name.find("lash") != std::string::npos || name.find("brow") != std::string::npos)
     {
       continue;
     }

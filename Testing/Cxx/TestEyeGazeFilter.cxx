@@ -8,12 +8,12 @@
 #include "vtkBehaviorTimeSource.h"
 #include "vtkEyeGazeFilter.h"
 #include "vtkMorphTargetReader.h"
+#include "vtkMorphPartData.h"
 
 #include "MorphNodeTestUtilities.h"
 
 #include "gaze/EyeRotation.h"
 
-#include "vtkCompositeDataIterator.h"
 #include "vtkCompositeDataSet.h"
 #include "vtkDataArray.h"
 #include "vtkDoubleArray.h"
@@ -55,14 +55,15 @@ double AngleDegrees(const Vec3& a, const Vec3& b)
 
 std::string StringOf(vtkDataObject* leaf, const char* name)
 {
-  auto* a = vtkStringArray::SafeDownCast(leaf->GetFieldData()->GetAbstractArray(name));
-  return a && a->GetNumberOfValues() ? a->GetValue(0) : "";
+  return vtkMorphPartData::GetString(leaf->GetFieldData(), name);
 }
 
 Vec3 OriginOf(vtkDataObject* leaf)
 {
-  vtkDataArray* a = leaf->GetFieldData()->GetArray("NodeOrigin");
-  return a ? Vec3{ a->GetComponent(0, 0), a->GetComponent(1, 0), a->GetComponent(2, 0) } : Vec3{ 0, 0, 0 };
+  Vec3 origin{ 0, 0, 0 };
+  std::array<double, 9> axes{};
+  vtkMorphPartData::GetNodeFrame(leaf->GetFieldData(), origin, axes);
+  return origin;
 }
 
 /// The leaves of a composite by part name.
@@ -74,14 +75,9 @@ std::map<std::string, vtkPolyData*> Leaves(vtkDataObject* data)
   {
     return leaves;
   }
-  vtkSmartPointer<vtkCompositeDataIterator> it;
-  it.TakeReference(composite->NewIterator());
-  for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem())
+  for (vtkPolyData* pd : vtkCompositeDataSet::GetDataSets<vtkPolyData>(composite))
   {
-    if (auto* pd = vtkPolyData::SafeDownCast(it->GetCurrentDataObject()))
-    {
-      leaves[StringOf(pd, "PartName")] = pd;
-    }
+    leaves[StringOf(pd, vtkMorphPartData::PartNameArray)] = pd;
   }
   return leaves;
 }
@@ -110,12 +106,12 @@ Vec3 Direction(vtkPolyData* pd, const Vec3& origin, Pick pick)
 /// (ICT-FaceKit).
 bool IsPupil(vtkPolyData* pd, vtkIdType i)
 {
-  if (StringOf(pd, "PartName").find("Pupil") != std::string::npos)
+  if (StringOf(pd, vtkMorphPartData::PartNameArray).find("Pupil") != std::string::npos)
   {
     return true;
   }
   vtkDataArray* colors = pd->GetPointData()->GetArray("COLOR_0");
-  return colors && StringOf(pd, "PartName").find("Iris") != std::string::npos &&
+  return colors && StringOf(pd, vtkMorphPartData::PartNameArray).find("Iris") != std::string::npos &&
     colors->GetComponent(i, 0) < 0.2 * colors->GetDataTypeMax();
 }
 
@@ -402,8 +398,8 @@ TEST(EyeGazeFilter, OneMeshAndMultiblockInput)
     vtkNew<vtkPolyData> copy;
     copy->ShallowCopy(leaf);
     vtkNew<vtkFieldData> field;
-    field->AddArray(leaf->GetFieldData()->GetArray("NodeOrigin"));
-    field->AddArray(leaf->GetFieldData()->GetArray("NodeAxes"));
+    field->AddArray(leaf->GetFieldData()->GetArray(vtkMorphPartData::NodeOriginArray));
+    field->AddArray(leaf->GetFieldData()->GetArray(vtkMorphPartData::NodeAxesArray));
     copy->SetFieldData(field);
     blocks->SetBlock(b, copy);
     blocks->GetMetaData(b++)->Set(vtkCompositeDataSet::NAME(), name.c_str());
@@ -504,14 +500,14 @@ TEST(EyeGazeFilter, PropertiesAndBadInput)
     for (unsigned int d = 0; d < bad->GetNumberOfPartitionedDataSets(); ++d)
     {
       vtkPolyData* leaf = vtkPolyData::SafeDownCast(bad->GetPartitionedDataSet(d)->GetPartition(0));
-      if (StringOf(leaf, "NodeName") == "EyeRight")
+      if (StringOf(leaf, vtkMorphPartData::NodeNameArray) == "EyeRight")
       {
         vtkNew<vtkPolyData> copy;
         copy->ShallowCopy(leaf);
         vtkNew<vtkFieldData> field;
         field->DeepCopy(leaf->GetFieldData());
         vtkNew<vtkDoubleArray> array;
-        array->SetName(std::string(fault) == "origin" ? "NodeOrigin" : "NodeAxes");
+        array->SetName(std::string(fault) == "origin" ? vtkMorphPartData::NodeOriginArray : vtkMorphPartData::NodeAxesArray);
         array->SetNumberOfValues(3);
         array->SetValue(0, std::string(fault) == "origin" ? std::nan("") : 1.0);
         array->SetValue(1, 0.0);

@@ -4,13 +4,13 @@
 // PNG; negative controls (eyes straight, eyes looking the other ways) must fail the same
 // comparison, so the threshold sees the eyes. Run under `xvfb-run -a`.
 #include "vtkEyeGazeFilter.h"
+#include "vtkMorphPartData.h"
 #include "vtkMorphTargetReader.h"
 
 #include "MorphNodeTestUtilities.h"
 
 #include "vtkActor.h"
 #include "vtkCamera.h"
-#include "vtkCompositeDataIterator.h"
 #include "vtkCompositeDataSet.h"
 #include "vtkDataArray.h"
 #include "vtkFieldData.h"
@@ -27,6 +27,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <iostream>
 
 namespace
@@ -44,24 +45,15 @@ void AddHead(vtkRenderer* renderer, vtkDataObject* head)
 {
   auto* composite = vtkCompositeDataSet::SafeDownCast(head);
   ASSERT_TRUE(composite);
-  vtkSmartPointer<vtkCompositeDataIterator> it;
-  it.TakeReference(composite->NewIterator());
-  for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem())
+  for (vtkPolyData* pd : vtkCompositeDataSet::GetDataSets<vtkPolyData>(composite))
   {
-    auto* pd = vtkPolyData::SafeDownCast(it->GetCurrentDataObject());
-    if (!pd || pd->GetNumberOfPoints() == 0)
+    if (pd->GetNumberOfPoints() == 0)
     {
       continue;
     }
     // The glTF colour: BaseColor times COLOR_0 where the part has one.
-    double base[3] = { 1.0, 1.0, 1.0 };
-    if (vtkDataArray* color = pd->GetFieldData()->GetArray("BaseColor"))
-    {
-      for (int c = 0; c < 3; ++c)
-      {
-        base[c] = color->GetComponent(c, 0);
-      }
-    }
+    std::array<double, 4> base{ { 1.0, 1.0, 1.0, 1.0 } };
+    vtkMorphPartData::GetNumbers(pd->GetFieldData(), vtkMorphPartData::BaseColorArray, base.data(), 4);
     vtkNew<vtkPolyDataMapper> mapper;
     vtkNew<vtkActor> actor;
     actor->SetMapper(mapper);
@@ -91,7 +83,7 @@ void AddHead(vtkRenderer* renderer, vtkDataObject* head)
     {
       mapper->SetInputData(pd);
       mapper->ScalarVisibilityOff();
-      actor->GetProperty()->SetColor(base);
+      actor->GetProperty()->SetColor(base.data());
     }
     actor->GetProperty()->SetSpecular(0.3);
     actor->GetProperty()->SetSpecularPower(30);

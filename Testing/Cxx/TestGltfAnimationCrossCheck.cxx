@@ -17,9 +17,9 @@
 #include "Core/gltf/GltfAnimatedTestFiles.h"
 #include "MorphNodeTestUtilities.h"
 #include "vtkMorphNodeFilter.h"
+#include "vtkMorphPartData.h"
 #include "vtkMorphTargetReader.h"
 
-#include "vtkCompositeDataIterator.h"
 #include "vtkCompositeDataSet.h"
 #include "vtkDataArray.h"
 #include "vtkExecutive.h"
@@ -75,14 +75,9 @@ std::vector<vtkPolyData*> Leaves(vtkDataObject* data)
   {
     return leaves;
   }
-  vtkSmartPointer<vtkCompositeDataIterator> it;
-  it.TakeReference(composite->NewIterator());
-  for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem())
+  for (vtkPolyData* poly : vtkCompositeDataSet::GetDataSets<vtkPolyData>(composite))
   {
-    if (auto* poly = vtkPolyData::SafeDownCast(it->GetCurrentDataObject()))
-    {
-      leaves.push_back(poly);
-    }
+    leaves.push_back(poly);
   }
   return leaves;
 }
@@ -175,11 +170,11 @@ TEST(GltfAnimationReader, DefaultWeightsWithoutAnimation)
   reader->Update();
   const auto parts = Leaves(reader->GetOutputDataObject(0));
   ASSERT_EQ(parts.size(), 3u);
-  auto* defaults = vtkDataArray::SafeDownCast(parts[0]->GetFieldData()->GetAbstractArray("DefaultWeights"));
+  auto* defaults = vtkDataArray::SafeDownCast(parts[0]->GetFieldData()->GetAbstractArray(vtkMorphPartData::DefaultWeightsArray));
   ASSERT_NE(defaults, nullptr);
   ASSERT_EQ(defaults->GetNumberOfTuples(), 3);
   EXPECT_DOUBLE_EQ(defaults->GetComponent(0, 0), 0.1);
-  EXPECT_EQ(parts[0]->GetFieldData()->GetAbstractArray("AppliedWeights"), nullptr);
+  EXPECT_EQ(parts[0]->GetFieldData()->GetAbstractArray(vtkMorphPartData::AppliedWeightsArray), nullptr);
   // The rest pose, as the reader always gave it: points not morphed, transforms applied.
   double p[3];
   parts[0]->GetPoint(0, p);
@@ -315,7 +310,7 @@ TEST(GltfAnimationCrossCheck, CubicSplineAgreesAtAnyTime)
     ASSERT_EQ(theirs.size(), 3u);
     ASSERT_EQ(mine.size(), 3u);
     EXPECT_LT(MaxDifference(mine[0], theirs[0]), 1e-6) << "t " << t;
-    auto* applied = vtkDataArray::SafeDownCast(mine[0]->GetFieldData()->GetAbstractArray("AppliedWeights"));
+    auto* applied = vtkDataArray::SafeDownCast(mine[0]->GetFieldData()->GetAbstractArray(vtkMorphPartData::AppliedWeightsArray));
     ASSERT_NE(applied, nullptr);
     const std::vector<double> vtkWeights = FaceWeightsFromPoints(theirs[0], headOrigin);
     for (int k = 0; k < 3; ++k)
@@ -325,7 +320,7 @@ TEST(GltfAnimationCrossCheck, CubicSplineAgreesAtAnyTime)
   }
   // Between keys the spline is not the straight line: the tangents count.
   const auto mine = ours.At(0.8);
-  auto* applied = vtkDataArray::SafeDownCast(mine[0]->GetFieldData()->GetAbstractArray("AppliedWeights"));
+  auto* applied = vtkDataArray::SafeDownCast(mine[0]->GetFieldData()->GetAbstractArray(vtkMorphPartData::AppliedWeightsArray));
   EXPECT_GT(std::abs(applied->GetComponent(1, 0) - (0.5 + 0.4 * 0.5)), 0.01);
 }
 
@@ -348,7 +343,7 @@ TEST(GltfAnimationCrossCheck, StepAgreesBetweenTheKeys)
   const auto mine = ours.At(0.5);
   const std::vector<double> vtkWeights = FaceWeightsFromPoints(theirs[0], headOrigin);
   EXPECT_NEAR(vtkWeights[1], AnimatedFaceWeights()[1], 1e-6) << "VTK: key 0";
-  auto* applied = vtkDataArray::SafeDownCast(mine[0]->GetFieldData()->GetAbstractArray("AppliedWeights"));
+  auto* applied = vtkDataArray::SafeDownCast(mine[0]->GetFieldData()->GetAbstractArray(vtkMorphPartData::AppliedWeightsArray));
   ASSERT_NE(applied, nullptr);
   EXPECT_NEAR(applied->GetComponent(1, 0), AnimatedFaceWeights()[4], 1e-6) << "spec: key 1";
 }
@@ -382,7 +377,7 @@ TEST(GltfAnimationCrossCheck, NodeTransformsAgreeAtAnyTime)
   }
   // The part's frame follows: the head's origin is its animated translation.
   const auto mine = ours.At(0.9);
-  auto* origin = vtkDataArray::SafeDownCast(mine[0]->GetFieldData()->GetAbstractArray("NodeOrigin"));
+  auto* origin = vtkDataArray::SafeDownCast(mine[0]->GetFieldData()->GetAbstractArray(vtkMorphPartData::NodeOriginArray));
   ASSERT_NE(origin, nullptr);
   const double u = 0.4 / 0.75;
   EXPECT_NEAR(origin->GetComponent(0, 1), 1.2 + u * (0.9 - 1.2), 1e-6);

@@ -14,6 +14,7 @@
 #include "MorphNodeTestUtilities.h"
 
 #include "vtkMorphNodeFilter.h"
+#include "vtkMorphPartData.h"
 #include "vtkMorphTargetReader.h"
 
 #include "vtkAbstractArray.h"
@@ -97,8 +98,7 @@ std::unique_ptr<Scene> RenderHead(
     bool found = false;
     for (vtkPolyData* part : appkit::HeadParts(s->Reader->GetOutputDataObject(0)))
     {
-      auto* partName = part->GetFieldData()->GetAbstractArray("PartName");
-      if (partName && partName->GetVariantValue(0).ToString().find("Teeth") != std::string::npos)
+      if (vtkMorphPartData::GetPartName(part->GetFieldData()).find("Teeth") != std::string::npos)
       {
         part->GetBounds(teeth);
         found = true;

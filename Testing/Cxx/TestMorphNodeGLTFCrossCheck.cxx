@@ -4,13 +4,14 @@
 // as vtkMorphNodeFilter in Relative mode for the same weights, on the ICT face and on the
 // whole ICT head (11 parts on their nodes, world space, read by vtkMorphTargetReader).
 #include "vtkMorphNodeFilter.h"
+#include "vtkMorphPartData.h"
 #include "vtkMorphTargetReader.h"
 
 #include "MorphNodeGltfReaderParts.h"
 #include "MorphNodeTestUtilities.h"
 
-#include "vtkCompositeDataIterator.h"
 #include "vtkCompositeDataSet.h"
+#include "vtkCompositeDataSetRange.h"
 #include "vtkGLTFReader.h"
 #include "vtkMultiBlockDataSet.h"
 #include "vtkPointData.h"
@@ -83,16 +84,8 @@ vtkSmartPointer<vtkPolyData> FirstMesh(const std::string& file, bool deform)
   reader->SetFileName(file.c_str());
   reader->SetApplyDeformationsToGeometry(deform);
   reader->Update();
-  vtkSmartPointer<vtkCompositeDataIterator> it;
-  it.TakeReference(reader->GetOutput()->NewIterator());
-  for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem())
-  {
-    if (auto* pd = vtkPolyData::SafeDownCast(it->GetCurrentDataObject()))
-    {
-      return pd;
-    }
-  }
-  return nullptr;
+  const auto polys = vtkCompositeDataSet::GetDataSets<vtkPolyData>(reader->GetOutput());
+  return polys.empty() ? nullptr : polys.front();
 }
 
 /// Every leaf of VTK's output, in its order (the scene's nodes depth first, primitives in
@@ -210,11 +203,9 @@ void CrossCheckHead(const std::map<std::string, double>& weights, const std::str
   std::vector<vtkPolyData*> ours, rest;
   for (const auto& [data, list] : { std::pair{ head, &ours }, std::pair{ neutral, &rest } })
   {
-    vtkSmartPointer<vtkCompositeDataIterator> it;
-    it.TakeReference(data->NewIterator());
-    for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem())
+    for (vtkDataObject* leaf : vtk::Range(data, vtk::CompositeDataSetOptions::SkipEmptyNodes))
     {
-      list->push_back(vtkPolyData::SafeDownCast(it->GetCurrentDataObject()));
+      list->push_back(vtkPolyData::SafeDownCast(leaf));
     }
   }
   ASSERT_EQ(ours.size(), reference.size());
@@ -251,8 +242,7 @@ void CrossCheckHead(const std::map<std::string, double>& weights, const std::str
         moved = std::max(moved, std::abs(b[c] - n[c]));
       }
     }
-    vtkStringArray* partName = vtkStringArray::SafeDownCast(rest[p]->GetFieldData()->GetAbstractArray("PartName"));
-    EXPECT_LE(worst, 1e-6 * size) << (partName ? partName->GetValue(0) : std::to_string(p))
+    EXPECT_LE(worst, 1e-6 * size) << vtkMorphPartData::GetPartName(rest[p]->GetFieldData(), std::to_string(p))
                                   << ": largest coordinate difference to VTK's glTF morphing, world space";
     largest = std::max(largest, worst);
   }

@@ -7,7 +7,7 @@
 
 #include "vtkActor.h"
 #include "vtkCamera.h"
-#include "vtkCompositeDataIterator.h"
+#include "vtkCompositeDataSetRange.h"
 #include "vtkGLTFReader.h"
 #include "vtkMultiBlockDataSet.h"
 #include "vtkPolyData.h"
@@ -33,10 +33,12 @@ vtkSmartPointer<vtkPolyData> ReadTargets(const std::string& file)
   reader->SetFileName(file.c_str());
   reader->ApplyDeformationsToGeometryOff();
   reader->Update();
-  vtkSmartPointer<vtkCompositeDataIterator> it;
-  it.TakeReference(reader->GetOutput()->NewIterator());
-  it->InitTraversal();
-  return vtkPolyData::SafeDownCast(it->GetCurrentDataObject());
+  vtkCompositeDataSet* blocks = reader->GetOutput();
+  for (vtkDataObject* leaf : vtk::Range(blocks, vtk::CompositeDataSetOptions::SkipEmptyNodes))
+  {
+    return vtkPolyData::SafeDownCast(leaf); // the first leaf
+  }
+  return nullptr;
 }
 
 /// The face morphed from the neutral to an expression in three viewports (weights 0, 0.5,

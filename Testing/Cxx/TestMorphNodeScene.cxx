@@ -4,6 +4,7 @@
 // once for all parts exactly as for one mesh holding them all, distance arrays per part,
 // other composite types, bad parts.
 #include "vtkMorphNodeFilter.h"
+#include "vtkMorphPartData.h"
 #include "vtkMorphTargetReader.h"
 
 #include "MorphNodeMergeParts.h"
@@ -253,7 +254,7 @@ TEST(MorphNodeScene, WeightsByNameReachEveryPartThatHasTheTarget)
     EXPECT_EQ(Values(leaf->GetFieldData(), "EffectiveWeights"), (std::vector<double>{ 0, 1, 0 }));
     EXPECT_EQ(leaf->GetPointData()->GetArray("target0_position"), nullptr);
     EXPECT_NE(leaf->GetPointData()->GetNormals(), nullptr);
-    EXPECT_EQ(morphnode_test::FieldStrings(leaf->GetFieldData(), "PartName").size(), 1u) << "the part's own field data passes";
+    EXPECT_EQ(morphnode_test::FieldStrings(leaf->GetFieldData(), vtkMorphPartData::PartNameArray).size(), 1u) << "the part's own field data passes";
   }
   // An unknown name is still an error.
   morph->SetWeightByName("Blink", 0.3);

@@ -8,13 +8,13 @@
 // an empty output; the skinned quad re-skinned as hand-computed; PrintSelf.
 #include "vtkEyeGazeFilter.h"
 #include "vtkMorphNodeFilter.h"
+#include "vtkMorphPartData.h"
 #include "vtkMorphSkinFilter.h"
 #include "vtkMorphTargetReader.h"
 
 #include "Core/gltf/GltfSkinnedTestFiles.h"
 #include "gltf/GltfSkin.h"
 
-#include "vtkCompositeDataIterator.h"
 #include "vtkCompositeDataSet.h"
 #include "vtkDataArray.h"
 #include "vtkExecutive.h"
@@ -54,15 +54,9 @@ std::map<std::string, vtkSmartPointer<vtkPolyData>> Parts(vtkDataObject* data)
   {
     return parts;
   }
-  vtkSmartPointer<vtkCompositeDataIterator> it;
-  it.TakeReference(composite->NewIterator());
-  for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem())
+  for (vtkPolyData* poly : vtkCompositeDataSet::GetDataSets<vtkPolyData>(composite))
   {
-    if (auto* poly = vtkPolyData::SafeDownCast(it->GetCurrentDataObject()))
-    {
-      auto* name = vtkStringArray::SafeDownCast(poly->GetFieldData()->GetAbstractArray("PartName"));
-      parts[name && name->GetNumberOfValues() ? name->GetValue(0) : std::to_string(parts.size())] = poly;
-    }
+    parts[vtkMorphPartData::GetPartName(poly->GetFieldData(), std::to_string(parts.size()))] = poly;
   }
   return parts;
 }

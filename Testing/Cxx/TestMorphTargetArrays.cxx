@@ -8,7 +8,7 @@
 #include "base/Error.h"
 
 #include "vtkCellArray.h"
-#include "vtkCompositeDataIterator.h"
+#include "vtkCompositeDataSet.h"
 #include "vtkDataArrayRange.h"
 #include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
@@ -54,16 +54,8 @@ vtkSmartPointer<vtkPolyData> ReadWithVtkGLTFReader(const std::string& path)
   reader->SetFileName(path.c_str());
   reader->SetApplyDeformationsToGeometry(false);
   reader->Update();
-  vtkSmartPointer<vtkCompositeDataIterator> it;
-  it.TakeReference(reader->GetOutput()->NewIterator());
-  for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem())
-  {
-    if (auto* poly = vtkPolyData::SafeDownCast(it->GetCurrentDataObject()))
-    {
-      return poly;
-    }
-  }
-  return nullptr;
+  const auto polys = vtkCompositeDataSet::GetDataSets<vtkPolyData>(reader->GetOutput());
+  return polys.empty() ? nullptr : polys.front();
 }
 
 template <typename T>

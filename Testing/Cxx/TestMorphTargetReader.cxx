@@ -4,6 +4,7 @@
 // files and bad scenes.
 #include "vtkMorphTargetReader.h"
 #include "vtkMorphNodeFilter.h"
+#include "vtkMorphPartData.h"
 
 #include "MorphNodeTestScenes.h"
 #include "MorphNodeTestUtilities.h"
@@ -52,8 +53,7 @@ vtkPolyData* Part(vtkPartitionedDataSetCollection* c, unsigned int i)
 
 std::string FieldString(vtkDataObject* d, const char* name)
 {
-  auto* a = vtkStringArray::SafeDownCast(d->GetFieldData()->GetAbstractArray(name));
-  return a && a->GetNumberOfValues() == 1 ? a->GetValue(0) : std::string("<none>");
+  return vtkMorphPartData::GetString(d->GetFieldData(), name);
 }
 
 std::vector<std::string> Names(vtkDataObject* d)
@@ -69,13 +69,7 @@ std::vector<std::string> Names(vtkDataObject* d)
 
 std::vector<double> FieldDoubles(vtkDataObject* d, const char* name)
 {
-  std::vector<double> values;
-  vtkDataArray* a = d->GetFieldData()->GetArray(name);
-  for (vtkIdType i = 0; a && i < a->GetNumberOfValues(); ++i)
-  {
-    values.push_back(a->GetComponent(i / a->GetNumberOfComponents(), static_cast<int>(i % a->GetNumberOfComponents())));
-  }
-  return values;
+  return vtkMorphPartData::GetNumbers(d->GetFieldData(), name);
 }
 
 void ExpectPoint(vtkDataArray* array, vtkIdType i, const Vec3& expected, const std::string& what)
@@ -117,14 +111,14 @@ TEST(MorphTargetReader, WholeSceneWithNestedTransforms)
     ASSERT_NE(Part(head, i), nullptr) << i;
     EXPECT_STREQ(head->GetMetaData(i)->Get(vtkCompositeDataSet::NAME()), parts[i]);
     EXPECT_STREQ(reader->GetPartName(static_cast<int>(i)), parts[i]);
-    EXPECT_EQ(FieldString(Part(head, i), "PartName"), parts[i]);
+    EXPECT_EQ(FieldString(Part(head, i), vtkMorphPartData::PartNameArray), parts[i]);
     EXPECT_EQ(Part(head, i)->GetNumberOfPoints(), 4);
     EXPECT_EQ(Part(head, i)->GetNumberOfPolys(), 2);
   }
-  EXPECT_EQ(FieldString(Part(head, 1), "NodeName"), "Jaw");
-  EXPECT_EQ(FieldString(Part(head, 1), "MaterialName"), "Lips");
-  EXPECT_EQ(FieldDoubles(Part(head, 1), "BaseColor"), (std::vector<double>{ 0.7, 0.3, 0.3, 1 }));
-  EXPECT_EQ(FieldDoubles(Part(head, 3), "BaseColor"), (std::vector<double>{ 1, 1, 1, 1 })) << "default material";
+  EXPECT_EQ(FieldString(Part(head, 1), vtkMorphPartData::NodeNameArray), "Jaw");
+  EXPECT_EQ(FieldString(Part(head, 1), vtkMorphPartData::MaterialNameArray), "Lips");
+  EXPECT_EQ(FieldDoubles(Part(head, 1), vtkMorphPartData::BaseColorArray), (std::vector<double>{ 0.7, 0.3, 0.3, 1 }));
+  EXPECT_EQ(FieldDoubles(Part(head, 3), vtkMorphPartData::BaseColorArray), (std::vector<double>{ 1, 1, 1, 1 })) << "default material";
 
   // Points in world space through all three levels (matrix, TRS, matrix).
   for (vtkIdType i = 0; i < 4; ++i)
@@ -158,8 +152,8 @@ TEST(MorphTargetReader, WholeSceneWithNestedTransforms)
   EXPECT_EQ(colors->GetNumberOfComponents(), 4);
   EXPECT_EQ(colors->GetValue(4 * 2 + 3), 128) << "alpha 0.5";
   EXPECT_EQ(colors->GetValue(4 * 1 + 1), 255);
-  EXPECT_EQ(FieldDoubles(Part(head, 3), "NodeOrigin"), (std::vector<double>{ 12, 2, 2 }));
-  const std::vector<double> axes = FieldDoubles(Part(head, 0), "NodeAxes");
+  EXPECT_EQ(FieldDoubles(Part(head, 3), vtkMorphPartData::NodeOriginArray), (std::vector<double>{ 12, 2, 2 }));
+  const std::vector<double> axes = FieldDoubles(Part(head, 0), vtkMorphPartData::NodeAxesArray);
   const std::vector<double> turned{ 0, 1, 0, -1, 0, 0, 0, 0, 1 }; // x to y, y to -x; scale removed
   ASSERT_EQ(axes.size(), 9u);
   for (size_t i = 0; i < 9; ++i)
@@ -167,7 +161,7 @@ TEST(MorphTargetReader, WholeSceneWithNestedTransforms)
     EXPECT_NEAR(axes[i], turned[i], 1e-12) << i;
   }
   const Vec3 jawOrigin = JawMap({ 0, 0, 0 });
-  EXPECT_EQ(FieldDoubles(Part(head, 0), "NodeOrigin"), (std::vector<double>(jawOrigin.begin(), jawOrigin.end())));
+  EXPECT_EQ(FieldDoubles(Part(head, 0), vtkMorphPartData::NodeOriginArray), (std::vector<double>(jawOrigin.begin(), jawOrigin.end())));
 
   // The node tree, each part on its node.
   vtkDataAssembly* assembly = head->GetDataAssembly();
@@ -190,7 +184,7 @@ TEST(MorphTargetReader, WholeSceneWithNestedTransforms)
   head = ReadScene(reader, file);
   ASSERT_NE(head, nullptr);
   ExpectPoint(Part(head, 2)->GetPoints()->GetData(), 1, { 5, 2, 1 }, "Tooth scaled"); // ToothMap(1, 0, 0) / 2
-  EXPECT_EQ(FieldDoubles(Part(head, 3), "NodeOrigin"), (std::vector<double>{ 6, 1, 1 }));
+  EXPECT_EQ(FieldDoubles(Part(head, 3), vtkMorphPartData::NodeOriginArray), (std::vector<double>{ 6, 1, 1 }));
 }
 
 TEST(MorphTargetReader, OneMeshIsOnePolyDataInItsNodeFrame)
@@ -207,19 +201,19 @@ TEST(MorphTargetReader, OneMeshIsOnePolyDataInItsNodeFrame)
   ExpectPoint(teeth->GetPoints()->GetData(), 2, { 1, 1, 0 }, "in the node's frame");
   ExpectPoint(teeth->GetPointData()->GetArray("target0_position"), 0, { 0.3, 0, 0 }, "delta as in the file");
   EXPECT_EQ(Names(teeth), (std::vector<std::string>{ "Neutral", "Raise" }));
-  EXPECT_EQ(FieldString(teeth, "MaterialName"), "Enamel");
-  EXPECT_EQ(teeth->GetFieldData()->GetArray("NodeOrigin"), nullptr) << "no world data in the node's frame";
+  EXPECT_EQ(FieldString(teeth, vtkMorphPartData::MaterialNameArray), "Enamel");
+  EXPECT_EQ(teeth->GetFieldData()->GetArray(vtkMorphPartData::NodeOriginArray), nullptr) << "no world data in the node's frame";
 
   // Mesh 0's second primitive; then back to the whole scene.
   reader->SetMeshName(nullptr);
   reader->SetPrimitiveIndex(1);
   reader->Update();
   ASSERT_NE(reader->GetOutput(), nullptr);
-  EXPECT_EQ(FieldString(reader->GetOutput(), "PartName"), "Jaw/Lips");
+  EXPECT_EQ(FieldString(reader->GetOutput(), vtkMorphPartData::PartNameArray), "Jaw/Lips");
   reader->SetPrimitiveIndex(-1);
   reader->SetMeshIndex(2);
   reader->Update();
-  EXPECT_EQ(FieldString(reader->GetOutput(), "PartName"), "EyeLeft");
+  EXPECT_EQ(FieldString(reader->GetOutput(), vtkMorphPartData::PartNameArray), "EyeLeft");
   reader->SetMeshIndex(-1);
   reader->Update();
   EXPECT_NE(vtkPartitionedDataSetCollection::SafeDownCast(reader->GetOutputDataObject(0)), nullptr);
@@ -308,7 +302,7 @@ TEST(MorphTargetReader, IctHeadHasElevenPartsInMetres)
       bounds[2 * k + 1] = std::max(bounds[2 * k + 1], b[2 * k + 1]);
     }
     const size_t targets = Names(part).size() - 1;
-    EXPECT_TRUE(targets == 0 || targets == 53) << FieldString(part, "PartName");
+    EXPECT_TRUE(targets == 0 || targets == 53) << FieldString(part, vtkMorphPartData::PartNameArray);
     withTargets += targets == 53;
     ASSERT_NE(part->GetPointData()->GetNormals(), nullptr);
   }
@@ -321,9 +315,9 @@ TEST(MorphTargetReader, IctHeadHasElevenPartsInMetres)
 
   // The eyes: no targets, an origin at the eyeball's centre, the iris coloured.
   const int iris = 7;
-  EXPECT_EQ(FieldString(Part(head, iris), "PartName"), "EyeLeft/M_IrisLeft");
+  EXPECT_EQ(FieldString(Part(head, iris), vtkMorphPartData::PartNameArray), "EyeLeft/M_IrisLeft");
   EXPECT_NE(Part(head, iris)->GetPointData()->GetArray("COLOR_0"), nullptr);
-  const std::vector<double> origin = FieldDoubles(Part(head, iris), "NodeOrigin");
+  const std::vector<double> origin = FieldDoubles(Part(head, iris), vtkMorphPartData::NodeOriginArray);
   ASSERT_EQ(origin.size(), 3u);
   double centre[3] = { 0, 0, 0 };
   vtkPolyData* sclera = Part(head, 6);
@@ -356,7 +350,7 @@ TEST(MorphTargetReader, DefaultHeadHasTheDefaultFacesTargets)
   int eyes = 0;
   for (unsigned int i = 0; i < head->GetNumberOfPartitionedDataSets(); ++i)
   {
-    eyes += FieldString(Part(head, i), "NodeName").find("Eye") == 0;
+    eyes += FieldString(Part(head, i), vtkMorphPartData::NodeNameArray).find("Eye") == 0;
   }
   EXPECT_GE(eyes, 2);
 }

@@ -122,6 +122,14 @@ inline std::string ToLower(std::string_view s)
   return out;
 }
 
+/// True when `path` ends in `extension` (".glb"), ASCII case ignored: "HEAD.GLB" is a GLB.
+/// The one test of a file's kind by its name.
+inline bool HasExtension(std::string_view path, std::string_view extension)
+{
+  return path.size() >= extension.size() &&
+    ToLower(path.substr(path.size() - extension.size())) == ToLower(extension);
+}
+
 /// The whole file as bytes: a regular file (links resolved) of at most maxBytes, checked
 /// before it is read (base/File.h). Throws InputError "<what> '<path>' ..." naming why.
 inline std::string ReadFile(const std::string& path, const std::string& what = "file",

@@ -611,12 +611,7 @@ void BehaviorController::Sample(double t, double* out) const
   });
 
   // Explicit gaze.
-  double eye[3], head[2];
-  this->EyeGazeTrack.Evaluate(t, eye);
-  this->HeadGazeTrack.Evaluate(t, head);
-  bb.Gaze = { eye[0], eye[1] };
-  bb.Ownership[Blackboard::GazeGroup] = eye[2];
-  bb.HeadGaze = { head[0], head[1], 0.0 };
+  bb.SetExplicitGaze(this->EyeGazeTrack, this->HeadGazeTrack, t);
 
   bb.Resolve(p, out);
 }

@@ -2,6 +2,7 @@
 #include "behavior/BehaviorTypes.h"
 
 #include "base/Error.h"
+#include "base/Text.h"
 #include "behavior/BehaviorScript.h"
 #include "speech/SpeechTypes.h"
 
@@ -33,14 +34,9 @@ const char* const ChannelNames[BehaviorChannel::NumberOfBaseChannels] = { "EyesC
 /// Lower case without '_', '-' and blanks: "Raise_Brows" and "raise-brows" are one name.
 std::string Canonical(const std::string& name)
 {
-  std::string out;
-  for (char c : name)
-  {
-    if (c != '_' && c != '-' && c != ' ')
-    {
-      out += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    }
-  }
+  std::string out = text::ToLower(name);
+  out.erase(std::remove_if(out.begin(), out.end(), [](char c) { return c == '_' || c == '-' || c == ' '; }),
+    out.end());
   return out;
 }
 
@@ -342,11 +338,7 @@ std::string CanonicalBehaviorName(const std::string& name)
 
 bool IsSilentViseme(const std::string& name)
 {
-  std::string n;
-  for (char c : name)
-  {
-    n += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  }
+  const std::string n = text::ToLower(name);
   return n == "sil" || n == "silence" || n == "x" || n == "_" || n == "rest" || n == "neutral";
 }
 } // namespace morphnode

@@ -16,6 +16,16 @@ double Clamp01(double v)
 }
 } // namespace
 
+void Blackboard::SetExplicitGaze(const FadeTrack<3>& eye, const FadeTrack<2>& head, double t)
+{
+  double e[3], h[2];
+  eye.Evaluate(t, e);
+  head.Evaluate(t, h);
+  this->Gaze = { e[0], e[1] };
+  this->Ownership[GazeGroup] = e[2];
+  this->HeadGaze = { h[0], h[1], 0.0 };
+}
+
 void Blackboard::Resolve(const BehaviorParameters& p, double* out) const
 {
   using C = BehaviorChannel;

@@ -22,6 +22,7 @@
 ///   Eye angles are clamped to the eye ranges; Look* shapes are eye angle / range in [0, 1].
 
 #include "behavior/BehaviorTypes.h"
+#include "behavior/Timeline.h"
 #include "speech/SpeechTypes.h"
 
 #include <array>
@@ -59,6 +60,10 @@ struct Blackboard
   // Degrees: yaw, pitch.
   std::array<double, 2> Gaze{};    ///< where the eyes look, head-independent
   std::array<double, 2> Saccade{}; ///< idle offset
+
+  /// The explicit gaze at t (the `look` gestures of both behaviour engines): Gaze and the
+  /// gaze group's ownership from `eye` (yaw, pitch, ownership), HeadGaze from `head`.
+  void SetExplicitGaze(const FadeTrack<3>& eye, const FadeTrack<2>& head, double t);
 
   /// Writes the base channels (BehaviorChannel ids) from the contributions.
   void Resolve(const BehaviorParameters& parameters, double* out) const;

@@ -856,12 +856,7 @@ void LiveBehavior::Sample(double t, double* out)
   }
 
   // Explicit gaze.
-  double eye[3], head[2];
-  this->EyeGazeTrack.Evaluate(t, eye);
-  this->HeadGazeTrack.Evaluate(t, head);
-  bb.Gaze = { eye[0], eye[1] };
-  bb.Ownership[Blackboard::GazeGroup] = eye[2];
-  bb.HeadGaze = { head[0], head[1], 0.0 };
+  bb.SetExplicitGaze(this->EyeGazeTrack, this->HeadGazeTrack, t);
 
   bb.Blink *= blinkFactor;
   bb.Saccade[0] *= lookFactor;

@@ -86,6 +86,24 @@ int GltfScene::FindPart(const std::string& name) const
   return -1;
 }
 
+std::string GltfNodeName(const GltfScene& scene, int node)
+{
+  const std::string& name = scene.Nodes.at(static_cast<size_t>(node)).Name;
+  return name.empty() ? "node" + std::to_string(node) : name;
+}
+
+std::string GltfMeshName(const GltfScene& scene, size_t mesh)
+{
+  const std::string& name = scene.Meshes.at(mesh).Name;
+  return name.empty() ? "mesh" + std::to_string(mesh) : name;
+}
+
+std::string GltfAnimationName(const GltfScene& scene, size_t animation)
+{
+  const std::string& name = scene.Animations.at(animation).Name;
+  return name.empty() ? "animation" + std::to_string(animation) : name;
+}
+
 namespace
 {
 using json = nlohmann::json;
@@ -865,7 +883,7 @@ private:
         for (size_t k = 0; k < mesh.primitives.size(); ++k)
         {
           GltfPart part = this->BuildPart(scene, n, k);
-          std::string name = node.Name.empty() ? "node" + std::to_string(n) : node.Name;
+          std::string name = GltfNodeName(scene, static_cast<int>(n));
           if (mesh.primitives.size() > 1)
           {
             name += "/" + (part.MaterialName.empty() ? "primitive" + std::to_string(k) : part.MaterialName);

@@ -210,6 +210,13 @@ struct GltfScene
   int FindPart(const std::string& name) const;
 };
 
+/// The name MorphNode gives a node: its own, else "node<n>".
+std::string GltfNodeName(const GltfScene& scene, int node);
+/// A mesh's name, else "mesh<m>".
+std::string GltfMeshName(const GltfScene& scene, size_t mesh);
+/// An animation's name, else "animation<a>".
+std::string GltfAnimationName(const GltfScene& scene, size_t animation);
+
 struct GltfLoadOptions
 {
   /// Apply each node's world transform to its parts' points, normals and deltas.

@@ -32,7 +32,7 @@ Skeleton GltfSkeleton(const GltfScene& scene)
   {
     const GltfNode& node = scene.Nodes[n];
     Joint joint;
-    joint.Name = node.Name.empty() ? "node" + std::to_string(n) : node.Name;
+    joint.Name = GltfNodeName(scene, static_cast<int>(n));
     joint.Parent = node.Parent;
     if (node.HasMatrix)
     {

@@ -5,6 +5,7 @@
 
 #include "base/Error.h"
 #include "base/File.h"
+#include "base/Text.h"
 
 #include <algorithm>
 #include <cmath>
@@ -1167,9 +1168,7 @@ std::vector<unsigned char> WriteGltfSceneToMemory(const GltfScene& scene,
 void WriteGltfScene(const std::string& fileName, const GltfScene& scene,
   const GltfPerformance* performance, GltfWriteOptions options)
 {
-  std::string lower = fileName;
-  std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  options.Binary = !(lower.size() >= 5 && lower.compare(lower.size() - 5, 5, ".gltf") == 0);
+  options.Binary = !text::HasExtension(fileName, ".gltf");
   const std::vector<unsigned char> bytes = WriteGltfSceneToMemory(scene, performance, options);
   // Beside the target, renamed onto it when complete; never through a link or onto a device.
   file::WriteFileSafely(fileName,

@@ -5,19 +5,13 @@
 
 namespace morphnode
 {
-template <typename T>
-TargetDistances ComputeTargetDistances(const MorphAttribute<T>& positions)
+void NormalizeDistances(TargetDistances& d)
 {
-  const size_t n = positions.GetNumberOfTargets();
-  TargetDistances d;
-  d.DistMorph.assign(n, 0.0);
+  const size_t n = d.DistMorph.size();
   d.DistNorm.assign(n, 0.0);
-  d.MaxDisplacement.assign(n, 0.0);
   double largest = 0.0;
   for (size_t i = 1; i < n; ++i)
   {
-    d.DistMorph[i] = positions.GetTarget(i).GetSumNorm();
-    d.MaxDisplacement[i] = positions.GetTarget(i).GetMaxNorm();
     largest = std::max(largest, d.DistMorph[i]);
   }
   if (largest > 0.0)
@@ -27,6 +21,21 @@ TargetDistances ComputeTargetDistances(const MorphAttribute<T>& positions)
       d.DistNorm[i] = d.DistMorph[i] / largest;
     }
   }
+}
+
+template <typename T>
+TargetDistances ComputeTargetDistances(const MorphAttribute<T>& positions)
+{
+  const size_t n = positions.GetNumberOfTargets();
+  TargetDistances d;
+  d.DistMorph.assign(n, 0.0);
+  d.MaxDisplacement.assign(n, 0.0);
+  for (size_t i = 1; i < n; ++i)
+  {
+    d.DistMorph[i] = positions.GetTarget(i).GetSumNorm();
+    d.MaxDisplacement[i] = positions.GetTarget(i).GetMaxNorm();
+  }
+  NormalizeDistances(d);
   return d;
 }
 

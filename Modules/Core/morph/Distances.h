@@ -25,6 +25,11 @@ struct TargetDistances
 template <typename T>
 TargetDistances ComputeTargetDistances(const MorphAttribute<T>& positions);
 
+/// DistNorm from DistMorph: each target's DistMorph over the largest (the neutral, index 0,
+/// left at 0; all 0 when nothing moves). The one computation of the paper's dist_norm, so
+/// that a whole model (MakeTargetDistances) and one mesh give the same figures bit for bit.
+void NormalizeDistances(TargetDistances& distances);
+
 /// Per-vertex |v(T_i) - v(T_n)| for one target (i >= 1), the paper's Figure 4.
 template <typename T>
 std::vector<double> ComputePointDistances(const MorphAttribute<T>& positions, size_t target);

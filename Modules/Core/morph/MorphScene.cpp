@@ -102,24 +102,13 @@ TargetDistances MakeTargetDistances(const NamedTargetDistances& model)
   const size_t n = model.Names.size();
   TargetDistances d;
   d.DistMorph.assign(n, 0.0);
-  d.DistNorm.assign(n, 0.0);
   d.MaxDisplacement.assign(n, 0.0);
-  // As ComputeTargetDistances: the same operations in the same order, so that one part
-  // gives MorphNode's figures bit for bit.
-  double largest = 0.0;
   for (size_t i = 1; i < n; ++i)
   {
     d.DistMorph[i] = model.DistMorph[i];
     d.MaxDisplacement[i] = model.MaxDisplacement[i];
-    largest = std::max(largest, d.DistMorph[i]);
   }
-  if (largest > 0.0)
-  {
-    for (size_t i = 1; i < n; ++i)
-    {
-      d.DistNorm[i] = d.DistMorph[i] / largest;
-    }
-  }
+  NormalizeDistances(d); // as ComputeTargetDistances: one part gives MorphNode's figures bit for bit
   return d;
 }
 

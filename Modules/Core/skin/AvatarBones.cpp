@@ -62,6 +62,26 @@ std::string AvatarBoneRoles::Describe(const Skeleton& skeleton) const
   return out;
 }
 
+std::vector<size_t> PointsUnderJoint(
+  const Skeleton& skeleton, const SkinJoints& joints, const SkinInfluences& influences, int joint)
+{
+  std::vector<size_t> points;
+  const size_t per = influences.PerPoint;
+  for (size_t i = 0; joint >= 0 && i < influences.GetNumberOfPoints(); ++i)
+  {
+    size_t best = 0;
+    for (size_t k = 1; k < per; ++k)
+    {
+      best = influences.Weights[i * per + k] > influences.Weights[i * per + best] ? k : best;
+    }
+    if (skeleton.IsAncestor(joint, joints.Joints[influences.Joints[i * per + best]]))
+    {
+      points.push_back(i);
+    }
+  }
+  return points;
+}
+
 AvatarBoneRoles FindAvatarBones(const Skeleton& skeleton)
 {
   AvatarBoneRoles roles;

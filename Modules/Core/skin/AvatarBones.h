@@ -21,10 +21,13 @@
 
 #include "gaze/EyeRig.h"
 #include "skin/Skeleton.h"
+#include "skin/SkinInfluences.h"
+#include "skin/Skinning.h"
 
 #include <glm/glm.hpp>
 
 #include <string>
+#include <vector>
 
 namespace morphnode
 {
@@ -48,6 +51,11 @@ std::string CanonicalBoneName(const std::string& name);
 
 /// Finds the roles by name (see the file comment). Roles not found stay -1.
 AvatarBoneRoles FindAvatarBones(const Skeleton& skeleton);
+
+/// The points of a skinned part whose strongest influence is `joint` or a joint below it in
+/// the skeleton (the head's points for the head bone), in point order; empty for joint < 0.
+std::vector<size_t> PointsUnderJoint(
+  const Skeleton& skeleton, const SkinJoints& joints, const SkinInfluences& influences, int joint);
 
 struct AvatarBonePose
 {

@@ -15,12 +15,6 @@ namespace morphnode
 {
 namespace
 {
-bool EndsWith(const std::string& s, const std::string& suffix)
-{
-  return s.size() >= suffix.size() &&
-    text::ToLower(s.substr(s.size() - suffix.size())) == text::ToLower(suffix);
-}
-
 std::string LanguageOf(const SpeechOptions& speech)
 {
   return speech.Language.empty() ? speech.Voice : speech.Language;
@@ -110,19 +104,19 @@ TimingFormat ParseTimingFormat(const std::string& name)
 
 TimingFormat GuessTimingFormat(const std::string& path, const std::string& bytes)
 {
-  if (EndsWith(path, ".pho"))
+  if (text::HasExtension(path, ".pho"))
   {
     return TimingFormat::Pho;
   }
-  if (EndsWith(path, ".textgrid"))
+  if (text::HasExtension(path, ".textgrid"))
   {
     return TimingFormat::TextGrid;
   }
-  if (EndsWith(path, ".marks") || EndsWith(path, ".jsonl"))
+  if (text::HasExtension(path, ".marks") || text::HasExtension(path, ".jsonl"))
   {
     return TimingFormat::SpeechMarks;
   }
-  if (EndsWith(path, ".tsv"))
+  if (text::HasExtension(path, ".tsv"))
   {
     return TimingFormat::RhubarbTsv;
   }
@@ -153,7 +147,7 @@ TimingFormat GuessTimingFormat(const std::string& path, const std::string& bytes
   {
     return TimingFormat::CharacterAlignment;
   }
-  if (ascii.find("<rhubarbResult") != std::string::npos || EndsWith(path, ".xml"))
+  if (ascii.find("<rhubarbResult") != std::string::npos || text::HasExtension(path, ".xml"))
   {
     return TimingFormat::RhubarbXml;
   }
@@ -161,7 +155,7 @@ TimingFormat GuessTimingFormat(const std::string& path, const std::string& bytes
   {
     return TimingFormat::SpeechMarks;
   }
-  if (EndsWith(path, ".json"))
+  if (text::HasExtension(path, ".json"))
   {
     return TimingFormat::RhubarbJson;
   }

@@ -7,6 +7,7 @@
 #include "capture/ArkitNames.h"
 
 #include "base/Error.h"
+#include "base/Text.h"
 #include "MorphNodeTestErrors.h"
 
 #include <gtest/gtest.h>
@@ -77,9 +78,7 @@ TEST(FaceRig, ArkitInEverySpelling)
     // "O" drives the jaw and the funnel in the face's own spelling.
     const auto o = Drive(choice, *face, "O");
     const bool jaw = std::any_of(o.begin(), o.end(), [](const auto& kv) {
-      std::string lower = kv.first;
-      std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return std::tolower(c); });
-      return lower == "jawopen";
+      return morphnode::text::ToLower(kv.first) == "jawopen";
     });
     EXPECT_TRUE(jaw) << (*face)[0];
   }

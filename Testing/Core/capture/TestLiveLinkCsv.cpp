@@ -3,6 +3,7 @@
 // the ICT-FaceKit head through the ARKit capture rig (docs/capture.md).
 #include "base/Error.h"
 #include "capture/ArkitNames.h"
+#include "capture/CaptureMapping.h"
 #include "capture/LiveLinkCsv.h"
 #include "gltf/GltfScene.h"
 
@@ -422,4 +423,38 @@ TEST(LiveLinkCsv, ACaptureDrivesTheIctHead)
   // jawOpen at 0.8 moves the chin by centimetres (the head is in metres).
   EXPECT_GT(displacement(2.0 / 60.0), 0.005);
   EXPECT_GT(displacement(2.0 / 60.0), displacement(1.0 / 60.0));
+}
+
+TEST(CaptureMapping, TakeOntoAFaceAndWithoutOne)
+{
+  std::istringstream in(SyntheticTake(4));
+  const LiveLinkCapture capture = ReadLiveLinkCsv(in);
+  // Without a face: the take's channels as they are.
+  const CaptureFaceMapping own(capture, {});
+  EXPECT_EQ(own.GetChannels(), capture.Channels);
+  EXPECT_TRUE(Contains(own.GetReport(), "no face: the 52 ARKit shapes")) << own.GetReport();
+  std::vector<double> row(own.GetChannels().size());
+  own.Sample(capture.Times[2], row.data());
+  for (size_t c = 0; c < row.size(); ++c)
+  {
+    EXPECT_DOUBLE_EQ(row[c], capture.GetValue(2, c)) << capture.Channels[c];
+  }
+  // Onto ICT-FaceKit's targets: its 53 targets, then the 11 angles; both halves of
+  // browInnerUp from the one shape; tongueOut maps to nothing.
+  const CaptureFaceMapping ict(capture, IctTargets);
+  ASSERT_EQ(ict.GetChannels().size(), IctTargets.size() + 11);
+  EXPECT_EQ(ict.GetChannels()[0], "browDown_L");
+  EXPECT_EQ(ict.GetChannels()[IctTargets.size()], "HeadYaw");
+  EXPECT_EQ(ict.GetUnmapped(), (std::vector<std::string>{ "tongueOut" }));
+  EXPECT_TRUE(Contains(ict.GetReport(), "names that map to nothing: tongueOut")) << ict.GetReport();
+  row.assign(ict.GetChannels().size(), -1.0);
+  ict.Sample(capture.Times[1], row.data());
+  const size_t inner = static_cast<size_t>(FindArkitShape("browInnerUp"));
+  const size_t blink = static_cast<size_t>(FindArkitShape("eyeBlinkLeft"));
+  EXPECT_DOUBLE_EQ(row[2], capture.GetValue(1, inner)) << "browInnerUp_L";
+  EXPECT_DOUBLE_EQ(row[3], capture.GetValue(1, inner)) << "browInnerUp_R";
+  EXPECT_DOUBLE_EQ(row[10], capture.GetValue(1, blink)) << "eyeBlink_L";
+  EXPECT_DOUBLE_EQ(row[IctTargets.size()], capture.GetValue(1, ArkitShapeCount)) << "HeadYaw copied";
+  // Targets that make no rig.
+  EXPECT_THROW(CaptureFaceMapping(capture, { "jawOpen", "jawOpen" }), InputError);
 }

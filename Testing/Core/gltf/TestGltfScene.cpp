@@ -938,3 +938,21 @@ TEST(GltfScene, PartAsMorphMesh)
   const auto& normals = std::get<morphnode::MorphAttribute<float>>(mesh.GetAttribute(1));
   EXPECT_EQ(normals.GetRole(), morphnode::AttributeRole::Normal);
 }
+
+TEST(GltfScene, NamesOfNamelessNodesMeshesAndAnimations)
+{
+  morphnode::GltfScene scene;
+  scene.Nodes.resize(3);
+  scene.Nodes[2].Name = "Jaw";
+  scene.Meshes.resize(2);
+  scene.Meshes[0].Name = "Face";
+  scene.Animations.resize(2);
+  scene.Animations[1].Name = "Talk";
+  EXPECT_EQ(morphnode::GltfNodeName(scene, 0), "node0");
+  EXPECT_EQ(morphnode::GltfNodeName(scene, 2), "Jaw");
+  EXPECT_EQ(morphnode::GltfMeshName(scene, 0), "Face");
+  EXPECT_EQ(morphnode::GltfMeshName(scene, 1), "mesh1");
+  EXPECT_EQ(morphnode::GltfAnimationName(scene, 0), "animation0");
+  EXPECT_EQ(morphnode::GltfAnimationName(scene, 1), "Talk");
+  EXPECT_THROW(morphnode::GltfNodeName(scene, 3), std::out_of_range);
+}

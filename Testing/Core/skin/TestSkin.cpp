@@ -346,3 +346,24 @@ TEST(AvatarBones, RelaxedArmsHangDown)
   EXPECT_GT(d.x, 0.0);                                 // still on its own side
   ExpectNear(glm::dvec3(world[arm][3]), { 0.2, 1.4, 0 }); // the shoulder stays
 }
+
+TEST(AvatarBones, PointsUnderTheHeadByTheirStrongestJoint)
+{
+  // Spine <- Neck <- Head <- Eye; a skin of the spine, the head and the eye.
+  Skeleton s;
+  s.AddJoint(MakeJoint("Spine", -1, {}));
+  s.AddJoint(MakeJoint("Neck", 0, { 0, 1, 0 }));
+  s.AddJoint(MakeJoint("Head", 1, { 0, 0.5, 0 }));
+  s.AddJoint(MakeJoint("Eye", 2, { 0, 0.1, 0.1 }));
+  s.Validate();
+  SkinJoints joints;
+  joints.Joints = { 0, 2, 3 }; // skin joint k -> skeleton joint
+  SkinInfluences inf;
+  // Point 0: spine only; 1: head 0.7, spine 0.3; 2: eye; 3: spine 0.6, head 0.4.
+  inf.AddSet({ 0, 0, 0, 0, 1, 0, 0, 0, 2, 0, 0, 0, 0, 1, 0, 0 },
+    { 1, 0, 0, 0, 0.7f, 0.3f, 0, 0, 1, 0, 0, 0, 0.6f, 0.4f, 0, 0 }, 4);
+  inf.Normalize(3, "test");
+  EXPECT_EQ(PointsUnderJoint(s, joints, inf, 2), (std::vector<size_t>{ 1, 2 })) << "the head and the eye below it";
+  EXPECT_EQ(PointsUnderJoint(s, joints, inf, 0), (std::vector<size_t>{ 0, 1, 2, 3 })) << "everything is under the root";
+  EXPECT_TRUE(PointsUnderJoint(s, joints, inf, -1).empty());
+}
