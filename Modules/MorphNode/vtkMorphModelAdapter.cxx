@@ -6,8 +6,8 @@
 #include "base/Error.h"
 
 #include "vtkAbstractArray.h"
-#include "vtkCompositeDataIterator.h"
 #include "vtkCompositeDataSet.h"
+#include "vtkCompositeDataSetRange.h"
 #include "vtkDataArray.h"
 #include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
@@ -46,14 +46,13 @@ bool IsIntegerType(int vtkType)
 }
 
 /// A leaf's name for messages: its metadata NAME, else its flat index.
-std::string LeafName(vtkCompositeDataIterator* it)
+std::string LeafName(vtkInformation* meta, unsigned int flatIndex)
 {
-  vtkInformation* meta = it->HasCurrentMetaData() ? it->GetCurrentMetaData() : nullptr;
   if (meta && meta->Has(vtkCompositeDataSet::NAME()) && meta->Get(vtkCompositeDataSet::NAME()))
   {
     return meta->Get(vtkCompositeDataSet::NAME());
   }
-  return "#" + std::to_string(it->GetCurrentFlatIndex());
+  return "#" + std::to_string(flatIndex);
 }
 
 
@@ -395,12 +394,9 @@ std::vector<std::string> LeafNames(vtkCompositeDataSet* composite, size_t count)
   }
   if (!collection && composite)
   {
-    vtkSmartPointer<vtkCompositeDataIterator> it;
-    it.TakeReference(composite->NewIterator());
-    it->SkipEmptyNodesOn();
-    for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem())
+    for (auto node : vtk::Range(composite, vtk::CompositeDataSetOptions::SkipEmptyNodes))
     {
-      names.push_back(LeafName(it));
+      names.push_back(LeafName(node.HasMetaData() ? node.GetMetaData() : nullptr, node.GetFlatIndex()));
     }
   }
   names.resize(std::max(names.size(), count + 1), "?");

@@ -13,8 +13,8 @@
 #include "morph/WeightRequests.h"
 
 #include "vtkCommunicator.h"
-#include "vtkCompositeDataIterator.h"
 #include "vtkCompositeDataSet.h"
+#include "vtkCompositeDataSetRange.h"
 #include "vtkDataObject.h"
 #include "vtkDoubleArray.h"
 #include "vtkInformation.h"
@@ -65,14 +65,6 @@ namespace
 bool SameWeight(double a, double b)
 {
   return a == b || (a != a && b != b); // NaN set twice is no change either
-}
-
-vtkSmartPointer<vtkCompositeDataIterator> Leaves(vtkCompositeDataSet* composite)
-{
-  vtkSmartPointer<vtkCompositeDataIterator> it;
-  it.TakeReference(composite->NewIterator());
-  it->SkipEmptyNodesOn();
-  return it;
 }
 } // namespace
 
@@ -136,10 +128,9 @@ struct vtkMorphNodeFilter::vtkInternals
       throw morphnode::InputError("a composite input (a whole head) must be the only connection of "
                                   "port 0; the Java3D form takes point sets");
     }
-    auto it = Leaves(this->CompositeInput);
-    for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem())
+    for (vtkDataObject* leaf :
+      vtk::Range(this->CompositeInput, vtk::CompositeDataSetOptions::SkipEmptyNodes))
     {
-      vtkDataObject* leaf = it->GetCurrentDataObject();
       auto* points = vtkPointSet::SafeDownCast(leaf);
       if (!points)
       {

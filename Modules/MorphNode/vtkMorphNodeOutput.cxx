@@ -6,8 +6,8 @@
 #include "base/Error.h"
 
 #include "vtkCellData.h"
-#include "vtkCompositeDataIterator.h"
 #include "vtkCompositeDataSet.h"
+#include "vtkCompositeDataSetRange.h"
 #include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
 #include "vtkFloatArray.h"
@@ -387,14 +387,23 @@ void vtkMorphNodeOutput::AssembleComposite(
   }
   else
   {
+    // The copied structure's leaves are all empty: walk both without skipping empty nodes
+    // (same structure, same order) and fill the output where the input has a leaf.
     output->CopyStructure(input);
-    vtkSmartPointer<vtkCompositeDataIterator> it;
-    it.TakeReference(input->NewIterator());
-    it->SkipEmptyNodesOn();
+    const auto outNodes = vtk::Range(output);
+    auto out = outNodes.begin();
     size_t i = 0;
-    for (it->InitTraversal(); !it->IsDoneWithTraversal() && i < this->Parts.size(); it->GoToNextItem(), ++i)
+    for (vtkDataObject* leaf : vtk::Range(input))
     {
-      output->SetDataSet(it, this->Parts[i].OutputLeaf);
+      if (out == outNodes.end() || i == this->Parts.size())
+      {
+        break;
+      }
+      if (leaf)
+      {
+        *out = this->Parts[i++].OutputLeaf.Get();
+      }
+      ++out;
     }
   }
   output->GetFieldData()->PassData(input->GetFieldData());

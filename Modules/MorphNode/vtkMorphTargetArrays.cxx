@@ -296,13 +296,12 @@ size_t CountFaceTargets(vtkDataObject* face)
 {
   if (auto* composite = vtkCompositeDataSet::SafeDownCast(face))
   {
+    // Not GetFaceTargetNames: this counts the leaves' target arrays, naming unnamed ones
+    // target<k> as the model does, and skips leaves whose names do not match their arrays.
     std::set<std::string> targets;
-    vtkSmartPointer<vtkCompositeDataIterator> it;
-    it.TakeReference(composite->NewIterator());
-    it->SkipEmptyNodesOn();
-    for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem())
+    for (vtkDataObject* node : vtk::Range(composite, vtk::CompositeDataSetOptions::SkipEmptyNodes))
     {
-      auto* leaf = vtkPointSet::SafeDownCast(it->GetCurrentDataObject());
+      auto* leaf = vtkPointSet::SafeDownCast(node);
       try
       {
         const size_t n = leaf ? CountTargets(leaf->GetPointData(), leaf->GetNumberOfPoints()) : 0;
