@@ -26,16 +26,16 @@ void SetImage(vtkFieldData* fd, const std::string& slot, const morphnode::GltfIm
   const morphnode::GltfSampler& sampler)
 {
   vtkNew<vtkUnsignedCharArray> pixels;
-  pixels->SetName((slot + "Image").c_str());
+  pixels->SetName(ImageArray(slot).c_str());
   pixels->SetNumberOfComponents(4);
   pixels->SetNumberOfTuples(static_cast<vtkIdType>(image.Width) * image.Height);
   std::copy(image.Pixels.begin(), image.Pixels.end(), pixels->GetPointer(0));
   fd->AddArray(pixels);
   const double size[2] = { double(image.Width), double(image.Height) };
-  SetNumbers(fd, (slot + "ImageSize").c_str(), size, 2);
+  SetNumbers(fd, ImageSizeArray(slot).c_str(), size, 2);
   const double s[4] = { double(sampler.MagFilter), double(sampler.MinFilter),
     double(sampler.WrapS), double(sampler.WrapT) };
-  SetNumbers(fd, (slot + "Sampler").c_str(), s, 4);
+  SetNumbers(fd, SamplerArray(slot).c_str(), s, 4);
 }
 
 template <size_t N>

@@ -66,8 +66,26 @@ constexpr const char* UnlitArray = "Unlit";
 constexpr const char* NormalScaleArray = "NormalScale";
 constexpr const char* OcclusionStrengthArray = "OcclusionStrength";
 /// The texture slots, in glTF's order; `<Slot>Image`, `<Slot>ImageSize`, `<Slot>Sampler`.
-constexpr std::array<const char*, 5> TextureSlots{ { "BaseColor", "MetallicRoughness", "Normal",
-  "Occlusion", "Emissive" } };
+constexpr const char* BaseColorSlot = "BaseColor";
+constexpr const char* MetallicRoughnessSlot = "MetallicRoughness";
+constexpr const char* NormalSlot = "Normal";
+constexpr const char* OcclusionSlot = "Occlusion";
+constexpr const char* EmissiveSlot = "Emissive";
+constexpr std::array<const char*, 5> TextureSlots{ { BaseColorSlot, MetallicRoughnessSlot,
+  NormalSlot, OcclusionSlot, EmissiveSlot } };
+/// A slot's arrays: ImageArray(slot) = `<Slot>Image`, and the image's size and sampler.
+inline std::string ImageArray(const std::string& slot)
+{
+  return slot + "Image";
+}
+inline std::string ImageSizeArray(const std::string& slot)
+{
+  return slot + "ImageSize";
+}
+inline std::string SamplerArray(const std::string& slot)
+{
+  return slot + "Sampler";
+}
 
 /// The first value of a string field-data array, empty when absent (or `fd` is null).
 std::string GetString(vtkFieldData* fd, const char* name);

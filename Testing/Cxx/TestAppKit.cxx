@@ -10,6 +10,7 @@
 #include "vtkFieldData.h"
 #include "vtkMatrix4x4.h"
 #include "vtkMorphAvatarPipeline.h"
+#include "vtkMorphPartData.h"
 #include "vtkNew.h"
 #include "vtkPolyData.h"
 #include "vtkSphereSource.h"
@@ -21,7 +22,6 @@
 #include "vtkPartitionedDataSet.h"
 #include "vtkPartitionedDataSetCollection.h"
 #include "vtkPointData.h"
-#include "vtkStringArray.h"
 #include "vtkUnsignedCharArray.h"
 #include "vtkXMLMultiBlockDataReader.h"
 #include "vtkXMLPolyDataReader.h"
@@ -34,6 +34,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -210,21 +211,11 @@ vtkSmartPointer<vtkPartitionedDataSetCollection> TwoPartHead()
     sphere->Update();
     auto part = vtkSmartPointer<vtkPolyData>::New();
     part->DeepCopy(sphere->GetOutput());
-    vtkNew<vtkStringArray> partName;
-    partName->SetName("PartName");
-    partName->InsertNextValue(names[i]);
-    vtkNew<vtkStringArray> material;
-    material->SetName("MaterialName");
-    material->InsertNextValue(i ? "Iris" : "Skin");
-    vtkNew<vtkDoubleArray> base;
-    base->SetName("BaseColor");
-    for (double v : { i ? 0.4 : 0.8, 0.5, i ? 0.6 : 0.4, 1.0 })
-    {
-      base->InsertNextValue(v);
-    }
-    part->GetFieldData()->AddArray(partName);
-    part->GetFieldData()->AddArray(material);
-    part->GetFieldData()->AddArray(base);
+    vtkMorphPartData::PartFields fields;
+    fields.PartName = names[i];
+    fields.MaterialName = i ? "Iris" : "Skin";
+    fields.BaseColor = std::array<double, 4>{ i ? 0.4 : 0.8, 0.5, i ? 0.6 : 0.4, 1.0 };
+    vtkMorphPartData::SetPartFields(part->GetFieldData(), fields);
     if (i == 1)
     {
       vtkNew<vtkUnsignedCharArray> color;

@@ -14,6 +14,7 @@
 #include "HeadActors.h"
 #include "MorphNodeImageSimilarity.h"
 
+#include "vtkMorphPartData.h"
 #include "vtkMorphTargetReader.h"
 
 #include "vtkCamera.h"
@@ -70,10 +71,9 @@ vtkSmartPointer<vtkImageData> RenderMorphNode(bool textured, const std::string& 
     for (vtkPolyData* part : appkit::HeadParts(reader->GetOutputDataObject(0)))
     {
       part->GetPointData()->SetTCoords(nullptr);
-      for (const char* name : { "BaseColorImage", "MetallicRoughnessImage", "NormalImage", "OcclusionImage",
-             "EmissiveImage" })
+      for (const char* slot : vtkMorphPartData::TextureSlots)
       {
-        part->GetFieldData()->RemoveArray(name);
+        part->GetFieldData()->RemoveArray(vtkMorphPartData::ImageArray(slot).c_str());
       }
     }
   }

@@ -1,11 +1,13 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "HeadActors.h"
 
+#include "vtkMorphPartData.h"
+
 #include "vtkActor.h"
 #include "vtkCamera.h"
 #include "vtkCellArray.h"
-#include "vtkCompositeDataIterator.h"
 #include "vtkCompositeDataSet.h"
+#include "vtkCompositeDataSetRange.h"
 #include "vtkDataArray.h"
 #include "vtkFieldData.h"
 #include "vtkLightKit.h"
@@ -24,7 +26,6 @@
 #include "vtkRenderer.h"
 #include "vtkScalarsToColors.h"
 #include "vtkImageData.h"
-#include "vtkStringArray.h"
 #include "vtkTexture.h"
 #include "vtkUnsignedCharArray.h"
 
@@ -40,26 +41,23 @@ namespace appkit
 {
 namespace
 {
-const char* const DisplayColors = "DisplayColors";
+namespace partdata = vtkMorphPartData;
 
-std::string FieldString(vtkPolyData* part, const char* name)
-{
-  auto* array = vtkStringArray::SafeDownCast(part->GetFieldData()->GetAbstractArray(name));
-  return array && array->GetNumberOfValues() > 0 ? array->GetValue(0) : std::string();
-}
+const char* const DisplayColors = "DisplayColors";
 
 /// The part's linear RGBA from field data BaseColor (4 values); skin without a material.
 std::array<double, 4> PartColor(vtkPolyData* part)
 {
-  vtkDataArray* base = part->GetFieldData()->GetArray("BaseColor");
-  if (!base || base->GetNumberOfValues() < 3 || FieldString(part, "MaterialName").empty())
+  vtkFieldData* fd = part->GetFieldData();
+  const std::vector<double> base = partdata::GetNumbers(fd, partdata::BaseColorArray);
+  if (base.size() < 3 || partdata::GetString(fd, partdata::MaterialNameArray).empty())
   {
     return { SkinColor[0], SkinColor[1], SkinColor[2], 1.0 };
   }
   std::array<double, 4> rgba{ 1, 1, 1, 1 };
-  for (vtkIdType k = 0; k < std::min<vtkIdType>(4, base->GetNumberOfValues()); ++k)
+  for (size_t k = 0; k < std::min<size_t>(4, base.size()); ++k)
   {
-    const double v = base->GetVariantValue(k).ToDouble();
+    const double v = base[k];
     rgba[k] = std::isfinite(v) ? std::clamp(v, 0.0, 1.0) : 1.0;
   }
   return rgba;
@@ -90,15 +88,17 @@ vtkSmartPointer<vtkUnsignedCharArray> PointColors(vtkPolyData* part, const std::
   }
   return rgb;
 }
-double FieldNumber(vtkPolyData* part, const char* name, int component, double fallback)
+/// Value `component` of a numeric part field, `fallback` when absent, too short or not
+/// finite (drawing is lenient: another pipeline may have set these).
+double FieldNumber(vtkPolyData* part, const std::string& name, size_t component, double fallback)
 {
-  vtkDataArray* a = part->GetFieldData()->GetArray(name);
-  if (!a || a->GetNumberOfValues() <= component)
-  {
-    return fallback;
-  }
-  const double v = a->GetVariantValue(component).ToDouble();
-  return std::isfinite(v) ? v : fallback;
+  const std::vector<double> values = partdata::GetNumbers(part->GetFieldData(), name.c_str());
+  return component < values.size() && std::isfinite(values[component]) ? values[component] : fallback;
+}
+
+std::string FieldString(vtkPolyData* part, const char* name)
+{
+  return partdata::GetString(part->GetFieldData(), name);
 }
 
 /// The texture of field data `<name>Image` (see vtkMorphTargetReader: RGBA rows top first,
@@ -110,10 +110,11 @@ double FieldNumber(vtkPolyData* part, const char* name, int component, double fa
 vtkSmartPointer<vtkTexture> PartTexture(vtkPolyData* part, const std::string& name, bool srgb,
   const std::string& mode = "BLEND", double cutoff = 0.5, double factor = 1.0)
 {
-  auto* pixels = vtkUnsignedCharArray::SafeDownCast(part->GetFieldData()->GetArray((name + "Image").c_str()));
+  auto* pixels =
+    vtkUnsignedCharArray::SafeDownCast(part->GetFieldData()->GetArray(partdata::ImageArray(name).c_str()));
   // Sizes from field data another pipeline may have set: within int before the cast.
-  auto size = [&](int k) {
-    const double v = FieldNumber(part, (name + "ImageSize").c_str(), k, 0);
+  auto size = [&](size_t k) {
+    const double v = FieldNumber(part, partdata::ImageSizeArray(name), k, 0);
     return v >= 1 && v <= 65536 ? static_cast<int>(v) : 0;
   };
   const int width = size(0), height = size(1);
@@ -144,8 +145,8 @@ vtkSmartPointer<vtkTexture> PartTexture(vtkPolyData* part, const std::string& na
   auto texture = vtkSmartPointer<vtkTexture>::New();
   texture->SetInputData(image);
   texture->SetUseSRGBColorSpace(srgb);
-  auto sampler = [&](int k, double fallback) {
-    const double v = FieldNumber(part, (name + "Sampler").c_str(), k, fallback);
+  auto sampler = [&](size_t k, double fallback) {
+    const double v = FieldNumber(part, partdata::SamplerArray(name), k, fallback);
     return v >= 0 && v <= 65535 ? static_cast<int>(v) : static_cast<int>(fallback);
   };
   const int mag = sampler(0, 0), min = sampler(1, 0), wrap = sampler(2, 10497);
@@ -162,8 +163,8 @@ vtkSmartPointer<vtkTexture> PartTexture(vtkPolyData* part, const std::string& na
 /// (R is then set to 255, no occlusion). Null when the part has neither.
 vtkSmartPointer<vtkTexture> OrmTexture(vtkPolyData* part)
 {
-  auto mr = PartTexture(part, "MetallicRoughness", false, "OPAQUE");
-  auto occlusion = PartTexture(part, "Occlusion", false, "OPAQUE");
+  auto mr = PartTexture(part, partdata::MetallicRoughnessSlot, false, "OPAQUE");
+  auto occlusion = PartTexture(part, partdata::OcclusionSlot, false, "OPAQUE");
   if (!occlusion && !mr)
   {
     return nullptr;
@@ -206,7 +207,7 @@ vtkSmartPointer<vtkTexture> OrmTexture(vtkPolyData* part)
 /// and the shader orthogonalizes the tangent against the current normal.
 vtkSmartPointer<vtkDataArray> PartTangents(vtkPolyData* part)
 {
-  if (!part->GetFieldData()->GetArray("NormalImage") || !part->GetPointData()->GetTCoords() ||
+  if (!part->GetFieldData()->GetArray(partdata::ImageArray(partdata::NormalSlot).c_str()) || !part->GetPointData()->GetTCoords() ||
     !part->GetPointData()->GetNormals() || part->GetNumberOfPolys() == 0 ||
     part->GetPolys()->GetMaxCellSize() != 3 || part->GetNumberOfStrips() > 0)
   {
@@ -235,26 +236,26 @@ vtkSmartPointer<vtkDataArray> PartTangents(vtkPolyData* part)
 bool ApplyMaterial(vtkPolyData* part, vtkActor* actor, const std::array<double, 4>& color, bool tangents)
 {
   vtkProperty* property = actor->GetProperty();
-  if (!part->GetFieldData()->GetArray("MetallicFactor"))
+  if (!part->GetFieldData()->GetArray(partdata::MetallicFactorArray))
   {
     return false;
   }
-  const std::string mode = FieldString(part, "AlphaMode");
-  const double cutoff = FieldNumber(part, "AlphaCutoff", 0, 0.5);
+  const std::string mode = FieldString(part, partdata::AlphaModeArray);
+  const double cutoff = FieldNumber(part, partdata::AlphaCutoffArray, 0, 0.5);
   const bool textured = part->GetPointData()->GetTCoords() != nullptr;
   property->SetInterpolationToPBR();
   property->SetColor(color[0], color[1], color[2]);
-  property->SetMetallic(FieldNumber(part, "MetallicFactor", 0, 1.0));
-  property->SetRoughness(FieldNumber(part, "RoughnessFactor", 0, 1.0));
-  property->SetEmissiveFactor(FieldNumber(part, "EmissiveFactor", 0, 0), FieldNumber(part, "EmissiveFactor", 1, 0),
-    FieldNumber(part, "EmissiveFactor", 2, 0));
-  property->SetBackfaceCulling(FieldNumber(part, "DoubleSided", 0, 0) == 0);
+  property->SetMetallic(FieldNumber(part, partdata::MetallicFactorArray, 0, 1.0));
+  property->SetRoughness(FieldNumber(part, partdata::RoughnessFactorArray, 0, 1.0));
+  property->SetEmissiveFactor(FieldNumber(part, partdata::EmissiveFactorArray, 0, 0),
+    FieldNumber(part, partdata::EmissiveFactorArray, 1, 0), FieldNumber(part, partdata::EmissiveFactorArray, 2, 0));
+  property->SetBackfaceCulling(FieldNumber(part, partdata::DoubleSidedArray, 0, 0) == 0);
 
   // Opacity: BLEND takes the factor's alpha; MASK and OPAQUE draw whole where they draw.
   property->SetOpacity(mode == "BLEND" ? color[3] : 1.0);
   if (textured)
   {
-    if (auto base = PartTexture(part, "BaseColor", true, mode.empty() ? "OPAQUE" : mode, cutoff,
+    if (auto base = PartTexture(part, partdata::BaseColorSlot, true, mode.empty() ? "OPAQUE" : mode, cutoff,
           mode == "BLEND" ? 1.0 : color[3]))
     {
       property->SetBaseColorTexture(base);
@@ -262,16 +263,16 @@ bool ApplyMaterial(vtkPolyData* part, vtkActor* actor, const std::array<double, 
     if (auto orm = OrmTexture(part))
     {
       property->SetORMTexture(orm);
-      property->SetOcclusionStrength(FieldNumber(part, "OcclusionStrength", 0, 0.0));
+      property->SetOcclusionStrength(FieldNumber(part, partdata::OcclusionStrengthArray, 0, 0.0));
     }
     // A normal map needs tangents: PartTangents gives the drawn copy of the part its own.
-    auto normal = tangents ? PartTexture(part, "Normal", false, "OPAQUE") : nullptr;
+    auto normal = tangents ? PartTexture(part, partdata::NormalSlot, false, "OPAQUE") : nullptr;
     if (normal)
     {
       property->SetNormalTexture(normal);
-      property->SetNormalScale(FieldNumber(part, "NormalScale", 0, 1.0));
+      property->SetNormalScale(FieldNumber(part, partdata::NormalScaleArray, 0, 1.0));
     }
-    if (auto emissive = PartTexture(part, "Emissive", true, "OPAQUE"))
+    if (auto emissive = PartTexture(part, partdata::EmissiveSlot, true, "OPAQUE"))
     {
       property->SetEmissiveTexture(emissive);
     }
@@ -280,7 +281,7 @@ bool ApplyMaterial(vtkPolyData* part, vtkActor* actor, const std::array<double, 
   {
     property->SetOpacity(0.0); // the whole part falls below the cutoff
   }
-  if (FieldNumber(part, "Unlit", 0, 0) != 0)
+  if (FieldNumber(part, partdata::UnlitArray, 0, 0) != 0)
   {
     // KHR_materials_unlit: the base colour as it is. VTK's PBR has no unlit mode and its
     // base colour texture works only with PBR, so the classic path draws it, the texture
@@ -349,12 +350,9 @@ std::vector<vtkPolyData*> HeadParts(vtkDataObject* head)
   }
   else if (auto* composite = vtkCompositeDataSet::SafeDownCast(head))
   {
-    vtkSmartPointer<vtkCompositeDataIterator> it;
-    it.TakeReference(composite->NewIterator());
-    it->SkipEmptyNodesOn();
-    for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem())
+    for (vtkDataObject* node : vtk::Range(composite, vtk::CompositeDataSetOptions::SkipEmptyNodes))
     {
-      if (auto* leaf = vtkPolyData::SafeDownCast(it->GetCurrentDataObject()))
+      if (auto* leaf = vtkPolyData::SafeDownCast(node))
       {
         parts.push_back(leaf);
       }
@@ -417,7 +415,7 @@ bool HeadActors::Build(vtkDataObject* head, vtkRenderer* renderer, vtkLinearTran
     const std::array<double, 4> color = PartColor(input);
     part->Colors = PointColors(input, color);
     part->Points = input->GetNumberOfPoints();
-    part->Name = FieldString(input, "PartName");
+    part->Name = partdata::GetPartName(input->GetFieldData());
     part->Tangents = PartTangents(input);
     part->Take(input);
     part->Mapper->SetInputData(part->Display);

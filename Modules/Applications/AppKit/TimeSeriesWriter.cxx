@@ -2,9 +2,11 @@
 #include "TimeSeriesWriter.h"
 
 #include "base/File.h"
+#include "base/Text.h"
 
 #include "HeadActors.h"
 #include "ImageOutput.h"
+#include "vtkMorphPartData.h"
 
 #include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
@@ -36,12 +38,8 @@ TimeSeriesWriter::TimeSeriesWriter(const std::string& pvd)
   : Pvd(pvd)
 {
   const std::filesystem::path path(pvd);
-  std::string ext = path.extension().string();
-  for (char& c : ext)
-  {
-    c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  }
-  if (ext != ".pvd")
+  const std::string ext = path.extension().string();
+  if (text::ToLower(ext) != ".pvd")
   {
     throw std::runtime_error("a time series needs a file name ending in .pvd, not '" + pvd + "'");
   }
@@ -79,9 +77,9 @@ void TimeSeriesWriter::Write(vtkDataObject* face, vtkTable* weights, double t)
     fieldData->ShallowCopy(part->GetFieldData()); // the part's own stays untouched
     // A textured part's images (field data <Slot>Image, megabytes each) would be written
     // again in every step: they stay in the glTF file.
-    for (const char* slot : { "BaseColor", "MetallicRoughness", "Normal", "Occlusion", "Emissive" })
+    for (const char* slot : vtkMorphPartData::TextureSlots)
     {
-      fieldData->RemoveArray((std::string(slot) + "Image").c_str());
+      fieldData->RemoveArray(vtkMorphPartData::ImageArray(slot).c_str());
     }
     for (int a = 0; a < step->GetNumberOfArrays(); ++a)
     {
@@ -116,11 +114,8 @@ void TimeSeriesWriter::Write(vtkDataObject* face, vtkTable* weights, double t)
     {
       const auto block = static_cast<unsigned int>(i);
       blocks->SetBlock(block, withStep(parts[i]));
-      auto* partName =
-        vtkStringArray::SafeDownCast(parts[i]->GetFieldData()->GetAbstractArray("PartName"));
-      const std::string label = partName && partName->GetNumberOfValues() > 0
-        ? partName->GetValue(0)
-        : "part " + std::to_string(i);
+      const std::string label =
+        vtkMorphPartData::GetPartName(parts[i]->GetFieldData(), "part " + std::to_string(i));
       blocks->GetMetaData(block)->Set(vtkCompositeDataSet::NAME(), label.c_str());
     }
     auto blockWriter = vtkSmartPointer<vtkXMLMultiBlockDataWriter>::New();
