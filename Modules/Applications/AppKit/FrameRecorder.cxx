@@ -2,6 +2,7 @@
 #include "FrameRecorder.h"
 
 #include "base/File.h"
+#include "base/Text.h"
 
 #include "ImageOutput.h"
 
@@ -64,12 +65,11 @@ void FrameRecorder::SetVideo(const std::string& file)
 {
   const std::filesystem::path path(file);
   MakeFolder(path.parent_path().string());
-  std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  const std::string ext = path.extension().string();
   const std::string stem = file.substr(0, file.size() - ext.size());
   this->Ogv = stem + ".ogv";
   this->Wav = stem + ".wav";
-  this->Muxed = stem + (ext == ".mkv" ? ".mkv" : ".mp4");
+  this->Muxed = stem + (text::ToLower(ext) == ".mkv" ? ".mkv" : ".mp4");
   this->Video->SetInputConnection(this->Grab->GetOutputPort());
   this->Video->SetFileName(this->Ogv.c_str());
   this->Video->SetRate(std::max(1, static_cast<int>(std::lround(this->Fps))));

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "AvatarOptions.h"
 
+#include "base/Text.h"
 #include "budget/DeviceProfile.h"
 
 #include "CommandLine.h"
@@ -389,12 +390,7 @@ Options ParseOptions(int argc, char* argv[])
   }
   if (!o.Pvd.empty())
   {
-    std::string ext = std::filesystem::path(o.Pvd).extension().string();
-    for (char& c : ext)
-    {
-      c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    }
-    if (ext != ".pvd")
+    if (morphnode::text::ToLower(std::filesystem::path(o.Pvd).extension().string()) != ".pvd")
     {
       FailUsage("--pvd takes a file name ending in .pvd, not '" + o.Pvd + "'");
     }
