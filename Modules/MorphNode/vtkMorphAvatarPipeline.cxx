@@ -3,6 +3,7 @@
 
 #include "behavior/HeadPose.h"
 
+#include "vtkAlgorithm.h"
 #include "vtkAlgorithmOutput.h"
 #include "vtkBoundingBox.h"
 #include "vtkCompositeDataSet.h"
@@ -140,6 +141,7 @@ void vtkMorphAvatarPipeline::SetWeightsConnection(vtkAlgorithmOutput* output)
   if (output != this->Weights)
   {
     this->Weights = output;
+    this->WeightsProducer = output ? output->GetProducer() : nullptr;
     this->Connect();
     this->Modified();
   }

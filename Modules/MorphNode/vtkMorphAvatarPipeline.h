@@ -46,6 +46,7 @@
 
 #include <string> // For std::string
 
+class vtkAlgorithm;
 class vtkAlgorithmOutput;
 class vtkDataObject;
 class vtkEyeGazeFilter;
@@ -82,6 +83,10 @@ public:
   /**
    * The weights: a one-row table at the requested time (a temporal source's port 0). It
    * drives the morph (through the rig), the eyes, the skin's pose and the head pose.
+   * The pipeline holds the port's producer as long as it holds the port. (From Python,
+   * keep the source in a variable: `SetWeightsConnection(vtkBehaviorTimeSource()
+   * .GetOutputPort(0))` hands over a port whose temporary source is already gone, which
+   * VTK 9.1's own SetInputConnection does not survive either.)
    */
   void SetWeightsConnection(vtkAlgorithmOutput* output);
   vtkAlgorithmOutput* GetWeightsConnection();
@@ -168,6 +173,7 @@ private:
   vtkNew<vtkMorphSkinFilter> Skin;
   vtkNew<vtkTransform> HeadPose;
   vtkSmartPointer<vtkAlgorithmOutput> Weights;
+  vtkSmartPointer<vtkAlgorithm> WeightsProducer; ///< kept alive while Weights is connected
   std::string RigFileName;
   bool UseFaceAnimation = false;
   bool RigMapsWeights = true;
