@@ -225,3 +225,57 @@ TEST(GltfSkin, QuantizedAndMeshoptVariantsAreReadOrRefusedClearly)
     }
   }
 }
+
+// GltfUnskinPart undoes the loader's skinning at rest on the skinned quad, whose bind pose
+// is unlike its node pose (J2 turned by 90 degrees): the points, normals and deltas come
+// back to the file's bind space. Without the inverse the points stay rotated (p3 would be
+// (1.8, 3, 0) at rest instead of the file's (1, 3, 0)). And the skeleton goes back to nodes
+// with the same names, parents and local transforms (TRS where the matrix is one).
+TEST(GltfSkin, UnskinnedQuadIsTheFilesBindSpaceAndNodesComeBackFromTheSkeleton)
+{
+  const GltfScene bind = Load(gltftest::SkinnedQuad().Glb(), false);
+  GltfScene rest = Load(gltftest::SkinnedQuad().Glb());
+  std::vector<GltfMatrix> worlds;
+  for (const auto& node : rest.Nodes)
+  {
+    worlds.push_back(node.World);
+  }
+  GltfPart part = rest.Parts[0];
+  GltfUnskinPart(part, rest, worlds, "quad");
+  EXPECT_FALSE(part.TransformApplied);
+  for (size_t k = 0; k < part.Positions.size(); ++k)
+  {
+    EXPECT_NEAR(part.Positions[k], bind.Parts[0].Positions[k], 1e-5) << k;
+    EXPECT_NEAR(part.Normals[k], bind.Parts[0].Normals[k], 1e-5) << k;
+    for (size_t t = 0; t < part.Targets.size(); ++t)
+    {
+      EXPECT_NEAR(part.Targets[t].PositionDeltas[k], bind.Parts[0].Targets[t].PositionDeltas[k], 1e-5) << k;
+    }
+  }
+  // Skinned again, it is the rest pose.
+  GltfSkinPart(part, rest, worlds, "quad");
+  for (size_t k = 0; k < part.Positions.size(); ++k)
+  {
+    EXPECT_NEAR(part.Positions[k], rest.Parts[0].Positions[k], 1e-5) << k;
+  }
+  EXPECT_NE(ErrorOf([&] { GltfUnskinPart(part, rest, {}, "quad"); }), "");
+
+  const std::vector<GltfNode> nodes = GltfNodesFromSkeleton(GltfSkeleton(rest));
+  ASSERT_EQ(nodes.size(), rest.Nodes.size());
+  for (size_t n = 0; n < nodes.size(); ++n)
+  {
+    EXPECT_EQ(nodes[n].Name, rest.Nodes[n].Name);
+    EXPECT_EQ(nodes[n].Parent, rest.Nodes[n].Parent);
+    EXPECT_EQ(nodes[n].Children, rest.Nodes[n].Children);
+    for (size_t c = 0; c < 16; ++c)
+    {
+      EXPECT_NEAR(nodes[n].Local[c], rest.Nodes[n].Local[c], 1e-12) << n;
+      EXPECT_NEAR(nodes[n].World[c], rest.Nodes[n].World[c], 1e-12) << n;
+    }
+    EXPECT_FALSE(nodes[n].HasMatrix) << n;
+    for (size_t c = 0; c < 4; ++c)
+    {
+      EXPECT_NEAR(std::abs(nodes[n].Rotation[c]), std::abs(rest.Nodes[n].Rotation[c]), 1e-12) << n;
+    }
+  }
+}
