@@ -4,6 +4,7 @@
 #include "vtkMorphSkinArrays.h"
 
 #include "base/Error.h"
+#include "base/Text.h"
 #include "skin/AvatarBones.h"
 #include "skin/Skinning.h"
 
@@ -22,6 +23,7 @@
 #include "vtkPoints.h"
 #include "vtkSMPTools.h"
 #include "vtkSmartPointer.h"
+#include "vtkStringArray.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkTable.h"
 
@@ -148,6 +150,7 @@ int vtkMorphSkinFilter::RequestData(
   this->NumberOfSkinnedParts = 0;
   this->HasEyeBones = false;
   this->HasHeadBones = false;
+  this->JawByBone = false;
   this->HeadBounds[0] = this->HeadBounds[2] = this->HeadBounds[4] = 1.0;
   this->HeadBounds[1] = this->HeadBounds[3] = this->HeadBounds[5] = -1.0;
   this->Bones.clear();
@@ -164,6 +167,8 @@ int vtkMorphSkinFilter::RequestData(
     angles.HeadRoll = this->HeadRoll;
     angles.EyeYaw = this->EyeYaw;
     angles.EyePitch = this->EyePitch;
+    angles.JawOpen = this->JawOpen;
+    angles.MaxJawAngle = this->MaxJawAngle;
     if (vtkTable* table = vtkTable::GetData(inputVector[1], 0))
     {
       if (table->GetNumberOfRows() < 1)
@@ -172,7 +177,7 @@ int vtkMorphSkinFilter::RequestData(
       }
       for (auto [name, value] : { std::pair<const char*, double*>{ "HeadYaw", &angles.HeadYaw },
              { "HeadPitch", &angles.HeadPitch }, { "HeadRoll", &angles.HeadRoll }, { "EyeYaw", &angles.EyeYaw },
-             { "EyePitch", &angles.EyePitch } })
+             { "EyePitch", &angles.EyePitch }, { "jawOpen", &angles.JawOpen } })
       {
         if (auto* column = vtkDataArray::SafeDownCast(table->GetColumnByName(name)))
         {
@@ -191,6 +196,34 @@ int vtkMorphSkinFilter::RequestData(
     angles.Limits.MaxDown = this->MaxEyeDown;
     angles.RelaxArms = this->RelaxArms;
     angles.ArmAngle = this->ArmAngle;
+    // The jaw joint only where no jawOpen target opens the mouth (JAW_AUTO).
+    bool jawTarget = false;
+    if (this->TurnJaw == JAW_AUTO)
+    {
+      auto scan = [&jawTarget](vtkDataObject* leaf) {
+        auto* names = leaf ? vtkStringArray::SafeDownCast(leaf->GetFieldData()->GetAbstractArray("TargetNames")) : nullptr;
+        for (vtkIdType i = 0; names && i < names->GetNumberOfValues(); ++i)
+        {
+          std::string n = morphnode::text::ToLower(names->GetValue(i));
+          n.erase(std::remove(n.begin(), n.end(), '_'), n.end());
+          jawTarget = jawTarget || n == "jawopen";
+        }
+      };
+      if (auto* composite = vtkCompositeDataSet::SafeDownCast(input))
+      {
+        vtkSmartPointer<vtkCompositeDataIterator> it;
+        it.TakeReference(composite->NewIterator());
+        for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem())
+        {
+          scan(it->GetCurrentDataObject());
+        }
+      }
+      else
+      {
+        scan(input);
+      }
+    }
+    const bool jawAllowed = this->TurnJaw == JAW_ON || (this->TurnJaw == JAW_AUTO && !jawTarget);
 
     // One pose per skeleton; parts of one avatar share it (computed for the first part).
     auto reskin = [&](vtkPointSet* leaf, const std::string& what) -> vtkSmartPointer<vtkPointSet> {
@@ -240,6 +273,11 @@ int vtkMorphSkinFilter::RequestData(
       {
         roles.LeftEye = roles.RightEye = -1;
       }
+      if (!jawAllowed)
+      {
+        roles.Jaw = -1;
+      }
+      this->JawByBone = this->JawByBone || roles.Jaw >= 0;
       if (this->Bones.empty())
       {
         this->Bones = roles.Describe(entry.Skin.Bones);
@@ -295,7 +333,8 @@ int vtkMorphSkinFilter::RequestData(
       field->ShallowCopy(leaf->GetFieldData());
       vtkNew<vtkDoubleArray> used;
       used->SetName("SkinPose");
-      for (double v : { angles.HeadYaw, angles.HeadPitch, angles.HeadRoll, angles.EyeYaw, angles.EyePitch })
+      for (double v : { angles.HeadYaw, angles.HeadPitch, angles.HeadRoll, angles.EyeYaw, angles.EyePitch,
+             roles.Jaw >= 0 ? angles.JawOpen : 0.0 })
       {
         used->InsertNextValue(v);
       }
@@ -383,6 +422,10 @@ void vtkMorphSkinFilter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "NeckShare: " << this->NeckShare << "\n";
   os << indent << "TurnHead: " << this->TurnHead << "\n";
   os << indent << "TurnEyes: " << this->TurnEyes << "\n";
+  os << indent << "JawOpen: " << this->JawOpen << "\n";
+  os << indent << "MaxJawAngle: " << this->MaxJawAngle << "\n";
+  os << indent << "TurnJaw: " << this->TurnJaw << "\n";
+  os << indent << "JawByBone: " << this->JawByBone << "\n";
   os << indent << "RelaxArms: " << this->RelaxArms << "\n";
   os << indent << "ArmAngle: " << this->ArmAngle << "\n";
   os << indent << "NumberOfSkinnedParts: " << this->NumberOfSkinnedParts << "\n";

@@ -324,3 +324,34 @@ TEST(MorphSkinFilter, SkinnedQuadAndDamagedSkins)
   skin->Print(os);
   EXPECT_NE(os.str().find("NeckShare: 0.4"), std::string::npos);
 }
+
+// The jaw joint: the avatar has a Jaw joint AND a jawOpen target, so by default (JAW_AUTO)
+// JawOpen leaves the jaw joint alone (the target opens the mouth; never twice); forced on
+// (JAW_ON) the lower teeth, bound to the jaw, go down; the choice is reported.
+TEST(MorphSkinFilter, JawJointTurnsOnlyWhereNoJawOpenTargetOpensTheMouth)
+{
+  SKIP_WITHOUT_AVATAR();
+  Pipeline p;
+  const auto rest = p.Run();
+  p.Skin->SetJawOpen(1.0);
+  const auto automatic = p.Run();
+  EXPECT_FALSE(p.Skin->GetJawByBone()) << "the avatar's jawOpen target should open its mouth, not the joint";
+  EXPECT_EQ(automatic.at("Teeth")->GetPoints(), rest.at("Teeth")->GetPoints());
+  p.Skin->SetTurnJaw(vtkMorphSkinFilter::JAW_ON);
+  const auto forced = p.Run();
+  EXPECT_TRUE(p.Skin->GetJawByBone());
+  vtkPolyData* teeth = forced.at("Teeth");
+  vtkPolyData* teethRest = rest.at("Teeth");
+  double lowest = 0.0;
+  for (vtkIdType i = 0; i < teeth->GetNumberOfPoints(); ++i)
+  {
+    lowest = std::min(lowest, teeth->GetPoint(i)[1] - teethRest->GetPoint(i)[1]);
+  }
+  EXPECT_LT(lowest, -0.005) << "no tooth went down with the jaw";
+  auto* used = teeth->GetFieldData()->GetArray("SkinPose");
+  ASSERT_NE(used, nullptr);
+  EXPECT_EQ(used->GetComponent(5, 0), 1.0);
+  p.Skin->SetTurnJaw(vtkMorphSkinFilter::JAW_OFF);
+  p.Run();
+  EXPECT_FALSE(p.Skin->GetJawByBone());
+}

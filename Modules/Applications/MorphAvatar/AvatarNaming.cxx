@@ -167,6 +167,10 @@ bool ChooseFaceSetup(Avatar& a)
     {
       log << "eyes: turned by eyeLook* targets; the eye joints stay (--gaze bones overrides)\n";
     }
+    if (skin->GetJawByBone())
+    {
+      log << "jaw: opened by the jaw joint (the face has no jawOpen target)\n";
+    }
   }
   if (!rigJson.empty() && (o.Rig.empty() || dropped))
   {

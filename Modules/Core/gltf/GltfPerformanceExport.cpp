@@ -10,6 +10,7 @@
 #include "skin/AvatarBones.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <memory>
 #include <set>
@@ -149,6 +150,25 @@ GltfPerformance MakeGltfPerformance(const GltfScene& scene, const GltfPerformanc
   const std::vector<double>* eyePitch = s.EyeRotations ? column("EyePitch") : nullptr;
   const bool head = headYaw || headPitch || headRoll;
   const bool eyes = eyeYaw || eyePitch;
+  // The jaw joint opens the mouth only where no jawOpen target does (as vtkMorphSkinFilter's
+  // JAW_AUTO): the table's jawOpen column is then not a weight of any mesh.
+  bool jawTarget = false;
+  for (const auto& part : scene.Parts)
+  {
+    for (const auto& t : part.Targets)
+    {
+      std::string n;
+      for (char c : t.Name)
+      {
+        if (c != '_')
+        {
+          n += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+        }
+      }
+      jawTarget = jawTarget || n == "jawopen";
+    }
+  }
+  const std::vector<double>* jawOpen = s.JawByBone && !jawTarget ? column("jawOpen") : nullptr;
   GltfPerformanceReport r;
   r.Frames = frames;
   r.WeightColumns = p.TargetNames.size();
@@ -159,13 +179,21 @@ GltfPerformance MakeGltfPerformance(const GltfScene& scene, const GltfPerformanc
   const EyeRig rig = MakeEyeRig(s.EyeNodeNames, { { 0.0, 0.0, 1.0 } }, { { 0.0, 1.0, 0.0 } }, s.Limits);
   bool headByBones = false;
   bool eyesByBones = false;
-  if (skinned && (head || eyes))
+  if (skinned && (head || eyes || jawOpen))
   {
     const Skeleton skeleton = GltfSkeleton(scene);
-    const AvatarBoneRoles roles = FindAvatarBones(skeleton);
+    AvatarBoneRoles roles = FindAvatarBones(skeleton);
     headByBones = head && (roles.Head >= 0 || roles.Neck >= 0);
     eyesByBones = eyes && roles.HasEyes() && s.EyeNodeNames.empty();
+    if (!jawOpen)
+    {
+      roles.Jaw = -1;
+    }
     std::vector<int> joints;
+    if (roles.Jaw >= 0)
+    {
+      joints.push_back(roles.Jaw);
+    }
     if (headByBones)
     {
       for (int j : { roles.Neck, roles.Head })
@@ -211,6 +239,8 @@ GltfPerformance MakeGltfPerformance(const GltfScene& scene, const GltfPerformanc
       }
       angles.NeckShare = s.NeckShare;
       angles.Limits = rig.GetLimits();
+      angles.JawOpen = at(jawOpen, f);
+      angles.MaxJawAngle = s.MaxJawAngle;
       pose.Reset();
       PoseAvatarBones(pose, roles, angles);
       for (size_t k = 0; k < joints.size(); ++k)

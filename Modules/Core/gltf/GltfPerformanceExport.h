@@ -12,7 +12,8 @@
 /// vtkMorphSkinFilter turns them (PoseAvatarBones: the head pose shared between neck and
 /// head, the eyes by the eye rig's limits in the turned face frame), and each turned joint
 /// gets a rotation track about its own origin, which the writer writes as a rotation
-/// channel on the joint itself (the skeleton stays as its maker made it).
+/// channel on the joint itself (the skeleton stays as its maker made it). A jaw joint
+/// opens by the table's `jawOpen` when no part has a `jawOpen` target.
 /// Nodes (unskinned heads, ICT): the head pose turns the whole scene about HeadPivot; the
 /// eye nodes the eye rig finds (gaze/EyeRig.h's MakeEyeRig, as vtkEyeGazeFilter) turn about
 /// their frames (NodeFrames, else the nodes' world transforms).
@@ -74,6 +75,10 @@ struct GltfPerformanceSettings
   /// bones when it has them, else the eye rig's default convention on nodes.
   std::vector<std::string> EyeNodeNames;
   EyeLimits Limits;
+  /// The table's `jawOpen` column (0..1) turns the avatar's jaw joint by up to MaxJawAngle
+  /// degrees when it has one and no part has a `jawOpen` target (skin/AvatarBones.h).
+  bool JawByBone = true;
+  double MaxJawAngle = 25.0;
   /// One per scene node when the parts are in world space and the nodes carry no transform
   /// (the eye nodes' centres and axes); empty: from the nodes' world transforms.
   std::vector<GltfNodeFrame> NodeFrames;

@@ -8,6 +8,7 @@
 #include <glm/gtc/quaternion.hpp>
 
 #include <cctype>
+#include <algorithm>
 #include <cmath>
 
 namespace morphnode
@@ -125,11 +126,12 @@ glm::dquat HeadRotation(double yaw, double pitch, double roll)
 
 void PoseAvatarBones(SkeletonPose& pose, const AvatarBoneRoles& roles, const AvatarBonePose& a)
 {
-  for (double v : { a.HeadYaw, a.HeadPitch, a.HeadRoll, a.EyeYaw, a.EyePitch, a.Vergence, a.NeckShare })
+  for (double v : { a.HeadYaw, a.HeadPitch, a.HeadRoll, a.EyeYaw, a.EyePitch, a.Vergence, a.NeckShare, a.JawOpen,
+         a.MaxJawAngle })
   {
     if (!std::isfinite(v))
     {
-      throw InputError("avatar bones: the head and gaze angles must be finite");
+      throw InputError("avatar bones: the head, gaze and jaw angles must be finite");
     }
   }
   if (a.NeckShare < 0.0 || a.NeckShare > 1.0)
@@ -193,6 +195,13 @@ void PoseAvatarBones(SkeletonPose& pose, const AvatarBoneRoles& roles, const Ava
     }
     const glm::dquat gaze = HeadRotation(angles.Yaw, angles.Pitch, 0.0);
     pose.TurnJoint(joint, inWorld(turnedFrame * gaze * glm::inverse(turnedFrame)));
+  }
+  // The jaw: chin down (negative pitch) about its pivot, in the turned face.
+  const double jaw = std::clamp(a.JawOpen, 0.0, 1.0) * a.MaxJawAngle;
+  if (roles.Jaw >= 0 && jaw != 0.0)
+  {
+    const glm::dquat open = HeadRotation(0.0, -jaw, 0.0);
+    pose.TurnJoint(roles.Jaw, inWorld(turnedFrame * open * glm::inverse(turnedFrame)));
   }
 }
 } // namespace morphnode

@@ -63,6 +63,12 @@ struct AvatarBonePose
   /// the down direction. Off: the arms as stored.
   bool RelaxArms = false;
   double ArmAngle = 12.0;
+  /// The mouth opened by the jaw joint (when the roles have one): 0 closed, 1 open by
+  /// MaxJawAngle degrees, the chin turned down about the jaw's pivot in the face frame as
+  /// the head has turned it. For avatars with a jaw joint and no `jawOpen` target (who
+  /// chooses: vtkMorphSkinFilter's TurnJaw, gltf/GltfPerformanceExport.h); 0 leaves it.
+  double JawOpen = 0.0;
+  double MaxJawAngle = 25.0;
 };
 
 /// The rotation R of the convention for the head angles (degrees), in the face's frame.

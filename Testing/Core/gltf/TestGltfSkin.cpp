@@ -4,6 +4,7 @@
 // node's own transform ignored, morph then skin), re-skinning it, damaged skins refused, and
 // the shared MakeHuman avatar at rest (its bind pose is its rest pose) with its bones found.
 #include "gltf/GltfSkin.h"
+#include "gltf/GltfPerformanceExport.h"
 
 #include "base/Error.h"
 #include "skin/AvatarBones.h"
@@ -278,4 +279,36 @@ TEST(GltfSkin, UnskinnedQuadIsTheFilesBindSpaceAndNodesComeBackFromTheSkeleton)
       EXPECT_NEAR(std::abs(nodes[n].Rotation[c]), std::abs(rest.Nodes[n].Rotation[c]), 1e-12) << n;
     }
   }
+}
+
+// The performance export turns a jaw joint by the table's jawOpen when no part has a
+// jawOpen target (the skinned quad with J2 named "Jaw"): a rotation track on Jaw about its
+// own origin, chin down by jawOpen * 25 degrees; with a jawOpen target on the mesh the
+// column is a weight and the jaw joint stays.
+TEST(GltfSkin, PerformanceOpensAJawJointOnlyWithoutAJawOpenTarget)
+{
+  gltftest::Builder b = gltftest::SkinnedQuad();
+  b.Doc["nodes"][2]["name"] = "Jaw";
+  GltfScene scene = Load(b.Glb(), false);
+  GltfPerformanceTable table;
+  table.Times = { 0.0, 1.0 };
+  table.Names = { "jawOpen" };
+  table.Columns = { { 0.0, 0.8 } };
+  GltfPerformanceReport report;
+  const GltfPerformance p = MakeGltfPerformance(scene, table, GltfPerformanceSettings(), &report);
+  EXPECT_TRUE(report.Bones);
+  ASSERT_EQ(p.Rotations.size(), 1u);
+  EXPECT_EQ(p.Rotations[0].Node, "Jaw");
+  EXPECT_EQ(p.Rotations[0].Pivot, scene.Nodes[2].Translation);
+  EXPECT_TRUE(p.TargetNames.empty());
+  const double* q = p.Rotations[0].Rotations.data() + 4;
+  // In the parent's frame (J1 is turned 90 degrees about z): the angle is 20 degrees.
+  EXPECT_NEAR(2.0 * std::acos(std::min(1.0, std::abs(q[3]))) * 180.0 / glm::pi<double>(), 20.0, 1e-6);
+  EXPECT_NEAR(p.Rotations[0].Rotations[3], 1.0, 1e-12); // closed at t = 0
+
+  scene.Parts[0].Targets[0].Name = "jawOpen";
+  const GltfPerformance q2 = MakeGltfPerformance(scene, table, GltfPerformanceSettings(), &report);
+  EXPECT_TRUE(q2.Rotations.empty());
+  EXPECT_EQ(q2.TargetNames, std::vector<std::string>{ "jawOpen" });
+  EXPECT_FALSE(report.Bones);
 }

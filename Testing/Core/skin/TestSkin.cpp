@@ -346,3 +346,52 @@ TEST(AvatarBones, RelaxedArmsHangDown)
   EXPECT_GT(d.x, 0.0);                                 // still on its own side
   ExpectNear(glm::dvec3(world[arm][3]), { 0.2, 1.4, 0 }); // the shoulder stays
 }
+
+// The jaw: JawOpen turns the jaw joint chin-down about its own pivot by JawOpen *
+// MaxJawAngle, in the face as the head has turned it; the teeth tip (a point in front of
+// and below the pivot) goes down and back; nothing moves without a jaw joint or at 0.
+TEST(AvatarBones, JawOpensAboutItsPivotInTheTurnedFace)
+{
+  Skeleton s;
+  const int hips = s.AddJoint(MakeJoint("Hips", -1, { 0, 0.9, 0 }));
+  const int neck = s.AddJoint(MakeJoint("Neck", hips, { 0, 0.5, 0 }));
+  const int head = s.AddJoint(MakeJoint("Head", neck, { 0, 0.06, 0 }));
+  const int jaw = s.AddJoint(MakeJoint("Jaw", head, { 0, 0.0, 0.02 }, AxisAngle(120, { 1, 0, 0 })));
+  s.Validate();
+  const AvatarBoneRoles roles = FindAvatarBones(s);
+  ASSERT_EQ(roles.Jaw, jaw);
+  SkeletonPose rest(s);
+  const auto restWorld = rest.World();
+  const glm::dvec3 pivot(restWorld[jaw][3]);
+  const glm::dvec3 chin = pivot + glm::dvec3(0, -0.03, 0.06);
+
+  SkeletonPose pose(s);
+  AvatarBonePose angles;
+  angles.JawOpen = 0.8; // 20 degrees of the default 25
+  PoseAvatarBones(pose, roles, angles);
+  auto world = pose.World();
+  glm::dmat4 move = world[jaw] * glm::inverse(restWorld[jaw]);
+  ExpectNear(glm::dvec3(move * glm::dvec4(pivot, 1)), pivot, 1e-12);
+  const glm::dvec3 moved(move * glm::dvec4(chin, 1));
+  EXPECT_LT(moved.y, chin.y - 0.01) << "the chin did not go down";
+  const glm::dvec3 a = glm::normalize(chin - pivot), b = glm::normalize(moved - pivot);
+  EXPECT_NEAR(std::acos(glm::dot(a, b)) * 180 / Pi, 20.0, 1e-6);
+  EXPECT_NEAR(moved.x, chin.x, 1e-12); // about the left-right axis
+  // The head turned 30 degrees: the jaw opens in the turned face (still about its axis).
+  SkeletonPose turned(s);
+  angles.HeadYaw = 30;
+  PoseAvatarBones(turned, roles, angles);
+  world = turned.World();
+  const glm::dmat3 jawMove = glm::dmat3(world[jaw]) * glm::inverse(glm::dmat3(restWorld[jaw]));
+  const glm::dmat3 expected = glm::mat3_cast(HeadRotation(30, 0, 0) * HeadRotation(0, -20, 0));
+  for (int c = 0; c < 3; ++c)
+  {
+    ExpectNear(jawMove[c], expected[c], 1e-9);
+  }
+  // Closed: the jaw stays; without a jaw joint nothing else moves either.
+  SkeletonPose closed(s);
+  AvatarBonePose none;
+  PoseAvatarBones(closed, roles, none);
+  EXPECT_EQ(closed.World()[jaw], restWorld[jaw]);
+  (void)head;
+}
