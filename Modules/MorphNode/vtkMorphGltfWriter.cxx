@@ -247,9 +247,10 @@ std::vector<vtkPolyData*> Leaves(vtkDataObject* input)
 /// keeps the avatar's skeleton and skins. Other leaves are grouped into root nodes without
 /// transform by NodeName (and by their targets, which glTF makes the same for every
 /// primitive of a mesh). `frames`: each node's centre and axes (the leaves' NodeOrigin and
-/// NodeAxes; a joint's from its rest transform); `bounds`: of every leaf.
+/// NodeAxes; a joint's from its rest transform); `bounds`: of every leaf; `humanoid` and
+/// `rangeMaps`: a VRM avatar's bones and look-at (vtkMorphSkinArrays.h).
 morphnode::GltfScene ToScene(const std::vector<vtkPolyData*>& leaves, std::vector<morphnode::GltfNodeFrame>& frames,
-  double bounds[6])
+  double bounds[6], std::map<std::string, std::string>& humanoid, morphnode::EyeRangeMaps& rangeMaps)
 {
   namespace skin = vtkMorphSkinArrays;
   morphnode::GltfScene scene;
@@ -303,6 +304,11 @@ morphnode::GltfScene ToScene(const std::vector<vtkPolyData*>& leaves, std::vecto
     if (skin::IsSkinned(leaf))
     {
       skin::Skin s = skin::GetSkin(leaf, part.Name);
+      if (humanoid.empty())
+      {
+        humanoid = s.Humanoid;
+        rangeMaps = s.RangeMaps;
+      }
       bool same = s.Bones.GetNumberOfJoints() == joints;
       for (size_t j = 0; same && j < joints; ++j)
       {
@@ -515,7 +521,7 @@ void vtkMorphGltfWriter::WriteData()
     const std::vector<vtkPolyData*> leaves = Leaves(this->GetInput(0));
     morphnode::GltfPerformanceSettings settings;
     double bounds[6];
-    morphnode::GltfScene scene = ToScene(leaves, settings.NodeFrames, bounds);
+    morphnode::GltfScene scene = ToScene(leaves, settings.NodeFrames, bounds, settings.Humanoid, settings.RangeMaps);
     AddSourceMaterials(scene, leaves, this);
     this->NumberOfParts = static_cast<int>(scene.Parts.size());
 

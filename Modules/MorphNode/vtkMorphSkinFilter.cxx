@@ -87,7 +87,7 @@ public:
     entry.Time = weights->GetMTime();
     entry.Skin = vtkMorphSkinArrays::GetSkin(leaf, what);
     entry.RestMatrices = entry.Skin.RestMatrices();
-    entry.Roles = morphnode::FindAvatarBones(entry.Skin.Bones);
+    entry.Roles = morphnode::FindAvatarBones(entry.Skin.Bones, entry.Skin.Humanoid);
     entry.Rest = morphnode::RestSkin(entry.Skin.Influences, entry.RestMatrices, what);
     return this->Cache[weights] = std::move(entry);
   }
@@ -283,7 +283,9 @@ int vtkMorphSkinFilter::RequestData(
         this->Bones = roles.Describe(entry.Skin.Bones);
       }
       morphnode::SkeletonPose pose(entry.Skin.Bones);
-      morphnode::PoseAvatarBones(pose, roles, angles);
+      morphnode::AvatarBonePose posed = angles;
+      posed.RangeMaps = entry.Skin.RangeMaps; // a VRM's look-at (vtkMorphSkinArrays.h)
+      morphnode::PoseAvatarBones(pose, roles, posed);
       ++this->NumberOfSkinnedParts;
       if (!entry.Rest.SetPose(entry.Skin.Joints.Matrices(pose.World())))
       {

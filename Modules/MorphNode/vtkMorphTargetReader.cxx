@@ -872,6 +872,19 @@ int vtkMorphTargetReader::RequestData(
         collection->Initialize();
         collection->SetNumberOfPartitionedDataSets(static_cast<unsigned int>(scene.Parts.size()));
         std::unordered_set<std::string> seen;
+        // A VRM avatar's humanoid bones and look-at (its extension JSON; none for others).
+        morphnode::GltfVrm vrm;
+        try
+        {
+          if (std::any_of(scene.Parts.begin(), scene.Parts.end(), [](const morphnode::GltfPart& q) { return q.Skin >= 0; }))
+          {
+            vrm = morphnode::ReadGltfVrm(this->FileName);
+          }
+        }
+        catch (const std::exception& e)
+        {
+          vtkWarningMacro(<< "the VRM description of " << this->FileName << " is not used: " << e.what());
+        }
         for (size_t p = 0; p < scene.Parts.size(); ++p)
         {
           const morphnode::GltfPart part = prepare(scene.Parts[p]);
@@ -884,6 +897,7 @@ int vtkMorphTargetReader::RequestData(
           if (part.Skin >= 0)
           {
             vtkMorphSkinArrays::AddSkin(poly, scene, part, locals, this->Scale);
+            vtkMorphSkinArrays::AddVrm(poly, vrm);
           }
           collection->SetPartition(static_cast<unsigned int>(p), 0, poly);
           collection->GetMetaData(static_cast<unsigned int>(p))->Set(vtkCompositeDataSet::NAME(), part.Name.c_str());

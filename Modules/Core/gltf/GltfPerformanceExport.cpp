@@ -182,7 +182,7 @@ GltfPerformance MakeGltfPerformance(const GltfScene& scene, const GltfPerformanc
   if (skinned && (head || eyes || jawOpen))
   {
     const Skeleton skeleton = GltfSkeleton(scene);
-    AvatarBoneRoles roles = FindAvatarBones(skeleton);
+    AvatarBoneRoles roles = FindAvatarBones(skeleton, s.Humanoid);
     headByBones = head && (roles.Head >= 0 || roles.Neck >= 0);
     eyesByBones = eyes && roles.HasEyes() && s.EyeNodeNames.empty();
     if (!jawOpen)
@@ -241,6 +241,7 @@ GltfPerformance MakeGltfPerformance(const GltfScene& scene, const GltfPerformanc
       angles.Limits = rig.GetLimits();
       angles.JawOpen = at(jawOpen, f);
       angles.MaxJawAngle = s.MaxJawAngle;
+      angles.RangeMaps = s.RangeMaps;
       pose.Reset();
       PoseAvatarBones(pose, roles, angles);
       for (size_t k = 0; k < joints.size(); ++k)

@@ -22,8 +22,10 @@
 
 #include "gaze/EyeRig.h"
 #include "gltf/GltfWriter.h"
+#include "skin/AvatarBones.h"
 
 #include <array>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -79,6 +81,10 @@ struct GltfPerformanceSettings
   /// degrees when it has one and no part has a `jawOpen` target (skin/AvatarBones.h).
   bool JawByBone = true;
   double MaxJawAngle = 25.0;
+  /// The avatar's own humanoid map (VRM humanBones: bone -> node name, gltf/GltfVrm.h),
+  /// winning over the names' guess; and its look-at range maps for eye bones.
+  std::map<std::string, std::string> Humanoid;
+  EyeRangeMaps RangeMaps;
   /// One per scene node when the parts are in world space and the nodes carry no transform
   /// (the eye nodes' centres and axes); empty: from the nodes' world transforms.
   std::vector<GltfNodeFrame> NodeFrames;

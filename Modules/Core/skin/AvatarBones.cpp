@@ -124,6 +124,41 @@ glm::dquat HeadRotation(double yaw, double pitch, double roll)
     glm::angleAxis(-roll * d, glm::dvec3(0, 0, 1));
 }
 
+AvatarBoneRoles FindAvatarBones(const Skeleton& skeleton, const std::map<std::string, std::string>& humanoid)
+{
+  AvatarBoneRoles roles = FindAvatarBones(skeleton);
+  for (auto [bone, role] : { std::pair<const char*, int*>{ "head", &roles.Head }, { "neck", &roles.Neck },
+         { "leftEye", &roles.LeftEye }, { "rightEye", &roles.RightEye }, { "jaw", &roles.Jaw },
+         { "leftUpperArm", &roles.LeftUpperArm }, { "leftLowerArm", &roles.LeftForeArm },
+         { "rightUpperArm", &roles.RightUpperArm }, { "rightLowerArm", &roles.RightForeArm } })
+  {
+    const auto it = humanoid.find(bone);
+    const int joint = it == humanoid.end() ? -1 : skeleton.FindJoint(it->second);
+    if (joint >= 0)
+    {
+      *role = joint;
+    }
+  }
+  return roles;
+}
+
+namespace
+{
+/// One eye's angles through VRM's range maps: yaw inner or outer by the eye's side and the
+/// direction (the left eye, at +X, looks outward at positive yaw), pitch down or up.
+GazeAngles MapEyeAngles(const GazeAngles& in, EyeSide side, const EyeRangeMaps& m)
+{
+  auto map = [](double v, double max, double scale) {
+    return !(max > 0.0) ? 0.0 : (v < 0 ? -1.0 : 1.0) * std::min(std::abs(v), max) / max * scale;
+  };
+  const bool outward = side == EyeSide::Left ? in.Yaw > 0.0 : side == EyeSide::Right ? in.Yaw < 0.0 : true;
+  GazeAngles out;
+  out.Yaw = outward ? map(in.Yaw, m.OuterMax, m.OuterScale) : map(in.Yaw, m.InnerMax, m.InnerScale);
+  out.Pitch = in.Pitch > 0.0 ? map(in.Pitch, m.UpMax, m.UpScale) : map(in.Pitch, m.DownMax, m.DownScale);
+  return out;
+}
+} // namespace
+
 void PoseAvatarBones(SkeletonPose& pose, const AvatarBoneRoles& roles, const AvatarBonePose& a)
 {
   for (double v : { a.HeadYaw, a.HeadPitch, a.HeadRoll, a.EyeYaw, a.EyePitch, a.Vergence, a.NeckShare, a.JawOpen,
@@ -188,7 +223,11 @@ void PoseAvatarBones(SkeletonPose& pose, const AvatarBoneRoles& roles, const Ava
     {
       continue;
     }
-    const GazeAngles angles = EyeAngles(GazeAngles{ a.EyeYaw, a.EyePitch }, a.Vergence, side, a.Limits);
+    EyeLimits open;
+    open.MaxYaw = open.MaxUp = open.MaxDown = 90.0;
+    const GazeAngles angles = a.RangeMaps.Enabled
+      ? MapEyeAngles(EyeAngles(GazeAngles{ a.EyeYaw, a.EyePitch }, a.Vergence, side, open), side, a.RangeMaps)
+      : EyeAngles(GazeAngles{ a.EyeYaw, a.EyePitch }, a.Vergence, side, a.Limits);
     if (angles.Yaw == 0.0 && angles.Pitch == 0.0)
     {
       continue;

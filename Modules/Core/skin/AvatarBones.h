@@ -24,6 +24,7 @@
 
 #include <glm/glm.hpp>
 
+#include <map>
 #include <string>
 
 namespace morphnode
@@ -49,6 +50,24 @@ std::string CanonicalBoneName(const std::string& name);
 /// Finds the roles by name (see the file comment). Roles not found stay -1.
 AvatarBoneRoles FindAvatarBones(const Skeleton& skeleton);
 
+/// The same, with a humanoid map the avatar gives itself (VRM's humanBones: VRM bone name
+/// -> node name, gltf/GltfVrm.h): its head, neck, leftEye, rightEye, jaw, leftUpperArm,
+/// leftLowerArm, rightUpperArm and rightLowerArm win over the names' guess where the
+/// skeleton has that node.
+AvatarBoneRoles FindAvatarBones(const Skeleton& skeleton, const std::map<std::string, std::string>& humanoid);
+
+/// VRM's look-at range maps for eye bones: an input angle up to the map's InputMax degrees
+/// turns the eye linearly up to its OutputScale degrees (inner: towards the nose, outer:
+/// away from it, down, up). When Enabled they replace the eye rig's limits.
+struct EyeRangeMaps
+{
+  bool Enabled = false;
+  double InnerMax = 90.0, InnerScale = 10.0;
+  double OuterMax = 90.0, OuterScale = 10.0;
+  double DownMax = 90.0, DownScale = 10.0;
+  double UpMax = 90.0, UpScale = 10.0;
+};
+
 struct AvatarBonePose
 {
   double HeadYaw = 0.0, HeadPitch = 0.0, HeadRoll = 0.0; ///< degrees (behavior/HeadPose.h)
@@ -69,6 +88,8 @@ struct AvatarBonePose
   /// chooses: vtkMorphSkinFilter's TurnJaw, gltf/GltfPerformanceExport.h); 0 leaves it.
   double JawOpen = 0.0;
   double MaxJawAngle = 25.0;
+  /// VRM look-at range maps (instead of Limits when enabled).
+  EyeRangeMaps RangeMaps;
 };
 
 /// The rotation R of the convention for the head angles (degrees), in the face's frame.

@@ -5,6 +5,7 @@
 // the shared MakeHuman avatar at rest (its bind pose is its rest pose) with its bones found.
 #include "gltf/GltfSkin.h"
 #include "gltf/GltfPerformanceExport.h"
+#include "gltf/GltfVrm.h"
 
 #include "base/Error.h"
 #include "skin/AvatarBones.h"
@@ -16,7 +17,9 @@
 #include <array>
 #include <cmath>
 #include <iostream>
+#include <algorithm>
 #include <filesystem>
+#include <fstream>
 
 using namespace morphnode;
 using morphnode_test::ErrorOf;
@@ -311,4 +314,91 @@ TEST(GltfSkin, PerformanceOpensAJawJointOnlyWithoutAJawOpenTarget)
   EXPECT_TRUE(q2.Rotations.empty());
   EXPECT_EQ(q2.TargetNames, std::vector<std::string>{ "jawOpen" });
   EXPECT_FALSE(report.Bones);
+}
+
+namespace
+{
+/// The skinned quad as a VRM: its mesh's targets "Up" and "Right", J1 and J2 as the
+/// humanoid head and jaw.
+gltftest::Builder VrmQuad(bool one)
+{
+  gltftest::Builder b = gltftest::SkinnedQuad();
+  if (one)
+  {
+    b.Doc["extensions"]["VRMC_vrm"] = { { "specVersion", "1.0" },
+      { "humanoid", { { "humanBones", { { "head", { { "node", 1 } } }, { "jaw", { { "node", 2 } } } } } } },
+      { "expressions",
+        { { "preset",
+            { { "oh", { { "morphTargetBinds", { { { "node", 3 }, { "index", 1 }, { "weight", 0.5 } } } } } },
+              { "blink", { { "morphTargetBinds", { { { "node", 3 }, { "index", 0 }, { "weight", 1.0 } } } } } } } },
+          { "custom", { { "smirk", { { "morphTargetBinds", { { { "node", 3 }, { "index", 0 } } } } } } } } } },
+      { "lookAt", { { "type", "bone" }, { "offsetFromHeadBone", { 0, 0.06, 0 } },
+                    { "rangeMapHorizontalOuter", { { "inputMaxValue", 90 }, { "outputScale", 12 } } } } } };
+    b.Doc["extensionsUsed"] = { "VRMC_vrm" };
+  }
+  else
+  {
+    b.Doc["extensions"]["VRM"] = { { "humanoid", { { "humanBones", { { { "bone", "head" }, { "node", 1 } } } } } },
+      { "blendShapeMaster",
+        { { "blendShapeGroups",
+          { { { "name", "O" }, { "presetName", "o" }, { "binds", { { { "mesh", 0 }, { "index", 1 }, { "weight", 50 } } } } },
+            { { "name", "Joy" }, { "presetName", "joy" }, { "binds", { { { "mesh", 0 }, { "index", 0 }, { "weight", 100 } } } } } } } } },
+      { "firstPerson", { { "lookAtTypeName", "BlendShape" },
+                         { "lookAtHorizontalOuter", { { "xRange", 30 }, { "yRange", 1 } } } } } };
+    b.Doc["extensionsUsed"] = { "VRM" };
+  }
+  return b;
+}
+
+std::string WriteTemp(const std::string& name, const std::string& bytes)
+{
+  const std::string path = (std::filesystem::temp_directory_path() / name).string();
+  std::ofstream(path, std::ios::binary) << bytes;
+  return path;
+}
+} // namespace
+
+// VRM 1.0 and 0.x read from the extensions: expressions bound to the targets by name (0.x's
+// presets as 1.0's, its 0..100 weights as 0..1), humanoid bones (node and name), look-at
+// type and range maps; a bind outside the mesh is refused by name; a plain glTF is no VRM.
+TEST(GltfVrm, ExpressionsBonesAndLookAtOfBothVersions)
+{
+  const GltfVrm one = ReadGltfVrm(WriteTemp("morphnode_vrm1.glb", VrmQuad(true).Glb()));
+  EXPECT_EQ(one.Version, 2);
+  ASSERT_EQ(one.Expressions.size(), 3u);
+  const auto find = [](const GltfVrm& v, const std::string& name) {
+    const auto it = std::find_if(v.Expressions.begin(), v.Expressions.end(),
+      [&name](const GltfVrmExpression& e) { return e.Name == name; });
+    return it == v.Expressions.end() ? nullptr : &*it;
+  };
+  ASSERT_NE(find(one, "oh"), nullptr);
+  EXPECT_EQ(find(one, "oh")->Binds, (std::vector<std::pair<std::string, double>>{ { "Right", 0.5 } }));
+  ASSERT_NE(find(one, "smirk"), nullptr);
+  EXPECT_FALSE(find(one, "smirk")->Preset);
+  EXPECT_EQ(one.HumanBones.at("head"), 1);
+  EXPECT_EQ(one.HumanBoneNodeNames.at("jaw"), "J2");
+  EXPECT_EQ(one.LookAtType, "bone");
+  EXPECT_NEAR(one.HorizontalOuter.Map(45), 6.0, 1e-12);
+  EXPECT_NEAR(one.HorizontalOuter.Map(-200), 12.0, 1e-12);
+  EXPECT_NEAR(one.HorizontalInner.Map(90), 10.0, 1e-12); // the default map of a bone look-at
+  EXPECT_NEAR(one.LookAtOffset[1], 0.06, 1e-12);
+
+  const GltfVrm zero = ReadGltfVrm(WriteTemp("morphnode_vrm0.glb", VrmQuad(false).Glb()));
+  EXPECT_EQ(zero.Version, 1);
+  ASSERT_NE(find(zero, "oh"), nullptr);
+  EXPECT_EQ(find(zero, "oh")->Binds, (std::vector<std::pair<std::string, double>>{ { "Right", 0.5 } }));
+  ASSERT_NE(find(zero, "happy"), nullptr);
+  EXPECT_EQ(zero.HumanBoneNodeNames.at("head"), "J1");
+  EXPECT_EQ(zero.LookAtType, "expression");
+  EXPECT_NEAR(zero.HorizontalOuter.Map(15), 0.5, 1e-12);
+
+  EXPECT_FALSE(ReadGltfVrm(WriteTemp("morphnode_novrm.glb", gltftest::SkinnedQuad().Glb())).IsVrm());
+  gltftest::Builder bad = VrmQuad(true);
+  bad.Doc["extensions"]["VRMC_vrm"]["expressions"]["preset"]["oh"]["morphTargetBinds"][0]["index"] = 7;
+  EXPECT_NE(ErrorOf([&] { ReadGltfVrm(WriteTemp("morphnode_badvrm.glb", bad.Glb())); }).find("target 7 of mesh 0"),
+    std::string::npos);
+  gltftest::Builder badBone = VrmQuad(false);
+  badBone.Doc["extensions"]["VRM"]["humanoid"]["humanBones"][0]["node"] = 99;
+  EXPECT_NE(ErrorOf([&] { ReadGltfVrm(WriteTemp("morphnode_badvrm0.glb", badBone.Glb())); }).find("node 99"),
+    std::string::npos);
 }

@@ -395,3 +395,38 @@ TEST(AvatarBones, JawOpensAboutItsPivotInTheTurnedFace)
   EXPECT_EQ(closed.World()[jaw], restWorld[jaw]);
   (void)head;
 }
+
+// A VRM humanoid map wins over the names' guess (bones named nothing like a head), and VRM
+// look-at range maps replace the limits: 45 of 90 input degrees outward turn a bone of
+// scale 12 by 6 degrees; inward by the inner map; beyond the input maximum it stops.
+TEST(AvatarBones, VrmHumanoidMapAndLookAtRangeMaps)
+{
+  Skeleton s;
+  const int root = s.AddJoint(MakeJoint("Root", -1, { 0, 1.5, 0 }));
+  const int b1 = s.AddJoint(MakeJoint("Bone.001", root, { 0, 0.1, 0 }));
+  const int b2 = s.AddJoint(MakeJoint("Bone.002", b1, { 0.03, 0.05, 0.08 }));
+  s.Validate();
+  EXPECT_EQ(FindAvatarBones(s).Head, -1);
+  const AvatarBoneRoles roles =
+    FindAvatarBones(s, { { "head", "Bone.001" }, { "leftEye", "Bone.002" }, { "jaw", "NoSuchNode" } });
+  EXPECT_EQ(roles.Head, b1);
+  EXPECT_EQ(roles.LeftEye, b2);
+  EXPECT_EQ(roles.Jaw, -1);
+  SkeletonPose rest(s);
+  const glm::dmat4 restEye = rest.World()[b2];
+  auto yawOf = [&](double eyeYaw) {
+    SkeletonPose pose(s);
+    AvatarBonePose a;
+    a.EyeYaw = eyeYaw;
+    a.RangeMaps.Enabled = true;
+    a.RangeMaps.OuterScale = 12.0;
+    a.RangeMaps.InnerScale = 4.0;
+    PoseAvatarBones(pose, roles, a);
+    const glm::dmat3 m = glm::dmat3(pose.World()[b2]) * glm::inverse(glm::dmat3(restEye));
+    const glm::dvec3 f = m * glm::dvec3(0, 0, 1);
+    return std::atan2(f.x, f.z) * 180 / Pi;
+  };
+  EXPECT_NEAR(yawOf(45), 6.0, 1e-9);   // outward for the left eye
+  EXPECT_NEAR(yawOf(-45), -2.0, 1e-9); // inward
+  EXPECT_NEAR(yawOf(200), 12.0, 1e-9);
+}
