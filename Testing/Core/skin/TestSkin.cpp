@@ -430,3 +430,44 @@ TEST(AvatarBones, VrmHumanoidMapAndLookAtRangeMaps)
   EXPECT_NEAR(yawOf(-45), -2.0, 1e-9); // inward
   EXPECT_NEAR(yawOf(200), 12.0, 1e-9);
 }
+
+// RestSkin's fast paths give what exact skinning gives: rest matrices that differ by float
+// rounding (1e-7, as a bind pose's) share the float path; a point on one rigidly turned
+// joint (normal turned without renormalizing), a point on one scaled joint (normal by the
+// inverse transpose, renormalized), a point blended between both; each against
+// SkinPoints of the bind pose (double precision) at the pose.
+TEST(Skinning, RestSkinFastPathsEqualExactSkinning)
+{
+  const glm::dmat4 rest0(1.0);
+  glm::dmat4 rest1(1.0);
+  rest1[3][0] = 1e-7; // float rounding of an inverse bind matrix
+  const std::vector<glm::dmat4> rest = { rest0, rest1 };
+  const std::vector<glm::dmat4> pose = { glm::rotate(glm::dmat4(1.0), 0.7, glm::dvec3(0, 1, 0)) * rest0,
+    glm::scale(glm::translate(glm::dmat4(1.0), glm::dvec3(0.1, 0, 0)), glm::dvec3(2, 1, 0.5)) * rest1 };
+  SkinInfluences inf;
+  inf.AddSet({ 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0 }, { 1, 0, 0, 0, 1, 0, 0, 0, 0.3f, 0.7f, 0, 0 }, 3);
+  inf.Normalize(2, "test");
+  RestSkin skin(inf, rest, "test");
+  ASSERT_TRUE(skin.SetPose(pose));
+  const float s = static_cast<float>(std::sqrt(1.0 / 3.0));
+  const float points[] = { 0.1f, 0.2f, 0.3f, -0.2f, 0.5f, 0.1f, 0.3f, -0.1f, 0.2f };
+  const float normals[] = { s, s, s, s, -s, s, -s, s, s };
+  float p[9], n[9];
+  skin.Apply<float>(points, normals, p, n, 0, 3);
+  // Exact: the points at rest are the bind points moved by the rest blend; skin those.
+  double bindPoints[9], bindNormals[9], q[9], m[9];
+  for (int i = 0; i < 9; ++i)
+  {
+    bindPoints[i] = points[i];
+    bindNormals[i] = normals[i];
+  }
+  bindPoints[0] -= 0.0;               // point 0 on joint 0: rest is the identity
+  bindPoints[3] -= 1e-7;              // point 1 on joint 1
+  bindPoints[6] -= 0.7 * 1e-7;        // point 2: 0.7 on joint 1
+  SkinPoints<double>(inf, pose, bindPoints, bindNormals, q, m, 0, 3);
+  for (int i = 0; i < 9; ++i)
+  {
+    EXPECT_NEAR(p[i], q[i], 1e-6) << i;
+    EXPECT_NEAR(n[i], m[i], 1e-6) << i;
+  }
+}
