@@ -206,7 +206,8 @@ GltfPerformance MakeGltfPerformance(const GltfScene& scene, const GltfPerformanc
     }
     if (eyesByBones)
     {
-      for (int j : { roles.LeftEye, roles.RightEye })
+      for (int j : { roles.LeftEye, roles.RightEye, roles.LeftUpperLid, roles.RightUpperLid, roles.LeftLowerLid,
+             roles.RightLowerLid })
       {
         if (j >= 0)
         {

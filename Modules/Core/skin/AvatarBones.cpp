@@ -60,6 +60,15 @@ std::string AvatarBoneRoles::Describe(const Skeleton& skeleton) const
   add("jaw", this->Jaw);
   add("left arm", this->LeftUpperArm);
   add("right arm", this->RightUpperArm);
+  for (auto [role, joint] : { std::pair<const char*, int>{ "left upper lid", this->LeftUpperLid },
+         { "right upper lid", this->RightUpperLid }, { "left lower lid", this->LeftLowerLid },
+         { "right lower lid", this->RightLowerLid } })
+  {
+    if (joint >= 0)
+    {
+      add(role, joint);
+    }
+  }
   return out;
 }
 
@@ -114,6 +123,31 @@ AvatarBoneRoles FindAvatarBones(const Skeleton& skeleton)
       roles.RightEye = static_cast<int>(j);
     }
   }
+  // Eyelid bones: "lid" in the name with upper/lower and a side, below the head.
+  for (size_t j = 0; j < n; ++j)
+  {
+    const std::string& name = skeleton.GetJoint(j).Name;
+    const std::string canonical = CanonicalBoneName(name);
+    if (canonical.find("lid") == std::string::npos || canonical.find("end") != std::string::npos ||
+      (roles.Head >= 0 && !skeleton.IsAncestor(roles.Head, static_cast<int>(j))))
+    {
+      continue;
+    }
+    const bool upper = canonical.find("upper") != std::string::npos || canonical.find("top") != std::string::npos;
+    const bool lower = canonical.find("lower") != std::string::npos || canonical.find("bottom") != std::string::npos;
+    EyeSide side = EyeRig::SideFromName(name);
+    if (side == EyeSide::Unknown && !canonical.empty())
+    {
+      side = canonical[0] == 'l' ? EyeSide::Left : canonical[0] == 'r' ? EyeSide::Right : EyeSide::Unknown;
+    }
+    int* role = side == EyeSide::Left ? (upper ? &roles.LeftUpperLid : lower ? &roles.LeftLowerLid : nullptr)
+      : side == EyeSide::Right        ? (upper ? &roles.RightUpperLid : lower ? &roles.RightLowerLid : nullptr)
+                                      : nullptr;
+    if (role && *role < 0)
+    {
+      *role = static_cast<int>(j);
+    }
+  }
   return roles;
 }
 
@@ -162,7 +196,7 @@ GazeAngles MapEyeAngles(const GazeAngles& in, EyeSide side, const EyeRangeMaps& 
 void PoseAvatarBones(SkeletonPose& pose, const AvatarBoneRoles& roles, const AvatarBonePose& a)
 {
   for (double v : { a.HeadYaw, a.HeadPitch, a.HeadRoll, a.EyeYaw, a.EyePitch, a.Vergence, a.NeckShare, a.JawOpen,
-         a.MaxJawAngle })
+         a.MaxJawAngle, a.LidFollow })
   {
     if (!std::isfinite(v))
     {
@@ -234,6 +268,18 @@ void PoseAvatarBones(SkeletonPose& pose, const AvatarBoneRoles& roles, const Ava
     }
     const glm::dquat gaze = HeadRotation(angles.Yaw, angles.Pitch, 0.0);
     pose.TurnJoint(joint, inWorld(turnedFrame * gaze * glm::inverse(turnedFrame)));
+    // The lids of this eye follow its pitch.
+    const int upper = side == EyeSide::Left ? roles.LeftUpperLid : roles.RightUpperLid;
+    const int lower = side == EyeSide::Left ? roles.LeftLowerLid : roles.RightLowerLid;
+    for (auto [lid, share] : { std::pair<int, double>{ upper, a.LidFollow }, { lower, 0.5 * a.LidFollow } })
+    {
+      // (a lid below the eye joint already turns with it)
+      if (lid >= 0 && share != 0.0 && angles.Pitch != 0.0 && !pose.GetSkeleton().IsAncestor(joint, lid))
+      {
+        const glm::dquat follow = HeadRotation(0.0, share * angles.Pitch, 0.0);
+        pose.TurnJoint(lid, inWorld(turnedFrame * follow * glm::inverse(turnedFrame)));
+      }
+    }
   }
   // The jaw: chin down (negative pitch) about its pivot, in the turned face.
   const double jaw = std::clamp(a.JawOpen, 0.0, 1.0) * a.MaxJawAngle;

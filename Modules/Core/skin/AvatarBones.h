@@ -38,6 +38,9 @@ struct AvatarBoneRoles
   int Jaw = -1;
   int LeftUpperArm = -1, LeftForeArm = -1;   ///< Mixamo LeftArm/LeftForeArm, VRM leftUpperArm/leftLowerArm, ...
   int RightUpperArm = -1, RightForeArm = -1;
+  /// Eyelid bones where a rig has them (CC_Base_L_UpperLid?, LeftUpperEyelid, upperlid.L,
+  /// VRM has none): they follow the eyes' pitch (AvatarBonePose::LidFollow).
+  int LeftUpperLid = -1, RightUpperLid = -1, LeftLowerLid = -1, RightLowerLid = -1;
 
   bool HasEyes() const { return this->LeftEye >= 0 || this->RightEye >= 0; }
   /// "Head, Neck, LeftEye, RightEye" as found, for reports.
@@ -90,6 +93,10 @@ struct AvatarBonePose
   double MaxJawAngle = 25.0;
   /// VRM look-at range maps (instead of Limits when enabled).
   EyeRangeMaps RangeMaps;
+  /// Lid bones follow their eye's pitch by this share (upper lids; lower lids by half),
+  /// about their own pivots, so that the lids open as the eyes look up and close as they
+  /// look down, as ARKit's eyeLook* targets move them.
+  double LidFollow = 0.6;
 };
 
 /// The rotation R of the convention for the head angles (degrees), in the face's frame.

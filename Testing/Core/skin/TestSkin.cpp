@@ -471,3 +471,38 @@ TEST(Skinning, RestSkinFastPathsEqualExactSkinning)
     EXPECT_NEAR(n[i], m[i], 1e-6) << i;
   }
 }
+
+// Lid bones where a rig has them (Character Creator's CC_Base_L_UpperLid, LeftLowerEyelid)
+// follow their eye's pitch about their own pivots: looking 20 degrees down turns the upper
+// lid 12 degrees down (LidFollow 0.6) and the lower lid 6; a sideways look leaves them;
+// they are not taken for eyes.
+TEST(AvatarBones, LidBonesFollowTheEyesPitch)
+{
+  Skeleton s;
+  const int head = s.AddJoint(MakeJoint("Head", -1, { 0, 1.6, 0 }));
+  const int eye = s.AddJoint(MakeJoint("LeftEye", head, { 0.03, 0.08, 0.08 }));
+  const int upper = s.AddJoint(MakeJoint("CC_Base_L_UpperLid", head, { 0.03, 0.09, 0.09 }));
+  const int lower = s.AddJoint(MakeJoint("LeftLowerEyelid", head, { 0.03, 0.07, 0.09 }));
+  s.Validate();
+  const AvatarBoneRoles roles = FindAvatarBones(s);
+  ASSERT_EQ(roles.LeftEye, eye);
+  ASSERT_EQ(roles.LeftUpperLid, upper);
+  ASSERT_EQ(roles.LeftLowerLid, lower);
+  EXPECT_NE(roles.Describe(s).find("left upper lid 'CC_Base_L_UpperLid'"), std::string::npos) << roles.Describe(s);
+  SkeletonPose rest(s);
+  const auto restWorld = rest.World();
+  auto pitchOf = [&](int joint, double eyeYaw, double eyePitch) {
+    SkeletonPose pose(s);
+    AvatarBonePose a;
+    a.EyeYaw = eyeYaw;
+    a.EyePitch = eyePitch;
+    PoseAvatarBones(pose, roles, a);
+    const glm::dmat3 m = glm::dmat3(pose.World()[joint]) * glm::inverse(glm::dmat3(restWorld[joint]));
+    const glm::dvec3 f = m * glm::dvec3(0, 0, 1);
+    ExpectNear(glm::dvec3(pose.World()[joint][3]), glm::dvec3(restWorld[joint][3]), 1e-12);
+    return std::asin(f.y) * 180 / Pi;
+  };
+  EXPECT_NEAR(pitchOf(upper, 0, -20), -12.0, 1e-9);
+  EXPECT_NEAR(pitchOf(lower, 0, -20), -6.0, 1e-9);
+  EXPECT_NEAR(pitchOf(upper, 25, 0), 0.0, 1e-9);
+}
