@@ -92,25 +92,13 @@ public:
         return rig.GetEyes();
       }
     }
-    morphnode::EyeRig rig;
     const std::array<double, 3> forward{ { self->EyeForward[0], self->EyeForward[1], self->EyeForward[2] } };
     const std::array<double, 3> up{ { self->EyeUp[0], self->EyeUp[1], self->EyeUp[2] } };
-    rig.SetDefaultDirections(forward, up);
     morphnode::EyeLimits limits;
     limits.MaxYaw = self->MaxEyeYaw;
     limits.MaxUp = self->MaxEyeUp;
     limits.MaxDown = self->MaxEyeDown;
-    rig.SetLimits(limits);
-    for (const std::string& name : this->EyeNames)
-    {
-      morphnode::EyeSpec eye;
-      eye.Name = name;
-      eye.Side = morphnode::EyeRig::SideFromName(name);
-      eye.Forward = forward;
-      eye.Up = up;
-      rig.AddEye(eye);
-    }
-    return rig;
+    return morphnode::MakeEyeRig(this->EyeNames, forward, up, limits);
   }
 
   /// The leaf turned when it is an eye (a new data set sharing everything but the turned

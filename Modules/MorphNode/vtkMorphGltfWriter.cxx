@@ -3,15 +3,15 @@
 
 #include "vtkMorphTargetArrays.h"
 
+#include "vtkMorphSkinArrays.h"
+
 #include "base/Error.h"
 #include "base/File.h"
+#include "base/Text.h"
 #include "behavior/HeadPose.h"
-#include "gaze/EyeRig.h"
-#include "gaze/EyeRotation.h"
+#include "gltf/GltfPerformanceExport.h"
 #include "gltf/GltfScene.h"
-#include "gltf/GltfWriter.h"
-#include "morph/MorphScene.h"
-#include "morph/OptimizerPresets.h"
+#include "gltf/GltfSkin.h"
 
 #include "vtkAbstractArray.h"
 #include "vtkAlgorithmOutput.h"
@@ -202,6 +202,261 @@ std::vector<std::string> SplitNames(const char* text)
   }
   return names;
 }
+
+/// The input's poly data leaves with points.
+std::vector<vtkPolyData*> Leaves(vtkDataObject* input)
+{
+  std::vector<vtkPolyData*> leaves;
+  if (auto* poly = vtkPolyData::SafeDownCast(input))
+  {
+    leaves.push_back(poly);
+  }
+  else if (auto* composite = vtkCompositeDataSet::SafeDownCast(input))
+  {
+    vtkSmartPointer<vtkCompositeDataIterator> it;
+    it.TakeReference(composite->NewIterator());
+    for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem())
+    {
+      auto* leaf = vtkPolyData::SafeDownCast(it->GetCurrentDataObject());
+      if (!leaf)
+      {
+        throw morphnode::InputError(std::string("a leaf is a ") +
+          it->GetCurrentDataObject()->GetClassName() + ", not a vtkPolyData");
+      }
+      if (leaf->GetNumberOfPoints() > 0)
+      {
+        leaves.push_back(leaf);
+      }
+    }
+  }
+  else
+  {
+    throw morphnode::InputError(std::string("the input is a ") + (input ? input->GetClassName() : "null object") +
+      ", not a vtkPolyData or a composite data set of them");
+  }
+  if (leaves.empty())
+  {
+    throw morphnode::InputError("the input has no points");
+  }
+  return leaves;
+}
+
+/// The leaves as a scene in their nodes' frames. Skinned leaves (vtkMorphSkinArrays.h: shown
+/// at rest in world space) bring their skeleton as the scene's nodes, their skin and
+/// influences, and go back to bind space (morphnode::GltfUnskinPart), so that the file
+/// keeps the avatar's skeleton and skins. Other leaves are grouped into root nodes without
+/// transform by NodeName (and by their targets, which glTF makes the same for every
+/// primitive of a mesh). `frames`: each node's centre and axes (the leaves' NodeOrigin and
+/// NodeAxes; a joint's from its rest transform); `bounds`: of every leaf; `humanoid` and
+/// `rangeMaps`: a VRM avatar's bones and look-at (vtkMorphSkinArrays.h).
+morphnode::GltfScene ToScene(const std::vector<vtkPolyData*>& leaves, std::vector<morphnode::GltfNodeFrame>& frames,
+  double bounds[6], std::map<std::string, std::string>& humanoid, morphnode::EyeRangeMaps& rangeMaps)
+{
+  namespace skin = vtkMorphSkinArrays;
+  morphnode::GltfScene scene;
+  scene.SceneName = "MorphNode";
+  for (int k = 0; k < 3; ++k)
+  {
+    bounds[2 * k] = VTK_DOUBLE_MAX;
+    bounds[2 * k + 1] = -VTK_DOUBLE_MAX;
+  }
+  // The skeleton first, from the first skinned leaf: its joints are nodes 0 .. n-1.
+  morphnode::Skeleton skeleton;
+  for (vtkPolyData* leaf : leaves)
+  {
+    if (skin::IsSkinned(leaf))
+    {
+      skeleton = skin::GetSkin(leaf, "skinned part").Bones;
+      scene.Nodes = morphnode::GltfNodesFromSkeleton(skeleton);
+      break;
+    }
+  }
+  const size_t joints = scene.Nodes.size();
+  for (const auto& node : scene.Nodes)
+  {
+    const morphnode::GltfMatrix& w = node.World;
+    frames.push_back({ { { w[12], w[13], w[14] } }, { { w[0], w[1], w[2], w[4], w[5], w[6], w[8], w[9], w[10] } } });
+  }
+  std::vector<morphnode::GltfMatrix> worlds;
+  for (const auto& node : scene.Nodes)
+  {
+    worlds.push_back(node.World);
+  }
+  std::vector<std::vector<std::string>> nodeTargets(joints);
+  for (size_t i = 0; i < leaves.size(); ++i)
+  {
+    vtkPolyData* leaf = leaves[i];
+    std::string nodeName;
+    morphnode::GltfPart part = ToPart(leaf, "part" + std::to_string(i), nodeName);
+    std::vector<std::string> targets;
+    for (const auto& t : part.Targets)
+    {
+      targets.push_back(t.Name);
+    }
+    double b[6];
+    leaf->GetBounds(b);
+    for (int k = 0; k < 3; ++k)
+    {
+      bounds[2 * k] = std::min(bounds[2 * k], b[2 * k]);
+      bounds[2 * k + 1] = std::max(bounds[2 * k + 1], b[2 * k + 1]);
+    }
+    int node = -1;
+    if (skin::IsSkinned(leaf))
+    {
+      skin::Skin s = skin::GetSkin(leaf, part.Name);
+      if (humanoid.empty())
+      {
+        humanoid = s.Humanoid;
+        rangeMaps = s.RangeMaps;
+      }
+      bool same = s.Bones.GetNumberOfJoints() == joints;
+      for (size_t j = 0; same && j < joints; ++j)
+      {
+        same = s.Bones.GetJoint(j).Name == scene.Nodes[j].Name && s.Bones.GetJoint(j).Parent == scene.Nodes[j].Parent;
+      }
+      if (!same)
+      {
+        throw morphnode::InputError("part '" + part.Name + "' is skinned to another skeleton than the first skinned part");
+      }
+      morphnode::GltfSkin gskin;
+      gskin.Joints = s.Joints.Joints;
+      for (const auto& m : s.Joints.InverseBind)
+      {
+        gskin.InverseBind.push_back(morphnode::GltfFromGlm(m));
+      }
+      int index = -1;
+      for (size_t k = 0; k < scene.Skins.size(); ++k)
+      {
+        if (scene.Skins[k].Joints == gskin.Joints && scene.Skins[k].InverseBind == gskin.InverseBind)
+        {
+          index = static_cast<int>(k);
+        }
+      }
+      if (index < 0)
+      {
+        scene.Skins.push_back(std::move(gskin));
+        index = static_cast<int>(scene.Skins.size() - 1);
+      }
+      part.Skin = index;
+      part.Influences = std::move(s.Influences);
+      node = skeleton.FindJoint(nodeName);
+      if (node >= 0 && nodeTargets[static_cast<size_t>(node)].empty())
+      {
+        nodeTargets[static_cast<size_t>(node)] = targets;
+      }
+      morphnode::GltfUnskinPart(part, scene, worlds, "part '" + part.Name + "'");
+    }
+    if (node < 0)
+    {
+      for (size_t n = joints; n < scene.Nodes.size(); ++n)
+      {
+        if (scene.Nodes[n].Name == nodeName && nodeTargets[n] == targets)
+        {
+          node = static_cast<int>(n);
+        }
+      }
+    }
+    if (node < 0)
+    {
+      const bool taken = std::any_of(scene.Nodes.begin(), scene.Nodes.end(),
+        [&nodeName](const morphnode::GltfNode& other) { return other.Name == nodeName; });
+      morphnode::GltfNode gnode;
+      gnode.Name = taken ? nodeName + "/" + part.Name : nodeName;
+      gnode.InScene = true;
+      scene.Nodes.push_back(gnode);
+      nodeTargets.push_back(targets);
+      morphnode::GltfNodeFrame frame;
+      const std::vector<double> origin = FieldNumbers(leaf->GetFieldData(), "NodeOrigin", 3);
+      if (origin.size() == 3)
+      {
+        std::copy(origin.begin(), origin.end(), frame.Origin.begin());
+      }
+      const std::vector<double> axes = FieldNumbers(leaf->GetFieldData(), "NodeAxes", 9);
+      if (axes.size() == 9)
+      {
+        std::copy(axes.begin(), axes.end(), frame.Axes.begin());
+      }
+      frames.push_back(frame);
+      node = static_cast<int>(scene.Nodes.size() - 1);
+    }
+    part.TransformApplied = false; // world space = the frame of a root without transform
+    part.Node = node;
+    scene.Parts.push_back(std::move(part));
+  }
+  return scene;
+}
+
+/// The materials and images of the file the parts were read from (vtkMorphTargetReader's
+/// MaterialIndex and MaterialSource field data): the source scene's own, written back whole
+/// by the core writer. Parts from several files, or a source that no longer loads, keep the
+/// base colour materials made from their field data.
+void AddSourceMaterials(morphnode::GltfScene& scene, const std::vector<vtkPolyData*>& leaves, vtkObject* self)
+{
+  std::string source;
+  bool one = true;
+  std::vector<int> indices;
+  for (vtkPolyData* leaf : leaves)
+  {
+    const std::string file = FieldString(leaf->GetFieldData(), "MaterialSource");
+    const std::vector<double> index = FieldNumbers(leaf->GetFieldData(), "MaterialIndex", 1);
+    indices.push_back(file.empty() || index.size() != 1 ? -1 : static_cast<int>(index[0]));
+    if (!file.empty())
+    {
+      one = one && (source.empty() || source == file);
+      source = file;
+    }
+  }
+  if (source.empty() || !one)
+  {
+    return;
+  }
+  try
+  {
+    morphnode::GltfScene src = morphnode::LoadGltfScene(source);
+    scene.Materials = std::move(src.Materials);
+    scene.Images = std::move(src.Images);
+    for (size_t i = 0; i < indices.size(); ++i)
+    {
+      if (indices[i] >= 0 && static_cast<size_t>(indices[i]) < scene.Materials.size())
+      {
+        scene.Parts[i].Material = indices[i];
+      }
+    }
+  }
+  catch (const std::exception& e)
+  {
+    vtkWarningWithObjectMacro(self, << "the materials of " << source << " are not written (" << e.what()
+                                    << "); base colours only");
+    scene.Materials.clear();
+    scene.Images.clear();
+  }
+}
+
+/// Every numeric column of the performance table; the time column must be one.
+morphnode::GltfPerformanceTable ToTable(vtkTable* table, const char* timeName)
+{
+  morphnode::GltfPerformanceTable t;
+  t.Times = Column(table, timeName);
+  if (t.Times.empty())
+  {
+    throw morphnode::InputError(std::string("the performance has no numeric time column '") + timeName + "'");
+  }
+  for (vtkIdType c = 0; c < table->GetNumberOfColumns(); ++c)
+  {
+    const char* name = table->GetColumnName(c);
+    if (!name || std::string(name) == timeName)
+    {
+      continue;
+    }
+    std::vector<double> values = Column(table, name);
+    if (values.size() == t.Times.size())
+    {
+      t.Names.push_back(name);
+      t.Columns.push_back(std::move(values));
+    }
+  }
+  return t;
+}
 } // namespace
 
 //------------------------------------------------------------------------------
@@ -256,327 +511,55 @@ void vtkMorphGltfWriter::WriteData()
     this->SetErrorCode(vtkErrorCode::NoFileNameError);
     return;
   }
-  vtkDataObject* input = this->GetInput(0);
   vtkTable* table = this->GetNumberOfInputConnections(1) > 0 || this->GetInput(1)
     ? vtkTable::SafeDownCast(this->GetInput(1))
     : nullptr;
   try
   {
     // The output path first: a link, device or directory is refused before any work.
-    morphnode::file::CheckOutputPath(this->FileName ? this->FileName : "", "glTF file");
-    // The parts, grouped into nodes by NodeName (and by their targets, which glTF makes
-    // the same for every primitive of a mesh).
-    morphnode::GltfScene scene;
-    std::vector<std::string> nodeNames;
-    std::vector<std::vector<std::string>> nodeTargets;
-    std::vector<std::array<double, 3>> nodeOrigins;
-    std::vector<std::array<double, 9>> nodeAxes;
-    std::vector<std::string> nodePartNames;
-    std::vector<vtkPolyData*> leaves;
-    if (auto* poly = vtkPolyData::SafeDownCast(input))
-    {
-      leaves.push_back(poly);
-    }
-    else if (auto* composite = vtkCompositeDataSet::SafeDownCast(input))
-    {
-      vtkSmartPointer<vtkCompositeDataIterator> it;
-      it.TakeReference(composite->NewIterator());
-      for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem())
-      {
-        auto* leaf = vtkPolyData::SafeDownCast(it->GetCurrentDataObject());
-        if (!leaf)
-        {
-          throw morphnode::InputError(std::string("a leaf is a ") +
-            it->GetCurrentDataObject()->GetClassName() + ", not a vtkPolyData");
-        }
-        if (leaf->GetNumberOfPoints() > 0)
-        {
-          leaves.push_back(leaf);
-        }
-      }
-    }
-    else
-    {
-      throw morphnode::InputError(std::string("the input is a ") +
-        (input ? input->GetClassName() : "null object") +
-        ", not a vtkPolyData or a composite data set of them");
-    }
-    if (leaves.empty())
-    {
-      throw morphnode::InputError("the input has no points");
-    }
-    double bounds[6] = { VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX, VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX,
-      VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX };
-    std::vector<std::shared_ptr<const morphnode::MorphMesh>> meshes;
-    for (size_t i = 0; i < leaves.size(); ++i)
-    {
-      std::string nodeName;
-      morphnode::GltfPart part = ToPart(leaves[i], "part" + std::to_string(i), nodeName);
-      std::vector<std::string> targets;
-      for (const auto& t : part.Targets)
-      {
-        targets.push_back(t.Name);
-      }
-      int node = -1;
-      for (size_t n = 0; n < nodeNames.size(); ++n)
-      {
-        if (nodeNames[n] == nodeName && nodeTargets[n] == targets)
-        {
-          node = static_cast<int>(n);
-        }
-      }
-      if (node < 0)
-      {
-        const bool taken = std::find(nodeNames.begin(), nodeNames.end(), nodeName) != nodeNames.end();
-        nodeNames.push_back(nodeName);
-        nodeTargets.push_back(targets);
-        const std::vector<double> origin = FieldNumbers(leaves[i]->GetFieldData(), "NodeOrigin", 3);
-        nodeOrigins.push_back(origin.size() == 3 ? std::array<double, 3>{ { origin[0], origin[1], origin[2] } }
-                                                 : std::array<double, 3>{ { 0, 0, 0 } });
-        const std::vector<double> axes = FieldNumbers(leaves[i]->GetFieldData(), "NodeAxes", 9);
-        std::array<double, 9> a{ { 1, 0, 0, 0, 1, 0, 0, 0, 1 } };
-        if (axes.size() == 9)
-        {
-          std::copy(axes.begin(), axes.end(), a.begin());
-        }
-        nodeAxes.push_back(a);
-        nodePartNames.push_back(part.Name);
-        morphnode::GltfNode gnode;
-        gnode.Name = taken ? nodeName + "/" + part.Name : nodeName;
-        gnode.InScene = true;
-        scene.Nodes.push_back(gnode);
-        node = static_cast<int>(scene.Nodes.size() - 1);
-      }
-      part.Node = node;
-      double b[6];
-      leaves[i]->GetBounds(b);
-      for (int k = 0; k < 3; ++k)
-      {
-        bounds[2 * k] = std::min(bounds[2 * k], b[2 * k]);
-        bounds[2 * k + 1] = std::max(bounds[2 * k + 1], b[2 * k + 1]);
-      }
-      if (this->ApplyOptimizer && table)
-      {
-        arrays::ReadOptions options;
-        options.Normals = false;
-        meshes.push_back(std::make_shared<morphnode::MorphMesh>(arrays::ToMorphMesh(leaves[i], options).Mesh));
-      }
-      scene.Parts.push_back(std::move(part));
-    }
-    // The materials and images of the file the parts were read from (vtkMorphTargetReader's
-    // MaterialIndex and MaterialSource field data): the source scene's own, written back whole
-    // by the core writer. Parts from several files, or a source that no longer loads, keep the
-    // base colour materials made from their field data.
-    {
-      std::string source;
-      bool one = true;
-      std::vector<int> indices;
-      for (vtkPolyData* leaf : leaves)
-      {
-        const std::string file = FieldString(leaf->GetFieldData(), "MaterialSource");
-        const std::vector<double> index = FieldNumbers(leaf->GetFieldData(), "MaterialIndex", 1);
-        indices.push_back(file.empty() || index.size() != 1 ? -1 : static_cast<int>(index[0]));
-        if (!file.empty())
-        {
-          one = one && (source.empty() || source == file);
-          source = file;
-        }
-      }
-      if (!source.empty() && one)
-      {
-        try
-        {
-          morphnode::GltfScene src = morphnode::LoadGltfScene(source);
-          scene.Materials = std::move(src.Materials);
-          scene.Images = std::move(src.Images);
-          for (size_t i = 0; i < indices.size(); ++i)
-          {
-            if (indices[i] >= 0 && static_cast<size_t>(indices[i]) < scene.Materials.size())
-            {
-              scene.Parts[i].Material = indices[i];
-            }
-          }
-        }
-        catch (const std::exception& e)
-        {
-          vtkWarningMacro(<< "the materials of " << source << " are not written (" << e.what()
-                          << "); base colours only");
-          scene.Materials.clear();
-          scene.Images.clear();
-        }
-      }
-    }
-    scene.SceneName = "MorphNode";
+    morphnode::file::CheckOutputPath(this->FileName, "glTF file");
+    const std::vector<vtkPolyData*> leaves = Leaves(this->GetInput(0));
+    morphnode::GltfPerformanceSettings settings;
+    double bounds[6];
+    morphnode::GltfScene scene = ToScene(leaves, settings.NodeFrames, bounds, settings.Humanoid, settings.RangeMaps);
+    AddSourceMaterials(scene, leaves, this);
     this->NumberOfParts = static_cast<int>(scene.Parts.size());
 
-    // The performance.
-    std::unique_ptr<morphnode::GltfPerformance> performance;
-    if (table && table->GetNumberOfRows() > 0)
+    morphnode::GltfPerformanceTable performance;
+    const bool animated = table && table->GetNumberOfRows() > 0;
+    if (animated)
     {
-      performance = std::make_unique<morphnode::GltfPerformance>();
-      morphnode::GltfPerformance& p = *performance;
-      p.Interpolation = this->Interpolation == STEP ? morphnode::GltfInterpolation::Step
-                                                    : morphnode::GltfInterpolation::Linear;
-      const char* timeName = this->TimeArrayName ? this->TimeArrayName : "Time";
-      p.Times = Column(table, timeName);
-      if (p.Times.empty())
-      {
-        throw morphnode::InputError(std::string("the performance has no numeric time column '") + timeName + "'");
-      }
-      const size_t frames = p.Times.size();
-      // Weight columns: those naming a target of some part, in the table's order.
-      std::vector<std::vector<double>> columns;
-      for (vtkIdType c = 0; c < table->GetNumberOfColumns(); ++c)
-      {
-        const char* name = table->GetColumnName(c);
-        if (!name)
-        {
-          continue;
-        }
-        const bool isTarget = std::any_of(nodeTargets.begin(), nodeTargets.end(),
-          [name](const std::vector<std::string>& t) { return std::find(t.begin(), t.end(), name) != t.end(); });
-        if (!isTarget)
-        {
-          continue;
-        }
-        std::vector<double> values = Column(table, name);
-        if (values.size() != frames)
-        {
-          throw morphnode::InputError(std::string("the performance's column '") + name + "' is not numeric");
-        }
-        p.TargetNames.push_back(name);
-        columns.push_back(std::move(values));
-      }
-      this->NumberOfWeightColumns = static_cast<int>(p.TargetNames.size());
-      if (p.TargetNames.empty())
-      {
-        vtkWarningMacro(<< "no column of the performance names a target of the face: only the "
-                           "head and eye turns are animated");
-      }
-      p.Weights.resize(frames * p.TargetNames.size());
-      for (size_t f = 0; f < frames; ++f)
-      {
-        for (size_t c = 0; c < columns.size(); ++c)
-        {
-          p.Weights[f * columns.size() + c] = columns[c][f];
-        }
-      }
-      if (this->ApplyOptimizer && !p.TargetNames.empty())
-      {
-        morphnode::MorphScene model;
-        model.SetParts(meshes);
-        morphnode::OptimizerSettings settings = morphnode::MakeOptimizerSettings(
-          static_cast<morphnode::OptimizerPreset>(this->OptimizerPreset), this->Threshold,
-          this->MaxVertexError);
-        settings.Hysteresis = this->Hysteresis;
-        model.SetOptimizerSettings(settings);
-        model.SetWeightMode(morphnode::WeightMode::Relative);
-        std::vector<int> index(p.TargetNames.size());
-        for (size_t c = 0; c < index.size(); ++c)
-        {
-          index[c] = model.FindTarget(p.TargetNames[c]);
-        }
-        std::vector<double> requested(model.GetNumberOfTargets(), 0.0);
-        for (size_t f = 0; f < frames; ++f)
-        {
-          std::fill(requested.begin(), requested.end(), 0.0);
-          for (size_t c = 0; c < index.size(); ++c)
-          {
-            requested[static_cast<size_t>(index[c])] = p.Weights[f * index.size() + c];
-          }
-          const std::vector<double>& effective = model.SetWeights(requested);
-          for (size_t c = 0; c < index.size(); ++c)
-          {
-            p.Weights[f * index.size() + c] = effective[static_cast<size_t>(index[c])];
-          }
-          if (f % 256 == 0)
-          {
-            this->UpdateProgress(0.5 * static_cast<double>(f) / static_cast<double>(frames));
-          }
-        }
-      }
-      // Head pose about the head's pivot; eyes about their node origins.
-      auto angles = [&](const char* name) {
-        std::vector<double> v = Column(table, name);
-        return v.size() == frames ? v : std::vector<double>();
-      };
-      const std::vector<double> yaw = angles("HeadYaw");
-      const std::vector<double> pitch = angles("HeadPitch");
-      const std::vector<double> roll = angles("HeadRoll");
-      auto quaternions = [&](const std::vector<double>& y, const std::vector<double>& pi,
-                           const std::vector<double>& r) {
-        std::vector<double> q;
-        q.reserve(4 * frames);
-        for (size_t f = 0; f < frames; ++f)
-        {
-          morphnode::HeadAngles a;
-          a.Yaw = y.empty() ? 0.0 : y[f];
-          a.Pitch = pi.empty() ? 0.0 : pi[f];
-          a.Roll = r.empty() ? 0.0 : r[f];
-          const auto m = morphnode::HeadPoseMatrix(a, { { 0, 0, 0 } });
-          const auto quat = morphnode::GltfQuaternionFromRowMajor(m);
-          q.insert(q.end(), quat.begin(), quat.end());
-        }
-        return q;
-      };
-      if (this->WriteHeadPose && (!yaw.empty() || !pitch.empty() || !roll.empty()))
-      {
-        morphnode::GltfRotationTrack head;
-        head.Pivot = morphnode::HeadPivot(bounds);
-        head.Rotations = quaternions(yaw, pitch, roll);
-        p.Rotations.push_back(std::move(head));
-      }
-      const std::vector<double> eyeYaw = angles("EyeYaw");
-      const std::vector<double> eyePitch = angles("EyePitch");
-      if (this->WriteEyeRotations && (!eyeYaw.empty() || !eyePitch.empty()))
-      {
-        // The eyes and their turns as vtkEyeGazeFilter finds and turns them (its defaults:
-        // morphnode::EyeRig's convention or the named nodes, its limits, no vergence).
-        morphnode::EyeRig rig;
-        for (const std::string& eye : SplitNames(this->EyeNodeNames))
-        {
-          morphnode::EyeSpec spec;
-          spec.Name = eye;
-          spec.Side = morphnode::EyeRig::SideFromName(eye);
-          rig.AddEye(spec);
-        }
-        for (size_t n = 0; n < scene.Nodes.size(); ++n)
-        {
-          morphnode::EyeSpec eye;
-          if (scene.Nodes[n].Name != nodeNames[n] || !rig.FindEye(nodeNames[n], nodePartNames[n], eye))
-          {
-            continue;
-          }
-          std::vector<double> q;
-          q.reserve(4 * frames);
-          for (size_t f = 0; f < frames; ++f)
-          {
-            morphnode::GazeAngles gaze;
-            gaze.Yaw = eyeYaw.empty() ? 0.0 : eyeYaw[f];
-            gaze.Pitch = eyePitch.empty() ? 0.0 : eyePitch[f];
-            const morphnode::GazeAngles turned = morphnode::EyeAngles(gaze, 0.0, eye.Side, rig.GetLimits());
-            const std::array<double, 9> r = morphnode::EyeRotationMatrix(turned, nodeAxes[n], eye.Forward, eye.Up);
-            const std::array<double, 16> m{ { r[0], r[1], r[2], 0, r[3], r[4], r[5], 0, r[6], r[7], r[8], 0, 0, 0, 0, 1 } };
-            const auto quat = morphnode::GltfQuaternionFromRowMajor(m);
-            q.insert(q.end(), quat.begin(), quat.end());
-          }
-          p.Rotations.push_back({ scene.Nodes[n].Name, nodeOrigins[n], std::move(q) });
-        }
-      }
-      this->NumberOfFrames = static_cast<int>(frames);
+      performance = ToTable(table, this->TimeArrayName ? this->TimeArrayName : "Time");
     }
-    this->UpdateProgress(0.5);
+    settings.Interpolation =
+      this->Interpolation == STEP ? morphnode::GltfInterpolation::Step : morphnode::GltfInterpolation::Linear;
+    settings.ApplyOptimizer = this->ApplyOptimizer;
+    settings.OptimizerPreset = this->OptimizerPreset;
+    settings.Threshold = this->Threshold;
+    settings.MaxVertexError = this->MaxVertexError;
+    settings.Hysteresis = this->Hysteresis;
+    settings.HeadPose = this->WriteHeadPose;
+    settings.EyeRotations = this->WriteEyeRotations;
+    settings.HeadPivot = morphnode::HeadPivot(bounds);
+    settings.EyeNodeNames = SplitNames(this->EyeNodeNames);
+    morphnode::GltfWriteOptions options;
+    options.Binary = morphnode::text::ToLower(std::filesystem::path(this->FileName).extension().string()) != ".gltf";
+    morphnode::GltfPerformanceReport report;
+    this->UpdateProgress(0.25);
+    const std::vector<unsigned char> bytes = morphnode::WriteGltfPerformanceToMemory(
+      scene, animated ? &performance : nullptr, settings, options, &report);
+    if (animated && report.WeightColumns == 0)
+    {
+      vtkWarningMacro(<< "no column of the performance names a target of the face: only the "
+                         "head and eye turns are animated");
+    }
     // Beside the target, renamed onto it when complete (base/File.h): no half-written file,
     // never onto a link, a device or a directory.
-    const std::string target = this->FileName;
-    std::string extension = std::filesystem::path(target).extension().string();
-    std::transform(extension.begin(), extension.end(), extension.begin(),
-      [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-    morphnode::GltfWriteOptions options;
-    options.Binary = extension != ".gltf";
-    const std::vector<unsigned char> bytes = morphnode::WriteGltfSceneToMemory(scene, performance.get(), options);
-    morphnode::file::WriteFileSafely(target,
+    morphnode::file::WriteFileSafely(this->FileName,
       std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()), "glTF file");
+    this->NumberOfFrames = static_cast<int>(report.Frames);
+    this->NumberOfWeightColumns = static_cast<int>(report.WeightColumns);
+    this->TurnsBones = report.Bones;
     this->UpdateProgress(1.0);
   }
   catch (const std::exception& e)

@@ -52,13 +52,19 @@
  * and Hysteresis, the settings of vtkMorphNodeFilter): what vtkMorphNodeFilter blends when
  * the same frames pass through it in order.
  *
- * Head pose (WriteHeadPose, on by default, when the table has any head column) turns the
- * whole head about morphnode::HeadPivot of its bounds; eye turns (WriteEyeRotations, when
- * the table has EyeYaw or EyePitch) turn each eye node about its `NodeOrigin`, inside the
- * head's turn, exactly as vtkEyeGazeFilter with its defaults turns it (morphnode::EyeRig:
- * the eyes its convention finds, or the nodes named in EyeNodeNames; the angles clamped to
- * its default limits, no vergence; the eye's frame from `NodeAxes`). Interpolation: LINEAR
- * (default) or STEP.
+ * The adapter converts and calls morphnode::WriteGltfPerformanceToMemory
+ * (Modules/Core/gltf/GltfPerformanceExport.h), which makes the performance: head pose
+ * (WriteHeadPose, on by default, when the table has any head column) and eye turns
+ * (WriteEyeRotations, when the table has EyeYaw or EyePitch). A skinned avatar (leaves with
+ * the skin arrays of vtkMorphSkinArrays, as vtkMorphTargetReader gives a glTF skin) is
+ * written with its skeleton (every node with its rest transform), its skins (joints,
+ * inverse bind matrices, every JOINTS_n/WEIGHTS_n set; the points back in bind space) and,
+ * when it has head, neck or eye joints, the head pose and gaze as rotation channels on those
+ * joints, turned as vtkMorphSkinFilter turns them (GetTurnsBones). Otherwise the whole head
+ * turns about morphnode::HeadPivot of its bounds and each eye node (morphnode::MakeEyeRig:
+ * its convention, or the nodes named in EyeNodeNames; the default limits, no vergence)
+ * about its `NodeOrigin` in its `NodeAxes`, exactly as vtkEyeGazeFilter with its defaults
+ * turns it. Interpolation: LINEAR (default) or STEP.
  *
  * Errors (no input, leaves that are not triangle poly data, targets or arrays of the wrong
  * size, NaN, times that do not increase, a file that cannot be written) are reported with
@@ -178,6 +184,12 @@ public:
   vtkGetMacro(NumberOfParts, int);
   ///@}
 
+  /**
+   * True when the last write turned the avatar's bones (head, neck and eye joints of a
+   * skinned avatar, as rotation channels on the joints) rather than nodes.
+   */
+  vtkGetMacro(TurnsBones, bool);
+
 protected:
   vtkMorphGltfWriter();
   ~vtkMorphGltfWriter() override;
@@ -199,6 +211,7 @@ protected:
   int NumberOfFrames = 0;
   int NumberOfWeightColumns = 0;
   int NumberOfParts = 0;
+  bool TurnsBones = false;
 
 private:
   vtkMorphGltfWriter(const vtkMorphGltfWriter&) = delete;

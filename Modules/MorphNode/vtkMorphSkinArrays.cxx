@@ -4,6 +4,7 @@
 #include "base/Error.h"
 #include "gltf/GltfSkin.h"
 
+#include "vtkDataArray.h"
 #include "vtkDataSet.h"
 #include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
@@ -110,6 +111,33 @@ void AddSkin(vtkPolyData* poly, const morphnode::GltfScene& scene, const morphno
   AddMatrices(fd, SkeletonRestArray, locals, scale);
 }
 
+void AddVrm(vtkPolyData* poly, const morphnode::GltfVrm& vrm)
+{
+  vtkFieldData* fd = poly->GetFieldData();
+  if (!vrm.HumanBoneNodeNames.empty())
+  {
+    vtkNew<vtkStringArray> bones;
+    bones->SetName(HumanoidBonesArray);
+    for (const auto& [bone, node] : vrm.HumanBoneNodeNames)
+    {
+      bones->InsertNextValue(bone + "=" + node);
+    }
+    fd->AddArray(bones);
+  }
+  if (vrm.LookAtType == "bone")
+  {
+    vtkNew<vtkDoubleArray> maps;
+    maps->SetName(LookAtRangeMapsArray);
+    for (const morphnode::GltfVrmRangeMap* m : { &vrm.HorizontalInner, &vrm.HorizontalOuter, &vrm.VerticalDown,
+           &vrm.VerticalUp })
+    {
+      maps->InsertNextValue(m->InputMax);
+      maps->InsertNextValue(m->OutputScale);
+    }
+    fd->AddArray(maps);
+  }
+}
+
 std::vector<glm::dmat4> Skin::RestMatrices() const
 {
   return this->Joints.Matrices(this->Bones.World(this->Bones.RestLocals()));
@@ -160,6 +188,35 @@ Skin GetSkin(vtkDataSet* data, const std::string& what)
   skin.Influences.Joints.assign(joints->GetPointer(0), joints->GetPointer(0) + joints->GetNumberOfValues());
   skin.Influences.Weights.assign(weights->GetPointer(0), weights->GetPointer(0) + weights->GetNumberOfValues());
   skin.Influences.Normalize(skin.Joints.Joints.size(), what);
+  if (auto* bones = vtkStringArray::SafeDownCast(fd->GetAbstractArray(HumanoidBonesArray)))
+  {
+    for (vtkIdType i = 0; i < bones->GetNumberOfValues(); ++i)
+    {
+      const std::string entry = bones->GetValue(i);
+      const size_t eq = entry.find('=');
+      if (eq != std::string::npos)
+      {
+        skin.Humanoid[entry.substr(0, eq)] = entry.substr(eq + 1);
+      }
+    }
+  }
+  auto* maps = vtkDataArray::SafeDownCast(fd->GetAbstractArray(LookAtRangeMapsArray));
+  if (maps && maps->GetNumberOfValues() == 8)
+  {
+    double v[8];
+    for (int k = 0; k < 8; ++k)
+    {
+      v[k] = maps->GetComponent(k / maps->GetNumberOfComponents(), k % maps->GetNumberOfComponents());
+      if (!std::isfinite(v[k]) || v[k] < 0.0)
+      {
+        throw morphnode::InputError(what + ": LookAtRangeMaps must be 8 finite values >= 0");
+      }
+    }
+    morphnode::EyeRangeMaps& r = skin.RangeMaps;
+    r.Enabled = true;
+    r.InnerMax = v[0], r.InnerScale = v[1], r.OuterMax = v[2], r.OuterScale = v[3];
+    r.DownMax = v[4], r.DownScale = v[5], r.UpMax = v[6], r.UpScale = v[7];
+  }
   return skin;
 }
 } // namespace vtkMorphSkinArrays

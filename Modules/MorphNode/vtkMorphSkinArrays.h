@@ -16,7 +16,10 @@
  *   the inverse bind matrix, column-major);
  * - field data `SkeletonNames` (vtkStringArray), `SkeletonParents` (vtkIntArray, -1 for a
  *   root) and `SkeletonRest` (vtkDoubleArray, 16 components per joint: the local transform
- *   the part is shown at, column-major): every node of the scene.
+ *   the part is shown at, column-major): every node of the scene;
+ * - for a VRM avatar (gltf/GltfVrm.h), field data `HumanoidBones` (vtkStringArray of
+ *   "bone=node name", VRM's humanBones) and `LookAtRangeMaps` (vtkDoubleArray of 8: inner,
+ *   outer, down, up input maxima and output scales, when its look-at turns bones).
  *
  * Functions throw morphnode::InputError for bad input; callers turn that into vtkErrorMacro.
  */
@@ -25,9 +28,12 @@
 #define vtkMorphSkinArrays_h
 
 #include "gltf/GltfScene.h"
+#include "gltf/GltfVrm.h"
+#include "skin/AvatarBones.h"
 #include "skin/Skeleton.h"
 #include "skin/Skinning.h"
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -43,6 +49,8 @@ constexpr const char* InverseBindArray = "SkinInverseBind";
 constexpr const char* SkeletonNamesArray = "SkeletonNames";
 constexpr const char* SkeletonParentsArray = "SkeletonParents";
 constexpr const char* SkeletonRestArray = "SkeletonRest";
+constexpr const char* HumanoidBonesArray = "HumanoidBones";
+constexpr const char* LookAtRangeMapsArray = "LookAtRangeMaps";
 
 /// True when the data set carries `SkinWeights`.
 bool IsSkinned(vtkDataSet* data);
@@ -53,9 +61,16 @@ bool IsSkinned(vtkDataSet* data);
 void AddSkin(vtkPolyData* poly, const morphnode::GltfScene& scene, const morphnode::GltfPart& part,
   const std::vector<morphnode::GltfMatrix>& locals, double scale);
 
+/// Adds what a VRM avatar says of its bones (HumanoidBones, LookAtRangeMaps) to a skinned
+/// part; nothing for a file that is no VRM.
+void AddVrm(vtkPolyData* poly, const morphnode::GltfVrm& vrm);
+
 /// A skinned part's skeleton (validated), skin joints and influences.
 struct Skin
 {
+  /// VRM's humanoid map (bone -> node name) and look-at range maps, when the part has them.
+  std::map<std::string, std::string> Humanoid;
+  morphnode::EyeRangeMaps RangeMaps;
   morphnode::Skeleton Bones;
   morphnode::SkinJoints Joints;
   morphnode::SkinInfluences Influences;

@@ -2,8 +2,10 @@
 #include "vtkMorphSkinFilter.h"
 
 #include "vtkMorphSkinArrays.h"
+#include "vtkMorphTargetArrays.h"
 
 #include "base/Error.h"
+#include "base/Text.h"
 #include "skin/AvatarBones.h"
 #include "skin/Skinning.h"
 
@@ -100,7 +102,7 @@ public:
     entry.Time = weights->GetMTime();
     entry.Skin = vtkMorphSkinArrays::GetSkin(leaf, what);
     entry.RestMatrices = entry.Skin.RestMatrices();
-    entry.Roles = morphnode::FindAvatarBones(entry.Skin.Bones);
+    entry.Roles = morphnode::FindAvatarBones(entry.Skin.Bones, entry.Skin.Humanoid);
     entry.Rest = morphnode::RestSkin(entry.Skin.Influences, entry.RestMatrices, what);
     return this->Cache[weights] = std::move(entry);
   }
@@ -109,7 +111,7 @@ public:
   /// normals), nullptr when it is not skinned or stays at rest; updates the filter's report
   /// (skinned parts, eye and head bones, head bounds, bones).
   vtkSmartPointer<vtkPointSet> Repose(vtkMorphSkinFilter* self, vtkPointSet* leaf, const std::string& what,
-    const morphnode::AvatarBonePose& angles)
+    const morphnode::AvatarBonePose& angles, bool jawAllowed)
   {
     if (!vtkMorphSkinArrays::IsSkinned(leaf))
     {
@@ -142,12 +144,19 @@ public:
     {
       roles.LeftEye = roles.RightEye = -1;
     }
+    if (!jawAllowed)
+    {
+      roles.Jaw = -1;
+    }
+    self->JawByBone = self->JawByBone || roles.Jaw >= 0;
     if (self->Bones.empty())
     {
       self->Bones = roles.Describe(entry.Skin.Bones);
     }
     morphnode::SkeletonPose pose(entry.Skin.Bones);
-    morphnode::PoseAvatarBones(pose, roles, angles);
+    morphnode::AvatarBonePose posed = angles;
+    posed.RangeMaps = entry.Skin.RangeMaps; // a VRM's look-at (vtkMorphSkinArrays.h)
+    morphnode::PoseAvatarBones(pose, roles, posed);
     ++self->NumberOfSkinnedParts;
     if (!entry.Rest.SetPose(entry.Skin.Joints.Matrices(pose.World())))
     {
@@ -197,7 +206,8 @@ public:
     field->ShallowCopy(leaf->GetFieldData());
     vtkNew<vtkDoubleArray> used;
     used->SetName("SkinPose");
-    for (double v : { angles.HeadYaw, angles.HeadPitch, angles.HeadRoll, angles.EyeYaw, angles.EyePitch })
+    for (double v : { angles.HeadYaw, angles.HeadPitch, angles.HeadRoll, angles.EyeYaw, angles.EyePitch,
+           roles.Jaw >= 0 ? angles.JawOpen : 0.0 })
     {
       used->InsertNextValue(v);
     }
@@ -231,6 +241,7 @@ int vtkMorphSkinFilter::RequestData(
   this->NumberOfSkinnedParts = 0;
   this->HasEyeBones = false;
   this->HasHeadBones = false;
+  this->JawByBone = false;
   this->HeadBounds[0] = this->HeadBounds[2] = this->HeadBounds[4] = 1.0;
   this->HeadBounds[1] = this->HeadBounds[3] = this->HeadBounds[5] = -1.0;
   this->Bones.clear();
@@ -247,6 +258,8 @@ int vtkMorphSkinFilter::RequestData(
     angles.HeadRoll = this->HeadRoll;
     angles.EyeYaw = this->EyeYaw;
     angles.EyePitch = this->EyePitch;
+    angles.JawOpen = this->JawOpen;
+    angles.MaxJawAngle = this->MaxJawAngle;
     if (vtkTable* table = vtkTable::GetData(inputVector[1], 0))
     {
       if (table->GetNumberOfRows() < 1)
@@ -255,7 +268,7 @@ int vtkMorphSkinFilter::RequestData(
       }
       for (auto [name, value] : { std::pair<const char*, double*>{ "HeadYaw", &angles.HeadYaw },
              { "HeadPitch", &angles.HeadPitch }, { "HeadRoll", &angles.HeadRoll }, { "EyeYaw", &angles.EyeYaw },
-             { "EyePitch", &angles.EyePitch } })
+             { "EyePitch", &angles.EyePitch }, { "jawOpen", &angles.JawOpen } })
       {
         if (auto* column = vtkDataArray::SafeDownCast(table->GetColumnByName(name)))
         {
@@ -275,9 +288,24 @@ int vtkMorphSkinFilter::RequestData(
     angles.RelaxArms = this->RelaxArms;
     angles.ArmAngle = this->ArmAngle;
 
+    // The jaw joint only where no jawOpen target opens the mouth (JAW_AUTO).
+    bool jawTarget = false;
+    if (this->TurnJaw == JAW_AUTO)
+    {
+      std::vector<std::string> names;
+      vtkMorphTargetArrays::GetFaceTargetNames(input, names);
+      for (std::string n : names)
+      {
+        n = morphnode::text::ToLower(n);
+        n.erase(std::remove(n.begin(), n.end(), '_'), n.end());
+        jawTarget = jawTarget || n == "jawopen";
+      }
+    }
+    const bool jawAllowed = this->TurnJaw == JAW_ON || (this->TurnJaw == JAW_AUTO && !jawTarget);
+
     // One pose per skeleton; parts of one avatar share it (computed for the first part).
     auto reskin = [&](vtkPointSet* leaf, const std::string& what) {
-      return this->Internals->Repose(this, leaf, what, angles);
+      return this->Internals->Repose(this, leaf, what, angles, jawAllowed);
     };
 
     if (auto* composite = vtkCompositeDataSet::SafeDownCast(input))

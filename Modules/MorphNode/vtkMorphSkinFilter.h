@@ -21,13 +21,18 @@
  *   joint about its own pivot from its rest orientation, within MaxEyeYaw, MaxEyeUp,
  *   MaxEyeDown (TurnEyes, default on; off when the eyes are driven by eyeLook* targets);
  * - RelaxArms (default off) lowers the arms of a T- or A-pose to ArmAngle (12) degrees
- *   from straight down.
+ *   from straight down;
+ * - JawOpen (0..1) turns the jaw joint chin-down by JawOpen * MaxJawAngle (25) degrees
+ *   about its pivot. TurnJaw chooses: JAW_AUTO (default) turns it only when the avatar has
+ *   a jaw joint and no `jawOpen` target (any ARKit spelling) on any part, so that a mouth
+ *   opened by its target is never opened twice; JAW_ON, JAW_OFF. GetJawByBone() reports
+ *   the choice of the last execution.
  * With a vtkTable on the optional port 1 (SetPoseConnection, e.g. vtkBehaviorTimeSource's
- * port 0), its columns HeadYaw, HeadPitch, HeadRoll, EyeYaw and EyePitch (those present,
- * first row) replace the properties, and its time steps are the output's.
+ * port 0), its columns HeadYaw, HeadPitch, HeadRoll, EyeYaw, EyePitch and jawOpen (those
+ * present, first row) replace the properties, and its time steps are the output's.
  *
  * Every re-skinned part gets field data `SkinPose` (HeadYaw, HeadPitch, HeadRoll, EyeYaw,
- * EyePitch as used). GetBones() reports the bones found.
+ * EyePitch and JawOpen as used; JawOpen 0 when the jaw joint stays). GetBones() reports the bones found.
  *
  * Errors (vtkErrorMacro, RequestData returns 0, empty output): non-finite angles, a damaged
  * skin convention (sizes, joint indices, singular or non-finite matrices).
@@ -114,6 +119,29 @@ public:
   vtkGetMacro(ArmAngle, double);
   ///@}
 
+  enum JawModes
+  {
+    JAW_AUTO = 0,
+    JAW_OFF = 1,
+    JAW_ON = 2
+  };
+
+  ///@{
+  /**
+   * The jaw: how far open (0..1, default 0), its largest turn (degrees, default 25) and
+   * who decides whether the jaw joint turns (default JAW_AUTO: a jaw joint and no jawOpen
+   * target).
+   */
+  vtkSetClampMacro(JawOpen, double, 0.0, 1.0);
+  vtkGetMacro(JawOpen, double);
+  vtkSetClampMacro(MaxJawAngle, double, 0.0, 60.0);
+  vtkGetMacro(MaxJawAngle, double);
+  vtkSetClampMacro(TurnJaw, int, JAW_AUTO, JAW_ON);
+  vtkGetMacro(TurnJaw, int);
+  /** True when the last execution turned (or would turn) the jaw joint. */
+  vtkGetMacro(JawByBone, bool);
+  ///@}
+
   /**
    * Connect a pose table (HeadYaw, HeadPitch, HeadRoll, EyeYaw, EyePitch columns, e.g.
    * vtkBehaviorTimeSource's port 0) to port 1.
@@ -161,6 +189,10 @@ protected:
   bool TurnEyes = true;
   bool RelaxArms = false;
   double ArmAngle = 12.0;
+  double JawOpen = 0.0;
+  double MaxJawAngle = 25.0;
+  int TurnJaw = JAW_AUTO;
+  bool JawByBone = false;
   int NumberOfSkinnedParts = 0;
   bool HasEyeBones = false;
   bool HasHeadBones = false;

@@ -9,6 +9,7 @@
 #include "base/Text.h"
 #include "gltf/GltfAnimation.h"
 #include "gltf/GltfPose.h"
+#include "gltf/GltfVrm.h"
 #include "gltf/GltfScene.h"
 #include "morph/MorphMesh.h"
 #include "morph/Normals.h"
@@ -244,7 +245,7 @@ void AddColumn(vtkTable* table, const std::string& name, const double* values, i
 /// A posed part in the convention with the part's field data (vtkMorphPartData.h): its
 /// weights, and for a part of a whole scene its world frame and skin.
 vtkSmartPointer<vtkPolyData> PartOutput(const morphnode::GltfScene& scene, const morphnode::GltfPose& pose,
-  const morphnode::GltfPart& part, bool whole, double scale, int normalsMode)
+  const morphnode::GltfPart& part, bool whole, double scale, int normalsMode, const morphnode::GltfVrm& vrm)
 {
   auto poly = PartToPolyData(part);
   FinishMesh(poly, TargetNamesOf(part), scale, normalsMode);
@@ -262,6 +263,7 @@ vtkSmartPointer<vtkPolyData> PartOutput(const morphnode::GltfScene& scene, const
   if (whole && part.Skin >= 0)
   {
     vtkMorphSkinArrays::AddSkin(poly, scene, part, pose.Locals, scale);
+    vtkMorphSkinArrays::AddVrm(poly, vrm);
   }
   return poly;
 }
@@ -640,11 +642,24 @@ void vtkMorphTargetReader::ReadGltf(
     }
     collection->Initialize();
     collection->SetNumberOfPartitionedDataSets(static_cast<unsigned int>(scene.Parts.size()));
+    // A VRM avatar's humanoid bones and look-at (its extension JSON; none for others).
+    morphnode::GltfVrm vrm;
+    try
+    {
+      if (std::any_of(scene.Parts.begin(), scene.Parts.end(), [](const morphnode::GltfPart& q) { return q.Skin >= 0; }))
+      {
+        vrm = morphnode::ReadGltfVrm(this->FileName);
+      }
+    }
+    catch (const std::exception& e)
+    {
+      vtkWarningMacro(<< "the VRM description of " << this->FileName << " is not used: " << e.what());
+    }
     for (size_t p = 0; p < scene.Parts.size(); ++p)
     {
       const morphnode::GltfPart part = morphnode::PoseGltfPart(scene, pose, scene.Parts[p]);
       collection->SetPartition(static_cast<unsigned int>(p), 0,
-        PartOutput(scene, pose, part, true, this->Scale, this->NormalsMode));
+        PartOutput(scene, pose, part, true, this->Scale, this->NormalsMode, vrm));
       collection->GetMetaData(static_cast<unsigned int>(p))->Set(vtkCompositeDataSet::NAME(), part.Name.c_str());
       this->PartNames.push_back(part.Name);
       this->UpdateProgress(0.5 + 0.5 * double(p + 1) / double(scene.Parts.size()));
@@ -674,7 +689,7 @@ void vtkMorphTargetReader::ReadGltf(
     }
     const morphnode::GltfPart part = morphnode::PoseGltfPart(scene, pose,
       morphnode::FindGltfPart(scene, this->MeshName, this->MeshIndex, this->PrimitiveIndex, this->FileName));
-    poly->ShallowCopy(PartOutput(scene, pose, part, false, this->Scale, this->NormalsMode));
+    poly->ShallowCopy(PartOutput(scene, pose, part, false, this->Scale, this->NormalsMode, morphnode::GltfVrm{}));
     this->TargetNames = TargetNamesOf(part);
     this->PartNames.push_back(part.Name);
     const std::vector<double>& w = pose.Sample.Nodes[static_cast<size_t>(part.Node)].Weights;

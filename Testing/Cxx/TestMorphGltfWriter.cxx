@@ -10,11 +10,13 @@
 #include "vtkEyeGazeFilter.h"
 #include "vtkMorphGltfWriter.h"
 #include "vtkMorphNodeFilter.h"
+#include "vtkMorphSkinFilter.h"
 #include "vtkMorphTargetReader.h"
 
 #include "MorphNodeMergeParts.h"
 
 #include "behavior/HeadPose.h"
+#include "gltf/GltfAnimation.h"
 #include "gltf/GltfScene.h"
 
 #include "vtkCompositeDataSet.h"
@@ -22,6 +24,7 @@
 #include "vtkErrorCode.h"
 #include "vtkFieldData.h"
 #include "vtkGLTFReader.h"
+#include "vtkMath.h"
 #include "vtkMultiBlockDataSet.h"
 #include "vtkNew.h"
 #include "vtkPointData.h"
@@ -43,11 +46,13 @@
 #include <iostream>
 #include <iterator>
 #include <random>
+#include <set>
 
 namespace
 {
 const std::string DefaultHead = std::string(MORPHNODE_SOURCE_DIR) + "/Data/DefaultFace/default_head.glb";
 const std::string IctHead = std::string(MORPHNODE_FACEKIT_DIR) + "/ict_head_full53.glb";
+const std::string Avatar = std::string(MORPHNODE_AVATAR_DIR) + "/makehuman_avatar.glb";
 
 /// The validator test's folder (MORPHNODE_GLTF_EXPORT_DIR) when it runs this program, else
 /// the test output folder.
@@ -474,4 +479,183 @@ TEST(MorphGltfWriter, BadInput)
   nowhere->SetFileName("/nonexistent-folder/x.glb");
   nowhere->Write();
   EXPECT_EQ(nowhere->GetErrorCode(), vtkErrorCode::UserError);
+}
+
+// The skinned MakeHuman avatar (vtkMorphTargetReader: skinned parts at rest with the skin
+// arrays) written with a performance: the file keeps the avatar's skeleton (the same nodes,
+// none inserted), its skin (joints and inverse bind matrices), every part's joints and
+// weights, its materials and images; the head pose and gaze are rotation channels on the
+// Neck, Head and eye joints. Read back by VTK 9.1's vtkGLTFReader (which skins on the CPU)
+// at a key, it equals the pipeline that plays the same frame: vtkMorphNodeFilter with the
+// weights, then vtkMorphSkinFilter with the angles. GltfValidatorVtkExport validates it.
+TEST(MorphGltfWriter, SkinnedAvatarKeepsItsSkeletonAndTurnsItsBones)
+{
+  if (!std::filesystem::exists(Avatar))
+  {
+    GTEST_SKIP() << "MakeHuman avatar not found: " << Avatar;
+  }
+  vtkNew<vtkMorphTargetReader> reader;
+  reader->SetFileName(Avatar.c_str());
+  // The performance: 4 keys, a vowel, the head turned and the eyes looking left and down.
+  const std::vector<std::string> names{ "Time", "jawOpen", "viseme_O", "eyeBlinkLeft", "HeadYaw", "HeadPitch",
+    "HeadRoll", "EyeYaw", "EyePitch" };
+  const std::vector<std::vector<double>> rows{ { 0.0, 0, 0, 0, 0, 0, 0, 0, 0 },
+    { 0.4, 0.3, 0.5, 0.2, 10, 4, -3, 12, 5 }, { 0.8, 0.6, 1.0, 0.0, 20, -8, 5, 25, -10 },
+    { 1.2, 0.0, 0.2, 0.7, -15, 6, 2, -20, 8 } };
+  vtkNew<vtkTable> performance;
+  for (size_t c = 0; c < names.size(); ++c)
+  {
+    vtkNew<vtkDoubleArray> a;
+    a->SetName(names[c].c_str());
+    for (const auto& row : rows)
+    {
+      a->InsertNextValue(row[c]);
+    }
+    performance->AddColumn(a);
+  }
+  const std::string out = OutputPath("makehuman_avatar_vtk_export.glb");
+  vtkNew<vtkMorphGltfWriter> writer;
+  writer->SetInputConnection(reader->GetOutputPort());
+  writer->SetPerformanceData(performance);
+  writer->SetFileName(out.c_str());
+  ASSERT_EQ(writer->Write(), 1);
+  ASSERT_EQ(writer->GetErrorCode(), vtkErrorCode::NoError);
+  EXPECT_TRUE(writer->GetTurnsBones());
+  EXPECT_EQ(writer->GetNumberOfFrames(), 4);
+  EXPECT_EQ(writer->GetNumberOfWeightColumns(), 3);
+
+  // The skeleton, skin, influences, materials and images as the avatar has them.
+  morphnode::GltfLoadOptions nodeFrames;
+  nodeFrames.ApplyTransforms = false;
+  const morphnode::GltfScene original = morphnode::LoadGltfScene(Avatar, nodeFrames);
+  const morphnode::GltfScene back = morphnode::LoadGltfScene(out, nodeFrames);
+  ASSERT_EQ(back.Nodes.size(), original.Nodes.size()) << "nodes inserted into or lost from the skeleton";
+  for (size_t n = 0; n < original.Nodes.size(); ++n)
+  {
+    EXPECT_EQ(back.Nodes[n].Name, original.Nodes[n].Name);
+    EXPECT_EQ(back.Nodes[n].Parent, original.Nodes[n].Parent) << original.Nodes[n].Name;
+  }
+  ASSERT_EQ(back.Skins.size(), original.Skins.size());
+  ASSERT_EQ(back.Skins.size(), 1u);
+  ASSERT_EQ(back.Skins[0].Joints, original.Skins[0].Joints);
+  for (size_t j = 0; j < original.Skins[0].Joints.size(); ++j)
+  {
+    for (size_t c = 0; c < 16; ++c)
+    {
+      EXPECT_NEAR(back.Skins[0].InverseBind[j][c], original.Skins[0].InverseBind[j][c], 1e-6) << "joint " << j;
+    }
+  }
+  ASSERT_EQ(back.Parts.size(), original.Parts.size());
+  double worstBind = 0.0;
+  for (const auto& part : original.Parts)
+  {
+    const int k = back.FindPart(part.Name);
+    ASSERT_GE(k, 0) << part.Name;
+    const morphnode::GltfPart& other = back.Parts[static_cast<size_t>(k)];
+    EXPECT_EQ(other.Skin, part.Skin) << part.Name;
+    ASSERT_EQ(other.Influences.PerPoint, part.Influences.PerPoint) << part.Name;
+    ASSERT_EQ(other.Influences.Weights.size(), part.Influences.Weights.size()) << part.Name;
+    size_t differing = 0;
+    for (size_t i = 0; i < part.Influences.Weights.size(); ++i)
+    {
+      differing += std::abs(other.Influences.Weights[i] - part.Influences.Weights[i]) > 1e-6 ||
+        (part.Influences.Weights[i] > 0.0f && other.Influences.Joints[i] != part.Influences.Joints[i]);
+    }
+    EXPECT_EQ(differing, 0u) << part.Name << ": joints or weights differ";
+    EXPECT_EQ(other.Material, part.Material) << part.Name;
+    ASSERT_EQ(other.Positions.size(), part.Positions.size());
+    for (size_t i = 0; i < part.Positions.size(); ++i)
+    {
+      worstBind = std::max(worstBind, static_cast<double>(std::abs(other.Positions[i] - part.Positions[i])));
+    }
+  }
+  EXPECT_LT(worstBind, 1e-6 * 1.666) << "bind-space points changed";
+  EXPECT_EQ(back.Materials.size(), original.Materials.size());
+  EXPECT_EQ(back.Images.size(), original.Images.size());
+
+  // Rotation channels on the joints that turn, and only there.
+  ASSERT_EQ(back.Animations.size(), 1u);
+  std::set<std::string> turned;
+  for (const auto& c : back.Animations[0].Channels)
+  {
+    if (c.Path == morphnode::GltfAnimationPath::Rotation)
+    {
+      turned.insert(back.Nodes[static_cast<size_t>(c.Node)].Name);
+    }
+  }
+  EXPECT_EQ(turned, (std::set<std::string>{ "Neck", "Head", "LeftEye", "RightEye" }));
+
+  // It plays: VTK's reading at the third key equals the pipeline's frame.
+  const double t = rows[2][0];
+  vtkNew<vtkGLTFReader> gltf;
+  gltf->SetFileName(PatchForVtk(out).c_str());
+  gltf->SetApplyDeformationsToGeometry(true);
+  gltf->UpdateInformation();
+  ASSERT_EQ(gltf->GetNumberOfAnimations(), 1);
+  gltf->EnableAnimation(0);
+  gltf->UpdateTimeStep(t);
+  const auto theirs = morphnode_test::PolyDataLeaves(gltf->GetOutput());
+
+  vtkNew<vtkMorphNodeFilter> morph;
+  morph->SetInputConnection(reader->GetOutputPort());
+  morph->SetWeightModeToRelative();
+  for (size_t c = 1; c <= 3; ++c)
+  {
+    morph->SetWeightByName(names[c].c_str(), rows[2][c]);
+  }
+  vtkNew<vtkMorphSkinFilter> skin;
+  skin->SetInputConnection(morph->GetOutputPort());
+  skin->SetHeadYaw(rows[2][4]);
+  skin->SetHeadPitch(rows[2][5]);
+  skin->SetHeadRoll(rows[2][6]);
+  skin->SetEyeYaw(rows[2][7]);
+  skin->SetEyePitch(rows[2][8]);
+  skin->Update();
+  const auto ours = morphnode_test::PolyDataLeaves(skin->GetOutputDataObject(0));
+  reader->Update();
+  const auto rest = morphnode_test::PolyDataLeaves(reader->GetOutputDataObject(0));
+  ASSERT_EQ(theirs.size(), ours.size());
+  ASSERT_EQ(rest.size(), ours.size());
+  double worst = 0.0;
+  double moved = 0.0;
+  for (size_t i = 0; i < ours.size(); ++i)
+  {
+    ASSERT_EQ(theirs[i]->GetNumberOfPoints(), ours[i]->GetNumberOfPoints()) << i;
+    for (vtkIdType p = 0; p < ours[i]->GetNumberOfPoints(); ++p)
+    {
+      double a[3], b[3], r[3];
+      ours[i]->GetPoint(p, a);
+      theirs[i]->GetPoint(p, b);
+      rest[i]->GetPoint(p, r);
+      worst = std::max(worst, std::sqrt(vtkMath::Distance2BetweenPoints(a, b)));
+      moved = std::max(moved, std::sqrt(vtkMath::Distance2BetweenPoints(a, r)));
+    }
+  }
+  std::cout << "skinned avatar export at t = " << t << ": largest difference to vtkGLTFReader " << worst * 1e3
+            << " mm; the frame moves points up to " << moved * 1e3 << " mm from rest\n";
+  EXPECT_GT(moved, 0.01) << "the frame does not move the avatar: the check could not fail";
+  EXPECT_LT(worst, 1e-6 * 1.666);
+
+  // Our own reader plays it too (the animation's joint rotations and weights applied).
+  vtkNew<vtkMorphTargetReader> again;
+  again->SetFileName(out.c_str());
+  again->SetAnimationIndex(0);
+  again->SetApplyAnimation(vtkMorphTargetReader::ANIMATION_TRANSFORMS_AND_WEIGHTS);
+  again->UpdateTimeStep(t);
+  const auto played = morphnode_test::PolyDataLeaves(again->GetOutputDataObject(0));
+  ASSERT_EQ(played.size(), ours.size());
+  double worstOurs = 0.0;
+  for (size_t i = 0; i < ours.size(); ++i)
+  {
+    ASSERT_EQ(played[i]->GetNumberOfPoints(), ours[i]->GetNumberOfPoints()) << i;
+    for (vtkIdType p = 0; p < ours[i]->GetNumberOfPoints(); ++p)
+    {
+      double a[3], b[3];
+      ours[i]->GetPoint(p, a);
+      played[i]->GetPoint(p, b);
+      worstOurs = std::max(worstOurs, std::sqrt(vtkMath::Distance2BetweenPoints(a, b)));
+    }
+  }
+  std::cout << "vtkMorphTargetReader playing the export: largest difference " << worstOurs * 1e3 << " mm\n";
+  EXPECT_LT(worstOurs, 1e-6 * 1.666);
 }

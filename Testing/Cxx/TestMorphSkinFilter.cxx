@@ -318,3 +318,73 @@ TEST(MorphSkinFilter, SkinnedQuadAndDamagedSkins)
   skin->Print(os);
   EXPECT_NE(os.str().find("NeckShare: 0.4"), std::string::npos);
 }
+
+// The jaw joint: the avatar has a Jaw joint AND a jawOpen target, so by default (JAW_AUTO)
+// JawOpen leaves the jaw joint alone (the target opens the mouth; never twice); forced on
+// (JAW_ON) the lower teeth, bound to the jaw, go down; the choice is reported.
+TEST(MorphSkinFilter, JawJointTurnsOnlyWhereNoJawOpenTargetOpensTheMouth)
+{
+  SKIP_WITHOUT_AVATAR();
+  Pipeline p;
+  const auto rest = p.Run();
+  p.Skin->SetJawOpen(1.0);
+  const auto automatic = p.Run();
+  EXPECT_FALSE(p.Skin->GetJawByBone()) << "the avatar's jawOpen target should open its mouth, not the joint";
+  EXPECT_EQ(automatic.at("Teeth")->GetPoints(), rest.at("Teeth")->GetPoints());
+  p.Skin->SetTurnJaw(vtkMorphSkinFilter::JAW_ON);
+  const auto forced = p.Run();
+  EXPECT_TRUE(p.Skin->GetJawByBone());
+  vtkPolyData* teeth = forced.at("Teeth");
+  vtkPolyData* teethRest = rest.at("Teeth");
+  double lowest = 0.0;
+  for (vtkIdType i = 0; i < teeth->GetNumberOfPoints(); ++i)
+  {
+    lowest = std::min(lowest, teeth->GetPoint(i)[1] - teethRest->GetPoint(i)[1]);
+  }
+  EXPECT_LT(lowest, -0.005) << "no tooth went down with the jaw";
+  auto* used = teeth->GetFieldData()->GetArray("SkinPose");
+  ASSERT_NE(used, nullptr);
+  EXPECT_EQ(used->GetComponent(5, 0), 1.0);
+  p.Skin->SetTurnJaw(vtkMorphSkinFilter::JAW_OFF);
+  p.Run();
+  EXPECT_FALSE(p.Skin->GetJawByBone());
+}
+
+// A VRM avatar's own humanoid map and look-at range maps reach the skin filter through the
+// reader (vtkMorphSkinArrays' HumanoidBones, LookAtRangeMaps): the skinned quad whose J2
+// the VRMC_vrm extension calls the left eye (no name says so) turns by the gaze through
+// the outer range map (45 of 90 degrees -> 6 of 12), not the eye limits' 40 degrees.
+TEST(MorphSkinFilter, VrmHumanoidBonesAndLookAtRangeMaps)
+{
+  const std::string file = std::string(MORPHNODE_TEST_OUTPUT_DIR) + "/skin_filter_vrm_quad.glb";
+  std::filesystem::create_directories(MORPHNODE_TEST_OUTPUT_DIR);
+  gltftest::Builder b = gltftest::SkinnedQuad();
+  b.Doc["extensions"]["VRMC_vrm"] = { { "specVersion", "1.0" },
+    { "humanoid", { { "humanBones", { { "leftEye", { { "node", 2 } } } } } } },
+    { "lookAt", { { "type", "bone" }, { "rangeMapHorizontalOuter", { { "inputMaxValue", 90 }, { "outputScale", 12 } } } } } };
+  b.Doc["extensionsUsed"] = { "VRMC_vrm" };
+  std::ofstream(file, std::ios::binary) << b.Glb();
+  vtkNew<vtkMorphTargetReader> reader;
+  reader->SetFileName(file.c_str());
+  vtkNew<vtkMorphSkinFilter> skin;
+  skin->SetInputConnection(reader->GetOutputPort());
+  skin->Update();
+  EXPECT_TRUE(skin->GetHasEyeBones()) << skin->GetBones();
+  const auto rest = Parts(skin->GetOutputDataObject(0));
+  ASSERT_EQ(rest.size(), 1u);
+  vtkPolyData* quad = rest.begin()->second;
+  ASSERT_NE(quad->GetFieldData()->GetAbstractArray("HumanoidBones"), nullptr);
+  skin->SetEyeYaw(45.0);
+  skin->Update();
+  vtkPolyData* turned = Parts(skin->GetOutputDataObject(0)).begin()->second;
+  // p2 is bound to J2 alone: it turns about J2's origin by the mapped angle about the
+  // eye's up (+Y of the face).
+  const glm::dvec3 pivot(0.0, 1.0, 0.0); // J2 at rest (see ReskinnedQuadFollowsItsJoints)
+  double a[3], c[3];
+  quad->GetPoint(2, a);
+  turned->GetPoint(2, c);
+  const glm::dvec3 u = glm::dvec3(a[0], a[1], a[2]) - pivot, v = glm::dvec3(c[0], c[1], c[2]) - pivot;
+  EXPECT_NEAR(glm::length(u), glm::length(v), 1e-6);
+  const double angle = std::acos(glm::clamp(glm::dot(glm::normalize(u), glm::normalize(v)), -1.0, 1.0)) * 180.0 / glm::pi<double>();
+  EXPECT_NEAR(angle, 6.0, 0.01) << "the VRM range map was not used (the limits would give 40)";
+}

@@ -7,6 +7,7 @@
 #include "base/Error.h"
 #include "gltf/GltfAnimation.h"
 #include "gltf/GltfScene.h"
+#include "gltf/GltfVrm.h"
 
 #include <nlohmann/json.hpp>
 
@@ -295,6 +296,21 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
   catch (const morphnode::InputError&)
   {
     // rejected input is fine
+  }
+  try
+  {
+    // A VRM's description (gltf/GltfVrm.h) from the same bytes: binds name existing targets.
+    const morphnode::GltfVrm vrm = morphnode::ReadGltfVrmFromMemory(data, size, "fuzz");
+    for (const auto& e : vrm.Expressions)
+    {
+      for (const auto& bind : e.Binds)
+      {
+        Check(bind.second >= 0.0 && bind.second <= 1.0);
+      }
+    }
+  }
+  catch (const morphnode::InputError&)
+  {
   }
   return 0;
 }

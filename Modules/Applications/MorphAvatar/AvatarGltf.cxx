@@ -45,6 +45,9 @@ bool ExportGltf(Avatar& a)
   writer->SetThreshold(a.Threshold);
   writer->SetMaxVertexError(a.MaxError);
   writer->SetHysteresis(o.Hysteresis);
+  // One way of moving the eyes, as on screen (--gaze): with eyeLook* targets the eye joints
+  // stay (eye nodes of an unskinned head turn as vtkEyeGazeFilter turns them on screen).
+  writer->SetWriteEyeRotations(o.Gaze != "targets" || !a.Skin->GetHasEyeBones());
   // The sound first: it is the cheaper of the two to refuse (a timeline whose sound passes
   // the memory budget, docs/limits.md), and a refusal then leaves no glTF file behind.
   const std::string wav = std::filesystem::path(o.Gltf).replace_extension(".wav").string();
@@ -64,7 +67,8 @@ bool ExportGltf(Avatar& a)
   {
     std::cout << "wrote " << o.Gltf << " (" << writer->GetNumberOfParts() << " parts, "
               << writer->GetNumberOfFrames() << " frames, " << writer->GetNumberOfWeightColumns()
-              << " animated targets, weights " << (o.GltfOptimized ? "optimized" : "raw") << ", "
+              << " animated targets, weights " << (o.GltfOptimized ? "optimized" : "raw")
+              << (writer->GetTurnsBones() ? ", head and eyes turned by the skeleton's joints" : "") << ", "
               << seconds << " s) and " << wav << "\n";
   }
   return true;

@@ -7,12 +7,15 @@
 #include "base/Text.h"
 #include "capture/ArkitNames.h"
 #include "capture/FaceRig.h"
+#include "gltf/GltfScene.h"
+#include "gltf/GltfVrm.h"
 #include "rig/Rig.h"
 
 #include "vtkMorphSkinFilter.h"
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -95,6 +98,30 @@ bool ChooseFaceSetup(Avatar& a)
     log.str("");
   };
 
+  // A VRM avatar's own expressions and look-at (gltf/GltfVrm.h); nothing for other files.
+  std::vector<morphnode::FaceExpression> expressions;
+  std::string lookAt;
+  try
+  {
+    const std::string ext = morphnode::text::ToLower(std::filesystem::path(face).extension().string());
+    if (ext == ".glb" || ext == ".gltf" || ext == ".vrm")
+    {
+      const morphnode::GltfVrm vrm = morphnode::ReadGltfVrm(face);
+      for (const auto& e : vrm.Expressions)
+      {
+        expressions.push_back({ e.Name, e.Binds });
+      }
+      lookAt = vrm.LookAtType;
+      if (vrm.IsVrm() && !o.Quiet)
+      {
+        log << face << ": " << vrm.Describe() << "\n";
+      }
+    }
+  }
+  catch (const std::exception& e)
+  {
+    log << "the VRM description is not used: " << e.what() << "\n";
+  }
   std::string rigJson;
   bool ownVisemes = false;
   try
@@ -102,7 +129,7 @@ bool ChooseFaceSetup(Avatar& a)
     if (o.Rig.empty())
     {
       const morphnode::Rig arkit = morphnode::Rig::LoadFile(appkit::DataPath("rigs/arkit.json"));
-      const morphnode::FaceRigChoice choice = morphnode::ChooseFaceRig(targets, arkit);
+      const morphnode::FaceRigChoice choice = morphnode::ChooseFaceRig(targets, arkit, expressions);
       ownVisemes = choice.HasOwnVisemes;
       if (!o.Quiet)
       {
@@ -141,7 +168,8 @@ bool ChooseFaceSetup(Avatar& a)
   // The eyes one way: bones or targets.
   if (o.Gaze == "auto")
   {
-    o.Gaze = eyeBones ? "bones" : "targets";
+    // A VRM says how it looks at things (lookAt type: bone or expression).
+    o.Gaze = lookAt == "expression" ? "targets" : eyeBones ? "bones" : "targets";
   }
   size_t dropped = 0;
   if (o.Gaze == "bones" && !rigJson.empty())
@@ -167,6 +195,10 @@ bool ChooseFaceSetup(Avatar& a)
     {
       log << "eyes: turned by eyeLook* targets; the eye joints stay (--gaze bones overrides)\n";
     }
+    if (skin->GetJawByBone())
+    {
+      log << "jaw: opened by the jaw joint (the face has no jawOpen target)\n";
+    }
   }
   if (!rigJson.empty() && (o.Rig.empty() || dropped))
   {
@@ -178,5 +210,65 @@ bool ChooseFaceSetup(Avatar& a)
   }
   flush();
   return true;
+}
+
+std::string ChooseServeNaming(const morphnode::GltfScene& face, const std::string& faceFile, Options& o)
+{
+  std::vector<std::string> targets;
+  for (const auto& part : face.Parts)
+  {
+    for (const auto& t : part.Targets)
+    {
+      if (std::find(targets.begin(), targets.end(), t.Name) == targets.end())
+      {
+        targets.push_back(t.Name);
+      }
+    }
+  }
+  std::vector<morphnode::FaceExpression> expressions;
+  const std::string ext = morphnode::text::ToLower(std::filesystem::path(faceFile).extension().string());
+  if (ext == ".glb" || ext == ".gltf" || ext == ".vrm")
+  {
+    for (const auto& e : morphnode::ReadGltfVrm(faceFile).Expressions)
+    {
+      expressions.push_back({ e.Name, e.Binds });
+    }
+  }
+  std::string rigJson;
+  bool ownVisemes = false;
+  std::ostream& out = std::cout;
+  if (o.Rig.empty() && !targets.empty())
+  {
+    const morphnode::Rig arkit = morphnode::Rig::LoadFile(appkit::DataPath("rigs/arkit.json"));
+    const morphnode::FaceRigChoice choice = morphnode::ChooseFaceRig(targets, arkit, expressions);
+    ownVisemes = choice.HasOwnVisemes;
+    if (!o.Quiet)
+    {
+      std::istringstream lines(faceFile + ": " + choice.Report() +
+        (choice.NeedsRig ? "rig: chosen from the face's names (--rig FILE overrides)\n" : ""));
+      for (std::string line; std::getline(lines, line);)
+      {
+        out << "MorphAvatar: " << line << "\n";
+      }
+    }
+    rigJson = choice.NeedsRig ? choice.RigJson : std::string();
+  }
+  else if (!o.Rig.empty())
+  {
+    rigJson = morphnode::text::ReadFile(o.Rig, "rig");
+    for (const auto& t : targets)
+    {
+      ownVisemes = ownVisemes || morphnode::text::ToLower(t).rfind("viseme_", 0) == 0;
+    }
+  }
+  if (o.Visemes.empty())
+  {
+    o.Visemes = ownVisemes ? "oculus15" : "paper6";
+    if (!o.Quiet && ownVisemes)
+    {
+      out << "MorphAvatar: visemes: oculus15 (the face has its own viseme_* targets; --visemes overrides)\n";
+    }
+  }
+  return rigJson;
 }
 } // namespace morphavatar

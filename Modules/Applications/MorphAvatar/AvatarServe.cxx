@@ -2,6 +2,8 @@
 // MorphAvatar --serve (AvatarServe.h).
 #include "AvatarServe.h"
 
+#include "AvatarNaming.h"
+
 #include "DataPaths.h"
 
 #include "base/Error.h"
@@ -75,30 +77,33 @@ int RunServe(const Options& o)
     const morphnode::GltfScene face = morphnode::LoadGltfScene(faceFile);
     morphnode::SpeechOptions speech;
     speech.Voice = o.Voice;
-    // (The rig and viseme set are not yet chosen from the face's names here, as the window
-    // does (AvatarNaming): without --visemes the paper's set, as before.)
-    if (o.Visemes == "paper6" || o.Visemes.empty())
+    // The rig and viseme set chosen from the face's names as the window chooses them
+    // (AvatarNaming.h), unless --rig / --visemes.
+    Options chosen = o;
+    const std::string rigJson = ChooseServeNaming(face, faceFile, chosen);
+    if (chosen.Visemes == "paper6")
     {
       speech.Visemes = morphnode::VisemeSet::Paper6;
     }
-    else if (o.Visemes == "oculus15")
+    else if (chosen.Visemes == "oculus15")
     {
       speech.Visemes = morphnode::VisemeSet::Oculus15;
     }
-    else if (o.Visemes == "german16")
+    else if (chosen.Visemes == "german16")
     {
       speech.Visemes = morphnode::VisemeSet::German16;
     }
     else
     {
-      FailUsage("--visemes expects paper6, oculus15 or german16; got '" + o.Visemes + "'");
+      FailUsage("--visemes expects paper6, oculus15 or german16; got '" + chosen.Visemes + "'");
     }
     const std::vector<std::string> visemes = morphnode::SelectVisemeMap(speech).GetVisemes();
     const std::vector<std::string> channels = morphnode::LiveBehavior(visemes).GetChannelNames();
     std::unique_ptr<morphnode::Rig> rig;
-    if (!o.Rig.empty())
+    if (!rigJson.empty())
     {
-      rig = std::make_unique<morphnode::Rig>(morphnode::Rig::LoadFile(o.Rig));
+      rig = std::make_unique<morphnode::Rig>(
+        morphnode::Rig::LoadString(rigJson, o.Rig.empty() ? std::string("the chosen rig") : o.Rig));
     }
     const auto started = std::chrono::steady_clock::now();
     auto avatar = std::make_shared<const stream::StreamAvatar>(face, channels, rig.get());

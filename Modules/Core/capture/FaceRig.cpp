@@ -36,6 +36,9 @@ const std::map<std::string, std::vector<std::string>>& OwnNames()
     { "MouthSad", { "Fcl_MTH_Sorrow", "Fcl_ALL_Sorrow", "sad", "sorrow" } },
     { "BrowsAngry", { "Fcl_BRW_Angry", "angry" } }, { "BrowsUp", { "Fcl_BRW_Surprised", "surprised" } },
     { "BrowsFright", { "Fcl_BRW_Sorrow" } },
+    // The behaviour's looks: VRM's look expressions.
+    { "LookUp", { "lookUp" } }, { "LookDown", { "lookDown" } }, { "LookLeft", { "lookLeft" } },
+    { "LookRight", { "lookRight" } },
   };
   return table;
 }
@@ -73,6 +76,20 @@ std::string FaceRigChoice::Report() const
 
 FaceRigChoice ChooseFaceRig(const std::vector<std::string>& faceTargets, const Rig& arkitRig)
 {
+  return ChooseFaceRig(faceTargets, arkitRig, {});
+}
+
+FaceRigChoice ChooseFaceRig(const std::vector<std::string>& faceTargets, const Rig& arkitRig,
+  const std::vector<FaceExpression>& expressions)
+{
+  std::map<std::string, const FaceExpression*> expressionByLower;
+  for (const auto& e : expressions)
+  {
+    if (!e.Binds.empty())
+    {
+      expressionByLower.emplace(text::ToLower(e.Name), &e);
+    }
+  }
   FaceRigChoice choice;
   std::map<std::string, std::string> byLower; // lower-case name -> the face's spelling
   for (const auto& t : faceTargets)
@@ -114,6 +131,10 @@ FaceRigChoice ChooseFaceRig(const std::vector<std::string>& faceTargets, const R
   {
     families.push_back("VRM expressions (" + std::to_string(vrm) + ")");
   }
+  if (!expressionByLower.empty())
+  {
+    families.push_back("VRM expressions (" + std::to_string(expressionByLower.size()) + ", from the file)");
+  }
   for (size_t i = 0; i < families.size(); ++i)
   {
     choice.Families += (i ? ", " : "") + families[i];
@@ -123,7 +144,7 @@ FaceRigChoice ChooseFaceRig(const std::vector<std::string>& faceTargets, const R
     choice.NeedsRig = false;
     return choice;
   }
-  if (families.empty() || (arkitShapes == 0 && oculus == 0 && vroid == 0 && vrm == 0))
+  if (families.empty() || (arkitShapes == 0 && oculus == 0 && vroid == 0 && vrm == 0 && expressionByLower.empty()))
   {
     throw InputError("no target name of the face belongs to a known naming family (the paper's shapes, ARKit, "
                      "Oculus visemes viseme_*, VRoid Fcl_*, VRM expressions): give a rig with --rig");
@@ -143,6 +164,15 @@ FaceRigChoice ChooseFaceRig(const std::vector<std::string>& faceTargets, const R
     {
       for (const auto& candidate : own->second)
       {
+        const auto ex = expressionByLower.find(text::ToLower(candidate));
+        if (ex != expressionByLower.end())
+        {
+          for (const auto& [target, weight] : ex->second->Binds)
+          {
+            terms[target] = weight;
+          }
+          break;
+        }
         const auto it = byLower.find(text::ToLower(candidate));
         if (it != byLower.end())
         {

@@ -14,7 +14,9 @@
 ///   (viseme_sil, viseme_PP, ..., viseme_aa, viseme_E, viseme_I, viseme_O, viseme_U);
 /// - VRoid Studio's `Fcl_*` shape keys (Fcl_MTH_A, Fcl_EYE_Close, Fcl_BRW_Angry, ...);
 /// - VRM expression names on targets: 1.0's presets (aa, ih, ou, ee, oh, blink, happy,
-///   angry, sad, surprised) and 0.x's (A, I, U, E, O, Blink, Joy, Angry, Sorrow).
+///   angry, sad, surprised) and 0.x's (A, I, U, E, O, Blink, Joy, Angry, Sorrow);
+/// - VRM expressions the file defines (VRMC_vrm / VRM 0.x blend shape groups, bound to
+///   targets of any name), given as FaceExpression.
 /// A shape the face has a target for by name drives that target (its own); otherwise,
 /// where the face has the ARKit shapes, it is synthesized from them (e.g. a viseme from
 /// jawOpen, mouthFunnel, ...); otherwise it is missing. Nothing is dropped silently: the
@@ -23,6 +25,7 @@
 #include "rig/Rig.h"
 
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace morphnode
@@ -46,8 +49,24 @@ struct FaceRigChoice
   std::string Report() const;
 };
 
+/// An expression a file defines over its targets (VRM: gltf/GltfVrm.h's expressions), by
+/// name (VRM 1.0's preset names: aa ih ou ee oh blink happy angry sad relaxed surprised
+/// lookUp lookDown lookLeft lookRight, or custom names) and its binds (target, weight).
+struct FaceExpression
+{
+  std::string Name;
+  std::vector<std::pair<std::string, double>> Binds;
+};
+
 /// Chooses the rig for a face whose relative targets are `faceTargets` (no neutral), from
 /// the shipped ARKit rig `arkitRig` (Data/rigs/arkit.json: its shapes and their ARKit terms).
 /// InputError when no family is recognised (nothing would move the face).
 FaceRigChoice ChooseFaceRig(const std::vector<std::string>& faceTargets, const Rig& arkitRig);
+
+/// The same with the file's own expressions (a VRM's): a shape whose own name is an
+/// expression drives that expression's binds (e.g. O -> the `oh` expression -> its targets
+/// with their weights), before a target of that name and before synthesis. The family
+/// is reported as "VRM expressions (n, from the file)".
+FaceRigChoice ChooseFaceRig(const std::vector<std::string>& faceTargets, const Rig& arkitRig,
+  const std::vector<FaceExpression>& expressions);
 } // namespace morphnode

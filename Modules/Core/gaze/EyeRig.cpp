@@ -198,4 +198,22 @@ EyeSide EyeRig::SideFromName(const std::string& name)
   }
   return end != EyeSide::Unknown ? end : start;
 }
+
+EyeRig MakeEyeRig(const std::vector<std::string>& names, const std::array<double, 3>& forward,
+  const std::array<double, 3>& up, const EyeLimits& limits)
+{
+  EyeRig rig;
+  rig.SetDefaultDirections(forward, up);
+  rig.SetLimits(limits);
+  for (const std::string& name : names)
+  {
+    EyeSpec eye;
+    eye.Name = name;
+    eye.Side = EyeRig::SideFromName(name);
+    eye.Forward = forward;
+    eye.Up = up;
+    rig.AddEye(eye);
+  }
+  return rig;
+}
 } // namespace morphnode

@@ -112,4 +112,13 @@ private:
   std::array<double, 3> DefaultUp{ { 0.0, 1.0, 0.0 } };
   EyeLimits Limits;
 };
+
+/// The eye rig of a set-up: the eyes named in `names` (node or part names, each side from
+/// its name, SideFromName) or, with no names, the default convention; every eye looking
+/// along `forward` with `up` at rest (node frame), turning within `limits`. The one place
+/// where vtkEyeGazeFilter and the glTF export (gltf/GltfPerformanceExport.h) set up the
+/// same eyes. InputError as AddEye, SetDefaultDirections and SetLimits.
+EyeRig MakeEyeRig(const std::vector<std::string>& names,
+  const std::array<double, 3>& forward = { { 0.0, 0.0, 1.0 } },
+  const std::array<double, 3>& up = { { 0.0, 1.0, 0.0 } }, const EyeLimits& limits = EyeLimits());
 } // namespace morphnode

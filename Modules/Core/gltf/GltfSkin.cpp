@@ -349,4 +349,155 @@ void GltfSkinPart(GltfPart& part, const GltfScene& scene, const std::vector<Gltf
   }
   part.TransformApplied = true;
 }
+
+GltfMatrix GltfFromGlm(const glm::dmat4& m)
+{
+  GltfMatrix out{};
+  for (int c = 0; c < 4; ++c)
+  {
+    for (int r = 0; r < 4; ++r)
+    {
+      out[static_cast<size_t>(c * 4 + r)] = m[c][r];
+    }
+  }
+  return out;
+}
+
+void GltfUnskinPart(GltfPart& part, const GltfScene& scene, const std::vector<GltfMatrix>& nodeWorlds, const std::string& what)
+{
+  if (part.Skin < 0 || !part.TransformApplied || nodeWorlds.size() != scene.Nodes.size())
+  {
+    throw InputError(what + ": not a skinned part in world space, or not one transform per node");
+  }
+  const SkinJoints joints = GltfSkinJoints(scene, part.Skin);
+  std::vector<glm::dmat4> world(scene.Nodes.size());
+  for (size_t n = 0; n < scene.Nodes.size(); ++n)
+  {
+    world[n] = GltfToGlm(nodeWorlds[n]);
+  }
+  const std::vector<glm::dmat4> matrices = joints.Matrices(world);
+  const size_t n = part.GetNumberOfPoints();
+  if (part.Influences.GetNumberOfPoints() != n)
+  {
+    throw InputError(what + ": " + std::to_string(part.Influences.GetNumberOfPoints()) +
+      " skin influences for " + std::to_string(n) + " points");
+  }
+  for (size_t i = 0; i < n; ++i)
+  {
+    const glm::dmat4 b = BlendedMatrix(part.Influences, matrices, i);
+    const glm::dmat3 l(b);
+    const double det = glm::determinant(l);
+    if (!(std::abs(det) > 1e-12) || !std::isfinite(det))
+    {
+      throw InputError(what + ": point " + std::to_string(i) + "'s blended joint matrix is singular");
+    }
+    const glm::dmat3 inv = glm::inverse(l);
+    const glm::dvec3 t(b[3]);
+    float* p = &part.Positions[3 * i];
+    const glm::dvec3 q = inv * (glm::dvec3(p[0], p[1], p[2]) - t);
+    for (int k = 0; k < 3; ++k)
+    {
+      p[k] = static_cast<float>(q[k]);
+    }
+    // Skinning takes a normal by the cofactor matrix (det * inverse transpose) and keeps it
+    // unit; its inverse is the transpose divided by det, and the deltas share the scale.
+    double normalScale = 1.0;
+    const glm::dmat3 back = glm::transpose(l) / det;
+    if (!part.Normals.empty())
+    {
+      float* m = &part.Normals[3 * i];
+      const glm::dvec3 v = (det < 0.0 ? -back : back) * glm::dvec3(m[0], m[1], m[2]);
+      const double len = glm::length(v);
+      normalScale = len > 0.0 ? 1.0 / len : 1.0;
+      for (int k = 0; k < 3; ++k)
+      {
+        m[k] = static_cast<float>(v[k] * normalScale);
+      }
+    }
+    for (auto& target : part.Targets)
+    {
+      float* d = &target.PositionDeltas[3 * i];
+      const glm::dvec3 e = inv * glm::dvec3(d[0], d[1], d[2]);
+      for (int k = 0; k < 3; ++k)
+      {
+        d[k] = static_cast<float>(e[k]);
+      }
+      if (!target.NormalDeltas.empty())
+      {
+        float* dn = &target.NormalDeltas[3 * i];
+        const glm::dvec3 f = (det < 0.0 ? -back : back) * glm::dvec3(dn[0], dn[1], dn[2]);
+        for (int k = 0; k < 3; ++k)
+        {
+          dn[k] = static_cast<float>(f[k] * normalScale);
+        }
+      }
+    }
+  }
+  part.TransformApplied = false;
+}
+
+std::vector<GltfNode> GltfNodesFromSkeleton(Skeleton skeleton)
+{
+  skeleton.Validate();
+  const size_t count = skeleton.GetNumberOfJoints();
+  std::vector<GltfNode> nodes(count);
+  for (size_t j = 0; j < count; ++j)
+  {
+    const Joint& joint = skeleton.GetJoint(j);
+    GltfNode& node = nodes[j];
+    node.Name = joint.Name;
+    node.Parent = joint.Parent;
+    node.InScene = true;
+    if (joint.Parent >= 0)
+    {
+      nodes[static_cast<size_t>(joint.Parent)].Children.push_back(static_cast<int>(j));
+    }
+    const glm::dmat4 local = joint.Local();
+    node.Local = GltfFromGlm(local);
+    // TRS when the matrix is one: columns of the 3x3 are the rotation's scaled by positive
+    // scales, orthogonal to each other, and the last row is (0, 0, 0, 1).
+    glm::dvec3 scale(glm::length(glm::dvec3(local[0])), glm::length(glm::dvec3(local[1])),
+      glm::length(glm::dvec3(local[2])));
+    bool trs = scale.x > 0.0 && scale.y > 0.0 && scale.z > 0.0 && local[0][3] == 0.0 && local[1][3] == 0.0 &&
+      local[2][3] == 0.0 && local[3][3] == 1.0;
+    glm::dmat3 r(1.0);
+    if (trs)
+    {
+      r = glm::dmat3(glm::dvec3(local[0]) / scale.x, glm::dvec3(local[1]) / scale.y, glm::dvec3(local[2]) / scale.z);
+      trs = glm::determinant(r) > 0.0 && std::abs(glm::dot(r[0], r[1])) < 1e-9 &&
+        std::abs(glm::dot(r[1], r[2])) < 1e-9 && std::abs(glm::dot(r[0], r[2])) < 1e-9;
+    }
+    if (trs)
+    {
+      const glm::dquat q = glm::normalize(glm::quat_cast(r));
+      node.Translation = { { local[3][0], local[3][1], local[3][2] } };
+      node.Rotation = { { q.x, q.y, q.z, q.w } };
+      node.Scale = { { scale.x, scale.y, scale.z } };
+      const double eps = 1e-12;
+      for (double* v : { &node.Scale[0], &node.Scale[1], &node.Scale[2] })
+      {
+        if (std::abs(*v - 1.0) < eps)
+        {
+          *v = 1.0;
+        }
+      }
+      node.Local = GltfComposeTrs(node.Translation, node.Rotation, node.Scale);
+    }
+    else
+    {
+      node.HasMatrix = true;
+    }
+  }
+  std::vector<glm::dmat4> locals;
+  for (const auto& node : nodes)
+  {
+    locals.push_back(GltfToGlm(node.Local));
+  }
+  const std::vector<glm::dmat4> worlds = skeleton.World(locals);
+  for (size_t j = 0; j < count; ++j)
+  {
+    nodes[j].World = GltfFromGlm(worlds[j]);
+  }
+  return nodes;
+}
 } // namespace morphnode

@@ -27,6 +27,23 @@ SkinJoints GltfSkinJoints(const GltfScene& scene, int skin);
 void GltfSkinPart(GltfPart& part, const GltfScene& scene, const std::vector<GltfMatrix>& nodeWorlds,
   const std::string& what);
 
+/// The inverse of GltfSkinPart: a skinned part shown at the joints' `nodeWorlds` in world
+/// space (TransformApplied, as the loader and vtkMorphTargetReader give it) back in its
+/// bind space, so that skinning it again at `nodeWorlds` gives the same points, normals and
+/// deltas: p = B^-1 p', normals by B's transpose (renormalized, their deltas scaled alike),
+/// deltas by the inverse of B's linear part, B the point's blended joint matrix. Clears
+/// TransformApplied. InputError for a part that is not skinned or not transformed, or a
+/// point whose blended matrix is singular.
+void GltfUnskinPart(GltfPart& part, const GltfScene& scene, const std::vector<GltfMatrix>& nodeWorlds,
+  const std::string& what);
+
+/// Scene nodes (names, parents, children, local transforms; every node in the scene) from a
+/// skeleton, joint i = node i: a local matrix that is translation * rotation * positive
+/// scale becomes TRS (so that joints can be turned by rotation channels), any other stays
+/// a matrix. The skeleton is validated.
+std::vector<GltfNode> GltfNodesFromSkeleton(Skeleton skeleton);
+
 /// glm <-> the loader's column-major matrix.
 glm::dmat4 GltfToGlm(const GltfMatrix& m);
+GltfMatrix GltfFromGlm(const glm::dmat4& m);
 } // namespace morphnode

@@ -8,6 +8,7 @@
 #include <glm/gtc/quaternion.hpp>
 
 #include <cctype>
+#include <algorithm>
 #include <cmath>
 
 namespace morphnode
@@ -59,6 +60,15 @@ std::string AvatarBoneRoles::Describe(const Skeleton& skeleton) const
   add("jaw", this->Jaw);
   add("left arm", this->LeftUpperArm);
   add("right arm", this->RightUpperArm);
+  for (auto [role, joint] : { std::pair<const char*, int>{ "left upper lid", this->LeftUpperLid },
+         { "right upper lid", this->RightUpperLid }, { "left lower lid", this->LeftLowerLid },
+         { "right lower lid", this->RightLowerLid } })
+  {
+    if (joint >= 0)
+    {
+      add(role, joint);
+    }
+  }
   return out;
 }
 
@@ -133,6 +143,31 @@ AvatarBoneRoles FindAvatarBones(const Skeleton& skeleton)
       roles.RightEye = static_cast<int>(j);
     }
   }
+  // Eyelid bones: "lid" in the name with upper/lower and a side, below the head.
+  for (size_t j = 0; j < n; ++j)
+  {
+    const std::string& name = skeleton.GetJoint(j).Name;
+    const std::string canonical = CanonicalBoneName(name);
+    if (canonical.find("lid") == std::string::npos || canonical.find("end") != std::string::npos ||
+      (roles.Head >= 0 && !skeleton.IsAncestor(roles.Head, static_cast<int>(j))))
+    {
+      continue;
+    }
+    const bool upper = canonical.find("upper") != std::string::npos || canonical.find("top") != std::string::npos;
+    const bool lower = canonical.find("lower") != std::string::npos || canonical.find("bottom") != std::string::npos;
+    EyeSide side = EyeRig::SideFromName(name);
+    if (side == EyeSide::Unknown && !canonical.empty())
+    {
+      side = canonical[0] == 'l' ? EyeSide::Left : canonical[0] == 'r' ? EyeSide::Right : EyeSide::Unknown;
+    }
+    int* role = side == EyeSide::Left ? (upper ? &roles.LeftUpperLid : lower ? &roles.LeftLowerLid : nullptr)
+      : side == EyeSide::Right        ? (upper ? &roles.RightUpperLid : lower ? &roles.RightLowerLid : nullptr)
+                                      : nullptr;
+    if (role && *role < 0)
+    {
+      *role = static_cast<int>(j);
+    }
+  }
   return roles;
 }
 
@@ -143,13 +178,49 @@ glm::dquat HeadRotation(double yaw, double pitch, double roll)
     glm::angleAxis(-roll * d, glm::dvec3(0, 0, 1));
 }
 
+AvatarBoneRoles FindAvatarBones(const Skeleton& skeleton, const std::map<std::string, std::string>& humanoid)
+{
+  AvatarBoneRoles roles = FindAvatarBones(skeleton);
+  for (auto [bone, role] : { std::pair<const char*, int*>{ "head", &roles.Head }, { "neck", &roles.Neck },
+         { "leftEye", &roles.LeftEye }, { "rightEye", &roles.RightEye }, { "jaw", &roles.Jaw },
+         { "leftUpperArm", &roles.LeftUpperArm }, { "leftLowerArm", &roles.LeftForeArm },
+         { "rightUpperArm", &roles.RightUpperArm }, { "rightLowerArm", &roles.RightForeArm } })
+  {
+    const auto it = humanoid.find(bone);
+    const int joint = it == humanoid.end() ? -1 : skeleton.FindJoint(it->second);
+    if (joint >= 0)
+    {
+      *role = joint;
+    }
+  }
+  return roles;
+}
+
+namespace
+{
+/// One eye's angles through VRM's range maps: yaw inner or outer by the eye's side and the
+/// direction (the left eye, at +X, looks outward at positive yaw), pitch down or up.
+GazeAngles MapEyeAngles(const GazeAngles& in, EyeSide side, const EyeRangeMaps& m)
+{
+  auto map = [](double v, double max, double scale) {
+    return !(max > 0.0) ? 0.0 : (v < 0 ? -1.0 : 1.0) * std::min(std::abs(v), max) / max * scale;
+  };
+  const bool outward = side == EyeSide::Left ? in.Yaw > 0.0 : side == EyeSide::Right ? in.Yaw < 0.0 : true;
+  GazeAngles out;
+  out.Yaw = outward ? map(in.Yaw, m.OuterMax, m.OuterScale) : map(in.Yaw, m.InnerMax, m.InnerScale);
+  out.Pitch = in.Pitch > 0.0 ? map(in.Pitch, m.UpMax, m.UpScale) : map(in.Pitch, m.DownMax, m.DownScale);
+  return out;
+}
+} // namespace
+
 void PoseAvatarBones(SkeletonPose& pose, const AvatarBoneRoles& roles, const AvatarBonePose& a)
 {
-  for (double v : { a.HeadYaw, a.HeadPitch, a.HeadRoll, a.EyeYaw, a.EyePitch, a.Vergence, a.NeckShare })
+  for (double v : { a.HeadYaw, a.HeadPitch, a.HeadRoll, a.EyeYaw, a.EyePitch, a.Vergence, a.NeckShare, a.JawOpen,
+         a.MaxJawAngle, a.LidFollow })
   {
     if (!std::isfinite(v))
     {
-      throw InputError("avatar bones: the head and gaze angles must be finite");
+      throw InputError("avatar bones: the head, gaze and jaw angles must be finite");
     }
   }
   if (a.NeckShare < 0.0 || a.NeckShare > 1.0)
@@ -206,13 +277,36 @@ void PoseAvatarBones(SkeletonPose& pose, const AvatarBoneRoles& roles, const Ava
     {
       continue;
     }
-    const GazeAngles angles = EyeAngles(GazeAngles{ a.EyeYaw, a.EyePitch }, a.Vergence, side, a.Limits);
+    EyeLimits open;
+    open.MaxYaw = open.MaxUp = open.MaxDown = 90.0;
+    const GazeAngles angles = a.RangeMaps.Enabled
+      ? MapEyeAngles(EyeAngles(GazeAngles{ a.EyeYaw, a.EyePitch }, a.Vergence, side, open), side, a.RangeMaps)
+      : EyeAngles(GazeAngles{ a.EyeYaw, a.EyePitch }, a.Vergence, side, a.Limits);
     if (angles.Yaw == 0.0 && angles.Pitch == 0.0)
     {
       continue;
     }
     const glm::dquat gaze = HeadRotation(angles.Yaw, angles.Pitch, 0.0);
     pose.TurnJoint(joint, inWorld(turnedFrame * gaze * glm::inverse(turnedFrame)));
+    // The lids of this eye follow its pitch.
+    const int upper = side == EyeSide::Left ? roles.LeftUpperLid : roles.RightUpperLid;
+    const int lower = side == EyeSide::Left ? roles.LeftLowerLid : roles.RightLowerLid;
+    for (auto [lid, share] : { std::pair<int, double>{ upper, a.LidFollow }, { lower, 0.5 * a.LidFollow } })
+    {
+      // (a lid below the eye joint already turns with it)
+      if (lid >= 0 && share != 0.0 && angles.Pitch != 0.0 && !pose.GetSkeleton().IsAncestor(joint, lid))
+      {
+        const glm::dquat follow = HeadRotation(0.0, share * angles.Pitch, 0.0);
+        pose.TurnJoint(lid, inWorld(turnedFrame * follow * glm::inverse(turnedFrame)));
+      }
+    }
+  }
+  // The jaw: chin down (negative pitch) about its pivot, in the turned face.
+  const double jaw = std::clamp(a.JawOpen, 0.0, 1.0) * a.MaxJawAngle;
+  if (roles.Jaw >= 0 && jaw != 0.0)
+  {
+    const glm::dquat open = HeadRotation(0.0, -jaw, 0.0);
+    pose.TurnJoint(roles.Jaw, inWorld(turnedFrame * open * glm::inverse(turnedFrame)));
   }
 }
 } // namespace morphnode

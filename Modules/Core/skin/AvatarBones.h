@@ -26,6 +26,7 @@
 
 #include <glm/glm.hpp>
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -40,6 +41,9 @@ struct AvatarBoneRoles
   int Jaw = -1;
   int LeftUpperArm = -1, LeftForeArm = -1;   ///< Mixamo LeftArm/LeftForeArm, VRM leftUpperArm/leftLowerArm, ...
   int RightUpperArm = -1, RightForeArm = -1;
+  /// Eyelid bones where a rig has them (CC_Base_L_UpperLid?, LeftUpperEyelid, upperlid.L,
+  /// VRM has none): they follow the eyes' pitch (AvatarBonePose::LidFollow).
+  int LeftUpperLid = -1, RightUpperLid = -1, LeftLowerLid = -1, RightLowerLid = -1;
 
   bool HasEyes() const { return this->LeftEye >= 0 || this->RightEye >= 0; }
   /// "Head, Neck, LeftEye, RightEye" as found, for reports.
@@ -56,6 +60,23 @@ AvatarBoneRoles FindAvatarBones(const Skeleton& skeleton);
 /// the skeleton (the head's points for the head bone), in point order; empty for joint < 0.
 std::vector<size_t> PointsUnderJoint(
   const Skeleton& skeleton, const SkinJoints& joints, const SkinInfluences& influences, int joint);
+/// The same, with a humanoid map the avatar gives itself (VRM's humanBones: VRM bone name
+/// -> node name, gltf/GltfVrm.h): its head, neck, leftEye, rightEye, jaw, leftUpperArm,
+/// leftLowerArm, rightUpperArm and rightLowerArm win over the names' guess where the
+/// skeleton has that node.
+AvatarBoneRoles FindAvatarBones(const Skeleton& skeleton, const std::map<std::string, std::string>& humanoid);
+
+/// VRM's look-at range maps for eye bones: an input angle up to the map's InputMax degrees
+/// turns the eye linearly up to its OutputScale degrees (inner: towards the nose, outer:
+/// away from it, down, up). When Enabled they replace the eye rig's limits.
+struct EyeRangeMaps
+{
+  bool Enabled = false;
+  double InnerMax = 90.0, InnerScale = 10.0;
+  double OuterMax = 90.0, OuterScale = 10.0;
+  double DownMax = 90.0, DownScale = 10.0;
+  double UpMax = 90.0, UpScale = 10.0;
+};
 
 struct AvatarBonePose
 {
@@ -71,6 +92,18 @@ struct AvatarBonePose
   /// the down direction. Off: the arms as stored.
   bool RelaxArms = false;
   double ArmAngle = 12.0;
+  /// The mouth opened by the jaw joint (when the roles have one): 0 closed, 1 open by
+  /// MaxJawAngle degrees, the chin turned down about the jaw's pivot in the face frame as
+  /// the head has turned it. For avatars with a jaw joint and no `jawOpen` target (who
+  /// chooses: vtkMorphSkinFilter's TurnJaw, gltf/GltfPerformanceExport.h); 0 leaves it.
+  double JawOpen = 0.0;
+  double MaxJawAngle = 25.0;
+  /// VRM look-at range maps (instead of Limits when enabled).
+  EyeRangeMaps RangeMaps;
+  /// Lid bones follow their eye's pitch by this share (upper lids; lower lids by half),
+  /// about their own pivots, so that the lids open as the eyes look up and close as they
+  /// look down, as ARKit's eyeLook* targets move them.
+  double LidFollow = 0.6;
 };
 
 /// The rotation R of the convention for the head angles (degrees), in the face's frame.

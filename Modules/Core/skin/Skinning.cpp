@@ -57,7 +57,10 @@ bool NearlyEqual(const glm::dmat4& a, const glm::dmat4& b)
       diff = std::max(diff, std::abs(a[c][r] - b[c][r]));
     }
   }
-  return diff <= 1e-9 * size;
+  // Rest matrices J(rest) IBM of a bind pose are the identity up to the float rounding of the
+  // file's inverse bind matrices (about 1e-7): joints whose rest matrices agree that closely
+  // re-skin by per-joint products (the float path), an error far below a float point's.
+  return diff <= 1e-6 * size;
 }
 
 template <typename T>
@@ -163,6 +166,7 @@ RestSkin::RestSkin(SkinInfluences influences, const std::vector<glm::dmat4>& res
   , Rest(restMatrices)
   , Pose(restMatrices)
   , Moved(restMatrices.size(), 0)
+  , Rigid(restMatrices.size(), 1)
   , Used(restMatrices.size(), 0)
 {
   const size_t n = this->Influences.GetNumberOfPoints();
@@ -178,6 +182,10 @@ RestSkin::RestSkin(SkinInfluences influences, const std::vector<glm::dmat4>& res
         std::to_string(this->Influences.Joints[i]) + ", but the skin has only " +
         std::to_string(restMatrices.size()) + " joints");
     }
+  }
+  for (const auto& m : this->Rest)
+  {
+    this->RestJointInverse.push_back(glm::inverse(m));
   }
   this->RestInverse.resize(12 * n);
   this->SharedRest.assign(n, 1);
@@ -235,7 +243,11 @@ bool RestSkin::SetPose(const std::vector<glm::dmat4>& matrices)
     }
     this->Moved[k] = matrices[k] != this->Rest[k];
     any = any || (this->Moved[k] && this->Used[k]);
-    const glm::dmat4 d = matrices[k] * glm::inverse(this->Rest[k]);
+    if (!this->Used[k])
+    {
+      continue; // no point of this mesh follows it
+    }
+    const glm::dmat4 d = matrices[k] * this->RestJointInverse[k];
     for (int c = 0; c < 4; ++c)
     {
       for (int r = 0; r < 3; ++r)
@@ -243,6 +255,17 @@ bool RestSkin::SetPose(const std::vector<glm::dmat4>& matrices)
         this->Delta[12 * k + static_cast<size_t>(3 * c + r)] = static_cast<float>(d[c][r]);
       }
     }
+    const glm::dmat3 l(d);
+    const glm::dmat3 e = glm::transpose(l) * l - glm::dmat3(1.0);
+    double off = 0.0;
+    for (int c = 0; c < 3; ++c)
+    {
+      for (int r = 0; r < 3; ++r)
+      {
+        off = std::max(off, std::abs(e[c][r]));
+      }
+    }
+    this->Rigid[k] = off < 1e-6 && glm::determinant(l) > 0.0;
   }
   this->Pose = matrices;
   return any;
@@ -264,9 +287,27 @@ bool RestSkin::Moves(size_t point) const
 template <typename T>
 void RestSkin::Apply(const T* points, const T* normals, T* outPoints, T* outNormals, size_t begin, size_t end) const
 {
+  const size_t per = this->Influences.PerPoint;
+  const uint16_t* joints = this->Influences.Joints.data();
+  const float* weights = this->Influences.Weights.data();
+  const char* moved = this->Moved.data();
   for (size_t i = begin; i < end; ++i)
   {
-    if (!this->Moves(i))
+    // One pass over the point's influences: does it move, and is it bound to one joint?
+    bool moves = false;
+    int single = -1;
+    int count = 0;
+    for (size_t k = 0; k < per; ++k)
+    {
+      if (weights[i * per + k] != 0.0f)
+      {
+        const uint16_t j = joints[i * per + k];
+        moves = moves || moved[j];
+        single = j;
+        ++count;
+      }
+    }
+    if (!moves)
     {
       if (outPoints != points)
       {
@@ -286,18 +327,30 @@ void RestSkin::Apply(const T* points, const T* normals, T* outPoints, T* outNorm
     }
     if (this->SharedRest[i])
     {
-      // Linear blend skinning with the per-joint products, in float.
-      float a[12] = { 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0 };
-      const size_t per = this->Influences.PerPoint;
-      for (size_t k = 0; k < per; ++k)
+      // Linear blend skinning with the per-joint products, in float; a point bound to one
+      // joint takes its product as it is.
+      float blended[12];
+      const float* a = blended;
+      if (count == 1)
       {
-        const float w = this->Influences.Weights[i * per + k];
-        if (w != 0.0f)
+        a = &this->Delta[12 * static_cast<size_t>(single)];
+      }
+      else
+      {
+        for (float& v : blended)
         {
-          const float* d = &this->Delta[12 * this->Influences.Joints[i * per + k]];
-          for (int e = 0; e < 12; ++e)
+          v = 0.0f;
+        }
+        for (size_t k = 0; k < per; ++k)
+        {
+          const float w = weights[i * per + k];
+          if (w != 0.0f)
           {
-            a[e] += w * d[e];
+            const float* d = &this->Delta[12 * joints[i * per + k]];
+            for (int e = 0; e < 12; ++e)
+            {
+              blended[e] += w * d[e];
+            }
           }
         }
       }
@@ -308,6 +361,16 @@ void RestSkin::Apply(const T* points, const T* normals, T* outPoints, T* outNorm
       outPoints[3 * i + 2] = static_cast<T>(a[2] * x + a[5] * y + a[8] * z + a[11]);
       if (normals && outNormals)
       {
+        const float nx = static_cast<float>(normals[3 * i]), ny = static_cast<float>(normals[3 * i + 1]),
+                    nz = static_cast<float>(normals[3 * i + 2]);
+        if (count == 1 && this->Rigid[static_cast<size_t>(single)])
+        {
+          // A rotation: it is its own inverse transpose and keeps lengths.
+          outNormals[3 * i] = static_cast<T>(a[0] * nx + a[3] * ny + a[6] * nz);
+          outNormals[3 * i + 1] = static_cast<T>(a[1] * nx + a[4] * ny + a[7] * nz);
+          outNormals[3 * i + 2] = static_cast<T>(a[2] * nx + a[5] * ny + a[8] * nz);
+          continue;
+        }
         // The cofactor matrix of the linear part: the inverse transpose up to det, whose sign
         // is kept; renormalized.
         // Columns of the cofactor matrix: cross(col1, col2), cross(col2, col0), cross(col0, col1).
@@ -315,8 +378,6 @@ void RestSkin::Apply(const T* points, const T* normals, T* outPoints, T* outNorm
         const float c1[3] = { a[7] * a[2] - a[8] * a[1], a[8] * a[0] - a[6] * a[2], a[6] * a[1] - a[7] * a[0] };
         const float c2[3] = { a[1] * a[5] - a[2] * a[4], a[2] * a[3] - a[0] * a[5], a[0] * a[4] - a[1] * a[3] };
         const float det = a[0] * c0[0] + a[1] * c0[1] + a[2] * c0[2];
-        const float nx = static_cast<float>(normals[3 * i]), ny = static_cast<float>(normals[3 * i + 1]),
-                    nz = static_cast<float>(normals[3 * i + 2]);
         float m[3] = { c0[0] * nx + c1[0] * ny + c2[0] * nz, c0[1] * nx + c1[1] * ny + c2[1] * nz,
           c0[2] * nx + c1[2] * ny + c2[2] * nz };
         float len = std::sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);

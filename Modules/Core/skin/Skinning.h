@@ -87,11 +87,13 @@ public:
 private:
   SkinInfluences Influences;
   std::vector<glm::dmat4> Rest;
+  std::vector<glm::dmat4> RestJointInverse; ///< per joint: J(rest)^-1, formed once
   std::vector<double> RestInverse; ///< 12 per point: the 3x4 of B_v(rest)^-1, column-major
   std::vector<char> SharedRest;    ///< per point: its joints share one rest matrix
   std::vector<float> Delta;        ///< 12 per joint: J(pose) J(rest)^-1, column-major 3x4
   std::vector<glm::dmat4> Pose;
   std::vector<char> Moved; ///< per joint
+  std::vector<char> Rigid; ///< per joint: its Delta is a rotation and translation (normals need no renormalizing)
   std::vector<char> Used;  ///< per joint: some point has a weight on it
 };
 } // namespace morphnode

@@ -173,6 +173,7 @@ a = vtkDoubleArray(); a.SetName("O"); a.InsertNextValue(1.0); self.GetOutput().A
     simple.Delete(at)
 
     check_eye_gaze(c)
+    check_skin_pose(c)
     check_live_link(c, ict)
 
 
@@ -236,6 +237,41 @@ def check_eye_gaze(c):
                 "(%.2f, %.2f) (off by %.3f deg)" % (time, yaw, pitch, angle))
         simple.Delete(at)
         simple.Delete(table_at)
+
+
+def check_skin_pose(c):
+    """The Skin Pose proxy on the shared MakeHuman avatar (skipped without it): EyeYaw turns
+    the eye joints (the eyeballs move, the feet do not), TurnJaw On with JawOpen opens the
+    jaw joint (the teeth move down), both through properties only."""
+    import numpy as np
+    from vtkmodules.vtkCommonDataModel import vtkCompositeDataSet
+
+    avatar = os.path.join(os.environ.get("MORPHNODE_AVATAR_DIR", ""), "makehuman_avatar.glb")
+    if not os.path.exists(avatar):
+        print("SKIP Skin Pose: the MakeHuman avatar is not at %s" % avatar, flush=True)
+        return
+
+    def parts(proxy):
+        proxy.UpdatePipeline()
+        collection = proxy.GetClientSideObject().GetOutputDataObject(0)
+        return {collection.GetMetaData(i).Get(vtkCompositeDataSet.NAME()): t.point_arrays(collection.GetPartition(i, 0))[0]
+                for i in range(collection.GetNumberOfPartitionedDataSets())}
+
+    reader = MorphNodeFaceReader(FileName=avatar)  # noqa: F821
+    pose = SkinPoseFilter(Input=reader)  # noqa: F821
+    rest = parts(reader)
+    pose.EyeYaw = 25.0
+    turned = parts(pose)
+    eye = float(np.linalg.norm(turned["EyeLeft"] - rest["EyeLeft"], axis=1).max())
+    c.check(eye > 1e-3, "Skin Pose: EyeYaw turns the left eyeball (moved %.4g m)" % eye)
+    feet = float(np.abs(turned["Body"][:, 1].min() - rest["Body"][:, 1].min()))
+    c.check(feet < 1e-6, "Skin Pose: the feet stay (%.3g m)" % feet)
+    pose.EyeYaw = 0.0
+    pose.JawOpen = 1.0
+    pose.TurnJaw = 2  # On: the avatar's jawOpen target would keep the joint still otherwise
+    jaw = parts(pose)
+    down = float((jaw["Teeth"][:, 1] - rest["Teeth"][:, 1]).min())
+    c.check(down < -5e-3, "Skin Pose: JawOpen with TurnJaw On lowers the teeth (%.4g m)" % down)
 
 
 def check_live_link(c, ict):

@@ -146,3 +146,30 @@ TEST(FaceRig, ThePapersShapesNeedNoRigAndUnknownNamesAreAnError)
   EXPECT_NE(choice.Report().find("none needed"), std::string::npos);
   EXPECT_NE(ErrorOf([] { ChooseFaceRig({ "Key 1", "Key 2" }, ArkitRig()); }).find("--rig"), std::string::npos);
 }
+
+// A VRM's own expressions (gltf/GltfVrm.h) over targets of any name: the shape O drives the
+// `oh` expression's binds with their weights, EyesClosed `blink`'s, the behaviour's looks
+// the look expressions; an own viseme target still wins over an expression of a later
+// candidate; the family is reported. Without the expressions these names are unknown.
+TEST(FaceRig, VrmExpressionsFromTheFileDriveTheirBinds)
+{
+  const std::vector<std::string> targets = { "Face.M_F00_000_00_Fcl_MTH_O_raw", "Face.Mouth_Open",
+    "Face.Eye_Close", "Face.Eye_Look_Left" };
+  const std::vector<FaceExpression> expressions = { { "oh", { { "Face.M_F00_000_00_Fcl_MTH_O_raw", 0.8 },
+                                                               { "Face.Mouth_Open", 0.3 } } },
+    { "blink", { { "Face.Eye_Close", 1.0 } } }, { "lookLeft", { { "Face.Eye_Look_Left", 1.0 } } },
+    { "empty", {} } };
+  EXPECT_THROW(ChooseFaceRig(targets, ArkitRig()), InputError);
+  const FaceRigChoice c = ChooseFaceRig(targets, ArkitRig(), expressions);
+  EXPECT_NE(c.Families.find("VRM expressions (3, from the file)"), std::string::npos) << c.Families;
+  EXPECT_EQ(Drive(c, targets, "O"),
+    (std::map<std::string, double>{ { "Face.M_F00_000_00_Fcl_MTH_O_raw", 0.8 }, { "Face.Mouth_Open", 0.3 } }));
+  EXPECT_EQ(Drive(c, targets, "EyesClosed"), (std::map<std::string, double>{ { "Face.Eye_Close", 1.0 } }));
+  EXPECT_EQ(Drive(c, targets, "LookLeft"), (std::map<std::string, double>{ { "Face.Eye_Look_Left", 1.0 } }));
+  EXPECT_TRUE(Has(c.Missing, "PP"));
+  // An own Oculus viseme comes first.
+  std::vector<std::string> both = targets;
+  both.push_back("viseme_O");
+  const FaceRigChoice d = ChooseFaceRig(both, ArkitRig(), expressions);
+  EXPECT_EQ(Drive(d, both, "O"), (std::map<std::string, double>{ { "viseme_O", 1.0 } }));
+}

@@ -4,6 +4,8 @@
 // node's own transform ignored, morph then skin), re-skinning it, damaged skins refused, and
 // the shared MakeHuman avatar at rest (its bind pose is its rest pose) with its bones found.
 #include "gltf/GltfSkin.h"
+#include "gltf/GltfPerformanceExport.h"
+#include "gltf/GltfVrm.h"
 
 #include "base/Error.h"
 #include "skin/AvatarBones.h"
@@ -15,7 +17,9 @@
 #include <array>
 #include <cmath>
 #include <iostream>
+#include <algorithm>
 #include <filesystem>
+#include <fstream>
 
 using namespace morphnode;
 using morphnode_test::ErrorOf;
@@ -224,4 +228,177 @@ TEST(GltfSkin, QuantizedAndMeshoptVariantsAreReadOrRefusedClearly)
       EXPECT_NEAR(b[k], plain[k], 1e-3) << variant << " bound " << k;
     }
   }
+}
+
+// GltfUnskinPart undoes the loader's skinning at rest on the skinned quad, whose bind pose
+// is unlike its node pose (J2 turned by 90 degrees): the points, normals and deltas come
+// back to the file's bind space. Without the inverse the points stay rotated (p3 would be
+// (1.8, 3, 0) at rest instead of the file's (1, 3, 0)). And the skeleton goes back to nodes
+// with the same names, parents and local transforms (TRS where the matrix is one).
+TEST(GltfSkin, UnskinnedQuadIsTheFilesBindSpaceAndNodesComeBackFromTheSkeleton)
+{
+  const GltfScene bind = Load(gltftest::SkinnedQuad().Glb(), false);
+  GltfScene rest = Load(gltftest::SkinnedQuad().Glb());
+  std::vector<GltfMatrix> worlds;
+  for (const auto& node : rest.Nodes)
+  {
+    worlds.push_back(node.World);
+  }
+  GltfPart part = rest.Parts[0];
+  GltfUnskinPart(part, rest, worlds, "quad");
+  EXPECT_FALSE(part.TransformApplied);
+  for (size_t k = 0; k < part.Positions.size(); ++k)
+  {
+    EXPECT_NEAR(part.Positions[k], bind.Parts[0].Positions[k], 1e-5) << k;
+    EXPECT_NEAR(part.Normals[k], bind.Parts[0].Normals[k], 1e-5) << k;
+    for (size_t t = 0; t < part.Targets.size(); ++t)
+    {
+      EXPECT_NEAR(part.Targets[t].PositionDeltas[k], bind.Parts[0].Targets[t].PositionDeltas[k], 1e-5) << k;
+    }
+  }
+  // Skinned again, it is the rest pose.
+  GltfSkinPart(part, rest, worlds, "quad");
+  for (size_t k = 0; k < part.Positions.size(); ++k)
+  {
+    EXPECT_NEAR(part.Positions[k], rest.Parts[0].Positions[k], 1e-5) << k;
+  }
+  EXPECT_NE(ErrorOf([&] { GltfUnskinPart(part, rest, {}, "quad"); }), "");
+
+  const std::vector<GltfNode> nodes = GltfNodesFromSkeleton(GltfSkeleton(rest));
+  ASSERT_EQ(nodes.size(), rest.Nodes.size());
+  for (size_t n = 0; n < nodes.size(); ++n)
+  {
+    EXPECT_EQ(nodes[n].Name, rest.Nodes[n].Name);
+    EXPECT_EQ(nodes[n].Parent, rest.Nodes[n].Parent);
+    EXPECT_EQ(nodes[n].Children, rest.Nodes[n].Children);
+    for (size_t c = 0; c < 16; ++c)
+    {
+      EXPECT_NEAR(nodes[n].Local[c], rest.Nodes[n].Local[c], 1e-12) << n;
+      EXPECT_NEAR(nodes[n].World[c], rest.Nodes[n].World[c], 1e-12) << n;
+    }
+    EXPECT_FALSE(nodes[n].HasMatrix) << n;
+    for (size_t c = 0; c < 4; ++c)
+    {
+      EXPECT_NEAR(std::abs(nodes[n].Rotation[c]), std::abs(rest.Nodes[n].Rotation[c]), 1e-12) << n;
+    }
+  }
+}
+
+// The performance export turns a jaw joint by the table's jawOpen when no part has a
+// jawOpen target (the skinned quad with J2 named "Jaw"): a rotation track on Jaw about its
+// own origin, chin down by jawOpen * 25 degrees; with a jawOpen target on the mesh the
+// column is a weight and the jaw joint stays.
+TEST(GltfSkin, PerformanceOpensAJawJointOnlyWithoutAJawOpenTarget)
+{
+  gltftest::Builder b = gltftest::SkinnedQuad();
+  b.Doc["nodes"][2]["name"] = "Jaw";
+  GltfScene scene = Load(b.Glb(), false);
+  GltfPerformanceTable table;
+  table.Times = { 0.0, 1.0 };
+  table.Names = { "jawOpen" };
+  table.Columns = { { 0.0, 0.8 } };
+  GltfPerformanceReport report;
+  const GltfPerformance p = MakeGltfPerformance(scene, table, GltfPerformanceSettings(), &report);
+  EXPECT_TRUE(report.Bones);
+  ASSERT_EQ(p.Rotations.size(), 1u);
+  EXPECT_EQ(p.Rotations[0].Node, "Jaw");
+  EXPECT_EQ(p.Rotations[0].Pivot, scene.Nodes[2].Translation);
+  EXPECT_TRUE(p.TargetNames.empty());
+  const double* q = p.Rotations[0].Rotations.data() + 4;
+  // In the parent's frame (J1 is turned 90 degrees about z): the angle is 20 degrees.
+  EXPECT_NEAR(2.0 * std::acos(std::min(1.0, std::abs(q[3]))) * 180.0 / glm::pi<double>(), 20.0, 1e-6);
+  EXPECT_NEAR(p.Rotations[0].Rotations[3], 1.0, 1e-12); // closed at t = 0
+
+  scene.Parts[0].Targets[0].Name = "jawOpen";
+  const GltfPerformance q2 = MakeGltfPerformance(scene, table, GltfPerformanceSettings(), &report);
+  EXPECT_TRUE(q2.Rotations.empty());
+  EXPECT_EQ(q2.TargetNames, std::vector<std::string>{ "jawOpen" });
+  EXPECT_FALSE(report.Bones);
+}
+
+namespace
+{
+/// The skinned quad as a VRM: its mesh's targets "Up" and "Right", J1 and J2 as the
+/// humanoid head and jaw.
+gltftest::Builder VrmQuad(bool one)
+{
+  gltftest::Builder b = gltftest::SkinnedQuad();
+  if (one)
+  {
+    b.Doc["extensions"]["VRMC_vrm"] = { { "specVersion", "1.0" },
+      { "humanoid", { { "humanBones", { { "head", { { "node", 1 } } }, { "jaw", { { "node", 2 } } } } } } },
+      { "expressions",
+        { { "preset",
+            { { "oh", { { "morphTargetBinds", { { { "node", 3 }, { "index", 1 }, { "weight", 0.5 } } } } } },
+              { "blink", { { "morphTargetBinds", { { { "node", 3 }, { "index", 0 }, { "weight", 1.0 } } } } } } } },
+          { "custom", { { "smirk", { { "morphTargetBinds", { { { "node", 3 }, { "index", 0 } } } } } } } } } },
+      { "lookAt", { { "type", "bone" }, { "offsetFromHeadBone", { 0, 0.06, 0 } },
+                    { "rangeMapHorizontalOuter", { { "inputMaxValue", 90 }, { "outputScale", 12 } } } } } };
+    b.Doc["extensionsUsed"] = { "VRMC_vrm" };
+  }
+  else
+  {
+    b.Doc["extensions"]["VRM"] = { { "humanoid", { { "humanBones", { { { "bone", "head" }, { "node", 1 } } } } } },
+      { "blendShapeMaster",
+        { { "blendShapeGroups",
+          { { { "name", "O" }, { "presetName", "o" }, { "binds", { { { "mesh", 0 }, { "index", 1 }, { "weight", 50 } } } } },
+            { { "name", "Joy" }, { "presetName", "joy" }, { "binds", { { { "mesh", 0 }, { "index", 0 }, { "weight", 100 } } } } } } } } },
+      { "firstPerson", { { "lookAtTypeName", "BlendShape" },
+                         { "lookAtHorizontalOuter", { { "xRange", 30 }, { "yRange", 1 } } } } } };
+    b.Doc["extensionsUsed"] = { "VRM" };
+  }
+  return b;
+}
+
+std::string WriteTemp(const std::string& name, const std::string& bytes)
+{
+  const std::string path = (std::filesystem::temp_directory_path() / name).string();
+  std::ofstream(path, std::ios::binary) << bytes;
+  return path;
+}
+} // namespace
+
+// VRM 1.0 and 0.x read from the extensions: expressions bound to the targets by name (0.x's
+// presets as 1.0's, its 0..100 weights as 0..1), humanoid bones (node and name), look-at
+// type and range maps; a bind outside the mesh is refused by name; a plain glTF is no VRM.
+TEST(GltfVrm, ExpressionsBonesAndLookAtOfBothVersions)
+{
+  const GltfVrm one = ReadGltfVrm(WriteTemp("morphnode_vrm1.glb", VrmQuad(true).Glb()));
+  EXPECT_EQ(one.Version, 2);
+  ASSERT_EQ(one.Expressions.size(), 3u);
+  const auto find = [](const GltfVrm& v, const std::string& name) {
+    const auto it = std::find_if(v.Expressions.begin(), v.Expressions.end(),
+      [&name](const GltfVrmExpression& e) { return e.Name == name; });
+    return it == v.Expressions.end() ? nullptr : &*it;
+  };
+  ASSERT_NE(find(one, "oh"), nullptr);
+  EXPECT_EQ(find(one, "oh")->Binds, (std::vector<std::pair<std::string, double>>{ { "Right", 0.5 } }));
+  ASSERT_NE(find(one, "smirk"), nullptr);
+  EXPECT_FALSE(find(one, "smirk")->Preset);
+  EXPECT_EQ(one.HumanBones.at("head"), 1);
+  EXPECT_EQ(one.HumanBoneNodeNames.at("jaw"), "J2");
+  EXPECT_EQ(one.LookAtType, "bone");
+  EXPECT_NEAR(one.HorizontalOuter.Map(45), 6.0, 1e-12);
+  EXPECT_NEAR(one.HorizontalOuter.Map(-200), 12.0, 1e-12);
+  EXPECT_NEAR(one.HorizontalInner.Map(90), 10.0, 1e-12); // the default map of a bone look-at
+  EXPECT_NEAR(one.LookAtOffset[1], 0.06, 1e-12);
+
+  const GltfVrm zero = ReadGltfVrm(WriteTemp("morphnode_vrm0.glb", VrmQuad(false).Glb()));
+  EXPECT_EQ(zero.Version, 1);
+  ASSERT_NE(find(zero, "oh"), nullptr);
+  EXPECT_EQ(find(zero, "oh")->Binds, (std::vector<std::pair<std::string, double>>{ { "Right", 0.5 } }));
+  ASSERT_NE(find(zero, "happy"), nullptr);
+  EXPECT_EQ(zero.HumanBoneNodeNames.at("head"), "J1");
+  EXPECT_EQ(zero.LookAtType, "expression");
+  EXPECT_NEAR(zero.HorizontalOuter.Map(15), 0.5, 1e-12);
+
+  EXPECT_FALSE(ReadGltfVrm(WriteTemp("morphnode_novrm.glb", gltftest::SkinnedQuad().Glb())).IsVrm());
+  gltftest::Builder bad = VrmQuad(true);
+  bad.Doc["extensions"]["VRMC_vrm"]["expressions"]["preset"]["oh"]["morphTargetBinds"][0]["index"] = 7;
+  EXPECT_NE(ErrorOf([&] { ReadGltfVrm(WriteTemp("morphnode_badvrm.glb", bad.Glb())); }).find("target 7 of mesh 0"),
+    std::string::npos);
+  gltftest::Builder badBone = VrmQuad(false);
+  badBone.Doc["extensions"]["VRM"]["humanoid"]["humanBones"][0]["node"] = 99;
+  EXPECT_NE(ErrorOf([&] { ReadGltfVrm(WriteTemp("morphnode_badvrm0.glb", badBone.Glb())); }).find("node 99"),
+    std::string::npos);
 }

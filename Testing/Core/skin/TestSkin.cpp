@@ -367,3 +367,163 @@ TEST(AvatarBones, PointsUnderTheHeadByTheirStrongestJoint)
   EXPECT_EQ(PointsUnderJoint(s, joints, inf, 0), (std::vector<size_t>{ 0, 1, 2, 3 })) << "everything is under the root";
   EXPECT_TRUE(PointsUnderJoint(s, joints, inf, -1).empty());
 }
+
+// The jaw: JawOpen turns the jaw joint chin-down about its own pivot by JawOpen *
+// MaxJawAngle, in the face as the head has turned it; the teeth tip (a point in front of
+// and below the pivot) goes down and back; nothing moves without a jaw joint or at 0.
+TEST(AvatarBones, JawOpensAboutItsPivotInTheTurnedFace)
+{
+  Skeleton s;
+  const int hips = s.AddJoint(MakeJoint("Hips", -1, { 0, 0.9, 0 }));
+  const int neck = s.AddJoint(MakeJoint("Neck", hips, { 0, 0.5, 0 }));
+  const int head = s.AddJoint(MakeJoint("Head", neck, { 0, 0.06, 0 }));
+  const int jaw = s.AddJoint(MakeJoint("Jaw", head, { 0, 0.0, 0.02 }, AxisAngle(120, { 1, 0, 0 })));
+  s.Validate();
+  const AvatarBoneRoles roles = FindAvatarBones(s);
+  ASSERT_EQ(roles.Jaw, jaw);
+  SkeletonPose rest(s);
+  const auto restWorld = rest.World();
+  const glm::dvec3 pivot(restWorld[jaw][3]);
+  const glm::dvec3 chin = pivot + glm::dvec3(0, -0.03, 0.06);
+
+  SkeletonPose pose(s);
+  AvatarBonePose angles;
+  angles.JawOpen = 0.8; // 20 degrees of the default 25
+  PoseAvatarBones(pose, roles, angles);
+  auto world = pose.World();
+  glm::dmat4 move = world[jaw] * glm::inverse(restWorld[jaw]);
+  ExpectNear(glm::dvec3(move * glm::dvec4(pivot, 1)), pivot, 1e-12);
+  const glm::dvec3 moved(move * glm::dvec4(chin, 1));
+  EXPECT_LT(moved.y, chin.y - 0.01) << "the chin did not go down";
+  const glm::dvec3 a = glm::normalize(chin - pivot), b = glm::normalize(moved - pivot);
+  EXPECT_NEAR(std::acos(glm::dot(a, b)) * 180 / Pi, 20.0, 1e-6);
+  EXPECT_NEAR(moved.x, chin.x, 1e-12); // about the left-right axis
+  // The head turned 30 degrees: the jaw opens in the turned face (still about its axis).
+  SkeletonPose turned(s);
+  angles.HeadYaw = 30;
+  PoseAvatarBones(turned, roles, angles);
+  world = turned.World();
+  const glm::dmat3 jawMove = glm::dmat3(world[jaw]) * glm::inverse(glm::dmat3(restWorld[jaw]));
+  const glm::dmat3 expected = glm::mat3_cast(HeadRotation(30, 0, 0) * HeadRotation(0, -20, 0));
+  for (int c = 0; c < 3; ++c)
+  {
+    ExpectNear(jawMove[c], expected[c], 1e-9);
+  }
+  // Closed: the jaw stays; without a jaw joint nothing else moves either.
+  SkeletonPose closed(s);
+  AvatarBonePose none;
+  PoseAvatarBones(closed, roles, none);
+  EXPECT_EQ(closed.World()[jaw], restWorld[jaw]);
+  (void)head;
+}
+
+// A VRM humanoid map wins over the names' guess (bones named nothing like a head), and VRM
+// look-at range maps replace the limits: 45 of 90 input degrees outward turn a bone of
+// scale 12 by 6 degrees; inward by the inner map; beyond the input maximum it stops.
+TEST(AvatarBones, VrmHumanoidMapAndLookAtRangeMaps)
+{
+  Skeleton s;
+  const int root = s.AddJoint(MakeJoint("Root", -1, { 0, 1.5, 0 }));
+  const int b1 = s.AddJoint(MakeJoint("Bone.001", root, { 0, 0.1, 0 }));
+  const int b2 = s.AddJoint(MakeJoint("Bone.002", b1, { 0.03, 0.05, 0.08 }));
+  s.Validate();
+  EXPECT_EQ(FindAvatarBones(s).Head, -1);
+  const AvatarBoneRoles roles =
+    FindAvatarBones(s, { { "head", "Bone.001" }, { "leftEye", "Bone.002" }, { "jaw", "NoSuchNode" } });
+  EXPECT_EQ(roles.Head, b1);
+  EXPECT_EQ(roles.LeftEye, b2);
+  EXPECT_EQ(roles.Jaw, -1);
+  SkeletonPose rest(s);
+  const glm::dmat4 restEye = rest.World()[b2];
+  auto yawOf = [&](double eyeYaw) {
+    SkeletonPose pose(s);
+    AvatarBonePose a;
+    a.EyeYaw = eyeYaw;
+    a.RangeMaps.Enabled = true;
+    a.RangeMaps.OuterScale = 12.0;
+    a.RangeMaps.InnerScale = 4.0;
+    PoseAvatarBones(pose, roles, a);
+    const glm::dmat3 m = glm::dmat3(pose.World()[b2]) * glm::inverse(glm::dmat3(restEye));
+    const glm::dvec3 f = m * glm::dvec3(0, 0, 1);
+    return std::atan2(f.x, f.z) * 180 / Pi;
+  };
+  EXPECT_NEAR(yawOf(45), 6.0, 1e-9);   // outward for the left eye
+  EXPECT_NEAR(yawOf(-45), -2.0, 1e-9); // inward
+  EXPECT_NEAR(yawOf(200), 12.0, 1e-9);
+}
+
+// RestSkin's fast paths give what exact skinning gives: rest matrices that differ by float
+// rounding (1e-7, as a bind pose's) share the float path; a point on one rigidly turned
+// joint (normal turned without renormalizing), a point on one scaled joint (normal by the
+// inverse transpose, renormalized), a point blended between both; each against
+// SkinPoints of the bind pose (double precision) at the pose.
+TEST(Skinning, RestSkinFastPathsEqualExactSkinning)
+{
+  const glm::dmat4 rest0(1.0);
+  glm::dmat4 rest1(1.0);
+  rest1[3][0] = 1e-7; // float rounding of an inverse bind matrix
+  const std::vector<glm::dmat4> rest = { rest0, rest1 };
+  const std::vector<glm::dmat4> pose = { glm::rotate(glm::dmat4(1.0), 0.7, glm::dvec3(0, 1, 0)) * rest0,
+    glm::scale(glm::translate(glm::dmat4(1.0), glm::dvec3(0.1, 0, 0)), glm::dvec3(2, 1, 0.5)) * rest1 };
+  SkinInfluences inf;
+  inf.AddSet({ 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0 }, { 1, 0, 0, 0, 1, 0, 0, 0, 0.3f, 0.7f, 0, 0 }, 3);
+  inf.Normalize(2, "test");
+  RestSkin skin(inf, rest, "test");
+  ASSERT_TRUE(skin.SetPose(pose));
+  const float s = static_cast<float>(std::sqrt(1.0 / 3.0));
+  const float points[] = { 0.1f, 0.2f, 0.3f, -0.2f, 0.5f, 0.1f, 0.3f, -0.1f, 0.2f };
+  const float normals[] = { s, s, s, s, -s, s, -s, s, s };
+  float p[9], n[9];
+  skin.Apply<float>(points, normals, p, n, 0, 3);
+  // Exact: the points at rest are the bind points moved by the rest blend; skin those.
+  double bindPoints[9], bindNormals[9], q[9], m[9];
+  for (int i = 0; i < 9; ++i)
+  {
+    bindPoints[i] = points[i];
+    bindNormals[i] = normals[i];
+  }
+  bindPoints[0] -= 0.0;               // point 0 on joint 0: rest is the identity
+  bindPoints[3] -= 1e-7;              // point 1 on joint 1
+  bindPoints[6] -= 0.7 * 1e-7;        // point 2: 0.7 on joint 1
+  SkinPoints<double>(inf, pose, bindPoints, bindNormals, q, m, 0, 3);
+  for (int i = 0; i < 9; ++i)
+  {
+    EXPECT_NEAR(p[i], q[i], 1e-6) << i;
+    EXPECT_NEAR(n[i], m[i], 1e-6) << i;
+  }
+}
+
+// Lid bones where a rig has them (Character Creator's CC_Base_L_UpperLid, LeftLowerEyelid)
+// follow their eye's pitch about their own pivots: looking 20 degrees down turns the upper
+// lid 12 degrees down (LidFollow 0.6) and the lower lid 6; a sideways look leaves them;
+// they are not taken for eyes.
+TEST(AvatarBones, LidBonesFollowTheEyesPitch)
+{
+  Skeleton s;
+  const int head = s.AddJoint(MakeJoint("Head", -1, { 0, 1.6, 0 }));
+  const int eye = s.AddJoint(MakeJoint("LeftEye", head, { 0.03, 0.08, 0.08 }));
+  const int upper = s.AddJoint(MakeJoint("CC_Base_L_UpperLid", head, { 0.03, 0.09, 0.09 }));
+  const int lower = s.AddJoint(MakeJoint("LeftLowerEyelid", head, { 0.03, 0.07, 0.09 }));
+  s.Validate();
+  const AvatarBoneRoles roles = FindAvatarBones(s);
+  ASSERT_EQ(roles.LeftEye, eye);
+  ASSERT_EQ(roles.LeftUpperLid, upper);
+  ASSERT_EQ(roles.LeftLowerLid, lower);
+  EXPECT_NE(roles.Describe(s).find("left upper lid 'CC_Base_L_UpperLid'"), std::string::npos) << roles.Describe(s);
+  SkeletonPose rest(s);
+  const auto restWorld = rest.World();
+  auto pitchOf = [&](int joint, double eyeYaw, double eyePitch) {
+    SkeletonPose pose(s);
+    AvatarBonePose a;
+    a.EyeYaw = eyeYaw;
+    a.EyePitch = eyePitch;
+    PoseAvatarBones(pose, roles, a);
+    const glm::dmat3 m = glm::dmat3(pose.World()[joint]) * glm::inverse(glm::dmat3(restWorld[joint]));
+    const glm::dvec3 f = m * glm::dvec3(0, 0, 1);
+    ExpectNear(glm::dvec3(pose.World()[joint][3]), glm::dvec3(restWorld[joint][3]), 1e-12);
+    return std::asin(f.y) * 180 / Pi;
+  };
+  EXPECT_NEAR(pitchOf(upper, 0, -20), -12.0, 1e-9);
+  EXPECT_NEAR(pitchOf(lower, 0, -20), -6.0, 1e-9);
+  EXPECT_NEAR(pitchOf(upper, 25, 0), 0.0, 1e-9);
+}
