@@ -1,0 +1,300 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "lod/ScalableScene.h"
+
+#include "base/Error.h"
+
+#include <algorithm>
+#include <chrono>
+#include <numeric>
+#include <random>
+#include <string>
+#include <variant>
+
+namespace morphnode
+{
+namespace
+{
+const MorphAttribute<float>& FloatPositions(const MorphLadder& ladder)
+{
+  const int index = ladder.Mesh.GetPositionAttribute();
+  const auto* positions = index < 0
+    ? nullptr
+    : std::get_if<MorphAttribute<float>>(&ladder.Mesh.GetAttribute(static_cast<size_t>(index)));
+  if (!positions)
+  {
+    throw InputError("ScalableScene: every part's ladder needs a float Position attribute.");
+  }
+  return *positions;
+}
+} // namespace
+
+void ScalableScene::Layout(Ladders parts)
+{
+  if (parts.empty())
+  {
+    throw InputError("ScalableScene: no parts.");
+  }
+  this->TargetNames.clear();
+  this->TargetMaps.clear();
+  this->Unmapped.clear();
+  this->Positions.clear();
+  this->Levels = 0;
+  for (size_t p = 0; p < parts.size(); ++p)
+  {
+    if (!parts[p] || parts[p]->Levels.empty())
+    {
+      throw InputError("ScalableScene: part " + std::to_string(p) + " has no ladder.");
+    }
+    const MorphLadder& ladder = *parts[p];
+    FloatPositions(ladder);
+    this->Levels = std::max(this->Levels, ladder.Levels.size());
+    const std::vector<std::string>& names = ladder.Mesh.GetTargetNames();
+    if (this->TargetNames.empty())
+    {
+      this->TargetNames.push_back(names.empty() ? std::string("Neutral") : names[0]);
+    }
+    // Each part target takes the first scene target of its name this part has not taken
+    // yet (a part with two targets of one name keeps both), or a new one.
+    std::vector<size_t> map(std::max<size_t>(names.size(), 1), 0);
+    std::vector<char> taken(this->TargetNames.size(), 0);
+    taken[0] = 1;
+    for (size_t k = 1; k < names.size(); ++k)
+    {
+      size_t s = 1;
+      while (s < this->TargetNames.size() && (taken[s] || this->TargetNames[s] != names[k]))
+      {
+        ++s;
+      }
+      if (s == this->TargetNames.size())
+      {
+        this->TargetNames.push_back(names[k]);
+        taken.push_back(0);
+      }
+      taken[s] = 1;
+      map[k] = s;
+    }
+    this->TargetMaps.push_back(std::move(map));
+    this->Positions.emplace_back(3 * ladder.Mesh.GetNumberOfPoints(), 0.0f);
+  }
+  // The scene targets a part lacks: their weight goes to its neutral.
+  for (const auto& map : this->TargetMaps)
+  {
+    std::vector<char> has(this->TargetNames.size(), 0);
+    for (size_t s : map)
+    {
+      has[s] = 1;
+    }
+    std::vector<size_t> lacks;
+    for (size_t s = 1; s < has.size(); ++s)
+    {
+      if (!has[s])
+      {
+        lacks.push_back(s);
+      }
+    }
+    this->Unmapped.push_back(std::move(lacks));
+  }
+  this->Parts = std::move(parts);
+}
+
+void ScalableScene::SetParts(Ladders parts, const std::vector<CostModel>& costs)
+{
+  ScalableScene next;
+  next.Layout(std::move(parts));
+  if (costs.size() != next.Levels)
+  {
+    throw InputError("ScalableScene: " + std::to_string(costs.size()) + " cost models for " +
+      std::to_string(next.Levels) + " levels.");
+  }
+  this->Parts = std::move(next.Parts);
+  this->Levels = next.Levels;
+  this->TargetNames = std::move(next.TargetNames);
+  this->TargetMaps = std::move(next.TargetMaps);
+  this->Unmapped = std::move(next.Unmapped);
+  this->Positions = std::move(next.Positions);
+  this->Costs = costs;
+  this->Frame = SceneFrame();
+  this->Rebuild();
+}
+
+void ScalableScene::SetSettings(const ControllerSettings& settings)
+{
+  FrameBudgetController check;
+  check.SetSettings(settings);
+  this->Settings = settings;
+  this->Rebuild();
+}
+
+void ScalableScene::SetProfile(const DeviceProfile& profile)
+{
+  ControllerSettings s = this->Settings;
+  ApplyDeviceProfile(profile, s);
+  this->SetSettings(s);
+}
+
+int ScalableScene::GetPartLevel(size_t part, int level) const
+{
+  const int coarsest = static_cast<int>(this->Parts.at(part)->Levels.size()) - 1;
+  return std::clamp(level, 0, coarsest);
+}
+
+LevelOfDetail ScalableScene::GetSceneLevel(size_t l, const CostModel& cost) const
+{
+  if (l >= this->Levels)
+  {
+    throw InputError("ScalableScene: level " + std::to_string(l) + " of " + std::to_string(this->Levels) + ".");
+  }
+  const size_t nt = this->TargetNames.size();
+  LevelOfDetail lod;
+  lod.Name = l == 0 ? "full" : "level " + std::to_string(l);
+  lod.MovedPoints.assign(nt, 0.0);
+  lod.Distances.DistMorph.assign(nt, 0.0);
+  lod.Distances.DistNorm.assign(nt, 0.0);
+  lod.Distances.MaxDisplacement.assign(nt, 0.0);
+  const bool coarser = l + 1 < this->Levels;
+  if (coarser)
+  {
+    lod.GeomorphReach.assign(nt, 0.0);
+  }
+  for (size_t p = 0; p < this->Parts.size(); ++p)
+  {
+    const MorphLadder& ladder = *this->Parts[p];
+    const size_t pl = static_cast<size_t>(this->GetPartLevel(p, static_cast<int>(l)));
+    const LadderLevel& level = ladder.Levels[pl];
+    const std::vector<size_t>& map = this->TargetMaps[p];
+    lod.NumberOfPoints += level.NumberOfPoints;
+    // The part whose error is largest sets the level.
+    lod.GeometricError = std::max(lod.GeometricError, level.Error99);
+    for (size_t k = 1; k < map.size() && k < level.MovedPoints.size(); ++k)
+    {
+      const size_t s = map[k];
+      lod.MovedPoints[s] += level.MovedPoints[k];
+      lod.Distances.DistMorph[s] += level.Distances.DistMorph[k];
+      lod.Distances.MaxDisplacement[s] = std::max(lod.Distances.MaxDisplacement[s], level.Distances.MaxDisplacement[k]);
+    }
+    // Only a part that has a coarser level of its own slides during the scene's geomorph.
+    if (coarser && pl == l && !level.GeomorphReach.empty())
+    {
+      lod.GeomorphReach[0] = std::max(lod.GeomorphReach[0], level.GeomorphReach[0]);
+      for (size_t k = 1; k < map.size() && k < level.GeomorphReach.size(); ++k)
+      {
+        lod.GeomorphReach[map[k]] = std::max(lod.GeomorphReach[map[k]], level.GeomorphReach[k]);
+      }
+    }
+  }
+  const double largest = *std::max_element(lod.Distances.DistMorph.begin(), lod.Distances.DistMorph.end());
+  for (size_t s = 1; s < nt && largest > 0.0; ++s)
+  {
+    lod.Distances.DistNorm[s] = lod.Distances.DistMorph[s] / largest;
+  }
+  lod.Cost = cost;
+  return lod;
+}
+
+void ScalableScene::Rebuild()
+{
+  this->Controller = FrameBudgetController();
+  this->Controller.SetSettings(this->Settings);
+  for (size_t l = 0; l < this->Levels && !this->Parts.empty(); ++l)
+  {
+    this->Controller.AddLevel(this->GetSceneLevel(l, this->Costs[l]));
+  }
+}
+
+const std::vector<uint32_t>& ScalableScene::GetTriangles(size_t part) const
+{
+  const MorphLadder& ladder = *this->Parts.at(part);
+  return ladder.Levels.at(static_cast<size_t>(this->GetPartLevel(part, this->Frame.Decision.Level))).Triangles;
+}
+
+void ScalableScene::Blend(const std::vector<double>& w, int level, int morphTowards, double alpha)
+{
+  this->Frame.PartLevels.resize(this->Parts.size());
+  this->Frame.PartPoints.resize(this->Parts.size());
+  this->Frame.NumberOfPoints = 0;
+  for (size_t p = 0; p < this->Parts.size(); ++p)
+  {
+    const MorphLadder& ladder = *this->Parts[p];
+    const int pl = this->GetPartLevel(p, level);
+    const size_t n = ladder.Levels[static_cast<size_t>(pl)].NumberOfPoints;
+    const std::vector<size_t>& map = this->TargetMaps[p];
+    std::vector<double>& pw = this->PartWeights;
+    pw.resize(map.size());
+    pw[0] = w[0];
+    for (size_t s : this->Unmapped[p])
+    {
+      pw[0] += w[s];
+    }
+    for (size_t k = 1; k < map.size(); ++k)
+    {
+      pw[k] = w[map[k]];
+    }
+    FloatPositions(ladder).Blend(pw.data(), pw.size(), this->Positions[p].data(), 0, n);
+    if (morphTowards >= 0 && pl == level && static_cast<size_t>(pl) + 1 < ladder.Levels.size())
+    {
+      GeomorphLadder(ladder, static_cast<size_t>(pl), alpha, this->Positions[p].data());
+    }
+    this->Frame.PartLevels[p] = pl;
+    this->Frame.PartPoints[p] = n;
+    this->Frame.NumberOfPoints += n;
+  }
+}
+
+const SceneFrame& ScalableScene::Update(const std::vector<double>& weights, double pixelsPerUnit)
+{
+  if (this->Parts.empty())
+  {
+    throw InputError("ScalableScene: no parts.");
+  }
+  SceneFrame& f = this->Frame;
+  f.Decision = this->Controller.Update(weights, pixelsPerUnit);
+  const auto t0 = std::chrono::steady_clock::now();
+  this->Blend(f.Decision.Weights, f.Decision.Level, f.Decision.MorphTowards, f.Decision.Alpha);
+  f.BlendSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  this->Controller.ReportMeasuredSeconds(f.BlendSeconds);
+  return f;
+}
+
+std::vector<CostModel> ScalableScene::Calibrate(const Ladders& parts, unsigned seed)
+{
+  ScalableScene scene;
+  scene.Layout(parts);
+  std::mt19937 rng(seed);
+  const size_t nt = scene.TargetNames.size() - 1;
+  std::vector<CostModel> costs;
+  for (size_t l = 0; l < scene.Levels; ++l)
+  {
+    const LevelOfDetail level = scene.GetSceneLevel(l, CostModel());
+    std::vector<double> xs, ys;
+    for (size_t active : { size_t(0), size_t(1), size_t(4), size_t(16), nt })
+    {
+      for (int trial = 0; trial < 3; ++trial)
+      {
+        std::vector<size_t> order(nt);
+        std::iota(order.begin(), order.end(), size_t(1));
+        std::shuffle(order.begin(), order.end(), rng);
+        std::vector<double> w(nt + 1, 0.0);
+        double x = 0.0;
+        for (size_t i = 0; i < std::min(active, nt); ++i)
+        {
+          w[order[i]] = 0.5 / static_cast<double>(std::max<size_t>(active, 1));
+          x += level.MovedPoints[order[i]];
+        }
+        w[0] = 1.0 - std::accumulate(w.begin() + 1, w.end(), 0.0);
+        // The fastest of a few runs: the cost without other threads' noise.
+        double best = 1e9;
+        for (int run = 0; run < 5; ++run)
+        {
+          const auto t0 = std::chrono::steady_clock::now();
+          scene.Blend(w, static_cast<int>(l), -1, 0.0);
+          best = std::min(best, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+        }
+        xs.push_back(x);
+        ys.push_back(best);
+      }
+    }
+    costs.push_back(CostModel::Fit(xs, ys));
+  }
+  return costs;
+}
+} // namespace morphnode
