@@ -2,6 +2,7 @@
 #include "lod/ScalableScene.h"
 
 #include "base/Error.h"
+#include "morph/MorphScene.h"
 
 #include <algorithm>
 #include <chrono>
@@ -39,6 +40,9 @@ void ScalableScene::Layout(Ladders parts)
   this->Unmapped.clear();
   this->Positions.clear();
   this->Levels = 0;
+  // The scene's targets are the parts' matched by name, as the morph node's scene matches
+  // them (CombineTargetDistances: order of first appearance, a name twice in a part refused).
+  std::vector<NamedTargetDistances> named;
   for (size_t p = 0; p < parts.size(); ++p)
   {
     if (!parts[p] || parts[p]->Levels.empty())
@@ -48,50 +52,34 @@ void ScalableScene::Layout(Ladders parts)
     const MorphLadder& ladder = *parts[p];
     FloatPositions(ladder);
     this->Levels = std::max(this->Levels, ladder.Levels.size());
-    const std::vector<std::string>& names = ladder.Mesh.GetTargetNames();
-    if (this->TargetNames.empty())
-    {
-      this->TargetNames.push_back(names.empty() ? std::string("Neutral") : names[0]);
-    }
-    // Each part target takes the first scene target of its name this part has not taken
-    // yet (a part with two targets of one name keeps both), or a new one.
-    std::vector<size_t> map(std::max<size_t>(names.size(), 1), 0);
-    std::vector<char> taken(this->TargetNames.size(), 0);
-    taken[0] = 1;
-    for (size_t k = 1; k < names.size(); ++k)
-    {
-      size_t s = 1;
-      while (s < this->TargetNames.size() && (taken[s] || this->TargetNames[s] != names[k]))
-      {
-        ++s;
-      }
-      if (s == this->TargetNames.size())
-      {
-        this->TargetNames.push_back(names[k]);
-        taken.push_back(0);
-      }
-      taken[s] = 1;
-      map[k] = s;
-    }
-    this->TargetMaps.push_back(std::move(map));
+    NamedTargetDistances part;
+    part.Names = ladder.Mesh.GetTargetNames();
+    part.DistMorph.assign(part.Names.size(), 0.0);
+    part.MaxDisplacement.assign(part.Names.size(), 0.0);
+    named.push_back(std::move(part));
     this->Positions.emplace_back(3 * ladder.Mesh.GetNumberOfPoints(), 0.0f);
   }
-  // The scene targets a part lacks: their weight goes to its neutral.
-  for (const auto& map : this->TargetMaps)
+  this->TargetNames = CombineTargetDistances(named).Names;
+  for (const NamedTargetDistances& part : named)
   {
+    std::vector<size_t> map(part.Names.size(), 0);
     std::vector<char> has(this->TargetNames.size(), 0);
-    for (size_t s : map)
+    for (size_t k = 1; k < part.Names.size(); ++k)
     {
-      has[s] = 1;
+      map[k] = static_cast<size_t>(
+        std::find(this->TargetNames.begin(), this->TargetNames.end(), part.Names[k]) - this->TargetNames.begin());
+      has[map[k]] = 1;
     }
+    // The scene targets a part lacks: their weight goes to its neutral.
     std::vector<size_t> lacks;
-    for (size_t s = 1; s < has.size(); ++s)
+    for (size_t t = 1; t < has.size(); ++t)
     {
-      if (!has[s])
+      if (!has[t])
       {
-        lacks.push_back(s);
+        lacks.push_back(t);
       }
     }
+    this->TargetMaps.push_back(std::move(map));
     this->Unmapped.push_back(std::move(lacks));
   }
   this->Parts = std::move(parts);
@@ -148,14 +136,12 @@ LevelOfDetail ScalableScene::GetSceneLevel(size_t l, const CostModel& cost) cons
   LevelOfDetail lod;
   lod.Name = l == 0 ? "full" : "level " + std::to_string(l);
   lod.MovedPoints.assign(nt, 0.0);
-  lod.Distances.DistMorph.assign(nt, 0.0);
-  lod.Distances.DistNorm.assign(nt, 0.0);
-  lod.Distances.MaxDisplacement.assign(nt, 0.0);
   const bool coarser = l + 1 < this->Levels;
   if (coarser)
   {
     lod.GeomorphReach.assign(nt, 0.0);
   }
+  std::vector<NamedTargetDistances> named;
   for (size_t p = 0; p < this->Parts.size(); ++p)
   {
     const MorphLadder& ladder = *this->Parts[p];
@@ -165,28 +151,24 @@ LevelOfDetail ScalableScene::GetSceneLevel(size_t l, const CostModel& cost) cons
     lod.NumberOfPoints += level.NumberOfPoints;
     // The part whose error is largest sets the level.
     lod.GeometricError = std::max(lod.GeometricError, level.Error99);
-    for (size_t k = 1; k < map.size() && k < level.MovedPoints.size(); ++k)
+    named.push_back({ ladder.Mesh.GetTargetNames(), level.Distances.DistMorph, level.Distances.MaxDisplacement });
+    for (size_t k = 1; k < map.size(); ++k)
     {
-      const size_t s = map[k];
-      lod.MovedPoints[s] += level.MovedPoints[k];
-      lod.Distances.DistMorph[s] += level.Distances.DistMorph[k];
-      lod.Distances.MaxDisplacement[s] = std::max(lod.Distances.MaxDisplacement[s], level.Distances.MaxDisplacement[k]);
+      lod.MovedPoints[map[k]] += level.MovedPoints.at(k);
     }
     // Only a part that has a coarser level of its own slides during the scene's geomorph.
     if (coarser && pl == l && !level.GeomorphReach.empty())
     {
       lod.GeomorphReach[0] = std::max(lod.GeomorphReach[0], level.GeomorphReach[0]);
-      for (size_t k = 1; k < map.size() && k < level.GeomorphReach.size(); ++k)
+      for (size_t k = 1; k < map.size(); ++k)
       {
-        lod.GeomorphReach[map[k]] = std::max(lod.GeomorphReach[map[k]], level.GeomorphReach[k]);
+        lod.GeomorphReach[map[k]] = std::max(lod.GeomorphReach[map[k]], level.GeomorphReach.at(k));
       }
     }
   }
-  const double largest = *std::max_element(lod.Distances.DistMorph.begin(), lod.Distances.DistMorph.end());
-  for (size_t s = 1; s < nt && largest > 0.0; ++s)
-  {
-    lod.Distances.DistNorm[s] = lod.Distances.DistMorph[s] / largest;
-  }
+  // Distances summed and the largest displacement the largest over the parts, as the morph
+  // node's scene decides for its whole model.
+  lod.Distances = MakeTargetDistances(CombineTargetDistances(named));
   lod.Cost = cost;
   return lod;
 }

@@ -13,10 +13,11 @@
 ///    is chosen on screen by the part whose error projects to the most pixels, so no part
 ///    shows more than the pixel bound (all parts share the avatar's model space and so its
 ///    pixels per unit),
-///  - the scene's targets: the parts' target names matched by name (the neutral first, then
-///    each new name as it is met, part by part), so one weight drives a viseme on every part
-///    that has it; each target's largest displacement and geomorph reach the largest over
-///    the parts, its moved points and summed distances added.
+///  - the scene's targets: the parts' target names matched by name as the morph node's
+///    MorphScene matches them (CombineTargetDistances: the neutral first, then each new name
+///    as it is met, part by part), so one weight drives a viseme on every part that has it;
+///    each target's largest displacement and geomorph reach the largest over the parts, its
+///    moved points and distances summed.
 /// Why together rather than each part by its own error: one frame budget, one level and one
 /// geomorph to reason about (the same hysteresis, no part popping while another stays), and
 /// a part that could go coarser alone (an eye far from every fold) saves little next to the
@@ -58,7 +59,8 @@ public:
 
   /// The parts (each ladder's Position attribute float) and one cost model per scene level
   /// (Calibrate). Throws InputError for no parts, a null ladder, positions that are not
-  /// float, or a cost count that is not the scene's level count. Keeps the settings.
+  /// float, a name twice in one part, or a cost count that is not the scene's level count.
+  /// Keeps the settings.
   void SetParts(Ladders parts, const std::vector<CostModel>& costs);
   /// Throws as FrameBudgetController::SetSettings.
   void SetSettings(const ControllerSettings& settings);

@@ -220,6 +220,13 @@ TEST(ScalableScene, BadPartsAreReported)
   scene.SetParts(parts, ScalableScene::Calibrate(parts));
   EXPECT_THROW(scene.Update({ 1.0, 0.0 }, 10.0), morphnode::InputError);
   EXPECT_THROW(scene.GetSceneLevel(4, {}), morphnode::InputError);
+  // A name twice in one part: the morph node's scene refuses it, so does this one.
+  morphnode::LadderSettings one;
+  one.TriangleFractions.clear();
+  auto twice = std::make_shared<const MorphLadder>(
+    morphnode::BuildMorphLadder(Part(5, 1.0f, 0.0f, { 0, 1 }, { "Neutral", "a", "a" }), one));
+  EXPECT_THROW(scene.SetParts({ twice }, { {} }), morphnode::InputError);
+  EXPECT_EQ(scene.GetNumberOfParts(), 3u) << "a refused set of parts changes nothing";
 }
 
 namespace
