@@ -443,25 +443,36 @@ MorphLadder BuildMorphLadder(
 }
 
 template <typename T>
-void GeomorphLadder(const MorphLadder& ladder, size_t level, double alpha, T* positions)
+void GeomorphLadder(const MorphLadder& ladder, size_t level, double alpha, T* values, int components)
 {
   if (level + 1 >= ladder.Levels.size())
   {
     throw InputError("GeomorphLadder: level " + std::to_string(level) +
       " has no coarser level to morph towards.");
   }
+  if (components < 1)
+  {
+    throw InputError("GeomorphLadder: " + std::to_string(components) + " components per point.");
+  }
   const T a = static_cast<T>(std::clamp(alpha, 0.0, 1.0));
   const size_t begin = ladder.Levels[level + 1].NumberOfPoints;
   const size_t end = ladder.Levels[level].NumberOfPoints;
+  const size_t nc = static_cast<size_t>(components);
   for (size_t p = begin; p < end; ++p)
   {
     // The parent is in the coarser level's prefix, which this loop never writes.
     const size_t r = ladder.Parent[p];
-    for (int c = 0; c < 3; ++c)
+    for (size_t c = 0; c < nc; ++c)
     {
-      positions[3 * p + c] = (T(1) - a) * positions[3 * p + c] + a * positions[3 * r + c];
+      values[nc * p + c] = (T(1) - a) * values[nc * p + c] + a * values[nc * r + c];
     }
   }
+}
+
+template <typename T>
+void GeomorphLadder(const MorphLadder& ladder, size_t level, double alpha, T* positions)
+{
+  GeomorphLadder(ladder, level, alpha, positions, 3);
 }
 
 LevelOfDetail ToLevelOfDetail(const MorphLadder& ladder, size_t l, const CostModel& cost)
@@ -491,4 +502,6 @@ LevelOfDetail ToLevelOfDetail(const MorphLadder& ladder, size_t l, const CostMod
 
 template void GeomorphLadder(const MorphLadder&, size_t, double, float*);
 template void GeomorphLadder(const MorphLadder&, size_t, double, double*);
+template void GeomorphLadder(const MorphLadder&, size_t, double, float*, int);
+template void GeomorphLadder(const MorphLadder&, size_t, double, double*, int);
 } // namespace morphnode

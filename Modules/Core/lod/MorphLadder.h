@@ -138,6 +138,10 @@ MorphLadder BuildMorphLadder(
 /// Throws InputError for the coarsest level or a level out of range.
 template <typename T>
 void GeomorphLadder(const MorphLadder& ladder, size_t level, double alpha, T* positions);
+/// The same for any per-point attribute of the shared mesh (normals, texture coordinates,
+/// colours): `components` values per point.
+template <typename T>
+void GeomorphLadder(const MorphLadder& ladder, size_t level, double alpha, T* values, int components);
 
 /// A level for the FrameBudgetController, with the level's cost model; GeometricError is
 /// the level's Error99.
@@ -145,4 +149,6 @@ LevelOfDetail ToLevelOfDetail(const MorphLadder& ladder, size_t level, const Cos
 
 extern template void GeomorphLadder(const MorphLadder&, size_t, double, float*);
 extern template void GeomorphLadder(const MorphLadder&, size_t, double, double*);
+extern template void GeomorphLadder(const MorphLadder&, size_t, double, float*, int);
+extern template void GeomorphLadder(const MorphLadder&, size_t, double, double*, int);
 } // namespace morphnode

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <numeric>
 #include <random>
 #include <string>
@@ -102,6 +103,7 @@ void ScalableScene::SetParts(Ladders parts, const std::vector<CostModel>& costs)
   this->Positions = std::move(next.Positions);
   this->Costs = costs;
   this->Frame = SceneFrame();
+  this->PartWeights.assign(this->Parts.size(), {});
   this->Rebuild();
 }
 
@@ -191,6 +193,7 @@ const std::vector<uint32_t>& ScalableScene::GetTriangles(size_t part) const
 
 void ScalableScene::Blend(const std::vector<double>& w, int level, int morphTowards, double alpha)
 {
+  this->PartWeights.resize(this->Parts.size());
   this->Frame.PartLevels.resize(this->Parts.size());
   this->Frame.PartPoints.resize(this->Parts.size());
   this->Frame.NumberOfPoints = 0;
@@ -200,7 +203,7 @@ void ScalableScene::Blend(const std::vector<double>& w, int level, int morphTowa
     const int pl = this->GetPartLevel(p, level);
     const size_t n = ladder.Levels[static_cast<size_t>(pl)].NumberOfPoints;
     const std::vector<size_t>& map = this->TargetMaps[p];
-    std::vector<double>& pw = this->PartWeights;
+    std::vector<double>& pw = this->PartWeights[p];
     pw.resize(map.size());
     pw[0] = w[0];
     for (size_t s : this->Unmapped[p])
@@ -236,6 +239,56 @@ const SceneFrame& ScalableScene::Update(const std::vector<double>& weights, doub
   this->Controller.ReportMeasuredSeconds(f.BlendSeconds);
   return f;
 }
+
+template <typename T>
+void ScalableScene::BlendAttribute(size_t part, size_t attribute, T* out) const
+{
+  if (part >= this->Parts.size() || this->PartWeights.at(part).empty())
+  {
+    throw InputError("ScalableScene: no frame of part " + std::to_string(part) + " to blend an attribute of.");
+  }
+  const MorphLadder& ladder = *this->Parts[part];
+  if (attribute >= ladder.Mesh.GetNumberOfAttributes())
+  {
+    throw InputError("ScalableScene: part " + std::to_string(part) + " has no attribute " + std::to_string(attribute) + ".");
+  }
+  const auto* values = std::get_if<MorphAttribute<T>>(&ladder.Mesh.GetAttribute(attribute));
+  if (!values)
+  {
+    throw InputError("ScalableScene: attribute " + std::to_string(attribute) + " of part " + std::to_string(part) +
+      " is not of the type asked for.");
+  }
+  const std::vector<double>& w = this->PartWeights[part];
+  const int pl = this->Frame.PartLevels.at(part);
+  const size_t n = this->Frame.PartPoints.at(part);
+  values->Blend(w.data(), w.size(), out, 0, n);
+  const ControllerDecision& d = this->Frame.Decision;
+  if (d.MorphTowards >= 0 && pl == d.Level && static_cast<size_t>(pl) + 1 < ladder.Levels.size())
+  {
+    const int nc = values->GetNumberOfComponents();
+    GeomorphLadder(ladder, static_cast<size_t>(pl), d.Alpha, out, nc);
+    if (values->GetRole() == AttributeRole::Normal)
+    {
+      // The slid points only: the others were renormalized by the blend.
+      for (size_t p = ladder.Levels[static_cast<size_t>(pl) + 1].NumberOfPoints; p < n; ++p)
+      {
+        double norm = 0.0;
+        for (int c = 0; c < nc; ++c)
+        {
+          norm += double(out[nc * p + c]) * double(out[nc * p + c]);
+        }
+        norm = std::sqrt(norm);
+        for (int c = 0; c < nc && norm > 0.0; ++c)
+        {
+          out[nc * p + c] = static_cast<T>(out[nc * p + c] / norm);
+        }
+      }
+    }
+  }
+}
+
+template void ScalableScene::BlendAttribute(size_t, size_t, float*) const;
+template void ScalableScene::BlendAttribute(size_t, size_t, double*) const;
 
 std::vector<CostModel> ScalableScene::Calibrate(const Ladders& parts, unsigned seed)
 {

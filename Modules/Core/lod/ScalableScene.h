@@ -89,6 +89,18 @@ public:
   const std::vector<float>& GetPositions(size_t part) const { return this->Positions.at(part); }
   /// Part `part`'s shown index buffer.
   const std::vector<uint32_t>& GetTriangles(size_t part) const;
+  /// The weights part `part` blended with in the last frame: its own targets' scene
+  /// weights, neutral first (the weight of scene targets it lacks on its neutral). Empty
+  /// before a frame.
+  const std::vector<double>& GetPartWeights(size_t part) const { return this->PartWeights.at(part); }
+  /// Any other attribute of a part (an index into its ladder's Mesh attributes: normals,
+  /// texture coordinates, colours) as the last frame shows it: blended over the shown
+  /// prefix with GetPartWeights and geomorphed as the positions were (normals renormalized
+  /// after). `out` holds components values per point of the part's whole buffer; the shown
+  /// prefix is written. Throws InputError before a frame, for an index out of range or an
+  /// attribute whose values are not of type T.
+  template <typename T>
+  void BlendAttribute(size_t part, size_t attribute, T* out) const;
   const MorphLadder& GetLadder(size_t part) const { return *this->Parts.at(part); }
   const FrameBudgetController& GetController() const { return this->Controller; }
 
@@ -112,7 +124,10 @@ private:
   ControllerSettings Settings;
   FrameBudgetController Controller;
   std::vector<std::vector<float>> Positions;
-  std::vector<double> PartWeights; // scratch
+  std::vector<std::vector<double>> PartWeights; ///< per part, the last frame's
   SceneFrame Frame;
 };
+
+extern template void ScalableScene::BlendAttribute(size_t, size_t, float*) const;
+extern template void ScalableScene::BlendAttribute(size_t, size_t, double*) const;
 } // namespace morphnode

@@ -350,3 +350,59 @@ TEST(ScalableScene, SkinnedLevelSkinsLikeFullResolution)
   EXPECT_THROW(morphnode::BuildMorphLadder(reductiontest::MakeFace(21), skin, {}), morphnode::InputError);
   EXPECT_THROW(skin.Gather({ static_cast<uint32_t>(np) }), morphnode::InputError);
 }
+
+TEST(ScalableScene, OtherAttributesFollowTheShownLevel)
+{
+  // A second attribute, the positions' x and y (with the targets' x and y deltas): shown at
+  // every frame's level and geomorph, it must be the shown positions' x and y.
+  reductiontest::FlatFace f = reductiontest::MakeFlatFace(41);
+  morphnode::MorphMesh mesh = f.ToMesh();
+  const size_t np = mesh.GetNumberOfPoints();
+  auto xy = [&](const std::vector<float>& v) {
+    std::vector<float> out(2 * np);
+    for (size_t p = 0; p < np; ++p)
+    {
+      out[2 * p] = v[3 * p];
+      out[2 * p + 1] = v[3 * p + 1];
+    }
+    return out;
+  };
+  auto& extra = mesh.AddAttribute<float>("XY", morphnode::AttributeRole::Generic, 2);
+  extra.SetNeutral(xy(f.Positions).data());
+  for (const auto& d : f.PositionDeltas)
+  {
+    extra.AddRelativeTarget(xy(d).data(), morphnode::MorphMesh::DefaultSparseCoverage);
+  }
+  auto ladder = std::make_shared<const MorphLadder>(morphnode::BuildMorphLadder(mesh, {}));
+  ScalableScene scene;
+  morphnode::ControllerSettings s;
+  s.FrameBudget = 1.0;
+  s.Thresholds = { 0.0 };
+  s.PixelBound = 1.0;
+  s.MinFramesPerLevel = 1;
+  scene.SetSettings(s);
+  std::vector<float> out(2 * np);
+  EXPECT_THROW(scene.BlendAttribute(0, 1, out.data()), morphnode::InputError);
+  scene.SetParts({ ladder }, ScalableScene::Calibrate({ ladder }));
+  EXPECT_THROW(scene.BlendAttribute(0, 1, out.data()), morphnode::InputError) << "no frame yet";
+  int morphing = 0;
+  for (int f2 = 0; f2 < 300; ++f2)
+  {
+    std::vector<double> w = SceneWeights(f2);
+    w.resize(5);
+    w[0] = 1.0 - (w[1] + w[2] + w[3] + w[4]);
+    const morphnode::SceneFrame& frame = scene.Update(w, 20000.0 * std::pow(1e-3, f2 / 299.0));
+    morphing += frame.Decision.MorphTowards >= 0;
+    scene.BlendAttribute(0, 1, out.data());
+    const std::vector<float>& positions = scene.GetPositions(0);
+    for (size_t p = 0; p < frame.PartPoints[0]; ++p)
+    {
+      ASSERT_NEAR(out[2 * p], positions[3 * p], 1e-5f) << "frame " << f2 << " point " << p;
+      ASSERT_NEAR(out[2 * p + 1], positions[3 * p + 1], 1e-5f) << "frame " << f2 << " point " << p;
+    }
+  }
+  EXPECT_GT(morphing, 0);
+  std::vector<double> wrongType(2 * np);
+  EXPECT_THROW(scene.BlendAttribute(0, 1, wrongType.data()), morphnode::InputError);
+  EXPECT_THROW(scene.BlendAttribute(0, 2, out.data()), morphnode::InputError);
+}
