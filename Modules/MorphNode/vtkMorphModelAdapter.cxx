@@ -6,21 +6,30 @@
 #include "base/Error.h"
 
 #include "vtkAbstractArray.h"
+#include "vtkCompositeDataIterator.h"
+#include "vtkCompositeDataSet.h"
 #include "vtkDataArray.h"
 #include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
 #include "vtkFloatArray.h"
+#include "vtkInformation.h"
+#include "vtkMultiProcessController.h"
+#include "vtkMultiProcessStream.h"
+#include "vtkPartitionedDataSet.h"
+#include "vtkPartitionedDataSetCollection.h"
 #include "vtkDataSetAttributes.h"
 #include "vtkPointData.h"
 #include "vtkPointSet.h"
 #include "vtkPoints.h"
 #include "vtkStringArray.h"
 #include "vtkTable.h"
+#include "vtkUnsignedCharArray.h"
 #include "vtkVariant.h"
 
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <string>
 
 namespace vtkMorphModelAdapter
 {
@@ -35,6 +44,18 @@ bool IsIntegerType(int vtkType)
 {
   return vtkType != VTK_FLOAT && vtkType != VTK_DOUBLE;
 }
+
+/// A leaf's name for messages: its metadata NAME, else its flat index.
+std::string LeafName(vtkCompositeDataIterator* it)
+{
+  vtkInformation* meta = it->HasCurrentMetaData() ? it->GetCurrentMetaData() : nullptr;
+  if (meta && meta->Has(vtkCompositeDataSet::NAME()) && meta->Get(vtkCompositeDataSet::NAME()))
+  {
+    return meta->Get(vtkCompositeDataSet::NAME());
+  }
+  return "#" + std::to_string(it->GetCurrentFlatIndex());
+}
+
 
 /// Adds an attribute from the neutral's array and every other input's array of that name
 /// (absolute targets).
@@ -219,10 +240,16 @@ BuiltModel BuildFromRelativeTargets(vtkPointSet* input, double sparseCoverage)
   return built;
 }
 
-std::vector<double> WeightsFromTable(
-  vtkTable* table, const morphnode::MorphMesh& model, int& matched)
+BuiltModel BuildModel(const std::vector<vtkPointSet*>& inputs, double sparseCoverage)
 {
-  const size_t n = model.GetNumberOfTargets();
+  return inputs.size() == 1 && HasRelativeTargets(inputs[0]) ? BuildFromRelativeTargets(inputs[0], sparseCoverage)
+                                                             : BuildFromAbsoluteTargets(inputs, sparseCoverage);
+}
+
+std::vector<double> WeightsFromTable(
+  vtkTable* table, const morphnode::WeightRequests& model, int& matched)
+{
+  const size_t n = model.GetTargets().size();
   std::vector<double> weights(n, 0.0);
   matched = 0;
   if (table->GetNumberOfRows() < 1)
@@ -250,12 +277,7 @@ std::vector<double> WeightsFromTable(
   }
   if (!neutralGiven)
   {
-    double others = 0.0;
-    for (size_t i = 1; i < n; ++i)
-    {
-      others += weights[i];
-    }
-    weights[0] = std::max(0.0, 1.0 - others);
+    weights[0] = morphnode::ImplicitNeutralWeight(weights);
   }
   return weights;
 }
@@ -311,4 +333,122 @@ void AssemblePointData(vtkPointData* neutral, const BuiltModel& built,
     }
   }
 }
+
+std::vector<uint8_t> DuplicateFlags(vtkPointSet* input)
+{
+  std::vector<uint8_t> flags;
+  vtkUnsignedCharArray* ghosts = input ? input->GetPointGhostArray() : nullptr;
+  if (!ghosts || ghosts->GetNumberOfTuples() != input->GetNumberOfPoints())
+  {
+    return flags;
+  }
+  bool any = false;
+  flags.resize(static_cast<size_t>(input->GetNumberOfPoints()));
+  for (vtkIdType i = 0; i < input->GetNumberOfPoints(); ++i)
+  {
+    flags[static_cast<size_t>(i)] = (ghosts->GetValue(i) & vtkDataSetAttributes::DUPLICATEPOINT) ? 1 : 0;
+    any = any || flags[static_cast<size_t>(i)];
+  }
+  if (!any)
+  {
+    flags.clear();
+  }
+  return flags;
+}
+
+
+std::vector<std::string> LeafNames(vtkCompositeDataSet* composite, size_t count)
+{
+  std::vector<std::string> names;
+  auto* collection = vtkPartitionedDataSetCollection::SafeDownCast(composite);
+  for (unsigned int d = 0; collection && d < collection->GetNumberOfPartitionedDataSets(); ++d)
+  {
+    vtkPartitionedDataSet* parts = collection->GetPartitionedDataSet(d);
+    const char* name = collection->HasMetaData(d) && collection->GetMetaData(d)->Has(vtkCompositeDataSet::NAME())
+      ? collection->GetMetaData(d)->Get(vtkCompositeDataSet::NAME())
+      : nullptr;
+    const unsigned int count = parts ? parts->GetNumberOfPartitions() : 0;
+    for (unsigned int i = 0; i < count; ++i)
+    {
+      if (parts->GetPartitionAsDataObject(i))
+      {
+        const std::string part = name ? name : "#" + std::to_string(d);
+        names.push_back(count > 1 ? part + "/" + std::to_string(i) : part);
+      }
+    }
+  }
+  if (!collection && composite)
+  {
+    vtkSmartPointer<vtkCompositeDataIterator> it;
+    it.TakeReference(composite->NewIterator());
+    it->SkipEmptyNodesOn();
+    for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem())
+    {
+      names.push_back(LeafName(it));
+    }
+  }
+  names.resize(std::max(names.size(), count + 1), "?");
+  return names;
+}
+
+
+morphnode::NamedTargetDistances GatherModel(vtkMultiProcessController* controller,
+  const morphnode::NamedTargetDistances* piece, const std::string& error)
+{
+  vtkMultiProcessStream mine;
+  if (!error.empty())
+  {
+    mine << 'E' << error;
+  }
+  else if (piece)
+  {
+    mine << 'P' << static_cast<vtkTypeUInt64>(piece->Names.size());
+    for (size_t i = 0; i < piece->Names.size(); ++i)
+    {
+      mine << piece->Names[i] << piece->DistMorph[i] << piece->MaxDisplacement[i];
+    }
+  }
+  else
+  {
+    mine << '0';
+  }
+  std::vector<vtkMultiProcessStream> all;
+  if (!controller->AllGather(mine, all) ||
+    all.size() != static_cast<size_t>(controller->GetNumberOfProcesses()))
+  {
+    throw morphnode::InputError("the processes could not exchange their targets' figures");
+  }
+  std::vector<morphnode::NamedTargetDistances> pieces;
+  for (size_t r = 0; r < all.size(); ++r)
+  {
+    char kind = '0';
+    all[r] >> kind;
+    if (kind == 'E')
+    {
+      std::string failure;
+      all[r] >> failure;
+      const bool local = static_cast<int>(r) == controller->GetLocalProcessId();
+      throw morphnode::InputError((local ? "" : "process " + std::to_string(r) + ": ") + failure);
+    }
+    if (kind == 'P')
+    {
+      vtkTypeUInt64 n = 0;
+      all[r] >> n;
+      morphnode::NamedTargetDistances& received = pieces.emplace_back();
+      received.Names.resize(n);
+      received.DistMorph.resize(n);
+      received.MaxDisplacement.resize(n);
+      for (size_t i = 0; i < n; ++i)
+      {
+        all[r] >> received.Names[i] >> received.DistMorph[i] >> received.MaxDisplacement[i];
+      }
+    }
+  }
+  if (pieces.empty())
+  {
+    throw morphnode::InputError("no process has a point in its input");
+  }
+  return morphnode::CombineTargetDistances(pieces);
+}
+
 } // namespace vtkMorphModelAdapter

@@ -16,14 +16,19 @@
 #include "vtkMorphTargetArrays.h"
 
 #include "morph/MorphMesh.h"
+#include "morph/MorphScene.h"
+#include "morph/WeightRequests.h"
 
 #include "vtkSmartPointer.h"
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
+class vtkCompositeDataSet;
 class vtkDataArray;
 class vtkFieldData;
+class vtkMultiProcessController;
 class vtkPointData;
 class vtkPoints;
 class vtkPointSet;
@@ -89,12 +94,15 @@ bool HasRelativeTargets(vtkPointSet* input);
 BuiltModel BuildFromAbsoluteTargets(const std::vector<vtkPointSet*>& inputs, double sparseCoverage);
 /// glTF form: one point set with relative target arrays (vtkMorphTargetArrays::ToMorphMesh).
 BuiltModel BuildFromRelativeTargets(vtkPointSet* input, double sparseCoverage);
+/// The glTF form when `inputs` is one point set with target arrays, else the Java3D form.
+BuiltModel BuildModel(const std::vector<vtkPointSet*>& inputs, double sparseCoverage);
 
 /// Requested weights (neutral first) from the first row of a table whose columns are
-/// named after targets. Columns naming no target are ignored; targets not named get 0;
-/// an unnamed neutral gets max(0, 1 - sum of the others). `matched` counts the columns used.
+/// named after the model's targets (`model`'s SetTargets). Columns naming no target are
+/// ignored; targets not named get 0; an unnamed neutral gets morphnode::ImplicitNeutralWeight.
+/// `matched` counts the columns used.
 std::vector<double> WeightsFromTable(
-  vtkTable* table, const morphnode::MorphMesh& model, int& matched);
+  vtkTable* table, const morphnode::WeightRequests& model, int& matched);
 
 /// A vtkStringArray holding the names.
 vtkSmartPointer<vtkStringArray> MakeNamesArray(
@@ -112,6 +120,25 @@ vtkDataArray* ReuseOrNew(vtkSmartPointer<vtkDataArray>& slot, vtkDataArray* prot
 /// the array it replaces (same attribute role), target arrays left out.
 void AssemblePointData(vtkPointData* neutral, const BuiltModel& built,
   const BlendOutputs& outputs, vtkPointData* out);
+
+/// Points flagged as duplicates of another piece's (vtkGhostType, DUPLICATEPOINT): left out
+/// of the model's sums (morphnode::MorphScene::SetParts). Empty when the data set flags none.
+std::vector<uint8_t> DuplicateFlags(vtkPointSet* input);
+
+/// A composite's leaves' names, in the iterator's order (empty leaves skipped), for
+/// messages: a collection names its partitioned data sets (the reader's parts), not their
+/// partitions; other composites name their leaves (else "#<flat index>"). At least
+/// `count` + 1 names ("?" for the missing).
+std::vector<std::string> LeafNames(vtkCompositeDataSet* composite, size_t count);
+
+/// The whole model's figures from every process's piece: each sends its piece (null: it
+/// has none) or its `error` to all (a vtkMultiProcessStream through the controller's
+/// AllGather), and all combine them in process order (morphnode::CombineTargetDistances),
+/// so that every process decides exactly alike. Every process must call it. Throws
+/// InputError with the first process's error (the same on every process) when any had
+/// one, and when no process has a piece.
+morphnode::NamedTargetDistances GatherModel(vtkMultiProcessController* controller,
+  const morphnode::NamedTargetDistances* piece, const std::string& error);
 } // namespace vtkMorphModelAdapter
 
 #endif

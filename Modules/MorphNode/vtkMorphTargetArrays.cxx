@@ -21,6 +21,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <set>
 #include <sstream>
 #include <type_traits>
 #include <variant>
@@ -289,6 +290,39 @@ bool GetFaceTargetNames(vtkDataObject* face, std::vector<std::string>& targets)
     add(face);
   }
   return found;
+}
+
+size_t CountFaceTargets(vtkDataObject* face)
+{
+  if (auto* composite = vtkCompositeDataSet::SafeDownCast(face))
+  {
+    std::set<std::string> targets;
+    vtkSmartPointer<vtkCompositeDataIterator> it;
+    it.TakeReference(composite->NewIterator());
+    it->SkipEmptyNodesOn();
+    for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem())
+    {
+      auto* leaf = vtkPointSet::SafeDownCast(it->GetCurrentDataObject());
+      try
+      {
+        const size_t n = leaf ? CountTargets(leaf->GetPointData(), leaf->GetNumberOfPoints()) : 0;
+        const std::vector<std::string> names = GetTargetNames(leaf ? leaf->GetFieldData() : nullptr, n + 1);
+        targets.insert(names.begin() + 1, names.end());
+      }
+      catch (const std::exception&)
+      {
+        // Reported when the face is read.
+      }
+    }
+    return targets.size();
+  }
+  auto* points = vtkPointSet::SafeDownCast(face);
+  size_t n = 0;
+  while (points && points->GetPointData()->GetAbstractArray(ArrayName(n, Kind::Position).c_str()))
+  {
+    ++n;
+  }
+  return n;
 }
 
 std::vector<std::string> GetTargetNames(vtkFieldData* fd, size_t numTargets)

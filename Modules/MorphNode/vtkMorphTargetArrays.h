@@ -81,6 +81,12 @@ std::vector<std::string> GetTargetNames(vtkFieldData* fd, size_t numTargets);
 /// appearance, as vtkMorphNodeFilter names a head's targets. False (and `targets` empty)
 /// when nothing carries `TargetNames`.
 bool GetFaceTargetNames(vtkDataObject* face, std::vector<std::string>& targets);
+/// The number of targets a face has before it is read, the neutral not counted: for a
+/// point set its `target<k>_position` arrays (consecutive from 0; layouts not checked), for
+/// a composite (a head of parts) the distinct target names over its point-set leaves (each
+/// leaf's GetTargetNames for its CountTargets); leaves that do not read are skipped (their
+/// errors come when the face is read). 0 for anything else.
+size_t CountFaceTargets(vtkDataObject* face);
 /// Throws InputError when two targets share a name.
 void CheckUniqueNames(const std::vector<std::string>& names);
 /// For a class's SetTargetNames(): `slot` becomes a copy of `names` named `TargetNames`

@@ -443,3 +443,71 @@ TEST(MorphScene, BadInputIsAnInputError)
   EXPECT_THROW(CombineTargetDistances({}), InputError);
   EXPECT_THROW(CombineTargetDistances({ { {}, {}, {} } }), InputError);
 }
+
+// The blend plan covers every point of the parts asked for exactly once, in tasks of about
+// the grain, serial when there is too little work; its tasks blend what one Blend does.
+TEST(MorphScene, BlendPlanCoversEveryPointOnce)
+{
+  const Model m = MakeModel(9000, 4, 7);
+  MorphScene scene;
+  scene.SetParts({ Piece(m, 0, 100, AllTargets(m)), Piece(m, 100, 6000, AllTargets(m)),
+    Piece(m, 6000, 9000, { 1 }) });
+  std::mt19937 rng(3);
+  scene.SetWeightMode(WeightMode::Relative);
+  scene.SetWeights(RandomWeights(scene.GetNumberOfTargets(), rng));
+  BlendPlan plan;
+  scene.PlanBlend({ 0, 2 }, 1, plan);
+  EXPECT_TRUE(plan.Serial);
+  EXPECT_EQ(plan.GetNumberOfTasks(), 1u);
+  scene.PlanBlend({ 0, 1, 2 }, 4, plan);
+  EXPECT_FALSE(plan.Serial);
+  ASSERT_GT(plan.GetNumberOfTasks(), 1u);
+  std::vector<std::vector<int>> seen(3);
+  for (size_t p = 0; p < 3; ++p)
+  {
+    seen[p].assign(scene.GetPart(p).GetNumberOfPoints(), 0);
+  }
+  for (size_t t = 0; t < plan.GetNumberOfTasks(); ++t)
+  {
+    size_t points = 0;
+    for (size_t r = plan.Tasks[t]; r < plan.Tasks[t + 1]; ++r)
+    {
+      for (size_t i = plan.Ranges[r].Begin; i < plan.Ranges[r].End; ++i)
+      {
+        ++seen[plan.Ranges[r].Part][i];
+      }
+      points += plan.Ranges[r].End - plan.Ranges[r].Begin;
+    }
+    EXPECT_GE(points, t + 1 < plan.GetNumberOfTasks() ? MinPointsPerBlendTask : 1u);
+  }
+  for (const auto& part : seen)
+  {
+    EXPECT_TRUE(std::all_of(part.begin(), part.end(), [](int n) { return n == 1; }));
+  }
+  // Too little work for two tasks: serial however many threads.
+  scene.PlanBlend({ 0 }, 8, plan);
+  EXPECT_TRUE(plan.Serial);
+  // The tasks blend what one Blend per part does.
+  const std::vector<std::vector<float>> whole = BlendScene(scene);
+  std::vector<std::vector<float>> points(3), normals(3);
+  std::vector<std::vector<AttributeOutput>> where(3);
+  std::vector<const std::vector<AttributeOutput>*> outputs(3);
+  for (size_t p = 0; p < 3; ++p)
+  {
+    points[p].assign(3 * scene.GetPart(p).GetNumberOfPoints(), 0.f);
+    normals[p].assign(points[p].size(), 0.f);
+    where[p] = { points[p].data(), normals[p].data() };
+    outputs[p] = &where[p];
+  }
+  scene.PlanBlend({ 0, 1, 2 }, 4, plan);
+  for (size_t t = plan.GetNumberOfTasks(); t-- > 0;) // any order
+  {
+    scene.BlendTask(plan, t, outputs);
+  }
+  std::vector<float> joined;
+  for (const auto& part : points)
+  {
+    joined.insert(joined.end(), part.begin(), part.end());
+  }
+  EXPECT_EQ(joined, whole[0]);
+}

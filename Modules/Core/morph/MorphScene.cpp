@@ -4,6 +4,7 @@
 #include "base/Error.h"
 
 #include <algorithm>
+#include <limits>
 #include <sstream>
 #include <unordered_map>
 #include <utility>
@@ -331,5 +332,47 @@ const MorphNode& MorphScene::GetPartNode(size_t part) const
 {
   this->CheckPart(part);
   return this->Parts[part]->Node;
+}
+void MorphScene::PlanBlend(const std::vector<size_t>& parts, int threads, BlendPlan& plan) const
+{
+  size_t total = 0;
+  for (size_t p : parts)
+  {
+    total += this->GetPart(p).GetNumberOfPoints();
+  }
+  plan.Ranges.clear();
+  plan.Tasks.clear();
+  plan.Serial = threads <= 1 || total < 2 * MinPointsPerBlendTask;
+  const size_t grain = plan.Serial
+    ? std::numeric_limits<size_t>::max()
+    : std::max(MinPointsPerBlendTask, total / (4 * static_cast<size_t>(threads)));
+  size_t filled = 0; // points in the current task
+  for (size_t p : parts)
+  {
+    const size_t n = this->GetPart(p).GetNumberOfPoints();
+    for (size_t begin = 0; begin < n;)
+    {
+      if (filled == 0)
+      {
+        plan.Tasks.push_back(plan.Ranges.size());
+      }
+      const size_t end = begin + std::min(grain - filled, n - begin);
+      plan.Ranges.push_back({ p, begin, end });
+      filled = (filled + end - begin) % grain;
+      begin = end;
+    }
+  }
+  plan.Tasks.push_back(plan.Ranges.size());
+  plan.Serial = plan.Serial || plan.GetNumberOfTasks() <= 1;
+}
+
+void MorphScene::BlendTask(const BlendPlan& plan, size_t task,
+  const std::vector<const std::vector<AttributeOutput>*>& outputs) const
+{
+  for (size_t r = plan.Tasks[task]; r < plan.Tasks[task + 1]; ++r)
+  {
+    const BlendPlan::Range& range = plan.Ranges[r];
+    this->Blend(range.Part, *outputs[range.Part], range.Begin, range.End);
+  }
 }
 } // namespace morphnode

@@ -62,6 +62,28 @@ NamedTargetDistances CombineTargetDistances(const std::vector<NamedTargetDistanc
 /// targets (all 0 when nothing moves), as ComputeTargetDistances computes it.
 TargetDistances MakeTargetDistances(const NamedTargetDistances& model);
 
+/// Points a blend task covers at least: below that, handing work to another thread costs
+/// more than it saves (a 1024-point range of positions and normals blends in about 1 us).
+constexpr size_t MinPointsPerBlendTask = 2048;
+
+/// How a scene's blend is cut into tasks for threads (MorphScene::PlanBlend): the point
+/// ranges of the parts to blend, one after the other, and the tasks, each a run of about
+/// `grain` points over one or more consecutive ranges (small parts share a task).
+struct BlendPlan
+{
+  struct Range
+  {
+    size_t Part;       ///< scene part
+    size_t Begin, End; ///< its points [Begin, End)
+  };
+  std::vector<Range> Ranges;
+  std::vector<size_t> Tasks; ///< first range of each task, then Ranges.size()
+  /// Too little work (or one thread) to share: run the tasks one after the other.
+  bool Serial = true;
+
+  size_t GetNumberOfTasks() const { return this->Tasks.empty() ? 0 : this->Tasks.size() - 1; }
+};
+
 class MorphScene : public WeightDecision
 {
 public:
@@ -133,6 +155,16 @@ public:
   {
     this->GetPartNode(part).Blend(outputs, begin, end);
   }
+
+  /// Plans the blend of the scene parts `parts` (each once) on `threads` threads: a few
+  /// tasks per thread, enough to even out a busy core, few enough that handing them out
+  /// costs little next to blending them; none smaller than MinPointsPerBlendTask points.
+  /// Serial (one task) when there is one thread or less than two tasks' worth of points.
+  void PlanBlend(const std::vector<size_t>& parts, int threads, BlendPlan& plan) const;
+  /// Blends task `task` of `plan`; `outputs[p]` is where scene part p's attributes go
+  /// (CheckOutputs'd by the caller). Different tasks may run on different threads at once.
+  void BlendTask(const BlendPlan& plan, size_t task,
+    const std::vector<const std::vector<AttributeOutput>*>& outputs) const;
 
 private:
   void ClearResult();
