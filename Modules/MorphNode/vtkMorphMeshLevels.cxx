@@ -57,15 +57,19 @@ void BlendInto(const morphnode::ScalableScene& scene, size_t part, size_t a, vtk
 }
 } // namespace
 
-std::shared_ptr<const morphnode::MorphLadder> BuildLadder(
-  vtkPointSet* part, const morphnode::LadderSettings& settings, const std::string& what)
+std::shared_ptr<const morphnode::MorphLadder> BuildLadder(const morphnode::MorphMesh& model, vtkPointSet* part,
+  const morphnode::LadderSettings& settings, const std::string& what)
 {
   try
   {
+    if (!part || static_cast<size_t>(part->GetNumberOfPoints()) != model.GetNumberOfPoints())
+    {
+      throw morphnode::InputError("the part's data set does not fit its model");
+    }
     const bool reduce = Reducible(part);
-    vtkMorphTargetArrays::ReadOptions options;
-    options.Triangles = reduce;
-    const morphnode::MorphMesh mesh = vtkMorphTargetArrays::ToMorphMesh(part, options).Mesh;
+    morphnode::MorphMesh mesh = model;
+    mesh.SetTriangles(reduce ? vtkMorphTargetArrays::GetTriangles(vtkPolyData::SafeDownCast(part), false)
+                             : std::vector<uint32_t>());
     morphnode::SkinInfluences influences;
     if (vtkMorphSkinArrays::IsSkinned(part))
     {
@@ -77,6 +81,19 @@ std::shared_ptr<const morphnode::MorphLadder> BuildLadder(
       s.TriangleFractions.clear(); // kept whole, in the input's numbering
     }
     return std::make_shared<const morphnode::MorphLadder>(morphnode::BuildMorphLadder(mesh, influences, s));
+  }
+  catch (const morphnode::InputError& e)
+  {
+    throw morphnode::InputError(what + ": " + e.what());
+  }
+}
+
+std::shared_ptr<const morphnode::MorphLadder> BuildLadder(
+  vtkPointSet* part, const morphnode::LadderSettings& settings, const std::string& what)
+{
+  try
+  {
+    return BuildLadder(vtkMorphTargetArrays::ToMorphMesh(part, {}).Mesh, part, settings, what);
   }
   catch (const morphnode::InputError& e)
   {
@@ -228,8 +245,8 @@ void SceneLevels::Clear()
   this->Output.Reset();
 }
 
-void SceneLevels::SetParts(const std::vector<vtkPointSet*>& parts, const std::vector<std::string>& names,
-  uint64_t generation)
+void SceneLevels::SetParts(const std::vector<const morphnode::MorphMesh*>& models,
+  const std::vector<vtkPointSet*>& parts, const std::vector<std::string>& names, uint64_t generation)
 {
   if (generation == this->Generation && !this->Inputs.empty())
   {
@@ -237,9 +254,14 @@ void SceneLevels::SetParts(const std::vector<vtkPointSet*>& parts, const std::ve
   }
   this->Clear();
   morphnode::ScalableScene::Ladders ladders;
+  if (models.size() != parts.size() || std::find(models.begin(), models.end(), nullptr) != models.end())
+  {
+    throw morphnode::InputError("mesh levels: a part without its model");
+  }
   for (size_t p = 0; p < parts.size(); ++p)
   {
-    ladders.push_back(BuildLadder(parts[p], morphnode::LadderSettings(), p < names.size() ? names[p] : "a part"));
+    ladders.push_back(
+      BuildLadder(*models[p], parts[p], morphnode::LadderSettings(), p < names.size() ? names[p] : "a part"));
   }
   this->Scene.SetParts(ladders, morphnode::ScalableScene::Calibrate(ladders));
   this->Inputs = parts;

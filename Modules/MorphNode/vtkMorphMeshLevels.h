@@ -51,11 +51,16 @@ constexpr const char* LevelOfDetailArray = "LevelOfDetail";
 /// Parts with fewer triangles are kept whole (a one-level ladder): nothing to gain.
 constexpr size_t MinimumTriangles = 100;
 
-/// A part's ladder: its targets (vtkMorphTargetArrays::ToMorphMesh, normals included) and,
-/// for a skinned part, its influences, reduced by morphnode::BuildMorphLadder with
-/// `settings`. A part that is not a vtkPolyData of triangles only (lines, quads, strips,
-/// points), or has fewer than MinimumTriangles, is kept whole: a one-level ladder in the
-/// input's numbering. `what` names the part in messages.
+/// A part's ladder: its model (`model`: the part's targets and attributes, as the morph
+/// node's adapter built them; the triangles are read from `part`) and, for a skinned part,
+/// its influences, reduced by morphnode::BuildMorphLadder with `settings`. A part that is
+/// not a vtkPolyData of triangles only (lines, quads, strips, points), or has fewer than
+/// MinimumTriangles, is kept whole: a one-level ladder in the input's numbering. `what`
+/// names the part in messages.
+std::shared_ptr<const morphnode::MorphLadder> BuildLadder(const morphnode::MorphMesh& model, vtkPointSet* part,
+  const morphnode::LadderSettings& settings, const std::string& what);
+/// The same with the part's model read from its target arrays (vtkMorphTargetArrays::ToMorphMesh,
+/// normals included).
 std::shared_ptr<const morphnode::MorphLadder> BuildLadder(
   vtkPointSet* part, const morphnode::LadderSettings& settings, const std::string& what);
 
@@ -90,9 +95,11 @@ private:
 class SceneLevels
 {
 public:
-  /// The parts (the model's data sets, in order) of model `generation`: the ladders are
-  /// built again and their blend timed when the generation differs from the last one's.
-  void SetParts(const std::vector<vtkPointSet*>& parts, const std::vector<std::string>& names, uint64_t generation);
+  /// The parts of model `generation` (their models, their data sets and names, in the
+  /// scene's order): the ladders are built again and their blend timed when the generation
+  /// differs from the last one's.
+  void SetParts(const std::vector<const morphnode::MorphMesh*>& models, const std::vector<vtkPointSet*>& parts,
+    const std::vector<std::string>& names, uint64_t generation);
   /// One execution: the effective weights over the model's targets `names` (neutral
   /// first), passed to the scene by name; `settings` (the controller is made again only
   /// when they change); the pixels per model unit (0: time alone).
