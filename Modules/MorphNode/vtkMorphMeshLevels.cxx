@@ -5,6 +5,7 @@
 #include "vtkMorphTargetArrays.h"
 
 #include "base/Error.h"
+#include "skin/AvatarBones.h"
 
 #include "vtkCellArray.h"
 #include "vtkDoubleArray.h"
@@ -33,6 +34,40 @@ bool Reducible(vtkPointSet* part)
   return poly && poly->GetNumberOfStrips() == 0 && poly->GetNumberOfLines() == 0 &&
     poly->GetNumberOfVerts() == 0 && poly->GetNumberOfPolys() >= static_cast<vtkIdType>(MinimumTriangles) &&
     poly->GetPolys()->IsHomogeneous() == 3;
+}
+
+/// The poses a skinned part takes in the avatar, for its level errors (LadderSettings::
+/// SkinPoses): the head turned by 25 degrees, nodded by 15, the eyes turned by 25 (the bones
+/// vtkMorphSkinFilter moves, found by name). The part's points are rest-posed
+/// (vtkMorphSkinArrays), so each pose is given as J_k(pose) J_k(rest)^-1 per joint of its
+/// skin: exact where a point's joints share one rest matrix, the usual case
+/// (skin/Skinning.h's RestSkin). None when the skeleton has no head or eyes.
+std::vector<std::vector<glm::dmat4>> AvatarSkinPoses(const vtkMorphSkinArrays::Skin& skin)
+{
+  const morphnode::AvatarBoneRoles roles = morphnode::FindAvatarBones(skin.Bones);
+  std::vector<std::vector<glm::dmat4>> poses;
+  if (roles.Head < 0 && !roles.HasEyes())
+  {
+    return poses;
+  }
+  const std::vector<glm::dmat4> rest = skin.RestMatrices();
+  const double turns[3][3] = { { 25.0, 0.0, 0.0 }, { 0.0, 15.0, 0.0 }, { 0.0, 0.0, 25.0 } };
+  for (const auto& turn : turns)
+  {
+    morphnode::AvatarBonePose angles;
+    angles.HeadYaw = turn[0];
+    angles.HeadPitch = turn[1];
+    angles.EyeYaw = turn[2];
+    morphnode::SkeletonPose pose(skin.Bones);
+    morphnode::PoseAvatarBones(pose, roles, angles);
+    std::vector<glm::dmat4> matrices = skin.Joints.Matrices(pose.World());
+    for (size_t k = 0; k < matrices.size() && k < rest.size(); ++k)
+    {
+      matrices[k] = matrices[k] * glm::inverse(rest[k]);
+    }
+    poses.push_back(std::move(matrices));
+  }
+  return poses;
 }
 
 /// Blends attribute `a` of the part at the shown level into `array` (n tuples).
@@ -71,11 +106,16 @@ std::shared_ptr<const morphnode::MorphLadder> BuildLadder(const morphnode::Morph
     mesh.SetTriangles(reduce ? vtkMorphTargetArrays::GetTriangles(vtkPolyData::SafeDownCast(part), false)
                              : std::vector<uint32_t>());
     morphnode::SkinInfluences influences;
+    morphnode::LadderSettings s = settings;
     if (vtkMorphSkinArrays::IsSkinned(part))
     {
-      influences = vtkMorphSkinArrays::GetSkin(part, what).Influences;
+      const vtkMorphSkinArrays::Skin skin = vtkMorphSkinArrays::GetSkin(part, what);
+      influences = skin.Influences;
+      if (s.SkinPoses.empty() && reduce)
+      {
+        s.SkinPoses = AvatarSkinPoses(skin);
+      }
     }
-    morphnode::LadderSettings s = settings;
     if (!reduce)
     {
       s.TriangleFractions.clear(); // kept whole, in the input's numbering

@@ -53,7 +53,10 @@ constexpr size_t MinimumTriangles = 100;
 
 /// A part's ladder: its model (`model`: the part's targets and attributes, as the morph
 /// node's adapter built them; the triangles are read from `part`) and, for a skinned part,
-/// its influences, reduced by morphnode::BuildMorphLadder with `settings`. A part that is
+/// its influences, reduced by morphnode::BuildMorphLadder with `settings`. A skinned part's
+/// level errors also cover the poses its avatar takes (unless `settings` gives its own
+/// SkinPoses): the head turned by 25 degrees, nodded by 15, the eyes turned by 25 (the bones
+/// vtkMorphSkinFilter moves). A part that is
 /// not a vtkPolyData of triangles only (lines, quads, strips, points), or has fewer than
 /// MinimumTriangles, is kept whole: a one-level ladder in the input's numbering. `what`
 /// names the part in messages.
