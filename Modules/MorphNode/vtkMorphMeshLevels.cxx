@@ -278,6 +278,10 @@ void Assembler::Assemble(const morphnode::ScalableScene& scene, size_t part, vtk
 }
 void SceneLevels::Clear()
 {
+  if (this->Inputs.empty() && this->Generation == 0)
+  {
+    return; // nothing built
+  }
   this->Generation = 0;
   this->Inputs.clear();
   this->Scene = morphnode::ScalableScene();
