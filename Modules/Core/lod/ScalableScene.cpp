@@ -104,6 +104,7 @@ void ScalableScene::SetParts(Ladders parts, const std::vector<CostModel>& costs)
   this->Costs = costs;
   this->Frame = SceneFrame();
   this->PartWeights.assign(this->Parts.size(), {});
+  this->Shown.assign(this->Parts.size(), ShownState());
   this->Rebuild();
 }
 
@@ -194,6 +195,7 @@ const std::vector<uint32_t>& ScalableScene::GetTriangles(size_t part) const
 void ScalableScene::Blend(const std::vector<double>& w, int level, int morphTowards, double alpha)
 {
   this->PartWeights.resize(this->Parts.size());
+  this->Shown.resize(this->Parts.size());
   this->Frame.PartLevels.resize(this->Parts.size());
   this->Frame.PartPoints.resize(this->Parts.size());
   this->Frame.NumberOfPoints = 0;
@@ -203,7 +205,7 @@ void ScalableScene::Blend(const std::vector<double>& w, int level, int morphTowa
     const int pl = this->GetPartLevel(p, level);
     const size_t n = ladder.Levels[static_cast<size_t>(pl)].NumberOfPoints;
     const std::vector<size_t>& map = this->TargetMaps[p];
-    std::vector<double>& pw = this->PartWeights[p];
+    std::vector<double>& pw = this->Scratch;
     pw.resize(map.size());
     pw[0] = w[0];
     for (size_t s : this->Unmapped[p])
@@ -214,11 +216,23 @@ void ScalableScene::Blend(const std::vector<double>& w, int level, int morphTowa
     {
       pw[k] = w[map[k]];
     }
-    FloatPositions(ladder).Blend(pw.data(), pw.size(), this->Positions[p].data(), 0, n);
-    if (morphTowards >= 0 && pl == level && static_cast<size_t>(pl) + 1 < ladder.Levels.size())
+    const bool morphs = morphTowards >= 0 && pl == level && static_cast<size_t>(pl) + 1 < ladder.Levels.size();
+    // A part shown as in the last frame (its level, its weights, no geomorph then or now,
+    // e.g. an eye no active target moves) keeps its positions: nothing to blend.
+    ShownState& shown = this->Shown[p];
+    const bool same = this->SkipUnchanged && shown.Valid && shown.Level == pl && !shown.Morphed && !morphs &&
+      this->PartWeights[p] == pw;
+    this->PartWeights[p].swap(pw);
+    if (!same)
     {
-      GeomorphLadder(ladder, static_cast<size_t>(pl), alpha, this->Positions[p].data());
+      FloatPositions(ladder).Blend(
+        this->PartWeights[p].data(), this->PartWeights[p].size(), this->Positions[p].data(), 0, n);
+      if (morphs)
+      {
+        GeomorphLadder(ladder, static_cast<size_t>(pl), alpha, this->Positions[p].data());
+      }
     }
+    shown = { true, pl, morphs };
     this->Frame.PartLevels[p] = pl;
     this->Frame.PartPoints[p] = n;
     this->Frame.NumberOfPoints += n;
@@ -294,6 +308,7 @@ std::vector<CostModel> ScalableScene::Calibrate(const Ladders& parts, unsigned s
 {
   ScalableScene scene;
   scene.Layout(parts);
+  scene.SkipUnchanged = false; // every run of a blend timed
   std::mt19937 rng(seed);
   const size_t nt = scene.TargetNames.size() - 1;
   std::vector<CostModel> costs;

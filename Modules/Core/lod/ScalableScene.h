@@ -125,6 +125,17 @@ private:
   FrameBudgetController Controller;
   std::vector<std::vector<float>> Positions;
   std::vector<std::vector<double>> PartWeights; ///< per part, the last frame's
+  std::vector<double> Scratch;
+  /// Per part, what its positions show: a part shown as in the last frame is not blended
+  /// again (off while calibrating).
+  struct ShownState
+  {
+    bool Valid = false;
+    int Level = -1;
+    bool Morphed = false;
+  };
+  std::vector<ShownState> Shown;
+  bool SkipUnchanged = true;
   SceneFrame Frame;
 };
 

@@ -207,6 +207,30 @@ TEST(ScalableScene, EveryPartOnItsOwnBufferSwitchingTogether)
   EXPECT_EQ(last.Decision.ScreenLevel, 1);
   EXPECT_EQ(last.Decision.Level, 1);
   EXPECT_EQ(last.PartLevels, (std::vector<int>{ 1, 1, 0 }));
+  // A part shown as in the last frame is not blended again; its positions stay the blend.
+  // Weights that leave part B's targets at 0 and then move only them: B, then A and C, keep.
+  std::vector<double> w(6, 0.0);
+  w[0] = 0.7;
+  w[1] = 0.3; // target0: A and C only
+  still.Update(w, ppu);
+  still.Update(w, ppu);
+  const std::vector<float> keptB = still.GetPositions(1);
+  w[0] = 0.5;
+  w[5] = 0.2; // extra: B only
+  const morphnode::SceneFrame& moved = still.Update(w, ppu);
+  ASSERT_LT(moved.Decision.MorphTowards, 0);
+  EXPECT_NE(still.GetPositions(1), keptB) << "B's own target moved it";
+  for (size_t p = 0; p < parts.size(); ++p)
+  {
+    const MorphLadder& ladder = *parts[p];
+    const std::vector<double>& pw = still.GetPartWeights(p);
+    std::vector<float> expected(3 * ladder.Mesh.GetNumberOfPoints(), 0.0f);
+    reductiontest::PositionsOf(ladder.Mesh).Blend(pw.data(), pw.size(), expected.data(), 0, moved.PartPoints[p]);
+    for (size_t i = 0; i < 3 * moved.PartPoints[p]; ++i)
+    {
+      ASSERT_NEAR(still.GetPositions(p)[i], expected[i], 1e-5f) << "part " << p;
+    }
+  }
 }
 
 TEST(ScalableScene, BadPartsAreReported)
