@@ -417,14 +417,17 @@ struct vtkMorphNodeFilter::vtkInternals
     };
     if (auto* composite = vtkCompositeDataSet::SafeDownCast(output))
     {
-      composite->CopyStructure(this->CompositeInput);
-      auto it = Leaves(this->CompositeInput);
-      size_t i = 0;
-      for (it->InitTraversal(); !it->IsDoneWithTraversal() && i < this->Output.Parts.size(); it->GoToNextItem(), ++i)
+      // The levels in the output's structure as the filter's own leaves are placed; none
+      // kept for the next execution (a level's leaf is not the input's structure).
+      for (vtkMorphNodeOutput::Part& part : this->Output.Parts)
       {
-        composite->SetDataSet(it, level(this->Output.Parts[i]));
+        part.OutputLeaf = vtkPointSet::SafeDownCast(level(part));
       }
-      composite->GetFieldData()->PassData(this->CompositeInput->GetFieldData());
+      this->Output.PlaceLeaves(this->CompositeInput, composite);
+      for (vtkMorphNodeOutput::Part& part : this->Output.Parts)
+      {
+        part.OutputLeaf = nullptr;
+      }
       return;
     }
     auto* poly = vtkPolyData::SafeDownCast(output);

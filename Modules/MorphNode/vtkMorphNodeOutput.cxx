@@ -390,6 +390,12 @@ void vtkMorphNodeOutput::AssembleComposite(
     this->AssemblePart(
       part, part.OutputLeaf, scene, distances, part.LeafKept && !fresh ? none : fieldArrays, part.LeafKept);
   }
+  this->PlaceLeaves(input, output);
+}
+
+//------------------------------------------------------------------------------
+void vtkMorphNodeOutput::PlaceLeaves(vtkCompositeDataSet* input, vtkCompositeDataSet* output)
+{
   auto* collection = vtkPartitionedDataSetCollection::SafeDownCast(input);
   auto* outCollection = vtkPartitionedDataSetCollection::SafeDownCast(output);
   if (collection && outCollection)

@@ -100,6 +100,9 @@ public:
   /// ActiveTargetCount, ErrorBound), added to `fd`: for output data sets assembled
   /// elsewhere (the filter's mesh levels, vtkMorphMeshLevels).
   void AddFieldArrays(vtkFieldData* fd, const morphnode::MorphScene* scene);
+  /// A composite output's structure (the input's) holding the parts' OutputLeaf, and its
+  /// field data: the last step of Assemble, for leaves assembled elsewhere.
+  void PlaceLeaves(vtkCompositeDataSet* input, vtkCompositeDataSet* output);
 
 private:
   const std::vector<vtkSmartPointer<vtkDataArray>>& DistanceArrays(Part& part, const morphnode::MorphScene* scene);
