@@ -144,6 +144,7 @@ std::shared_ptr<const morphnode::MorphLadder> BuildLadder(
 void Assembler::Reset()
 {
   this->Levels.clear();
+  this->Previous.clear();
 }
 
 void Assembler::Assemble(const morphnode::ScalableScene& scene, size_t part, vtkPointSet* input, vtkPolyData* output)
@@ -209,11 +210,23 @@ void Assembler::Assemble(const morphnode::ScalableScene& scene, size_t part, vtk
   }
 
   output->Initialize();
-  vtkNew<vtkPoints> points;
-  points->SetDataTypeToFloat();
-  points->SetNumberOfPoints(vn);
-  std::copy_n(scene.GetPositions(part).data(), 3 * n, static_cast<float*>(points->GetData()->GetVoidPointer(0)));
-  output->SetPoints(points);
+  if (this->Previous.size() < scene.GetNumberOfParts())
+  {
+    this->Previous.resize(scene.GetNumberOfParts());
+  }
+  Last& last = this->Previous[part];
+  const bool reuse = !scene.IsPartChanged(part) && last.Level == level && last.Points;
+  if (!reuse)
+  {
+    last.Level = level;
+    last.Morphed.clear();
+    last.Points = vtkSmartPointer<vtkPoints>::New();
+    last.Points->SetDataTypeToFloat();
+    last.Points->SetNumberOfPoints(vn);
+    std::copy_n(
+      scene.GetPositions(part).data(), 3 * n, static_cast<float*>(last.Points->GetData()->GetVoidPointer(0)));
+  }
+  output->SetPoints(last.Points);
   if (made.Polys)
   {
     output->SetPolys(made.Polys);
@@ -228,11 +241,19 @@ void Assembler::Assemble(const morphnode::ScalableScene& scene, size_t part, vtk
     output->SetStrips(poly->GetStrips());
   }
 
-  // The level's gathered arrays, shared; the morphed ones (normals, ...) new, blended.
+  // The level's gathered arrays, shared; the morphed ones (normals, ...) new, blended (or
+  // the last output's, when the part did not change).
   vtkPointData* outPD = output->GetPointData();
   outPD->ShallowCopy(made.Gathered);
+  if (reuse)
+  {
+    for (vtkDataArray* array : last.Morphed)
+    {
+      outPD->AddArray(array);
+    }
+  }
   const int position = ladder.Mesh.GetPositionAttribute();
-  for (size_t a = 0; a < ladder.Mesh.GetNumberOfAttributes(); ++a)
+  for (size_t a = 0; a < ladder.Mesh.GetNumberOfAttributes() && !reuse; ++a)
   {
     if (static_cast<int>(a) == position)
     {
@@ -258,6 +279,7 @@ void Assembler::Assemble(const morphnode::ScalableScene& scene, size_t part, vtk
       BlendInto<double>(scene, part, a, array, n);
     }
     outPD->AddArray(array); // in the gathered one's place (and attribute)
+    last.Morphed.push_back(array);
   }
 
   output->GetFieldData()->PassData(input->GetFieldData());

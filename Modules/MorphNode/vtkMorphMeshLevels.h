@@ -40,6 +40,8 @@
 #include <vector>
 
 class vtkCellArray;
+class vtkDataArray;
+class vtkPoints;
 class vtkPointData;
 class vtkPointSet;
 class vtkPolyData;
@@ -88,6 +90,15 @@ private:
     vtkSmartPointer<vtkCellArray> Polys; // null: the input's own cells
   };
   std::vector<std::vector<Level>> Levels; // [part][level]
+  /// Per part, the last output's points and morphed arrays: shared again (never written in
+  /// place) while the scene did not blend the part again (ScalableScene::IsPartChanged).
+  struct Last
+  {
+    int Level = -1;
+    vtkSmartPointer<vtkPoints> Points;
+    std::vector<vtkSmartPointer<vtkDataArray>> Morphed;
+  };
+  std::vector<Last> Previous;
 };
 
 /// A morph node's mesh levels (vtkMorphNodeFilter::MeshLevels): the ladders of its parts,

@@ -232,7 +232,7 @@ void ScalableScene::Blend(const std::vector<double>& w, int level, int morphTowa
         GeomorphLadder(ladder, static_cast<size_t>(pl), alpha, this->Positions[p].data());
       }
     }
-    shown = { true, pl, morphs };
+    shown = { true, pl, morphs, !same };
     this->Frame.PartLevels[p] = pl;
     this->Frame.PartPoints[p] = n;
     this->Frame.NumberOfPoints += n;

@@ -87,6 +87,10 @@ public:
   const SceneFrame& GetFrame() const { return this->Frame; }
   /// Part `part`'s positions (3 per point of its whole buffer, its shown prefix valid).
   const std::vector<float>& GetPositions(size_t part) const { return this->Positions.at(part); }
+  /// Whether the last frame blended part `part` again (false: its positions and every
+  /// attribute at the shown level are the frame before's: same level, same weights, no
+  /// geomorph then or now).
+  bool IsPartChanged(size_t part) const { return this->Shown.at(part).Changed; }
   /// Part `part`'s shown index buffer.
   const std::vector<uint32_t>& GetTriangles(size_t part) const;
   /// The weights part `part` blended with in the last frame: its own targets' scene
@@ -133,6 +137,7 @@ private:
     bool Valid = false;
     int Level = -1;
     bool Morphed = false;
+    bool Changed = true;
   };
   std::vector<ShownState> Shown;
   bool SkipUnchanged = true;
