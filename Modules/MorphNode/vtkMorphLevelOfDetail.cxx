@@ -1,21 +1,17 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkMorphLevelOfDetail.h"
 
-#include "vtkMorphTargetArrays.h"
+#include "vtkMorphMeshLevels.h"
 
 #include "base/Error.h"
 #include "budget/DeviceProfile.h"
 #include "lod/MorphLadder.h"
-#include "lod/ScalableMorph.h"
+#include "lod/ScalableScene.h"
 
-#include "vtkDoubleArray.h"
-#include "vtkFieldData.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
-#include "vtkPointData.h"
-#include "vtkPoints.h"
 #include "vtkPolyData.h"
 
 #include <algorithm>
@@ -31,7 +27,9 @@ public:
   vtkMTimeType InputTime = 0;
   std::shared_ptr<const morphnode::MorphLadder> Ladder;
   std::vector<morphnode::CostModel> Costs;
-  morphnode::ScalableMorph Morph;
+  morphnode::ScalableScene Scene; // of the one part
+  bool SceneHasLadder = false;
+  vtkMorphMeshLevels::Assembler Output;
   std::vector<double> Weights; // relative, index 1.. (0 unused)
   int Level = -1;
   int Active = 0;
@@ -136,13 +134,10 @@ int vtkMorphLevelOfDetail::RequestData(
     if (!in.Ladder || in.Input != input || in.InputTime != input->GetMTime())
     {
       in.Ladder.reset();
-      vtkMorphTargetArrays::ReadOptions options;
-      options.Normals = false;
-      options.Triangles = true;
-      const morphnode::MorphMesh mesh = vtkMorphTargetArrays::ToMorphMesh(input, options).Mesh;
-      auto ladder = std::make_shared<const morphnode::MorphLadder>(
-        morphnode::BuildMorphLadder(mesh, morphnode::LadderSettings()));
-      in.Costs = morphnode::ScalableMorph::Calibrate(*ladder);
+      in.SceneHasLadder = false;
+      in.Output.Reset();
+      auto ladder = vtkMorphMeshLevels::BuildLadder(input, morphnode::LadderSettings(), "the input");
+      in.Costs = morphnode::ScalableScene::Calibrate({ ladder });
       in.Ladder = ladder;
       in.Input = input;
       in.InputTime = input->GetMTime();
@@ -154,16 +149,16 @@ int vtkMorphLevelOfDetail::RequestData(
     s.FinestLevel = this->FinestLevel;
     s.MaxGeomorphPixels = this->MaxGeomorphPixels;
     s.Strategy = morphnode::Redistribution::Neutral;
-    const morphnode::ControllerSettings& was = in.Morph.GetSettings();
-    if (!in.Morph.GetLadder() || in.Morph.GetLadder() != in.Ladder.get() ||
-      was.FrameBudget != s.FrameBudget || was.PixelBound != s.PixelBound ||
+    const morphnode::ControllerSettings& was = in.Scene.GetSettings();
+    if (!in.SceneHasLadder || was.FrameBudget != s.FrameBudget || was.PixelBound != s.PixelBound ||
       was.TargetPixelBound != s.TargetPixelBound || was.FinestLevel != s.FinestLevel ||
       was.MaxGeomorphPixels != s.MaxGeomorphPixels)
     {
-      in.Morph.SetSettings(s);
-      if (in.Morph.GetLadder() != in.Ladder.get())
+      in.Scene.SetSettings(s);
+      if (!in.SceneHasLadder)
       {
-        in.Morph.SetLadder(in.Ladder, in.Costs);
+        in.Scene.SetParts({ in.Ladder }, in.Costs);
+        in.SceneHasLadder = true;
       }
     }
     const morphnode::MorphLadder& ladder = *in.Ladder;
@@ -176,29 +171,11 @@ int vtkMorphLevelOfDetail::RequestData(
       sum += absolute[k];
     }
     absolute[0] = 1.0 - sum;
-    const morphnode::ScalableFrame& frame = in.Morph.Update(absolute, this->PixelsPerUnit);
+    const morphnode::SceneFrame& frame = in.Scene.Update(absolute, this->PixelsPerUnit);
     in.Level = frame.Decision.Level;
     in.Active = frame.Decision.ActiveTargets;
     in.Points = static_cast<vtkIdType>(frame.NumberOfPoints);
-
-    const vtkIdType n = in.Points;
-    vtkNew<vtkPoints> points;
-    points->SetDataTypeToFloat();
-    points->SetNumberOfPoints(n);
-    std::copy_n(in.Morph.GetPositions().data(), 3 * n, static_cast<float*>(points->GetData()->GetVoidPointer(0)));
-    vtkMorphTargetArrays::ExtractPointSubset(
-      input, ladder.OriginalPointIds, n, in.Morph.GetTriangles(), output, points);
-    vtkMorphTargetArrays::RemoveTargetArrays(output->GetPointData());
-    vtkNew<vtkDoubleArray> lod;
-    lod->SetName("LevelOfDetail");
-    lod->SetNumberOfComponents(4);
-    lod->SetComponentName(0, "Level");
-    lod->SetComponentName(1, "MorphTowards");
-    lod->SetComponentName(2, "Alpha");
-    lod->SetComponentName(3, "ActiveTargets");
-    lod->InsertNextTuple4(frame.Decision.Level, frame.Decision.MorphTowards, frame.Decision.Alpha,
-      frame.Decision.ActiveTargets);
-    output->GetFieldData()->AddArray(lod);
+    in.Output.Assemble(in.Scene, 0, input, output);
   }
   catch (const std::exception& e)
   {

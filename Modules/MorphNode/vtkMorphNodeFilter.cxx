@@ -4,6 +4,9 @@
 #include "vtkMorphModelAdapter.h"
 #include "vtkMorphNodeOutput.h"
 #include "vtkMorphTargetArrays.h"
+#ifdef MORPHNODE_WITH_MESH_LEVELS
+#include "vtkMorphMeshLevels.h"
+#endif
 
 #include "base/Error.h"
 #include "budget/DeviceProfile.h"
@@ -23,6 +26,7 @@
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
 #include "vtkPointSet.h"
+#include "vtkPolyData.h"
 #include "vtkSMPTools.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkTable.h"
@@ -353,6 +357,91 @@ struct vtkMorphNodeFilter::vtkInternals
     self->FrameBudgetThreshold = this->Budget.Decide(this->Scene, this->Requested, goals, measured);
   }
 
+  // ---- Mesh levels (MeshLevels; docs/lod.md). The core decides and blends (ScalableScene
+  // over the parts' ladders); vtkMorphMeshLevels converts. Each process chooses its level
+  // from its own parts.
+#ifdef MORPHNODE_WITH_MESH_LEVELS
+  vtkMorphMeshLevels::SceneLevels Levels;
+#endif
+
+  void ClearLevels()
+  {
+#ifdef MORPHNODE_WITH_MESH_LEVELS
+    this->Levels.Clear();
+#endif
+  }
+
+  /// Steps 3 and 4 with mesh levels: the scene's level blended with the effective weights,
+  /// each part's level as the output's data set, in the input's structure.
+  void ShowLevels(vtkMorphNodeFilter* self, vtkDataObject* output)
+  {
+#ifdef MORPHNODE_WITH_MESH_LEVELS
+    // The scene's parts: their models, data sets and names, in the scene's order.
+    const size_t numScene = this->Scene.GetNumberOfParts();
+    std::vector<const morphnode::MorphMesh*> models(numScene, nullptr);
+    std::vector<vtkPointSet*> inputs(numScene, nullptr);
+    std::vector<std::string> names(numScene);
+    for (const vtkMorphNodeOutput::Part& part : this->Output.Parts)
+    {
+      if (part.ScenePart >= 0)
+      {
+        const auto p = static_cast<size_t>(part.ScenePart);
+        models[p] = &part.Built->Model;
+        inputs[p] = part.Input;
+        names[p] = part.Name.empty() ? "the input" : "part '" + part.Name + "'";
+      }
+    }
+    this->Levels.SetParts(models, inputs, names, this->Generation);
+    morphnode::ControllerSettings settings;
+    settings.Thresholds = { 0.0 }; // the weights are the filter's already
+    settings.FrameBudget = self->FrameBudget > 0.0 ? 1e-3 * self->FrameBudget : 1.0;
+    settings.PixelBound = self->PixelsPerUnit > 0.0 ? self->LevelPixelBound : 0.0;
+    settings.FinestLevel = self->FinestLevel;
+    settings.MaxGeomorphPixels = 1.0;
+    const morphnode::SceneFrame& frame =
+      this->Levels.Update(this->Names(), this->Scene.GetEffectiveWeights(), settings, self->PixelsPerUnit);
+    self->Level = frame.Decision.Level;
+    self->UpdateProgress(0.9);
+
+    auto level = [&](const vtkMorphNodeOutput::Part& part) -> vtkSmartPointer<vtkDataObject> {
+      if (part.ScenePart < 0)
+      {
+        return part.Input; // an empty leaf passes through
+      }
+      auto poly = vtkSmartPointer<vtkPolyData>::New();
+      this->Levels.Assemble(static_cast<size_t>(part.ScenePart), poly);
+      this->Output.AddFieldArrays(poly->GetFieldData(), &this->Scene);
+      return poly;
+    };
+    if (auto* composite = vtkCompositeDataSet::SafeDownCast(output))
+    {
+      // The levels in the output's structure as the filter's own leaves are placed; none
+      // kept for the next execution (a level's leaf is not the input's structure).
+      for (vtkMorphNodeOutput::Part& part : this->Output.Parts)
+      {
+        part.OutputLeaf = vtkPointSet::SafeDownCast(level(part));
+      }
+      this->Output.PlaceLeaves(this->CompositeInput, composite);
+      for (vtkMorphNodeOutput::Part& part : this->Output.Parts)
+      {
+        part.OutputLeaf = nullptr;
+      }
+      return;
+    }
+    auto* poly = vtkPolyData::SafeDownCast(output);
+    if (!poly || this->Output.Parts.size() != 1)
+    {
+      throw morphnode::InputError("MeshLevels: the input must be a vtkPolyData (or a composite of them)");
+    }
+    poly->ShallowCopy(level(this->Output.Parts[0]));
+#else
+    (void)self;
+    (void)output;
+    throw morphnode::InputError("MeshLevels: this build has no mesh levels (MORPHNODE_ENABLE_REDUCTION off)");
+#endif
+  }
+  // ---- End of mesh levels.
+
   /// Blends every part that needs it with the scene's effective weights, in parallel over
   /// point ranges of all parts together (the core's blend plan). Leaves of a composite that
   /// no active target moves are not blended: they pass through.
@@ -401,6 +490,16 @@ vtkMorphNodeFilter::~vtkMorphNodeFilter()
 }
 
 //------------------------------------------------------------------------------
+bool vtkMorphNodeFilter::HasMeshLevels()
+{
+#ifdef MORPHNODE_WITH_MESH_LEVELS
+  return true;
+#else
+  return false;
+#endif
+}
+
+//------------------------------------------------------------------------------
 void vtkMorphNodeFilter::SetDeviceProfile(const char* name)
 {
   if (!name || !*name)
@@ -418,6 +517,8 @@ void vtkMorphNodeFilter::SetDeviceProfile(const char* name)
     const morphnode::DeviceProfile& profile = morphnode::FindDeviceProfile(name);
     this->SetFrameBudget(1e3 * profile.FrameBudget);
     this->SetTargetPixelBound(profile.TargetPixelBound);
+    this->SetLevelPixelBound(profile.PixelBound);
+    this->SetFinestLevel(profile.FinestLevel);
     delete[] this->DeviceProfile;
     this->DeviceProfile = new char[profile.Name.size() + 1];
     std::copy(profile.Name.c_str(), profile.Name.c_str() + profile.Name.size() + 1, this->DeviceProfile);
@@ -760,13 +861,24 @@ int vtkMorphNodeFilter::RequestData(
     }
     this->UpdateProgress(0.4);
 
-    // 3. The blend, in parallel over the points of every part, into arrays of the input's types.
-    internals.Blend();
-    this->UpdateProgress(0.9);
+    this->Level = -1;
+    if (this->MeshLevels && (internals.HasScene || !vtkMorphNodeFilter::HasMeshLevels()))
+    {
+      // 3-4. Mesh levels: the core's ScalableScene chooses the level and blends it; the
+      // output holds each part's level (vtkMorphMeshLevels).
+      internals.ShowLevels(this, output);
+    }
+    else
+    {
+      internals.ClearLevels();
+      // 3. The blend, in parallel over the points of every part, into arrays of the input's types.
+      internals.Blend();
+      this->UpdateProgress(0.9);
 
-    // 4. The output: the input's structure with the blended arrays and field data.
-    internals.Output.Assemble(output, internals.CompositeInput, internals.HasScene ? &internals.Scene : nullptr,
-      this->GenerateDistanceArrays);
+      // 4. The output: the input's structure with the blended arrays and field data.
+      internals.Output.Assemble(output, internals.CompositeInput, internals.HasScene ? &internals.Scene : nullptr,
+        this->GenerateDistanceArrays);
+    }
     vtkInformation* outInfo = outputVector->GetInformationObject(0);
     if (outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP()))
     {
@@ -807,6 +919,10 @@ void vtkMorphNodeFilter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "PixelsPerUnit: " << this->PixelsPerUnit << "\n";
   os << indent << "TargetPixelBound: " << this->TargetPixelBound << " px\n";
   os << indent << "DeviceProfile: " << (this->DeviceProfile ? this->DeviceProfile : "(none)") << "\n";
+  os << indent << "MeshLevels: " << (this->MeshLevels ? "On" : "Off") << "\n";
+  os << indent << "LevelPixelBound: " << this->LevelPixelBound << " px\n";
+  os << indent << "FinestLevel: " << this->FinestLevel << "\n";
+  os << indent << "Level: " << this->Level << "\n";
   os << indent << "FrameBudgetThreshold: " << this->FrameBudgetThreshold << "\n";
   os << indent << "MorphTime: " << this->MorphTime << " ms\n";
   os << indent << "GenerateDistanceArrays: " << (this->GenerateDistanceArrays ? "On" : "Off") << "\n";

@@ -319,10 +319,40 @@ public:
 
   ///@{
   /**
+   * Mesh levels of detail (docs/lod.md; in builds with the reduction, HasMeshLevels()).
+   * With MeshLevels on, every part gets a ladder of the animation-aware reduction (its full
+   * mesh and 50, 25 and 10 % of its triangles over one vertex buffer; a part that is not
+   * triangles, or has fewer than 100, is kept whole), built when the model is, and one
+   * morphnode::ScalableScene chooses ONE level for the whole model every execution, every
+   * part switching together: the coarsest whose largest part error (99th percentile of the
+   * carried points' distances) projects to at most LevelPixelBound pixels at PixelsPerUnit
+   * (without PixelsPerUnit: time alone), never finer than FinestLevel, coarser still when
+   * FrameBudget asks, with geomorphs and hysteresis. The weights are decided as without
+   * levels (mode, optimizer, target level of detail). The output's parts then hold the
+   * level's points and triangles (vtkPolyData), every point array gathered to the level's
+   * points with the morphed ones blended, point data `OriginalPointId` (each point's id in
+   * its input part) and field data `LevelOfDetail` (Level, MorphTowards, Alpha,
+   * ActiveTargets, Points); cell data and the distance arrays are left out. Off (the
+   * default): the output is the input's structure, as always. Level is the level the last
+   * execution showed (-1: levels off, or before).
+   */
+  vtkSetMacro(MeshLevels, bool);
+  vtkGetMacro(MeshLevels, bool);
+  vtkBooleanMacro(MeshLevels, bool);
+  vtkSetClampMacro(LevelPixelBound, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(LevelPixelBound, double);
+  vtkSetClampMacro(FinestLevel, int, 0, VTK_INT_MAX);
+  vtkGetMacro(FinestLevel, int);
+  vtkGetMacro(Level, int);
+  static bool HasMeshLevels();
+  ///@}
+
+  ///@{
+  /**
    * A device profile (morphnode::DeviceProfiles: "desktop", "laptop", "phone"; empty: none)
-   * sets FrameBudget and TargetPixelBound to the profile's (and keeps its name); an unknown
-   * name is an error and changes nothing. Setting FrameBudget or TargetPixelBound afterwards
-   * overrides the profile's value.
+   * sets FrameBudget, TargetPixelBound, LevelPixelBound and FinestLevel to the profile's
+   * (and keeps its name); an unknown name is an error and changes nothing. Setting one of
+   * them afterwards overrides the profile's value.
    */
   void SetDeviceProfile(const char* name);
   vtkGetStringMacro(DeviceProfile);
@@ -412,6 +442,10 @@ protected:
   double PixelsPerUnit = 0.0;
   double TargetPixelBound = 0.0;
   char* DeviceProfile = nullptr;
+  bool MeshLevels = false;
+  double LevelPixelBound = 1.0;
+  int FinestLevel = 0;
+  int Level = -1;
   bool GenerateDistanceArrays = false;
   double SparseCoverage;
 

@@ -256,6 +256,17 @@ std::vector<vtkDataArray*> vtkMorphNodeOutput::FieldArrays(
 }
 
 //------------------------------------------------------------------------------
+void vtkMorphNodeOutput::AddFieldArrays(vtkFieldData* fd, const morphnode::MorphScene* scene)
+{
+  bool fresh = false;
+  for (vtkDataArray* array : this->FieldArrays(scene, false, 0, fresh))
+  {
+    fd->AddArray(array);
+  }
+  fd->AddArray(this->TargetNames);
+}
+
+//------------------------------------------------------------------------------
 void vtkMorphNodeOutput::AssemblePart(Part& part, vtkPointSet* output, const morphnode::MorphScene* scene,
   bool distances, const std::vector<vtkDataArray*>& fieldArrays, bool kept)
 {
@@ -379,6 +390,12 @@ void vtkMorphNodeOutput::AssembleComposite(
     this->AssemblePart(
       part, part.OutputLeaf, scene, distances, part.LeafKept && !fresh ? none : fieldArrays, part.LeafKept);
   }
+  this->PlaceLeaves(input, output);
+}
+
+//------------------------------------------------------------------------------
+void vtkMorphNodeOutput::PlaceLeaves(vtkCompositeDataSet* input, vtkCompositeDataSet* output)
+{
   auto* collection = vtkPartitionedDataSetCollection::SafeDownCast(input);
   auto* outCollection = vtkPartitionedDataSetCollection::SafeDownCast(output);
   if (collection && outCollection)

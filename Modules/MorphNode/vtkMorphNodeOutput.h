@@ -35,6 +35,7 @@ class vtkCompositeDataSet;
 class vtkDataArray;
 class vtkDataObject;
 class vtkDoubleArray;
+class vtkFieldData;
 class vtkPartitionedDataSet;
 class vtkPartitionedDataSetCollection;
 class vtkPointSet;
@@ -94,6 +95,14 @@ public:
   /// output that does not fit the parts.
   void Assemble(vtkDataObject* output, vtkCompositeDataSet* input, const morphnode::MorphScene* scene,
     bool distances);
+
+  /// The model's target names and this execution's field data (EffectiveWeights,
+  /// ActiveTargetCount, ErrorBound), added to `fd`: for output data sets assembled
+  /// elsewhere (the filter's mesh levels, vtkMorphMeshLevels).
+  void AddFieldArrays(vtkFieldData* fd, const morphnode::MorphScene* scene);
+  /// A composite output's structure (the input's) holding the parts' OutputLeaf, and its
+  /// field data: the last step of Assemble, for leaves assembled elsewhere.
+  void PlaceLeaves(vtkCompositeDataSet* input, vtkCompositeDataSet* output);
 
 private:
   const std::vector<vtkSmartPointer<vtkDataArray>>& DistanceArrays(Part& part, const morphnode::MorphScene* scene);

@@ -7,6 +7,11 @@
 // more. Both extremes hold on a loaded machine (timing noise cannot move a morph across
 // either budget). Run under `xvfb-run -a`.
 #include "MorphAvatarRun.h"
+#include "MorphNodeImageSimilarity.h"
+
+#include "vtkImageData.h"
+#include "vtkNew.h"
+#include "vtkPNGReader.h"
 
 #include "vtksys/SystemTools.hxx"
 
@@ -31,6 +36,8 @@ struct Frame
   double Threshold = -1.0;
   int Active = -1;
   double Milliseconds = -1.0;
+  int Level = -1;     ///< the mesh level shown
+  long Points = -1;   ///< the morph output's points
 };
 
 std::vector<Frame> ReadLog(const std::string& file)
@@ -42,12 +49,15 @@ std::vector<Frame> ReadLog(const std::string& file)
   while (std::getline(in, line))
   {
     std::istringstream fields(line);
-    std::string index, threshold, active, ms;
+    std::string index, threshold, active, ms, budget, level, points;
     std::getline(fields, index, ',');
     std::getline(fields, threshold, ',');
     std::getline(fields, active, ',');
     std::getline(fields, ms, ',');
-    frames.push_back({ std::stod(threshold), std::stoi(active), std::stod(ms) });
+    std::getline(fields, budget, ',');
+    std::getline(fields, level, ',');
+    std::getline(fields, points, ',');
+    frames.push_back({ std::stod(threshold), std::stoi(active), std::stod(ms), std::stoi(level), std::stol(points) });
   }
   return frames;
 }
@@ -130,4 +140,94 @@ TEST(MorphAvatarFrameBudget, ProfilesSetTheBudget)
   run = RunAvatar(common + "--profile watch");
   EXPECT_EQ(run.ExitCode, 2) << run.Text;
   EXPECT_NE(run.Text.find("desktop|laptop|phone"), std::string::npos) << run.Text;
+}
+
+namespace
+{
+vtkSmartPointer<vtkImageData> ReadFrame(const std::string& file)
+{
+  vtkNew<vtkPNGReader> reader;
+  reader->SetFileName(file.c_str());
+  reader->Update();
+  return reader->GetOutput();
+}
+
+/// --profile phone with the face about 150 px high against the full mesh (a 1 s budget, no
+/// levels), the same track: the mesh levels (vtkMorphNodeFilter's MeshLevels) draw a level
+/// coarser than the full mesh on every frame (the log's level and the morph output's
+/// points), and the picture stays the face's: its mouth region is closer (SSIM) to the full
+/// mesh's render of the same frame than the full mesh's own render a third of a second
+/// later is (the negative control: the mouth moved). `face`: --face's argument, or empty.
+void PhoneAgainstFull(const std::string& face, const std::string& name)
+{
+  const std::string dir = Output + "/TestMorphAvatarFrameBudget_" + name;
+  vtksys::SystemTools::RemoveADirectory(dir);
+  vtksys::SystemTools::MakeDirectory(dir + "/full");
+  vtksys::SystemTools::MakeDirectory(dir + "/phone");
+  // Speech when eSpeak NG is there (a moving mouth for the negative control), idle else.
+  const std::string behaviour = MORPHNODE_TEST_ESPEAK
+    ? "--say 'Hello, how are you today?' "
+    : "--script '" + std::string(MORPHNODE_SOURCE_DIR) + "/Data/scripts/idle.txt' ";
+  const std::string common = behaviour + (face.empty() ? "" : "--face '" + face + "' ") +
+    "--duration 1.5 --seed 11 --fps 6 --size 192x192 --no-overlay --offscreen ";
+  AvatarRun run = RunAvatar(common + "--frames '" + dir + "/full' --frame-budget 1000 --frame-budget-log '" +
+    dir + "/full.csv'");
+  ASSERT_EQ(run.ExitCode, 0) << run.Text;
+  const std::vector<Frame> full = ReadLog(dir + "/full.csv");
+  run = RunAvatar(common + "--frames '" + dir + "/phone' --profile phone --frame-budget-log '" + dir + "/phone.csv'");
+  ASSERT_EQ(run.ExitCode, 0) << run.Text;
+  const std::vector<Frame> phone = ReadLog(dir + "/phone.csv");
+  ASSERT_GE(full.size(), 8u);
+  ASSERT_EQ(phone.size(), full.size());
+  for (size_t f = 0; f < full.size(); ++f)
+  {
+    EXPECT_EQ(full[f].Level, 0) << f;
+    EXPECT_GE(phone[f].Level, 1) << f;
+    EXPECT_LT(phone[f].Points, full[f].Points * 3 / 4) << f;
+  }
+  std::cout << name << ": full mesh " << full[0].Points << " points, phone level " << phone.back().Level << " "
+            << phone.back().Points << " points\n";
+  EXPECT_NE(run.Text.find("mesh levels shown: level"), std::string::npos) << run.Text;
+  if (!MORPHNODE_TEST_ESPEAK)
+  {
+    return;
+  }
+  auto frame = [&](const std::string& which, int i) {
+    char file[32];
+    std::snprintf(file, sizeof(file), "/frame_%05d.png", i);
+    return ReadFrame(dir + "/" + which + file);
+  };
+  // The mouth: the middle third across, from a fifth to two fifths up the frame.
+  const int w = 192, h = 192;
+  auto mouth = [&](vtkImageData* a, vtkImageData* b) {
+    return morphnode_test::Ssim(a, b, w / 3, 2 * w / 3, h / 5, 2 * h / 5);
+  };
+  double same = 1.0, later = 1.0;
+  for (int i = 2; i + 2 < static_cast<int>(full.size()); ++i)
+  {
+    same = std::min(same, mouth(frame("phone", i), frame("full", i)));
+    later = std::min(later, mouth(frame("full", i + 2), frame("full", i)));
+  }
+  std::cout << name << ": mouth SSIM, phone vs full, same frame (worst) " << same
+            << "; full vs full 1/3 s later (worst) " << later << "\n";
+  EXPECT_GT(same, later);
+  EXPECT_GT(same, 0.93);
+}
+} // namespace
+
+TEST(MorphAvatarFrameBudget, PhoneDrawsACoarserLevel)
+{
+  PhoneAgainstFull("", "phone");
+}
+
+TEST(MorphAvatarFrameBudget, PhoneDrawsTheSkinnedAvatarCoarser)
+{
+  // The MakeHuman avatar's skinned parts reduced: their gathered joints and weights still
+  // skin them (vtkMorphSkinFilter downstream), so the face stays where the full one is.
+  const std::string avatar = std::string(MORPHNODE_AVATAR_DIR) + "/makehuman_avatar.glb";
+  if (!vtksys::SystemTools::FileExists(avatar, true))
+  {
+    GTEST_SKIP() << "MakeHuman avatar not found: " << avatar;
+  }
+  PhoneAgainstFull(avatar, "phone_skinned");
 }

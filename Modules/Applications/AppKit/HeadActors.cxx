@@ -34,6 +34,9 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <map>
+#include <tuple>
+#include <utility>
 
 namespace morphnode
 {
@@ -309,9 +312,30 @@ struct HeadActors::Part
   vtkSmartPointer<vtkDataArray> Tangents; // for a normal texture (PartTangents), or null
   vtkIdType Points = 0;
   std::string Name;
+  std::array<double, 4> Color = { 1, 1, 1, 1 };
+  /// A morph filter's mesh levels (point data OriginalPointId, docs/lod.md): the part's
+  /// point count changes with its level; its colours and tangents per level, made at the
+  /// level's first frame.
+  std::map<vtkIdType, std::pair<vtkSmartPointer<vtkUnsignedCharArray>, vtkSmartPointer<vtkDataArray>>> ByLevel;
 
   void Take(vtkPolyData* part)
   {
+    if (part->GetNumberOfPoints() != this->Points)
+    {
+      // Another level of the part: its own colours and tangents.
+      this->ByLevel[this->Points] = { this->Colors, this->Tangents };
+      this->Points = part->GetNumberOfPoints();
+      auto found = this->ByLevel.find(this->Points);
+      if (found != this->ByLevel.end())
+      {
+        std::tie(this->Colors, this->Tangents) = found->second;
+      }
+      else
+      {
+        this->Colors = this->Colors ? PointColors(part, this->Color) : nullptr;
+        this->Tangents = this->Tangents ? PartTangents(part) : nullptr;
+      }
+    }
     // Our own copy of the arrays' list: the colours added here never reach the filter's output.
     this->Display->ShallowCopy(part);
     if (this->Colors)
@@ -414,6 +438,7 @@ bool HeadActors::Build(vtkDataObject* head, vtkRenderer* renderer, vtkLinearTran
     auto part = std::make_unique<Part>();
     const std::array<double, 4> color = PartColor(input);
     part->Colors = PointColors(input, color);
+    part->Color = color;
     part->Points = input->GetNumberOfPoints();
     part->Name = partdata::GetPartName(input->GetFieldData());
     part->Tangents = PartTangents(input);
@@ -450,7 +475,9 @@ bool HeadActors::Update(vtkDataObject* head)
   }
   for (size_t i = 0; i < parts.size(); ++i)
   {
-    if (parts[i]->GetNumberOfPoints() != this->Parts[i]->Points)
+    // A part at another mesh level (OriginalPointId) is the same part.
+    if (parts[i]->GetNumberOfPoints() != this->Parts[i]->Points &&
+      !parts[i]->GetPointData()->GetArray("OriginalPointId"))
     {
       return false;
     }

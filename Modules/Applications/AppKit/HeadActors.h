@@ -61,7 +61,9 @@ public:
   bool Build(vtkDataObject* head, vtkRenderer* renderer, vtkLinearTransform* pose);
 
   /// The parts' new geometry: `head` is the composite (or polydata) of Build at another time,
-  /// with the same parts (a morph filter's output). False when the parts differ.
+  /// with the same parts (a morph filter's output; a part shown at another mesh level, with
+  /// point data OriginalPointId, is the same part, its colours and tangents made per level).
+  /// False when the parts differ.
   bool Update(vtkDataObject* head);
 
   /// Colours every part by a point array (e.g. AnimatedRegion, Distance_O) through `lut`

@@ -17,6 +17,9 @@
 #include "vtkMath.h"
 #include "vtkRenderWindow.h"
 #include "vtkCoordinate.h"
+#include "vtkDataArray.h"
+#include "vtkFieldData.h"
+#include "vtkPolyData.h"
 #include "vtkProperty.h"
 #include "vtkSmartPointer.h"
 #include "vtkTable.h"
@@ -468,8 +471,17 @@ std::string Avatar::OverlayText(bool offscreen, int frame, int frames) const
      << std::setprecision(2) << 100.0 * bound / this->Diagonal << " %\n";
   if (this->Morph->GetPixelsPerUnit() > 0.0)
   {
-    // The level of detail: the filter shows the full mesh (level 0); targets by the screen.
-    os << "LOD " << (this->Opt.Profile.empty() ? "" : this->Opt.Profile + " ") << "level 0   targets "
+    // The level of detail drawn: the level of the parts the actors took (field data
+    // LevelOfDetail of the mesh levels; level 0 without them), targets by the screen.
+    int level = 0;
+    for (vtkPolyData* part : appkit::HeadParts(this->GetHead()))
+    {
+      if (vtkDataArray* lod = part->GetFieldData()->GetArray("LevelOfDetail"))
+      {
+        level = std::max(level, static_cast<int>(lod->GetComponent(0, 0)));
+      }
+    }
+    os << "LOD " << (this->Opt.Profile.empty() ? "" : this->Opt.Profile + " ") << "level " << level << "   targets "
        << this->Morph->GetActiveTargetCount() << "   points "
        << this->GetHead()->GetNumberOfElements(vtkDataObject::POINT) << "   face " << std::setprecision(0) << this->Morph->GetPixelsPerUnit() * this->Diagonal << " px\n";
   }

@@ -2,6 +2,7 @@
 #include "AvatarFrameBudget.h"
 
 #include "vtkCommand.h"
+#include "vtkDataObject.h"
 #include "vtkMorphNodeFilter.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
@@ -13,6 +14,7 @@
 #include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <map>
 #include <memory>
 #include <sstream>
 #include <vector>
@@ -44,13 +46,18 @@ public:
     const double threshold = morph->GetFrameBudgetThreshold();
     const double ms = morph->GetMorphTime();
     const int active = morph->GetActiveTargetCount();
+    // The mesh level shown (0 without MeshLevels) and the points of the morph's output.
+    const int level = std::max(0, morph->GetLevel());
+    vtkDataObject* output = morph->GetOutputDataObject(0);
+    const vtkIdType points = output ? output->GetNumberOfElements(vtkDataObject::POINT) : 0;
     if (this->Log)
     {
       std::ostringstream line;
       line << this->Thresholds.size() << "," << threshold << "," << active << ","
-           << std::setprecision(6) << ms << "," << this->Budget << "\n";
+           << std::setprecision(6) << ms << "," << this->Budget << "," << level << "," << points << "\n";
       this->WriteLog(line.str());
     }
+    this->Levels[level] += 1;
     this->Thresholds.push_back(threshold);
     this->Times.push_back(ms);
     this->Active.push_back(active);
@@ -123,11 +130,21 @@ protected:
               << " ms; threshold changed on " << changes << " frames, mean threshold "
               << thresholdSum / double(n) << ", mean active targets " << std::setprecision(2)
               << activeSum / double(n) << "\n";
+    if (this->Levels.size() > 1 || this->Levels.count(0) == 0)
+    {
+      std::cout << "mesh levels shown:";
+      for (const auto& [level, frames] : this->Levels)
+      {
+        std::cout << " level " << level << " " << frames << " frames";
+      }
+      std::cout << "\n";
+    }
   }
 
 private:
   std::vector<double> Thresholds, Times;
   std::vector<int> Active;
+  std::map<int, size_t> Levels; // mesh level -> frames shown
 };
 vtkStandardNewMacro(FrameBudgetWatch);
 
@@ -159,7 +176,7 @@ void WatchFrameBudget(vtkMorphNodeFilter* morph, const Options& o)
     {
       FailUsage(e.what());
     }
-    watch->WriteLog("frame,threshold,active_targets,morph_ms,budget_ms\n");
+    watch->WriteLog("frame,threshold,active_targets,morph_ms,budget_ms,level,points\n");
   }
   morph->AddObserver(vtkCommand::EndEvent, watch);
   ActiveWatch = watch;

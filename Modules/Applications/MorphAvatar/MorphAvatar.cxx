@@ -70,6 +70,11 @@ int Run(int argc, char* argv[])
   {
     a.Morph->SetTargetPixelBound(0.5);
   }
+  if ((a.Opt.Lod || !a.Opt.Profile.empty()) && vtkMorphNodeFilter::HasMeshLevels())
+  {
+    // The mesh levels the screen and the budget ask for, every part at one level.
+    a.Morph->MeshLevelsOn();
+  }
   WatchFrameBudget(a.Morph, a.Opt);
   if (!a.Opt.Quiet)
   {

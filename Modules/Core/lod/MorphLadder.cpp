@@ -2,6 +2,7 @@
 #include "lod/MorphLadder.h"
 
 #include "base/Error.h"
+#include "skin/Skinning.h"
 
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
@@ -137,8 +138,10 @@ void LevelDistances(const DensePositions& positions, size_t n, LadderLevel& leve
   }
 }
 
-/// Corners, Barycentrics, MaxError and RmsError of `level` (l > 0), see LadderLevel.
-void LevelErrors(const MorphLadder& ladder, size_t l, const DensePositions& positions, LadderLevel& level)
+/// Corners, Barycentrics, MaxError and RmsError of `level` (l > 0), see LadderLevel; the
+/// poses skinned by `skinPoseList` too when the ladder has influences.
+void LevelErrors(const MorphLadder& ladder, size_t l, const DensePositions& positions,
+  const std::vector<std::vector<glm::dmat4>>& skinPoseList, LadderLevel& level)
 {
   const size_t n = level.NumberOfPoints;
   const size_t np = ladder.Mesh.GetNumberOfPoints();
@@ -195,34 +198,45 @@ void LevelErrors(const MorphLadder& ladder, size_t l, const DensePositions& posi
       level.Barycentrics[3 * p + c] = static_cast<float>(best[c]);
     }
   }
-  // The carried points' distances in every pose.
+  // The carried points' distances in every pose: the neutral and each target at weight 1,
+  // as they are and skinned by each of the settings' poses.
   std::vector<double> worst(np, 0.0); // per point, over the poses (squared)
   double maxError = 0.0, sum2 = 0.0;
   size_t count = 0;
-  std::vector<double> pose(positions.Neutral.size());
-  for (size_t k = 0; k <= positions.Deltas.size(); ++k)
+  std::vector<double> pose(positions.Neutral.size()), skinned(pose.size());
+  const size_t skinPoses = ladder.Influences.Empty() ? 0 : skinPoseList.size();
+  for (size_t s = 0; s <= skinPoses; ++s)
   {
-    for (size_t i = 0; i < pose.size(); ++i)
+    for (size_t k = 0; k <= positions.Deltas.size(); ++k)
     {
-      pose[i] = positions.Neutral[i] + (k > 0 ? positions.Deltas[k - 1][i] : 0.0);
-    }
-    for (size_t p = n; p < np; ++p)
-    {
-      double d2 = 0.0;
-      for (int c = 0; c < 3; ++c)
+      for (size_t i = 0; i < pose.size(); ++i)
       {
-        double q = 0.0;
-        for (int i = 0; i < 3; ++i)
-        {
-          q += double(level.Barycentrics[3 * p + i]) * pose[3 * level.Corners[3 * p + i] + c];
-        }
-        d2 += (q - pose[3 * p + c]) * (q - pose[3 * p + c]);
+        pose[i] = positions.Neutral[i] + (k > 0 ? positions.Deltas[k - 1][i] : 0.0);
       }
-      maxError = std::max(maxError, d2);
-      worst[p] = std::max(worst[p], d2);
-      sum2 += d2;
+      if (s > 0)
+      {
+        SkinPoints(ladder.Influences, skinPoseList[s - 1], pose.data(), static_cast<const double*>(nullptr),
+          skinned.data(), static_cast<double*>(nullptr), 0, np);
+        pose.swap(skinned);
+      }
+      for (size_t p = n; p < np; ++p)
+      {
+        double d2 = 0.0;
+        for (int c = 0; c < 3; ++c)
+        {
+          double q = 0.0;
+          for (int i = 0; i < 3; ++i)
+          {
+            q += double(level.Barycentrics[3 * p + i]) * pose[3 * level.Corners[3 * p + i] + c];
+          }
+          d2 += (q - pose[3 * p + c]) * (q - pose[3 * p + c]);
+        }
+        maxError = std::max(maxError, d2);
+        worst[p] = std::max(worst[p], d2);
+        sum2 += d2;
+      }
+      count += np; // kept points count with distance 0
     }
-    count += np; // kept points count with distance 0
   }
   level.MaxError = std::sqrt(maxError);
   const size_t q = (np * 99) / 100;
@@ -265,7 +279,9 @@ uint32_t MorphLadder::Representative(size_t level, uint32_t point) const
   return point;
 }
 
-MorphLadder BuildMorphLadder(const MorphMesh& mesh, const LadderSettings& settings)
+namespace
+{
+MorphLadder BuildLadder(const MorphMesh& mesh, const SkinInfluences* influences, const LadderSettings& settings)
 {
   double previous = 1.0;
   for (double f : settings.TriangleFractions)
@@ -368,13 +384,17 @@ MorphLadder BuildMorphLadder(const MorphMesh& mesh, const LadderSettings& settin
   }
   ladder.Mesh = GatherMorphMesh(
     mesh, ladder.OriginalPointIds, ladder.Levels[0].Triangles, settings.Reduction.SparseCoverage);
+  if (influences && !influences->Empty())
+  {
+    ladder.Influences = influences->Gather(ladder.OriginalPointIds);
+  }
   const DensePositions positions = ReadPositions(ladder.Mesh);
   for (size_t l = 0; l < levels; ++l)
   {
     LevelDistances(positions, ladder.Levels[l].NumberOfPoints, ladder.Levels[l]);
     if (l > 0)
     {
-      LevelErrors(ladder, l, positions, ladder.Levels[l]);
+      LevelErrors(ladder, l, positions, settings.SkinPoses, ladder.Levels[l]);
     }
     if (l + 1 < levels)
     {
@@ -384,26 +404,75 @@ MorphLadder BuildMorphLadder(const MorphMesh& mesh, const LadderSettings& settin
   return ladder;
 }
 
+} // namespace
+
+MorphLadder BuildMorphLadder(const MorphMesh& mesh, const LadderSettings& settings)
+{
+  return BuildLadder(mesh, nullptr, settings);
+}
+
+MorphLadder BuildMorphLadder(
+  const MorphMesh& mesh, const SkinInfluences& influences, const LadderSettings& settings)
+{
+  if (!influences.Empty())
+  {
+    if (influences.GetNumberOfPoints() != mesh.GetNumberOfPoints())
+    {
+      throw InputError("MorphLadder: skin influences for " + std::to_string(influences.GetNumberOfPoints()) +
+        " points on a mesh of " + std::to_string(mesh.GetNumberOfPoints()) + ".");
+    }
+    size_t joints = 0; // joints a pose must have: the largest weighted index + 1
+    for (size_t i = 0; i < influences.Weights.size(); ++i)
+    {
+      if (influences.Weights[i] != 0.0f)
+      {
+        joints = std::max<size_t>(joints, influences.Joints[i] + 1u);
+      }
+    }
+    for (size_t s = 0; s < settings.SkinPoses.size(); ++s)
+    {
+      if (settings.SkinPoses[s].size() < joints)
+      {
+        throw InputError("MorphLadder: skin pose " + std::to_string(s) + " has " +
+          std::to_string(settings.SkinPoses[s].size()) + " joint matrices; the influences use " +
+          std::to_string(joints) + ".");
+      }
+    }
+  }
+  return BuildLadder(mesh, &influences, settings);
+}
+
 template <typename T>
-void GeomorphLadder(const MorphLadder& ladder, size_t level, double alpha, T* positions)
+void GeomorphLadder(const MorphLadder& ladder, size_t level, double alpha, T* values, int components)
 {
   if (level + 1 >= ladder.Levels.size())
   {
     throw InputError("GeomorphLadder: level " + std::to_string(level) +
       " has no coarser level to morph towards.");
   }
+  if (components < 1)
+  {
+    throw InputError("GeomorphLadder: " + std::to_string(components) + " components per point.");
+  }
   const T a = static_cast<T>(std::clamp(alpha, 0.0, 1.0));
   const size_t begin = ladder.Levels[level + 1].NumberOfPoints;
   const size_t end = ladder.Levels[level].NumberOfPoints;
+  const size_t nc = static_cast<size_t>(components);
   for (size_t p = begin; p < end; ++p)
   {
     // The parent is in the coarser level's prefix, which this loop never writes.
     const size_t r = ladder.Parent[p];
-    for (int c = 0; c < 3; ++c)
+    for (size_t c = 0; c < nc; ++c)
     {
-      positions[3 * p + c] = (T(1) - a) * positions[3 * p + c] + a * positions[3 * r + c];
+      values[nc * p + c] = (T(1) - a) * values[nc * p + c] + a * values[nc * r + c];
     }
   }
+}
+
+template <typename T>
+void GeomorphLadder(const MorphLadder& ladder, size_t level, double alpha, T* positions)
+{
+  GeomorphLadder(ladder, level, alpha, positions, 3);
 }
 
 LevelOfDetail ToLevelOfDetail(const MorphLadder& ladder, size_t l, const CostModel& cost)
@@ -433,4 +502,6 @@ LevelOfDetail ToLevelOfDetail(const MorphLadder& ladder, size_t l, const CostMod
 
 template void GeomorphLadder(const MorphLadder&, size_t, double, float*);
 template void GeomorphLadder(const MorphLadder&, size_t, double, double*);
+template void GeomorphLadder(const MorphLadder&, size_t, double, float*, int);
+template void GeomorphLadder(const MorphLadder&, size_t, double, double*, int);
 } // namespace morphnode

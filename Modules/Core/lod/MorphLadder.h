@@ -25,6 +25,9 @@
 #include "budget/FrameBudgetController.h"
 #include "morph/MorphMesh.h"
 #include "reduction/AnimationAwareReduction.h"
+#include "skin/SkinInfluences.h"
+
+#include <glm/mat4x4.hpp>
 
 #include <cstddef>
 #include <cstdint>
@@ -35,7 +38,7 @@ namespace morphnode
 struct LadderSettings
 {
   /// Triangles of each reduced level as a fraction of the full mesh's, decreasing, each in
-  /// (0, 1). Level 0 is always the full mesh.
+  /// (0, 1). Level 0 is always the full mesh; none: the full mesh alone.
   std::vector<double> TriangleFractions = { 0.5, 0.25, 0.1 };
   /// The reduction (its budget fields are ignored). AnimationWeight 0: plain quadric.
   /// SkipNonManifold is on: a few non-manifold triangles (the default head has two) stay in
@@ -45,6 +48,14 @@ struct LadderSettings
     r.SkipNonManifold = true;
     return r;
   }();
+  /// A skinned mesh's poses the level errors cover (its influences given to
+  /// BuildMorphLadder): each the joint matrices J_k (skin/Skinning's SkinJoints::Matrices)
+  /// of a pose the part takes, e.g. the jaw open, the head turned. The errors (MaxError,
+  /// Error99, RmsError) then run over the neutral and every target pose, unskinned and
+  /// skinned by each of these: a level whose coarse triangles cannot follow the bend of a
+  /// skinned region shows it in its error and is chosen accordingly. Ignored without
+  /// influences.
+  std::vector<std::vector<glm::dmat4>> SkinPoses;
 };
 
 struct LadderLevel
@@ -61,8 +72,8 @@ struct LadderLevel
   std::vector<uint32_t> Corners;
   std::vector<float> Barycentrics;
   /// Largest distance between a full-resolution point and its carried point (Corners,
-  /// Barycentrics) on this level, in the neutral and in every target's pose at weight 1
-  /// (model units; 0 for level 0): surface error plus the motion the level gets wrong
+  /// Barycentrics) on this level, in the neutral and in every target's pose at weight 1,
+  /// and those poses skinned by LadderSettings::SkinPoses (model units; 0 for level 0): surface error plus the motion the level gets wrong
   /// (sliding included). Times the pixels per unit: the level's error in pixels, by which
   /// it is chosen on screen.
   double MaxError = 0.0;
@@ -100,14 +111,26 @@ struct MorphLadder
   std::vector<LadderLevel> Levels;
   /// Non-manifold triangles of the input the reduced levels leave out.
   size_t SkippedTriangles = 0;
+  /// A skinned part's joints and weights per shared point (the input's, gathered by
+  /// OriginalPointIds; empty for a mesh without a skin). Every level's points are kept
+  /// points of the input, so the prefix [0, n_l) skins exactly as the full mesh skins
+  /// those points (skin/Skinning's SkinPoints or RestSkin over [0, n_l)): a reduced skinned
+  /// part still skins, with one set of influences for every level.
+  SkinInfluences Influences;
 
   /// The point `point` stands on at `level` (follows Parent until it is in the level).
   uint32_t Representative(size_t level, uint32_t point) const;
 };
 
 /// Builds the ladder. Throws InputError for what ReduceAnimationAware refuses and for
-/// fractions that are not decreasing in (0, 1).
+/// fractions that are not decreasing in (0, 1). No fractions: a one-level ladder (a part
+/// too small to reduce, e.g. an eye, in a ScalableScene).
 MorphLadder BuildMorphLadder(const MorphMesh& mesh, const LadderSettings& settings);
+/// The same for a skinned mesh: `influences` (one entry per point of `mesh`, normalized) are
+/// carried into MorphLadder::Influences, and the level errors cover settings.SkinPoses.
+/// Throws InputError when their point count differs or a pose has too few joints.
+MorphLadder BuildMorphLadder(
+  const MorphMesh& mesh, const SkinInfluences& influences, const LadderSettings& settings);
 
 /// Geomorph of level `level` towards level + 1, in place on `positions` (3 values per shared
 /// point, at least Levels[level].NumberOfPoints points blended): the points of level
@@ -115,6 +138,10 @@ MorphLadder BuildMorphLadder(const MorphMesh& mesh, const LadderSettings& settin
 /// Throws InputError for the coarsest level or a level out of range.
 template <typename T>
 void GeomorphLadder(const MorphLadder& ladder, size_t level, double alpha, T* positions);
+/// The same for any per-point attribute of the shared mesh (normals, texture coordinates,
+/// colours): `components` values per point.
+template <typename T>
+void GeomorphLadder(const MorphLadder& ladder, size_t level, double alpha, T* values, int components);
 
 /// A level for the FrameBudgetController, with the level's cost model; GeometricError is
 /// the level's Error99.
@@ -122,4 +149,6 @@ LevelOfDetail ToLevelOfDetail(const MorphLadder& ladder, size_t level, const Cos
 
 extern template void GeomorphLadder(const MorphLadder&, size_t, double, float*);
 extern template void GeomorphLadder(const MorphLadder&, size_t, double, double*);
+extern template void GeomorphLadder(const MorphLadder&, size_t, double, float*, int);
+extern template void GeomorphLadder(const MorphLadder&, size_t, double, double*, int);
 } // namespace morphnode

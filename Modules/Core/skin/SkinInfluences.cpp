@@ -4,6 +4,8 @@
 #include "base/Error.h"
 
 #include <cmath>
+#include <cstddef>
+#include <string>
 
 namespace morphnode
 {
@@ -83,5 +85,26 @@ void SkinInfluences::Normalize(size_t numJoints, const std::string& what)
       }
     }
   }
+}
+SkinInfluences SkinInfluences::Gather(const std::vector<uint32_t>& ids) const
+{
+  SkinInfluences out;
+  out.PerPoint = this->PerPoint;
+  out.Joints.reserve(ids.size() * this->PerPoint);
+  out.Weights.reserve(ids.size() * this->PerPoint);
+  const size_t n = this->GetNumberOfPoints();
+  for (uint32_t id : ids)
+  {
+    if (id >= n)
+    {
+      throw InputError("skin: point " + std::to_string(id) + " gathered from influences of " +
+        std::to_string(n) + " points");
+    }
+    const auto begin = static_cast<std::ptrdiff_t>(id * this->PerPoint);
+    const auto end = begin + static_cast<std::ptrdiff_t>(this->PerPoint);
+    out.Joints.insert(out.Joints.end(), this->Joints.begin() + begin, this->Joints.begin() + end);
+    out.Weights.insert(out.Weights.end(), this->Weights.begin() + begin, this->Weights.begin() + end);
+  }
+  return out;
 }
 } // namespace morphnode

@@ -33,5 +33,9 @@ struct SkinInfluences
   /// weights are divided by their sum (glTF asks for a sum of 1; exporters round). Throws
   /// InputError naming `what`, the point and the fault.
   void Normalize(size_t numJoints, const std::string& what);
+
+  /// The influences of the points `ids`, in that order (a subset or a permutation, e.g. a
+  /// level-of-detail ladder's renumbering). Throws InputError for an id out of range.
+  SkinInfluences Gather(const std::vector<uint32_t>& ids) const;
 };
 } // namespace morphnode

@@ -97,6 +97,14 @@ def run(c, args):
     morph_lod.PixelsPerUnit = 20.0
     morph_lod.TargetPixelBound = 1.0
     c.check(sm.Fetch(morph_lod).GetNumberOfPoints() == 2948, "Morph Node with a device profile runs")
+    # Mesh levels through the Morph Node itself: a phone's finest level is level 1.
+    morph_lod.MeshLevels = 1
+    morph_lod.PixelsPerUnit = 1e6
+    shown = sm.Fetch(morph_lod)
+    _, shown_arrays = t.point_arrays(shown)
+    c.check(0 < shown.GetNumberOfPoints() < 2948 and "OriginalPointId" in shown_arrays,
+            "Morph Node MeshLevels with the phone profile shows a reduced level (%d points)"
+            % shown.GetNumberOfPoints())
 
     # --- the rig proxies, on the ARKit-named ICT face ------------------------------------
     arkit = MorphNodeFaceReader(FileName=ict, MeshIndex=0)  # noqa: F821 - one mesh
