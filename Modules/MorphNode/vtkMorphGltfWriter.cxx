@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkMorphGltfWriter.h"
 
-#include "vtkMorphTargetArrays.h"
-
+#include "vtkMorphPartData.h"
 #include "vtkMorphSkinArrays.h"
+#include "vtkMorphTargetArrays.h"
 
 #include "base/Error.h"
 #include "base/File.h"
@@ -15,8 +15,8 @@
 
 #include "vtkAbstractArray.h"
 #include "vtkAlgorithmOutput.h"
-#include "vtkCompositeDataIterator.h"
 #include "vtkCompositeDataSet.h"
+#include "vtkCompositeDataSetRange.h"
 #include "vtkDataArray.h"
 #include "vtkErrorCode.h"
 #include "vtkFieldData.h"
@@ -31,8 +31,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cctype>
-#include <filesystem>
 #include <fstream>
 #include <map>
 #include <memory>
@@ -45,28 +43,7 @@ vtkStandardNewMacro(vtkMorphGltfWriter);
 namespace
 {
 namespace arrays = vtkMorphTargetArrays;
-
-std::string FieldString(vtkFieldData* fd, const char* name)
-{
-  auto* a = vtkStringArray::SafeDownCast(fd ? fd->GetAbstractArray(name) : nullptr);
-  return a && a->GetNumberOfValues() > 0 ? a->GetValue(0) : std::string();
-}
-
-/// The first `n` values of a numeric field-data array, or empty.
-std::vector<double> FieldNumbers(vtkFieldData* fd, const char* name, vtkIdType n)
-{
-  auto* a = vtkDataArray::SafeDownCast(fd ? fd->GetAbstractArray(name) : nullptr);
-  std::vector<double> values;
-  if (a && a->GetNumberOfValues() >= n)
-  {
-    const int nc = a->GetNumberOfComponents();
-    for (vtkIdType i = 0; i < n; ++i)
-    {
-      values.push_back(a->GetComponent(i / nc, static_cast<int>(i % nc)));
-    }
-  }
-  return values;
-}
+namespace partdata = vtkMorphPartData;
 
 std::vector<float> ToFloats(vtkDataArray* a)
 {
@@ -78,21 +55,13 @@ morphnode::GltfPart ToPart(vtkPolyData* poly, const std::string& fallbackName, s
 {
   morphnode::GltfPart part;
   vtkFieldData* fd = poly->GetFieldData();
-  part.Name = FieldString(fd, "PartName");
-  if (part.Name.empty())
+  const partdata::PartFields fields = partdata::GetPartFields(fd);
+  part.Name = fields.PartName.empty() ? fallbackName : fields.PartName;
+  nodeName = fields.NodeName.empty() ? part.Name : fields.NodeName;
+  part.MaterialName = fields.MaterialName;
+  if (fields.BaseColor)
   {
-    part.Name = fallbackName;
-  }
-  nodeName = FieldString(fd, "NodeName");
-  if (nodeName.empty())
-  {
-    nodeName = part.Name;
-  }
-  part.MaterialName = FieldString(fd, "MaterialName");
-  const std::vector<double> color = FieldNumbers(fd, "BaseColor", 4);
-  if (color.size() == 4)
-  {
-    std::copy(color.begin(), color.end(), part.BaseColor.begin());
+    std::copy(fields.BaseColor->begin(), fields.BaseColor->end(), part.BaseColor.begin());
     part.Material = 0; // a material of its own (its index is the writer's business)
   }
   part.TransformApplied = true;
@@ -213,15 +182,12 @@ std::vector<vtkPolyData*> Leaves(vtkDataObject* input)
   }
   else if (auto* composite = vtkCompositeDataSet::SafeDownCast(input))
   {
-    vtkSmartPointer<vtkCompositeDataIterator> it;
-    it.TakeReference(composite->NewIterator());
-    for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem())
+    for (vtkDataObject* node : vtk::Range(composite, vtk::CompositeDataSetOptions::SkipEmptyNodes))
     {
-      auto* leaf = vtkPolyData::SafeDownCast(it->GetCurrentDataObject());
+      auto* leaf = vtkPolyData::SafeDownCast(node);
       if (!leaf)
       {
-        throw morphnode::InputError(std::string("a leaf is a ") +
-          it->GetCurrentDataObject()->GetClassName() + ", not a vtkPolyData");
+        throw morphnode::InputError(std::string("a leaf is a ") + node->GetClassName() + ", not a vtkPolyData");
       }
       if (leaf->GetNumberOfPoints() > 0)
       {
@@ -366,16 +332,7 @@ morphnode::GltfScene ToScene(const std::vector<vtkPolyData*>& leaves, std::vecto
       scene.Nodes.push_back(gnode);
       nodeTargets.push_back(targets);
       morphnode::GltfNodeFrame frame;
-      const std::vector<double> origin = FieldNumbers(leaf->GetFieldData(), "NodeOrigin", 3);
-      if (origin.size() == 3)
-      {
-        std::copy(origin.begin(), origin.end(), frame.Origin.begin());
-      }
-      const std::vector<double> axes = FieldNumbers(leaf->GetFieldData(), "NodeAxes", 9);
-      if (axes.size() == 9)
-      {
-        std::copy(axes.begin(), axes.end(), frame.Axes.begin());
-      }
+      partdata::GetNodeFrame(leaf->GetFieldData(), frame.Origin, frame.Axes);
       frames.push_back(frame);
       node = static_cast<int>(scene.Nodes.size() - 1);
     }
@@ -397,9 +354,9 @@ void AddSourceMaterials(morphnode::GltfScene& scene, const std::vector<vtkPolyDa
   std::vector<int> indices;
   for (vtkPolyData* leaf : leaves)
   {
-    const std::string file = FieldString(leaf->GetFieldData(), "MaterialSource");
-    const std::vector<double> index = FieldNumbers(leaf->GetFieldData(), "MaterialIndex", 1);
-    indices.push_back(file.empty() || index.size() != 1 ? -1 : static_cast<int>(index[0]));
+    const partdata::PartFields fields = partdata::GetPartFields(leaf->GetFieldData());
+    const std::string& file = fields.MaterialSource;
+    indices.push_back(file.empty() ? -1 : fields.MaterialIndex);
     if (!file.empty())
     {
       one = one && (source.empty() || source == file);
@@ -543,7 +500,7 @@ void vtkMorphGltfWriter::WriteData()
     settings.HeadPivot = morphnode::HeadPivot(bounds);
     settings.EyeNodeNames = SplitNames(this->EyeNodeNames);
     morphnode::GltfWriteOptions options;
-    options.Binary = morphnode::text::ToLower(std::filesystem::path(this->FileName).extension().string()) != ".gltf";
+    options.Binary = !morphnode::text::HasExtension(this->FileName, ".gltf");
     morphnode::GltfPerformanceReport report;
     this->UpdateProgress(0.25);
     const std::vector<unsigned char> bytes = morphnode::WriteGltfPerformanceToMemory(
