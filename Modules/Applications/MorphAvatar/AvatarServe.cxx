@@ -10,6 +10,8 @@
 #include "gltf/GltfScene.h"
 #include "morph/OptimizerPresets.h"
 #include "speech/Speech.h"
+#include "speech/SpeechSynthesizer.h"
+#include "speech/SynthesisPool.h"
 #include "stream/StreamAvatar.h"
 #include "stream/StreamSession.h"
 #ifdef MORPHNODE_HAVE_STREAM_SERVER
@@ -149,17 +151,36 @@ int RunServe(const Options& o)
     settings.Files["/avatar.glb"] = { "model/gltf-binary",
       std::string(avatar->GetFile().begin(), avatar->GetFile().end()) };
     settings.Folders["/three/"] = ThreeDir();
-    const bool synthesize = true;
-    settings.MakeSession = [avatar, visemes, speech, base, synthesize](const stream::SessionRequest& want) {
+    // Speech is synthesized off the sessions' threads, by a pool all sessions share: a say
+    // never holds up a session's frames (eSpeak NG itself is one engine per process, so
+    // two workers: one in eSpeak, one estimating pitch and building the viseme track).
+    morphnode::SynthesisPoolSettings poolSettings;
+    poolSettings.Workers = 2;
+    auto pool = std::make_shared<morphnode::SynthesisPool>(poolSettings);
+    // A say's `voice`: one of eSpeak NG's voices, checked against its list (not by
+    // synthesizing, which would block the session).
+    auto voices = std::make_shared<const std::vector<std::string>>(morphnode::SpeechSynthesizer::ListVoices());
+    stream::StreamSession::VoiceSynthesizers makeVoice =
+      [speech, voices](const std::string& voice) -> morphnode::LiveBehavior::Synthesizer {
+      if (std::find(voices->begin(), voices->end(), voice) == voices->end())
+      {
+        throw morphnode::InputError("unknown voice '" + voice + "' (eSpeak NG's voices: espeak-ng --voices)");
+      }
+      morphnode::SpeechOptions options = speech;
+      options.Voice = voice;
+      return [options](const std::string& text) { return morphnode::SpeakText(text, options); };
+    };
+    settings.MakeSession = [avatar, visemes, speech, base, pool, makeVoice](const stream::SessionRequest& want) {
       stream::StreamSettings s = base;
       s.Codec = want.Codec;
       s.Seed = want.Seed;
-      morphnode::LiveBehavior::Synthesizer synth;
-      if (synthesize)
-      {
-        synth = [speech](const std::string& text) { return morphnode::SpeakText(text, speech); };
-      }
-      return std::make_unique<stream::StreamSession>(*avatar, visemes, synth, s);
+      morphnode::LiveBehavior::Synthesizer synth = [speech](const std::string& text) {
+        return morphnode::SpeakText(text, speech);
+      };
+      auto session = std::make_unique<stream::StreamSession>(*avatar, visemes, synth, s);
+      session->SetSynthesisPool(pool);
+      session->SetVoiceSynthesizers(makeVoice);
+      return session;
     };
     stream::StreamServer server(settings);
     const std::string bound = server.Start();

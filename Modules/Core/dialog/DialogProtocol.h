@@ -109,6 +109,9 @@ constexpr const char* TooLong = "too_long";              ///< the line exceeds t
 constexpr const char* Incomplete = "incomplete";         ///< the client left mid-line
 constexpr const char* TooManyClients = "too_many_clients"; ///< connection refused
 constexpr const char* Rejected = "rejected"; ///< valid, but the avatar cannot do it (e.g. unknown gesture)
+/// An accepted say that could not be spoken after all: the server was too busy to
+/// synthesize it in time (it ends, interrupted).
+constexpr const char* Overloaded = "overloaded";
 } // namespace reason
 
 struct Event

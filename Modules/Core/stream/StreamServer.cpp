@@ -333,6 +333,12 @@ private:
     try
     {
       this->Session->Tick(shown);
+      for (const LiveBehavior::SpeechError& e : this->Session->TakeSpeechErrors())
+      {
+        // A say whose speech could not be made (the pool was busy or synthesis failed):
+        // its page hears why, the say ends; the session goes on.
+        this->Dialog->Fail(e.Id, e.Busy ? dialog::reason::Overloaded : dialog::reason::Rejected, e.Message, shown);
+      }
       this->Dialog->Advance(shown);
     }
     catch (const std::exception& e)
