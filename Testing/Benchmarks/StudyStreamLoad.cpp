@@ -13,7 +13,9 @@
 // the machine). Not a test.
 //
 //   StudyStreamLoad [--seconds 8] [--sessions 25,50,100,200,400] [--threads 1] [--pool-workers 1]
-//                   [--modes cache,inline,pool] [--quick] [--out FILE.md]
+//                   [--modes cache,inline,pool] [--continuous] [--quick] [--out FILE.md]
+// --continuous: every session speaks all the time (a new sentence as soon as its say ended),
+// instead of one sentence each.
 #include "gltf/GltfScene.h"
 #include "morph/OptimizerPresets.h"
 #include "speech/Speech.h"
@@ -60,13 +62,14 @@ struct Counters
 class Client : public std::enable_shared_from_this<Client>
 {
 public:
-  Client(net::io_context& io, Counters& c, std::string port, double sayAt, int sentence)
+  Client(net::io_context& io, Counters& c, std::string port, double sayAt, int sentence, bool continuous)
     : Ws(net::make_strand(io))
     , Timer(Ws.get_executor())
     , C(c)
     , Port(std::move(port))
     , SayAt(sayAt)
     , Sentence(sentence)
+    , Continuous(continuous)
   {
   }
   void Start(tcp::resolver::results_type endpoints)
@@ -131,6 +134,12 @@ private:
         {
           ++self->C.Overloaded;
         }
+        if (self->Continuous && line.find("\"ended\"") != std::string::npos &&
+          line.find("\"say\"") != std::string::npos)
+        {
+          self->Sentence = (self->Sentence + 1) % 3;
+          self->Say(); // speaks again at once
+        }
       }
       else if (self->Buffer.size() > 0 &&
         static_cast<const uint8_t*>(self->Buffer.data().data())[0] == 1)
@@ -147,6 +156,7 @@ private:
   std::string Port;
   double SayAt;
   int Sentence;
+  bool Continuous;
   beast::flat_buffer Buffer;
   std::string Out;
 };
@@ -175,7 +185,7 @@ double ProcessCpuSeconds()
 }
 
 Result Run(const StreamAvatar& avatar, const std::vector<std::string>& visemes, LiveBehavior::Synthesizer synth,
-  size_t n, double seconds, int threads, int poolWorkers)
+  size_t n, double seconds, int threads, int poolWorkers, bool continuous)
 {
   std::shared_ptr<SynthesisPool> pool;
   if (poolWorkers > 0)
@@ -210,8 +220,9 @@ Result Run(const StreamAvatar& avatar, const std::vector<std::string>& visemes, 
   const auto endpoints = resolver.resolve("127.0.0.1", port);
   for (size_t i = 0; i < n; ++i)
   {
-    const double sayAt = 0.5 + (seconds - 1.0) * static_cast<double>(i) / static_cast<double>(n);
-    clients.push_back(std::make_shared<Client>(io, counters, port, sayAt, static_cast<int>(i % 3)));
+    const double spread = continuous ? 1.0 : seconds - 1.0;
+    const double sayAt = 0.5 + spread * static_cast<double>(i) / static_cast<double>(n);
+    clients.push_back(std::make_shared<Client>(io, counters, port, sayAt, static_cast<int>(i % 3), continuous));
     clients.back()->Start(endpoints);
   }
   double clientCpu = 0.0;
@@ -252,6 +263,7 @@ int main(int argc, char* argv[])
   double seconds = 8.0;
   int threads = 1;
   int poolWorkers = 1;
+  bool continuous = false;
   std::vector<std::string> modes = { "cache", "inline", "pool" };
   std::vector<size_t> counts = { 25, 50, 100, 200, 400 };
   std::string out;
@@ -289,6 +301,10 @@ int main(int argc, char* argv[])
       {
         modes.push_back(item);
       }
+    }
+    else if (a == "--continuous")
+    {
+      continuous = true;
     }
     else if (a == "--quick")
     {
@@ -335,8 +351,11 @@ int main(int argc, char* argv[])
     LiveBehavior::Synthesizer synthesize = [speech](const std::string& text) { return SpeakText(text, speech); };
     std::ostringstream md;
     md << "Server threads: " << threads << ", synthesis pool workers (pool rows): " << poolWorkers << ", "
-       << seconds << " s per row, every session says one sentence\n\n";
-    md << "| speech | sessions | late (missed deadline) | says spoken | overloaded | server CPU (cores) | sessions per core | "
+       << seconds << " s per row, "
+       << (continuous ? "every session speaks all the time (a new sentence when its say ended)"
+                      : "every session says one sentence")
+       << "\n\n";
+    md << "| speech | sessions | late (missed deadline) | says started / sessions | overloaded | server CPU (cores) | sessions per core | "
           "synthesis wait mean / max (ms) | frames received | received kB/s per session |\n"
        << "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
     for (const std::string& mode : modes)
@@ -349,7 +368,7 @@ int main(int argc, char* argv[])
       for (size_t n : counts)
       {
         const Result r = Run(avatar, visemes, mode == "cache" ? cached : synthesize, n, seconds, threads,
-          mode == "pool" ? poolWorkers : 0);
+          mode == "pool" ? poolWorkers : 0, continuous);
         const char* name = mode == "cache" ? "phrase cache" : mode == "inline" ? "eSpeak NG on the session's thread"
                                                                             : "eSpeak NG through the pool";
         md << "| " << name << " | " << n << " | " << r.Late << " (" << std::fixed;

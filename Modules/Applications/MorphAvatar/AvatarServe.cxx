@@ -25,6 +25,7 @@
 #include <csignal>
 #include <cstdlib>
 #include <iostream>
+#include <mutex>
 #include <random>
 #include <sstream>
 #include <thread>
@@ -182,6 +183,17 @@ int RunServe(const Options& o)
       session->SetVoiceSynthesizers(makeVoice);
       return session;
     };
+    // The command socket's events come from the sessions' threads: queued here, sent by the
+    // loop below (DialogServer is the loop's).
+    auto eventMutex = std::make_shared<std::mutex>();
+    auto events = std::make_shared<std::vector<std::pair<int, dialog::Event>>>();
+    settings.CommandEvents = [eventMutex, events](int client, const dialog::Event& e) {
+      std::lock_guard<std::mutex> lock(*eventMutex);
+      if (events->size() < 100000) // a loop that stopped draining must not grow this for ever
+      {
+        events->emplace_back(client, e);
+      }
+    };
     stream::StreamServer server(settings);
     const std::string bound = server.Start();
     const double prepare = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
@@ -190,7 +202,9 @@ int RunServe(const Options& o)
               << avatar->GetFile().size() / 1024 << " KiB, prepared in " << prepare << " s) on http://" << bound
               << "/" << (settings.Token.empty() ? "" : "?token=" + settings.Token) << std::endl;
 
-    // The command socket: its commands go to every session.
+    // The command socket: a command goes to the session its `session` names, or to every
+    // session; its events (accepted, started, ended, error, each naming the session) come
+    // back to the client that sent it.
     dialog::DialogServer::Settings commandSettings;
     commandSettings.AllowRemote = o.ListenRemote;
     dialog::DialogServer commands(commandSettings);
@@ -209,25 +223,32 @@ int RunServe(const Options& o)
         break;
       }
       bool quit = false;
-      for (const auto& in : commands.Poll(o.Listen.empty() ? 0 : 50))
+      for (const auto& in : commands.Poll(o.Listen.empty() ? 0 : 10))
       {
         if (std::holds_alternative<dialog::QuitCommand>(in.Cmd.Body))
         {
           quit = true;
           continue;
         }
-        const size_t n = server.Broadcast(in.Cmd);
-        dialog::Event e;
-        e.Kind = n > 0 ? dialog::EventKind::Accepted : dialog::EventKind::Error;
-        e.Id = in.Cmd.Id;
-        e.Cmd = dialog::CommandName(in.Cmd.Body);
-        e.Time = t;
-        if (n == 0)
+        if (server.Send(in.Cmd, in.Client) == 0)
         {
-          e.Reason = dialog::reason::Rejected;
-          e.Message = "no browser session is open";
+          dialog::Event e = dialog::MakeError(dialog::reason::Rejected,
+            in.Cmd.Session.empty() ? "no browser session is open"
+                                   : "no open session '" + in.Cmd.Session + "'",
+            in.Cmd.Id, dialog::CommandName(in.Cmd.Body));
+          e.Time = t;
+          e.Session = in.Cmd.Session;
+          commands.Send(in.Client, e);
         }
-        commands.Send(in.Client, e);
+      }
+      std::vector<std::pair<int, dialog::Event>> ready;
+      {
+        std::lock_guard<std::mutex> lock(*eventMutex);
+        ready.swap(*events);
+      }
+      for (const auto& [client, e] : ready)
+      {
+        commands.Send(client, e);
       }
       if (quit)
       {

@@ -195,17 +195,31 @@ public:
       beast::bind_front_handler(&WsSession::OnAccept, this->shared_from_this()));
   }
 
-  /// From any thread: runs the command on this session's strand.
-  void Post(const dialog::Command& command)
+  /// The client id of the page's own commands (DialogServer's clients are >= 0).
+  static constexpr int PageClient = -1;
+
+  /// From any thread: runs the command on this session's strand; its events go to the
+  /// page (PageClient) or to the server's CommandEvents (any other client).
+  void Post(const dialog::Command& command, int client = PageClient)
   {
-    net::post(this->Ws.get_executor(), [self = this->shared_from_this(), command]() {
-      if (!self->Closed)
+    const auto arrived = SteadyClock::now();
+    net::post(this->Ws.get_executor(), [self = this->shared_from_this(), command, client, arrived]() {
+      if (!self->Closed && self->Dialog)
       {
-        self->Dialog->Execute(0, command, self->Now(), SteadyClock::now());
+        self->Dialog->Execute(client, command, self->Now(), arrived);
         self->Flush();
+      }
+      else if (client != PageClient && self->Server.S.CommandEvents)
+      {
+        dialog::Event e = dialog::MakeError(dialog::reason::Rejected, "the session has ended", command.Id,
+          dialog::CommandName(command.Body));
+        e.Session = self->Id;
+        self->Server.S.CommandEvents(client, e);
       }
     });
   }
+
+  const std::string& GetId() const { return this->Id; }
 
   void Close()
   {
@@ -222,8 +236,22 @@ private:
       return;
     }
     this->Start = SteadyClock::now();
+    // The token bucket starts full: a page's first commands right after connecting pass.
+    this->Tokens = this->Server.S.MaxCommandsPerSecond;
+    this->LastCommand = 0.0;
     this->Dialog = std::make_unique<dialog::DialogSession>(
-      [this](dialog::DialogSession::ClientId, const dialog::Event& e) {
+      [this](dialog::DialogSession::ClientId client, const dialog::Event& e) {
+        if (client != PageClient)
+        {
+          // A command socket's command: its events go back there, named by session.
+          if (this->Server.S.CommandEvents)
+          {
+            dialog::Event routed = e;
+            routed.Session = this->Id;
+            this->Server.S.CommandEvents(client, routed);
+          }
+          return;
+        }
         if (e.Kind == dialog::EventKind::Error)
         {
           ++this->Server.ClientErrors;
@@ -275,7 +303,7 @@ private:
       }
       else
       {
-        this->Dialog->Execute(0, p.Cmd, now, SteadyClock::now());
+        this->Dialog->Execute(PageClient, p.Cmd, now, SteadyClock::now());
       }
     }
     this->Flush();
@@ -421,6 +449,11 @@ private:
     }
     this->Closed = true;
     this->Timer.cancel();
+    if (this->Dialog)
+    {
+      // What still runs ends, interrupted: a command socket client hears it (the page is gone).
+      this->Dialog->Shutdown(this->Now(), 0);
+    }
     beast::error_code ignored;
     beast::get_lowest_layer(this->Ws).socket().shutdown(tcp::socket::shutdown_both, ignored);
     beast::get_lowest_layer(this->Ws).socket().close(ignored);
@@ -771,12 +804,32 @@ void StreamServer::Stop()
 
 size_t StreamServer::Broadcast(const dialog::Command& command)
 {
+  return this->Send(command, WsSession::PageClient);
+}
+
+std::vector<std::string> StreamServer::GetSessionIds() const
+{
+  std::vector<std::string> ids;
+  std::lock_guard<std::mutex> lock(this->P->Mutex);
+  for (auto& w : this->P->Sessions)
+  {
+    if (auto s = w.lock())
+    {
+      ids.push_back(s->GetId());
+    }
+  }
+  return ids;
+}
+
+size_t StreamServer::Send(const dialog::Command& command, int client)
+{
   std::vector<std::shared_ptr<WsSession>> open;
   {
     std::lock_guard<std::mutex> lock(this->P->Mutex);
     for (auto& w : this->P->Sessions)
     {
-      if (auto s = w.lock())
+      auto s = w.lock();
+      if (s && (command.Session.empty() || s->GetId() == command.Session))
       {
         open.push_back(std::move(s));
       }
@@ -784,7 +837,7 @@ size_t StreamServer::Broadcast(const dialog::Command& command)
   }
   for (auto& s : open)
   {
-    s->Post(command);
+    s->Post(command, client);
   }
   return open.size();
 }
