@@ -5,13 +5,23 @@
 // sound's clock (the AudioContext runs at the stream's rate) decides which frame is shown.
 // The page's figures: bytes per second, the audio-visual offset, underruns.
 //
-// URL parameters: token (remote servers), audio=opus (else pcm16), jitter=MS (the jitter
-// buffer, default 80), withhold (the test's negative control: weights are not applied).
+// URL parameters: token (remote servers), audio=opus (else pcm16), device=desktop|laptop|
+// phone (the avatar prepared for that device: docs/streaming.md), jitter=MS (a fixed
+// jitter buffer) or jitter=auto (the default: adaptive, see below), withhold (the test's
+// negative control: weights are not applied).
+//
+// The adaptive jitter buffer starts at 40 ms and follows how late the frames come (adapt()):
+// all but the latest 2 % of the last 10 s's frames should arrive at least 15 ms before
+// they are due. It grows at once and shrinks by 20 ms or more, only while no sound is
+// queued, so a change never cuts or repeats speech; the picture follows the same clock.
 import * as THREE from 'three';
 import { GLTFLoader } from '/three/examples/jsm/loaders/GLTFLoader.js';
 
 const params = new URLSearchParams(location.search);
-const jitterMs = Math.max(0, Math.min(1000, Number(params.get('jitter') || 80)));
+const jitterParam = params.get('jitter') || 'auto';
+const adaptive = jitterParam === 'auto';
+const fixedJitterMs = Math.max(0, Math.min(1000, Number(jitterParam) || 80));
+let jitterMs = adaptive ? 40 : fixedJitterMs;
 const codec = params.get('audio') === 'opus' ? 'opus' : 'pcm16';
 const withhold = params.has('withhold');
 const still = params.has('still'); // rotations not applied (the tests' mouth pictures)
@@ -51,6 +61,10 @@ const state = {
   frameUnderruns: 0, audioLate: 0, offsetMs: 0, offsets: [], stops: 0,
   offset: null,          // stream sample = ctx frame + offset
   events: [],
+  jitterMs: jitterMs,    // the jitter buffer now
+  jitterChanges: 0,
+  margins: [],           // adaptive buffer: [arrival ms, margin ms] of recent frames
+  soundEnd: 0,           // the stream sample where the queued sound ends
 };
 window.morphnode = {
   state,
@@ -165,18 +179,51 @@ function decode(buffer) {
 
 function onFrame(f) {
   state.framesReceived++;
-  if (state.offset === null && audio) {
-    // The jitter buffer: this frame is shown jitterMs from now, on the sound's clock.
+  if (state.offset === null && audio && audio.state === 'running' && audio.currentTime > 0) {
+    // The jitter buffer: this frame is shown jitterMs from now, on the sound's clock (once it
+    // runs: a clock that has not started would put the picture behind by its start-up).
     state.offset = f.sample - audio.currentTime * audio.sampleRate - jitterMs / 1000 * audio.sampleRate;
     state.offset = Math.round(state.offset);
     player.port.postMessage({ type: 'offset', offset: state.offset });
   }
+  if (state.offset !== null) adapt(f);
   state.frames.push(f);
   state.log.push({ sample: f.sample, targets: f.targets });
   if (state.log.length > 900) state.log.splice(0, state.log.length - 600);
 }
 
+/// The jitter buffer (see the top of the file). Every frame's margin (how long before it is
+/// due it arrived, on the sound's clock) is kept for the last 10 s; the clock is moved so
+/// that the margins are what the buffer asks: adaptive, all but the latest 2 % of the frames
+/// at least 15 ms early (the buffer then is the typical margin, at most 250 ms); fixed, the
+/// median margin equal to the buffer. Moving it also undoes what the clock lost before it
+/// ran (the context starting late) and a stop's jump. Only while no sound is queued.
+function adapt(f) {
+  const now = position();
+  if (now === null) return;
+  const t = performance.now();
+  state.margins.push([t, (f.sample - now) / audio.sampleRate * 1000]);
+  while (state.margins.length && t - state.margins[0][0] > 10000) state.margins.shift();
+  if (state.margins.length < 30) return;
+  const sorted = state.margins.map((m) => m[1]).sort((a, b) => a - b);
+  const low = sorted[Math.floor(0.02 * sorted.length)], median = sorted[sorted.length >> 1];
+  // shift > 0: the heard position jumps ahead (less buffer); < 0: it falls back.
+  let shift = adaptive ? Math.min(low - 15, median - 20) : median - fixedJitterMs;
+  if (adaptive && median - shift > 250) shift = median - 250;
+  state.jitterMs = jitterMs = median;
+  // Less buffer only by 20 ms or more (no dithering); more at once; never while speaking.
+  if ((shift > 0 ? shift < 20 : shift > -10) || now < state.soundEnd) return;
+  // After a stop's jump the buffer comes back a second later: the mouth closes first.
+  if (shift < 0 && performance.now() - (state.stopArrived || -1e9) < 1000) return;
+  state.offset += Math.round(shift / 1000 * audio.sampleRate);
+  player.port.postMessage({ type: 'offset', offset: state.offset });
+  for (const m of state.margins) m[1] -= shift;
+  state.jitterMs = jitterMs = median - shift;
+  state.jitterChanges++;
+}
+
 function onAudio(a) {
+  state.soundEnd = Math.max(state.soundEnd, a.sample + a.frames);
   if (a.codec === 0) {
     const pcm = new Float32Array(a.frames);
     const v = new DataView(a.payload.buffer, a.payload.byteOffset, a.payload.byteLength);
@@ -195,16 +242,21 @@ function onStop(s) {
   state.stopSample = s.sample;
   player.port.postMessage({ type: 'stop', sample: s.sample });
   // The same jump on the picture's side: what was queued before the stop is skipped.
+  // The buffer is gone after the jump; adapt() restores it once silent (the stop's sample on).
   const now = position();
   if (now !== null && s.sample > now) {
-    state.offset += s.sample - now;
+    const jump = s.sample - now;
+    state.offset += jump;
+    for (const m of state.margins) m[1] -= jump / audio.sampleRate * 1000;
   }
+  state.soundEnd = s.sample;
   state.frames = state.frames.filter((f) => f.sample >= s.sample);
 }
 
 const url = `${location.protocol === 'https:' ? 'wss' : 'ws'}://${location.host}/stream?audio=${codec}` +
   (params.get('token') ? `&token=${encodeURIComponent(params.get('token'))}` : '') +
-  (params.get('seed') ? `&seed=${encodeURIComponent(params.get('seed'))}` : '');
+  (params.get('seed') ? `&seed=${encodeURIComponent(params.get('seed'))}` : '') +
+  (params.get('device') ? `&device=${encodeURIComponent(params.get('device'))}` : '');
 const ws = new WebSocket(url);
 ws.binaryType = 'arraybuffer';
 ws.onopen = () => { state.connected = true; };
@@ -261,7 +313,7 @@ function tick() {
     figures.textContent =
       `${state.closed ? 'disconnected' : state.connected ? 'connected' : 'connecting...'}` +
       `\n${(rate / 1024).toFixed(1)} KB/s, weights ${weightRate.toFixed(0)} B/s` +
-      `\nA/V offset ${state.offsetMs.toFixed(0)} ms (jitter buffer ${jitterMs} ms)` +
+      `\nA/V offset ${state.offsetMs.toFixed(0)} ms (jitter buffer ${jitterMs.toFixed(0)} ms${adaptive ? ', adaptive' : ''})` +
       `\nunderruns: frames ${state.frameUnderruns}, sound ${(state.audioLate / (audio ? audio.sampleRate : 1) * 1000).toFixed(0)} ms` +
       (withhold ? '\nweights withheld' : '');
   }
