@@ -6,6 +6,7 @@
 
 #include "base/Error.h"
 #include "base/Text.h"
+#include "budget/DeviceProfile.h"
 #include "dialog/DialogServer.h"
 #include "gltf/GltfScene.h"
 #include "morph/OptimizerPresets.h"
@@ -25,6 +26,7 @@
 #include <csignal>
 #include <cstdlib>
 #include <iostream>
+#include <map>
 #include <mutex>
 #include <random>
 #include <sstream>
@@ -151,6 +153,25 @@ int RunServe(const Options& o)
     }
     settings.Files["/avatar.glb"] = { "model/gltf-binary",
       std::string(avatar->GetFile().begin(), avatar->GetFile().end()) };
+    // The avatar prepared for each device profile a page may ask for (?device=phone): the
+    // profile's pixel bound prunes targets it would not show, and its finest level of detail
+    // reduces the mesh (phone: the level-of-detail ladder's level 1, when built in).
+    std::map<std::string, std::shared_ptr<const stream::StreamAvatar>> devices;
+    for (const morphnode::DeviceProfile& profile : morphnode::DeviceProfiles())
+    {
+      auto prepared = std::make_shared<const stream::StreamAvatar>(face, channels, rig.get(),
+        stream::DeviceAvatarOptions(profile));
+      settings.Files["/avatar-" + profile.Name + ".glb"] = { "model/gltf-binary",
+        std::string(prepared->GetFile().begin(), prepared->GetFile().end()) };
+      if (!o.Quiet)
+      {
+        std::cerr << "MorphAvatar: for a " << profile.Name << ": " << prepared->GetTargetNames().size()
+                  << " targets (" << prepared->GetPrunedTargets().size() << " below " << profile.TargetPixelBound
+                  << " px left out), " << prepared->GetNumberOfTriangles() << " triangles (level "
+                  << prepared->GetLevel() << "), " << prepared->GetFile().size() / 1024 << " KiB" << std::endl;
+      }
+      devices[profile.Name] = std::move(prepared);
+    }
     settings.Folders["/three/"] = ThreeDir();
     // Speech is synthesized off the sessions' threads, by a pool all sessions share: a say
     // never holds up a session's frames (eSpeak NG itself is one engine per process, so
@@ -171,14 +192,23 @@ int RunServe(const Options& o)
       options.Voice = voice;
       return [options](const std::string& text) { return morphnode::SpeakText(text, options); };
     };
-    settings.MakeSession = [avatar, visemes, speech, base, pool, makeVoice](const stream::SessionRequest& want) {
+    settings.MakeSession = [avatar, devices, visemes, speech, base, pool, makeVoice](const stream::SessionRequest& want) {
       stream::StreamSettings s = base;
       s.Codec = want.Codec;
       s.Seed = want.Seed;
+      std::shared_ptr<const stream::StreamAvatar> face = avatar;
+      std::string url;
+      if (!want.Device.empty())
+      {
+        const morphnode::DeviceProfile& profile = morphnode::FindDeviceProfile(want.Device); // InputError: refused
+        face = devices.at(profile.Name);
+        url = "/avatar-" + profile.Name + ".glb";
+      }
       morphnode::LiveBehavior::Synthesizer synth = [speech](const std::string& text) {
         return morphnode::SpeakText(text, speech);
       };
-      auto session = std::make_unique<stream::StreamSession>(*avatar, visemes, synth, s);
+      auto session = std::make_unique<stream::StreamSession>(*face, visemes, synth, s);
+      session->SetAvatarUrl(url);
       session->SetSynthesisPool(pool);
       session->SetVoiceSynthesizers(makeVoice);
       return session;

@@ -13,6 +13,7 @@
 #include <boost/beast/websocket.hpp>
 
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <deque>
 #include <fstream>
@@ -264,7 +265,8 @@ private:
         this->Queue(true, std::move(line));
       },
       *this->Session);
-    this->Queue(true, this->Session->Header(this->Id, this->Server.S.AvatarPath));
+    this->Queue(true, this->Session->Header(this->Id,
+      this->Session->GetAvatarUrl().empty() ? this->Server.S.AvatarPath : this->Session->GetAvatarUrl()));
     this->Tick();
     this->Read();
   }
@@ -610,10 +612,20 @@ private:
       {
         want.Seed = std::stoull(seed->second.substr(0, 19));
       }
+      const auto device = params.find("device");
+      if (device != params.end())
+      {
+        if (device->second.empty() || device->second.size() > 16 ||
+          !std::all_of(device->second.begin(), device->second.end(), [](char c) { return std::isalpha(static_cast<unsigned char>(c)); }))
+        {
+          throw InputError("bad device");
+        }
+        want.Device = device->second;
+      }
     }
     catch (const std::exception&)
     {
-      return refuse(http::status::bad_request, "bad audio or seed parameter");
+      return refuse(http::status::bad_request, "bad audio, seed or device parameter");
     }
     std::unique_ptr<StreamSession> session;
     try

@@ -50,6 +50,9 @@ struct SessionRequest
 {
   AudioCodec Codec = AudioCodec::Pcm16;
   uint64_t Seed = 1;
+  /// The device profile the page asks for (`device`: letters only, at most 16; empty: none).
+  /// MakeSession checks it (budget/DeviceProfile.h) and picks the avatar prepared for it.
+  std::string Device;
 };
 
 struct StreamServerSettings

@@ -269,6 +269,12 @@ void StreamSession::QueueAudio(const LiveBehavior::AudioSegment& segment)
 
 dialog::Schedule StreamSession::Say(const dialog::SayCommand& c, double now)
 {
+  if (!c.Audio.empty() || !c.Timings.empty())
+  {
+    // (Recordings name files on the server: the command socket's external speech is the
+    // window's; a stream session synthesizes its text.)
+    throw InputError("a stream session speaks text only (no 'audio' or 'timings')");
+  }
   LiveBehavior::Synthesizer voice;
   if (!c.Voice.empty())
   {

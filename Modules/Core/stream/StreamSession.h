@@ -72,6 +72,11 @@ public:
   using VoiceSynthesizers = std::function<LiveBehavior::Synthesizer(const std::string& voice)>;
   void SetVoiceSynthesizers(VoiceSynthesizers make) { this->MakeVoice = std::move(make); }
 
+  /// The avatar file's URL for the header, when not the server's default (e.g. the file
+  /// prepared for the page's device).
+  void SetAvatarUrl(std::string url) { this->AvatarUrl = std::move(url); }
+  const std::string& GetAvatarUrl() const { return this->AvatarUrl; }
+
   /// The header text message.
   std::string Header(const std::string& sessionId, const std::string& avatarUrl) const;
   const StreamSettings& GetSettings() const { return this->Settings; }
@@ -117,6 +122,7 @@ private:
   void TakeAudio();
   void QueueAudio(const LiveBehavior::AudioSegment& segment);
   VoiceSynthesizers MakeVoice;
+  std::string AvatarUrl;
   std::vector<LiveBehavior::SpeechError> SpeechErrors;
   std::map<uint64_t, double> SoundStarts; ///< utterance id -> its sound's start (held briefly)
 

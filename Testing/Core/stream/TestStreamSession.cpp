@@ -7,6 +7,7 @@
 
 #include "MorphNodeTestSkips.h"
 #include "base/Error.h"
+#include "budget/DeviceProfile.h"
 #include "gltf/GltfScene.h"
 #include "speech/Speech.h"
 
@@ -403,4 +404,75 @@ TEST(StreamSession, WithAPoolSayNeverBlocksAndASaysVoiceIsUsed)
   }
   EXPECT_GT(open, 100) << "the mouth opens once the speech is ready";
   EXPECT_GT(frames, 1) << "frames went on while synthesizing";
+}
+
+// A device's avatar (docs/streaming.md): a phone gets the level-of-detail ladder's level 1
+// (when the build has the reduction) with the same targets, and a target that moves less
+// than the profile's pixel bound on the face's height is left out (kept on the desktop
+// with a smaller bound, and without a bound). The phone's file goes to the Khronos validator.
+TEST(StreamAvatar, DevicesGetTheirLevelAndTheirPixelBoundPrunesTargets)
+{
+  const SpeechOptions speech = Paper6();
+  const std::vector<std::string> channels = ChannelsOf(speech);
+  const StreamAvatar full(DefaultHead(), channels, nullptr, false);
+  StreamAvatarOptions phoneOptions = DeviceAvatarOptions(FindDeviceProfile("phone"));
+  EXPECT_EQ(phoneOptions.Level, 1);
+  EXPECT_DOUBLE_EQ(phoneOptions.TargetPixelBound, 1.0);
+  phoneOptions.QuantizeDeltas = false; // read back below
+  const StreamAvatar phone(DefaultHead(), channels, nullptr, phoneOptions);
+  EXPECT_EQ(phone.GetTargetNames(), full.GetTargetNames()) << "every target of the default head shows on a phone";
+  EXPECT_TRUE(phone.GetPrunedTargets().empty());
+  if (phone.GetLevel() == 0)
+  {
+    GTEST_SKIP() << "this build has no reduction (MORPHNODE_ENABLE_REDUCTION): the phone gets the full mesh";
+  }
+  EXPECT_EQ(phone.GetLevel(), 1);
+  EXPECT_LT(phone.GetNumberOfTriangles(), 0.8 * full.GetNumberOfTriangles());
+  EXPECT_GT(phone.GetNumberOfTriangles(), 0.3 * full.GetNumberOfTriangles());
+  EXPECT_GT(phone.GetLevelError(), 0.0);
+  // The file reads back with the reduced mesh and every target.
+  const GltfScene back = LoadGltfSceneFromMemory(phone.GetFile().data(), phone.GetFile().size());
+  size_t triangles = 0;
+  std::set<std::string> names;
+  for (const GltfPart& part : back.Parts)
+  {
+    triangles += part.Triangles.size() / 3;
+    for (const GltfTarget& t : part.Targets)
+    {
+      names.insert(t.Name);
+      EXPECT_EQ(t.PositionDeltas.size(), part.Positions.size());
+    }
+  }
+  EXPECT_EQ(triangles, phone.GetNumberOfTriangles());
+  EXPECT_EQ(names.size(), phone.GetTargetNames().size());
+  StreamAvatarOptions quantized = DeviceAvatarOptions(FindDeviceProfile("phone"));
+  WriteForValidator(StreamAvatar(DefaultHead(), channels, nullptr, quantized), "stream_default_head_phone.glb");
+
+  // A target that barely moves: pruned for the phone (1 px), kept without a bound.
+  GltfScene face = DefaultHead();
+  const std::string tiny = full.GetTargetNames().back();
+  for (GltfPart& part : face.Parts)
+  {
+    for (GltfTarget& t : part.Targets)
+    {
+      if (t.Name == tiny)
+      {
+        for (float& d : t.PositionDeltas)
+        {
+          d *= 1e-5f;
+        }
+      }
+    }
+  }
+  StreamAvatarOptions bound;
+  bound.TargetPixelBound = 1.0;
+  bound.QuantizeDeltas = false;
+  const StreamAvatar pruned(face, channels, nullptr, bound);
+  EXPECT_EQ(pruned.GetPrunedTargets(), std::vector<std::string>{ tiny });
+  EXPECT_EQ(std::count(pruned.GetTargetNames().begin(), pruned.GetTargetNames().end(), tiny), 0);
+  EXPECT_EQ(pruned.GetTargetNames().size() + 1, full.GetTargetNames().size());
+  const StreamAvatar kept(face, channels, nullptr, false);
+  EXPECT_EQ(kept.GetTargetNames().size(), full.GetTargetNames().size());
+  bound.TargetPixelBound = -1.0;
+  EXPECT_THROW(StreamAvatar(face, channels, nullptr, bound), InputError);
 }
