@@ -68,16 +68,16 @@ const state = {
 };
 window.morphnode = {
   state,
-  send: (cmd) => ws.send(JSON.stringify(cmd)),
-  say: (text) => ws.send(JSON.stringify({ cmd: 'say', text })),
-  stop: () => ws.send(JSON.stringify({ cmd: 'stop' })),
+  send: (cmd) => socket.postMessage({ type: 'send', text: JSON.stringify(cmd) }),
+  say: (text) => socket.postMessage({ type: 'send', text: JSON.stringify({ cmd: 'say', text }) }),
+  stop: () => socket.postMessage({ type: 'send', text: JSON.stringify({ cmd: 'stop' }) }),
   position: () => position(),
   // The influence a mesh applies for a stream target, read back from three.js.
   influences: () => state.header ? state.header.targets.map((name, k) =>
     state.bindings[k].length ? state.bindings[k][0].mesh.morphTargetInfluences[state.bindings[k][0].index] : null) : [],
   audioLevel: () => { analyser.getFloatTimeDomainData(levelBuffer);
     let s = 0; for (const v of levelBuffer) s += v * v; return Math.sqrt(s / levelBuffer.length); },
-  close: () => ws.close(),
+  close: () => socket.postMessage({ type: 'close' }),
 };
 
 // ---- sound: an AudioContext at the stream's rate, the worklet, a level meter -------------
@@ -91,8 +91,18 @@ async function startAudio(rate) {
   levelBuffer = new Float32Array(analyser.fftSize);
   player.connect(analyser);
   analyser.connect(audio.destination);
+  // PCM sound and stops come to the player straight from the socket's worker.
+  const direct = new MessageChannel();
+  player.port.postMessage({ type: 'port', port: direct.port1 }, [direct.port1]);
+  socket.postMessage({ type: 'port', port: direct.port2 }, [direct.port2]);
   player.port.onmessage = (e) => {
-    if (e.data.type === 'report') state.audioLate = e.data.late;
+    if (e.data.type === 'report') {
+      state.audioLate = e.data.late;
+      // How early the sound arrived (the worklet's least margin since its last report).
+      if (e.data.margin !== null && state.offset !== null) {
+        state.margins.push([performance.now(), e.data.margin / audio.sampleRate * 1000]);
+      }
+    }
     // The audio clock's time when the worklet dropped the sound (its next quantum is silent).
     if (e.data.type === 'stopped') state.soundStoppedAt = e.data.frame / audio.sampleRate;
   };
@@ -186,23 +196,22 @@ function onFrame(f) {
     state.offset = Math.round(state.offset);
     player.port.postMessage({ type: 'offset', offset: state.offset });
   }
-  if (state.offset !== null) adapt(f);
+  state.newestSample = f.sample;
   state.frames.push(f);
   state.log.push({ sample: f.sample, targets: f.targets });
   if (state.log.length > 900) state.log.splice(0, state.log.length - 600);
 }
 
-/// The jitter buffer (see the top of the file). Every frame's margin (how long before it is
-/// due it arrived, on the sound's clock) is kept for the last 10 s; the clock is moved so
-/// that the margins are what the buffer asks: adaptive, all but the latest 2 % of the frames
-/// at least 15 ms early (the buffer then is the typical margin, at most 250 ms); fixed, the
-/// median margin equal to the buffer. Moving it also undoes what the clock lost before it
-/// ran (the context starting late) and a stop's jump. Only while no sound is queued.
-function adapt(f) {
-  const now = position();
-  if (now === null) return;
+/// The jitter buffer (see the top of the file). The margins of the last 10 s are kept: at
+/// every draw, how far the newest frame at hand is ahead of the heard position (the frame
+/// for now must be there when the page draws), and how early the sound came to the player
+/// (reported by the worklet); the clock is moved so that they are what the buffer asks:
+/// adaptive, all but the latest 2 % at least 15 ms early (the buffer then is the typical
+/// margin, at most 250 ms); fixed, the median margin equal to the buffer. Moving it also
+/// undoes what the clock lost before it ran (the context starting late) and a stop's jump.
+/// Only while no sound is queued.
+function adapt(now) {
   const t = performance.now();
-  state.margins.push([t, (f.sample - now) / audio.sampleRate * 1000]);
   while (state.margins.length && t - state.margins[0][0] > 10000) state.margins.shift();
   if (state.margins.length < 30) return;
   const sorted = state.margins.map((m) => m[1]).sort((a, b) => a - b);
@@ -225,10 +234,7 @@ function adapt(f) {
 function onAudio(a) {
   state.soundEnd = Math.max(state.soundEnd, a.sample + a.frames);
   if (a.codec === 0) {
-    const pcm = new Float32Array(a.frames);
-    const v = new DataView(a.payload.buffer, a.payload.byteOffset, a.payload.byteLength);
-    for (let i = 0; i < a.frames; ++i) pcm[i] = v.getInt16(2 * i, true) / 32768;
-    player.port.postMessage({ type: 'chunk', sample: a.sample, data: pcm }, [pcm.buffer]);
+    // (PCM goes from the socket's worker to the player directly: stream-socket.js.)
   } else if (opusDecoder) {
     const payload = a.payload.slice();
     opusDecoder.postMessage({ type: 'packet', sample: a.sample, payload }, [payload.buffer]);
@@ -240,7 +246,7 @@ function onStop(s) {
   state.stopArrived = performance.now();
   state.stopArrivedAudio = audio.currentTime;
   state.stopSample = s.sample;
-  player.port.postMessage({ type: 'stop', sample: s.sample });
+  // (The worker told the player first, in order with the sound: stream-socket.js.)
   // The same jump on the picture's side: what was queued before the stop is skipped.
   // The buffer is gone after the jump; adapt() restores it once silent (the stop's sample on).
   const now = position();
@@ -257,14 +263,19 @@ const url = `${location.protocol === 'https:' ? 'wss' : 'ws'}://${location.host}
   (params.get('token') ? `&token=${encodeURIComponent(params.get('token'))}` : '') +
   (params.get('seed') ? `&seed=${encodeURIComponent(params.get('seed'))}` : '') +
   (params.get('device') ? `&device=${encodeURIComponent(params.get('device'))}` : '');
-const ws = new WebSocket(url);
-ws.binaryType = 'arraybuffer';
-ws.onopen = () => { state.connected = true; };
-ws.onclose = () => { state.closed = true; state.connected = false; if (audio) audio.suspend(); };
-ws.onmessage = async (e) => {
-  if (typeof e.data === 'string') {
-    state.bytes += e.data.length;
-    const m = JSON.parse(e.data);
+const socket = new Worker('/stream-socket.js');
+socket.onmessage = async (e) => {
+  const w = e.data;
+  if (w.type === 'open') { state.connected = true; return; }
+  if (w.type === 'close') { state.closed = true; state.connected = false; if (audio) audio.suspend(); return; }
+  if (w.type === 'audio') {
+    state.bytes += w.bytes; state.audioBytes += w.bytes;
+    state.soundEnd = Math.max(state.soundEnd, w.sample + w.frames);
+    return;
+  }
+  if (w.type === 'text') {
+    state.bytes += w.data.length;
+    const m = JSON.parse(w.data);
     if (m.type === 'header') {
       state.header = m;
       await startAudio(m.sampleRate);
@@ -275,14 +286,15 @@ ws.onmessage = async (e) => {
     }
     return;
   }
-  state.bytes += e.data.byteLength;
+  state.bytes += w.data.byteLength;
   if (!player) return;
-  const m = decode(e.data);
+  const m = decode(w.data);
   if (!m) return;
-  if (m.type === 1) { state.weightBytes += e.data.byteLength; onFrame(m); }
-  else if (m.type === 2) { state.audioBytes += e.data.byteLength; onAudio(m); }
+  if (m.type === 1) { state.weightBytes += w.data.byteLength; onFrame(m); }
+  else if (m.type === 2) { state.audioBytes += w.data.byteLength; onAudio(m); }
   else if (m.type === 3) onStop(m);
 };
+socket.postMessage({ type: 'open', url });
 
 // ---- the loop: the frame the sound's clock asks for ------------------------------------
 let lastFigures = performance.now(), lastBytes = 0, lastWeightBytes = 0, rate = 0, weightRate = 0;
@@ -290,6 +302,10 @@ function tick() {
   requestAnimationFrame(tick);
   const now = position();
   if (state.loaded && now !== null) {
+    if (state.newestSample !== undefined) {
+      state.margins.push([performance.now(), (state.newestSample - now) / audio.sampleRate * 1000]);
+      adapt(now);
+    }
     // The frame nearest to what is heard (a frame is due from half a frame before its sample).
     const half = 0.5 * audio.sampleRate / state.header.fps;
     let next = null;

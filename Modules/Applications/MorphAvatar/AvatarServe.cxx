@@ -143,7 +143,7 @@ int RunServe(const Options& o)
                                           : static_cast<int>(std::max(2u, std::thread::hardware_concurrency()));
     settings.MaxSessions = static_cast<size_t>(o.ServeMaxSessions);
     const std::string web = morphnode::appkit::DataPath("web");
-    for (const char* file : { "index.html", "avatar-stream.js", "stream-worklet.js", "opus-worker.js" })
+    for (const char* file : { "index.html", "avatar-stream.js", "stream-worklet.js", "opus-worker.js", "stream-socket.js" })
     {
       const std::string path = web + "/" + file;
       stream::StaticFile f;
