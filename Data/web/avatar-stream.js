@@ -5,13 +5,24 @@
 // sound's clock (the AudioContext runs at the stream's rate) decides which frame is shown.
 // The page's figures: bytes per second, the audio-visual offset, underruns.
 //
-// URL parameters: token (remote servers), audio=opus (else pcm16), jitter=MS (the jitter
-// buffer, default 80), withhold (the test's negative control: weights are not applied).
+// URL parameters: token (remote servers), audio=opus (else pcm16), device=desktop|laptop|
+// phone (the avatar prepared for that device: docs/streaming.md), jitter=MS (the jitter
+// buffer, default 40: the frames' median margin is kept there, adapt()) or jitter=auto
+// (adaptive: all but the latest 2 % of the last 10 s's margins at least 15 ms), withhold
+// (the test's negative control: weights are not applied).
+//
+// The buffer moves only while no sound is queued, so a change never cuts or repeats speech;
+// the picture follows the same clock. (On a page drawing in software on a loaded machine
+// the adaptive rule grew to 250 ms and cost latency; the fixed 40 ms did better there:
+// docs/streaming.md.)
 import * as THREE from 'three';
 import { GLTFLoader } from '/three/examples/jsm/loaders/GLTFLoader.js';
 
 const params = new URLSearchParams(location.search);
-const jitterMs = Math.max(0, Math.min(1000, Number(params.get('jitter') || 80)));
+const jitterParam = params.get('jitter') || '40';
+const adaptive = jitterParam === 'auto';
+const fixedJitterMs = Math.max(0, Math.min(1000, Number(jitterParam) || 40));
+let jitterMs = adaptive ? 40 : fixedJitterMs;
 const codec = params.get('audio') === 'opus' ? 'opus' : 'pcm16';
 const withhold = params.has('withhold');
 const still = params.has('still'); // rotations not applied (the tests' mouth pictures)
@@ -51,19 +62,23 @@ const state = {
   frameUnderruns: 0, audioLate: 0, offsetMs: 0, offsets: [], stops: 0,
   offset: null,          // stream sample = ctx frame + offset
   events: [],
+  jitterMs: jitterMs,    // the jitter buffer now
+  jitterChanges: 0,
+  margins: [],           // adaptive buffer: [arrival ms, margin ms] of recent frames
+  soundEnd: 0,           // the stream sample where the queued sound ends
 };
 window.morphnode = {
   state,
-  send: (cmd) => ws.send(JSON.stringify(cmd)),
-  say: (text) => ws.send(JSON.stringify({ cmd: 'say', text })),
-  stop: () => ws.send(JSON.stringify({ cmd: 'stop' })),
+  send: (cmd) => socket.postMessage({ type: 'send', text: JSON.stringify(cmd) }),
+  say: (text) => socket.postMessage({ type: 'send', text: JSON.stringify({ cmd: 'say', text }) }),
+  stop: () => socket.postMessage({ type: 'send', text: JSON.stringify({ cmd: 'stop' }) }),
   position: () => position(),
   // The influence a mesh applies for a stream target, read back from three.js.
   influences: () => state.header ? state.header.targets.map((name, k) =>
     state.bindings[k].length ? state.bindings[k][0].mesh.morphTargetInfluences[state.bindings[k][0].index] : null) : [],
   audioLevel: () => { analyser.getFloatTimeDomainData(levelBuffer);
     let s = 0; for (const v of levelBuffer) s += v * v; return Math.sqrt(s / levelBuffer.length); },
-  close: () => ws.close(),
+  close: () => socket.postMessage({ type: 'close' }),
 };
 
 // ---- sound: an AudioContext at the stream's rate, the worklet, a level meter -------------
@@ -77,8 +92,18 @@ async function startAudio(rate) {
   levelBuffer = new Float32Array(analyser.fftSize);
   player.connect(analyser);
   analyser.connect(audio.destination);
+  // PCM sound and stops come to the player straight from the socket's worker.
+  const direct = new MessageChannel();
+  player.port.postMessage({ type: 'port', port: direct.port1 }, [direct.port1]);
+  socket.postMessage({ type: 'port', port: direct.port2 }, [direct.port2]);
   player.port.onmessage = (e) => {
-    if (e.data.type === 'report') state.audioLate = e.data.late;
+    if (e.data.type === 'report') {
+      state.audioLate = e.data.late;
+      // How early the sound arrived (the worklet's least margin since its last report).
+      if (e.data.margin !== null && state.offset !== null) {
+        state.margins.push([performance.now(), e.data.margin / audio.sampleRate * 1000]);
+      }
+    }
     // The audio clock's time when the worklet dropped the sound (its next quantum is silent).
     if (e.data.type === 'stopped') state.soundStoppedAt = e.data.frame / audio.sampleRate;
   };
@@ -165,23 +190,52 @@ function decode(buffer) {
 
 function onFrame(f) {
   state.framesReceived++;
-  if (state.offset === null && audio) {
-    // The jitter buffer: this frame is shown jitterMs from now, on the sound's clock.
+  if (state.offset === null && audio && audio.state === 'running' && audio.currentTime > 0) {
+    // The jitter buffer: this frame is shown jitterMs from now, on the sound's clock (once it
+    // runs: a clock that has not started would put the picture behind by its start-up).
     state.offset = f.sample - audio.currentTime * audio.sampleRate - jitterMs / 1000 * audio.sampleRate;
     state.offset = Math.round(state.offset);
     player.port.postMessage({ type: 'offset', offset: state.offset });
   }
+  state.newestSample = f.sample;
   state.frames.push(f);
   state.log.push({ sample: f.sample, targets: f.targets });
   if (state.log.length > 900) state.log.splice(0, state.log.length - 600);
 }
 
+/// The jitter buffer (see the top of the file). The margins of the last 10 s are kept: at
+/// every draw, how far the newest frame at hand is ahead of the heard position (the frame
+/// for now must be there when the page draws), and how early the sound came to the player
+/// (reported by the worklet); the clock is moved so that they are what the buffer asks:
+/// adaptive, all but the latest 2 % at least 15 ms early (the buffer then is the typical
+/// margin, at most 250 ms); fixed, the median margin equal to the buffer. Moving it also
+/// undoes what the clock lost before it ran (the context starting late) and a stop's jump.
+/// Only while no sound is queued.
+function adapt(now) {
+  const t = performance.now();
+  while (state.margins.length && t - state.margins[0][0] > 10000) state.margins.shift();
+  if (state.margins.length < 30) return;
+  const sorted = state.margins.map((m) => m[1]).sort((a, b) => a - b);
+  const low = sorted[Math.floor(0.02 * sorted.length)], median = sorted[sorted.length >> 1];
+  // shift > 0: the heard position jumps ahead (less buffer); < 0: it falls back.
+  let shift = adaptive ? Math.min(low - 15, median - 20) : median - fixedJitterMs;
+  if (adaptive && median - shift > 250) shift = median - 250;
+  state.jitterMs = jitterMs = median;
+  // Less buffer only by 20 ms or more (no dithering); more at once; never while speaking.
+  if ((shift > 0 ? shift < 20 : shift > -10) || now < state.soundEnd) return;
+  // After a stop's jump the buffer comes back a second later: the mouth closes first.
+  if (shift < 0 && performance.now() - (state.stopArrived || -1e9) < 1000) return;
+  state.offset += Math.round(shift / 1000 * audio.sampleRate);
+  player.port.postMessage({ type: 'offset', offset: state.offset });
+  for (const m of state.margins) m[1] -= shift;
+  state.jitterMs = jitterMs = median - shift;
+  state.jitterChanges++;
+}
+
 function onAudio(a) {
+  state.soundEnd = Math.max(state.soundEnd, a.sample + a.frames);
   if (a.codec === 0) {
-    const pcm = new Float32Array(a.frames);
-    const v = new DataView(a.payload.buffer, a.payload.byteOffset, a.payload.byteLength);
-    for (let i = 0; i < a.frames; ++i) pcm[i] = v.getInt16(2 * i, true) / 32768;
-    player.port.postMessage({ type: 'chunk', sample: a.sample, data: pcm }, [pcm.buffer]);
+    // (PCM goes from the socket's worker to the player directly: stream-socket.js.)
   } else if (opusDecoder) {
     const payload = a.payload.slice();
     opusDecoder.postMessage({ type: 'packet', sample: a.sample, payload }, [payload.buffer]);
@@ -193,26 +247,36 @@ function onStop(s) {
   state.stopArrived = performance.now();
   state.stopArrivedAudio = audio.currentTime;
   state.stopSample = s.sample;
-  player.port.postMessage({ type: 'stop', sample: s.sample });
+  // (The worker told the player first, in order with the sound: stream-socket.js.)
   // The same jump on the picture's side: what was queued before the stop is skipped.
+  // The buffer is gone after the jump; adapt() restores it once silent (the stop's sample on).
   const now = position();
   if (now !== null && s.sample > now) {
-    state.offset += s.sample - now;
+    const jump = s.sample - now;
+    state.offset += jump;
+    for (const m of state.margins) m[1] -= jump / audio.sampleRate * 1000;
   }
+  state.soundEnd = s.sample;
   state.frames = state.frames.filter((f) => f.sample >= s.sample);
 }
 
 const url = `${location.protocol === 'https:' ? 'wss' : 'ws'}://${location.host}/stream?audio=${codec}` +
   (params.get('token') ? `&token=${encodeURIComponent(params.get('token'))}` : '') +
-  (params.get('seed') ? `&seed=${encodeURIComponent(params.get('seed'))}` : '');
-const ws = new WebSocket(url);
-ws.binaryType = 'arraybuffer';
-ws.onopen = () => { state.connected = true; };
-ws.onclose = () => { state.closed = true; state.connected = false; if (audio) audio.suspend(); };
-ws.onmessage = async (e) => {
-  if (typeof e.data === 'string') {
-    state.bytes += e.data.length;
-    const m = JSON.parse(e.data);
+  (params.get('seed') ? `&seed=${encodeURIComponent(params.get('seed'))}` : '') +
+  (params.get('device') ? `&device=${encodeURIComponent(params.get('device'))}` : '');
+const socket = new Worker('/stream-socket.js');
+socket.onmessage = async (e) => {
+  const w = e.data;
+  if (w.type === 'open') { state.connected = true; return; }
+  if (w.type === 'close') { state.closed = true; state.connected = false; if (audio) audio.suspend(); return; }
+  if (w.type === 'audio') {
+    state.bytes += w.bytes; state.audioBytes += w.bytes;
+    state.soundEnd = Math.max(state.soundEnd, w.sample + w.frames);
+    return;
+  }
+  if (w.type === 'text') {
+    state.bytes += w.data.length;
+    const m = JSON.parse(w.data);
     if (m.type === 'header') {
       state.header = m;
       await startAudio(m.sampleRate);
@@ -223,14 +287,15 @@ ws.onmessage = async (e) => {
     }
     return;
   }
-  state.bytes += e.data.byteLength;
+  state.bytes += w.data.byteLength;
   if (!player) return;
-  const m = decode(e.data);
+  const m = decode(w.data);
   if (!m) return;
-  if (m.type === 1) { state.weightBytes += e.data.byteLength; onFrame(m); }
-  else if (m.type === 2) { state.audioBytes += e.data.byteLength; onAudio(m); }
+  if (m.type === 1) { state.weightBytes += w.data.byteLength; onFrame(m); }
+  else if (m.type === 2) { state.audioBytes += w.data.byteLength; onAudio(m); }
   else if (m.type === 3) onStop(m);
 };
+socket.postMessage({ type: 'open', url });
 
 // ---- the loop: the frame the sound's clock asks for ------------------------------------
 let lastFigures = performance.now(), lastBytes = 0, lastWeightBytes = 0, rate = 0, weightRate = 0;
@@ -238,6 +303,10 @@ function tick() {
   requestAnimationFrame(tick);
   const now = position();
   if (state.loaded && now !== null) {
+    if (state.newestSample !== undefined) {
+      state.margins.push([performance.now(), (state.newestSample - now) / audio.sampleRate * 1000]);
+      adapt(now);
+    }
     // The frame nearest to what is heard (a frame is due from half a frame before its sample).
     const half = 0.5 * audio.sampleRate / state.header.fps;
     let next = null;
@@ -261,7 +330,7 @@ function tick() {
     figures.textContent =
       `${state.closed ? 'disconnected' : state.connected ? 'connected' : 'connecting...'}` +
       `\n${(rate / 1024).toFixed(1)} KB/s, weights ${weightRate.toFixed(0)} B/s` +
-      `\nA/V offset ${state.offsetMs.toFixed(0)} ms (jitter buffer ${jitterMs} ms)` +
+      `\nA/V offset ${state.offsetMs.toFixed(0)} ms (jitter buffer ${jitterMs.toFixed(0)} ms${adaptive ? ', adaptive' : ''})` +
       `\nunderruns: frames ${state.frameUnderruns}, sound ${(state.audioLate / (audio ? audio.sampleRate : 1) * 1000).toFixed(0)} ms` +
       (withhold ? '\nweights withheld' : '');
   }

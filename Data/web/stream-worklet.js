@@ -10,12 +10,18 @@ class StreamPlayer extends AudioWorkletProcessor {
     this.chunks = [];     // { sample, data: Float32Array }, sorted by sample
     this.late = 0;        // samples that arrived after they were due
     this.played = 0;      // audible samples played
+    this.margin = null;   // the least margin of the chunks since the last report
     const receive = (e) => {
       const m = e.data;
       if (m.type === 'port') { m.port.onmessage = receive; return; } // the Opus worker's
       if (m.type === 'offset') {
         this.offset = m.offset;
       } else if (m.type === 'chunk') {
+        if (this.offset !== null) {
+          // How early it came (samples before its first sample is due; < 0: late).
+          const margin = m.sample - (currentFrame + this.offset);
+          this.margin = this.margin === null ? margin : Math.min(this.margin, margin);
+        }
         this.chunks.push({ sample: m.sample, data: m.data });
         this.chunks.sort((a, b) => a.sample - b.sample);
       } else if (m.type === 'stop') {
@@ -66,7 +72,8 @@ class StreamPlayer extends AudioWorkletProcessor {
       for (const v of out) peak = Math.max(peak, Math.abs(v));
       this.port.postMessage({ type: 'report', frame: currentFrame, position: start,
         queued: this.chunks.reduce((n, c) => n + c.data.length, 0), late: this.late,
-        played: this.played, peak });
+        played: this.played, peak, margin: this.margin });
+      this.margin = null;
     }
     return true;
   }

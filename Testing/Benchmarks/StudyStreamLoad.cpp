@@ -4,14 +4,22 @@
 // client asks for a sentence once, at a time spread over the run, so about half of the
 // sessions speak at any time. Reported per N: the share of frames that missed their
 // deadline (a tick more than one frame late; the server skips rather than bursts), the
-// frames and bytes the clients received. With synthesis: eSpeak NG for every sentence;
-// without: the same sentences synthesized once beforehand (a phrase cache). The clients run
-// in this process on another thread (they share the machine). Not a test.
+// frames and bytes the clients received, the says spoken (a `started` event came) and
+// those the server reported as overloaded, and the CPU the server used (process CPU minus
+// the clients' thread, in cores). Speech three ways: the same sentences synthesized once
+// beforehand (a phrase cache); eSpeak NG for every sentence on the session's own thread
+// (inline); eSpeak NG for every sentence through a SynthesisPool (--pool-workers, the
+// sessions never wait). The clients run in this process on another thread (they share
+// the machine). Not a test.
 //
-//   StudyStreamLoad [--seconds 8] [--sessions 25,50,100,200,400] [--threads 1] [--quick] [--out FILE.md]
+//   StudyStreamLoad [--seconds 8] [--sessions 25,50,100,200,400] [--threads 1] [--pool-workers 1]
+//                   [--modes cache,inline,pool] [--continuous] [--quick] [--out FILE.md]
+// --continuous: every session speaks all the time (a new sentence as soon as its say ended),
+// instead of one sentence each.
 #include "gltf/GltfScene.h"
 #include "morph/OptimizerPresets.h"
 #include "speech/Speech.h"
+#include "speech/SynthesisPool.h"
 #include "stream/StreamServer.h"
 
 #include <boost/asio.hpp>
@@ -27,6 +35,9 @@
 #include <mutex>
 #include <sstream>
 #include <thread>
+
+#include <sys/resource.h>
+#include <time.h>
 
 using namespace morphnode;
 using namespace morphnode::stream;
@@ -45,19 +56,20 @@ const char* const Sentences[] = {
 
 struct Counters
 {
-  std::atomic<uint64_t> Frames{ 0 }, Bytes{ 0 }, Connected{ 0 }, Errors{ 0 };
+  std::atomic<uint64_t> Frames{ 0 }, Bytes{ 0 }, Connected{ 0 }, Errors{ 0 }, Started{ 0 }, Overloaded{ 0 };
 };
 
 class Client : public std::enable_shared_from_this<Client>
 {
 public:
-  Client(net::io_context& io, Counters& c, std::string port, double sayAt, int sentence)
+  Client(net::io_context& io, Counters& c, std::string port, double sayAt, int sentence, bool continuous)
     : Ws(net::make_strand(io))
     , Timer(Ws.get_executor())
     , C(c)
     , Port(std::move(port))
     , SayAt(sayAt)
     , Sentence(sentence)
+    , Continuous(continuous)
   {
   }
   void Start(tcp::resolver::results_type endpoints)
@@ -111,7 +123,25 @@ private:
         return;
       }
       self->C.Bytes += bytes;
-      if (!self->Ws.got_text() && self->Buffer.size() > 0 &&
+      if (self->Ws.got_text())
+      {
+        const std::string line = beast::buffers_to_string(self->Buffer.data());
+        if (line.find("\"started\"") != std::string::npos && line.find("\"say\"") != std::string::npos)
+        {
+          ++self->C.Started;
+        }
+        if (line.find("\"overloaded\"") != std::string::npos)
+        {
+          ++self->C.Overloaded;
+        }
+        if (self->Continuous && line.find("\"ended\"") != std::string::npos &&
+          line.find("\"say\"") != std::string::npos)
+        {
+          self->Sentence = (self->Sentence + 1) % 3;
+          self->Say(); // speaks again at once
+        }
+      }
+      else if (self->Buffer.size() > 0 &&
         static_cast<const uint8_t*>(self->Buffer.data().data())[0] == 1)
       {
         ++self->C.Frames;
@@ -126,6 +156,7 @@ private:
   std::string Port;
   double SayAt;
   int Sentence;
+  bool Continuous;
   beast::flat_buffer Buffer;
   std::string Out;
 };
@@ -133,21 +164,51 @@ private:
 struct Result
 {
   size_t Sessions = 0, Connected = 0;
-  uint64_t Sent = 0, Late = 0, Received = 0, Bytes = 0;
+  uint64_t Sent = 0, Late = 0, Received = 0, Bytes = 0, Started = 0, Overloaded = 0;
+  double ServerCores = 0.0;
+  SynthesisPoolStats Pool;
 };
 
-Result Run(const StreamAvatar& avatar, const std::vector<std::string>& visemes, LiveBehavior::Synthesizer synth,
-  size_t n, double seconds, int threads)
+double ThreadCpuSeconds()
 {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+double ProcessCpuSeconds()
+{
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return static_cast<double>(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
+    1e-6 * static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
+
+Result Run(const StreamAvatar& avatar, const std::vector<std::string>& visemes, LiveBehavior::Synthesizer synth,
+  size_t n, double seconds, int threads, int poolWorkers, bool continuous)
+{
+  std::shared_ptr<SynthesisPool> pool;
+  if (poolWorkers > 0)
+  {
+    SynthesisPoolSettings ps;
+    ps.Workers = poolWorkers;
+    pool = std::make_shared<SynthesisPool>(ps);
+  }
+  const double cpuBefore = ProcessCpuSeconds();
   StreamServerSettings settings;
   settings.Threads = threads;
   settings.MaxSessions = n + 1;
   settings.MaxCommandsPerSecond = 5;
-  settings.MakeSession = [&avatar, &visemes, synth](const SessionRequest& want) {
+  settings.MakeSession = [&avatar, &visemes, synth, pool](const SessionRequest& want) {
     StreamSettings s;
     s.Optimizer = MakeOptimizerSettings(OptimizerPreset::Adjusted, 0.1, 0.0);
     s.Seed = want.Seed;
-    return std::make_unique<StreamSession>(avatar, visemes, synth, s);
+    auto session = std::make_unique<StreamSession>(avatar, visemes, synth, s);
+    if (pool)
+    {
+      session->SetSynthesisPool(pool);
+    }
+    return session;
   };
   StreamServer server(settings);
   const std::string bound = server.Start();
@@ -159,11 +220,16 @@ Result Run(const StreamAvatar& avatar, const std::vector<std::string>& visemes, 
   const auto endpoints = resolver.resolve("127.0.0.1", port);
   for (size_t i = 0; i < n; ++i)
   {
-    const double sayAt = 0.5 + (seconds - 1.0) * static_cast<double>(i) / static_cast<double>(n);
-    clients.push_back(std::make_shared<Client>(io, counters, port, sayAt, static_cast<int>(i % 3)));
+    const double spread = continuous ? 1.0 : seconds - 1.0;
+    const double sayAt = 0.5 + spread * static_cast<double>(i) / static_cast<double>(n);
+    clients.push_back(std::make_shared<Client>(io, counters, port, sayAt, static_cast<int>(i % 3), continuous));
     clients.back()->Start(endpoints);
   }
-  std::thread thread([&io]() { io.run(); });
+  double clientCpu = 0.0;
+  std::thread thread([&io, &clientCpu]() {
+    io.run();
+    clientCpu = ThreadCpuSeconds();
+  });
   std::this_thread::sleep_for(std::chrono::duration<double>(seconds));
   const StreamServerStats stats = server.GetStats();
   for (auto& c : clients)
@@ -173,6 +239,7 @@ Result Run(const StreamAvatar& avatar, const std::vector<std::string>& visemes, 
   server.Stop();
   io.stop();
   thread.join();
+  const double cpu = ProcessCpuSeconds() - cpuBefore - clientCpu;
   Result r;
   r.Sessions = n;
   r.Connected = counters.Connected;
@@ -180,6 +247,13 @@ Result Run(const StreamAvatar& avatar, const std::vector<std::string>& visemes, 
   r.Late = stats.FramesLate;
   r.Received = counters.Frames;
   r.Bytes = counters.Bytes;
+  r.Started = counters.Started;
+  r.Overloaded = counters.Overloaded;
+  r.ServerCores = cpu / seconds;
+  if (pool)
+  {
+    r.Pool = pool->GetStats();
+  }
   return r;
 }
 } // namespace
@@ -188,6 +262,9 @@ int main(int argc, char* argv[])
 {
   double seconds = 8.0;
   int threads = 1;
+  int poolWorkers = 1;
+  bool continuous = false;
+  std::vector<std::string> modes = { "cache", "inline", "pool" };
   std::vector<size_t> counts = { 25, 50, 100, 200, 400 };
   std::string out;
   for (int i = 1; i < argc; ++i)
@@ -211,6 +288,24 @@ int main(int argc, char* argv[])
     {
       threads = std::atoi(argv[++i]);
     }
+    else if (a == "--pool-workers" && i + 1 < argc)
+    {
+      poolWorkers = std::max(1, std::atoi(argv[++i]));
+    }
+    else if (a == "--modes" && i + 1 < argc)
+    {
+      modes.clear();
+      std::stringstream s(argv[++i]);
+      std::string item;
+      while (std::getline(s, item, ','))
+      {
+        modes.push_back(item);
+      }
+    }
+    else if (a == "--continuous")
+    {
+      continuous = true;
+    }
     else if (a == "--quick")
     {
       seconds = 2.0;
@@ -222,7 +317,8 @@ int main(int argc, char* argv[])
     }
     else
     {
-      std::cerr << "usage: StudyStreamLoad [--seconds 8] [--sessions 25,50,...] [--threads 1] [--quick] [--out FILE.md]\n";
+      std::cerr << "usage: StudyStreamLoad [--seconds 8] [--sessions 25,50,...] [--threads 1] [--pool-workers 1] "
+                   "[--modes cache,inline,pool] [--quick] [--out FILE.md]\n";
       return 2;
     }
   }
@@ -254,18 +350,44 @@ int main(int argc, char* argv[])
     }
     LiveBehavior::Synthesizer synthesize = [speech](const std::string& text) { return SpeakText(text, speech); };
     std::ostringstream md;
-    md << "Server threads: " << threads << "\n\n";
-    md << "| speech | sessions | connected | frames sent | late (missed deadline) | frames received | received kB/s per session |\n"
-       << "|---|---:|---:|---:|---:|---:|---:|\n";
-    for (int mode = 0; mode < 2; ++mode)
+    md << "Server threads: " << threads << ", synthesis pool workers (pool rows): " << poolWorkers << ", "
+       << seconds << " s per row, "
+       << (continuous ? "every session speaks all the time (a new sentence when its say ended)"
+                      : "every session says one sentence")
+       << "\n\n";
+    md << "| speech | sessions | late (missed deadline) | says started / sessions | overloaded | server CPU (cores) | sessions per core | "
+          "synthesis wait mean / max (ms) | frames received | received kB/s per session |\n"
+       << "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+    for (const std::string& mode : modes)
     {
+      if (mode != "cache" && mode != "inline" && mode != "pool")
+      {
+        std::cerr << "StudyStreamLoad: --modes takes cache, inline, pool\n";
+        return 2;
+      }
       for (size_t n : counts)
       {
-        const Result r = Run(avatar, visemes, mode == 0 ? cached : synthesize, n, seconds, threads);
-        md << "| " << (mode == 0 ? "phrase cache" : "eSpeak NG per sentence") << " | " << n << " | " << r.Connected
-           << " | " << r.Sent << " | " << r.Late << " (" << std::fixed;
+        const Result r = Run(avatar, visemes, mode == "cache" ? cached : synthesize, n, seconds, threads,
+          mode == "pool" ? poolWorkers : 0, continuous);
+        const char* name = mode == "cache" ? "phrase cache" : mode == "inline" ? "eSpeak NG on the session's thread"
+                                                                            : "eSpeak NG through the pool";
+        md << "| " << name << " | " << n << " | " << r.Late << " (" << std::fixed;
         md.precision(1);
-        md << 100.0 * r.Late / std::max<uint64_t>(1, r.Sent + r.Late) << " %) | " << r.Received << " | ";
+        md << 100.0 * r.Late / std::max<uint64_t>(1, r.Sent + r.Late) << " %) | " << r.Started << " / " << n << " | "
+           << r.Overloaded << " | ";
+        md.precision(2);
+        md << r.ServerCores << " | ";
+        md.precision(0);
+        md << n / std::max(0.01, r.ServerCores) << " | ";
+        if (mode == "pool")
+        {
+          md << 1000.0 * r.Pool.MeanWaitSeconds << " / " << 1000.0 * r.Pool.MaxWaitSeconds;
+        }
+        else
+        {
+          md << "-";
+        }
+        md << " | " << r.Received << " | ";
         md.precision(1);
         md << r.Bytes / 1024.0 / seconds / std::max<size_t>(1, r.Connected) << " |\n";
         md.unsetf(std::ios::fixed);

@@ -274,6 +274,33 @@ try {
   await opus.close();
   const again = await open();
   check(await again.evaluate(() => window.morphnode.state.framesReceived > 0), 'the server serves a new session afterwards');
+  // A phone's avatar: the page asks for the profile, the server sends the file prepared for
+  // it (the level-of-detail ladder's level 1 when built with the reduction), the same targets.
+  const triangles = (page) => page.evaluate(() => {
+    const meshes = new Set();
+    for (const b of window.morphnode.state.bindings) for (const x of b) meshes.add(x.mesh);
+    let n = 0;
+    for (const m of meshes) n += m.geometry.index ? m.geometry.index.count / 3 : m.geometry.attributes.position.count / 3;
+    return { n, avatar: window.morphnode.state.header.avatar, targets: window.morphnode.state.header.targets.join(',') };
+  });
+  const phone = await open('?device=phone');
+  const [full, small] = [await triangles(again), await triangles(phone)];
+  const spoke = await phone.evaluate(async () => {
+    const m = window.morphnode, s = m.state;
+    const from = s.log.length;
+    m.say('Hello from a phone.');
+    for (let i = 0; i < 60; ++i) {
+      await new Promise((r) => setTimeout(r, 50));
+      if (s.log.slice(from).some((f) => f.targets.some(([k, v]) => ['A', 'E', 'O'].includes(s.header.targets[k]) && v > 100))) return true;
+    }
+    return false;
+  });
+  // (A build without the reduction serves the phone the full mesh; the server says which level.)
+  const level = (/for a phone: .*\(level (\d+)\)/.exec(serverLog) || [])[1];
+  check(small.avatar === '/avatar-phone.glb' && small.targets === full.targets && spoke &&
+    (level === '0' ? small.n === full.n : level === '1' && small.n < 0.8 * full.n),
+    `?device=phone: ${small.avatar}, level ${level}, ${small.n} triangles (full: ${full.n}), same targets, the mouth opens`);
+  await phone.close();
   await again.close();
 } catch (e) {
   console.log(`FAIL ${e.stack || e}`);

@@ -33,6 +33,11 @@ void CheckLine(std::string_view text, size_t limit)
     accepted.Kind = EventKind::Accepted;
     accepted.Id = p.Cmd.Id;
     accepted.Cmd = CommandName(p.Cmd.Body);
+    accepted.Session = p.Cmd.Session;
+    if (p.Cmd.Session.size() > MaxSessionBytes)
+    {
+      std::abort(); // the session field is bounded
+    }
     CheckOneLine(FormatEvent(accepted));
     if (std::holds_alternative<SayCommand>(p.Cmd.Body))
     {

@@ -25,6 +25,10 @@ void CheckClient(std::string_view text)
     {
       std::abort(); // a page never quits the server
     }
+    if (!p.Cmd.Session.empty())
+    {
+      std::abort(); // a page commands its own session only
+    }
     return;
   }
   static const char* const reasons[] = { dialog::reason::Malformed, dialog::reason::NotObject,

@@ -8,10 +8,13 @@
 
 #include "base/Error.h"
 #include "base/Text.h"
+#include "budget/DeviceProfile.h"
 #include "dialog/DialogServer.h"
 #include "gltf/GltfScene.h"
 #include "morph/OptimizerPresets.h"
 #include "speech/Speech.h"
+#include "speech/SpeechSynthesizer.h"
+#include "speech/SynthesisPool.h"
 #include "stream/StreamAvatar.h"
 #include "stream/StreamSession.h"
 #ifdef MORPHNODE_HAVE_STREAM_SERVER
@@ -25,6 +28,8 @@
 #include <csignal>
 #include <cstdlib>
 #include <iostream>
+#include <map>
+#include <mutex>
 #include <random>
 #include <sstream>
 #include <thread>
@@ -143,7 +148,7 @@ int RunServe(const Options& o)
                                           : static_cast<int>(std::max(2u, std::thread::hardware_concurrency()));
     settings.MaxSessions = static_cast<size_t>(o.ServeMaxSessions);
     const std::string web = morphnode::appkit::DataPath("web");
-    for (const char* file : { "index.html", "avatar-stream.js", "stream-worklet.js", "opus-worker.js" })
+    for (const char* file : { "index.html", "avatar-stream.js", "stream-worklet.js", "opus-worker.js", "stream-socket.js" })
     {
       const std::string path = web + "/" + file;
       stream::StaticFile f;
@@ -153,18 +158,76 @@ int RunServe(const Options& o)
     }
     settings.Files["/avatar.glb"] = { "model/gltf-binary",
       std::string(avatar->GetFile().begin(), avatar->GetFile().end()) };
+    // The avatar prepared for each device profile a page may ask for (?device=phone): the
+    // profile's pixel bound prunes targets it would not show, and its finest level of detail
+    // reduces the mesh (phone: the level-of-detail ladder's level 1, when built in).
+    std::map<std::string, std::shared_ptr<const stream::StreamAvatar>> devices;
+    for (const morphnode::DeviceProfile& profile : morphnode::DeviceProfiles())
+    {
+      auto prepared = std::make_shared<const stream::StreamAvatar>(face, channels, rig.get(),
+        stream::DeviceAvatarOptions(profile));
+      settings.Files["/avatar-" + profile.Name + ".glb"] = { "model/gltf-binary",
+        std::string(prepared->GetFile().begin(), prepared->GetFile().end()) };
+      if (!o.Quiet)
+      {
+        std::cerr << "MorphAvatar: for a " << profile.Name << ": " << prepared->GetTargetNames().size()
+                  << " targets (" << prepared->GetPrunedTargets().size() << " below " << profile.TargetPixelBound
+                  << " px left out), " << prepared->GetNumberOfTriangles() << " triangles (level "
+                  << prepared->GetLevel() << "), " << prepared->GetFile().size() / 1024 << " KiB" << std::endl;
+      }
+      devices[profile.Name] = std::move(prepared);
+    }
     settings.Folders["/three/"] = ThreeDir();
-    const bool synthesize = true;
-    settings.MakeSession = [avatar, visemes, speech, base, synthesize](const stream::SessionRequest& want) {
+    // Speech is synthesized off the sessions' threads, by a pool all sessions share: a say
+    // never holds up a session's frames (eSpeak NG itself is one engine per process, so
+    // two workers: one in eSpeak, one estimating pitch and building the viseme track).
+    morphnode::SynthesisPoolSettings poolSettings;
+    poolSettings.Workers = 2;
+    auto pool = std::make_shared<morphnode::SynthesisPool>(poolSettings);
+    // A say's `voice`: one of eSpeak NG's voices, checked against its list (not by
+    // synthesizing, which would block the session).
+    auto voices = std::make_shared<const std::vector<std::string>>(morphnode::SpeechSynthesizer::ListVoices());
+    stream::StreamSession::VoiceSynthesizers makeVoice =
+      [speech, voices](const std::string& voice) -> morphnode::LiveBehavior::Synthesizer {
+      if (std::find(voices->begin(), voices->end(), voice) == voices->end())
+      {
+        throw morphnode::InputError("unknown voice '" + voice + "' (eSpeak NG's voices: espeak-ng --voices)");
+      }
+      morphnode::SpeechOptions options = speech;
+      options.Voice = voice;
+      return [options](const std::string& text) { return morphnode::SpeakText(text, options); };
+    };
+    settings.MakeSession = [avatar, devices, visemes, speech, base, pool, makeVoice](const stream::SessionRequest& want) {
       stream::StreamSettings s = base;
       s.Codec = want.Codec;
       s.Seed = want.Seed;
-      morphnode::LiveBehavior::Synthesizer synth;
-      if (synthesize)
+      std::shared_ptr<const stream::StreamAvatar> face = avatar;
+      std::string url;
+      if (!want.Device.empty())
       {
-        synth = [speech](const std::string& text) { return morphnode::SpeakText(text, speech); };
+        const morphnode::DeviceProfile& profile = morphnode::FindDeviceProfile(want.Device); // InputError: refused
+        face = devices.at(profile.Name);
+        url = "/avatar-" + profile.Name + ".glb";
       }
-      return std::make_unique<stream::StreamSession>(*avatar, visemes, synth, s);
+      morphnode::LiveBehavior::Synthesizer synth = [speech](const std::string& text) {
+        return morphnode::SpeakText(text, speech);
+      };
+      auto session = std::make_unique<stream::StreamSession>(*face, visemes, synth, s);
+      session->SetAvatarUrl(url);
+      session->SetSynthesisPool(pool);
+      session->SetVoiceSynthesizers(makeVoice);
+      return session;
+    };
+    // The command socket's events come from the sessions' threads: queued here, sent by the
+    // loop below (DialogServer is the loop's).
+    auto eventMutex = std::make_shared<std::mutex>();
+    auto events = std::make_shared<std::vector<std::pair<int, dialog::Event>>>();
+    settings.CommandEvents = [eventMutex, events](int client, const dialog::Event& e) {
+      std::lock_guard<std::mutex> lock(*eventMutex);
+      if (events->size() < 100000) // a loop that stopped draining must not grow this for ever
+      {
+        events->emplace_back(client, e);
+      }
     };
     stream::StreamServer server(settings);
     const std::string bound = server.Start();
@@ -174,7 +237,9 @@ int RunServe(const Options& o)
               << avatar->GetFile().size() / 1024 << " KiB, prepared in " << prepare << " s) on http://" << bound
               << "/" << (settings.Token.empty() ? "" : "?token=" + settings.Token) << std::endl;
 
-    // The command socket: its commands go to every session.
+    // The command socket: a command goes to the session its `session` names, or to every
+    // session; its events (accepted, started, ended, error, each naming the session) come
+    // back to the client that sent it.
     dialog::DialogServer::Settings commandSettings;
     commandSettings.AllowRemote = o.ListenRemote;
     dialog::DialogServer commands(commandSettings);
@@ -193,25 +258,32 @@ int RunServe(const Options& o)
         break;
       }
       bool quit = false;
-      for (const auto& in : commands.Poll(o.Listen.empty() ? 0 : 50))
+      for (const auto& in : commands.Poll(o.Listen.empty() ? 0 : 10))
       {
         if (std::holds_alternative<dialog::QuitCommand>(in.Cmd.Body))
         {
           quit = true;
           continue;
         }
-        const size_t n = server.Broadcast(in.Cmd);
-        dialog::Event e;
-        e.Kind = n > 0 ? dialog::EventKind::Accepted : dialog::EventKind::Error;
-        e.Id = in.Cmd.Id;
-        e.Cmd = dialog::CommandName(in.Cmd.Body);
-        e.Time = t;
-        if (n == 0)
+        if (server.Send(in.Cmd, in.Client) == 0)
         {
-          e.Reason = dialog::reason::Rejected;
-          e.Message = "no browser session is open";
+          dialog::Event e = dialog::MakeError(dialog::reason::Rejected,
+            in.Cmd.Session.empty() ? "no browser session is open"
+                                   : "no open session '" + in.Cmd.Session + "'",
+            in.Cmd.Id, dialog::CommandName(in.Cmd.Body));
+          e.Time = t;
+          e.Session = in.Cmd.Session;
+          commands.Send(in.Client, e);
         }
-        commands.Send(in.Client, e);
+      }
+      std::vector<std::pair<int, dialog::Event>> ready;
+      {
+        std::lock_guard<std::mutex> lock(*eventMutex);
+        ready.swap(*events);
+      }
+      for (const auto& [client, e] : ready)
+      {
+        commands.Send(client, e);
       }
       if (quit)
       {

@@ -225,6 +225,24 @@ void LiveBehavior::SetSynthesizer(Synthesizer synthesizer)
   this->Synthesize = std::move(synthesizer);
 }
 
+LiveBehavior::~LiveBehavior()
+{
+  // Jobs still queued in the pool need not run any more (a running one finishes; its
+  // work holds copies of what it uses).
+  for (PendingSpeech& p : this->Pending)
+  {
+    if (p.Job)
+    {
+      p.Job->Cancel();
+    }
+  }
+}
+
+void LiveBehavior::SetSynthesisPool(std::shared_ptr<SynthesisPool> pool)
+{
+  this->Pool = std::move(pool);
+}
+
 double LiveBehavior::ClampNow(double now) const
 {
   if (!std::isfinite(now) || now < 0.0 || now > MaxLiveTime)
@@ -328,6 +346,42 @@ LiveBehavior::Timing LiveBehavior::Say(const std::string& text,
     throw InputError("say: the text is empty");
   }
   const uint64_t id = this->NextId;
+  if (this->Pool)
+  {
+    // Nothing is synthesized here: the text is queued and its first chunk submitted when
+    // nothing is ahead of it; Sample() schedules it once the pool has it.
+    ++this->NextId;
+    const double spc = this->Pending.empty() ? this->SecondsPerChar : this->Pending.back().SecondsPerChar;
+    PendingSpeech p{ id, std::move(chunks), spc, synthesizer };
+    p.NotBefore = now;
+    const double start = std::max(now, this->GetSpeechEnd());
+    this->Pending.push_back(std::move(p));
+    try
+    {
+      this->PumpSynthesis(now);
+    }
+    catch (const std::exception&)
+    {
+      // The pool refused it (full): the say is refused, nothing of it stays.
+      if (!this->Pending.empty() && this->Pending.back().Id == id)
+      {
+        if (this->Pending.back().Job)
+        {
+          this->Pending.back().Job->Cancel();
+        }
+        this->Pending.pop_back();
+      }
+      throw;
+    }
+    Timing t = this->GetSpeechTiming(id);
+    if (t.Id == 0)
+    {
+      t = Timing{ start, start, id, false }; // failed at once: reported by TakeSpeechErrors
+    }
+    t.Start = std::max(t.Start, start);
+    t.End = std::max(t.End, t.Start);
+    return t;
+  }
   if (!this->Pending.empty())
   {
     // Earlier speech still waits for synthesis: queue the whole text behind it.
@@ -356,6 +410,18 @@ LiveBehavior::Timing LiveBehavior::Speak(const Utterance& utterance, double now)
 {
   now = this->ClampNow(now);
   const uint64_t id = this->NextId++;
+  if (this->Pool && !this->Pending.empty())
+  {
+    // Keep the order without waiting: the ready utterance queues behind the texts.
+    PendingSpeech p{ id, {}, this->Pending.back().SecondsPerChar, nullptr };
+    p.NotBefore = now;
+    p.JobSeconds = utterance.Duration;
+    p.Job = SynthesisJob::Ready(utterance);
+    this->Pending.push_back(std::move(p));
+    Timing t = this->GetSpeechTiming(id);
+    t.Id = id;
+    return t;
+  }
   if (!this->Pending.empty())
   {
     // Keep the order: synthesize what is queued first.
@@ -369,6 +435,95 @@ void LiveBehavior::SynthesizeAll()
   while (!this->Pending.empty())
   {
     this->SynthesizeNext();
+  }
+}
+
+double LiveBehavior::PendingSeconds(const PendingSpeech& p)
+{
+  double chars = 0.0;
+  for (const std::string& c : p.Chunks)
+  {
+    chars += static_cast<double>(c.size());
+  }
+  return chars * p.SecondsPerChar + (p.Job ? p.JobSeconds : 0.0);
+}
+
+void LiveBehavior::FailSpeech(uint64_t id, const std::string& message, bool busy)
+{
+  // A chunk that fails ends its text: the rest of it is dropped, the error kept.
+  this->Errors.push_back({ id, "say: " + message, busy });
+  for (PendingSpeech& p : this->Pending)
+  {
+    if (p.Id == id && p.Job)
+    {
+      p.Job->Cancel();
+    }
+  }
+  this->Pending.erase(std::remove_if(this->Pending.begin(), this->Pending.end(),
+                        [id](const PendingSpeech& p) { return p.Id == id; }),
+    this->Pending.end());
+}
+
+void LiveBehavior::PumpSynthesis(double now)
+{
+  while (!this->Pending.empty())
+  {
+    PendingSpeech& front = this->Pending.front();
+    if (front.Job)
+    {
+      if (!front.Job->IsFinished())
+      {
+        return; // never wait: the avatar idles meanwhile
+      }
+      const std::shared_ptr<SynthesisJob> job = std::move(front.Job);
+      front.Job = nullptr;
+      const uint64_t id = front.Id;
+      const double notBefore = front.NotBefore;
+      const size_t chars = front.JobChars;
+      front.JobSeconds = 0.0;
+      front.JobChars = 0;
+      if (front.Chunks.empty())
+      {
+        this->Pending.pop_front();
+      }
+      try
+      {
+        const Timing t = this->AddUtterance(id, job->Take(), std::max(now, notBefore));
+        if (chars > 0 && t.End > t.Start)
+        {
+          this->SecondsPerChar = (t.End - t.Start) / static_cast<double>(chars);
+          for (PendingSpeech& p : this->Pending)
+          {
+            if (p.Id == id)
+            {
+              p.SecondsPerChar = this->SecondsPerChar;
+            }
+          }
+        }
+      }
+      catch (const std::exception& e)
+      {
+        this->FailSpeech(id, e.what(), job->GetState() == SynthesisJob::State::Expired);
+      }
+      continue;
+    }
+    if (front.Chunks.empty())
+    {
+      this->Pending.pop_front();
+      continue;
+    }
+    // The next chunk goes to the pool once what is scheduled ends within the lookahead.
+    if (this->ScheduledSpeechEnd() - now > SynthesisLookahead)
+    {
+      return;
+    }
+    const std::string chunk = front.Chunks.front();
+    const Synthesizer synthesize = front.Synthesize;
+    front.Job = this->Pool->Submit([synthesize, chunk]() { return synthesize(chunk); });
+    front.JobChars = chunk.size();
+    front.JobSeconds = static_cast<double>(chunk.size()) * front.SecondsPerChar;
+    front.Chunks.erase(front.Chunks.begin());
+    return;
   }
 }
 
@@ -389,17 +544,28 @@ void LiveBehavior::SynthesizeNext()
   }
   catch (const std::exception& e)
   {
-    // A later chunk that fails ends its text: the rest of it is dropped, the error kept.
-    this->Errors.push_back("say: " + std::string(e.what()));
-    while (!this->Pending.empty() && this->Pending.front().Id == id)
-    {
-      this->Pending.pop_front();
-    }
+    this->FailSpeech(id, e.what());
   }
 }
 
 void LiveBehavior::SynthesizeAhead(double now)
 {
+  if (this->Pool)
+  {
+    try
+    {
+      this->PumpSynthesis(now);
+    }
+    catch (const std::exception& e)
+    {
+      // The pool refused a later chunk (its queue is full): that text ends here.
+      if (!this->Pending.empty())
+      {
+        this->FailSpeech(this->Pending.front().Id, e.what(), true);
+      }
+    }
+    return;
+  }
   while (!this->Pending.empty() && this->ScheduledSpeechEnd() - now <= SynthesisLookahead)
   {
     this->SynthesizeNext();
@@ -469,6 +635,13 @@ LiveBehavior::Timing LiveBehavior::AddUtterance(uint64_t id, Utterance u, double
 void LiveBehavior::StopSpeaking(double now)
 {
   now = this->ClampNow(now);
+  for (PendingSpeech& p : this->Pending)
+  {
+    if (p.Job)
+    {
+      p.Job->Cancel();
+    }
+  }
   this->Pending.clear();
   this->Audio.clear();
   this->Utterances.erase(std::remove_if(this->Utterances.begin(),
@@ -500,8 +673,25 @@ std::vector<LiveBehavior::AudioSegment> LiveBehavior::TakeAudio()
 std::vector<std::string> LiveBehavior::TakeErrors()
 {
   std::vector<std::string> out;
+  for (SpeechError& e : this->Errors)
+  {
+    out.push_back(std::move(e.Message));
+  }
+  this->Errors.clear();
+  return out;
+}
+
+std::vector<LiveBehavior::SpeechError> LiveBehavior::TakeSpeechErrors()
+{
+  std::vector<SpeechError> out;
   out.swap(this->Errors);
   return out;
+}
+
+bool LiveBehavior::IsSynthesizing() const
+{
+  return std::any_of(this->Pending.begin(), this->Pending.end(),
+    [](const PendingSpeech& p) { return p.Job != nullptr; });
 }
 
 // ------------------------------------------------------------------ inspection
@@ -525,18 +715,15 @@ LiveBehavior::Timing LiveBehavior::GetSpeechTiming(uint64_t id) const
   double estimate = std::max(end, this->LastTime);
   for (const PendingSpeech& p : this->Pending)
   {
-    double chars = 0.0;
-    for (const std::string& c : p.Chunks)
-    {
-      chars += static_cast<double>(c.size());
-    }
     const double start = estimate;
-    estimate += chars * p.SecondsPerChar;
+    estimate += PendingSeconds(p);
     if (p.Id == id)
     {
       if (!found)
       {
-        t.Start = start;
+        // With a pool, nothing of it is ready yet: it starts after the last sample at the
+        // earliest (and not before its say).
+        t.Start = this->Pool ? std::max({ start, p.NotBefore, this->LastTime + 1e-6 }) : start;
       }
       t.End = estimate;
       t.Final = false;
@@ -560,10 +747,7 @@ double LiveBehavior::GetSpeechEnd() const
   double end = std::max(this->ScheduledSpeechEnd(), this->LastTime);
   for (const PendingSpeech& p : this->Pending)
   {
-    for (const std::string& c : p.Chunks)
-    {
-      end += static_cast<double>(c.size()) * p.SecondsPerChar;
-    }
+    end += PendingSeconds(p);
   }
   return end;
 }
@@ -576,7 +760,7 @@ size_t LiveBehavior::GetNumberOfHeldEvents() const
     this->HeadGazeTrack.GetNumberOfKeys();
   for (const PendingSpeech& p : this->Pending)
   {
-    n += p.Chunks.size();
+    n += p.Chunks.size() + (p.Job ? 1 : 0);
   }
   return n;
 }

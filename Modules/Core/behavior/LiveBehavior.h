@@ -24,6 +24,16 @@
 ///   due (within SynthesisLookahead of the end of what is synthesized), in Sample() or
 ///   SynthesizeAhead(). So a long text starts after one short synthesis. A new utterance
 ///   starts at `now` or, when speech is still scheduled, right after it (queued).
+/// - Asynchronous speech (SetSynthesisPool): Say() and Sample() never synthesize on the
+///   caller's thread. Say() queues the text and submits its first chunk to the pool; each
+///   Sample() picks up what the pool finished (never waiting for it) and schedules it at the
+///   sampled time (or later: queued speech, the say's `now`), then submits the next chunk
+///   when it is due (SynthesisLookahead). Meanwhile the avatar idles. Until its first chunk
+///   is ready, a text's Timing is an estimate (Final false) whose Start stays after the
+///   last sampled time, so "started" is never announced before the mouth moves. A chunk
+///   the pool could not synthesize (failed, waited too long, queue full) ends its text and
+///   is reported by TakeSpeechErrors() with its utterance id. The synthesizer is called
+///   on the pool's threads: it must be thread-safe and capture what it uses by value.
 /// - Sound: TakeAudio() hands over, once, each synthesized chunk's samples with the time
 ///   its first sample is due (the mouth lead of the speech options is already in it).
 /// - Not thread-safe: one thread commands and samples (or guard it with a mutex).
@@ -39,10 +49,12 @@
 #include "behavior/IdleSchedule.h"
 #include "behavior/Timeline.h"
 #include "speech/SpeechTypes.h"
+#include "speech/SynthesisPool.h"
 
 #include <cstdint>
 #include <deque>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -70,6 +82,9 @@ public:
   static constexpr double SynthesisLookahead = 2.0;
   /// Seconds over which StopSpeaking() fades the mouth out.
   static constexpr double StopFade = 0.12;
+  /// Seconds of speech per character of text, the estimate of a text's length until its
+  /// first chunk is synthesized (then the chunk's own figure is used).
+  static constexpr double DefaultSecondsPerChar = 0.07;
   /// Events are forgotten this many seconds after they ended (GetBlinkStarts, GetSaccades
   /// still see them).
   static constexpr double ForgetAfter = 2.0;
@@ -102,7 +117,28 @@ public:
     uint64_t seed = 1,
     const BehaviorLibrary& library = BehaviorLibrary::Default());
 
+  /// A text of an utterance that could not be spoken (e.g. its synthesis failed or waited
+  /// too long in the pool): Id is the utterance's Timing::Id.
+  struct SpeechError
+  {
+    uint64_t Id = 0;
+    std::string Message;
+    /// The pool was too busy (the chunk waited too long, or its queue was full); false:
+    /// synthesis itself failed.
+    bool Busy = false;
+  };
+
+  ~LiveBehavior();
+  LiveBehavior(const LiveBehavior&) = default;
+  LiveBehavior& operator=(const LiveBehavior&) = default;
+  LiveBehavior(LiveBehavior&&) = default;
+  LiveBehavior& operator=(LiveBehavior&&) = default;
+
   void SetSynthesizer(Synthesizer synthesizer);
+  /// Synthesizes on the pool's threads from now on (see the contract); nullptr: on the
+  /// caller's thread (the default). Set it before the first Say().
+  void SetSynthesisPool(std::shared_ptr<SynthesisPool> pool);
+  const std::shared_ptr<SynthesisPool>& GetSynthesisPool() const { return this->Pool; }
   /// The base channels, then the viseme channels, fixed at construction.
   const std::vector<std::string>& GetChannelNames() const { return this->ChannelNames; }
   size_t GetNumberOfChannels() const { return this->ChannelNames.size(); }
@@ -111,7 +147,8 @@ public:
   uint64_t GetSeed() const { return this->Seed; }
 
   // ---- commands (InputError for unknown names, values out of range, no synthesizer) ----
-  /// Synthesizes the first chunk now and queues the speech (see the contract above).
+  /// Synthesizes the first chunk now (with a pool: submits it) and queues the speech (see
+  /// the contract above). With a pool, InputError also when its queue is full.
   Timing Say(const std::string& text, double now);
   /// The same with another synthesizer for this text's chunks (e.g. another voice).
   Timing Say(const std::string& text, double now, const Synthesizer& synthesizer);
@@ -134,7 +171,8 @@ public:
   /// not finite or smaller than the previous sampled time.
   void Sample(double t, double* out);
   void Sample(double t, std::vector<double>& out);
-  /// Synthesizes the chunks due by `now` + SynthesisLookahead (Sample() does it too).
+  /// Synthesizes the chunks due by `now` + SynthesisLookahead (Sample() does it too). With
+  /// a pool: schedules the chunks it finished and submits the next one due; never waits.
   void SynthesizeAhead(double now);
   /// The sound of the chunks synthesized since the last call (take it regularly: it is
   /// held until taken).
@@ -142,6 +180,10 @@ public:
   /// Errors of chunks synthesized in Sample()/SynthesizeAhead() since the last call (the
   /// rest of that text is dropped); the first chunk's errors are thrown by Say().
   std::vector<std::string> TakeErrors();
+  /// The same errors with the utterance each ended (TakeErrors and this share one list).
+  std::vector<SpeechError> TakeSpeechErrors();
+  /// True while a chunk is with the synthesis pool (submitted, not yet picked up).
+  bool IsSynthesizing() const;
 
   // ---- inspection ---------------------------------------------------------------------
   /// The current timing of an utterance (exact once Final); Id 0 when unknown (forgotten
@@ -194,6 +236,12 @@ private:
     std::vector<std::string> Chunks; ///< not yet synthesized, in order
     double SecondsPerChar;           ///< from the first chunk, for the estimate
     Synthesizer Synthesize;          ///< the one the text was said with
+    /// With a pool: the chunk being synthesized (taken out of Chunks), its estimated
+    /// seconds, and the earliest start of the text (the say's `now`).
+    std::shared_ptr<SynthesisJob> Job = nullptr;
+    double JobSeconds = 0.0;
+    size_t JobChars = 0;
+    double NotBefore = 0.0;
   };
   struct LiveCue
   {
@@ -210,6 +258,9 @@ private:
   double BlinkRateFactor(double t) const;
   double ScheduledSpeechEnd() const;
   void SynthesizeNext();
+  void PumpSynthesis(double now);
+  void FailSpeech(uint64_t id, const std::string& message, bool busy = false);
+  static double PendingSeconds(const PendingSpeech& p);
   void SynthesizeAll();
   Timing AddUtterance(uint64_t id, Utterance utterance, double now);
 
@@ -217,6 +268,8 @@ private:
   uint64_t Seed;
   BehaviorLibrary Library;
   Synthesizer Synthesize;
+  std::shared_ptr<SynthesisPool> Pool;
+  double SecondsPerChar = DefaultSecondsPerChar; ///< of the last chunk synthesized
   std::vector<std::string> ChannelNames;
   std::vector<char> SilentChannel;
   std::vector<std::vector<char>> MouthMasks; ///< per gesture: viseme channels it overrides
@@ -243,7 +296,7 @@ private:
   std::deque<LiveCue> Cues;
   std::deque<PendingSpeech> Pending;
   std::vector<AudioSegment> Audio;
-  std::vector<std::string> Errors;
+  std::vector<SpeechError> Errors;
   uint64_t NextId = 1;
   FadeTrack<MoodEffect::Size> MoodTrack;
   FadeTrack<3> EyeGazeTrack;  ///< yaw, pitch, look ownership

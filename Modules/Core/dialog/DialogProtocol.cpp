@@ -33,7 +33,7 @@ void CheckKeys(const json& object, const char* cmd, std::initializer_list<const 
   for (auto it = object.begin(); it != object.end(); ++it)
   {
     const std::string& key = it.key();
-    if (key == "cmd" || key == "id")
+    if (key == "cmd" || key == "id" || key == "session")
     {
       continue;
     }
@@ -228,6 +228,10 @@ std::string FormatEvent(const Event& e)
       j["id"] = id;
     }
   }
+  if (!e.Session.empty())
+  {
+    j["session"] = e.Session;
+  }
   if (!e.Cmd.empty())
   {
     j["cmd"] = e.Cmd;
@@ -355,6 +359,18 @@ ParsedLine ParseCommand(std::string_view line, size_t maxLineBytes)
       return fail(reason::BadField,
         "'id' must be a string (at most " + std::to_string(MaxIdBytes) + " bytes) or an integer");
     }
+  }
+  auto session = j.find("session");
+  if (session != j.end())
+  {
+    // MorphAvatar --serve: the stream session the command is for (StreamServer's ids).
+    if (!session->is_string() || session->get_ref<const std::string&>().empty() ||
+      session->get_ref<const std::string&>().size() > MaxSessionBytes)
+    {
+      return fail(reason::BadField,
+        "'session' must be a non-empty string of at most " + std::to_string(MaxSessionBytes) + " bytes");
+    }
+    out.Cmd.Session = session->get<std::string>();
   }
   auto cmd = j.find("cmd");
   if (cmd == j.end())

@@ -81,7 +81,12 @@ struct Command
   /// empty when the command has none. Events echo it unchanged.
   std::string Id;
   CommandBody Body;
+  /// The stream session it is for (`session`, MorphAvatar --serve; docs/streaming.md);
+  /// empty: every session (and the only avatar without --serve, which ignores it).
+  std::string Session;
 };
+/// The longest `session` value accepted (bytes).
+constexpr size_t MaxSessionBytes = 64;
 
 /// The protocol name of a command: say, gesture, mood, look_at, stop, quit.
 const char* CommandName(const CommandBody& body);
@@ -109,6 +114,9 @@ constexpr const char* TooLong = "too_long";              ///< the line exceeds t
 constexpr const char* Incomplete = "incomplete";         ///< the client left mid-line
 constexpr const char* TooManyClients = "too_many_clients"; ///< connection refused
 constexpr const char* Rejected = "rejected"; ///< valid, but the avatar cannot do it (e.g. unknown gesture)
+/// An accepted say that could not be spoken after all: the server was too busy to
+/// synthesize it in time (it ends, interrupted).
+constexpr const char* Overloaded = "overloaded";
 } // namespace reason
 
 struct Event
@@ -116,6 +124,7 @@ struct Event
   EventKind Kind = EventKind::Error;
   std::string Id;  ///< the command's id as JSON text; empty: none
   std::string Cmd; ///< the command's name; empty when unknown
+  std::string Session; ///< the stream session it came from (MorphAvatar --serve); empty: none
   /// Times in seconds on the avatar's clock; NaN: absent from the JSON.
   double Time;  ///< when the event was made
   double Start; ///< accepted, started, ended: the command's start

@@ -186,6 +186,26 @@ void DialogSession::Advance(double now)
   this->ReleaseEnded();
 }
 
+bool DialogSession::Fail(unsigned long long handle, const std::string& reasonCode,
+  const std::string& message, double now)
+{
+  for (Tracked& t : this->Running)
+  {
+    if (handle != 0 && t.When.Handle == handle && !t.Done && !t.Stopped)
+    {
+      this->Send(t.Client, MakeError(reasonCode, message, t.Id, t.Cmd));
+      t.Stopped = true;
+      t.When.End = now;
+      if (!t.Started)
+      {
+        t.When.Start = now; // never started: no started event, ended (interrupted) next
+      }
+      return true;
+    }
+  }
+  return false;
+}
+
 void DialogSession::ReleaseEnded()
 {
   if (!this->Server)

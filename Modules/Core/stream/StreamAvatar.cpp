@@ -3,6 +3,7 @@
 
 #include "base/Error.h"
 #include "behavior/HeadPose.h"
+#include "budget/DeviceProfile.h"
 #include "gaze/EyeRotation.h"
 #include "gltf/GltfMorphMesh.h"
 #include "gltf/GltfWriter.h"
@@ -11,7 +12,12 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <set>
+
+#ifdef MORPHNODE_HAVE_LOD
+#include "lod/MorphLadder.h"
+#endif
 
 namespace morphnode
 {
@@ -30,12 +36,93 @@ std::array<double, 4> ToQuaternion(const std::array<double, 9>& r)
   const std::array<double, 16> m{ { r[0], r[1], r[2], 0, r[3], r[4], r[5], 0, r[6], r[7], r[8], 0, 0, 0, 0, 1 } };
   return GltfQuaternionFromRowMajor(m);
 }
+
+#ifdef MORPHNODE_HAVE_LOD
+/// The part at the ladder's level `level`: the points that level keeps (every attribute and
+/// delta as they are: collapses keep a subset of the points) and its triangles. The
+/// ladder's shared numbering puts a level's points first, so its triangle ids index them
+/// directly. `error`: the level's Error99.
+GltfPart ReducePart(const GltfPart& part, int level, double& error)
+{
+  LadderSettings settings;
+  settings.TriangleFractions.resize(std::min(settings.TriangleFractions.size(), static_cast<size_t>(level)));
+  const MorphLadder ladder = BuildMorphLadder(GltfPartToMorphMesh(part), settings);
+  const LadderLevel& l = ladder.Levels.back();
+  error = l.Error99;
+  GltfPart out = part;
+  const size_t n = l.NumberOfPoints;
+  const auto copy = [&](const std::vector<float>& from, std::vector<float>& to, size_t width) {
+    if (from.empty())
+    {
+      return;
+    }
+    to.assign(n * width, 0.0f);
+    for (size_t i = 0; i < n; ++i)
+    {
+      const size_t o = ladder.OriginalPointIds[i];
+      std::copy(from.begin() + static_cast<std::ptrdiff_t>(o * width),
+        from.begin() + static_cast<std::ptrdiff_t>((o + 1) * width), to.begin() + static_cast<std::ptrdiff_t>(i * width));
+    }
+  };
+  copy(part.Positions, out.Positions, 3);
+  copy(part.Normals, out.Normals, 3);
+  copy(part.Colors, out.Colors, 4);
+  copy(part.TexCoords0, out.TexCoords0, 2);
+  copy(part.TexCoords1, out.TexCoords1, 2);
+  for (size_t t = 0; t < part.Targets.size(); ++t)
+  {
+    copy(part.Targets[t].PositionDeltas, out.Targets[t].PositionDeltas, 3);
+    copy(part.Targets[t].NormalDeltas, out.Targets[t].NormalDeltas, 3);
+  }
+  if (!part.Influences.Empty())
+  {
+    const size_t per = part.Influences.PerPoint;
+    out.Influences.Joints.assign(n * per, 0);
+    out.Influences.Weights.assign(n * per, 0.0f);
+    for (size_t i = 0; i < n; ++i)
+    {
+      const size_t o = ladder.OriginalPointIds[i];
+      for (size_t k = 0; k < per; ++k)
+      {
+        out.Influences.Joints[i * per + k] = part.Influences.Joints[o * per + k];
+        out.Influences.Weights[i * per + k] = part.Influences.Weights[o * per + k];
+      }
+    }
+  }
+  out.Triangles = l.Triangles;
+  return out;
+}
+#endif
 } // namespace
+
+StreamAvatarOptions DeviceAvatarOptions(const DeviceProfile& profile, double facePixels)
+{
+  StreamAvatarOptions o;
+  o.TargetPixelBound = profile.TargetPixelBound;
+  o.FacePixels = facePixels;
+  o.Level = profile.FinestLevel;
+  return o;
+}
 
 StreamAvatar::StreamAvatar(const GltfScene& face, const std::vector<std::string>& channels, const Rig* rig,
   bool quantizeDeltas)
+  : StreamAvatar(face, channels, rig, [quantizeDeltas] {
+    StreamAvatarOptions o;
+    o.QuantizeDeltas = quantizeDeltas;
+    return o;
+  }())
+{
+}
+
+StreamAvatar::StreamAvatar(const GltfScene& face, const std::vector<std::string>& channels, const Rig* rig,
+  const StreamAvatarOptions& options)
   : NumberOfChannels(channels.size())
 {
+  if (!(options.TargetPixelBound >= 0.0 && std::isfinite(options.TargetPixelBound)) ||
+    !(options.FacePixels > 0.0 && std::isfinite(options.FacePixels)) || options.Level < 0 || options.Level > 8)
+  {
+    throw InputError("stream avatar options: a pixel bound >= 0, a face height > 0 pixels and a level in [0, 8]");
+  }
   // The face's targets, in order of first appearance over the parts.
   std::vector<std::string> faceTargets;
   for (const GltfPart& part : face.Parts)
@@ -80,6 +167,43 @@ StreamAvatar::StreamAvatar(const GltfScene& face, const std::vector<std::string>
       if (Find(faceTargets, channel) >= 0)
       {
         driven.insert(channel);
+      }
+    }
+  }
+  if (options.TargetPixelBound > 0.0)
+  {
+    // The device's pixel bound: a target whose largest point motion stays below it on a
+    // face FacePixels high is not worth its bytes there.
+    double lo[3] = { 1e300, 1e300, 1e300 }, hi[3] = { -1e300, -1e300, -1e300 };
+    std::map<std::string, double> motion;
+    for (const GltfPart& part : face.Parts)
+    {
+      for (size_t p = 0; p + 2 < part.Positions.size(); p += 3)
+      {
+        for (int k = 0; k < 3; ++k)
+        {
+          lo[k] = std::min(lo[k], static_cast<double>(part.Positions[p + k]));
+          hi[k] = std::max(hi[k], static_cast<double>(part.Positions[p + k]));
+        }
+      }
+      for (const GltfTarget& t : part.Targets)
+      {
+        double& m = motion[t.Name];
+        for (size_t p = 0; p + 2 < t.PositionDeltas.size(); p += 3)
+        {
+          const double dx = t.PositionDeltas[p], dy = t.PositionDeltas[p + 1], dz = t.PositionDeltas[p + 2];
+          m = std::max(m, std::sqrt(dx * dx + dy * dy + dz * dz));
+        }
+      }
+    }
+    const double height = hi[1] - lo[1];
+    const double pixelsPerUnit = height > 0.0 ? options.FacePixels / height : 0.0;
+    for (const std::string& name : faceTargets)
+    {
+      if (driven.count(name) && motion[name] * pixelsPerUnit < options.TargetPixelBound)
+      {
+        driven.erase(name);
+        this->Pruned.push_back(name);
       }
     }
   }
@@ -171,6 +295,26 @@ StreamAvatar::StreamAvatar(const GltfScene& face, const std::vector<std::string>
   {
     throw InputError("the face has no parts");
   }
+#ifdef MORPHNODE_HAVE_LOD
+  if (options.Level > 0)
+  {
+    // The device's level of detail, on the parts big enough to reduce.
+    for (GltfPart& part : reduced.Parts)
+    {
+      if (part.Triangles.size() / 3 >= options.MinReducedTriangles)
+      {
+        double error = 0.0;
+        part = ReducePart(part, options.Level, error);
+        this->LevelError = std::max(this->LevelError, error);
+        this->Level = options.Level;
+      }
+    }
+  }
+#endif
+  for (const GltfPart& part : reduced.Parts)
+  {
+    this->Triangles += part.Triangles.size() / 3;
+  }
 
   // The optimizer's model: the reduced parts.
   std::vector<std::shared_ptr<const MorphMesh>> meshes;
@@ -229,10 +373,10 @@ StreamAvatar::StreamAvatar(const GltfScene& face, const std::vector<std::string>
     this->RotationNames.push_back(nodeName + "Rotation");
     this->Eyes.push_back({ spec, axes });
   }
-  GltfWriteOptions options;
-  options.Binary = true;
-  options.QuantizeTargets = quantizeDeltas; // sparse deltas as normalized shorts (KHR_mesh_quantization)
-  this->File = WriteGltfSceneToMemory(reduced, &rest, options);
+  GltfWriteOptions write;
+  write.Binary = true;
+  write.QuantizeTargets = options.QuantizeDeltas; // sparse deltas as normalized shorts (KHR_mesh_quantization)
+  this->File = WriteGltfSceneToMemory(reduced, &rest, write);
 }
 
 void StreamAvatar::Map(const double* channels, std::vector<double>& targetWeights,

@@ -28,8 +28,35 @@
 
 namespace morphnode
 {
+struct DeviceProfile;
 namespace stream
 {
+/// How the avatar file is prepared for a device (DeviceAvatarOptions from a profile).
+struct StreamAvatarOptions
+{
+  /// The file's sparse target deltas as normalized 16-bit integers (KHR_mesh_quantization,
+  /// GltfWriteOptions::QuantizeTargets), which three.js reads; MorphNode's own loader does
+  /// not take that extension yet, so tools that read the file back ask for floats.
+  bool QuantizeDeltas = true;
+  /// Driven targets whose largest point motion (at weight 1) stays below this many pixels
+  /// when the face is FacePixels high are left out (the device would not show them). 0:
+  /// every driven target is kept.
+  double TargetPixelBound = 0.0;
+  /// The face's height on the device's screen, pixels (the page frames the face to the
+  /// view's height).
+  double FacePixels = 800.0;
+  /// The mesh's level of detail: 0 the full mesh; l >= 1 the level-of-detail ladder's level
+  /// l (lod/MorphLadder.h, its default triangle fractions), for every part of at least
+  /// MinReducedTriangles triangles, when this build has the reduction
+  /// (MORPHNODE_ENABLE_REDUCTION; else the full mesh: GetLevel() says which).
+  int Level = 0;
+  size_t MinReducedTriangles = 500;
+};
+
+/// The options of a device profile (budget/DeviceProfile.h: desktop, laptop, phone): its
+/// TargetPixelBound and FinestLevel, the face `facePixels` high.
+StreamAvatarOptions DeviceAvatarOptions(const DeviceProfile& profile, double facePixels = 800.0);
+
 class StreamAvatar
 {
 public:
@@ -43,6 +70,19 @@ public:
   /// not take that extension yet, so tools that read the file back ask for floats.
   StreamAvatar(const GltfScene& face, const std::vector<std::string>& channels, const Rig* rig = nullptr,
     bool quantizeDeltas = true);
+  /// The same, prepared as `options` ask (e.g. for a device).
+  StreamAvatar(const GltfScene& face, const std::vector<std::string>& channels, const Rig* rig,
+    const StreamAvatarOptions& options);
+
+  /// The level of detail of the file's mesh (0: full; options.Level when it was reduced).
+  int GetLevel() const { return this->Level; }
+  /// Triangles of the file's mesh, all parts.
+  size_t GetNumberOfTriangles() const { return this->Triangles; }
+  /// The reduced level's error (99th percentile of the points' largest distance over the
+  /// poses, the largest over the reduced parts; model units); 0 at level 0.
+  double GetLevelError() const { return this->LevelError; }
+  /// Driven targets left out by the pixel bound, in the face's order.
+  const std::vector<std::string>& GetPrunedTargets() const { return this->Pruned; }
 
   /// The stream's targets: those the channels can drive, in the face's order.
   const std::vector<std::string>& GetTargetNames() const { return this->Targets; }
@@ -66,6 +106,10 @@ public:
 
 private:
   std::vector<std::string> Targets;
+  std::vector<std::string> Pruned;
+  int Level = 0;
+  size_t Triangles = 0;
+  double LevelError = 0.0;
   size_t FaceTargets = 0;
   size_t NumberOfChannels = 0;
   std::vector<std::string> RotationNames;

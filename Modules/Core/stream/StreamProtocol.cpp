@@ -409,6 +409,14 @@ dialog::ParsedLine ParseClientMessage(std::string_view message)
       "a stream client cannot quit the server; close the connection to end the session", p.Cmd.Id, "quit");
     return refused;
   }
+  if (p.Ok() && !p.Cmd.Session.empty())
+  {
+    dialog::ParsedLine refused;
+    refused.Error = dialog::MakeError(dialog::reason::UnknownField,
+      "a stream client commands its own session only (no 'session' field)", p.Cmd.Id,
+      dialog::CommandName(p.Cmd.Body));
+    return refused;
+  }
   return p;
 }
 } // namespace stream

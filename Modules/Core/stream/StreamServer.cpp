@@ -13,6 +13,7 @@
 #include <boost/beast/websocket.hpp>
 
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <deque>
 #include <fstream>
@@ -195,17 +196,31 @@ public:
       beast::bind_front_handler(&WsSession::OnAccept, this->shared_from_this()));
   }
 
-  /// From any thread: runs the command on this session's strand.
-  void Post(const dialog::Command& command)
+  /// The client id of the page's own commands (DialogServer's clients are >= 0).
+  static constexpr int PageClient = -1;
+
+  /// From any thread: runs the command on this session's strand; its events go to the
+  /// page (PageClient) or to the server's CommandEvents (any other client).
+  void Post(const dialog::Command& command, int client = PageClient)
   {
-    net::post(this->Ws.get_executor(), [self = this->shared_from_this(), command]() {
-      if (!self->Closed)
+    const auto arrived = SteadyClock::now();
+    net::post(this->Ws.get_executor(), [self = this->shared_from_this(), command, client, arrived]() {
+      if (!self->Closed && self->Dialog)
       {
-        self->Dialog->Execute(0, command, self->Now(), SteadyClock::now());
+        self->Dialog->Execute(client, command, self->Now(), arrived);
         self->Flush();
+      }
+      else if (client != PageClient && self->Server.S.CommandEvents)
+      {
+        dialog::Event e = dialog::MakeError(dialog::reason::Rejected, "the session has ended", command.Id,
+          dialog::CommandName(command.Body));
+        e.Session = self->Id;
+        self->Server.S.CommandEvents(client, e);
       }
     });
   }
+
+  const std::string& GetId() const { return this->Id; }
 
   void Close()
   {
@@ -222,8 +237,22 @@ private:
       return;
     }
     this->Start = SteadyClock::now();
+    // The token bucket starts full: a page's first commands right after connecting pass.
+    this->Tokens = this->Server.S.MaxCommandsPerSecond;
+    this->LastCommand = 0.0;
     this->Dialog = std::make_unique<dialog::DialogSession>(
-      [this](dialog::DialogSession::ClientId, const dialog::Event& e) {
+      [this](dialog::DialogSession::ClientId client, const dialog::Event& e) {
+        if (client != PageClient)
+        {
+          // A command socket's command: its events go back there, named by session.
+          if (this->Server.S.CommandEvents)
+          {
+            dialog::Event routed = e;
+            routed.Session = this->Id;
+            this->Server.S.CommandEvents(client, routed);
+          }
+          return;
+        }
         if (e.Kind == dialog::EventKind::Error)
         {
           ++this->Server.ClientErrors;
@@ -236,7 +265,8 @@ private:
         this->Queue(true, std::move(line));
       },
       *this->Session);
-    this->Queue(true, this->Session->Header(this->Id, this->Server.S.AvatarPath));
+    this->Queue(true, this->Session->Header(this->Id,
+      this->Session->GetAvatarUrl().empty() ? this->Server.S.AvatarPath : this->Session->GetAvatarUrl()));
     this->Tick();
     this->Read();
   }
@@ -275,7 +305,7 @@ private:
       }
       else
       {
-        this->Dialog->Execute(0, p.Cmd, now, SteadyClock::now());
+        this->Dialog->Execute(PageClient, p.Cmd, now, SteadyClock::now());
       }
     }
     this->Flush();
@@ -333,6 +363,12 @@ private:
     try
     {
       this->Session->Tick(shown);
+      for (const LiveBehavior::SpeechError& e : this->Session->TakeSpeechErrors())
+      {
+        // A say whose speech could not be made (the pool was busy or synthesis failed):
+        // its page hears why, the say ends; the session goes on.
+        this->Dialog->Fail(e.Id, e.Busy ? dialog::reason::Overloaded : dialog::reason::Rejected, e.Message, shown);
+      }
       this->Dialog->Advance(shown);
     }
     catch (const std::exception& e)
@@ -415,6 +451,11 @@ private:
     }
     this->Closed = true;
     this->Timer.cancel();
+    if (this->Dialog)
+    {
+      // What still runs ends, interrupted: a command socket client hears it (the page is gone).
+      this->Dialog->Shutdown(this->Now(), 0);
+    }
     beast::error_code ignored;
     beast::get_lowest_layer(this->Ws).socket().shutdown(tcp::socket::shutdown_both, ignored);
     beast::get_lowest_layer(this->Ws).socket().close(ignored);
@@ -571,10 +612,20 @@ private:
       {
         want.Seed = std::stoull(seed->second.substr(0, 19));
       }
+      const auto device = params.find("device");
+      if (device != params.end())
+      {
+        if (device->second.empty() || device->second.size() > 16 ||
+          !std::all_of(device->second.begin(), device->second.end(), [](char c) { return std::isalpha(static_cast<unsigned char>(c)); }))
+        {
+          throw InputError("bad device");
+        }
+        want.Device = device->second;
+      }
     }
     catch (const std::exception&)
     {
-      return refuse(http::status::bad_request, "bad audio or seed parameter");
+      return refuse(http::status::bad_request, "bad audio, seed or device parameter");
     }
     std::unique_ptr<StreamSession> session;
     try
@@ -765,12 +816,32 @@ void StreamServer::Stop()
 
 size_t StreamServer::Broadcast(const dialog::Command& command)
 {
+  return this->Send(command, WsSession::PageClient);
+}
+
+std::vector<std::string> StreamServer::GetSessionIds() const
+{
+  std::vector<std::string> ids;
+  std::lock_guard<std::mutex> lock(this->P->Mutex);
+  for (auto& w : this->P->Sessions)
+  {
+    if (auto s = w.lock())
+    {
+      ids.push_back(s->GetId());
+    }
+  }
+  return ids;
+}
+
+size_t StreamServer::Send(const dialog::Command& command, int client)
+{
   std::vector<std::shared_ptr<WsSession>> open;
   {
     std::lock_guard<std::mutex> lock(this->P->Mutex);
     for (auto& w : this->P->Sessions)
     {
-      if (auto s = w.lock())
+      auto s = w.lock();
+      if (s && (command.Session.empty() || s->GetId() == command.Session))
       {
         open.push_back(std::move(s));
       }
@@ -778,7 +849,7 @@ size_t StreamServer::Broadcast(const dialog::Command& command)
   }
   for (auto& s : open)
   {
-    s->Post(command);
+    s->Post(command, client);
   }
   return open.size();
 }

@@ -50,6 +50,9 @@ struct SessionRequest
 {
   AudioCodec Codec = AudioCodec::Pcm16;
   uint64_t Seed = 1;
+  /// The device profile the page asks for (`device`: letters only, at most 16; empty: none).
+  /// MakeSession checks it (budget/DeviceProfile.h) and picks the avatar prepared for it.
+  std::string Device;
 };
 
 struct StreamServerSettings
@@ -80,6 +83,10 @@ struct StreamServerSettings
   std::function<std::unique_ptr<StreamSession>(const SessionRequest&)> MakeSession;
   /// Where the avatar file is (the header's `avatar`).
   std::string AvatarPath = "/avatar.glb";
+  /// Events of the commands given to Send() with a client (e.g. the command socket's):
+  /// accepted, started, ended, error, each with the session's id in Event::Session. Called
+  /// on the sessions' threads: it must be thread-safe (e.g. queue them for the caller's loop).
+  std::function<void(int client, const dialog::Event& event)> CommandEvents;
   /// Sessions end after this many seconds (the u32 sample clock wraps after a day at 48 kHz).
   double MaxSessionSeconds = 12 * 3600.0;
 };
@@ -112,6 +119,13 @@ public:
   /// Runs a command on every open session (e.g. from the command socket). Returns how
   /// many sessions it went to; their events go to their own pages.
   size_t Broadcast(const dialog::Command& command);
+  /// Runs a command from `client` (>= 0, e.g. a DialogServer client) on the session its
+  /// Session names, or on every open session when it names none; the command's events go
+  /// to CommandEvents with that client (not to the pages). Returns how many sessions it
+  /// went to (0: no such session, or none open).
+  size_t Send(const dialog::Command& command, int client);
+  /// The ids of the open sessions (as in their headers and in CommandEvents).
+  std::vector<std::string> GetSessionIds() const;
   StreamServerStats GetStats() const;
 
   /// The implementation (StreamServer.cpp; its connections and sessions use it).

@@ -103,6 +103,22 @@ StreamSession::StreamSession(const StreamAvatar& avatar, const std::vector<std::
 
 StreamSession::~StreamSession() = default;
 
+void StreamSession::SetSynthesisPool(std::shared_ptr<SynthesisPool> pool)
+{
+  this->Live->SetSynthesisPool(std::move(pool));
+}
+
+std::vector<LiveBehavior::SpeechError> StreamSession::TakeSpeechErrors()
+{
+  for (LiveBehavior::SpeechError& e : this->Live->TakeSpeechErrors())
+  {
+    this->SpeechErrors.push_back(std::move(e));
+  }
+  std::vector<LiveBehavior::SpeechError> out;
+  out.swap(this->SpeechErrors);
+  return out;
+}
+
 std::string StreamSession::Header(const std::string& sessionId, const std::string& avatarUrl) const
 {
   StreamHeader h;
@@ -180,6 +196,10 @@ void StreamSession::TakeAudio()
 {
   for (const LiveBehavior::AudioSegment& segment : this->Live->TakeAudio())
   {
+    if (this->SoundStarts.size() < 256)
+    {
+      this->SoundStarts.emplace(segment.Id, segment.Start); // the first segment's start
+    }
     this->QueueAudio(segment);
   }
 }
@@ -249,12 +269,33 @@ void StreamSession::QueueAudio(const LiveBehavior::AudioSegment& segment)
 
 dialog::Schedule StreamSession::Say(const dialog::SayCommand& c, double now)
 {
+  if (!c.Audio.empty() || !c.Timings.empty())
+  {
+    // (Recordings name files on the server: the command socket's external speech is the
+    // window's; a stream session synthesizes its text.)
+    throw InputError("a stream session speaks text only (no 'audio' or 'timings')");
+  }
+  LiveBehavior::Synthesizer voice;
   if (!c.Voice.empty())
   {
-    throw InputError("a stream session speaks with the server's voice (no 'voice' field)");
+    if (!this->MakeVoice)
+    {
+      throw InputError("this server speaks with its own voice only (no 'voice' field)");
+    }
+    voice = this->MakeVoice(c.Voice); // InputError for a voice it does not have
+  }
+  if (this->Live->GetSynthesisPool())
+  {
+    // Nothing waits here: the pool synthesizes, Tick() schedules it when ready.
+    const LiveBehavior::Timing timing =
+      voice ? this->Live->Say(c.Text, now, voice) : this->Live->Say(c.Text, now);
+    dialog::Schedule s(timing.Start, timing.End);
+    s.Handle = timing.Id;
+    return s;
   }
   const auto started = std::chrono::steady_clock::now();
-  const LiveBehavior::Timing timing = this->Live->Say(c.Text, now + this->SayLead);
+  const LiveBehavior::Timing timing = voice ? this->Live->Say(c.Text, now + this->SayLead, voice)
+                                            : this->Live->Say(c.Text, now + this->SayLead);
   const double took = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   // A running estimate that follows a slower machine at once and a faster one slowly.
   this->SayLead = took > this->SayLead ? std::min(took, 1.0) : 0.8 * this->SayLead + 0.2 * took;
@@ -265,6 +306,10 @@ dialog::Schedule StreamSession::Say(const dialog::SayCommand& c, double now)
     if (segment.Id == timing.Id && std::isnan(s.Sound))
     {
       s.Sound = segment.Start;
+    }
+    if (this->SoundStarts.size() < 256)
+    {
+      this->SoundStarts.emplace(segment.Id, segment.Start);
     }
     this->QueueAudio(segment);
   }
@@ -301,11 +346,23 @@ void StreamSession::StopSpeaking(double now)
 bool StreamSession::Refresh(unsigned long long handle, dialog::Schedule& when)
 {
   const auto timing = this->Live->GetSpeechTiming(handle);
+  const auto sound = this->SoundStarts.find(handle);
   if (timing.Id == 0)
   {
+    if (sound != this->SoundStarts.end())
+    {
+      this->SoundStarts.erase(sound); // forgotten: its speech ended a while ago
+    }
     return false;
   }
+  // With a pool the start is known once the first chunk is ready (until then it stays
+  // after the last frame, so "started" waits for the mouth).
+  when.Start = timing.Start;
   when.End = timing.End;
+  if (sound != this->SoundStarts.end())
+  {
+    when.Sound = sound->second;
+  }
   return true;
 }
 } // namespace stream

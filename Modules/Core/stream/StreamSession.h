@@ -22,6 +22,8 @@
 #include "stream/StreamProtocol.h"
 
 #include <cstdint>
+#include <functional>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -61,6 +63,20 @@ public:
   StreamSession(const StreamSession&) = delete;
   StreamSession& operator=(const StreamSession&) = delete;
 
+  /// Synthesizes on the pool's threads (LiveBehavior::SetSynthesisPool): a say never
+  /// blocks the session; its speech starts at the first frame after it is ready. Set it
+  /// before the first say; shared by every session of a server.
+  void SetSynthesisPool(std::shared_ptr<SynthesisPool> pool);
+  /// Makes the synthesizer of a say's `voice` (InputError for a voice it does not have).
+  /// Without it, a say with a voice is refused.
+  using VoiceSynthesizers = std::function<LiveBehavior::Synthesizer(const std::string& voice)>;
+  void SetVoiceSynthesizers(VoiceSynthesizers make) { this->MakeVoice = std::move(make); }
+
+  /// The avatar file's URL for the header, when not the server's default (e.g. the file
+  /// prepared for the page's device).
+  void SetAvatarUrl(std::string url) { this->AvatarUrl = std::move(url); }
+  const std::string& GetAvatarUrl() const { return this->AvatarUrl; }
+
   /// The header text message.
   std::string Header(const std::string& sessionId, const std::string& avatarUrl) const;
   const StreamSettings& GetSettings() const { return this->Settings; }
@@ -75,9 +91,10 @@ public:
   uint32_t SampleOf(double t) const;
 
   // ---- dialog::CommandSink --------------------------------------------------------------
-  /// Synthesizes the first chunk and schedules it at now + the time synthesis takes (a
-  /// running estimate, measured on every say): the client hears the sound's start rather
-  /// than losing what "passed" while it was synthesized.
+  /// Without a pool: synthesizes the first chunk and schedules it at now + the time
+  /// synthesis takes (a running estimate, measured on every say): the client hears the
+  /// sound's start rather than losing what "passed" while it was synthesized. With a pool:
+  /// queues the text and returns at once (times are estimates until Refresh has them).
   dialog::Schedule Say(const dialog::SayCommand& command, double now) override;
   /// Seconds a say is scheduled after its command (the synthesis estimate).
   double GetSayLead() const { return this->SayLead; }
@@ -88,6 +105,10 @@ public:
   /// frames from then on.
   void StopSpeaking(double now) override;
   bool Refresh(unsigned long long handle, dialog::Schedule& when) override;
+  /// Says whose speech could not be made (synthesis failed, waited too long for the pool,
+  /// the pool's queue was full) since the last call: the say's Schedule::Handle and why.
+  /// DialogSession::Fail reports them to the client.
+  std::vector<LiveBehavior::SpeechError> TakeSpeechErrors();
 
   // ---- figures ---------------------------------------------------------------------------
   /// The last frame's weights before quantization (stream target order) and as sent.
@@ -100,6 +121,10 @@ public:
 private:
   void TakeAudio();
   void QueueAudio(const LiveBehavior::AudioSegment& segment);
+  VoiceSynthesizers MakeVoice;
+  std::string AvatarUrl;
+  std::vector<LiveBehavior::SpeechError> SpeechErrors;
+  std::map<uint64_t, double> SoundStarts; ///< utterance id -> its sound's start (held briefly)
 
   const StreamAvatar& Avatar;
   StreamSettings Settings;

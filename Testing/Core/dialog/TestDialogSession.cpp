@@ -293,3 +293,30 @@ TEST(DialogSession, HalfClosedClientGetsItsEvents)
   EXPECT_EQ(read(fd, &byte, 1), 0);
   close(fd);
 }
+
+// An accepted say whose speech cannot be made after all (e.g. the synthesis pool was too
+// busy): its client gets an error with the say's id, then ended (interrupted), never
+// started.
+TEST(DialogSession, FailEndsAnAcceptedSayWithAnError)
+{
+  Fixture f;
+  f.Command(R"({"cmd":"say","text":"Too late","id":"late"})", 5.0); // starts at 5 (sink)
+  auto e = f.Events(1);
+  ASSERT_EQ(e.size(), 1u);
+  EXPECT_EQ(e[0]["event"], "accepted");
+  EXPECT_FALSE(f.Session.Fail(2, reason::Overloaded, "not this one", 4.0)); // unknown handle
+  EXPECT_TRUE(f.Session.Fail(1, reason::Overloaded, "the server is busy", 4.5));
+  e = f.Events(1);
+  ASSERT_EQ(e.size(), 1u);
+  EXPECT_EQ(e[0]["event"], "error");
+  EXPECT_EQ(e[0]["reason"], "overloaded");
+  EXPECT_EQ(e[0]["id"], "late");
+  EXPECT_EQ(e[0]["cmd"], "say");
+  f.Session.Advance(5.0);
+  e = f.Events(2, 200);
+  ASSERT_EQ(e.size(), 1u) << "ended only: it never started";
+  EXPECT_EQ(e[0]["event"], "ended");
+  EXPECT_EQ(e[0]["interrupted"], true);
+  EXPECT_EQ(f.Session.GetNumberOfRunning(), 0u);
+  EXPECT_FALSE(f.Session.Fail(1, reason::Overloaded, "once", 6.0));
+}

@@ -7,6 +7,7 @@
 
 #include "MorphNodeTestSkips.h"
 #include "base/Error.h"
+#include "budget/DeviceProfile.h"
 #include "gltf/GltfScene.h"
 #include "speech/Speech.h"
 
@@ -17,6 +18,9 @@
 #include <filesystem>
 #include <fstream>
 #include <set>
+#include <thread>
+#include <chrono>
+#include <cmath>
 
 using namespace morphnode;
 using namespace morphnode::stream;
@@ -308,4 +312,167 @@ TEST(StreamSession, OpusWhenAskedIsSmallerThanPcm)
   odd.Codec = AudioCodec::Opus;
   odd.SampleRate = 22050;
   EXPECT_THROW(StreamSession(avatar, SelectVisemeMap(speech).GetVisemes(), nullptr, odd), InputError);
+}
+
+// With the synthesis pool, a say returns at once and the frames go on; the speech starts
+// at the first frame after it is ready, with its sound stamped there; a say's voice goes
+// through the session's voice synthesizers (refused without them or for a voice they
+// lack); started is not announced before the mouth moves (Refresh keeps Start ahead).
+TEST(StreamSession, WithAPoolSayNeverBlocksAndASaysVoiceIsUsed)
+{
+  const SpeechOptions speech = Paper6();
+  const StreamAvatar avatar(DefaultHead(), ChannelsOf(speech));
+  auto voices = std::make_shared<std::vector<std::string>>();
+  auto fake = [](const std::string& voice) {
+    return [voice](const std::string& text) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(30)); // synthesis takes a while
+      Utterance u;
+      u.Visemes = WeightTrack({ "A" }, 100.0);
+      for (int f = 0; f <= 100; ++f)
+      {
+        u.Visemes.AppendFrame(std::vector<double>{ f > 10 && f < 90 ? 1.0 : 0.0 });
+      }
+      u.Duration = 1.0;
+      u.SampleRate = 24000;
+      u.Audio.assign(24000, voice == "de" ? 2000 : 1000);
+      (void)text;
+      return u;
+    };
+  };
+  StreamSettings settings;
+  StreamSession s(avatar, SelectVisemeMap(speech).GetVisemes(), fake("en"), settings);
+  s.SetSynthesisPool(std::make_shared<SynthesisPool>());
+  const StreamHeader h = ParseHeader(s.Header("x", "/avatar.glb"));
+  dialog::SayCommand say;
+  say.Text = "Hallo.";
+  say.Voice = "de";
+  EXPECT_THROW(s.Say(say, 0.0), InputError) << "no voice synthesizers: a voice is refused";
+  s.SetVoiceSynthesizers([&](const std::string& voice) -> LiveBehavior::Synthesizer {
+    voices->push_back(voice);
+    if (voice != "de")
+    {
+      throw InputError("unknown voice '" + voice + "'");
+    }
+    return fake(voice);
+  });
+  say.Voice = "xx";
+  EXPECT_THROW(s.Say(say, 0.0), InputError);
+  say.Voice = "de";
+  s.Tick(0.0);
+  Decode(s, h);
+  dialog::Schedule when = s.Say(say, 0.0);
+  ASSERT_NE(when.Handle, 0u);
+  EXPECT_TRUE(std::isnan(when.Sound)) << "not known until synthesized";
+  const std::set<std::string> mouth = { "A" };
+  double t = 0.0;
+  int frames = 0, open = 0;
+  int16_t firstSample = 0;
+  uint32_t soundAt = 0;
+  bool heard = false;
+  while (t < 3.0 && !heard)
+  {
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    t += 1.0 / 30.0;
+    s.Tick(t);
+    ++frames;
+    dialog::Schedule now = when;
+    ASSERT_TRUE(s.Refresh(when.Handle, now));
+    const Decoded d = Decode(s, h);
+    if (!d.Audio.empty())
+    {
+      heard = true;
+      soundAt = d.Audio[0].Sample;
+      firstSample = static_cast<int16_t>(d.Audio[0].Payload[0] | (d.Audio[0].Payload[1] << 8));
+      EXPECT_DOUBLE_EQ(now.Start, t) << "speech starts at the frame that picked it up";
+      EXPECT_DOUBLE_EQ(now.Sound, t);
+    }
+    else
+    {
+      EXPECT_GT(now.Start, t) << "start stays ahead of the frames until ready";
+    }
+  }
+  ASSERT_TRUE(heard);
+  EXPECT_EQ(soundAt, s.SampleOf(t));
+  EXPECT_EQ(firstSample, 2000) << "the say's voice spoke";
+  EXPECT_EQ(*voices, (std::vector<std::string>{ "xx", "de" }));
+  for (int i = 0; i < 30; ++i)
+  {
+    t += 1.0 / 30.0;
+    s.Tick(t);
+    const Decoded d = Decode(s, h);
+    open = std::max(open, Largest(d.Frames.back(), h, mouth));
+  }
+  EXPECT_GT(open, 100) << "the mouth opens once the speech is ready";
+  EXPECT_GT(frames, 1) << "frames went on while synthesizing";
+}
+
+// A device's avatar (docs/streaming.md): a phone gets the level-of-detail ladder's level 1
+// (when the build has the reduction) with the same targets, and a target that moves less
+// than the profile's pixel bound on the face's height is left out (kept on the desktop
+// with a smaller bound, and without a bound). The phone's file goes to the Khronos validator.
+TEST(StreamAvatar, DevicesGetTheirLevelAndTheirPixelBoundPrunesTargets)
+{
+  const SpeechOptions speech = Paper6();
+  const std::vector<std::string> channels = ChannelsOf(speech);
+  const StreamAvatar full(DefaultHead(), channels, nullptr, false);
+  StreamAvatarOptions phoneOptions = DeviceAvatarOptions(FindDeviceProfile("phone"));
+  EXPECT_EQ(phoneOptions.Level, 1);
+  EXPECT_DOUBLE_EQ(phoneOptions.TargetPixelBound, 1.0);
+  phoneOptions.QuantizeDeltas = false; // read back below
+  const StreamAvatar phone(DefaultHead(), channels, nullptr, phoneOptions);
+  EXPECT_EQ(phone.GetTargetNames(), full.GetTargetNames()) << "every target of the default head shows on a phone";
+  EXPECT_TRUE(phone.GetPrunedTargets().empty());
+  if (phone.GetLevel() == 0)
+  {
+    GTEST_SKIP() << "this build has no reduction (MORPHNODE_ENABLE_REDUCTION): the phone gets the full mesh";
+  }
+  EXPECT_EQ(phone.GetLevel(), 1);
+  EXPECT_LT(phone.GetNumberOfTriangles(), 0.8 * full.GetNumberOfTriangles());
+  EXPECT_GT(phone.GetNumberOfTriangles(), 0.3 * full.GetNumberOfTriangles());
+  EXPECT_GT(phone.GetLevelError(), 0.0);
+  // The file reads back with the reduced mesh and every target.
+  const GltfScene back = LoadGltfSceneFromMemory(phone.GetFile().data(), phone.GetFile().size());
+  size_t triangles = 0;
+  std::set<std::string> names;
+  for (const GltfPart& part : back.Parts)
+  {
+    triangles += part.Triangles.size() / 3;
+    for (const GltfTarget& t : part.Targets)
+    {
+      names.insert(t.Name);
+      EXPECT_EQ(t.PositionDeltas.size(), part.Positions.size());
+    }
+  }
+  EXPECT_EQ(triangles, phone.GetNumberOfTriangles());
+  EXPECT_EQ(names.size(), phone.GetTargetNames().size());
+  StreamAvatarOptions quantized = DeviceAvatarOptions(FindDeviceProfile("phone"));
+  WriteForValidator(StreamAvatar(DefaultHead(), channels, nullptr, quantized), "stream_default_head_phone.glb");
+
+  // A target that barely moves: pruned for the phone (1 px), kept without a bound.
+  GltfScene face = DefaultHead();
+  const std::string tiny = full.GetTargetNames().back();
+  for (GltfPart& part : face.Parts)
+  {
+    for (GltfTarget& t : part.Targets)
+    {
+      if (t.Name == tiny)
+      {
+        for (float& d : t.PositionDeltas)
+        {
+          d *= 1e-5f;
+        }
+      }
+    }
+  }
+  StreamAvatarOptions bound;
+  bound.TargetPixelBound = 1.0;
+  bound.QuantizeDeltas = false;
+  const StreamAvatar pruned(face, channels, nullptr, bound);
+  EXPECT_EQ(pruned.GetPrunedTargets(), std::vector<std::string>{ tiny });
+  EXPECT_EQ(std::count(pruned.GetTargetNames().begin(), pruned.GetTargetNames().end(), tiny), 0);
+  EXPECT_EQ(pruned.GetTargetNames().size() + 1, full.GetTargetNames().size());
+  const StreamAvatar kept(face, channels, nullptr, false);
+  EXPECT_EQ(kept.GetTargetNames().size(), full.GetTargetNames().size());
+  bound.TargetPixelBound = -1.0;
+  EXPECT_THROW(StreamAvatar(face, channels, nullptr, bound), InputError);
 }
