@@ -758,7 +758,7 @@ TEST(BehaviorTimeSource, VisemeTableFileChangesTheChannelsOfLaterSpeech)
   messages->Clear();
 
   // The Oculus table as a file while the set says PAPER6: the file wins.
-  const std::string table = SourceDir + "/Data/speech/visemes_oculus15_en.json";
+  const std::string table = SourceDir + "/Modules/Core/speech/data/visemes_oculus15_en.json";
   ASSERT_TRUE(source->SetVisemeTableFileName(table.c_str())) << messages->AllErrors();
   EXPECT_EQ(source->GetVisemeTableFileName(), table);
   EXPECT_GT(source->GetMTime(), mtime);

@@ -47,7 +47,7 @@
 #ifndef vtkLiveLinkFaceReader_h
 #define vtkLiveLinkFaceReader_h
 
-#include "vtkMorphNodeModule.h" // For export macro
+#include "vtkMorphNodeIOModule.h" // For export macro
 #include "vtkTableAlgorithm.h"
 
 #include <memory> // For std::unique_ptr
@@ -55,7 +55,7 @@
 
 class vtkStringArray;
 
-class VTKMORPHNODE_EXPORT vtkLiveLinkFaceReader : public vtkTableAlgorithm
+class VTKMORPHNODEIO_EXPORT vtkLiveLinkFaceReader : public vtkTableAlgorithm
 {
 public:
   static vtkLiveLinkFaceReader* New();

@@ -38,13 +38,13 @@
 #ifndef vtkMorphSkinFilter_h
 #define vtkMorphSkinFilter_h
 
-#include "vtkMorphNodeModule.h" // For export macro
+#include "vtkMorphNodeSkinModule.h" // For export macro
 #include "vtkPassInputTypeAlgorithm.h"
 
 #include <memory> // For std::unique_ptr
 #include <string> // For std::string
 
-class VTKMORPHNODE_EXPORT vtkMorphSkinFilter : public vtkPassInputTypeAlgorithm
+class VTKMORPHNODESKIN_EXPORT vtkMorphSkinFilter : public vtkPassInputTypeAlgorithm
 {
 public:
   static vtkMorphSkinFilter* New();
