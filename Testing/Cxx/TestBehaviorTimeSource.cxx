@@ -984,7 +984,7 @@ TEST(BehaviorTimeSource, AnyTimingFileAndScriptsReadingThem)
 
   // Bad timing files: errors naming the file, nothing changed.
   const vtkMTimeType mtime = source->GetMTime();
-  for (const std::string bad : { Corpus + "textgrid/out_of_order.TextGrid",
+  for (const std::string& bad : { Corpus + "textgrid/out_of_order.TextGrid",
          Corpus + "speech_marks/out_of_order.marks", Corpus + "rhubarb_tsv/decreasing.tsv",
          OutputDir + "/missing.TextGrid" })
   {
