@@ -758,7 +758,7 @@ TEST(BehaviorTimeSource, VisemeTableFileChangesTheChannelsOfLaterSpeech)
   messages->Clear();
 
   // The Oculus table as a file while the set says PAPER6: the file wins.
-  const std::string table = SourceDir + "/Data/speech/visemes_oculus15_en.json";
+  const std::string table = SourceDir + "/Modules/Core/speech/data/visemes_oculus15_en.json";
   ASSERT_TRUE(source->SetVisemeTableFileName(table.c_str())) << messages->AllErrors();
   EXPECT_EQ(source->GetVisemeTableFileName(), table);
   EXPECT_GT(source->GetMTime(), mtime);
@@ -984,7 +984,7 @@ TEST(BehaviorTimeSource, AnyTimingFileAndScriptsReadingThem)
 
   // Bad timing files: errors naming the file, nothing changed.
   const vtkMTimeType mtime = source->GetMTime();
-  for (const std::string bad : { Corpus + "textgrid/out_of_order.TextGrid",
+  for (const std::string& bad : { Corpus + "textgrid/out_of_order.TextGrid",
          Corpus + "speech_marks/out_of_order.marks", Corpus + "rhubarb_tsv/decreasing.tsv",
          OutputDir + "/missing.TextGrid" })
   {

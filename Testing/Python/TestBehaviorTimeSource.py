@@ -264,7 +264,7 @@ class TestBehaviorTimeSource(unittest.TestCase):
         b.ResetBehaviorParameters()
         self.assertEqual(b.GetBehaviorParameter("BlinkRateRest"), 17.0)
 
-        table = os.path.join(SOURCE_DIR, "Data", "speech", "visemes_oculus15_en.json")
+        table = os.path.join(SOURCE_DIR, "Modules", "Core", "speech", "data", "visemes_oculus15_en.json")
         self.assertTrue(b.SetVisemeTableFileName(table))
         self.assertTrue(b.SpeakPhonemes("_ 50\np 80\nA: 200\n_ 50", 0.2))
         channels = [b.GetChannelName(i) for i in range(b.GetNumberOfChannels())]

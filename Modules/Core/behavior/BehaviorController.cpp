@@ -28,7 +28,7 @@ void CheckStart(double start)
   CheckRange(start, 0.0, MaxBehaviorTime, "start time");
 }
 
-/// The built-in data (BehaviorLibrary::Default(), Data/behavior/behavior.json) of a compiled
+/// The built-in data (BehaviorLibrary::Default(), behavior/data/behavior.json) of a compiled
 /// gesture or mood: one definition for the finite controller and the live behaviour.
 const GestureDefinition& Definition(GestureKind kind)
 {

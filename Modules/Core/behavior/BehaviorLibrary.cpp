@@ -17,7 +17,7 @@ namespace morphnode
 {
 namespace behavior_detail
 {
-const char* DefaultBehaviorLibraryJson(); // generated from Data/behavior/behavior.json
+const char* DefaultBehaviorLibraryJson(); // behavior/data/behavior.json (DefaultBehaviorLibrary.cpp)
 }
 
 namespace

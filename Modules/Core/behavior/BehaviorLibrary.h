@@ -3,7 +3,7 @@
 /// @file BehaviorLibrary.h
 /// @brief Gestures and moods as data (JSON), with override rules in the spirit of VRM 1.0
 /// expressions, so that expressions never fight. The built-in library (Default()) is the
-/// data file Data/behavior/behavior.json compiled in: it works without any file.
+/// data file behavior/data/behavior.json compiled in: it works without any file.
 ///
 /// File format (docs/behavior.md, "Behaviour as data"):
 ///
@@ -149,7 +149,7 @@ class BehaviorLibrary
 public:
   /// The built-in gestures and moods (the JSON text of DefaultJson(), parsed once).
   static const BehaviorLibrary& Default();
-  /// The built-in library as JSON text (identical to Data/behavior/behavior.json).
+  /// The built-in library as JSON text (identical to behavior/data/behavior.json).
   static const char* DefaultJson();
   /// Parses a library. A file may hold "gestures", "moods" or both; with `base` given,
   /// its entries are added to (or replace, by name) a copy of `base`. InputError naming

@@ -10,22 +10,6 @@
 
 namespace morphnode
 {
-const char* AttributeRoleName(AttributeRole role)
-{
-  switch (role)
-  {
-    case AttributeRole::Position:
-      return "Position";
-    case AttributeRole::Normal:
-      return "Normal";
-    case AttributeRole::Color:
-      return "Color";
-    case AttributeRole::Generic:
-      return "Generic";
-  }
-  return "Unknown";
-}
-
 namespace
 {
 // The dense kernels are built twice, for AVX2 and for the baseline ISA, and the loader

@@ -26,8 +26,6 @@ enum class AttributeRole
   Generic   ///< texture coordinates and any other numeric array: plain blend
 };
 
-const char* AttributeRoleName(AttributeRole role);
-
 /// Deltas of one target for one attribute.
 template <typename T>
 class TargetDeltas

@@ -1,13 +1,13 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// @file VisemeMap.h
-/// @brief SAMPA phoneme -> viseme tables, loaded from JSON (Data/speech/*.json).
+/// @brief SAMPA phoneme -> viseme tables, loaded from JSON (speech/data/*.json).
 ///
 /// Three viseme sets, each for German and English:
 /// - Oculus15: Meta/Oculus `sil PP FF TH DD kk CH SS nn RR aa E ih oh ou`
 /// - German16: after Aschenberner & Weiss `sil P M F S Z T L R K A O U E Y Q`
 /// - Paper6: the paper's morph targets `A E O S F L` plus `sil` (bilabials close to `sil`)
-/// The built-in tables are the files of Data/speech compiled into the library; a file of
+/// The built-in tables are the files of speech/data compiled into the library; a file of
 /// the same form overrides them (docs/speech.md documents the format).
 ///
 /// A phoneme the table does not list (any language eSpeak NG speaks, IPA from another

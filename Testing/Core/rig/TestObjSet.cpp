@@ -43,11 +43,6 @@ void ExpectParseError(const std::string& text, const std::string& fragment)
   }
 }
 
-std::string FaceKitObj(const std::string& name)
-{
-  return std::string(MORPHNODE_FACEKIT_DIR) + "/obj/" + name;
-}
-
 // A scratch directory of its own per test, removed at the end.
 class ScratchDir
 {

@@ -224,7 +224,7 @@ TEST(Synthesis, AnotherDataPathAfterARejectedVoiceNeitherHangsNorSwitches)
   {
     GTEST_SKIP() << "eSpeak NG's data is not at " << system;
   }
-  for (const std::string path : { system, system + "/", std::string("/usr/lib/x86_64-linux-gnu"),
+  for (const std::string& path : { system, system + "/", std::string("/usr/lib/x86_64-linux-gnu"),
          std::string() })
   {
     SpeechSynthesizer synthesizer("en");

@@ -16,7 +16,7 @@ const VisemeSet AllSets[] = { VisemeSet::Oculus15, VisemeSet::German16, VisemeSe
 
 std::string DataFile(VisemeSet set, const std::string& language)
 {
-  return std::string(MORPHNODE_SOURCE_DIR) + "/Data/speech/visemes_" + VisemeSetName(set) + "_" +
+  return std::string(MORPHNODE_SOURCE_DIR) + "/Modules/Core/speech/data/visemes_" + VisemeSetName(set) + "_" +
     language + ".json";
 }
 } // namespace

@@ -54,12 +54,12 @@
 #ifndef vtkEyeGazeFilter_h
 #define vtkEyeGazeFilter_h
 
-#include "vtkMorphNodeModule.h" // For export macro
+#include "vtkMorphNodeGazeModule.h" // For export macro
 #include "vtkMorphTrackFilter.h"
 
 #include <memory> // For std::unique_ptr
 
-class VTKMORPHNODE_EXPORT vtkEyeGazeFilter : public vtkMorphTrackFilter
+class VTKMORPHNODEGAZE_EXPORT vtkEyeGazeFilter : public vtkMorphTrackFilter
 {
 public:
   static vtkEyeGazeFilter* New();

@@ -30,7 +30,7 @@
 #ifndef vtkMorphRigBaker_h
 #define vtkMorphRigBaker_h
 
-#include "vtkMorphNodeModule.h" // For export macro
+#include "vtkMorphNodeRigModule.h" // For export macro
 #include "vtkPointSetAlgorithm.h"
 
 #include <memory> // For std::unique_ptr
@@ -38,7 +38,7 @@
 
 class vtkStringArray;
 
-class VTKMORPHNODE_EXPORT vtkMorphRigBaker : public vtkPointSetAlgorithm
+class VTKMORPHNODERIG_EXPORT vtkMorphRigBaker : public vtkPointSetAlgorithm
 {
 public:
   static vtkMorphRigBaker* New();

@@ -76,12 +76,12 @@
 #ifndef vtkMorphGltfWriter_h
 #define vtkMorphGltfWriter_h
 
-#include "vtkMorphNodeModule.h" // For export macro
+#include "vtkMorphNodeIOModule.h" // For export macro
 #include "vtkWriter.h"
 
 class vtkTable;
 
-class VTKMORPHNODE_EXPORT vtkMorphGltfWriter : public vtkWriter
+class VTKMORPHNODEIO_EXPORT vtkMorphGltfWriter : public vtkWriter
 {
 public:
   static vtkMorphGltfWriter* New();

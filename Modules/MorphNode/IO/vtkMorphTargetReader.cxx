@@ -71,7 +71,7 @@ vtkSmartPointer<vtkPolyData> PartToPolyData(const morphnode::GltfPart& part)
 
   vtkNew<vtkCellArray> polys;
   const size_t numTriangles = part.GetNumberOfTriangles();
-  polys->AllocateExact(static_cast<vtkIdType>(numTriangles), static_cast<vtkIdType>(3 * numTriangles));
+  polys->AllocateExact(static_cast<vtkIdType>(numTriangles), 3 * static_cast<vtkIdType>(numTriangles));
   for (size_t t = 0; t < numTriangles; ++t)
   {
     const vtkIdType ids[3] = { part.Triangles[3 * t], part.Triangles[3 * t + 1], part.Triangles[3 * t + 2] };

@@ -47,7 +47,7 @@
 #ifndef vtkLiveLinkFaceReader_h
 #define vtkLiveLinkFaceReader_h
 
-#include "vtkMorphNodeModule.h" // For export macro
+#include "vtkMorphNodeIOModule.h" // For export macro
 #include "vtkMorphTrackSource.h"
 
 #include <memory> // For std::unique_ptr
@@ -55,7 +55,7 @@
 
 class vtkStringArray;
 
-class VTKMORPHNODE_EXPORT vtkLiveLinkFaceReader : public vtkMorphTrackSource
+class VTKMORPHNODEIO_EXPORT vtkLiveLinkFaceReader : public vtkMorphTrackSource
 {
 public:
   static vtkLiveLinkFaceReader* New();

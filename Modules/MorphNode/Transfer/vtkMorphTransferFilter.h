@@ -26,12 +26,12 @@
 #ifndef vtkMorphTransferFilter_h
 #define vtkMorphTransferFilter_h
 
-#include "vtkMorphNodeModule.h" // For export macro
+#include "vtkMorphNodeTransferModule.h" // For export macro
 #include "vtkPolyDataAlgorithm.h"
 
 #include <string> // for the landmark file name
 
-class VTKMORPHNODE_EXPORT vtkMorphTransferFilter : public vtkPolyDataAlgorithm
+class VTKMORPHNODETRANSFER_EXPORT vtkMorphTransferFilter : public vtkPolyDataAlgorithm
 {
 public:
   static vtkMorphTransferFilter* New();

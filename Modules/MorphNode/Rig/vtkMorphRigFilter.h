@@ -52,7 +52,7 @@
 #ifndef vtkMorphRigFilter_h
 #define vtkMorphRigFilter_h
 
-#include "vtkMorphNodeModule.h" // For export macro
+#include "vtkMorphNodeRigModule.h" // For export macro
 #include "vtkTableAlgorithm.h"
 
 #include <memory> // For std::unique_ptr
@@ -60,7 +60,7 @@
 
 class vtkStringArray;
 
-class VTKMORPHNODE_EXPORT vtkMorphRigFilter : public vtkTableAlgorithm
+class VTKMORPHNODERIG_EXPORT vtkMorphRigFilter : public vtkTableAlgorithm
 {
 public:
   static vtkMorphRigFilter* New();

@@ -94,7 +94,7 @@
 #ifndef vtkMorphTargetReader_h
 #define vtkMorphTargetReader_h
 
-#include "vtkMorphNodeModule.h" // For export macro
+#include "vtkMorphNodeIOModule.h" // For export macro
 #include "vtkPolyDataAlgorithm.h"
 
 #include <memory> // For std::shared_ptr, std::unique_ptr
@@ -107,7 +107,7 @@ namespace morphnode
 struct GltfScene;
 }
 
-class VTKMORPHNODE_EXPORT vtkMorphTargetReader : public vtkPolyDataAlgorithm
+class VTKMORPHNODEIO_EXPORT vtkMorphTargetReader : public vtkPolyDataAlgorithm
 {
 public:
   static vtkMorphTargetReader* New();

@@ -39,7 +39,7 @@
 #ifndef vtkMorphAvatarPipeline_h
 #define vtkMorphAvatarPipeline_h
 
-#include "vtkMorphNodeModule.h" // For export macro
+#include "vtkMorphNodeAvatarModule.h" // For export macro
 #include "vtkNew.h"             // For vtkNew
 #include "vtkObject.h"
 #include "vtkSmartPointer.h"    // For vtkSmartPointer
@@ -57,7 +57,7 @@ class vtkMorphTargetReader;
 class vtkTable;
 class vtkTransform;
 
-class VTKMORPHNODE_EXPORT vtkMorphAvatarPipeline : public vtkObject
+class VTKMORPHNODEAVATAR_EXPORT vtkMorphAvatarPipeline : public vtkObject
 {
 public:
   static vtkMorphAvatarPipeline* New();

@@ -43,13 +43,13 @@
 #ifndef vtkMorphSkinFilter_h
 #define vtkMorphSkinFilter_h
 
-#include "vtkMorphNodeModule.h" // For export macro
+#include "vtkMorphNodeSkinModule.h" // For export macro
 #include "vtkMorphTrackFilter.h"
 
 #include <memory> // For std::unique_ptr
 #include <string> // For std::string
 
-class VTKMORPHNODE_EXPORT vtkMorphSkinFilter : public vtkMorphTrackFilter
+class VTKMORPHNODESKIN_EXPORT vtkMorphSkinFilter : public vtkMorphTrackFilter
 {
 public:
   static vtkMorphSkinFilter* New();

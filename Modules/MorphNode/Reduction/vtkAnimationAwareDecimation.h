@@ -31,10 +31,10 @@
 #ifndef vtkAnimationAwareDecimation_h
 #define vtkAnimationAwareDecimation_h
 
-#include "vtkMorphNodeModule.h" // For export macro
+#include "vtkMorphNodeReductionModule.h" // For export macro
 #include "vtkPolyDataAlgorithm.h"
 
-class VTKMORPHNODE_EXPORT vtkAnimationAwareDecimation : public vtkPolyDataAlgorithm
+class VTKMORPHNODEREDUCTION_EXPORT vtkAnimationAwareDecimation : public vtkPolyDataAlgorithm
 {
 public:
   static vtkAnimationAwareDecimation* New();

@@ -183,7 +183,7 @@ BuiltModel BuildFromAbsoluteTargets(const std::vector<vtkPointSet*>& inputs, dou
   }
 
   const size_t n = inputs.size();
-  BuiltModel built{ morphnode::MorphMesh(static_cast<size_t>(numPoints)), {}, {} };
+  BuiltModel built{ morphnode::MorphMesh(static_cast<size_t>(numPoints)), {}, {}, {} };
   built.Model.SetTargetNames(NamesFrom(neutral, inputs, n));
   arrays::CheckUniqueNames(built.Model.GetTargetNames());
 
@@ -228,7 +228,7 @@ BuiltModel BuildFromRelativeTargets(vtkPointSet* input, double sparseCoverage)
   arrays::ReadOptions options;
   options.SparseCoverage = sparseCoverage;
   arrays::MeshFromVTK read = arrays::ToMorphMesh(input, options);
-  BuiltModel built{ std::move(read.Mesh), {}, std::move(read.TargetArrays) };
+  BuiltModel built{ std::move(read.Mesh), {}, std::move(read.TargetArrays), {} };
   built.Bindings.push_back({ "", input->GetPoints()->GetData(), false });
   if (read.Normals)
   {

@@ -65,7 +65,7 @@
 #ifndef vtkBehaviorTimeSource_h
 #define vtkBehaviorTimeSource_h
 
-#include "vtkMorphNodeModule.h" // For export macro
+#include "vtkMorphNodeBehaviorModule.h" // For export macro
 #include "vtkMorphTrackSource.h"
 
 #include <memory> // For std::unique_ptr
@@ -80,7 +80,7 @@ struct Utterance;
 }
 #endif
 
-class VTKMORPHNODE_EXPORT vtkBehaviorTimeSource : public vtkMorphTrackSource
+class VTKMORPHNODEBEHAVIOR_EXPORT vtkBehaviorTimeSource : public vtkMorphTrackSource
 {
 public:
   static vtkBehaviorTimeSource* New();
@@ -156,7 +156,7 @@ public:
 
   ///@{
   /**
-   * A viseme table file (docs/speech.md, e.g. one of Data/speech/visemes_*.json adapted to
+   * A viseme table file (docs/speech.md, e.g. one of Modules/Core/speech/data/visemes_*.json adapted to
    * a face) used by the speech commands instead of the built-in table of VisemeSet;
    * nullptr or "" (default) = the built-in one. The file is checked when set: one that
    * cannot be read is an error, returns false and keeps the previous table.

@@ -124,7 +124,7 @@ std::string Str(const char* s)
     std::string message_;                                                                          \
     if (!Guarded(this, [&]() { call; }, message_))                                                 \
     {                                                                                              \
-      vtkErrorMacro(<< what << ": " << message_);                                                  \
+      vtkErrorMacro(<< (what) << ": " << message_);                                                \
       return false;                                                                                \
     }                                                                                              \
     this->Modified();                                                                              \

@@ -43,7 +43,7 @@
 #ifndef vtkLiveBehaviorSource_h
 #define vtkLiveBehaviorSource_h
 
-#include "vtkMorphNodeModule.h" // For export macro
+#include "vtkMorphNodeBehaviorModule.h" // For export macro
 #include "vtkMorphTrackSource.h"
 
 #include <memory> // For std::unique_ptr
@@ -56,7 +56,7 @@ class LiveBehavior;
 }
 #endif
 
-class VTKMORPHNODE_EXPORT vtkLiveBehaviorSource : public vtkMorphTrackSource
+class VTKMORPHNODEBEHAVIOR_EXPORT vtkLiveBehaviorSource : public vtkMorphTrackSource
 {
 public:
   static vtkLiveBehaviorSource* New();

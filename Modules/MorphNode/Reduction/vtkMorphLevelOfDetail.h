@@ -33,12 +33,12 @@
 #ifndef vtkMorphLevelOfDetail_h
 #define vtkMorphLevelOfDetail_h
 
-#include "vtkMorphNodeModule.h" // For export macro
+#include "vtkMorphNodeReductionModule.h" // For export macro
 #include "vtkPolyDataAlgorithm.h"
 
 #include <memory> // For std::unique_ptr
 
-class VTKMORPHNODE_EXPORT vtkMorphLevelOfDetail : public vtkPolyDataAlgorithm
+class VTKMORPHNODEREDUCTION_EXPORT vtkMorphLevelOfDetail : public vtkPolyDataAlgorithm
 {
 public:
   static vtkMorphLevelOfDetail* New();
