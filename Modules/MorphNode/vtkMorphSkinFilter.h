@@ -151,6 +151,12 @@ public:
   /** Skinned parts the last execution re-skinned or passed (0 before). */
   vtkGetMacro(NumberOfSkinnedParts, int);
 
+  /// Points re-skinned by the last execution. Each frame re-skins only the points whose
+  /// morphed input changed or that have a joint whose matrix changed since the previous
+  /// frame; the others keep the previous frame's output, written in place (when nothing
+  /// downstream holds the previous output's arrays; else new arrays, all re-skinned).
+  vtkGetMacro(NumberOfReskinnedPoints, vtkIdType);
+
   /**
    * The bones the last execution found, e.g. "head 'Head', neck 'Neck', left eye 'LeftEye',
    * ..." ("" before, or without a skinned part).
@@ -197,6 +203,7 @@ protected:
   int TurnJaw = JAW_AUTO;
   bool JawByBone = false;
   int NumberOfSkinnedParts = 0;
+  vtkIdType NumberOfReskinnedPoints = 0;
   bool HasEyeBones = false;
   bool HasHeadBones = false;
   double HeadBounds[6] = { 0, -1, 0, -1, 0, -1 };
