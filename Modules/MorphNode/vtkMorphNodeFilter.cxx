@@ -37,6 +37,7 @@
 #include "vtkUnsignedCharArray.h"
 
 #include <algorithm>
+#include <map>
 #include <chrono>
 #include <cstdint>
 #include <cstring>
@@ -316,6 +317,34 @@ struct vtkMorphNodeFilter::vtkInternals
   };
   std::vector<Part> Parts;
   bool Composite = false;
+  /// SetTargetOffInPart: part name -> targets off there; applied to the scene's parts.
+  std::map<std::string, std::vector<std::string>> TargetsOff;
+  bool TargetsOffApplied = false; // some part of the scene has targets off
+
+  void ApplyTargetsOff()
+  {
+    if (this->TargetsOff.empty() && !this->TargetsOffApplied)
+    {
+      return;
+    }
+    this->TargetsOffApplied = false;
+    for (const Part& part : this->Parts)
+    {
+      if (part.ScenePart < 0)
+      {
+        continue;
+      }
+      auto it = this->TargetsOff.find(part.Name);
+      if (it == this->TargetsOff.end())
+      {
+        it = this->TargetsOff.find(part.Name.substr(0, part.Name.rfind('/')));
+      }
+      static const std::vector<std::string> none;
+      this->Scene.SetPartTargetsOff(
+        static_cast<size_t>(part.ScenePart), it == this->TargetsOff.end() ? none : it->second);
+      this->TargetsOffApplied = this->TargetsOffApplied || it != this->TargetsOff.end();
+    }
+  }
 
   /// This execution's inputs: the connections of port 0 (one form) or a composite's leaves.
   std::vector<vtkPointSet*> Inputs;
@@ -1510,6 +1539,31 @@ double vtkMorphNodeFilter::GetWeight(int index)
 }
 
 //------------------------------------------------------------------------------
+void vtkMorphNodeFilter::SetTargetOffInPart(const char* part, const char* target)
+{
+  if (!part || !target)
+  {
+    return;
+  }
+  auto& off = this->Internals->TargetsOff[part];
+  if (std::find(off.begin(), off.end(), target) == off.end())
+  {
+    off.emplace_back(target);
+    this->Modified();
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkMorphNodeFilter::RemoveAllTargetsOffInParts()
+{
+  if (!this->Internals->TargetsOff.empty())
+  {
+    this->Internals->TargetsOff.clear();
+    this->Modified();
+  }
+}
+
+//------------------------------------------------------------------------------
 void vtkMorphNodeFilter::SetWeightByName(const char* name, double weight)
 {
   if (!name || !*name)
@@ -1739,6 +1793,7 @@ int vtkMorphNodeFilter::RequestData(
     internals.ChooseThreshold(this);
     if (internals.HasScene)
     {
+      internals.ApplyTargetsOff();
       internals.Scene.SetWeights(internals.Requested);
     }
     this->UpdateProgress(0.4);
@@ -1792,6 +1847,15 @@ void vtkMorphNodeFilter::PrintSelf(ostream& os, vtkIndent indent)
   this->Superclass::PrintSelf(os, indent);
   const vtkInternals& internals = *this->Internals;
   os << indent << "WeightMode: " << this->GetWeightModeAsString() << "\n";
+  for (const auto& [part, targets] : internals.TargetsOff)
+  {
+    os << indent << "TargetsOffInPart " << part << ":";
+    for (const auto& t : targets)
+    {
+      os << " " << t;
+    }
+    os << "\n";
+  }
   os << indent << "OptimizerPreset: " << this->GetOptimizerPresetAsString() << "\n";
   os << indent << "Threshold: " << this->Threshold << "\n";
   os << indent << "RedistributionStrategy: " << this->GetRedistributionStrategyAsString() << "\n";

@@ -85,6 +85,7 @@ public:
     bool Valid = false;          ///< the kept arrays hold the last frame
     unsigned long Execution = 0; ///< the last execution that used the entry
     bool HeadKnown = false;
+    bool EyePart = false; ///< every point's largest weight on an eye joint or below it
     double HeadBounds[6] = { 1, -1, 1, -1, 1, -1 }; ///< empty when min > max
   };
   std::map<vtkDataArray*, Entry> Cache;
@@ -107,6 +108,24 @@ public:
     entry.Skin = vtkMorphSkinArrays::GetSkin(leaf, what);
     entry.RestMatrices = entry.Skin.RestMatrices();
     entry.Roles = morphnode::FindAvatarBones(entry.Skin.Bones, entry.Skin.Humanoid);
+    if (entry.Roles.HasEyes())
+    {
+      const morphnode::SkinInfluences& inf = entry.Skin.Influences;
+      const size_t n = inf.GetNumberOfPoints();
+      entry.EyePart = n > 0;
+      for (size_t i = 0; i < n && entry.EyePart; ++i)
+      {
+        size_t best = 0;
+        for (size_t k = 1; k < inf.PerPoint; ++k)
+        {
+          best = inf.Weights[i * inf.PerPoint + k] > inf.Weights[i * inf.PerPoint + best] ? k : best;
+        }
+        const int joint = entry.Skin.Joints.Joints[inf.Joints[i * inf.PerPoint + best]];
+        const auto& roles = entry.Roles;
+        entry.EyePart = (roles.LeftEye >= 0 && entry.Skin.Bones.IsAncestor(roles.LeftEye, joint)) ||
+          (roles.RightEye >= 0 && entry.Skin.Bones.IsAncestor(roles.RightEye, joint));
+      }
+    }
     entry.Rest = morphnode::RestSkin(entry.Skin.Influences, entry.RestMatrices, what);
     return this->Cache[weights] = std::move(entry);
   }
@@ -170,6 +189,7 @@ int vtkMorphSkinFilter::RequestData(
   this->NumberOfReskinnedPoints = 0;
   ++this->Internals->Execution;
   this->HasEyeBones = false;
+  this->EyeParts.clear();
   this->HasHeadBones = false;
   this->JawByBone = false;
   this->HeadBounds[0] = this->HeadBounds[2] = this->HeadBounds[4] = 1.0;
@@ -247,7 +267,8 @@ int vtkMorphSkinFilter::RequestData(
     const bool jawAllowed = this->TurnJaw == JAW_ON || (this->TurnJaw == JAW_AUTO && !jawTarget);
 
     // One pose per skeleton; parts of one avatar share it (computed for the first part).
-    auto reskin = [&](vtkPointSet* leaf, const std::string& what) -> vtkSmartPointer<vtkPointSet> {
+    auto reskin = [&](vtkPointSet* leaf, const std::string& what,
+                    const std::string& partName) -> vtkSmartPointer<vtkPointSet> {
       if (!vtkMorphSkinArrays::IsSkinned(leaf))
       {
         return nullptr;
@@ -255,6 +276,15 @@ int vtkMorphSkinFilter::RequestData(
       vtkInternals::Entry& entry = this->Internals->Get(leaf, what);
       morphnode::AvatarBoneRoles roles = entry.Roles;
       this->HasEyeBones = this->HasEyeBones || roles.HasEyes();
+      if (entry.EyePart)
+      {
+        auto* part = vtkStringArray::SafeDownCast(leaf->GetFieldData()->GetAbstractArray("PartName"));
+        const std::string name = part && part->GetNumberOfValues() ? part->GetValue(0) : partName;
+        if (!name.empty() && std::find(this->EyeParts.begin(), this->EyeParts.end(), name) == this->EyeParts.end())
+        {
+          this->EyeParts.push_back(name);
+        }
+      }
       this->HasHeadBones = this->HasHeadBones || roles.Head >= 0;
       if (!entry.HeadKnown && roles.Head >= 0)
       {
@@ -408,11 +438,13 @@ int vtkMorphSkinFilter::RequestData(
           continue;
         }
         std::string name = "part " + std::to_string(it->GetCurrentFlatIndex());
+        std::string partName;
         if (it->HasCurrentMetaData() && it->GetCurrentMetaData()->Has(vtkCompositeDataSet::NAME()))
         {
-          name = std::string("part '") + it->GetCurrentMetaData()->Get(vtkCompositeDataSet::NAME()) + "'";
+          partName = it->GetCurrentMetaData()->Get(vtkCompositeDataSet::NAME());
+          name = "part '" + partName + "'";
         }
-        if (auto posed = reskin(leaf, name))
+        if (auto posed = reskin(leaf, name, partName))
         {
           out->SetDataSet(it, posed);
         }
@@ -422,7 +454,7 @@ int vtkMorphSkinFilter::RequestData(
     {
       auto* out = vtkPointSet::SafeDownCast(output);
       out->Initialize(); // lets go of the last frame's arrays, for them to be written in place
-      auto posed = reskin(points, "the input");
+      auto posed = reskin(points, "the input", "");
       out->ShallowCopy(posed ? posed.GetPointer() : points);
     }
     else
@@ -446,6 +478,12 @@ int vtkMorphSkinFilter::RequestData(
   }
 }
 
+//------------------------------------------------------------------------------
+const char* vtkMorphSkinFilter::GetEyePart(int i)
+{
+  return i >= 0 && i < static_cast<int>(this->EyeParts.size()) ? this->EyeParts[static_cast<size_t>(i)].c_str()
+                                                                 : nullptr;
+}
 //------------------------------------------------------------------------------
 bool vtkMorphSkinFilter::GetHeadBounds(double bounds[6])
 {
@@ -482,6 +520,12 @@ void vtkMorphSkinFilter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "NumberOfSkinnedParts: " << this->NumberOfSkinnedParts << "\n";
   os << indent << "NumberOfReskinnedPoints: " << this->NumberOfReskinnedPoints << "\n";
   os << indent << "HasEyeBones: " << this->HasEyeBones << "\n";
+  os << indent << "EyeParts:";
+  for (const auto& part : this->EyeParts)
+  {
+    os << " " << part;
+  }
+  os << "\n";
   os << indent << "HasHeadBones: " << this->HasHeadBones << "\n";
   os << indent << "Bones: " << (this->Bones.empty() ? "(none)" : this->Bones) << "\n";
 }

@@ -48,6 +48,7 @@
 
 #include <memory> // For std::unique_ptr
 #include <string> // For std::string
+#include <vector> // For std::vector
 
 class VTKMORPHNODE_EXPORT vtkMorphSkinFilter : public vtkPassInputTypeAlgorithm
 {
@@ -167,6 +168,17 @@ public:
   vtkGetMacro(HasEyeBones, bool);
   vtkGetMacro(HasHeadBones, bool);
 
+  ///@{
+  /**
+   * The parts the eye joints turn (every point's largest weight on an eye joint or a joint
+   * below it: the eyeballs, not the lids of the head), by part name, found by the last
+   * execution. With the eyes turned by bones their eyeLook* targets must not turn them
+   * again: vtkMorphNodeFilter::SetTargetOffInPart on these parts (MorphAvatar does).
+   */
+  int GetNumberOfEyeParts() { return static_cast<int>(this->EyeParts.size()); }
+  const char* GetEyePart(int i);
+  ///@}
+
   /**
    * The bounds of the head at rest as the last execution found it: every point of a skinned
    * part whose largest weight is on the head joint or a joint below it (eyes, jaw, ...).
@@ -205,6 +217,7 @@ protected:
   int NumberOfSkinnedParts = 0;
   vtkIdType NumberOfReskinnedPoints = 0;
   bool HasEyeBones = false;
+  std::vector<std::string> EyeParts;
   bool HasHeadBones = false;
   double HeadBounds[6] = { 0, -1, 0, -1, 0, -1 };
   std::string Bones;

@@ -30,6 +30,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <filesystem>
@@ -347,6 +348,79 @@ TEST(MorphSkinFilter, ReskinsOnlyWhatChangedAndEqualsAFullReskin)
     }
     last = now;
   }
+}
+
+TEST(MorphSkinFilter, EyeLookTargetsMoveTheLidsWhileTheEyeJointsTurnTheEyeballsOnce)
+{
+  SKIP_WITHOUT_AVATAR();
+  Pipeline p;
+  p.Run();
+  // The eye joints turn the eyeballs, not the head with its lids.
+  std::vector<std::string> eyeParts;
+  for (int i = 0; i < p.Skin->GetNumberOfEyeParts(); ++i)
+  {
+    eyeParts.emplace_back(p.Skin->GetEyePart(i));
+  }
+  EXPECT_NE(std::find(eyeParts.begin(), eyeParts.end(), "EyeLeft"), eyeParts.end());
+  EXPECT_NE(std::find(eyeParts.begin(), eyeParts.end(), "EyeRight"), eyeParts.end());
+  EXPECT_EQ(std::find(eyeParts.begin(), eyeParts.end(), "Body"), eyeParts.end());
+  std::vector<std::string> looks;
+  for (int t = 1; t < p.Reader->GetNumberOfTargets(); ++t)
+  {
+    const std::string name = p.Reader->GetTargetName(t);
+    if (name.rfind("eyeLookDown", 0) == 0)
+    {
+      looks.push_back(name);
+    }
+  }
+  ASSERT_EQ(looks.size(), 2u);
+  auto frame = [&p, &looks](double pitch, double look) {
+    p.Skin->SetEyePitch(pitch);
+    for (const auto& name : looks)
+    {
+      p.Morph->SetWeightByName(name.c_str(), look);
+    }
+    return Snapshot(p.Skin);
+  };
+  // Without the targets off the eyeballs turn twice (by the joints and by their targets):
+  // what the rig's eyeLook* terms did before they were dropped in bones mode.
+  const auto bonesOnly = frame(-15.0, 0.0);
+  const auto twice = frame(-15.0, 0.8);
+  EXPECT_NE(twice.at("EyeLeft"), bonesOnly.at("EyeLeft"));
+  for (const auto& part : eyeParts)
+  {
+    for (const auto& name : looks)
+    {
+      p.Morph->SetTargetOffInPart(part.c_str(), name.c_str());
+    }
+  }
+  const auto ahead = frame(0.0, 0.0);
+  const auto down = frame(-15.0, 0.8);
+  // The eyeballs turn once: exactly where the joints alone put them.
+  for (const auto& part : eyeParts)
+  {
+    EXPECT_EQ(down.at(part), bonesOnly.at(part)) << part << " turned twice";
+  }
+  // The lids (the head's points the eyeLookDown targets move) go down against the eyes ahead.
+  const std::vector<float>& body = down.at("Body");
+  const std::vector<float>& still = bonesOnly.at("Body");
+  const std::vector<float>& front = ahead.at("Body");
+  const size_t n = body.size() / 2; // points, then normals
+  size_t moved = 0;
+  double dy = 0.0;
+  for (size_t i = 0; i < n; i += 3)
+  {
+    if (body[i] != still[i] || body[i + 1] != still[i + 1] || body[i + 2] != still[i + 2])
+    {
+      ++moved;
+      dy += body[i + 1] - front[i + 1];
+    }
+  }
+  EXPECT_GT(moved, 20u) << "the eyeLookDown targets moved no lid";
+  EXPECT_LT(dy / std::max<size_t>(moved, 1), -1e-4) << "the lids did not go down";
+  // Off again: the eyeballs turn twice as before.
+  p.Morph->RemoveAllTargetsOffInParts();
+  EXPECT_EQ(frame(-15.0, 0.8).at("EyeLeft"), twice.at("EyeLeft"));
 }
 
 TEST(MorphSkinFilter, RelaxedArmsHangDown)
