@@ -108,24 +108,8 @@ public:
     entry.Skin = vtkMorphSkinArrays::GetSkin(leaf, what);
     entry.RestMatrices = entry.Skin.RestMatrices();
     entry.Roles = morphnode::FindAvatarBones(entry.Skin.Bones, entry.Skin.Humanoid);
-    if (entry.Roles.HasEyes())
-    {
-      const morphnode::SkinInfluences& inf = entry.Skin.Influences;
-      const size_t n = inf.GetNumberOfPoints();
-      entry.EyePart = n > 0;
-      for (size_t i = 0; i < n && entry.EyePart; ++i)
-      {
-        size_t best = 0;
-        for (size_t k = 1; k < inf.PerPoint; ++k)
-        {
-          best = inf.Weights[i * inf.PerPoint + k] > inf.Weights[i * inf.PerPoint + best] ? k : best;
-        }
-        const int joint = entry.Skin.Joints.Joints[inf.Joints[i * inf.PerPoint + best]];
-        const auto& roles = entry.Roles;
-        entry.EyePart = (roles.LeftEye >= 0 && entry.Skin.Bones.IsAncestor(roles.LeftEye, joint)) ||
-          (roles.RightEye >= 0 && entry.Skin.Bones.IsAncestor(roles.RightEye, joint));
-      }
-    }
+    entry.EyePart =
+      morphnode::TurnedByEyeJoints(entry.Skin.Influences, entry.Skin.Joints.Joints, entry.Skin.Bones, entry.Roles);
     entry.Rest = morphnode::RestSkin(entry.Skin.Influences, entry.RestMatrices, what);
     return this->Cache[weights] = std::move(entry);
   }
