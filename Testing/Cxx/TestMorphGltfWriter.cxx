@@ -488,6 +488,62 @@ TEST(MorphGltfWriter, BadInput)
 // Neck, Head and eye joints. Read back by VTK 9.1's vtkGLTFReader (which skins on the CPU)
 // at a key, it equals the pipeline that plays the same frame: vtkMorphNodeFilter with the
 // weights, then vtkMorphSkinFilter with the angles. GltfValidatorVtkExport validates it.
+TEST(MorphGltfWriter, EyeLookWeightsMoveTheLidsNotTheEyeballsTheJointsTurn)
+{
+  if (!std::filesystem::exists(Avatar))
+  {
+    GTEST_SKIP() << "MakeHuman avatar not found: " << Avatar;
+  }
+  vtkNew<vtkMorphTargetReader> reader;
+  reader->SetFileName(Avatar.c_str());
+  // Eyes looking down by their joints, and the rig's eyeLookDown* weights for the lids.
+  vtkNew<vtkTable> performance;
+  for (const char* name : { "Time", "eyeLookDownLeft", "eyeLookDownRight", "EyePitch" })
+  {
+    vtkNew<vtkDoubleArray> a;
+    a->SetName(name);
+    a->InsertNextValue(0.0);
+    a->InsertNextValue(std::string(name) == "Time" ? 1.0 : std::string(name) == "EyePitch" ? -15.0 : 0.8);
+    performance->AddColumn(a);
+  }
+  const std::string out = OutputPath("makehuman_avatar_eyelook_export.glb");
+  vtkNew<vtkMorphGltfWriter> writer;
+  writer->SetInputConnection(reader->GetOutputPort());
+  writer->SetPerformanceData(performance);
+  writer->SetFileName(out.c_str());
+  ASSERT_EQ(writer->Write(), 1);
+  EXPECT_TRUE(writer->GetTurnsBones());
+  const morphnode::GltfScene back = morphnode::LoadGltfScene(out);
+  ASSERT_EQ(back.Animations.size(), 1u);
+  std::map<std::string, float> lastLookDown; // node -> eyeLookDownLeft at the last key
+  for (const auto& c : back.Animations[0].Channels)
+  {
+    if (c.Path != morphnode::GltfAnimationPath::Weights)
+    {
+      continue;
+    }
+    const auto& node = back.Nodes[static_cast<size_t>(c.Node)];
+    const morphnode::GltfPart* part = nullptr;
+    for (const auto& p : back.Parts)
+    {
+      part = p.Node == c.Node ? &p : part;
+    }
+    ASSERT_NE(part, nullptr);
+    const auto& values = back.Animations[0].Samplers[static_cast<size_t>(c.Sampler)].Values;
+    for (size_t t = 0; t < part->Targets.size(); ++t)
+    {
+      if (part->Targets[t].Name == "eyeLookDownLeft")
+      {
+        lastLookDown[node.Name] = values[values.size() - part->Targets.size() + t];
+      }
+    }
+  }
+  ASSERT_EQ(lastLookDown.count("Body") + lastLookDown.count("EyeLeft") + lastLookDown.count("EyeRight"), 3u);
+  EXPECT_FLOAT_EQ(lastLookDown["Body"], 0.8f) << "the lids do not follow";
+  EXPECT_EQ(lastLookDown["EyeLeft"], 0.0f) << "the left eyeball turns twice";
+  EXPECT_EQ(lastLookDown["EyeRight"], 0.0f) << "the right eyeball turns twice";
+}
+
 TEST(MorphGltfWriter, SkinnedAvatarKeepsItsSkeletonAndTurnsItsBones)
 {
   if (!std::filesystem::exists(Avatar))

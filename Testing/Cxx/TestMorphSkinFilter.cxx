@@ -30,6 +30,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <filesystem>
@@ -260,6 +261,160 @@ TEST(MorphSkinFilter, HeadPoseCarriesTheEyesAndLeavesTheFeet)
   auto* used = turned.at("Body")->GetFieldData()->GetArray("SkinPose");
   ASSERT_NE(used, nullptr);
   EXPECT_EQ(used->GetComponent(0, 0), 30.0);
+}
+
+/// Every part's points and normals as numbers, the output let go (so that the filter may
+/// write its arrays in place next frame).
+std::map<std::string, std::vector<float>> Snapshot(vtkMorphSkinFilter* skin)
+{
+  EXPECT_EQ(skin->GetExecutive()->Update(), 1);
+  std::map<std::string, std::vector<float>> out;
+  for (const auto& [name, poly] : Parts(skin->GetOutputDataObject(0)))
+  {
+    std::vector<float>& v = out[name];
+    for (vtkDataArray* a : { poly->GetPoints()->GetData(), poly->GetPointData()->GetNormals() })
+    {
+      for (vtkIdType i = 0; a && i < a->GetNumberOfValues(); ++i)
+      {
+        v.push_back(static_cast<float>(a->GetComponent(i / 3, static_cast<int>(i % 3))));
+      }
+    }
+  }
+  return out;
+}
+
+TEST(MorphSkinFilter, ReskinsOnlyWhatChangedAndEqualsAFullReskin)
+{
+  SKIP_WITHOUT_AVATAR();
+  Pipeline p;
+  // A full re-skin of the same frame: a new filter, whose first execution re-skins all.
+  auto full = [&p]() {
+    vtkNew<vtkMorphSkinFilter> fresh;
+    fresh->SetInputConnection(p.Morph->GetOutputPort());
+    fresh->SetHeadYaw(p.Skin->GetHeadYaw());
+    fresh->SetEyeYaw(p.Skin->GetEyeYaw());
+    fresh->SetEyePitch(p.Skin->GetEyePitch());
+    return Snapshot(fresh);
+  };
+  p.Skin->SetEyeYaw(10.0);
+  auto last = Snapshot(p.Skin);
+  EXPECT_EQ(last, full());
+  const vtkIdType total = p.Skin->GetNumberOfReskinnedPoints();
+  EXPECT_GT(total, 0);
+  struct Step
+  {
+    const char* What;
+    double HeadYaw, EyeYaw, EyePitch, JawOpen;
+    const char* Moves; // a part that must change
+  };
+  for (const Step& step : { Step{ "only the eyes turn", 0.0, 25.0, 0.0, 0.0, "EyeLeft" },
+         Step{ "only the head turns", 15.0, 25.0, 0.0, 0.0, "Body" },
+         Step{ "only the eyes look down", 15.0, 25.0, -12.0, 0.0, "EyeRight" },
+         Step{ "only a weight changes", 15.0, 25.0, -12.0, 0.6, "Body" },
+         Step{ "nothing changes", 15.0, 25.0, -12.0, 0.6, nullptr } })
+  {
+    SCOPED_TRACE(step.What);
+    p.Skin->SetHeadYaw(step.HeadYaw);
+    p.Skin->SetEyeYaw(step.EyeYaw);
+    p.Skin->SetEyePitch(step.EyePitch);
+    p.Morph->SetWeightByName("jawOpen", step.JawOpen);
+    p.Skin->Modified(); // executes even when nothing changed
+    const auto now = Snapshot(p.Skin);
+    const vtkIdType reskinned = p.Skin->GetNumberOfReskinnedPoints();
+    // Bit for bit what a full re-skin gives: a point whose joint or input changed and was
+    // not written again would differ here.
+    const auto expected = full();
+    ASSERT_EQ(now.size(), expected.size());
+    for (const auto& [name, values] : expected)
+    {
+      EXPECT_TRUE(now.at(name) == values) << name << " differs from a full re-skin";
+    }
+    if (step.Moves)
+    {
+      EXPECT_NE(now.at(step.Moves), last.at(step.Moves)) << step.Moves << " did not move";
+      EXPECT_GT(reskinned, 0);
+      // Incremental: far fewer points than a full re-skin (the legs and arms stay).
+      EXPECT_LT(reskinned, total) << "every point was re-skinned";
+    }
+    else
+    {
+      EXPECT_EQ(reskinned, 0);
+    }
+    last = now;
+  }
+}
+
+TEST(MorphSkinFilter, EyeLookTargetsMoveTheLidsWhileTheEyeJointsTurnTheEyeballsOnce)
+{
+  SKIP_WITHOUT_AVATAR();
+  Pipeline p;
+  p.Run();
+  // The eye joints turn the eyeballs, not the head with its lids.
+  std::vector<std::string> eyeParts;
+  for (int i = 0; i < p.Skin->GetNumberOfEyeParts(); ++i)
+  {
+    eyeParts.emplace_back(p.Skin->GetEyePart(i));
+  }
+  EXPECT_NE(std::find(eyeParts.begin(), eyeParts.end(), "EyeLeft"), eyeParts.end());
+  EXPECT_NE(std::find(eyeParts.begin(), eyeParts.end(), "EyeRight"), eyeParts.end());
+  EXPECT_EQ(std::find(eyeParts.begin(), eyeParts.end(), "Body"), eyeParts.end());
+  std::vector<std::string> looks;
+  for (int t = 1; t < p.Reader->GetNumberOfTargets(); ++t)
+  {
+    const std::string name = p.Reader->GetTargetName(t);
+    if (name.rfind("eyeLookDown", 0) == 0)
+    {
+      looks.push_back(name);
+    }
+  }
+  ASSERT_EQ(looks.size(), 2u);
+  auto frame = [&p, &looks](double pitch, double look) {
+    p.Skin->SetEyePitch(pitch);
+    for (const auto& name : looks)
+    {
+      p.Morph->SetWeightByName(name.c_str(), look);
+    }
+    return Snapshot(p.Skin);
+  };
+  // Without the targets off the eyeballs turn twice (by the joints and by their targets):
+  // what the rig's eyeLook* terms did before they were dropped in bones mode.
+  const auto bonesOnly = frame(-15.0, 0.0);
+  const auto twice = frame(-15.0, 0.8);
+  EXPECT_NE(twice.at("EyeLeft"), bonesOnly.at("EyeLeft"));
+  for (const auto& part : eyeParts)
+  {
+    for (const auto& name : looks)
+    {
+      p.Morph->SetTargetOffInPart(part.c_str(), name.c_str());
+    }
+  }
+  const auto ahead = frame(0.0, 0.0);
+  const auto down = frame(-15.0, 0.8);
+  // The eyeballs turn once: exactly where the joints alone put them.
+  for (const auto& part : eyeParts)
+  {
+    EXPECT_EQ(down.at(part), bonesOnly.at(part)) << part << " turned twice";
+  }
+  // The lids (the head's points the eyeLookDown targets move) go down against the eyes ahead.
+  const std::vector<float>& body = down.at("Body");
+  const std::vector<float>& still = bonesOnly.at("Body");
+  const std::vector<float>& front = ahead.at("Body");
+  const size_t n = body.size() / 2; // points, then normals
+  size_t moved = 0;
+  double dy = 0.0;
+  for (size_t i = 0; i < n; i += 3)
+  {
+    if (body[i] != still[i] || body[i + 1] != still[i + 1] || body[i + 2] != still[i + 2])
+    {
+      ++moved;
+      dy += body[i + 1] - front[i + 1];
+    }
+  }
+  EXPECT_GT(moved, 20u) << "the eyeLookDown targets moved no lid";
+  EXPECT_LT(dy / std::max<size_t>(moved, 1), -1e-4) << "the lids did not go down";
+  // Off again: the eyeballs turn twice as before.
+  p.Morph->RemoveAllTargetsOffInParts();
+  EXPECT_EQ(frame(-15.0, 0.8).at("EyeLeft"), twice.at("EyeLeft"));
 }
 
 TEST(MorphSkinFilter, RelaxedArmsHangDown)

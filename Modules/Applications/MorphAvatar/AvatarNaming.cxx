@@ -28,37 +28,11 @@ namespace appkit = morphnode::appkit;
 
 namespace
 {
-/// Removes the terms on eyeLook* targets (any ARKit spelling) from every shape of a rig's
-/// JSON: with eye bones the eyes turn by their joints, not by targets too. Returns how
-/// many terms went.
-size_t DropEyeLookTerms(nlohmann::ordered_json& rig)
+/// True for an eyeLook* target in any ARKit spelling.
+bool IsEyeLook(const std::string& name)
 {
-  size_t dropped = 0;
-  if (!rig.contains("shapes") || !rig["shapes"].is_object())
-  {
-    return 0;
-  }
-  for (auto& [shape, terms] : rig["shapes"].items())
-  {
-    if (!terms.is_object())
-    {
-      continue;
-    }
-    for (auto it = terms.begin(); it != terms.end();)
-    {
-      const int a = morphnode::FindArkitShape(it.key());
-      if (a >= 0 && morphnode::ArkitShapeNames()[static_cast<size_t>(a)].rfind("eyeLook", 0) == 0)
-      {
-        it = terms.erase(it);
-        ++dropped;
-      }
-      else
-      {
-        ++it;
-      }
-    }
-  }
-  return dropped;
+  const int a = morphnode::FindArkitShape(name);
+  return a >= 0 && morphnode::ArkitShapeNames()[static_cast<size_t>(a)].rfind("eyeLook", 0) == 0;
 }
 } // namespace
 
@@ -171,17 +145,25 @@ bool ChooseFaceSetup(Avatar& a)
     // A VRM says how it looks at things (lookAt type: bone or expression).
     o.Gaze = lookAt == "expression" ? "targets" : eyeBones ? "bones" : "targets";
   }
-  size_t dropped = 0;
-  if (o.Gaze == "bones" && !rigJson.empty())
+  // With eye bones the eyeballs turn by their joints; their eyeLook* targets are turned off
+  // on the parts those joints turn (the eyeballs), so that the rig's eyeLook* weights move
+  // only the rest (the lids of the head) and the eyeballs never turn twice.
+  size_t offParts = 0;
+  a.Morph->RemoveAllTargetsOffInParts();
+  if (o.Gaze == "bones")
   {
-    nlohmann::ordered_json doc = nlohmann::ordered_json::parse(rigJson, nullptr, false);
-    if (!doc.is_discarded())
+    for (int p = 0; p < skin->GetNumberOfEyeParts(); ++p)
     {
-      dropped = DropEyeLookTerms(doc);
-      if (dropped)
+      bool any = false;
+      for (const auto& t : targets)
       {
-        rigJson = doc.dump(2);
+        if (IsEyeLook(t))
+        {
+          a.Morph->SetTargetOffInPart(skin->GetEyePart(p), t.c_str());
+          any = true;
+        }
       }
+      offParts += any ? 1 : 0;
     }
   }
   if (!o.Quiet)
@@ -189,7 +171,10 @@ bool ChooseFaceSetup(Avatar& a)
     if (o.Gaze == "bones")
     {
       log << "eyes: turned by the eye joints (" << (eyeBones ? skin->GetBones() : "none found") << ")"
-          << (dropped ? "; the rig's eyeLook* targets left out" : "") << " (--gaze targets overrides)\n";
+          << (offParts ? "; eyeLook* targets move the lids, not the eyeballs (" + std::to_string(offParts) +
+                 " eye parts)"
+                       : std::string())
+          << " (--gaze targets overrides)\n";
     }
     else if (eyeBones)
     {
@@ -200,7 +185,7 @@ bool ChooseFaceSetup(Avatar& a)
       log << "jaw: opened by the jaw joint (the face has no jawOpen target)\n";
     }
   }
-  if (!rigJson.empty() && (o.Rig.empty() || dropped))
+  if (!rigJson.empty() && o.Rig.empty())
   {
     const std::filesystem::path file = std::filesystem::temp_directory_path() /
       ("morphavatar-rig-" + std::to_string(::getpid()) + ".json");

@@ -215,6 +215,33 @@ GltfPerformance MakeGltfPerformance(const GltfScene& scene, const GltfPerformanc
         }
       }
     }
+    if (eyesByBones)
+    {
+      // The eye joints turn the eyeballs: their eyeLook* targets stay at 0 there (the same
+      // weights still move the lids of the head), as vtkMorphNodeFilter::SetTargetOffInPart
+      // on screen.
+      for (const GltfPart& part : scene.Parts)
+      {
+        if (part.Skin < 0 || part.Node < 0 ||
+          !TurnedByEyeJoints(part.Influences, GltfSkinJoints(scene, part.Skin).Joints, skeleton, roles))
+        {
+          continue;
+        }
+        std::vector<std::string>& off = p.TargetsOffAtNode[part.Node];
+        for (const auto& t : part.Targets)
+        {
+          std::string n;
+          for (char c : t.Name)
+          {
+            n += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+          }
+          if (n.rfind("eyelook", 0) == 0 && std::find(off.begin(), off.end(), t.Name) == off.end())
+          {
+            off.push_back(t.Name);
+          }
+        }
+      }
+    }
     std::vector<GltfRotationTrack> tracks(joints.size());
     for (size_t k = 0; k < joints.size(); ++k)
     {

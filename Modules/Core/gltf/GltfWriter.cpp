@@ -998,10 +998,13 @@ std::vector<unsigned char> WriteGltfSceneToMemory(const GltfScene& scene,
         continue;
       }
       std::vector<int> column(names.size(), -1);
+      const auto offAt = p.TargetsOffAtNode.find(meshNode[k]);
       for (size_t t = 0; t < names.size(); ++t)
       {
         const auto it = std::find(p.TargetNames.begin(), p.TargetNames.end(), names[t]);
-        column[t] = it == p.TargetNames.end() ? -1 : static_cast<int>(it - p.TargetNames.begin());
+        const bool off = offAt != p.TargetsOffAtNode.end() &&
+          std::find(offAt->second.begin(), offAt->second.end(), names[t]) != offAt->second.end();
+        column[t] = it == p.TargetNames.end() || off ? -1 : static_cast<int>(it - p.TargetNames.begin());
       }
       std::vector<float> values(frames * names.size(), 0.0f);
       for (size_t f = 0; f < frames; ++f)

@@ -48,6 +48,7 @@
 
 #include <array>
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -80,6 +81,9 @@ struct GltfPerformance
   /// Times.size() * TargetNames.size() weights, time-major (glTF-style relative weights).
   std::vector<double> Weights;
   std::vector<GltfRotationTrack> Rotations;
+  /// Per node: targets of its mesh whose weights stay 0 there (e.g. eyeLook* on eyeballs
+  /// that the eye joints turn, while the same columns move the lids of the head).
+  std::map<int, std::vector<std::string>> TargetsOffAtNode;
 };
 
 struct GltfWriteOptions

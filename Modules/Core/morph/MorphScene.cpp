@@ -242,6 +242,22 @@ const std::vector<size_t>& MorphScene::GetPartTargets(size_t part) const
   return this->Parts[part]->Targets;
 }
 
+void MorphScene::SetPartTargetsOff(size_t part, const std::vector<std::string>& names)
+{
+  this->CheckPart(part);
+  PartState& state = *this->Parts[part];
+  const std::vector<std::string>& own = state.Mesh->GetTargetNames();
+  state.Off.assign(own.size(), 0);
+  for (size_t k = 1; k < own.size(); ++k)
+  {
+    state.Off[k] = std::find(names.begin(), names.end(), own[k]) != names.end();
+  }
+  if (std::find(state.Off.begin(), state.Off.end(), 1) == state.Off.end())
+  {
+    state.Off.clear();
+  }
+}
+
 void MorphScene::ClearResult()
 {
   this->ClearDecision();
@@ -290,7 +306,7 @@ const std::vector<double>& MorphScene::SetWeights(const double* requested, size_
       part.Moved = false;
       for (size_t k = 1; k < part.Targets.size(); ++k)
       {
-        part.Weights[k] = effective[part.Targets[k]];
+        part.Weights[k] = part.Off.empty() || !part.Off[k] ? effective[part.Targets[k]] : 0.0;
         part.Moved = part.Moved || part.Weights[k] != 0.0;
       }
       part.Weights[0] = 0.0;

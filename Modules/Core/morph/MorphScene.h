@@ -122,6 +122,12 @@ public:
   const std::vector<size_t>& GetPartTargets(size_t part) const;
   ///@}
 
+  /// Targets that never move part `part`: their scene weights count as 0 for this part
+  /// only (e.g. eyeLook* targets on eyeballs that their joints turn, while the same weights
+  /// still move the lids of the head). Replaces the part's earlier list; names the part
+  /// lacks are ignored. Kept until SetParts; takes effect with the next SetWeights.
+  void SetPartTargetsOff(size_t part, const std::vector<std::string>& names);
+
   // The weight mode, the optimizer's settings or preset, the target distances of the model
   // (MakeTargetDistances), the effective weights (one per scene target), the error bound
   // over all parts and the active target count: the WeightDecision base, as in MorphNode.
@@ -176,6 +182,7 @@ private:
     MorphNode Node;                 // Relative mode, no optimizer: blends what the scene decided
     std::vector<size_t> Targets;    // scene target of each of the part's targets
     std::vector<double> Weights;    // requested of Node (neutral ignored in Relative mode)
+    std::vector<char> Off;          // per target of the part: its weight is 0 here (SetPartTargetsOff)
     bool Moved = false;
   };
   std::vector<std::unique_ptr<PartState>> Parts;

@@ -309,4 +309,34 @@ void PoseAvatarBones(SkeletonPose& pose, const AvatarBoneRoles& roles, const Ava
     pose.TurnJoint(roles.Jaw, inWorld(turnedFrame * open * glm::inverse(turnedFrame)));
   }
 }
+bool TurnedByEyeJoints(const SkinInfluences& influences, const std::vector<int>& skinJoints,
+  const Skeleton& skeleton, const AvatarBoneRoles& roles)
+{
+  const size_t n = influences.GetNumberOfPoints();
+  if (n == 0 || !roles.HasEyes())
+  {
+    return false;
+  }
+  const size_t per = influences.PerPoint;
+  for (size_t i = 0; i < n; ++i)
+  {
+    size_t best = 0;
+    for (size_t k = 1; k < per; ++k)
+    {
+      best = influences.Weights[i * per + k] > influences.Weights[i * per + best] ? k : best;
+    }
+    const size_t local = influences.Joints[i * per + best];
+    if (local >= skinJoints.size())
+    {
+      return false;
+    }
+    const int joint = skinJoints[local];
+    if (!(roles.LeftEye >= 0 && skeleton.IsAncestor(roles.LeftEye, joint)) &&
+      !(roles.RightEye >= 0 && skeleton.IsAncestor(roles.RightEye, joint)))
+    {
+      return false;
+    }
+  }
+  return true;
+}
 } // namespace morphnode

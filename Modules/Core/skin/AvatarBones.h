@@ -112,4 +112,12 @@ glm::dquat HeadRotation(double yaw, double pitch, double roll);
 /// Turns the head, neck and eye joints of `pose` (from its current local transforms,
 /// normally rest) by `angles`. InputError for non-finite angles or a share outside [0, 1].
 void PoseAvatarBones(SkeletonPose& pose, const AvatarBoneRoles& roles, const AvatarBonePose& angles);
+
+/// True when the eye joints turn a whole skinned part: every point's largest weight is on
+/// an eye joint or a joint below it (an eyeball; not the head, whose lids follow the head
+/// joint). `skinJoints` maps the influences' joint indices to skeleton joints
+/// (SkinJoints::Joints). Such parts must not also be turned by eyeLook* targets when the
+/// eyes turn by bones. False for a part without points or an avatar without eye joints.
+bool TurnedByEyeJoints(const SkinInfluences& influences, const std::vector<int>& skinJoints,
+  const Skeleton& skeleton, const AvatarBoneRoles& roles);
 } // namespace morphnode

@@ -166,6 +166,7 @@ RestSkin::RestSkin(SkinInfluences influences, const std::vector<glm::dmat4>& res
   , Rest(restMatrices)
   , Pose(restMatrices)
   , Moved(restMatrices.size(), 0)
+  , JointChanged(restMatrices.size(), 0)
   , Rigid(restMatrices.size(), 1)
   , Used(restMatrices.size(), 0)
 {
@@ -190,6 +191,10 @@ RestSkin::RestSkin(SkinInfluences influences, const std::vector<glm::dmat4>& res
   this->RestInverse.resize(12 * n);
   this->SharedRest.assign(n, 1);
   this->Delta.assign(12 * restMatrices.size(), 0.0f);
+  for (size_t k = 0; k < this->Rest.size(); ++k)
+  {
+    this->SetDelta(k, this->Rest[k]); // the products at rest: SetPose forms only changed ones
+  }
   const size_t per = this->Influences.PerPoint;
   for (size_t i = 0; i < n; ++i)
   {
@@ -227,6 +232,29 @@ RestSkin::RestSkin(SkinInfluences influences, const std::vector<glm::dmat4>& res
   }
 }
 
+void RestSkin::SetDelta(size_t k, const glm::dmat4& m)
+{
+  const glm::dmat4 d = m * this->RestJointInverse[k];
+  for (int c = 0; c < 4; ++c)
+  {
+    for (int r = 0; r < 3; ++r)
+    {
+      this->Delta[12 * k + static_cast<size_t>(3 * c + r)] = static_cast<float>(d[c][r]);
+    }
+  }
+  const glm::dmat3 l(d);
+  const glm::dmat3 e = glm::transpose(l) * l - glm::dmat3(1.0);
+  double off = 0.0;
+  for (int c = 0; c < 3; ++c)
+  {
+    for (int r = 0; r < 3; ++r)
+    {
+      off = std::max(off, std::abs(e[c][r]));
+    }
+  }
+  this->Rigid[k] = off < 1e-6 && glm::determinant(l) > 0.0;
+}
+
 bool RestSkin::SetPose(const std::vector<glm::dmat4>& matrices)
 {
   if (matrices.size() != this->Rest.size())
@@ -243,29 +271,12 @@ bool RestSkin::SetPose(const std::vector<glm::dmat4>& matrices)
     }
     this->Moved[k] = matrices[k] != this->Rest[k];
     any = any || (this->Moved[k] && this->Used[k]);
-    if (!this->Used[k])
+    this->JointChanged[k] = matrices[k] != this->Pose[k];
+    if (!this->Used[k] || !this->JointChanged[k])
     {
-      continue; // no point of this mesh follows it
+      continue; // no point of this mesh follows it, or its product is formed already
     }
-    const glm::dmat4 d = matrices[k] * this->RestJointInverse[k];
-    for (int c = 0; c < 4; ++c)
-    {
-      for (int r = 0; r < 3; ++r)
-      {
-        this->Delta[12 * k + static_cast<size_t>(3 * c + r)] = static_cast<float>(d[c][r]);
-      }
-    }
-    const glm::dmat3 l(d);
-    const glm::dmat3 e = glm::transpose(l) * l - glm::dmat3(1.0);
-    double off = 0.0;
-    for (int c = 0; c < 3; ++c)
-    {
-      for (int r = 0; r < 3; ++r)
-      {
-        off = std::max(off, std::abs(e[c][r]));
-      }
-    }
-    this->Rigid[k] = off < 1e-6 && glm::determinant(l) > 0.0;
+    this->SetDelta(k, matrices[k]);
   }
   this->Pose = matrices;
   return any;
@@ -282,6 +293,124 @@ bool RestSkin::Moves(size_t point) const
     }
   }
   return false;
+}
+
+bool RestSkin::Changed(size_t point) const
+{
+  const size_t per = this->Influences.PerPoint;
+  for (size_t k = 0; k < per; ++k)
+  {
+    if (this->Influences.Weights[point * per + k] != 0.0f &&
+      this->JointChanged[this->Influences.Joints[point * per + k]])
+    {
+      return true;
+    }
+  }
+  return false;
+}
+
+template <typename T>
+void RestSkin::ApplyPoint(const T* points, const T* normals, T* outPoints, T* outNormals, size_t i, bool moves,
+  int single, int count) const
+{
+  const size_t per = this->Influences.PerPoint;
+  const uint16_t* joints = this->Influences.Joints.data();
+  const float* weights = this->Influences.Weights.data();
+  if (!moves)
+  {
+    if (outPoints != points)
+    {
+      for (int k = 0; k < 3; ++k)
+      {
+        outPoints[3 * i + k] = points[3 * i + k];
+      }
+    }
+    if (normals && outNormals && outNormals != normals)
+    {
+      for (int k = 0; k < 3; ++k)
+      {
+        outNormals[3 * i + k] = normals[3 * i + k];
+      }
+    }
+    return;
+  }
+  if (this->SharedRest[i])
+  {
+    // Linear blend skinning with the per-joint products, in float; a point bound to one
+    // joint takes its product as it is.
+    float blended[12];
+    const float* a = blended;
+    if (count == 1)
+    {
+      a = &this->Delta[12 * static_cast<size_t>(single)];
+    }
+    else
+    {
+      for (float& v : blended)
+      {
+        v = 0.0f;
+      }
+      for (size_t k = 0; k < per; ++k)
+      {
+        const float w = weights[i * per + k];
+        if (w != 0.0f)
+        {
+          const float* d = &this->Delta[12 * joints[i * per + k]];
+          for (int e = 0; e < 12; ++e)
+          {
+            blended[e] += w * d[e];
+          }
+        }
+      }
+    }
+    const float x = static_cast<float>(points[3 * i]), y = static_cast<float>(points[3 * i + 1]),
+                z = static_cast<float>(points[3 * i + 2]);
+    outPoints[3 * i] = static_cast<T>(a[0] * x + a[3] * y + a[6] * z + a[9]);
+    outPoints[3 * i + 1] = static_cast<T>(a[1] * x + a[4] * y + a[7] * z + a[10]);
+    outPoints[3 * i + 2] = static_cast<T>(a[2] * x + a[5] * y + a[8] * z + a[11]);
+    if (normals && outNormals)
+    {
+      const float nx = static_cast<float>(normals[3 * i]), ny = static_cast<float>(normals[3 * i + 1]),
+                  nz = static_cast<float>(normals[3 * i + 2]);
+      if (count == 1 && this->Rigid[static_cast<size_t>(single)])
+      {
+        // A rotation: it is its own inverse transpose and keeps lengths.
+        outNormals[3 * i] = static_cast<T>(a[0] * nx + a[3] * ny + a[6] * nz);
+        outNormals[3 * i + 1] = static_cast<T>(a[1] * nx + a[4] * ny + a[7] * nz);
+        outNormals[3 * i + 2] = static_cast<T>(a[2] * nx + a[5] * ny + a[8] * nz);
+        return;
+      }
+      // The cofactor matrix of the linear part: the inverse transpose up to det, whose sign
+      // is kept; renormalized.
+      // Columns of the cofactor matrix: cross(col1, col2), cross(col2, col0), cross(col0, col1).
+      const float c0[3] = { a[4] * a[8] - a[5] * a[7], a[5] * a[6] - a[3] * a[8], a[3] * a[7] - a[4] * a[6] };
+      const float c1[3] = { a[7] * a[2] - a[8] * a[1], a[8] * a[0] - a[6] * a[2], a[6] * a[1] - a[7] * a[0] };
+      const float c2[3] = { a[1] * a[5] - a[2] * a[4], a[2] * a[3] - a[0] * a[5], a[0] * a[4] - a[1] * a[3] };
+      const float det = a[0] * c0[0] + a[1] * c0[1] + a[2] * c0[2];
+      float m[3] = { c0[0] * nx + c1[0] * ny + c2[0] * nz, c0[1] * nx + c1[1] * ny + c2[1] * nz,
+        c0[2] * nx + c1[2] * ny + c2[2] * nz };
+      float len = std::sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
+      len = len > 0.0f ? (det < 0.0f ? -1.0f : 1.0f) / len : 1.0f;
+      for (int k = 0; k < 3; ++k)
+      {
+        outNormals[3 * i + k] = static_cast<T>(m[k] * len);
+      }
+    }
+    return;
+  }
+  const double* r = &this->RestInverse[12 * i];
+  const glm::dmat4 inv(r[0], r[1], r[2], 0.0, r[3], r[4], r[5], 0.0, r[6], r[7], r[8], 0.0, r[9], r[10], r[11], 1.0);
+  const glm::dmat4 a = BlendedMatrix(this->Influences, this->Pose, i) * inv;
+  const glm::dvec3 p(points[3 * i], points[3 * i + 1], points[3 * i + 2]);
+  const glm::dvec3 q = glm::dvec3(a * glm::dvec4(p, 1.0));
+  outPoints[3 * i] = static_cast<T>(q.x);
+  outPoints[3 * i + 1] = static_cast<T>(q.y);
+  outPoints[3 * i + 2] = static_cast<T>(q.z);
+  if (normals && outNormals)
+  {
+    const glm::dvec3 n(normals[3 * i], normals[3 * i + 1], normals[3 * i + 2]);
+    StoreNormal(NormalMatrix(glm::dmat3(a)) * n, outNormals + 3 * i);
+  }
 }
 
 template <typename T>
@@ -307,104 +436,71 @@ void RestSkin::Apply(const T* points, const T* normals, T* outPoints, T* outNorm
         ++count;
       }
     }
-    if (!moves)
-    {
-      if (outPoints != points)
-      {
-        for (int k = 0; k < 3; ++k)
-        {
-          outPoints[3 * i + k] = points[3 * i + k];
-        }
-      }
-      if (normals && outNormals && outNormals != normals)
-      {
-        for (int k = 0; k < 3; ++k)
-        {
-          outNormals[3 * i + k] = normals[3 * i + k];
-        }
-      }
-      continue;
-    }
-    if (this->SharedRest[i])
-    {
-      // Linear blend skinning with the per-joint products, in float; a point bound to one
-      // joint takes its product as it is.
-      float blended[12];
-      const float* a = blended;
-      if (count == 1)
-      {
-        a = &this->Delta[12 * static_cast<size_t>(single)];
-      }
-      else
-      {
-        for (float& v : blended)
-        {
-          v = 0.0f;
-        }
-        for (size_t k = 0; k < per; ++k)
-        {
-          const float w = weights[i * per + k];
-          if (w != 0.0f)
-          {
-            const float* d = &this->Delta[12 * joints[i * per + k]];
-            for (int e = 0; e < 12; ++e)
-            {
-              blended[e] += w * d[e];
-            }
-          }
-        }
-      }
-      const float x = static_cast<float>(points[3 * i]), y = static_cast<float>(points[3 * i + 1]),
-                  z = static_cast<float>(points[3 * i + 2]);
-      outPoints[3 * i] = static_cast<T>(a[0] * x + a[3] * y + a[6] * z + a[9]);
-      outPoints[3 * i + 1] = static_cast<T>(a[1] * x + a[4] * y + a[7] * z + a[10]);
-      outPoints[3 * i + 2] = static_cast<T>(a[2] * x + a[5] * y + a[8] * z + a[11]);
-      if (normals && outNormals)
-      {
-        const float nx = static_cast<float>(normals[3 * i]), ny = static_cast<float>(normals[3 * i + 1]),
-                    nz = static_cast<float>(normals[3 * i + 2]);
-        if (count == 1 && this->Rigid[static_cast<size_t>(single)])
-        {
-          // A rotation: it is its own inverse transpose and keeps lengths.
-          outNormals[3 * i] = static_cast<T>(a[0] * nx + a[3] * ny + a[6] * nz);
-          outNormals[3 * i + 1] = static_cast<T>(a[1] * nx + a[4] * ny + a[7] * nz);
-          outNormals[3 * i + 2] = static_cast<T>(a[2] * nx + a[5] * ny + a[8] * nz);
-          continue;
-        }
-        // The cofactor matrix of the linear part: the inverse transpose up to det, whose sign
-        // is kept; renormalized.
-        // Columns of the cofactor matrix: cross(col1, col2), cross(col2, col0), cross(col0, col1).
-        const float c0[3] = { a[4] * a[8] - a[5] * a[7], a[5] * a[6] - a[3] * a[8], a[3] * a[7] - a[4] * a[6] };
-        const float c1[3] = { a[7] * a[2] - a[8] * a[1], a[8] * a[0] - a[6] * a[2], a[6] * a[1] - a[7] * a[0] };
-        const float c2[3] = { a[1] * a[5] - a[2] * a[4], a[2] * a[3] - a[0] * a[5], a[0] * a[4] - a[1] * a[3] };
-        const float det = a[0] * c0[0] + a[1] * c0[1] + a[2] * c0[2];
-        float m[3] = { c0[0] * nx + c1[0] * ny + c2[0] * nz, c0[1] * nx + c1[1] * ny + c2[1] * nz,
-          c0[2] * nx + c1[2] * ny + c2[2] * nz };
-        float len = std::sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
-        len = len > 0.0f ? (det < 0.0f ? -1.0f : 1.0f) / len : 1.0f;
-        for (int k = 0; k < 3; ++k)
-        {
-          outNormals[3 * i + k] = static_cast<T>(m[k] * len);
-        }
-      }
-      continue;
-    }
-    const double* r = &this->RestInverse[12 * i];
-    const glm::dmat4 inv(r[0], r[1], r[2], 0.0, r[3], r[4], r[5], 0.0, r[6], r[7], r[8], 0.0, r[9], r[10], r[11], 1.0);
-    const glm::dmat4 a = BlendedMatrix(this->Influences, this->Pose, i) * inv;
-    const glm::dvec3 p(points[3 * i], points[3 * i + 1], points[3 * i + 2]);
-    const glm::dvec3 q = glm::dvec3(a * glm::dvec4(p, 1.0));
-    outPoints[3 * i] = static_cast<T>(q.x);
-    outPoints[3 * i + 1] = static_cast<T>(q.y);
-    outPoints[3 * i + 2] = static_cast<T>(q.z);
-    if (normals && outNormals)
-    {
-      const glm::dvec3 n(normals[3 * i], normals[3 * i + 1], normals[3 * i + 2]);
-      StoreNormal(NormalMatrix(glm::dmat3(a)) * n, outNormals + 3 * i);
-    }
+    this->ApplyPoint(points, normals, outPoints, outNormals, i, moves, single, count);
   }
 }
 
 template void RestSkin::Apply<float>(const float*, const float*, float*, float*, size_t, size_t) const;
 template void RestSkin::Apply<double>(const double*, const double*, double*, double*, size_t, size_t) const;
+
+template <typename T>
+size_t RestSkin::ApplyChanged(const T* points, const T* normals, T* lastPoints, T* lastNormals, T* outPoints,
+  T* outNormals, size_t begin, size_t end, bool all) const
+{
+  const bool withNormals = normals && outNormals && lastNormals;
+  const size_t per = this->Influences.PerPoint;
+  const uint16_t* joints = this->Influences.Joints.data();
+  const float* weights = this->Influences.Weights.data();
+  const char* moved = this->Moved.data();
+  const char* changed = this->JointChanged.data();
+  size_t count = 0;
+  for (size_t i = begin; i < end; ++i)
+  {
+    // Exact comparison of the input with the previous frame's (a changed point is stored).
+    bool dirty = all || points[3 * i] != lastPoints[3 * i] || points[3 * i + 1] != lastPoints[3 * i + 1] ||
+      points[3 * i + 2] != lastPoints[3 * i + 2] ||
+      (withNormals &&
+        (normals[3 * i] != lastNormals[3 * i] || normals[3 * i + 1] != lastNormals[3 * i + 1] ||
+          normals[3 * i + 2] != lastNormals[3 * i + 2]));
+    if (dirty)
+    {
+      for (int k = 0; k < 3; ++k)
+      {
+        lastPoints[3 * i + k] = points[3 * i + k];
+      }
+      for (int k = 0; k < 3 && withNormals; ++k)
+      {
+        lastNormals[3 * i + k] = normals[3 * i + k];
+      }
+    }
+    // One pass over the point's influences: does it move, did a joint change, one joint?
+    bool moves = false;
+    int single = -1;
+    int n = 0;
+    for (size_t k = 0; k < per; ++k)
+    {
+      if (weights[i * per + k] != 0.0f)
+      {
+        const uint16_t j = joints[i * per + k];
+        moves = moves || moved[j];
+        dirty = dirty || changed[j];
+        single = j;
+        ++n;
+      }
+    }
+    if (dirty)
+    {
+      this->ApplyPoint(points, withNormals ? normals : nullptr, outPoints, withNormals ? outNormals : nullptr, i,
+        moves, single, n);
+      ++count;
+    }
+  }
+  return count;
+}
+
+template size_t RestSkin::ApplyChanged<float>(
+  const float*, const float*, float*, float*, float*, float*, size_t, size_t, bool) const;
+template size_t RestSkin::ApplyChanged<double>(
+  const double*, const double*, double*, double*, double*, double*, size_t, size_t, bool) const;
+
 } // namespace morphnode

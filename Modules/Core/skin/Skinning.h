@@ -78,6 +78,21 @@ public:
   bool SetPose(const std::vector<glm::dmat4>& matrices);
   /// True when a point of the last SetPose moves.
   bool Moves(size_t point) const;
+  /// True when a joint of the point has another matrix (compared exactly) in the last
+  /// SetPose than in the one before it.
+  bool Changed(size_t point) const;
+
+  /// Re-skins only what changed since the previous frame: points [begin, end) whose input
+  /// (point or normal) differs from `lastPoints`/`lastNormals` (the inputs of the previous
+  /// call, updated here) or that have a joint whose matrix changed between the last two
+  /// SetPose calls. Other points keep what `outPoints`/`outNormals` hold (the previous
+  /// frame's output: nothing is copied). `all` re-skins every point (a first frame, new
+  /// output arrays). The result equals Apply bit for bit: a point's output depends only on
+  /// its input and its joints' matrices. In and out must be different arrays. Returns the
+  /// number of points re-skinned.
+  template <typename T>
+  size_t ApplyChanged(const T* points, const T* normals, T* lastPoints, T* lastNormals, T* outPoints,
+    T* outNormals, size_t begin, size_t end, bool all) const;
 
   /// Re-skins points [begin, end) for the pose of the last SetPose. `normals`/`outNormals`
   /// may be null. In and out may be the same arrays.
@@ -85,6 +100,12 @@ public:
   void Apply(const T* points, const T* normals, T* outPoints, T* outNormals, size_t begin, size_t end) const;
 
 private:
+  void SetDelta(size_t joint, const glm::dmat4& matrix); ///< Delta and Rigid of a joint
+  /// Re-skins point i (its influences scanned: moves, the last joint, their count).
+  template <typename T>
+  void ApplyPoint(const T* points, const T* normals, T* outPoints, T* outNormals, size_t i, bool moves, int single,
+    int count) const;
+
   SkinInfluences Influences;
   std::vector<glm::dmat4> Rest;
   std::vector<glm::dmat4> RestJointInverse; ///< per joint: J(rest)^-1, formed once
@@ -93,6 +114,7 @@ private:
   std::vector<float> Delta;        ///< 12 per joint: J(pose) J(rest)^-1, column-major 3x4
   std::vector<glm::dmat4> Pose;
   std::vector<char> Moved; ///< per joint
+  std::vector<char> JointChanged; ///< per joint: its matrix differs from the previous SetPose's
   std::vector<char> Rigid; ///< per joint: its Delta is a rotation and translation (normals need no renormalizing)
   std::vector<char> Used;  ///< per joint: some point has a weight on it
 };

@@ -32,6 +32,7 @@
 #include "vtkTable.h"
 
 #include <algorithm>
+#include <map>
 #include <array>
 #include <chrono>
 #include <cstdint>
@@ -94,6 +95,35 @@ struct vtkMorphNodeFilter::vtkInternals
   std::vector<std::pair<vtkDataObject*, vtkMTimeType>> From, BuiltFrom;
   double BuiltSparseCoverage = -1.0;
   bool Valid = false; // the last execution succeeded
+
+  /// SetTargetOffInPart: part name -> targets off there; applied to the scene's parts.
+  std::map<std::string, std::vector<std::string>> TargetsOff;
+  bool TargetsOffApplied = false; // some part of the scene has targets off
+
+  void ApplyTargetsOff()
+  {
+    if (this->TargetsOff.empty() && !this->TargetsOffApplied)
+    {
+      return;
+    }
+    this->TargetsOffApplied = false;
+    static const std::vector<std::string> none;
+    for (const vtkMorphNodeOutput::Part& part : this->Output.Parts)
+    {
+      if (part.ScenePart < 0)
+      {
+        continue;
+      }
+      auto it = this->TargetsOff.find(part.Name);
+      if (it == this->TargetsOff.end())
+      {
+        it = this->TargetsOff.find(part.Name.substr(0, part.Name.rfind('/')));
+      }
+      this->Scene.SetPartTargetsOff(
+        static_cast<size_t>(part.ScenePart), it == this->TargetsOff.end() ? none : it->second);
+      this->TargetsOffApplied = this->TargetsOffApplied || it != this->TargetsOff.end();
+    }
+  }
 
   /// The frame budget and target level of detail, and the blend's tasks.
   morphnode::SceneBudgetController Budget;
@@ -647,6 +677,31 @@ double vtkMorphNodeFilter::GetWeight(int index)
 }
 
 //------------------------------------------------------------------------------
+void vtkMorphNodeFilter::SetTargetOffInPart(const char* part, const char* target)
+{
+  if (!part || !target)
+  {
+    return;
+  }
+  auto& off = this->Internals->TargetsOff[part];
+  if (std::find(off.begin(), off.end(), target) == off.end())
+  {
+    off.emplace_back(target);
+    this->Modified();
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkMorphNodeFilter::RemoveAllTargetsOffInParts()
+{
+  if (!this->Internals->TargetsOff.empty())
+  {
+    this->Internals->TargetsOff.clear();
+    this->Modified();
+  }
+}
+
+//------------------------------------------------------------------------------
 void vtkMorphNodeFilter::SetWeightByName(const char* name, double weight)
 {
   if (!name || !*name)
@@ -857,6 +912,7 @@ int vtkMorphNodeFilter::RequestData(
     internals.ChooseThreshold(this);
     if (internals.HasScene)
     {
+      internals.ApplyTargetsOff();
       internals.Scene.SetWeights(internals.Requested);
     }
     this->UpdateProgress(0.4);
@@ -908,6 +964,15 @@ void vtkMorphNodeFilter::PrintSelf(ostream& os, vtkIndent indent)
   this->Superclass::PrintSelf(os, indent);
   const vtkInternals& internals = *this->Internals;
   os << indent << "WeightMode: " << this->GetWeightModeAsString() << "\n";
+  for (const auto& [part, targets] : internals.TargetsOff)
+  {
+    os << indent << "TargetsOffInPart " << part << ":";
+    for (const auto& t : targets)
+    {
+      os << " " << t;
+    }
+    os << "\n";
+  }
   os << indent << "OptimizerPreset: " << this->GetOptimizerPresetAsString() << "\n";
   os << indent << "Threshold: " << this->Threshold << "\n";
   os << indent << "RedistributionStrategy: " << this->GetRedistributionStrategyAsString() << "\n";

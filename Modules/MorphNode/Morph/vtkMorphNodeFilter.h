@@ -168,6 +168,19 @@ public:
   void ResetWeights();
   ///@}
 
+  ///@{
+  /**
+   * Targets that do not move one part of a composite input, named as the filter names
+   * its leaves (the reader's part names; a partition "Name/i" matches "Name"): their
+   * weights count as 0 there and still move the other parts (morphnode::MorphScene::
+   * SetPartTargetsOff). MorphAvatar turns the eyeLook* targets off on the eyeballs when the
+   * eye joints turn them, so that the same weights move only the lids. Names neither part
+   * nor target has are ignored. Default: none.
+   */
+  void SetTargetOffInPart(const char* part, const char* target);
+  void RemoveAllTargetsOffInParts();
+  ///@}
+
   /**
    * Weights actually used by the last execution (after mode and optimizer); 0 before.
    */

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkMorphSkinFilter.h"
 
+#include "vtkMorphPartData.h"
 #include "vtkMorphSkinArrays.h"
 #include "vtkMorphTargetArrays.h"
 
@@ -28,6 +29,7 @@
 #include "vtkTable.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <map>
 
@@ -35,13 +37,24 @@ vtkStandardNewMacro(vtkMorphSkinFilter);
 
 namespace
 {
-/// A new float or double array of `in`'s type and name with the re-skinned 3-vectors.
+/// Re-skins what changed since the previous frame (RestSkin::ApplyChanged) into the kept
+/// output arrays.
 template <typename T>
-void Reskin(const morphnode::RestSkin& skin, const T* points, const T* normals, T* outPoints, T* outNormals, size_t n)
+vtkIdType Reskin(const morphnode::RestSkin& skin, const T* points, const T* normals, T* lastPoints, T* lastNormals,
+  T* outPoints, T* outNormals, size_t n, bool all)
 {
-  vtkSMPTools::For(0, static_cast<vtkIdType>(n), 2048, [&](vtkIdType begin, vtkIdType end) {
-    skin.Apply<T>(points, normals, outPoints, outNormals, static_cast<size_t>(begin), static_cast<size_t>(end));
+  std::atomic<vtkIdType> count(0);
+  vtkSMPTools::For(0, static_cast<vtkIdType>(n), 4096, [&](vtkIdType begin, vtkIdType end) {
+    count += static_cast<vtkIdType>(skin.ApplyChanged<T>(points, normals, lastPoints, lastNormals, outPoints,
+      outNormals, static_cast<size_t>(begin), static_cast<size_t>(end), all));
   });
+  return count;
+}
+
+template <typename ArrayT>
+auto* Pointer(vtkDataArray* a)
+{
+  return a ? ArrayT::FastDownCast(a)->GetPointer(0) : nullptr;
 }
 
 /// Grows `bounds` (xmin, xmax, ..., empty when min > max) to take [lo, hi] on each axis
@@ -81,10 +94,18 @@ public:
     morphnode::RestSkin Rest;
     std::vector<glm::dmat4> RestMatrices;
     morphnode::AvatarBoneRoles Roles; ///< found once per skin
+    /// The last frame's output (written again in place only where points changed, and only
+    /// when nothing but this entry holds them: a snapshot kept downstream never changes) and
+    /// its input (to see which points the morph moved).
+    vtkSmartPointer<vtkDataArray> OutPoints, OutNormals, LastPoints, LastNormals;
+    bool Valid = false;          ///< the kept arrays hold the last frame
+    unsigned long Execution = 0; ///< the last execution that used the entry
     bool HeadKnown = false;
+    bool EyePart = false; ///< every point's largest weight on an eye joint or below it
     double HeadBounds[6] = { 1, -1, 1, -1, 1, -1 }; ///< empty when min > max
   };
   std::map<vtkDataArray*, Entry> Cache;
+  unsigned long Execution = 0;
 
   Entry& Get(vtkPointSet* leaf, const std::string& what)
   {
@@ -103,6 +124,8 @@ public:
     entry.Skin = vtkMorphSkinArrays::GetSkin(leaf, what);
     entry.RestMatrices = entry.Skin.RestMatrices();
     entry.Roles = morphnode::FindAvatarBones(entry.Skin.Bones, entry.Skin.Humanoid);
+    entry.EyePart =
+      morphnode::TurnedByEyeJoints(entry.Skin.Influences, entry.Skin.Joints.Joints, entry.Skin.Bones, entry.Roles);
     entry.Rest = morphnode::RestSkin(entry.Skin.Influences, entry.RestMatrices, what);
     return this->Cache[weights] = std::move(entry);
   }
@@ -111,7 +134,7 @@ public:
   /// normals), nullptr when it is not skinned or stays at rest; updates the filter's report
   /// (skinned parts, eye and head bones, head bounds, bones).
   vtkSmartPointer<vtkPointSet> Repose(vtkMorphSkinFilter* self, vtkPointSet* leaf, const std::string& what,
-    const morphnode::AvatarBonePose& angles, bool jawAllowed)
+    const morphnode::AvatarBonePose& angles, bool jawAllowed, const std::string& partName)
   {
     if (!vtkMorphSkinArrays::IsSkinned(leaf))
     {
@@ -120,6 +143,14 @@ public:
     vtkInternals::Entry& entry = this->Get(leaf, what);
     morphnode::AvatarBoneRoles roles = entry.Roles;
     self->HasEyeBones = self->HasEyeBones || roles.HasEyes();
+    if (entry.EyePart)
+    {
+      const std::string name = vtkMorphPartData::GetPartName(leaf->GetFieldData(), partName);
+      if (!name.empty() && std::find(self->EyeParts.begin(), self->EyeParts.end(), name) == self->EyeParts.end())
+      {
+        self->EyeParts.push_back(name);
+      }
+    }
     self->HasHeadBones = self->HasHeadBones || roles.Head >= 0;
     if (!entry.HeadKnown && roles.Head >= 0)
     {
@@ -158,6 +189,8 @@ public:
     posed.RangeMaps = entry.Skin.RangeMaps; // a VRM's look-at (vtkMorphSkinArrays.h)
     morphnode::PoseAvatarBones(pose, roles, posed);
     ++self->NumberOfSkinnedParts;
+    const bool wasValid = entry.Valid;
+    entry.Valid = false; // the pose moves on: the kept arrays hold this frame only when written
     if (!entry.Rest.SetPose(entry.Skin.Joints.Matrices(pose.World())))
     {
       return nullptr; // at rest
@@ -171,29 +204,54 @@ public:
     {
       normals = nullptr;
     }
-    auto newPoints = NewLike(points);
-    auto newNormals = normals ? NewLike(normals) : nullptr;
     const size_t n = static_cast<size_t>(leaf->GetNumberOfPoints());
     if (entry.Rest.GetNumberOfPoints() != n)
     {
       throw morphnode::InputError(what + ": the skin has " + std::to_string(entry.Rest.GetNumberOfPoints()) +
         " points, the part " + std::to_string(n));
     }
-    if (auto* f = vtkFloatArray::FastDownCast(points))
+    if (!vtkFloatArray::FastDownCast(points) && !vtkDoubleArray::FastDownCast(points))
     {
-      Reskin<float>(entry.Rest, f->GetPointer(0), normals ? vtkFloatArray::FastDownCast(normals)->GetPointer(0) : nullptr,
-        vtkFloatArray::FastDownCast(newPoints)->GetPointer(0),
-        normals ? vtkFloatArray::FastDownCast(newNormals)->GetPointer(0) : nullptr, n);
+      throw morphnode::InputError(what + ": skinned points must be float or double");
     }
-    else if (auto* d = vtkDoubleArray::FastDownCast(points))
+    // The kept arrays, written again in place where points changed, when only this entry
+    // holds them (and the entry serves one leaf this execution); else new ones, all
+    // re-skinned.
+    auto kept = [&](vtkSmartPointer<vtkDataArray>& a, vtkDataArray* like) {
+      return a && a->GetReferenceCount() == 1 && a->GetDataType() == like->GetDataType() &&
+        a->GetNumberOfTuples() == like->GetNumberOfTuples();
+    };
+    bool all = !wasValid || entry.Execution == this->Execution || !kept(entry.OutPoints, points) ||
+      !kept(entry.LastPoints, points) || (normals != nullptr) != (entry.OutNormals != nullptr) ||
+      (normals && (!kept(entry.OutNormals, normals) || !kept(entry.LastNormals, normals)));
+    entry.Execution = this->Execution;
+    if (all)
     {
-      Reskin<double>(entry.Rest, d->GetPointer(0), normals ? vtkDoubleArray::FastDownCast(normals)->GetPointer(0) : nullptr,
-        vtkDoubleArray::FastDownCast(newPoints)->GetPointer(0),
-        normals ? vtkDoubleArray::FastDownCast(newNormals)->GetPointer(0) : nullptr, n);
+      entry.OutPoints = NewLike(points);
+      entry.LastPoints = NewLike(points);
+      entry.OutNormals = normals ? NewLike(normals) : nullptr;
+      entry.LastNormals = normals ? NewLike(normals) : nullptr;
+    }
+    if (vtkFloatArray::FastDownCast(points))
+    {
+      self->NumberOfReskinnedPoints += Reskin<float>(entry.Rest, Pointer<vtkFloatArray>(points), Pointer<vtkFloatArray>(normals),
+        Pointer<vtkFloatArray>(entry.LastPoints), Pointer<vtkFloatArray>(entry.LastNormals),
+        Pointer<vtkFloatArray>(entry.OutPoints), Pointer<vtkFloatArray>(entry.OutNormals), n, all);
     }
     else
     {
-      throw morphnode::InputError(what + ": skinned points must be float or double");
+      self->NumberOfReskinnedPoints += Reskin<double>(entry.Rest, Pointer<vtkDoubleArray>(points), Pointer<vtkDoubleArray>(normals),
+        Pointer<vtkDoubleArray>(entry.LastPoints), Pointer<vtkDoubleArray>(entry.LastNormals),
+        Pointer<vtkDoubleArray>(entry.OutPoints), Pointer<vtkDoubleArray>(entry.OutNormals), n, all);
+    }
+    entry.Valid = true;
+    // Written through raw pointers: renderers upload again on MTime.
+    entry.OutPoints->Modified();
+    vtkDataArray* newPoints = entry.OutPoints;
+    vtkDataArray* newNormals = entry.OutNormals;
+    if (newNormals)
+    {
+      newNormals->Modified();
     }
     vtkNew<vtkPoints> p;
     p->SetData(newPoints);
@@ -239,7 +297,10 @@ int vtkMorphSkinFilter::RequestData(
   vtkDataObject* input = vtkDataObject::GetData(inputVector[0], 0);
   vtkDataObject* output = vtkDataObject::GetData(outputVector, 0);
   this->NumberOfSkinnedParts = 0;
+  this->NumberOfReskinnedPoints = 0;
+  ++this->Internals->Execution;
   this->HasEyeBones = false;
+  this->EyeParts.clear();
   this->HasHeadBones = false;
   this->JawByBone = false;
   this->HeadBounds[0] = this->HeadBounds[2] = this->HeadBounds[4] = 1.0;
@@ -304,8 +365,8 @@ int vtkMorphSkinFilter::RequestData(
     const bool jawAllowed = this->TurnJaw == JAW_ON || (this->TurnJaw == JAW_AUTO && !jawTarget);
 
     // One pose per skeleton; parts of one avatar share it (computed for the first part).
-    auto reskin = [&](vtkPointSet* leaf, const std::string& what) {
-      return this->Internals->Repose(this, leaf, what, angles, jawAllowed);
+    auto reskin = [&](vtkPointSet* leaf, const std::string& what, const std::string& partName) {
+      return this->Internals->Repose(this, leaf, what, angles, jawAllowed, partName);
     };
 
     if (auto* composite = vtkCompositeDataSet::SafeDownCast(input))
@@ -320,10 +381,9 @@ int vtkMorphSkinFilter::RequestData(
           continue;
         }
         const bool named = node.HasMetaData() && node.GetMetaData()->Has(vtkCompositeDataSet::NAME());
-        const std::string name = named
-          ? std::string("part '") + node.GetMetaData()->Get(vtkCompositeDataSet::NAME()) + "'"
-          : "part " + std::to_string(node.GetFlatIndex());
-        if (auto posed = reskin(leaf, name))
+        const std::string partName = named ? node.GetMetaData()->Get(vtkCompositeDataSet::NAME()) : "";
+        const std::string name = named ? "part '" + partName + "'" : "part " + std::to_string(node.GetFlatIndex());
+        if (auto posed = reskin(leaf, name, partName))
         {
           node = posed;
         }
@@ -332,7 +392,8 @@ int vtkMorphSkinFilter::RequestData(
     else if (auto* points = vtkPointSet::SafeDownCast(input))
     {
       auto* out = vtkPointSet::SafeDownCast(output);
-      auto posed = reskin(points, "the input");
+      out->Initialize(); // lets go of the last frame's arrays, for them to be written in place
+      auto posed = reskin(points, "the input", "");
       out->ShallowCopy(posed ? posed.GetPointer() : points);
     }
     else
@@ -351,6 +412,12 @@ int vtkMorphSkinFilter::RequestData(
   }
 }
 
+//------------------------------------------------------------------------------
+const char* vtkMorphSkinFilter::GetEyePart(int i)
+{
+  return i >= 0 && i < static_cast<int>(this->EyeParts.size()) ? this->EyeParts[static_cast<size_t>(i)].c_str()
+                                                                 : nullptr;
+}
 //------------------------------------------------------------------------------
 bool vtkMorphSkinFilter::GetHeadBounds(double bounds[6])
 {
@@ -381,7 +448,14 @@ void vtkMorphSkinFilter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "RelaxArms: " << this->RelaxArms << "\n";
   os << indent << "ArmAngle: " << this->ArmAngle << "\n";
   os << indent << "NumberOfSkinnedParts: " << this->NumberOfSkinnedParts << "\n";
+  os << indent << "NumberOfReskinnedPoints: " << this->NumberOfReskinnedPoints << "\n";
   os << indent << "HasEyeBones: " << this->HasEyeBones << "\n";
+  os << indent << "EyeParts:";
+  for (const auto& part : this->EyeParts)
+  {
+    os << " " << part;
+  }
+  os << "\n";
   os << indent << "HasHeadBones: " << this->HasHeadBones << "\n";
   os << indent << "Bones: " << (this->Bones.empty() ? "(none)" : this->Bones) << "\n";
 }

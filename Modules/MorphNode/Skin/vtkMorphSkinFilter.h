@@ -48,6 +48,7 @@
 
 #include <memory> // For std::unique_ptr
 #include <string> // For std::string
+#include <vector> // For std::vector
 
 class VTKMORPHNODESKIN_EXPORT vtkMorphSkinFilter : public vtkMorphTrackFilter
 {
@@ -151,6 +152,12 @@ public:
   /** Skinned parts the last execution re-skinned or passed (0 before). */
   vtkGetMacro(NumberOfSkinnedParts, int);
 
+  /// Points re-skinned by the last execution. Each frame re-skins only the points whose
+  /// morphed input changed or that have a joint whose matrix changed since the previous
+  /// frame; the others keep the previous frame's output, written in place (when nothing
+  /// downstream holds the previous output's arrays; else new arrays, all re-skinned).
+  vtkGetMacro(NumberOfReskinnedPoints, vtkIdType);
+
   /**
    * The bones the last execution found, e.g. "head 'Head', neck 'Neck', left eye 'LeftEye',
    * ..." ("" before, or without a skinned part).
@@ -160,6 +167,17 @@ public:
   /** True when the last execution found an eye joint, a head joint. */
   vtkGetMacro(HasEyeBones, bool);
   vtkGetMacro(HasHeadBones, bool);
+
+  ///@{
+  /**
+   * The parts the eye joints turn (every point's largest weight on an eye joint or a joint
+   * below it: the eyeballs, not the lids of the head), by part name, found by the last
+   * execution. With the eyes turned by bones their eyeLook* targets must not turn them
+   * again: vtkMorphNodeFilter::SetTargetOffInPart on these parts (MorphAvatar does).
+   */
+  int GetNumberOfEyeParts() { return static_cast<int>(this->EyeParts.size()); }
+  const char* GetEyePart(int i);
+  ///@}
 
   /**
    * The bounds of the head at rest as the last execution found it: every point of a skinned
@@ -194,7 +212,9 @@ protected:
   int TurnJaw = JAW_AUTO;
   bool JawByBone = false;
   int NumberOfSkinnedParts = 0;
+  vtkIdType NumberOfReskinnedPoints = 0;
   bool HasEyeBones = false;
+  std::vector<std::string> EyeParts;
   bool HasHeadBones = false;
   double HeadBounds[6] = { 0, -1, 0, -1, 0, -1 };
   std::string Bones;
