@@ -266,7 +266,7 @@ def check_skin_pose(c):
                 for i in range(collection.GetNumberOfPartitionedDataSets())}
 
     reader = MorphNodeFaceReader(FileName=avatar)  # noqa: F821
-    pose = SkinPoseFilter(Input=reader)  # noqa: F821
+    pose = SkinPose(Input=reader)  # noqa: F821
     rest = parts(reader)
     pose.EyeYaw = 25.0
     turned = parts(pose)
