@@ -120,7 +120,10 @@ void AddVrm(vtkPolyData* poly, const morphnode::GltfVrm& vrm)
     bones->SetName(HumanoidBonesArray);
     for (const auto& [bone, node] : vrm.HumanBoneNodeNames)
     {
-      bones->InsertNextValue(bone + "=" + node);
+      std::string entry = bone;
+      entry += '=';
+      entry += node;
+      bones->InsertNextValue(entry);
     }
     fd->AddArray(bones);
   }
