@@ -7,10 +7,10 @@
 #include "gltf/GltfSkin.h"
 #include "morph/MorphScene.h"
 #include "morph/OptimizerPresets.h"
+#include "base/Text.h"
 #include "skin/AvatarBones.h"
 
 #include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <memory>
 #include <set>
@@ -152,22 +152,15 @@ GltfPerformance MakeGltfPerformance(const GltfScene& scene, const GltfPerformanc
   const bool eyes = eyeYaw || eyePitch;
   // The jaw joint opens the mouth only where no jawOpen target does (as vtkMorphSkinFilter's
   // JAW_AUTO): the table's jawOpen column is then not a weight of any mesh.
-  bool jawTarget = false;
+  std::vector<std::string> targetNames;
   for (const auto& part : scene.Parts)
   {
     for (const auto& t : part.Targets)
     {
-      std::string n;
-      for (char c : t.Name)
-      {
-        if (c != '_')
-        {
-          n += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-        }
-      }
-      jawTarget = jawTarget || n == "jawopen";
+      targetNames.push_back(t.Name);
     }
   }
+  const bool jawTarget = NamesJawOpenTarget(targetNames);
   const std::vector<double>* jawOpen = s.JawByBone && !jawTarget ? column("jawOpen") : nullptr;
   GltfPerformanceReport r;
   r.Frames = frames;
@@ -230,12 +223,7 @@ GltfPerformance MakeGltfPerformance(const GltfScene& scene, const GltfPerformanc
         std::vector<std::string>& off = p.TargetsOffAtNode[part.Node];
         for (const auto& t : part.Targets)
         {
-          std::string n;
-          for (char c : t.Name)
-          {
-            n += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-          }
-          if (n.rfind("eyelook", 0) == 0 && std::find(off.begin(), off.end(), t.Name) == off.end())
+          if (text::ToLower(t.Name).rfind("eyelook", 0) == 0 && std::find(off.begin(), off.end(), t.Name) == off.end())
           {
             off.push_back(t.Name);
           }

@@ -13,6 +13,15 @@
 
 namespace morphnode
 {
+bool NamesJawOpenTarget(const std::vector<std::string>& targetNames)
+{
+  return std::any_of(targetNames.begin(), targetNames.end(), [](const std::string& name) {
+    std::string n = text::ToLower(name);
+    n.erase(std::remove(n.begin(), n.end(), '_'), n.end());
+    return n == "jawopen";
+  });
+}
+
 std::string CanonicalBoneName(const std::string& name)
 {
   std::string lower = text::ToLower(name);

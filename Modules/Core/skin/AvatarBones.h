@@ -56,6 +56,11 @@ std::string CanonicalBoneName(const std::string& name);
 /// Finds the roles by name (see the file comment). Roles not found stay -1.
 AvatarBoneRoles FindAvatarBones(const Skeleton& skeleton);
 
+/// Whether `targetNames` hold a jawOpen target (any case, underscores ignored): such an
+/// avatar opens its mouth by that target, so its jaw joint stays still (the skin filter's
+/// JAW_AUTO and the glTF export decide by this one rule).
+bool NamesJawOpenTarget(const std::vector<std::string>& targetNames);
+
 /// The points of a skinned part whose strongest influence is `joint` or a joint below it in
 /// the skeleton (the head's points for the head bone), in point order; empty for joint < 0.
 std::vector<size_t> PointsUnderJoint(

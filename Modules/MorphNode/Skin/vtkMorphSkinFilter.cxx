@@ -355,12 +355,7 @@ int vtkMorphSkinFilter::RequestData(
     {
       std::vector<std::string> names;
       vtkMorphTargetArrays::GetFaceTargetNames(input, names);
-      for (std::string n : names)
-      {
-        n = morphnode::text::ToLower(n);
-        n.erase(std::remove(n.begin(), n.end(), '_'), n.end());
-        jawTarget = jawTarget || n == "jawopen";
-      }
+      jawTarget = morphnode::NamesJawOpenTarget(names);
     }
     const bool jawAllowed = this->TurnJaw == JAW_ON || (this->TurnJaw == JAW_AUTO && !jawTarget);
 

@@ -527,3 +527,13 @@ TEST(AvatarBones, LidBonesFollowTheEyesPitch)
   EXPECT_NEAR(pitchOf(lower, 0, -20), -6.0, 1e-9);
   EXPECT_NEAR(pitchOf(upper, 25, 0), 0.0, 1e-9);
 }
+
+// The one rule for "this avatar opens its mouth by a target": any case, underscores ignored.
+TEST(AvatarBones, JawOpenTargetsAreFoundInEverySpelling)
+{
+  EXPECT_TRUE(NamesJawOpenTarget({ "mouthClose", "jawOpen" }));
+  EXPECT_TRUE(NamesJawOpenTarget({ "JawOpen" }));
+  EXPECT_TRUE(NamesJawOpenTarget({ "jaw_open" }));
+  EXPECT_FALSE(NamesJawOpenTarget({ "jawForward", "mouthOpen", "jawOpenWide" }));
+  EXPECT_FALSE(NamesJawOpenTarget({}));
+}
