@@ -7,6 +7,6 @@
 #include <gtest/gtest.h>
 
 /// At the start of a test that synthesizes speech: skips it in a build without eSpeak NG.
-#define MORPHNODE_SKIP_WITHOUT_ESPEAK()                                                        \
-  if (!morphnode::SpeechSynthesizer::IsAvailable())                                           \
+#define MORPHNODE_SKIP_WITHOUT_ESPEAK()                                                            \
+  if (!morphnode::SpeechSynthesizer::IsAvailable())                                                \
   GTEST_SKIP() << "built without eSpeak NG (MORPHNODE_ENABLE_ESPEAK=OFF)"

@@ -10,7 +10,8 @@
 //             [--threshold T] [--max-error E] [--color AnimatedRegion|Distance_<target>]
 //             [--png out.png] [--size WxH]
 //
-// Example: MorphFace Data/DefaultFace/default_head.glb --weight O=0.8 --weight BrowsUp=0.5 --png o.png
+// Example: MorphFace Data/DefaultFace/default_head.glb --weight O=0.8 --weight BrowsUp=0.5 --png
+// o.png
 #include "CommandLine.h"
 #include "DataPaths.h"
 #include "HeadActors.h"
@@ -38,15 +39,21 @@ int main(int argc, char* argv[])
   auto method = morphnode::OptimizerPreset::None;
   double threshold = 0.0, maxError = 0.0;
   int width = 600, height = 600;
-  CLI::App app("MorphFace: a face with morph targets at the given weights, optionally optimized.", "MorphFace");
-  app.add_option("face", face, "a face with morph targets (glTF/GLB, OBJ set)")->capture_default_str();
-  app.add_option("--weight", weights, "a target's weight, NAME=VALUE (repeatable)")->delimiter('=')->take_all();
+  CLI::App app("MorphFace: a face with morph targets at the given weights, optionally optimized.",
+    "MorphFace");
+  app.add_option("face", face, "a face with morph targets (glTF/GLB, OBJ set)")
+    ->capture_default_str();
+  app.add_option("--weight", weights, "a target's weight, NAME=VALUE (repeatable)")
+    ->delimiter('=')
+    ->take_all();
   app.add_option("--mode", mode, "weight mode")
     ->check(CLI::IsMember({ "strict", "normalize", "relative" }))
     ->capture_default_str();
   appkit::AddOptimizerPresetOption(app, "--method", method, appkit::OptimizerPresetChoices());
-  appkit::AddNumberOption(app, "--threshold", threshold, 0.0, 1.0, "th_fix of the threshold methods");
-  appkit::AddNumberOption(app, "--max-error", maxError, 0.0, 1e30, "error bound of error-bounded, model units");
+  appkit::AddNumberOption(
+    app, "--threshold", threshold, 0.0, 1.0, "th_fix of the threshold methods");
+  appkit::AddNumberOption(
+    app, "--max-error", maxError, 0.0, 1e30, "error bound of error-bounded, model units");
   app.add_option("--color", color, "colour by AnimatedRegion or Distance_<target>");
   app.add_option("--png", png, "render offscreen to this file instead of a window");
   appkit::AddSizeOption(app, "--size", width, height, "window / image size");
@@ -61,8 +68,8 @@ int main(int argc, char* argv[])
     morph->SetWeightByName(name.c_str(), weight);
   }
   morph->SetWeightMode(mode == "strict" ? vtkMorphNodeFilter::STRICT
-      : mode == "relative"               ? vtkMorphNodeFilter::RELATIVE
-                                         : vtkMorphNodeFilter::NORMALIZE);
+      : mode == "relative"              ? vtkMorphNodeFilter::RELATIVE
+                                        : vtkMorphNodeFilter::NORMALIZE);
   morph->SetThreshold(threshold);
   morph->SetMaxVertexError(maxError);
   morph->SetOptimizerPreset(static_cast<int>(method));
@@ -78,7 +85,8 @@ int main(int argc, char* argv[])
     return 1;
   }
   std::cout << face << ": " << morph->GetNumberOfTargets() << " targets, "
-            << morph->GetActiveTargetCount() << " active, error bound " << morph->GetErrorBound() << "\n";
+            << morph->GetActiveTargetCount() << " active, error bound " << morph->GetErrorBound()
+            << "\n";
 
   vtkNew<vtkRenderer> renderer;
   appkit::HeadActors head; // one actor per part, in its own colour

@@ -46,13 +46,22 @@ int main(int argc, char* argv[])
   std::string out = "PlayScript-out", voice, visemes;
   double fps = 0.0, duration = -1.0;
   int maxFrames = -1, width = 480, height = 480;
-  CLI::App app("PlayScript: a behaviour script played on a face, to PNG frames, CSV and WAV.", "PlayScript");
-  app.add_option("script", script, "a behaviour script")->check(CLI::ExistingFile)->capture_default_str();
-  app.add_option("--face", face, "a face with morph targets")->check(CLI::ExistingFile)->capture_default_str();
+  CLI::App app(
+    "PlayScript: a behaviour script played on a face, to PNG frames, CSV and WAV.", "PlayScript");
+  app.add_option("script", script, "a behaviour script")
+    ->check(CLI::ExistingFile)
+    ->capture_default_str();
+  app.add_option("--face", face, "a face with morph targets")
+    ->check(CLI::ExistingFile)
+    ->capture_default_str();
   app.add_option("--out", out, "output folder")->capture_default_str();
-  appkit::AddNumberOption(app, "--fps", fps, 1.0, 240.0, "frame rate (default: the script's)")->default_str("");
-  appkit::AddNumberOption(app, "--duration", duration, 0.0, 86400.0, "seconds (default: the script's)")->default_str("");
-  app.add_option("--frames", maxFrames, "render only the first N frames")->check(CLI::NonNegativeNumber);
+  appkit::AddNumberOption(app, "--fps", fps, 1.0, 240.0, "frame rate (default: the script's)")
+    ->default_str("");
+  appkit::AddNumberOption(
+    app, "--duration", duration, 0.0, 86400.0, "seconds (default: the script's)")
+    ->default_str("");
+  app.add_option("--frames", maxFrames, "render only the first N frames")
+    ->check(CLI::NonNegativeNumber);
   appkit::AddSizeOption(app, "--size", width, height, "frame size");
   app.add_option("--voice", voice, "eSpeak NG voice, e.g. en, de");
   app.add_option("--visemes", visemes, "paper6, oculus15 or german16");

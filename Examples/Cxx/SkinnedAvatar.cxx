@@ -33,9 +33,13 @@ int main(int argc, char* argv[])
   int width = 400, height = 400;
   CLI::App app("SkinnedAvatar: a skinned avatar posed by its bones and morphed.", "SkinnedAvatar");
   app.add_option("avatar", avatar, "a skinned glTF/GLB avatar")->required();
-  appkit::AddNumberOption(app, "--head-yaw", headYaw, -90.0, 90.0, "head turn, degrees to its left");
-  appkit::AddNumberOption(app, "--eye-yaw", eyeYaw, -90.0, 90.0, "gaze relative to the head, degrees");
-  app.add_option("--weight", weights, "a target's weight, NAME=VALUE (default viseme_O=1 jawOpen=0.45)")
+  appkit::AddNumberOption(
+    app, "--head-yaw", headYaw, -90.0, 90.0, "head turn, degrees to its left");
+  appkit::AddNumberOption(
+    app, "--eye-yaw", eyeYaw, -90.0, 90.0, "gaze relative to the head, degrees");
+  app
+    .add_option(
+      "--weight", weights, "a target's weight, NAME=VALUE (default viseme_O=1 jawOpen=0.45)")
     ->delimiter('=')
     ->take_all();
   app.add_option("--png", png, "render offscreen to this file instead of a window");
@@ -63,8 +67,8 @@ int main(int argc, char* argv[])
     std::cerr << "SkinnedAvatar: " << avatar << " has no skinned head (see the errors above)\n";
     return 1;
   }
-  std::cout << avatar << ": " << skin->GetNumberOfSkinnedParts() << " skinned parts; bones: " << skin->GetBones()
-            << "\n";
+  std::cout << avatar << ": " << skin->GetNumberOfSkinnedParts()
+            << " skinned parts; bones: " << skin->GetBones() << "\n";
 
   vtkNew<vtkRenderer> renderer;
   appkit::HeadActors head;

@@ -70,7 +70,7 @@ const char* const AdjustedBounded = "adjusted-bounded";
 
 struct Method
 {
-  std::string Name; ///< a preset's name, or AdjustedBounded
+  std::string Name;       ///< a preset's name, or AdjustedBounded
   double Threshold = 0.0; ///< 0 for the methods without one (none, error-bounded)
 };
 
@@ -120,7 +120,8 @@ struct Avatar
   double Diagonal = 1.0;
   std::vector<int> ChannelTarget; // per track channel: target index, -1 unused
 
-  bool Setup(const std::string& face, const std::string& rig, const std::vector<std::string>& channels, int w, int h)
+  bool Setup(const std::string& face, const std::string& rig,
+    const std::vector<std::string>& channels, int w, int h)
   {
     this->Reader->SetFileName(face.c_str());
     this->Reader->SetMeshIndex(0); // the face mesh as one vtkPolyData
@@ -171,7 +172,8 @@ struct Avatar
     const double eps = 0.005 * this->Diagonal;
     if (m.Name == AdjustedBounded)
     {
-      morphnode::OptimizerSettings s = morphnode::MakeOptimizerSettings(OptimizerPreset::Adjusted, m.Threshold, 0.0);
+      morphnode::OptimizerSettings s =
+        morphnode::MakeOptimizerSettings(OptimizerPreset::Adjusted, m.Threshold, 0.0);
       s.Strategy = morphnode::Redistribution::Neutral;
       s.MaxVertexError = eps;
       morphnode::appkit::ApplyOptimizerSettings(this->Morph, s);
@@ -184,7 +186,8 @@ struct Avatar
 
   /// Plays frames [begin, end) of the track, adding morph seconds, whole-frame seconds and
   /// active targets.
-  void Play(const morphnode::WeightTrack& track, size_t begin, size_t end, double& morph, double& whole, double& active)
+  void Play(const morphnode::WeightTrack& track, size_t begin, size_t end, double& morph,
+    double& whole, double& active)
   {
     for (size_t f = begin; f < end; ++f)
     {
@@ -213,15 +216,16 @@ struct Avatar
 void Plot(const std::vector<Result>& results, const std::string& face, bool wholeFrame,
   const std::vector<double>& thresholds, const std::string& file)
 {
-  const std::string names[] = { "none", "fixed-maximum", "fixed-remaining", "adjusted", AdjustedBounded,
-    "error-bounded" };
-  const unsigned char colors[][3] = { { 0, 0, 0 }, { 228, 26, 28 }, { 55, 126, 184 }, { 77, 175, 74 },
-    { 152, 78, 163 }, { 255, 127, 0 } };
+  const std::string names[] = { "none", "fixed-maximum", "fixed-remaining", "adjusted",
+    AdjustedBounded, "error-bounded" };
+  const unsigned char colors[][3] = { { 0, 0, 0 }, { 228, 26, 28 }, { 55, 126, 184 },
+    { 77, 175, 74 }, { 152, 78, 163 }, { 255, 127, 0 } };
   vtkNew<vtkContextView> view;
   view->GetRenderWindow()->SetSize(800, 500);
   view->GetRenderer()->SetBackground(1, 1, 1);
   vtkNew<vtkChartXY> chart;
-  chart->SetTitle((face + (wholeFrame ? ": whole frame (morph + render)" : ": morph stage")).c_str());
+  chart->SetTitle(
+    (face + (wholeFrame ? ": whole frame (morph + render)" : ": morph stage")).c_str());
   chart->GetAxis(vtkAxis::LEFT)->SetTitle("frames per second");
   chart->GetAxis(vtkAxis::BOTTOM)->SetTitle("threshold");
   chart->SetShowLegend(true);
@@ -290,7 +294,8 @@ int main(int argc, char* argv[])
 {
   bool smoke = false;
   std::string textFile = std::string(MORPHNODE_SOURCE_DIR) + "/Data/scripts/long-text.txt";
-  std::string defaultFace = std::string(MORPHNODE_SOURCE_DIR) + "/Data/DefaultFace/default_head.glb";
+  std::string defaultFace =
+    std::string(MORPHNODE_SOURCE_DIR) + "/Data/DefaultFace/default_head.glb";
   std::string ictFace = std::string(MORPHNODE_FACEKIT_DIR) + "/ict_face11248_sparse53.glb";
   std::string rig = std::string(MORPHNODE_SOURCE_DIR) + "/Data/rigs/arkit.json";
   std::string csv, markdown, images;
@@ -299,10 +304,12 @@ int main(int argc, char* argv[])
   CLI::App app("BenchAvatarFrameRate: the paper's Figure 3, frame rate against threshold per "
                "optimizer method for the whole avatar (docs/benchmarks.md). Run under xvfb-run -a.",
     "BenchAvatarFrameRate");
-  app.add_flag("--smoke", smoke, "a handful of frames of one threshold (CI; nothing timed asserted)");
+  app.add_flag(
+    "--smoke", smoke, "a handful of frames of one threshold (CI; nothing timed asserted)");
   app.add_option("--text", textFile, "what is said")->capture_default_str();
   morphnode::appkit::AddNumberOption(app, "--fps", fps, 1.0, 240.0, "frame rate of the track");
-  morphnode::appkit::AddNumberOption(app, "--seconds", seconds, 0.0, 86400.0, "play only this much (0: all)");
+  morphnode::appkit::AddNumberOption(
+    app, "--seconds", seconds, 0.0, 86400.0, "play only this much (0: all)");
   app.add_option("--face", defaultFace, "the default face")->capture_default_str();
   app.add_option("--ict", ictFace, "the ICT face (skipped when missing)")->capture_default_str();
   app.add_option("--rig", rig, "the ARKit rig")->capture_default_str();
@@ -334,8 +341,9 @@ int main(int argc, char* argv[])
   {
     frames = std::min<size_t>(frames, 5);
   }
-  std::cout << "Text: " << textFile << " (" << u.Duration << " s spoken, " << track.GetNumberOfFrames()
-            << " frames at " << fps << " fps; playing " << frames << ")\n";
+  std::cout << "Text: " << textFile << " (" << u.Duration << " s spoken, "
+            << track.GetNumberOfFrames() << " frames at " << fps << " fps; playing " << frames
+            << ")\n";
 
   std::vector<double> thresholds{ 0.1, 0.2, 0.3, 0.4, 0.5 };
   if (smoke)
@@ -368,7 +376,8 @@ int main(int argc, char* argv[])
     std::filesystem::create_directories(images, ec);
     if (ec)
     {
-      std::cerr << "error: cannot create the image folder '" << images << "': " << ec.message() << "\n";
+      std::cerr << "error: cannot create the image folder '" << images << "': " << ec.message()
+                << "\n";
       return 1;
     }
   }
@@ -377,12 +386,16 @@ int main(int argc, char* argv[])
   {
     Avatar avatar;
     avatar.Name = faceName;
-    if (!avatar.Setup(file, faceName == "default face" ? "" : rig, track.GetChannels(), width, height))
+    if (!avatar.Setup(
+          file, faceName == "default face" ? "" : rig, track.GetChannels(), width, height))
     {
       return 1;
     }
-    std::cout << "\n" << faceName << " (" << vtkPointSet::SafeDownCast(avatar.Morph->GetOutputDataObject(0))->GetNumberOfPoints()
-              << " points, " << avatar.Morph->GetNumberOfTargets() << " targets)\n";
+    std::cout
+      << "\n"
+      << faceName << " ("
+      << vtkPointSet::SafeDownCast(avatar.Morph->GetOutputDataObject(0))->GetNumberOfPoints()
+      << " points, " << avatar.Morph->GetNumberOfTargets() << " targets)\n";
     // Warm up: caches, the GL pipeline, the first VBO upload.
     {
       double a = 0, b = 0, c = 0;
@@ -391,7 +404,8 @@ int main(int argc, char* argv[])
     }
     // The track is played in chunks of 100 frames, every method on each chunk in turn, so
     // that a change of machine load over the run hits all methods alike.
-    std::vector<double> morphs(methods.size(), 0.0), wholes(methods.size(), 0.0), actives(methods.size(), 0.0);
+    std::vector<double> morphs(methods.size(), 0.0), wholes(methods.size(), 0.0),
+      actives(methods.size(), 0.0);
     for (size_t chunk = 0; chunk < frames; chunk += 100)
     {
       for (size_t k = 0; k < methods.size(); ++k)
@@ -420,21 +434,25 @@ int main(int argc, char* argv[])
       r.MorphSpeedup = r.MorphFps / noneMorph;
       r.FrameSpeedup = r.FrameFps / noneFrame;
       results.push_back(r);
-      std::cout << std::left << std::setw(20) << m.Name << std::setw(6) << (m.Threshold == 0.0 ? "-" : Fmt(m.Threshold))
-                << " morph " << std::setw(9) << Fmt(r.MorphFps, 4) << " fps  frame " << std::setw(8) << Fmt(r.FrameFps, 4)
-                << " fps  active " << std::setw(6) << Fmt(r.MeanActive) << " speed-up morph " << std::setw(6)
-                << Fmt(r.MorphSpeedup) << " frame " << Fmt(r.FrameSpeedup) << std::endl;
+      std::cout << std::left << std::setw(20) << m.Name << std::setw(6)
+                << (m.Threshold == 0.0 ? "-" : Fmt(m.Threshold)) << " morph " << std::setw(9)
+                << Fmt(r.MorphFps, 4) << " fps  frame " << std::setw(8) << Fmt(r.FrameFps, 4)
+                << " fps  active " << std::setw(6) << Fmt(r.MeanActive) << " speed-up morph "
+                << std::setw(6) << Fmt(r.MorphSpeedup) << " frame " << Fmt(r.FrameSpeedup)
+                << std::endl;
     }
   }
 
   if (!csv.empty())
   {
     std::ofstream out(csv);
-    out << "face,method,threshold,frames,morph_fps,frame_fps,mean_active_targets,morph_speedup,frame_speedup\n";
+    out << "face,method,threshold,frames,morph_fps,frame_fps,mean_active_targets,morph_speedup,"
+           "frame_speedup\n";
     for (const auto& r : results)
     {
-      out << '"' << r.Face << "\"," << r.M.Name << "," << r.M.Threshold << "," << r.Frames << "," << r.MorphFps << ","
-          << r.FrameFps << "," << r.MeanActive << "," << r.MorphSpeedup << "," << r.FrameSpeedup << "\n";
+      out << '"' << r.Face << "\"," << r.M.Name << "," << r.M.Threshold << "," << r.Frames << ","
+          << r.MorphFps << "," << r.FrameFps << "," << r.MeanActive << "," << r.MorphSpeedup << ","
+          << r.FrameSpeedup << "\n";
     }
   }
   if (!markdown.empty())
@@ -445,21 +463,24 @@ int main(int argc, char* argv[])
     {
       md << "\n**Smoke run: a handful of frames, not measurements.**\n";
     }
-    md << "\nText: `" << textFile.substr(textFile.find_last_of('/') + 1) << "`, " << Fmt(u.Duration) << " s of speech, "
-       << frames << " frames at " << fps << " fps, rendered offscreen at " << width << "x" << height
+    md << "\nText: `" << textFile.substr(textFile.find_last_of('/') + 1) << "`, " << Fmt(u.Duration)
+       << " s of speech, " << frames << " frames at " << fps << " fps, rendered offscreen at "
+       << width << "x" << height
        << ". Error-bounded and adjusted-bounded: eps = 0.5 % of the face's diagonal.\n";
     for (const auto& face : faces)
     {
       md << "\n**" << face.first << "**\n\n"
-         << "| method | threshold | morph fps | frame fps | mean active targets | morph speed-up | frame speed-up |\n"
+         << "| method | threshold | morph fps | frame fps | mean active targets | morph speed-up | "
+            "frame speed-up |\n"
          << "| --- | --- | --- | --- | --- | --- | --- |\n";
       for (const auto& r : results)
       {
         if (r.Face == face.first)
         {
-          md << "| " << r.M.Name << " | " << (r.M.Threshold == 0.0 ? "-" : Fmt(r.M.Threshold)) << " | " << Fmt(r.MorphFps, 4)
-             << " | " << Fmt(r.FrameFps, 4) << " | " << Fmt(r.MeanActive) << " | " << Fmt(r.MorphSpeedup) << " x | "
-             << Fmt(r.FrameSpeedup) << " x |\n";
+          md << "| " << r.M.Name << " | " << (r.M.Threshold == 0.0 ? "-" : Fmt(r.M.Threshold))
+             << " | " << Fmt(r.MorphFps, 4) << " | " << Fmt(r.FrameFps, 4) << " | "
+             << Fmt(r.MeanActive) << " | " << Fmt(r.MorphSpeedup) << " x | " << Fmt(r.FrameSpeedup)
+             << " x |\n";
         }
       }
     }

@@ -2,8 +2,8 @@
 // The behaviour control's speed: sampling every channel at one time t (the VTK adapter's
 // per-time-step work), building the schedules (Prepare), and a whole track.
 // Target: >= 100,000 samples ("frames") per second on one core; the counter frames/s says.
-#include "speech/SpeechTypes.h"
 #include "behavior/BehaviorController.h"
+#include "speech/SpeechTypes.h"
 
 #include <benchmark/benchmark.h>
 
@@ -15,9 +15,8 @@ namespace
 /// A synthetic utterance with the 15 Oculus visemes at 100 fps, one viseme after another.
 morphnode::Utterance MakeUtterance(double seconds)
 {
-  const std::vector<std::string> names = {
-    "sil", "PP", "FF", "TH", "DD", "kk", "CH", "SS", "nn", "RR", "aa", "E", "ih", "oh", "ou"
-  };
+  const std::vector<std::string> names = { "sil", "PP", "FF", "TH", "DD", "kk", "CH", "SS", "nn",
+    "RR", "aa", "E", "ih", "oh", "ou" };
   morphnode::Utterance u;
   u.Visemes = morphnode::WeightTrack(names, 100.0);
   const int frames = static_cast<int>(seconds * 100.0) + 1;

@@ -36,7 +36,9 @@ constexpr double Fps = 30.0;
 std::string HeadFile()
 {
   const std::string ict = std::string(MORPHNODE_FACEKIT_DIR) + "/ict_head_full53.glb";
-  return std::filesystem::exists(ict) ? ict : std::string(MORPHNODE_SOURCE_DIR) + "/Data/DefaultFace/default_head.glb";
+  return std::filesystem::exists(ict)
+    ? ict
+    : std::string(MORPHNODE_SOURCE_DIR) + "/Data/DefaultFace/default_head.glb";
 }
 
 std::vector<std::string> TargetNames(const morphnode::GltfScene& scene)
@@ -59,7 +61,8 @@ std::vector<std::string> TargetNames(const morphnode::GltfScene& scene)
 double Weight(size_t target, size_t frame)
 {
   const double t = static_cast<double>(frame) / Fps;
-  const double v = std::sin(0.7 * t * (1.0 + static_cast<double>(target % 7)) + static_cast<double>(target));
+  const double v =
+    std::sin(0.7 * t * (1.0 + static_cast<double>(target % 7)) + static_cast<double>(target));
   return v > 0.6 ? (v - 0.6) / 0.4 : 0.0;
 }
 
@@ -95,8 +98,8 @@ void CoreExport(benchmark::State& state)
     bytes = glb.size();
     benchmark::DoNotOptimize(glb.data());
   }
-  state.SetLabel(std::filesystem::path(file).filename().string() + ", " + std::to_string(frames) + " frames, " +
-    std::to_string(p.TargetNames.size()) + " targets");
+  state.SetLabel(std::filesystem::path(file).filename().string() + ", " + std::to_string(frames) +
+    " frames, " + std::to_string(p.TargetNames.size()) + " targets");
   state.counters["MB"] = static_cast<double>(bytes) / 1e6;
   state.counters["x_realtime"] = benchmark::Counter(
     Duration * static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
@@ -125,9 +128,11 @@ void VtkExport(benchmark::State& state)
     a->SetNumberOfTuples(frames);
     for (vtkIdType f = 0; f < frames; ++f)
     {
-      a->SetValue(f, c == 0 ? static_cast<double>(f) / Fps
-          : c <= names.size() ? Weight(c - 1, static_cast<size_t>(f))
-                              : 5.0 * std::sin(static_cast<double>(f) / (10.0 + static_cast<double>(c))));
+      a->SetValue(f,
+        c == 0 ? static_cast<double>(f) / Fps
+          : c <= names.size()
+          ? Weight(c - 1, static_cast<size_t>(f))
+          : 5.0 * std::sin(static_cast<double>(f) / (10.0 + static_cast<double>(c))));
     }
     table->AddColumn(a);
   }
@@ -147,8 +152,8 @@ void VtkExport(benchmark::State& state)
       break;
     }
   }
-  state.SetLabel(std::filesystem::path(file).filename().string() + ", " + std::to_string(frames) + " frames, " +
-    std::to_string(writer->GetNumberOfWeightColumns()) + " targets, " +
+  state.SetLabel(std::filesystem::path(file).filename().string() + ", " + std::to_string(frames) +
+    " frames, " + std::to_string(writer->GetNumberOfWeightColumns()) + " targets, " +
     (state.range(0) ? "optimized" : "raw"));
   state.counters["MB"] = static_cast<double>(std::filesystem::file_size(out)) / 1e6;
   state.counters["x_realtime"] = benchmark::Counter(

@@ -111,16 +111,17 @@ int main(int argc, char** argv)
   {
     files.resize(1);
   }
-  std::string table = "| file | bytes | core: s, MB | vtkMorphTargetReader: s, MB | vtkGLTFImporter: s, MB |\n"
-                      "| --- | ---: | ---: | ---: | ---: |\n";
+  std::string table =
+    "| file | bytes | core: s, MB | vtkMorphTargetReader: s, MB | vtkGLTFImporter: s, MB |\n"
+    "| --- | ---: | ---: | ---: | ---: |\n";
   for (const std::string& f : files)
   {
     const std::string path = dir + "/" + f;
     table += "| " + f + " | " + std::to_string(std::filesystem::file_size(path)) + " |";
     for (const char* reader : { "core", "reader", "importer" })
     {
-      const std::string command = "'" + std::string(argv[0]) + "' --child " + reader + " '" + path + "' " +
-        (smoke ? "1" : "3") + " 2>/dev/null";
+      const std::string command = "'" + std::string(argv[0]) + "' --child " + reader + " '" + path +
+        "' " + (smoke ? "1" : "3") + " 2>/dev/null";
       FILE* pipe = popen(command.c_str(), "r");
       double seconds = -1;
       long kb = 0;

@@ -51,10 +51,11 @@ double EyeYaw(int f)
   return 20.0 * std::sin(1.7 * f / Fps);
 }
 
-const char* const Animated[] = { "jawOpen", "viseme_O", "eyeBlinkLeft", "mouthSmileLeft", "mouthSmileRight" };
+const char* const Animated[] = { "jawOpen", "viseme_O", "eyeBlinkLeft", "mouthSmileLeft",
+  "mouthSmileRight" };
 
-void Append(std::vector<unsigned char>& bin, json& doc, const std::vector<float>& values, const char* type,
-  size_t count, bool minmax)
+void Append(std::vector<unsigned char>& bin, json& doc, const std::vector<float>& values,
+  const char* type, size_t count, bool minmax)
 {
   while (bin.size() % 4)
   {
@@ -63,9 +64,10 @@ void Append(std::vector<unsigned char>& bin, json& doc, const std::vector<float>
   const size_t offset = bin.size();
   bin.resize(offset + 4 * values.size());
   std::memcpy(bin.data() + offset, values.data(), 4 * values.size());
-  doc["bufferViews"].push_back({ { "buffer", 0 }, { "byteOffset", offset }, { "byteLength", 4 * values.size() } });
-  json accessor = { { "bufferView", doc["bufferViews"].size() - 1 }, { "componentType", 5126 }, { "count", count },
-    { "type", type } };
+  doc["bufferViews"].push_back(
+    { { "buffer", 0 }, { "byteOffset", offset }, { "byteLength", 4 * values.size() } });
+  json accessor = { { "bufferView", doc["bufferViews"].size() - 1 }, { "componentType", 5126 },
+    { "count", count }, { "type", type } };
   if (minmax)
   {
     accessor["min"] = { *std::min_element(values.begin(), values.end()) };
@@ -77,7 +79,8 @@ void Append(std::vector<unsigned char>& bin, json& doc, const std::vector<float>
 /// The avatar with the benchmark's frames as a glTF animation, for vtkGLTFReader.
 std::string AnimatedCopy()
 {
-  const std::string out = (std::filesystem::temp_directory_path() / "morphnode_bench_skin_avatar.glb").string();
+  const std::string out =
+    (std::filesystem::temp_directory_path() / "morphnode_bench_skin_avatar.glb").string();
   std::ifstream in(Avatar, std::ios::binary);
   std::stringstream ss;
   ss << in.rdbuf();
@@ -86,7 +89,8 @@ std::string AnimatedCopy()
   std::memcpy(&jsonLength, glb.data() + 12, 4);
   json doc = json::parse(glb.substr(20, jsonLength));
   std::memcpy(&binLength, glb.data() + 20 + jsonLength, 4);
-  std::vector<unsigned char> bin(glb.begin() + 28 + jsonLength, glb.begin() + 28 + jsonLength + binLength);
+  std::vector<unsigned char> bin(
+    glb.begin() + 28 + jsonLength, glb.begin() + 28 + jsonLength + binLength);
 
   std::vector<float> times;
   for (int k = 0; k < Keys; ++k)
@@ -95,7 +99,8 @@ std::string AnimatedCopy()
   }
   Append(bin, doc, times, "SCALAR", Keys, true);
   const size_t input = doc["accessors"].size() - 1;
-  json animation = { { "name", "bench" }, { "samplers", json::array() }, { "channels", json::array() } };
+  json animation = { { "name", "bench" }, { "samplers", json::array() },
+    { "channels", json::array() } };
   const auto names = doc["meshes"][0]["extras"]["targetNames"].get<std::vector<std::string>>();
   std::vector<float> weights;
   for (int k = 0; k < Keys; ++k)
@@ -117,8 +122,8 @@ std::string AnimatedCopy()
     if (doc["nodes"][n].contains("mesh"))
     {
       animation["samplers"].push_back({ { "input", input }, { "output", weightsOutput } });
-      animation["channels"].push_back(
-        { { "sampler", animation["samplers"].size() - 1 }, { "target", { { "node", n }, { "path", "weights" } } } });
+      animation["channels"].push_back({ { "sampler", animation["samplers"].size() - 1 },
+        { "target", { { "node", n }, { "path", "weights" } } } });
     }
     const std::string name = doc["nodes"][n].value("name", "");
     if (name == "Head" || name == "LeftEye" || name == "RightEye")
@@ -141,9 +146,10 @@ std::string AnimatedCopy()
         }
       }
       Append(bin, doc, rotations, "VEC4", Keys, false);
-      animation["samplers"].push_back({ { "input", input }, { "output", doc["accessors"].size() - 1 } });
-      animation["channels"].push_back(
-        { { "sampler", animation["samplers"].size() - 1 }, { "target", { { "node", n }, { "path", "rotation" } } } });
+      animation["samplers"].push_back(
+        { { "input", input }, { "output", doc["accessors"].size() - 1 } });
+      animation["channels"].push_back({ { "sampler", animation["samplers"].size() - 1 },
+        { "target", { { "node", n }, { "path", "rotation" } } } });
     }
   }
   doc["animations"] = json::array({ animation });
@@ -187,7 +193,8 @@ void Ours(benchmark::State& state, bool skin, bool headMoves = true)
   morph->SetWeightModeToRelative();
   vtkNew<vtkMorphSkinFilter> skinFilter;
   skinFilter->SetInputConnection(morph->GetOutputPort());
-  vtkAlgorithm* last = skin ? static_cast<vtkAlgorithm*>(skinFilter) : static_cast<vtkAlgorithm*>(morph);
+  vtkAlgorithm* last =
+    skin ? static_cast<vtkAlgorithm*>(skinFilter) : static_cast<vtkAlgorithm*>(morph);
   int f = 0;
   for (auto _ : state)
   {

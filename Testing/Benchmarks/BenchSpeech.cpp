@@ -41,9 +41,11 @@ void BM_TextToWeightTrack(benchmark::State& state, const std::string& voice, Vis
   ReportRealtime(state, audioSeconds);
 }
 BENCHMARK_CAPTURE(BM_TextToWeightTrack, en_oculus15, std::string("en"), VisemeSet::Oculus15)
-  ->Unit(benchmark::kMillisecond)->UseRealTime();
+  ->Unit(benchmark::kMillisecond)
+  ->UseRealTime();
 BENCHMARK_CAPTURE(BM_TextToWeightTrack, de_german16, std::string("de"), VisemeSet::German16)
-  ->Unit(benchmark::kMillisecond)->UseRealTime();
+  ->Unit(benchmark::kMillisecond)
+  ->UseRealTime();
 
 /// Only the part after synthesis: phonemes -> weight track (+ cues).
 void BM_PhonemesToWeightTrack(benchmark::State& state)

@@ -113,7 +113,8 @@ int main(int argc, char* argv[])
   {
     residual.push_back(std::abs(picture[i] - (intercept + slope * wall[i])));
   }
-  auto p95 = [](std::vector<double> v) {
+  auto p95 = [](std::vector<double> v)
+  {
     std::sort(v.begin(), v.end());
     return v[static_cast<size_t>(0.95 * (v.size() - 1))];
   };

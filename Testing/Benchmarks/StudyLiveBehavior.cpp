@@ -101,10 +101,10 @@ std::pair<double, double> MaxAutocorrelation(const std::vector<double>& starts, 
 struct Run
 {
   size_t BlinkCount = 0;
-  std::vector<double> Blinks;       ///< scheduled blink starts played
-  size_t BlinksSeen = 0;            ///< EyesClosed rising through 0.6 in the output
-  std::vector<double> Amplitudes;   ///< saccade amplitudes, degrees
-  std::vector<double> Durations;    ///< saccade durations, seconds
+  std::vector<double> Blinks;     ///< scheduled blink starts played
+  size_t BlinksSeen = 0;          ///< EyesClosed rising through 0.6 in the output
+  std::vector<double> Amplitudes; ///< saccade amplitudes, degrees
+  std::vector<double> Durations;  ///< saccade durations, seconds
   std::vector<double> SaccadeStarts;
   std::vector<double> Yaw, Pitch, Roll, LookDown;
   std::vector<size_t> HeldPerWindow; ///< max held events per 5-minute window
@@ -219,7 +219,7 @@ std::string Fixed(double v, int digits = 2)
 }
 
 /// Median wall seconds of f() over `n` runs.
-template<typename F>
+template <typename F>
 double MedianSeconds(int n, F&& f)
 {
   std::vector<double> times;
@@ -256,7 +256,8 @@ std::string SayLatency(bool quick)
   SpeechOptions options;
   const std::vector<std::string> visemes = SelectVisemeMap(options).GetVisemes();
   md << "#### Say latency (eSpeak NG, en, median of " << (quick ? 1 : 5) << ")\n\n";
-  md << "| Text | characters | chunks | `Say()` returns after | whole text synthesized at once |\n|---|---|---|---|---|\n";
+  md << "| Text | characters | chunks | `Say()` returns after | whole text synthesized at once "
+        "|\n|---|---|---|---|---|\n";
   SpeakText("Warm up.", options); // eSpeak's one-time initialization is not a say's latency
   std::vector<size_t> counts = { 1, 2, 4, sentences.size() };
   for (size_t count : counts)
@@ -272,15 +273,18 @@ std::string SayLatency(bool quick)
     }
     const size_t chunks = SplitSpeechChunks(text).size();
     const int n = quick ? 1 : 5;
-    const double say = MedianSeconds(n, [&] {
-      LiveBehavior live(visemes);
-      live.SetSynthesizer([&](const std::string& s) { return SpeakText(s, options); });
-      live.Say(text, 0.0);
-    });
+    const double say = MedianSeconds(n,
+      [&]
+      {
+        LiveBehavior live(visemes);
+        live.SetSynthesizer([&](const std::string& s) { return SpeakText(s, options); });
+        live.Say(text, 0.0);
+      });
     const double whole = MedianSeconds(quick ? 1 : 3, [&] { SpeakText(text, options); });
-    md << "| " << (count == sentences.size() ? "the story x3" : std::to_string(count) + " sentence(s)") << " | "
-       << text.size() << " | " << chunks << " | " << Fixed(1000.0 * say, 0) << " ms | " << Fixed(1000.0 * whole, 0)
-       << " ms |\n";
+    md << "| "
+       << (count == sentences.size() ? "the story x3" : std::to_string(count) + " sentence(s)")
+       << " | " << text.size() << " | " << chunks << " | " << Fixed(1000.0 * say, 0) << " ms | "
+       << Fixed(1000.0 * whole, 0) << " ms |\n";
   }
   md << "\n";
   return md.str();
@@ -301,7 +305,8 @@ int main(int argc, char** argv)
   for (int i = 1; i < argc; ++i)
   {
     const std::string a = argv[i];
-    auto next = [&]() -> std::string {
+    auto next = [&]() -> std::string
+    {
       if (i + 1 >= argc)
       {
         std::cerr << a << " needs a value\n";
@@ -331,7 +336,8 @@ int main(int argc, char** argv)
     }
     else
     {
-      std::cerr << "usage: StudyLiveBehavior [--minutes 30] [--fps 30] [--seed 1] [--quick] [--out FILE.md]\n";
+      std::cerr << "usage: StudyLiveBehavior [--minutes 30] [--fps 30] [--seed 1] [--quick] [--out "
+                   "FILE.md]\n";
       return 2;
     }
   }
@@ -359,7 +365,8 @@ int main(int argc, char** argv)
   {
     fixations.push_back(idle.SaccadeStarts[i] - idle.SaccadeStarts[i - 1] - idle.Durations[i - 1]);
   }
-  auto peak = [](const std::vector<double>& v) {
+  auto peak = [](const std::vector<double>& v)
+  {
     double m = 0.0;
     for (double x : v)
     {
@@ -371,38 +378,48 @@ int main(int argc, char** argv)
   std::vector<double> windowRates;
   for (double a = 0.0; a + 300.0 <= duration + 1e-9; a += 300.0)
   {
-    const auto n = std::count_if(idle.Blinks.begin(), idle.Blinks.end(),
-      [&](double s) { return s >= a && s < a + 300.0; });
+    const auto n = std::count_if(
+      idle.Blinks.begin(), idle.Blinks.end(), [&](double s) { return s >= a && s < a + 300.0; });
     windowRates.push_back(static_cast<double>(n) / 5.0);
   }
 
   md << "### " << Fixed(minutes, 0) << " minutes unattended (seed " << seed << ", " << Fixed(fps, 0)
      << " fps simulated clock)\n\n";
   md << "| Figure | Measured | Human range (docs/behavior.md) | Inside |\n|---|---|---|---|\n";
-  md << "| blinks per minute | " << Fixed(rate, 1) << " (5-min windows " << Fixed(Quantile(windowRates, 0.0), 1)
-     << " - " << Fixed(Quantile(windowRates, 1.0), 1) << ") | ~17 at rest (12-20) | " << Check(rate >= 12.0 && rate <= 20.0) << " |\n";
-  md << "| blinks seen in the output (EyesClosed > 0.6) | " << idle.BlinksSeen << " of " << idle.Blinks.size()
-     << " | every blink closes the lids | " << Check(idle.BlinksSeen + 2 >= idle.Blinks.size()) << " |\n";
-  md << "| blink interval mean, CV | " << Fixed(Mean(intervals), 2) << " s, " << Fixed(Sd(intervals) / Mean(intervals), 2)
-     << " | log-normal, irregular (CV ~0.5) | " << Check(Sd(intervals) / Mean(intervals) > 0.3) << " |\n";
-  md << "| blink-train autocorrelation, max over lags 1 s - 5 min | " << Fixed(ac.first, 3) << " (at " << Fixed(ac.second, 1)
-     << " s) | no period (a looped schedule gives ~1) | " << Check(ac.first < 0.1) << " |\n";
-  md << "| saccades per minute | " << Fixed(static_cast<double>(idle.Amplitudes.size()) / minutes, 1)
-     << " | fixations ~1.2 s | " << Check(true) << " |\n";
-  md << "| saccade amplitude mean / median / 95 % / max | " << Fixed(Mean(idle.Amplitudes), 1) << " / "
-     << Fixed(Quantile(idle.Amplitudes, 0.5), 1) << " / " << Fixed(Quantile(idle.Amplitudes, 0.95), 1) << " / "
-     << Fixed(Quantile(idle.Amplitudes, 1.0), 1) << " deg | Lee et al. 2002: <= 15 deg, mean <= 7.2 | "
-     << Check(Quantile(idle.Amplitudes, 1.0) <= 15.0 + 1e-9 && Mean(idle.Amplitudes) <= 7.3) << " |\n";
+  md << "| blinks per minute | " << Fixed(rate, 1) << " (5-min windows "
+     << Fixed(Quantile(windowRates, 0.0), 1) << " - " << Fixed(Quantile(windowRates, 1.0), 1)
+     << ") | ~17 at rest (12-20) | " << Check(rate >= 12.0 && rate <= 20.0) << " |\n";
+  md << "| blinks seen in the output (EyesClosed > 0.6) | " << idle.BlinksSeen << " of "
+     << idle.Blinks.size() << " | every blink closes the lids | "
+     << Check(idle.BlinksSeen + 2 >= idle.Blinks.size()) << " |\n";
+  md << "| blink interval mean, CV | " << Fixed(Mean(intervals), 2) << " s, "
+     << Fixed(Sd(intervals) / Mean(intervals), 2) << " | log-normal, irregular (CV ~0.5) | "
+     << Check(Sd(intervals) / Mean(intervals) > 0.3) << " |\n";
+  md << "| blink-train autocorrelation, max over lags 1 s - 5 min | " << Fixed(ac.first, 3)
+     << " (at " << Fixed(ac.second, 1) << " s) | no period (a looped schedule gives ~1) | "
+     << Check(ac.first < 0.1) << " |\n";
+  md << "| saccades per minute | "
+     << Fixed(static_cast<double>(idle.Amplitudes.size()) / minutes, 1) << " | fixations ~1.2 s | "
+     << Check(true) << " |\n";
+  md << "| saccade amplitude mean / median / 95 % / max | " << Fixed(Mean(idle.Amplitudes), 1)
+     << " / " << Fixed(Quantile(idle.Amplitudes, 0.5), 1) << " / "
+     << Fixed(Quantile(idle.Amplitudes, 0.95), 1) << " / "
+     << Fixed(Quantile(idle.Amplitudes, 1.0), 1)
+     << " deg | Lee et al. 2002: <= 15 deg, mean <= 7.2 | "
+     << Check(Quantile(idle.Amplitudes, 1.0) <= 15.0 + 1e-9 && Mean(idle.Amplitudes) <= 7.3)
+     << " |\n";
   md << "| saccade duration mean / max | " << Fixed(1000.0 * Mean(idle.Durations), 0) << " / "
      << Fixed(1000.0 * Quantile(idle.Durations, 1.0), 0) << " ms | 25 ms + 2.4 ms/deg (25-61 ms) | "
      << Check(Quantile(idle.Durations, 1.0) <= 0.0611) << " |\n";
-  md << "| fixation mean / 5 % | " << Fixed(Mean(fixations), 2) << " / " << Fixed(Quantile(fixations, 0.05), 2)
-     << " s | mean 1.2 s, >= 0.25 s | " << Check(Quantile(fixations, 0.0) >= 0.25 - 1e-9) << " |\n";
-  md << "| head yaw / pitch / roll SD | " << Fixed(Sd(idle.Yaw)) << " / " << Fixed(Sd(idle.Pitch)) << " / "
-     << Fixed(Sd(idle.Roll)) << " deg | | |\n";
-  md << "| head yaw / pitch / roll peak | " << Fixed(peak(idle.Yaw)) << " / " << Fixed(peak(idle.Pitch)) << " / "
-     << Fixed(peak(idle.Roll)) << " deg | within " << p.HeadYawAmplitude << " / " << p.HeadPitchAmplitude << " / "
-     << p.HeadRollAmplitude << " deg | "
+  md << "| fixation mean / 5 % | " << Fixed(Mean(fixations), 2) << " / "
+     << Fixed(Quantile(fixations, 0.05), 2) << " s | mean 1.2 s, >= 0.25 s | "
+     << Check(Quantile(fixations, 0.0) >= 0.25 - 1e-9) << " |\n";
+  md << "| head yaw / pitch / roll SD | " << Fixed(Sd(idle.Yaw)) << " / " << Fixed(Sd(idle.Pitch))
+     << " / " << Fixed(Sd(idle.Roll)) << " deg | | |\n";
+  md << "| head yaw / pitch / roll peak | " << Fixed(peak(idle.Yaw)) << " / "
+     << Fixed(peak(idle.Pitch)) << " / " << Fixed(peak(idle.Roll)) << " deg | within "
+     << p.HeadYawAmplitude << " / " << p.HeadPitchAmplitude << " / " << p.HeadRollAmplitude
+     << " deg | "
      << Check(peak(idle.Yaw) <= p.HeadYawAmplitude && peak(idle.Pitch) <= p.HeadPitchAmplitude &&
           peak(idle.Roll) <= p.HeadRollAmplitude)
      << " |\n";
@@ -411,15 +428,18 @@ int main(int argc, char** argv)
   {
     md << (i ? ", " : "") << quiet.HeldPerWindow[i];
   }
-  md << " | flat | " << Check(quiet.HeldPerWindow.back() <= quiet.HeldPerWindow.front() + 5) << " |\n";
+  md << " | flat | " << Check(quiet.HeldPerWindow.back() <= quiet.HeldPerWindow.front() + 5)
+     << " |\n";
   md << "| resident memory at each window's end (a run keeping no statistics) | ";
   for (size_t i = 0; i < quiet.RssPerWindow.size(); ++i)
   {
     md << (i ? ", " : "") << Fixed(quiet.RssPerWindow[i], 1);
   }
-  md << " MB | flat | " << Check(quiet.RssPerWindow.back() <= quiet.RssPerWindow.front() + 0.2) << " |\n";
-  md << "| speed (statistics off) | " << Fixed(static_cast<double>(quiet.Samples) / quiet.Seconds / 1e6, 2)
-     << " million samples/s (" << Fixed(quiet.Seconds, 2) << " s for the run) | | |\n\n";
+  md << " MB | flat | " << Check(quiet.RssPerWindow.back() <= quiet.RssPerWindow.front() + 0.2)
+     << " |\n";
+  md << "| speed (statistics off) | "
+     << Fixed(static_cast<double>(quiet.Samples) / quiet.Seconds / 1e6, 2) << " million samples/s ("
+     << Fixed(quiet.Seconds, 2) << " s for the run) | | |\n\n";
 
   // 2. The same length with commands coming all the time.
   const Run busy = Simulate(minutes, fps, seed, "", true, false);
@@ -429,18 +449,21 @@ int main(int argc, char** argv)
   {
     md << (i ? ", " : "") << busy.HeldPerWindow[i];
   }
-  md << "; resident memory " << Fixed(busy.RssPerWindow.front(), 1) << " -> " << Fixed(busy.RssPerWindow.back(), 1)
-     << " MB; " << Fixed(static_cast<double>(busy.BlinkCount) / minutes, 1) << " blinks/min.\n\n";
+  md << "; resident memory " << Fixed(busy.RssPerWindow.front(), 1) << " -> "
+     << Fixed(busy.RssPerWindow.back(), 1) << " MB; "
+     << Fixed(static_cast<double>(busy.BlinkCount) / minutes, 1) << " blinks/min.\n\n";
 
   // 3. Moods beyond the smile (5 minutes each, mood at full intensity).
   const double moodMinutes = std::min(minutes, 5.0);
   md << "### Moods (" << Fixed(moodMinutes, 0) << " minutes each, intensity 1)\n\n";
-  md << "| Mood | blinks/min | saccade amplitude mean | LookDown mean | head yaw SD |\n|---|---|---|---|---|\n";
+  md << "| Mood | blinks/min | saccade amplitude mean | LookDown mean | head yaw SD "
+        "|\n|---|---|---|---|---|\n";
   for (const char* mood : { "neutral", "happy", "sad", "angry", "afraid", "surprised" })
   {
     const Run r = Simulate(moodMinutes, fps, seed, mood, false);
-    md << "| " << mood << " | " << Fixed(static_cast<double>(r.Blinks.size()) / moodMinutes, 1) << " | "
-       << Fixed(Mean(r.Amplitudes), 1) << " deg | " << Fixed(Mean(r.LookDown), 3) << " | " << Fixed(Sd(r.Yaw)) << " deg |\n";
+    md << "| " << mood << " | " << Fixed(static_cast<double>(r.Blinks.size()) / moodMinutes, 1)
+       << " | " << Fixed(Mean(r.Amplitudes), 1) << " deg | " << Fixed(Mean(r.LookDown), 3) << " | "
+       << Fixed(Sd(r.Yaw)) << " deg |\n";
   }
   md << "\n";
 

@@ -66,8 +66,8 @@ struct Condition
   std::string Variant; ///< eSpeak variant appended as voice+variant
   int Rate;
   int Pitch;
-  double NoiseSnr;     ///< dB; infinity: clean
-  int SampleRate;      ///< the recording's rate
+  double NoiseSnr; ///< dB; infinity: clean
+  int SampleRate;  ///< the recording's rate
 };
 
 std::vector<Condition> Conditions(bool quick)
@@ -121,7 +121,8 @@ std::string Shuffled(const std::string& text, uint32_t seed)
 
 AudioBuffer Record(const SynthesisResult& truth, const Condition& c, uint32_t seed)
 {
-  AudioBuffer audio = Resample(FromInt16Mono(truth.Audio, truth.SampleRate), c.SampleRate, ResampleQuality::High);
+  AudioBuffer audio =
+    Resample(FromInt16Mono(truth.Audio, truth.SampleRate), c.SampleRate, ResampleQuality::High);
   if (std::isfinite(c.NoiseSnr))
   {
     // Noise relative to the speech's power (frames louder than -40 dB of the peak).
@@ -140,7 +141,8 @@ AudioBuffer Record(const SynthesisResult& truth, const Condition& c, uint32_t se
         ++count;
       }
     }
-    const double noiseRms = std::sqrt(sum / std::max<size_t>(count, 1)) * std::pow(10.0, -c.NoiseSnr / 20.0);
+    const double noiseRms =
+      std::sqrt(sum / std::max<size_t>(count, 1)) * std::pow(10.0, -c.NoiseSnr / 20.0);
     std::mt19937 random(seed);
     std::normal_distribution<double> gauss(0.0, noiseRms);
     for (float& s : audio.Samples)
@@ -178,7 +180,8 @@ double FrameAgreement(const std::vector<TimedPhoneme>& truth, const std::vector<
 
 /// Boundary errors (seconds) of phonemes matched by name in order (longest common
 /// subsequence), the first phoneme (start 0) excluded.
-std::vector<double> BoundaryErrors(const std::vector<TimedPhoneme>& truth, const std::vector<TimedPhoneme>& test)
+std::vector<double> BoundaryErrors(
+  const std::vector<TimedPhoneme>& truth, const std::vector<TimedPhoneme>& test)
 {
   const size_t n = truth.size(), m = test.size();
   std::vector<std::vector<int>> l(n + 1, std::vector<int>(m + 1, 0));
@@ -186,7 +189,8 @@ std::vector<double> BoundaryErrors(const std::vector<TimedPhoneme>& truth, const
   {
     for (size_t j = m; j-- > 0;)
     {
-      l[i][j] = truth[i].Sampa == test[j].Sampa ? l[i + 1][j + 1] + 1 : std::max(l[i + 1][j], l[i][j + 1]);
+      l[i][j] =
+        truth[i].Sampa == test[j].Sampa ? l[i + 1][j + 1] + 1 : std::max(l[i + 1][j], l[i][j + 1]);
     }
   }
   std::vector<double> errors;
@@ -227,8 +231,8 @@ double Quantile(std::vector<double> v, double q)
 
 /// The synthetic timings stretched linearly onto the recording's speech: the baseline a
 /// route must beat (what aligning without warping gives).
-std::vector<TimedPhoneme> LinearBaseline(const std::string& text, const std::string& voice,
-  const TranscriptAlignment& aligned)
+std::vector<TimedPhoneme> LinearBaseline(
+  const std::string& text, const std::string& voice, const TranscriptAlignment& aligned)
 {
   const SynthesisResult s = SpeechSynthesizer(voice).Synthesize(text);
   double first = 0.0, last = s.Duration;
@@ -384,7 +388,8 @@ int main(int argc, char** argv)
       {
         const auto t0 = std::chrono::steady_clock::now();
         const TranscriptAlignment a = AlignTranscript(recording, s.Text, options);
-        const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        const double seconds =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         const double agreement = FrameAgreement(truth.Phonemes, a.Phonemes, map, truth.Duration);
         const std::vector<double> errors = BoundaryErrors(truth.Phonemes, a.Phonemes);
         for (Tally* t : { &transcript, &byLanguage[s.Language], &byCondition[conditionName] })
@@ -412,12 +417,14 @@ int main(int argc, char** argv)
         std::cerr << s.Language << " " << c.Variant << " " << conditionName << ": agreement "
                   << Percent(agreement) << ", median " << Ms(Quantile(errors, 0.5)) << " ms, p95 "
                   << Ms(Quantile(errors, 0.95)) << " ms, score " << Fixed(a.Score, 3) << ", rate "
-                  << a.SynthesisRate << ", " << Fixed(recording.GetDuration() / seconds, 0) << "x\n";
+                  << a.SynthesisRate << ", " << Fixed(recording.GetDuration() / seconds, 0)
+                  << "x\n";
       }
       catch (const InputError& e)
       {
         ++transcript.Failures;
-        std::cerr << s.Language << " " << c.Variant << " " << conditionName << ": FAILED " << e.what() << "\n";
+        std::cerr << s.Language << " " << c.Variant << " " << conditionName << ": FAILED "
+                  << e.what() << "\n";
       }
       // The route without a transcript (English only).
       if (s.Language == "en" && IsPhonemeRecognitionAvailable())
@@ -426,11 +433,14 @@ int main(int argc, char** argv)
         {
           const auto t0 = std::chrono::steady_clock::now();
           const PhonemeRecognition r = RecognizePhonemes(recording);
-          const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-          recognition.Agreement.push_back(FrameAgreement(truth.Phonemes, r.Phonemes, map, truth.Duration));
+          const double seconds =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+          recognition.Agreement.push_back(
+            FrameAgreement(truth.Phonemes, r.Phonemes, map, truth.Duration));
           const auto errors = BoundaryErrors(truth.Phonemes, r.Phonemes);
           recognition.Errors.insert(recognition.Errors.end(), errors.begin(), errors.end());
-          recognition.Scores.push_back(static_cast<double>(errors.size()) / std::max<size_t>(1, truth.Phonemes.size() - 1));
+          recognition.Scores.push_back(
+            static_cast<double>(errors.size()) / std::max<size_t>(1, truth.Phonemes.size() - 1));
           recognition.AudioSeconds += recording.GetDuration();
           recognition.ComputeSeconds += seconds;
           ++recognition.Runs;
@@ -465,7 +475,8 @@ int main(int argc, char** argv)
       {
         const std::string wrong = Shuffled(s.Text, seed);
         const TranscriptAlignment a = AlignTranscript(recording, wrong, options);
-        shuffled.Agreement.push_back(FrameAgreement(truth.Phonemes, a.Phonemes, map, truth.Duration));
+        shuffled.Agreement.push_back(
+          FrameAgreement(truth.Phonemes, a.Phonemes, map, truth.Duration));
         shuffled.Scores.push_back(a.Score);
         ++shuffled.Runs;
       }
@@ -477,26 +488,31 @@ int main(int argc, char** argv)
   }
 
   std::ofstream md(out + "/speech-study.md");
-  md << "| route | runs | frame agreement (mean) | boundary error median | 95th percentile | score (mean) |\n";
+  md << "| route | runs | frame agreement (mean) | boundary error median | 95th percentile | score "
+        "(mean) |\n";
   md << "| --- | ---: | ---: | ---: | ---: | ---: |\n";
-  md << "| transcript (eSpeak + DTW) | " << transcript.Runs << " | " << Percent(Mean(transcript.Agreement))
-     << " | " << Ms(Quantile(transcript.Errors, 0.5)) << " ms | " << Ms(Quantile(transcript.Errors, 0.95))
-     << " ms | " << Fixed(Mean(transcript.Scores), 3) << " |\n";
-  md << "| linear stretch (no warping, baseline) | " << baseline.Runs << " | " << Percent(Mean(baseline.Agreement))
-     << " | " << Ms(Quantile(baseline.Errors, 0.5)) << " ms | " << Ms(Quantile(baseline.Errors, 0.95)) << " ms | |\n";
+  md << "| transcript (eSpeak + DTW) | " << transcript.Runs << " | "
+     << Percent(Mean(transcript.Agreement)) << " | " << Ms(Quantile(transcript.Errors, 0.5))
+     << " ms | " << Ms(Quantile(transcript.Errors, 0.95)) << " ms | "
+     << Fixed(Mean(transcript.Scores), 3) << " |\n";
+  md << "| linear stretch (no warping, baseline) | " << baseline.Runs << " | "
+     << Percent(Mean(baseline.Agreement)) << " | " << Ms(Quantile(baseline.Errors, 0.5)) << " ms | "
+     << Ms(Quantile(baseline.Errors, 0.95)) << " ms | |\n";
   if (recognition.Runs > 0)
   {
     md << "| no transcript: PocketSphinx phonemes (English only) | " << recognition.Runs << " | "
-       << Percent(Mean(recognition.Agreement)) << " | " << Ms(Quantile(recognition.Errors, 0.5)) << " ms | "
-       << Ms(Quantile(recognition.Errors, 0.95)) << " ms | (" << Percent(Mean(recognition.Scores))
-       << " of the phonemes found) |\n";
+       << Percent(Mean(recognition.Agreement)) << " | " << Ms(Quantile(recognition.Errors, 0.5))
+       << " ms | " << Ms(Quantile(recognition.Errors, 0.95)) << " ms | ("
+       << Percent(Mean(recognition.Scores)) << " of the phonemes found) |\n";
   }
   md << "| control: another sentence | " << other.Runs << " (+" << other.Failures << " refused) | "
      << Percent(Mean(other.Agreement)) << " | | | " << Fixed(Mean(other.Scores), 3) << " |\n";
   md << "| negative control: shuffled transcript | " << shuffled.Runs << " (+" << shuffled.Failures
-     << " refused) | " << Percent(Mean(shuffled.Agreement)) << " | | | " << Fixed(Mean(shuffled.Scores), 3) << " |\n\n";
+     << " refused) | " << Percent(Mean(shuffled.Agreement)) << " | | | "
+     << Fixed(Mean(shuffled.Scores), 3) << " |\n\n";
 
-  md << "| language | runs | frame agreement | boundary error median | 95th percentile | speed (x real time) |\n";
+  md << "| language | runs | frame agreement | boundary error median | 95th percentile | speed (x "
+        "real time) |\n";
   md << "| --- | ---: | ---: | ---: | ---: | ---: |\n";
   for (const auto& [language, t] : byLanguage)
   {
@@ -511,29 +527,41 @@ int main(int argc, char** argv)
     md << "| " << name << " | " << t.Runs << " | " << Percent(Mean(t.Agreement)) << " | "
        << Ms(Quantile(t.Errors, 0.5)) << " ms | " << Ms(Quantile(t.Errors, 0.95)) << " ms |\n";
   }
-  md << "\nScores (eSpeak recordings): right transcript 5th percentile " << Fixed(Quantile(transcript.Scores, 0.05), 3)
-     << ", minimum " << Fixed(Quantile(transcript.Scores, 0.0), 3) << "; shuffled transcript 95th percentile "
-     << Fixed(Quantile(shuffled.Scores, 0.95), 3) << ", maximum " << Fixed(Quantile(shuffled.Scores, 1.0), 3)
-     << "; another sentence 95th percentile " << Fixed(Quantile(other.Scores, 0.95), 3) << ", maximum "
+  md << "\nScores (eSpeak recordings): right transcript 5th percentile "
+     << Fixed(Quantile(transcript.Scores, 0.05), 3) << ", minimum "
+     << Fixed(Quantile(transcript.Scores, 0.0), 3) << "; shuffled transcript 95th percentile "
+     << Fixed(Quantile(shuffled.Scores, 0.95), 3) << ", maximum "
+     << Fixed(Quantile(shuffled.Scores, 1.0), 3) << "; another sentence 95th percentile "
+     << Fixed(Quantile(other.Scores, 0.95), 3) << ", maximum "
      << Fixed(Quantile(other.Scores, 1.0), 3) << ".\n";
   const double minimum = TranscriptAlignOptions().MinimumScore;
   auto below = [minimum](const std::vector<double>& v)
-  { return v.empty() ? NAN : static_cast<double>(std::count_if(v.begin(), v.end(), [minimum](double x) { return x < minimum; })) / v.size(); };
-  md << "With the default MinimumScore " << Fixed(minimum, 2) << ", the warning \"may not match\" is raised for "
-     << Percent(below(transcript.Scores)) << " of the right transcripts, " << Percent(below(other.Scores))
-     << " of the other sentences and " << Percent(below(shuffled.Scores)) << " of the shuffled ones.\n";
-  md << "\nSpeed of the transcript route, one core: " << Fixed(transcript.AudioSeconds / transcript.ComputeSeconds, 0)
-     << "x real time (" << Fixed(transcript.AudioSeconds, 1) << " s of audio in "
+  {
+    return v.empty() ? NAN
+                     : static_cast<double>(std::count_if(
+                         v.begin(), v.end(), [minimum](double x) { return x < minimum; })) /
+        v.size();
+  };
+  md << "With the default MinimumScore " << Fixed(minimum, 2)
+     << ", the warning \"may not match\" is raised for " << Percent(below(transcript.Scores))
+     << " of the right transcripts, " << Percent(below(other.Scores))
+     << " of the other sentences and " << Percent(below(shuffled.Scores))
+     << " of the shuffled ones.\n";
+  md << "\nSpeed of the transcript route, one core: "
+     << Fixed(transcript.AudioSeconds / transcript.ComputeSeconds, 0) << "x real time ("
+     << Fixed(transcript.AudioSeconds, 1) << " s of audio in "
      << Fixed(transcript.ComputeSeconds, 2) << " s). Failures: " << transcript.Failures << ".\n";
   if (recognition.Runs > 0)
   {
     md << "Speed of the recognition route, one core, model loading included: "
-       << Fixed(recognition.AudioSeconds / recognition.ComputeSeconds, 1) << "x real time. Failures: "
-       << recognition.Failures << ".\n";
+       << Fixed(recognition.AudioSeconds / recognition.ComputeSeconds, 1)
+       << "x real time. Failures: " << recognition.Failures << ".\n";
   }
 
   // Real speech: LibriVox readings of pocketsphinx-testdata.
-  md << "\n| recording (pocketsphinx-testdata) | duration | score | words | score, shuffled transcript | speed | recognition vs alignment (frames) | recognition speed |\n| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n";
+  md << "\n| recording (pocketsphinx-testdata) | duration | score | words | score, shuffled "
+        "transcript | speed | recognition vs alignment (frames) | recognition speed |\n| --- | "
+        "---: | ---: | ---: | ---: | ---: | ---: | ---: |\n";
   for (const HumanFile& h : quick ? std::vector<HumanFile>{} : HumanFiles())
   {
     try
@@ -543,7 +571,8 @@ int main(int argc, char** argv)
       options.Voice = "en-us";
       const auto t0 = std::chrono::steady_clock::now();
       const TranscriptAlignment a = AlignTranscript(audio, h.Transcript, options);
-      const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       double wrongScore = NAN;
       try
       {
@@ -557,12 +586,15 @@ int main(int argc, char** argv)
       {
         const auto t1 = std::chrono::steady_clock::now();
         const PhonemeRecognition r = RecognizePhonemes(audio);
-        const double s1 = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
-        versus = Percent(FrameAgreement(a.Phonemes, r.Phonemes, VisemeMap::Builtin(VisemeSet::Oculus15, "en"), audio.GetDuration()));
+        const double s1 =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
+        versus = Percent(FrameAgreement(a.Phonemes, r.Phonemes,
+          VisemeMap::Builtin(VisemeSet::Oculus15, "en"), audio.GetDuration()));
         speed = Fixed(audio.GetDuration() / s1, 1) + "x";
       }
-      md << "| " << h.Name << " | " << Fixed(audio.GetDuration(), 1) << " s | " << Fixed(a.Score, 3) << " | "
-         << a.Words.size() << " | " << Fixed(wrongScore, 3) << " | " << Fixed(audio.GetDuration() / seconds, 0) << "x | " << versus << " | " << speed << " |\n";
+      md << "| " << h.Name << " | " << Fixed(audio.GetDuration(), 1) << " s | " << Fixed(a.Score, 3)
+         << " | " << a.Words.size() << " | " << Fixed(wrongScore, 3) << " | "
+         << Fixed(audio.GetDuration() / seconds, 0) << "x | " << versus << " | " << speed << " |\n";
       std::ofstream words(out + "/human-" + h.Name + "-words.csv");
       words << "start,end,word\n";
       for (const auto& w : a.Words)
@@ -574,7 +606,8 @@ int main(int argc, char** argv)
       phonemes << "start,end,phoneme,viseme\n";
       for (const auto& p : a.Phonemes)
       {
-        phonemes << p.Start << "," << p.Start + p.Duration << "," << p.Sampa << "," << map.MapPhonemeName(p.Sampa) << "\n";
+        phonemes << p.Start << "," << p.Start + p.Duration << "," << p.Sampa << ","
+                 << map.MapPhonemeName(p.Sampa) << "\n";
       }
     }
     catch (const InputError& e)

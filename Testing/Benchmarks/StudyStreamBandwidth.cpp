@@ -53,7 +53,8 @@ struct Blender
   size_t Points = 0;
   explicit Blender(const StreamAvatar& avatar)
   {
-    const GltfScene file = LoadGltfSceneFromMemory(avatar.GetFile().data(), avatar.GetFile().size());
+    const GltfScene file =
+      LoadGltfSceneFromMemory(avatar.GetFile().data(), avatar.GetFile().size());
     std::vector<std::shared_ptr<const MorphMesh>> meshes;
     for (GltfPart part : file.Parts)
     {
@@ -73,7 +74,8 @@ struct Blender
   /// Largest vertex distance between the blends of two weight vectors (stream order).
   double Error(const std::vector<double>& reference, const std::vector<double>& sent)
   {
-    auto blend = [&](const std::vector<double>& w, std::vector<std::vector<float>>& out) {
+    auto blend = [&](const std::vector<double>& w, std::vector<std::vector<float>>& out)
+    {
       std::vector<double> requested(w.size() + 1, 0.0);
       std::copy(w.begin(), w.end(), requested.begin() + 1);
       this->Scene.SetWeights(requested);
@@ -112,7 +114,8 @@ double Diagonal(const GltfScene& face)
       }
     }
   }
-  return std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) + (hi[2] - lo[2]) * (hi[2] - lo[2]));
+  return std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+    (hi[2] - lo[2]) * (hi[2] - lo[2]));
 }
 
 const char* const Sentences[] = {
@@ -182,7 +185,8 @@ void Bandwidth(std::ostream& md, const std::string& title, const GltfScene& face
   const size_t n = avatar.GetTargetNames().size();
   const double fps = 30.0, frame = 1.0 / fps;
   const int frames = static_cast<int>(std::lround(seconds * fps));
-  LiveBehavior::Synthesizer synth = [speech](const std::string& text) { return SpeakText(text, speech); };
+  LiveBehavior::Synthesizer synth = [speech](const std::string& text)
+  { return SpeakText(text, speech); };
 
   struct Method
   {
@@ -193,7 +197,8 @@ void Bandwidth(std::ostream& md, const std::string& title, const GltfScene& face
   const Method methods[] = {
     { "sparse, no optimizer (non-zero after 8-bit)", OptimizerPreset::None, 0.0 },
     { "sparse, fixed threshold 0.1, pruned to the largest", OptimizerPreset::FixedMaximum, 0.1 },
-    { "sparse, fixed threshold 0.1, pruned to the remaining", OptimizerPreset::FixedRemaining, 0.1 },
+    { "sparse, fixed threshold 0.1, pruned to the remaining", OptimizerPreset::FixedRemaining,
+      0.1 },
     { "sparse, adjusted threshold 0.1 (the paper's th_adj)", OptimizerPreset::Adjusted, 0.1 },
     { "sparse, adjusted threshold 0.2", OptimizerPreset::Adjusted, 0.2 },
     { "sparse, error bound 0.5 % of the diagonal", OptimizerPreset::ErrorBounded, 0.0 },
@@ -265,17 +270,21 @@ void Bandwidth(std::ostream& md, const std::string& title, const GltfScene& face
   rows.insert(rows.begin(), dense8);
   rows.insert(rows.begin(), dense32);
   md << "### " << title << "\n\n"
-     << n << " targets streamed (of " << avatar.GetNumberOfFaceTargets() << " in the face), " << rotations
-     << " rotations, " << blender.Points << " vertices, diagonal " << Fixed(diagonal, 4) << "; " << seconds
-     << " s at 30 fps (idle, a mood, a sentence at 1 s, 20 s, 40 s). Vertex error: the largest distance of any vertex "
+     << n << " targets streamed (of " << avatar.GetNumberOfFaceTargets() << " in the face), "
+     << rotations << " rotations, " << blender.Points << " vertices, diagonal "
+     << Fixed(diagonal, 4) << "; " << seconds
+     << " s at 30 fps (idle, a mood, a sentence at 1 s, 20 s, 40 s). Vertex error: the largest "
+        "distance of any vertex "
         "from the blend of the exact weights, per frame (every "
      << errorStride << " frames), in % of the diagonal.\n\n"
-     << "| encoding | weights B/s | frames B/s (with sample and rotations) | targets per frame | mean error % | max error % |\n"
+     << "| encoding | weights B/s | frames B/s (with sample and rotations) | targets per frame | "
+        "mean error % | max error % |\n"
      << "|---|---:|---:|---:|---:|---:|\n";
   for (const Row& r : rows)
   {
-    md << "| " << r.Name << " | " << Fixed(r.WeightBytesPerSecond, 0) << " | " << Fixed(r.FrameBytesPerSecond, 0)
-       << " | " << Fixed(r.MeanTargets, 2) << " | " << Fixed(100.0 * r.MeanError / diagonal, 4) << " | "
+    md << "| " << r.Name << " | " << Fixed(r.WeightBytesPerSecond, 0) << " | "
+       << Fixed(r.FrameBytesPerSecond, 0) << " | " << Fixed(r.MeanTargets, 2) << " | "
+       << Fixed(100.0 * r.MeanError / diagonal, 4) << " | "
        << Fixed(100.0 * r.MaxError / diagonal, 4) << " |\n";
   }
   md << "\n";
@@ -285,7 +294,8 @@ void Sessions(std::ostream& md, const GltfScene& face, const SpeechOptions& spee
 {
   const std::vector<std::string> visemes = SelectVisemeMap(speech).GetVisemes();
   const StreamAvatar avatar(face, LiveBehavior(visemes).GetChannelNames(), nullptr);
-  LiveBehavior::Synthesizer synth = [speech](const std::string& text) { return SpeakText(text, speech); };
+  LiveBehavior::Synthesizer synth = [speech](const std::string& text)
+  { return SpeakText(text, speech); };
   std::vector<Utterance> cached;
   for (const char* sentence : Sentences)
   {
@@ -293,12 +303,15 @@ void Sessions(std::ostream& md, const GltfScene& face, const SpeechOptions& spee
   }
   const double fps = 30.0, frame = 1.0 / fps;
   const int frames = static_cast<int>(std::lround(seconds * fps));
-  md << "### Sessions per core\n\nOne thread ticks " << 8 << " sessions through " << seconds
-     << " s of stream each (a sentence every 20 s, speaking about a third of the time; the adjusted "
-        "threshold 0.1); CPU time of the process per session and second of stream, and the sessions one "
-        "core keeps at 30 fps (1 / that). Sending is not included (see the loopback figures).\n\n"
-     << "| speech | CPU ms per session-second | sessions per core | bytes per session-second (frames + PCM) |\n"
-     << "|---|---:|---:|---:|\n";
+  md
+    << "### Sessions per core\n\nOne thread ticks " << 8 << " sessions through " << seconds
+    << " s of stream each (a sentence every 20 s, speaking about a third of the time; the adjusted "
+       "threshold 0.1); CPU time of the process per session and second of stream, and the sessions "
+       "one "
+       "core keeps at 30 fps (1 / that). Sending is not included (see the loopback figures).\n\n"
+    << "| speech | CPU ms per session-second | sessions per core | bytes per session-second "
+       "(frames + PCM) |\n"
+    << "|---|---:|---:|---:|\n";
   for (int withSynthesis = 0; withSynthesis < 2; ++withSynthesis)
   {
     StreamSettings settings;
@@ -326,9 +339,11 @@ void Sessions(std::ostream& md, const GltfScene& face, const SpeechOptions& spee
     }
     const double cpu = CpuSeconds() - cpu0;
     const double perSessionSecond = cpu / (sessions.size() * seconds);
-    md << "| " << (withSynthesis ? "synthesized (eSpeak NG) for every sentence" : "replayed (synthesized once)")
-       << " | " << Fixed(1000.0 * perSessionSecond, 3) << " | " << Fixed(1.0 / perSessionSecond, 0) << " | "
-       << Fixed(bytes / (sessions.size() * seconds), 0) << " |\n";
+    md << "| "
+       << (withSynthesis ? "synthesized (eSpeak NG) for every sentence"
+                         : "replayed (synthesized once)")
+       << " | " << Fixed(1000.0 * perSessionSecond, 3) << " | " << Fixed(1.0 / perSessionSecond, 0)
+       << " | " << Fixed(bytes / (sessions.size() * seconds), 0) << " |\n";
   }
   md << "\n";
 }
@@ -369,13 +384,15 @@ int main(int argc, char* argv[])
     std::ostringstream md;
     SpeechOptions speech;
     speech.Visemes = VisemeSet::Paper6;
-    const GltfScene head = LoadGltfScene(std::string(MORPHNODE_SOURCE_DIR) + "/Data/DefaultFace/default_head.glb");
+    const GltfScene head =
+      LoadGltfScene(std::string(MORPHNODE_SOURCE_DIR) + "/Data/DefaultFace/default_head.glb");
     Bandwidth(md, "The default head", head, nullptr, speech, seconds, quick ? 10 : 3);
     const std::string ict = std::string(MORPHNODE_FACEKIT_DIR) + "/ict_head_full53.glb";
     if (std::filesystem::exists(ict))
     {
       const Rig rig = Rig::LoadFile(std::string(MORPHNODE_SOURCE_DIR) + "/Data/rigs/arkit.json");
-      Bandwidth(md, "The ICT head through the ARKit rig", LoadGltfScene(ict), &rig, speech, seconds, quick ? 10 : 6);
+      Bandwidth(md, "The ICT head through the ARKit rig", LoadGltfScene(ict), &rig, speech, seconds,
+        quick ? 10 : 6);
     }
     else
     {

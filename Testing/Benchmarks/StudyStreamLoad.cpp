@@ -56,13 +56,15 @@ const char* const Sentences[] = {
 
 struct Counters
 {
-  std::atomic<uint64_t> Frames{ 0 }, Bytes{ 0 }, Connected{ 0 }, Errors{ 0 }, Started{ 0 }, Overloaded{ 0 };
+  std::atomic<uint64_t> Frames{ 0 }, Bytes{ 0 }, Connected{ 0 }, Errors{ 0 }, Started{ 0 },
+    Overloaded{ 0 };
 };
 
 class Client : public std::enable_shared_from_this<Client>
 {
 public:
-  Client(net::io_context& io, Counters& c, std::string port, double sayAt, int sentence, bool continuous)
+  Client(
+    net::io_context& io, Counters& c, std::string port, double sayAt, int sentence, bool continuous)
     : Ws(net::make_strand(io))
     , Timer(Ws.get_executor())
     , C(c)
@@ -75,37 +77,45 @@ public:
   void Start(tcp::resolver::results_type endpoints)
   {
     beast::get_lowest_layer(this->Ws).async_connect(endpoints,
-      [self = this->shared_from_this()](beast::error_code ec, tcp::endpoint) {
+      [self = this->shared_from_this()](beast::error_code ec, tcp::endpoint)
+      {
         if (ec)
         {
           ++self->C.Errors;
           return;
         }
-        self->Ws.async_handshake("127.0.0.1:" + self->Port, "/stream", [self](beast::error_code ec2) {
-          if (ec2)
+        self->Ws.async_handshake("127.0.0.1:" + self->Port, "/stream",
+          [self](beast::error_code ec2)
           {
-            ++self->C.Errors;
-            return;
-          }
-          ++self->C.Connected;
-          self->Read();
-          self->Timer.expires_after(std::chrono::milliseconds(static_cast<int>(1000 * self->SayAt)));
-          self->Timer.async_wait([self](beast::error_code ec3) {
-            if (!ec3)
+            if (ec2)
             {
-              self->Say();
+              ++self->C.Errors;
+              return;
             }
+            ++self->C.Connected;
+            self->Read();
+            self->Timer.expires_after(
+              std::chrono::milliseconds(static_cast<int>(1000 * self->SayAt)));
+            self->Timer.async_wait(
+              [self](beast::error_code ec3)
+              {
+                if (!ec3)
+                {
+                  self->Say();
+                }
+              });
           });
-        });
       });
   }
   void Close()
   {
-    net::post(this->Ws.get_executor(), [self = this->shared_from_this()]() {
-      self->Timer.cancel();
-      beast::error_code ignored;
-      beast::get_lowest_layer(self->Ws).socket().close(ignored);
-    });
+    net::post(this->Ws.get_executor(),
+      [self = this->shared_from_this()]()
+      {
+        self->Timer.cancel();
+        beast::error_code ignored;
+        beast::get_lowest_layer(self->Ws).socket().close(ignored);
+      });
   }
 
 private:
@@ -113,42 +123,46 @@ private:
   {
     this->Out = std::string("{\"cmd\":\"say\",\"text\":\"") + Sentences[this->Sentence] + "\"}";
     this->Ws.text(true);
-    this->Ws.async_write(net::buffer(this->Out), [self = this->shared_from_this()](beast::error_code, size_t) {});
+    this->Ws.async_write(
+      net::buffer(this->Out), [self = this->shared_from_this()](beast::error_code, size_t) {});
   }
   void Read()
   {
-    this->Ws.async_read(this->Buffer, [self = this->shared_from_this()](beast::error_code ec, size_t bytes) {
-      if (ec)
+    this->Ws.async_read(this->Buffer,
+      [self = this->shared_from_this()](beast::error_code ec, size_t bytes)
       {
-        return;
-      }
-      self->C.Bytes += bytes;
-      if (self->Ws.got_text())
-      {
-        const std::string line = beast::buffers_to_string(self->Buffer.data());
-        if (line.find("\"started\"") != std::string::npos && line.find("\"say\"") != std::string::npos)
+        if (ec)
         {
-          ++self->C.Started;
+          return;
         }
-        if (line.find("\"overloaded\"") != std::string::npos)
+        self->C.Bytes += bytes;
+        if (self->Ws.got_text())
         {
-          ++self->C.Overloaded;
+          const std::string line = beast::buffers_to_string(self->Buffer.data());
+          if (line.find("\"started\"") != std::string::npos &&
+            line.find("\"say\"") != std::string::npos)
+          {
+            ++self->C.Started;
+          }
+          if (line.find("\"overloaded\"") != std::string::npos)
+          {
+            ++self->C.Overloaded;
+          }
+          if (self->Continuous && line.find("\"ended\"") != std::string::npos &&
+            line.find("\"say\"") != std::string::npos)
+          {
+            self->Sentence = (self->Sentence + 1) % 3;
+            self->Say(); // speaks again at once
+          }
         }
-        if (self->Continuous && line.find("\"ended\"") != std::string::npos &&
-          line.find("\"say\"") != std::string::npos)
+        else if (self->Buffer.size() > 0 &&
+          static_cast<const uint8_t*>(self->Buffer.data().data())[0] == 1)
         {
-          self->Sentence = (self->Sentence + 1) % 3;
-          self->Say(); // speaks again at once
+          ++self->C.Frames;
         }
-      }
-      else if (self->Buffer.size() > 0 &&
-        static_cast<const uint8_t*>(self->Buffer.data().data())[0] == 1)
-      {
-        ++self->C.Frames;
-      }
-      self->Buffer.consume(self->Buffer.size());
-      self->Read();
-    });
+        self->Buffer.consume(self->Buffer.size());
+        self->Read();
+      });
   }
   websocket::stream<beast::tcp_stream> Ws;
   net::steady_timer Timer;
@@ -184,8 +198,9 @@ double ProcessCpuSeconds()
     1e-6 * static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
 }
 
-Result Run(const StreamAvatar& avatar, const std::vector<std::string>& visemes, LiveBehavior::Synthesizer synth,
-  size_t n, double seconds, int threads, int poolWorkers, bool continuous)
+Result Run(const StreamAvatar& avatar, const std::vector<std::string>& visemes,
+  LiveBehavior::Synthesizer synth, size_t n, double seconds, int threads, int poolWorkers,
+  bool continuous)
 {
   std::shared_ptr<SynthesisPool> pool;
   if (poolWorkers > 0)
@@ -199,7 +214,8 @@ Result Run(const StreamAvatar& avatar, const std::vector<std::string>& visemes, 
   settings.Threads = threads;
   settings.MaxSessions = n + 1;
   settings.MaxCommandsPerSecond = 5;
-  settings.MakeSession = [&avatar, &visemes, synth, pool](const SessionRequest& want) {
+  settings.MakeSession = [&avatar, &visemes, synth, pool](const SessionRequest& want)
+  {
     StreamSettings s;
     s.Optimizer = MakeOptimizerSettings(OptimizerPreset::Adjusted, 0.1, 0.0);
     s.Seed = want.Seed;
@@ -222,14 +238,17 @@ Result Run(const StreamAvatar& avatar, const std::vector<std::string>& visemes, 
   {
     const double spread = continuous ? 1.0 : seconds - 1.0;
     const double sayAt = 0.5 + spread * static_cast<double>(i) / static_cast<double>(n);
-    clients.push_back(std::make_shared<Client>(io, counters, port, sayAt, static_cast<int>(i % 3), continuous));
+    clients.push_back(
+      std::make_shared<Client>(io, counters, port, sayAt, static_cast<int>(i % 3), continuous));
     clients.back()->Start(endpoints);
   }
   double clientCpu = 0.0;
-  std::thread thread([&io, &clientCpu]() {
-    io.run();
-    clientCpu = ThreadCpuSeconds();
-  });
+  std::thread thread(
+    [&io, &clientCpu]()
+    {
+      io.run();
+      clientCpu = ThreadCpuSeconds();
+    });
   std::this_thread::sleep_for(std::chrono::duration<double>(seconds));
   const StreamServerStats stats = server.GetStats();
   for (auto& c : clients)
@@ -317,7 +336,8 @@ int main(int argc, char* argv[])
     }
     else
     {
-      std::cerr << "usage: StudyStreamLoad [--seconds 8] [--sessions 25,50,...] [--threads 1] [--pool-workers 1] "
+      std::cerr << "usage: StudyStreamLoad [--seconds 8] [--sessions 25,50,...] [--threads 1] "
+                   "[--pool-workers 1] "
                    "[--modes cache,inline,pool] [--quick] [--out FILE.md]\n";
       return 2;
     }
@@ -327,12 +347,14 @@ int main(int argc, char* argv[])
     SpeechOptions speech;
     speech.Visemes = VisemeSet::Paper6;
     const std::vector<std::string> visemes = SelectVisemeMap(speech).GetVisemes();
-    const GltfScene head = LoadGltfScene(std::string(MORPHNODE_SOURCE_DIR) + "/Data/DefaultFace/default_head.glb");
+    const GltfScene head =
+      LoadGltfScene(std::string(MORPHNODE_SOURCE_DIR) + "/Data/DefaultFace/default_head.glb");
     const StreamAvatar avatar(head, LiveBehavior(visemes).GetChannelNames());
     // The phrase cache: each chunk synthesized once (the chunks a Say splits a text into).
     auto cache = std::make_shared<std::map<std::string, Utterance>>();
     auto mutex = std::make_shared<std::mutex>();
-    LiveBehavior::Synthesizer cached = [speech, cache, mutex](const std::string& text) {
+    LiveBehavior::Synthesizer cached = [speech, cache, mutex](const std::string& text)
+    {
       std::lock_guard<std::mutex> lock(*mutex);
       auto it = cache->find(text);
       if (it == cache->end())
@@ -348,14 +370,16 @@ int main(int argc, char* argv[])
         cached(chunk);
       }
     }
-    LiveBehavior::Synthesizer synthesize = [speech](const std::string& text) { return SpeakText(text, speech); };
+    LiveBehavior::Synthesizer synthesize = [speech](const std::string& text)
+    { return SpeakText(text, speech); };
     std::ostringstream md;
-    md << "Server threads: " << threads << ", synthesis pool workers (pool rows): " << poolWorkers << ", "
-       << seconds << " s per row, "
+    md << "Server threads: " << threads << ", synthesis pool workers (pool rows): " << poolWorkers
+       << ", " << seconds << " s per row, "
        << (continuous ? "every session speaks all the time (a new sentence when its say ended)"
                       : "every session says one sentence")
        << "\n\n";
-    md << "| speech | sessions | late (missed deadline) | says started / sessions | overloaded | server CPU (cores) | sessions per core | "
+    md << "| speech | sessions | late (missed deadline) | says started / sessions | overloaded | "
+          "server CPU (cores) | sessions per core | "
           "synthesis wait mean / max (ms) | frames received | received kB/s per session |\n"
        << "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
     for (const std::string& mode : modes)
@@ -367,14 +391,15 @@ int main(int argc, char* argv[])
       }
       for (size_t n : counts)
       {
-        const Result r = Run(avatar, visemes, mode == "cache" ? cached : synthesize, n, seconds, threads,
-          mode == "pool" ? poolWorkers : 0, continuous);
-        const char* name = mode == "cache" ? "phrase cache" : mode == "inline" ? "eSpeak NG on the session's thread"
-                                                                            : "eSpeak NG through the pool";
+        const Result r = Run(avatar, visemes, mode == "cache" ? cached : synthesize, n, seconds,
+          threads, mode == "pool" ? poolWorkers : 0, continuous);
+        const char* name = mode == "cache" ? "phrase cache"
+          : mode == "inline"               ? "eSpeak NG on the session's thread"
+                                           : "eSpeak NG through the pool";
         md << "| " << name << " | " << n << " | " << r.Late << " (" << std::fixed;
         md.precision(1);
-        md << 100.0 * r.Late / std::max<uint64_t>(1, r.Sent + r.Late) << " %) | " << r.Started << " / " << n << " | "
-           << r.Overloaded << " | ";
+        md << 100.0 * r.Late / std::max<uint64_t>(1, r.Sent + r.Late) << " %) | " << r.Started
+           << " / " << n << " | " << r.Overloaded << " | ";
         md.precision(2);
         md << r.ServerCores << " | ";
         md.precision(0);

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
-#include "morph/Distances.h"
 #include "base/Error.h"
+#include "morph/Distances.h"
 #include "morph/MorphAttribute.h"
 #include "morph/MorphMesh.h"
 
@@ -133,7 +133,8 @@ TEST(MorphAttribute, ResultDoesNotDependOnStorage)
   {
     w = 0.05 + 0.9 * (value(random) + 1.0f) / 2.0f;
   }
-  auto blend = [&](auto coverageOf) {
+  auto blend = [&](auto coverageOf)
+  {
     MorphAttribute<float> a("Points", AttributeRole::Position, 3, numPoints);
     a.SetNeutral(neutral.data());
     for (size_t t = 0; t < numTargets; ++t)
@@ -180,7 +181,8 @@ TEST(MorphAttribute, SparseSpansBlendLikeDenseOverAnyRanges)
     spans += span ? 1 : 0;
     singles += span ? 0 : end - begin;
   }
-  const auto build = [&](double coverage) {
+  const auto build = [&](double coverage)
+  {
     MorphAttribute<float> a("Points", AttributeRole::Position, 3, numPoints);
     a.SetNeutral(neutral.data());
     a.AddRelativeTarget(deltas.data(), coverage);
@@ -192,7 +194,8 @@ TEST(MorphAttribute, SparseSpansBlendLikeDenseOverAnyRanges)
   EXPECT_GT(singles, 10u);
   EXPECT_EQ(sparse.GetTarget(1).GetNumberOfSpans(), spans);
   EXPECT_EQ(sparse.GetTarget(1).GetNumberOfSinglePoints(), singles);
-  EXPECT_EQ(dense.GetTarget(1).GetNumberOfSpans() + dense.GetTarget(1).GetNumberOfSinglePoints(), 0u);
+  EXPECT_EQ(
+    dense.GetTarget(1).GetNumberOfSpans() + dense.GetTarget(1).GetNumberOfSinglePoints(), 0u);
 
   const double w[2] = { 0.3, 0.7 };
   std::vector<float> expected(numPoints * 3), pieces(numPoints * 3);

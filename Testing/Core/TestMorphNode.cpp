@@ -62,7 +62,8 @@ std::shared_ptr<const MorphMesh> MakeMesh(const Shapes& s, double sparseCoverage
   auto mesh = std::make_shared<MorphMesh>(NumPoints);
   mesh->SetTargetNames(DefaultTargetNames(NumTargets));
   // Each attribute filled before the next is added (adding may move the earlier ones).
-  auto fill = [&](auto& attribute, const auto& shapes) {
+  auto fill = [&](auto& attribute, const auto& shapes)
+  {
     attribute.SetNeutral(shapes[0].data());
     for (size_t t = 1; t < NumTargets; ++t)
     {
@@ -243,10 +244,12 @@ TEST(MorphNode, BlendOfARangeMatchesANaiveReference)
         if (!inside)
         {
           EXPECT_EQ(b.Points[3 * i + c], -7.f) << "point " << i << " outside the range was written";
-          EXPECT_EQ(b.Normals[3 * i + c], -7.f) << "normal " << i << " outside the range was written";
+          EXPECT_EQ(b.Normals[3 * i + c], -7.f)
+            << "normal " << i << " outside the range was written";
           continue;
         }
-        EXPECT_NEAR(b.Points[3 * i + c], points[3 * i + c], 1e-5) << "point " << i << " coverage " << coverage;
+        EXPECT_NEAR(b.Points[3 * i + c], points[3 * i + c], 1e-5)
+          << "point " << i << " coverage " << coverage;
         EXPECT_NEAR(b.Normals[3 * i + c], normals[3 * i + c] / len, 1e-5) << "normal " << i;
       }
       for (int c = 0; c < 2; ++c)
@@ -288,7 +291,7 @@ TEST(MorphNode, BadInputIsAnInputError)
   MorphNode node(MakeMesh(MakeShapes()));
   Buffers b;
   EXPECT_THROW(node.Blend(b.Outputs(), 0, NumPoints), InputError); // no weights yet
-  EXPECT_THROW(node.SetWeights({ 1.0, 0.0 }), InputError);          // count
+  EXPECT_THROW(node.SetWeights({ 1.0, 0.0 }), InputError);         // count
   const double nan = std::numeric_limits<double>::quiet_NaN();
   node.SetWeights({ 1.0, 0.0, 0.0, 0.0, 0.0 });
   EXPECT_TRUE(node.HasEffectiveWeights());
@@ -299,9 +302,12 @@ TEST(MorphNode, BadInputIsAnInputError)
 
   node.SetWeights({ 1.0, 0.0, 0.0, 0.0, 0.0 });
   std::vector<double> wrongType(3 * NumPoints);
-  EXPECT_THROW(node.Blend({ wrongType.data(), b.Normals.data(), b.Extra.data() }, 0, NumPoints), InputError);
+  EXPECT_THROW(
+    node.Blend({ wrongType.data(), b.Normals.data(), b.Extra.data() }, 0, NumPoints), InputError);
   EXPECT_THROW(node.Blend({ b.Points.data(), b.Normals.data() }, 0, NumPoints), InputError);
-  EXPECT_THROW(node.Blend({ static_cast<float*>(nullptr), b.Normals.data(), b.Extra.data() }, 0, NumPoints), InputError);
+  EXPECT_THROW(
+    node.Blend({ static_cast<float*>(nullptr), b.Normals.data(), b.Extra.data() }, 0, NumPoints),
+    InputError);
   EXPECT_THROW(node.BlendAttribute<double>(0, wrongType.data(), 0, NumPoints), InputError);
   EXPECT_THROW(node.BlendAttribute<float>(3, b.Points.data(), 0, NumPoints), InputError);
 

@@ -208,7 +208,7 @@ TEST(MorphScene, ManyPartsDecideAsOneMesh)
   const std::vector<size_t> cuts{ 0, 150, 400, 420, 700, 1000 };
   std::vector<std::vector<size_t>> targets(5, AllTargets(m));
   targets[1] = { 9, 7, 5, 3, 1 }; // shuffled subset
-  targets[2] = {};                 // an eye: no targets
+  targets[2] = {};                // an eye: no targets
   targets[3] = { 0, 2, 4, 6, 8, 1, 3, 5, 7, 9 };
   for (size_t p = 0; p < 5; ++p)
   {
@@ -216,8 +216,10 @@ TEST(MorphScene, ManyPartsDecideAsOneMesh)
     {
       if (std::find(targets[p].begin(), targets[p].end(), t) == targets[p].end())
       {
-        std::fill(m.PointDeltas[t].begin() + 3 * cuts[p], m.PointDeltas[t].begin() + 3 * cuts[p + 1], 0.f);
-        std::fill(m.NormalDeltas[t].begin() + 3 * cuts[p], m.NormalDeltas[t].begin() + 3 * cuts[p + 1], 0.f);
+        std::fill(
+          m.PointDeltas[t].begin() + 3 * cuts[p], m.PointDeltas[t].begin() + 3 * cuts[p + 1], 0.f);
+        std::fill(m.NormalDeltas[t].begin() + 3 * cuts[p],
+          m.NormalDeltas[t].begin() + 3 * cuts[p + 1], 0.f);
       }
     }
   }
@@ -235,8 +237,10 @@ TEST(MorphScene, ManyPartsDecideAsOneMesh)
   {
     EXPECT_NEAR(scene.GetTargetDistances().DistMorph[i], one.GetTargetDistances().DistMorph[i],
       1e-12 * one.GetTargetDistances().DistMorph[i]);
-    EXPECT_NEAR(scene.GetTargetDistances().DistNorm[i], one.GetTargetDistances().DistNorm[i], 1e-14);
-    EXPECT_EQ(scene.GetTargetDistances().MaxDisplacement[i], one.GetTargetDistances().MaxDisplacement[i]);
+    EXPECT_NEAR(
+      scene.GetTargetDistances().DistNorm[i], one.GetTargetDistances().DistNorm[i], 1e-14);
+    EXPECT_EQ(
+      scene.GetTargetDistances().MaxDisplacement[i], one.GetTargetDistances().MaxDisplacement[i]);
   }
   EXPECT_EQ(scene.GetPartTargets(1), (std::vector<size_t>{ 0, 10, 8, 6, 4, 2 }));
   EXPECT_EQ(scene.GetPartTargets(2), (std::vector<size_t>{ 0 }));
@@ -309,12 +313,12 @@ TEST(MorphScene, TheBudgetCountsEveryPart)
   Model m = MakeModel(200, 2, 4);
   for (size_t i = 0; i < 3 * 100; ++i)
   {
-    m.PointDeltas[0][i] *= 0.01f;                 // skin: shape0 tiny
-    m.PointDeltas[1][i] = 0.05f * (i % 3 == 0);   // skin: shape1 moderate
+    m.PointDeltas[0][i] *= 0.01f;               // skin: shape0 tiny
+    m.PointDeltas[1][i] = 0.05f * (i % 3 == 0); // skin: shape1 moderate
   }
   for (size_t i = 3 * 100; i < 3 * 200; ++i)
   {
-    m.PointDeltas[0][i] = 0.5f * (i % 3 == 1);    // teeth: shape0 large
+    m.PointDeltas[0][i] = 0.5f * (i % 3 == 1); // teeth: shape0 large
     m.PointDeltas[1][i] = 0.f;
   }
   MorphScene scene, skinOnly;
@@ -356,7 +360,8 @@ TEST(MorphScene, PiecesWithDuplicatedPointsAndSeveralProcessesDecideAsOne)
     EXPECT_NEAR(both.GetTargetDistances().DistMorph[i], expected, 1e-12 * expected) << i;
   }
   // shape5 moves points 185..241, the duplicated ones among them.
-  EXPECT_GT(unflagged.GetTargetDistances().DistMorph[6], one.GetTargetDistances().DistMorph[6] * (1 + 1e-9))
+  EXPECT_GT(
+    unflagged.GetTargetDistances().DistMorph[6], one.GetTargetDistances().DistMorph[6] * (1 + 1e-9))
     << "counted twice without flags";
 
   MorphScene rank0, rank1;
@@ -396,7 +401,8 @@ TEST(MorphScene, AModelWithTargetsThisProcessLacks)
   ASSERT_EQ(scene.GetNumberOfTargets(), 2u);
   NamedTargetDistances other{ { "Neutral", "shape0", "shape2" }, { 0, 5, 1 }, { 0, 0.2, 0.1 } };
   scene.SetModel(CombineTargetDistances({ other, scene.GetPartsDistances() }));
-  EXPECT_EQ(scene.GetTargetNames(), (std::vector<std::string>{ "Neutral", "shape0", "shape2", "shape1" }));
+  EXPECT_EQ(
+    scene.GetTargetNames(), (std::vector<std::string>{ "Neutral", "shape0", "shape2", "shape1" }));
   EXPECT_EQ(scene.GetPartTargets(0), (std::vector<size_t>{ 0, 3 }));
   EXPECT_DOUBLE_EQ(scene.GetTargetDistances().DistNorm[1], 1.0);
   scene.SetWeightMode(WeightMode::Relative);
@@ -426,7 +432,8 @@ TEST(MorphScene, BadInputIsAnInputError)
   }
   catch (const InputError& e)
   {
-    EXPECT_NE(std::string(e.what()).find("'Neutral', the name of the neutral"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("'Neutral', the name of the neutral"), std::string::npos)
+      << e.what();
   }
   auto broken = std::make_shared<MorphMesh>(*good);
   broken->SetTargetNames({ "Neutral", "shape0" }); // two targets' deltas, one name
@@ -435,7 +442,8 @@ TEST(MorphScene, BadInputIsAnInputError)
   scene.SetParts({ good });
   EXPECT_THROW(scene.SetModel({ { "Neutral", "shape0" }, { 0, 1 }, { 0, 1 } }), InputError)
     << "shape1 of the part is missing from the model";
-  EXPECT_THROW(scene.SetModel({ { "Neutral", "shape0", "shape1" }, { 0, 1 }, { 0, 1, 1 } }), InputError);
+  EXPECT_THROW(
+    scene.SetModel({ { "Neutral", "shape0", "shape1" }, { 0, 1 }, { 0, 1, 1 } }), InputError);
   EXPECT_THROW(scene.SetWeights({ 1.0, 0.0 }), InputError) << "two weights for three targets";
   EXPECT_FALSE(scene.HasEffectiveWeights());
   EXPECT_THROW(scene.SetWeights({ 1.0, NAN, 0.0 }), InputError);

@@ -153,7 +153,8 @@ TEST(OptimizerHysteresis, BoundAlonePrunesAndRestoresWithABand)
   OptimizerSettings s;
   s.MaxVertexError = 0.1;
   const auto d = Reach({ 0.0, 1.0, 1.0, 1.0 });
-  for (Redistribution r : { Redistribution::Maximum, Redistribution::Remaining, Redistribution::Neutral })
+  for (Redistribution r :
+    { Redistribution::Maximum, Redistribution::Remaining, Redistribution::Neutral })
   {
     s.Strategy = r;
     const auto track = Hovering(200, LevelAtBound(r, d, s.MaxVertexError));
@@ -176,7 +177,8 @@ TEST(OptimizerHysteresis, BoundRestoresWhatTheThresholdPrunesWithABand)
   s.Threshold = 0.3;
   s.MaxVertexError = 0.1;
   const auto d = Reach({ 0.0, 1.0, 1.0, 1.0 });
-  for (Redistribution r : { Redistribution::Maximum, Redistribution::Remaining, Redistribution::Neutral })
+  for (Redistribution r :
+    { Redistribution::Maximum, Redistribution::Remaining, Redistribution::Neutral })
   {
     s.Strategy = r;
     const auto track = Hovering(200, LevelAtBound(r, d, s.MaxVertexError));
@@ -191,7 +193,8 @@ TEST(OptimizerHysteresis, BoundRestoresWhatTheBudgetPrunesWithABand)
   s.MaxActiveTargets = 1; // keeps target 2 (0.35); target 1 only when the bound needs it
   s.MaxVertexError = 0.1;
   const auto d = Reach({ 0.0, 1.0, 1.0, 1.0 });
-  for (Redistribution r : { Redistribution::Maximum, Redistribution::Remaining, Redistribution::Neutral })
+  for (Redistribution r :
+    { Redistribution::Maximum, Redistribution::Remaining, Redistribution::Neutral })
   {
     s.Strategy = r;
     const auto track = Hovering(200, LevelAtBound(r, d, s.MaxVertexError));
@@ -236,7 +239,8 @@ TEST(OptimizerHysteresis, ZeroHysteresisChangesNothingAndTheBoundAlwaysHolds)
   const auto d = Reach(reach);
   for (int combo = 1; combo < 8; ++combo)
   {
-    for (Redistribution r : { Redistribution::Maximum, Redistribution::Remaining, Redistribution::Neutral })
+    for (Redistribution r :
+      { Redistribution::Maximum, Redistribution::Remaining, Redistribution::Neutral })
     {
       OptimizerSettings s;
       s.Strategy = r;

@@ -259,7 +259,8 @@ TEST(WeightOptimizer, SumToOneAndBoundHoldOnRandomWeights)
   const TargetDistances d = model.ComputeDistances();
 
   std::vector<OptimizerSettings> methods;
-  for (Redistribution r : { Redistribution::Maximum, Redistribution::Remaining, Redistribution::Neutral })
+  for (Redistribution r :
+    { Redistribution::Maximum, Redistribution::Remaining, Redistribution::Neutral })
   {
     for (double th : { 0.1, 0.3, 0.5 })
     {
@@ -345,7 +346,8 @@ TEST(WeightOptimizer, SumToOneAndBoundHoldOnRandomWeights)
         for (size_t q = 0; q < numPoints; ++q)
         {
           worst = std::max(worst,
-            std::hypot(ref[3 * q] - opt[3 * q], ref[3 * q + 1] - opt[3 * q + 1], ref[3 * q + 2] - opt[3 * q + 2]));
+            std::hypot(ref[3 * q] - opt[3 * q], ref[3 * q + 1] - opt[3 * q + 1],
+              ref[3 * q + 2] - opt[3 * q + 2]));
         }
         ASSERT_LE(worst, o.GetLastErrorBound() + 1e-9);
         if (s.MaxVertexError > 0.0)

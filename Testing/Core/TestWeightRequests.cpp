@@ -81,7 +81,8 @@ TEST(WeightRequests, NamesResolveAgainstEachModel)
   requests.Resolve(w);
   EXPECT_EQ(w, (std::vector<double>{ 1.0, 0.5, 0.0 }));
   requests.SetTargets({ "Neutral", "jawOpen" }); // a face without it
-  EXPECT_NE(ErrorOf(requests).find("no target has that name; targets: Neutral jawOpen"), std::string::npos);
+  EXPECT_NE(
+    ErrorOf(requests).find("no target has that name; targets: Neutral jawOpen"), std::string::npos);
   EXPECT_EQ(requests.GetByName("blink"), 0.5); // the value set
 }
 
@@ -91,7 +92,8 @@ TEST(WeightRequests, TheFirstBadRequestIsTheError)
   requests.SetTargets(Face);
   requests.SetByIndex(7, 0.5);
   requests.SetByName("frown", 0.5);
-  EXPECT_NE(ErrorOf(requests).find("a weight is set for target 7, but the input has 4 targets (0..3"),
+  EXPECT_NE(
+    ErrorOf(requests).find("a weight is set for target 7, but the input has 4 targets (0..3"),
     std::string::npos);
   WeightRequests named;
   named.SetTargets(Face);

@@ -28,13 +28,15 @@ inline double Ssim(vtkImageData* a, vtkImageData* b, int x0, int x1, int y0, int
   int da[3], db[3];
   a->GetDimensions(da);
   b->GetDimensions(db);
-  if (!pa || !pb || pa->GetNumberOfComponents() < 3 || pb->GetNumberOfComponents() < 3 || da[0] != db[0] ||
-    da[1] != db[1] || x0 < 0 || y0 < 0 || x1 > da[0] || y1 > da[1] || x1 - x0 < 11 || y1 - y0 < 11)
+  if (!pa || !pb || pa->GetNumberOfComponents() < 3 || pb->GetNumberOfComponents() < 3 ||
+    da[0] != db[0] || da[1] != db[1] || x0 < 0 || y0 < 0 || x1 > da[0] || y1 > da[1] ||
+    x1 - x0 < 11 || y1 - y0 < 11)
   {
     return -1.0;
   }
   const int w = x1 - x0, h = y1 - y0;
-  auto luma = [&](vtkUnsignedCharArray* p, int width) {
+  auto luma = [&](vtkUnsignedCharArray* p, int width)
+  {
     std::vector<double> out(static_cast<size_t>(w) * h);
     const int c = p->GetNumberOfComponents();
     for (int y = 0; y < h; ++y)
@@ -42,8 +44,8 @@ inline double Ssim(vtkImageData* a, vtkImageData* b, int x0, int x1, int y0, int
       for (int x = 0; x < w; ++x)
       {
         const vtkIdType i = static_cast<vtkIdType>(y + y0) * width + (x + x0);
-        out[static_cast<size_t>(y) * w + x] =
-          0.299 * p->GetValue(c * i) + 0.587 * p->GetValue(c * i + 1) + 0.114 * p->GetValue(c * i + 2);
+        out[static_cast<size_t>(y) * w + x] = 0.299 * p->GetValue(c * i) +
+          0.587 * p->GetValue(c * i + 1) + 0.114 * p->GetValue(c * i + 2);
       }
     }
     return out;
@@ -55,7 +57,8 @@ inline double Ssim(vtkImageData* a, vtkImageData* b, int x0, int x1, int y0, int
   {
     kernel[k + 5] = std::exp(-(k * k) / (2 * 1.5 * 1.5));
   }
-  auto blur = [&](const std::vector<double>& in) {
+  auto blur = [&](const std::vector<double>& in)
+  {
     std::vector<double> tmp(in.size()), out(in.size());
     for (int y = 0; y < h; ++y)
     {
@@ -98,13 +101,16 @@ inline double Ssim(vtkImageData* a, vtkImageData* b, int x0, int x1, int y0, int
     YY[i] = Y[i] * Y[i];
     XY[i] = X[i] * Y[i];
   }
-  const std::vector<double> mx = blur(X), my = blur(Y), sxx = blur(XX), syy = blur(YY), sxy = blur(XY);
+  const std::vector<double> mx = blur(X), my = blur(Y), sxx = blur(XX), syy = blur(YY),
+                            sxy = blur(XY);
   const double c1 = (0.01 * 255) * (0.01 * 255), c2 = (0.03 * 255) * (0.03 * 255);
   double sum = 0;
   for (size_t i = 0; i < X.size(); ++i)
   {
-    const double vx = sxx[i] - mx[i] * mx[i], vy = syy[i] - my[i] * my[i], cov = sxy[i] - mx[i] * my[i];
-    sum += ((2 * mx[i] * my[i] + c1) * (2 * cov + c2)) / ((mx[i] * mx[i] + my[i] * my[i] + c1) * (vx + vy + c2));
+    const double vx = sxx[i] - mx[i] * mx[i], vy = syy[i] - my[i] * my[i],
+                 cov = sxy[i] - mx[i] * my[i];
+    sum += ((2 * mx[i] * my[i] + c1) * (2 * cov + c2)) /
+      ((mx[i] * mx[i] + my[i] * my[i] + c1) * (vx + vy + c2));
   }
   return sum / static_cast<double>(X.size());
 }

@@ -83,7 +83,8 @@ inline vtkSmartPointer<vtkPolyData> MergeParts(vtkCompositeDataSet* head)
     for (auto* list : { &deltas, &normalDeltas })
     {
       auto a = vtkSmartPointer<vtkFloatArray>::New();
-      a->SetName(("target" + std::to_string(k) + (list == &deltas ? "_position" : "_normal")).c_str());
+      a->SetName(
+        ("target" + std::to_string(k) + (list == &deltas ? "_position" : "_normal")).c_str());
       a->SetNumberOfComponents(3);
       a->SetNumberOfTuples(total);
       a->Fill(0.0);
@@ -105,9 +106,12 @@ inline vtkSmartPointer<vtkPolyData> MergeParts(vtkCompositeDataSet* head)
     }
     for (size_t k = 1; k < own.size(); ++k)
     {
-      const size_t m = static_cast<size_t>(std::find(names.begin(), names.end(), own[k]) - names.begin()) - 1;
-      vtkDataArray* d = part->GetPointData()->GetArray(("target" + std::to_string(k - 1) + "_position").c_str());
-      vtkDataArray* nd = part->GetPointData()->GetArray(("target" + std::to_string(k - 1) + "_normal").c_str());
+      const size_t m =
+        static_cast<size_t>(std::find(names.begin(), names.end(), own[k]) - names.begin()) - 1;
+      vtkDataArray* d =
+        part->GetPointData()->GetArray(("target" + std::to_string(k - 1) + "_position").c_str());
+      vtkDataArray* nd =
+        part->GetPointData()->GetArray(("target" + std::to_string(k - 1) + "_normal").c_str());
       for (vtkIdType i = 0; i < n; ++i)
       {
         deltas[m]->SetTuple(offset + i, d->GetTuple(i));

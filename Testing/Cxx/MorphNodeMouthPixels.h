@@ -5,8 +5,8 @@
 /// @brief Counts what an open mouth shows in a rendered frame: teeth (light, nearly grey:
 /// blue close to red) and tongue or gums (red well above green and blue), in the lower half
 /// of the frame (the mouth, not the whites of the eyes). Skin is neither (its blue is at most
-/// 0.86 of its red, drawn gamma-correct as glTF materials are). For render tests that must see teeth and a tongue, and their negative
-/// controls (a closed mouth shows neither).
+/// 0.86 of its red, drawn gamma-correct as glTF materials are). For render tests that must see
+/// teeth and a tongue, and their negative controls (a closed mouth shows neither).
 
 #include "vtkImageData.h"
 #include "vtkNew.h"
@@ -29,7 +29,8 @@ struct MouthPixels
 inline MouthPixels CountMouthPixels(vtkImageData* image)
 {
   MouthPixels count;
-  auto* rgb = image ? vtkUnsignedCharArray::SafeDownCast(image->GetPointData()->GetScalars()) : nullptr;
+  auto* rgb =
+    image ? vtkUnsignedCharArray::SafeDownCast(image->GetPointData()->GetScalars()) : nullptr;
   if (!rgb || rgb->GetNumberOfComponents() < 3)
   {
     return count;
@@ -42,7 +43,8 @@ inline MouthPixels CountMouthPixels(vtkImageData* image)
     std::min(static_cast<vtkIdType>(dims[0]) * (dims[1] / 2), rgb->GetNumberOfTuples());
   for (vtkIdType i = 0; i < lowerHalf; ++i)
   {
-    const double r = rgb->GetValue(c * i), g = rgb->GetValue(c * i + 1), b = rgb->GetValue(c * i + 2);
+    const double r = rgb->GetValue(c * i), g = rgb->GetValue(c * i + 1),
+                 b = rgb->GetValue(c * i + 2);
     // (0.92: glTF's colours drawn gamma-correct, skin of linear (0.8, 0.62, 0.52) shows
     // blue at 0.79 to 0.86 of red, teeth at 0.96 or more.)
     if (r > 150 && g > 140 && b > 0.92 * r)

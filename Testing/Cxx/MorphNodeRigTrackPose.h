@@ -24,7 +24,8 @@ namespace morphnode_test
 class RigTrackPose
 {
 public:
-  RigTrackPose(const morphnode::Rig& rig, const morphnode::WeightTrack& track, vtkMorphNodeFilter* morph)
+  RigTrackPose(
+    const morphnode::Rig& rig, const morphnode::WeightTrack& track, vtkMorphNodeFilter* morph)
     : Rig(rig)
     , Track(track)
     , Morph(morph)
@@ -52,7 +53,8 @@ public:
     {
       if (this->ShapeOfChannel[c] >= 0)
       {
-        this->ShapeWeights[static_cast<size_t>(this->ShapeOfChannel[c])] += this->Track.Sample(t, c);
+        this->ShapeWeights[static_cast<size_t>(this->ShapeOfChannel[c])] +=
+          this->Track.Sample(t, c);
       }
     }
     this->Rig.Expand(this->ShapeWeights.data(), this->TargetWeights.data());

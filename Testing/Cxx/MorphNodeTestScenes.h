@@ -20,7 +20,8 @@ namespace scenes
 inline std::string WriteFile(const std::string& name, const std::string& bytes)
 {
   const std::string path = std::string(MORPHNODE_TEST_OUTPUT_DIR) + "/" + name;
-  std::ofstream(path, std::ios::binary).write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  std::ofstream(path, std::ios::binary)
+    .write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
   return path;
 }
 
@@ -69,34 +70,44 @@ inline gltftest::Builder TestHead()
   const int raise = b.SparseVec3(4, { 2 }, { 0, 0.5f, 0 }); // sparse, no bufferView
   const int raiseNormal = b.Vec3(std::vector<float>(12, 0.f));
   const int raiseTooth = b.Vec3({ 0.3f, 0, 0, 0.3f, 0, 0, 0, 0, 0, 0, 0, 0 });
-  const int color = b.Accessor({ { "bufferView", b.View(std::vector<float>{ 1, 0, 0, 1, 0, 1, 0, 1, 0, 0, 1, 0.5f, 1, 1, 1, 1 }) },
-    { "componentType", gltftest::Float }, { "count", 4 }, { "type", "VEC4" } });
+  const int color = b.Accessor(
+    { { "bufferView",
+        b.View(std::vector<float>{ 1, 0, 0, 1, 0, 1, 0, 1, 0, 0, 1, 0.5f, 1, 1, 1, 1 }) },
+      { "componentType", gltftest::Float }, { "count", 4 }, { "type", "VEC4" } });
   const gltftest::json targets = { { { "POSITION", lift }, { "NORMAL", liftNormal } },
     { { "POSITION", raise }, { "NORMAL", raiseNormal } } };
   b.Mesh({ { "name", "Skin" },
     { "primitives",
-      { { { "attributes", { { "POSITION", position }, { "NORMAL", normal } } }, { "indices", indices },
-          { "material", 0 }, { "targets", targets } },
-        { { "attributes", { { "POSITION", position }, { "NORMAL", normal } } }, { "indices", indices },
-          { "material", 1 }, { "targets", targets } } } },
+      { { { "attributes", { { "POSITION", position }, { "NORMAL", normal } } },
+          { "indices", indices }, { "material", 0 }, { "targets", targets } },
+        { { "attributes", { { "POSITION", position }, { "NORMAL", normal } } },
+          { "indices", indices }, { "material", 1 }, { "targets", targets } } } },
     { "extras", { { "targetNames", { "Lift", "Raise" } } } } });
   b.Mesh({ { "name", "Teeth" },
     { "primitives",
-      { { { "attributes", { { "POSITION", position }, { "NORMAL", normal } } }, { "indices", indices },
-        { "material", 2 }, { "targets", { { { "POSITION", raiseTooth } } } } } } },
+      { { { "attributes", { { "POSITION", position }, { "NORMAL", normal } } },
+        { "indices", indices }, { "material", 2 },
+        { "targets", { { { "POSITION", raiseTooth } } } } } } },
     { "extras", { { "targetNames", { "Raise" } } } } });
   b.Mesh({ { "name", "Eye" },
     { "primitives",
-      { { { "attributes", { { "POSITION", position }, { "NORMAL", normal }, { "COLOR_0", color } } },
+      { { { "attributes",
+            { { "POSITION", position }, { "NORMAL", normal }, { "COLOR_0", color } } },
         { "indices", indices } } } } });
-  b.Doc["materials"] = { { { "name", "Skin" }, { "pbrMetallicRoughness", { { "baseColorFactor", { 0.8, 0.6, 0.5, 1 } } } } },
-    { { "name", "Lips" }, { "pbrMetallicRoughness", { { "baseColorFactor", { 0.7, 0.3, 0.3, 1 } } } } },
-    { { "name", "Enamel" }, { "pbrMetallicRoughness", { { "baseColorFactor", { 0.9, 0.9, 0.85, 1 } } } } } };
+  b.Doc["materials"] = {
+    { { "name", "Skin" },
+      { "pbrMetallicRoughness", { { "baseColorFactor", { 0.8, 0.6, 0.5, 1 } } } } },
+    { { "name", "Lips" },
+      { "pbrMetallicRoughness", { { "baseColorFactor", { 0.7, 0.3, 0.3, 1 } } } } },
+    { { "name", "Enamel" },
+      { "pbrMetallicRoughness", { { "baseColorFactor", { 0.9, 0.9, 0.85, 1 } } } } }
+  };
   b.Node({ { "name", "Head" }, { "matrix", { 2, 0, 0, 0, 0, 2, 0, 0, 0, 0, 2, 0, 10, 0, 0, 1 } },
     { "children", { 1, 3 } } });
   b.Node({ { "name", "Jaw" }, { "mesh", 0 }, { "translation", { 0, 1, 0 } },
     { "rotation", { 0, 0, 0.70710678118654752, 0.70710678118654752 } }, { "children", { 2 } } });
-  b.Node({ { "name", "Tooth" }, { "mesh", 1 }, { "matrix", { 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 1, 1 } } });
+  b.Node({ { "name", "Tooth" }, { "mesh", 1 },
+    { "matrix", { 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 1, 1 } } });
   b.Node({ { "name", "EyeLeft" }, { "mesh", 2 }, { "translation", { 1, 1, 1 } } });
   b.Doc["scenes"] = { { { "name", "TestHead" }, { "nodes", { 0 } } } };
   b.Doc["scene"] = 0;

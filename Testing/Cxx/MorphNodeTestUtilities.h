@@ -4,14 +4,14 @@
 #define MorphNodeTestUtilities_h
 
 #include "vtkCommand.h"
-#include "vtkNew.h"
-#include "vtkObject.h"
-#include "vtkRenderWindow.h"
-#include "vtkSmartPointer.h"
 #include "vtkImageDifference.h"
 #include "vtkImageExtractComponents.h"
+#include "vtkNew.h"
+#include "vtkObject.h"
 #include "vtkPNGReader.h"
 #include "vtkPNGWriter.h"
+#include "vtkRenderWindow.h"
+#include "vtkSmartPointer.h"
 #include "vtkTesting.h"
 #include "vtkWindowToImageFilter.h"
 
@@ -84,8 +84,8 @@ inline bool MatchesBaseline(vtkRenderWindow* window, const std::string& baseline
 /// VTK's legacy image error of the render window against a baseline PNG (what
 /// MatchesBaseline compares with its threshold), or -1 when none could be computed. Lets a
 /// test choose a threshold that sees what it is about and prove it with a negative control.
-inline double BaselineError(vtkRenderWindow* window, const std::string& baseline,
-  const std::string& outputDir)
+inline double BaselineError(
+  vtkRenderWindow* window, const std::string& baseline, const std::string& outputDir)
 {
   vtkNew<vtkTesting> testing;
   testing->AddArgument("-V");

@@ -128,7 +128,8 @@ TEST(AnimationAwareDecimation, CarriesEveryTargetOnTheICTFace)
 
   auto* ids = vtkIdTypeArray::SafeDownCast(reduced->GetPointData()->GetArray("OriginalPointId"));
   ASSERT_NE(ids, nullptr);
-  auto* names = vtkStringArray::SafeDownCast(reduced->GetFieldData()->GetAbstractArray("TargetNames"));
+  auto* names =
+    vtkStringArray::SafeDownCast(reduced->GetFieldData()->GetAbstractArray("TargetNames"));
   ASSERT_NE(names, nullptr);
   EXPECT_EQ(names->GetNumberOfValues(), 54);
   int arraysChecked = 0;
@@ -161,7 +162,8 @@ TEST(AnimationAwareDecimation, CarriesEveryTargetOnTheICTFace)
   }
 
   // The morph node animates the reduced face like the full one at the kept points.
-  auto animate = [](vtkPolyData* input) {
+  auto animate = [](vtkPolyData* input)
+  {
     vtkNew<vtkMorphNodeFilter> morph;
     morph->SetInputData(input);
     morph->SetWeightModeToRelative();
@@ -203,7 +205,8 @@ TEST(AnimationAwareDecimation, KeepsMoreOfMouthAndEyes)
     {
       continue;
     }
-    vtkDataArray* d = face->GetPointData()->GetArray(("target" + std::to_string(t - 1) + "_position").c_str());
+    vtkDataArray* d =
+      face->GetPointData()->GetArray(("target" + std::to_string(t - 1) + "_position").c_str());
     ASSERT_NE(d, nullptr);
     for (vtkIdType p = 0; p < face->GetNumberOfPoints(); ++p)
     {
@@ -216,8 +219,10 @@ TEST(AnimationAwareDecimation, KeepsMoreOfMouthAndEyes)
   for (int divisor : { 4, 10 })
   {
     const vtkIdType budget = face->GetNumberOfPolys() / divisor;
-    auto count = [&](vtkPolyData* reduced) {
-      auto* ids = vtkIdTypeArray::SafeDownCast(reduced->GetPointData()->GetArray("OriginalPointId"));
+    auto count = [&](vtkPolyData* reduced)
+    {
+      auto* ids =
+        vtkIdTypeArray::SafeDownCast(reduced->GetPointData()->GetArray("OriginalPointId"));
       int n = 0;
       for (vtkIdType k = 0; k < ids->GetNumberOfValues(); ++k)
       {

@@ -6,29 +6,29 @@
 #include "HeadActors.h"
 #include "TimeSeriesWriter.h"
 
+#include "vtkActor.h"
+#include "vtkCompositeDataSet.h"
 #include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
+#include "vtkInformation.h"
+#include "vtkMapper.h"
 #include "vtkMatrix4x4.h"
 #include "vtkMorphAvatarPipeline.h"
 #include "vtkMorphPartData.h"
-#include "vtkNew.h"
-#include "vtkPolyData.h"
-#include "vtkSphereSource.h"
-#include "vtkTable.h"
-#include "vtkTransform.h"
-#include "vtkCompositeDataSet.h"
-#include "vtkInformation.h"
 #include "vtkMultiBlockDataSet.h"
+#include "vtkNew.h"
 #include "vtkPartitionedDataSet.h"
 #include "vtkPartitionedDataSetCollection.h"
 #include "vtkPointData.h"
+#include "vtkPolyData.h"
+#include "vtkProperty.h"
+#include "vtkRenderer.h"
+#include "vtkSphereSource.h"
+#include "vtkTable.h"
+#include "vtkTransform.h"
 #include "vtkUnsignedCharArray.h"
 #include "vtkXMLMultiBlockDataReader.h"
 #include "vtkXMLPolyDataReader.h"
-#include "vtkActor.h"
-#include "vtkMapper.h"
-#include "vtkProperty.h"
-#include "vtkRenderer.h"
 
 #include "Messages.h"
 
@@ -96,7 +96,8 @@ TEST(AppKitCommandLine, SizesListsSeeds)
   {
     EXPECT_NE(Parse(app, { "--size", bad }).find("--size: expects WxH"), std::string::npos) << bad;
   }
-  EXPECT_NE(Parse(app, { "--list", "0.2,abc" }).find("expects a number, got 'abc'"), std::string::npos);
+  EXPECT_NE(
+    Parse(app, { "--list", "0.2,abc" }).find("expects a number, got 'abc'"), std::string::npos);
   EXPECT_NE(Parse(app, { "--list", "0.2,3" }).find("must be in [0, 1]"), std::string::npos);
   EXPECT_NE(Parse(app, { "--seed", "-3" }).find("expects an unsigned integer"), std::string::npos);
 }
@@ -110,7 +111,8 @@ TEST(AppKitCommandLine, OptimizerMethodsByPresetName)
   EXPECT_EQ(preset, OptimizerPreset::FixedRemaining);
   EXPECT_EQ(Parse(app, { "--method", "4" }), "");
   EXPECT_EQ(preset, OptimizerPreset::ErrorBounded);
-  EXPECT_NE(Parse(app, { "--method", "fixed+maximum" }).find("unknown optimizer method"), std::string::npos);
+  EXPECT_NE(Parse(app, { "--method", "fixed+maximum" }).find("unknown optimizer method"),
+    std::string::npos);
   EXPECT_EQ(appkit::OptimizerPresetChoices(),
     "0|none, 1|fixed-maximum, 2|fixed-remaining, 3|adjusted, 4|error-bounded");
 }
@@ -120,8 +122,8 @@ TEST(HeadPoseFromWeights, TheTransformIsTheCoreConvention)
   // The head pose of every avatar program: vtkMorphAvatarPipeline::SetHeadPoseFromWeights
   // (AppKit had it until the pipeline was assembled in one class).
   vtkNew<vtkTable> weights;
-  for (const auto& [name, value] : { std::pair<const char*, double>{ "HeadYaw", 12.0 }, { "HeadPitch", -7.0 },
-         { "HeadRoll", 4.0 } })
+  for (const auto& [name, value] : { std::pair<const char*, double>{ "HeadYaw", 12.0 },
+         { "HeadPitch", -7.0 }, { "HeadRoll", 4.0 } })
   {
     vtkNew<vtkDoubleArray> column;
     column->SetName(name);
@@ -142,7 +144,8 @@ TEST(HeadPoseFromWeights, TheTransformIsTheCoreConvention)
   {
     for (int j = 0; j < 4; ++j)
     {
-      EXPECT_NEAR(pose->GetMatrix()->GetElement(i, j), before->GetMatrix()->GetElement(i, j), 1e-12);
+      EXPECT_NEAR(
+        pose->GetMatrix()->GetElement(i, j), before->GetMatrix()->GetElement(i, j), 1e-12);
     }
   }
   // No table, no angles: the identity.
@@ -182,8 +185,12 @@ TEST(AppKitTimeSeries, WritesTheCollectionAndTheSteps)
   EXPECT_EQ(face->GetFieldData()->GetNumberOfArrays(), 0) << "the input must not be modified";
   std::ifstream in(dir + "/talk.pvd");
   const std::string xml((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  EXPECT_NE(xml.find("timestep=\"0\" group=\"\" part=\"0\" file=\"talk/face_00000.vtp\""), std::string::npos) << xml;
-  EXPECT_NE(xml.find("timestep=\"0.5\" group=\"\" part=\"0\" file=\"talk/face_00001.vtp\""), std::string::npos) << xml;
+  EXPECT_NE(xml.find("timestep=\"0\" group=\"\" part=\"0\" file=\"talk/face_00000.vtp\""),
+    std::string::npos)
+    << xml;
+  EXPECT_NE(xml.find("timestep=\"0.5\" group=\"\" part=\"0\" file=\"talk/face_00001.vtp\""),
+    std::string::npos)
+    << xml;
   vtkNew<vtkXMLPolyDataReader> reader;
   reader->SetFileName((dir + "/talk/face_00000.vtp").c_str());
   reader->Update();
@@ -249,7 +256,9 @@ TEST(AppKitTimeSeries, WritesEveryPartOfAHead)
   }
   std::ifstream in(dir + "/talk.pvd");
   const std::string xml((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  EXPECT_NE(xml.find("timestep=\"0.25\" group=\"\" part=\"0\" file=\"talk/face_00000.vtm\""), std::string::npos) << xml;
+  EXPECT_NE(xml.find("timestep=\"0.25\" group=\"\" part=\"0\" file=\"talk/face_00000.vtm\""),
+    std::string::npos)
+    << xml;
   vtkNew<vtkXMLMultiBlockDataReader> reader;
   reader->SetFileName((dir + "/talk/face_00000.vtm").c_str());
   reader->Update();
@@ -282,15 +291,17 @@ TEST(AppKitHeadActors, OneActorPerPartInItsColours)
   EXPECT_EQ(actors.GetPartName(1), "EyeLeft/Iris");
   double rgb[3];
   actors.GetActor(0)->GetProperty()->GetColor(rgb);
-  EXPECT_DOUBLE_EQ(rgb[0], 0.8); // BaseColor
+  EXPECT_DOUBLE_EQ(rgb[0], 0.8);                                 // BaseColor
   EXPECT_EQ(actors.GetActor(0)->GetUserTransform(), pose.Get()); // one pose for all parts
   EXPECT_EQ(actors.GetActor(1)->GetUserTransform(), pose.Get());
   // COLOR_0 x BaseColor as the iris's point colours: a dark and a full point in turn.
   EXPECT_TRUE(actors.GetActor(1)->GetMapper()->GetScalarVisibility());
   EXPECT_FALSE(actors.GetActor(0)->GetMapper()->GetScalarVisibility());
-  auto* shown = vtkPolyData::SafeDownCast(actors.GetActor(1)->GetMapper()->GetInputDataObject(0, 0));
+  auto* shown =
+    vtkPolyData::SafeDownCast(actors.GetActor(1)->GetMapper()->GetInputDataObject(0, 0));
   ASSERT_NE(shown, nullptr);
-  auto* colors = vtkUnsignedCharArray::SafeDownCast(shown->GetPointData()->GetArray("DisplayColors"));
+  auto* colors =
+    vtkUnsignedCharArray::SafeDownCast(shown->GetPointData()->GetArray("DisplayColors"));
   ASSERT_NE(colors, nullptr);
   EXPECT_EQ(colors->GetValue(0), 0);
   EXPECT_EQ(colors->GetValue(3), 102); // 0.4 x 255
@@ -319,13 +330,16 @@ TEST(AppKitHeadActors, OneActorPerPartInItsColours)
 TEST(AppKit, ProgramMessagesDropVtkDecoration)
 {
   using morphnode::appkit::ProgramMessage;
-  EXPECT_EQ(ProgramMessage("ERROR: In /build/vtkMorphRigFilter.cxx, line 412\nvtkMorphRigFilter "
-                           "(0x55d1c0ffee00): rig 'x.json': shape 'A', target 'jawOpn': unknown\n\n"),
+  EXPECT_EQ(
+    ProgramMessage("ERROR: In /build/vtkMorphRigFilter.cxx, line 412\nvtkMorphRigFilter "
+                   "(0x55d1c0ffee00): rig 'x.json': shape 'A', target 'jawOpn': unknown\n\n"),
     "rig 'x.json': shape 'A', target 'jawOpn': unknown");
-  EXPECT_EQ(ProgramMessage("Warning: In a.cxx, line 3\nvtkBehaviorTimeSource (0x1): the voice is odd\n\n"),
+  EXPECT_EQ(
+    ProgramMessage("Warning: In a.cxx, line 3\nvtkBehaviorTimeSource (0x1): the voice is odd\n\n"),
     "the voice is odd");
-  EXPECT_EQ(ProgramMessage("ERROR: In vtkExecutive.cxx, line 752\nvtkCompositeDataPipeline (0x5): "
-                           "Algorithm vtkEyeGazeFilter(0x6) returned failure for request: vtkInformation"),
+  EXPECT_EQ(
+    ProgramMessage("ERROR: In vtkExecutive.cxx, line 752\nvtkCompositeDataPipeline (0x5): "
+                   "Algorithm vtkEyeGazeFilter(0x6) returned failure for request: vtkInformation"),
     "");
   EXPECT_EQ(ProgramMessage("plain text"), "plain text");
 }

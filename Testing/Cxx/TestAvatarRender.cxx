@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // The shared MakeHuman avatar drawn as MorphAvatar draws it (vtkMorphTargetReader ->
 // vtkMorphNodeFilter -> vtkMorphSkinFilter -> AppKit/HeadActors, framed on the face from its
-// head joint, AppKit/Framing.h), saying "O" (viseme_O, jawOpen 0.45) with the eyes turned 30 degrees to
-// its left by the eye joints, compared with a baseline. Two negative controls must fail at
-// the same threshold: the eyes not turned, and the mouth at rest. Textures are not drawn
-// here, so the test paints each eyeball's iris (the points within 35 degrees of its rest
-// forward direction) dark as vertex colours; they turn with the eye as a texture would.
-// Run under `xvfb-run -a`.
+// head joint, AppKit/Framing.h), saying "O" (viseme_O, jawOpen 0.45) with the eyes turned 30
+// degrees to its left by the eye joints, compared with a baseline. Two negative controls must fail
+// at the same threshold: the eyes not turned, and the mouth at rest. Textures are not drawn here,
+// so the test paints each eyeball's iris (the points within 35 degrees of its rest forward
+// direction) dark as vertex colours; they turn with the eye as a texture would. Run under `xvfb-run
+// -a`.
 #include "Framing.h"
 #include "HeadActors.h"
 #include "MorphNodeTestUtilities.h"
@@ -53,7 +53,8 @@ void PaintIrises(vtkDataObject* head)
   for (vtkPolyData* part : appkit::HeadParts(head))
   {
     const std::string name = vtkMorphPartData::GetPartName(part->GetFieldData());
-    if (name.rfind("Eye", 0) != 0 || name.find("lash") != std::string::npos || name.find("brow") != std::string::npos)
+    if (name.rfind("Eye", 0) != 0 || name.find("lash") != std::string::npos ||
+      name.find("brow") != std::string::npos)
     {
       continue;
     }
@@ -73,7 +74,8 @@ void PaintIrises(vtkDataObject* head)
       const double cosine = d[2] / std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
       const bool iris = cosine > std::cos(35.0 * M_PI / 180.0);
       const unsigned char rgba[4] = { static_cast<unsigned char>(iris ? 60 : 245),
-        static_cast<unsigned char>(iris ? 35 : 245), static_cast<unsigned char>(iris ? 20 : 240), 255 };
+        static_cast<unsigned char>(iris ? 35 : 245), static_cast<unsigned char>(iris ? 20 : 240),
+        255 };
       colours->SetTypedTuple(i, rgba);
     }
     part->GetPointData()->AddArray(colours);
@@ -150,7 +152,9 @@ TEST(AvatarRender, FramedOnTheFaceSayingOWithTheEyesLeft)
 
   // Negative controls: each must fail the baseline at the same threshold.
   auto ahead = Render(1.0, 0.0);
-  EXPECT_GT(ErrorAgainstBaseline(ahead->Window, "avatar-eyes-ahead-O"), Threshold) << "the eyes not turned";
+  EXPECT_GT(ErrorAgainstBaseline(ahead->Window, "avatar-eyes-ahead-O"), Threshold)
+    << "the eyes not turned";
   auto closed = Render(0.0, 30.0);
-  EXPECT_GT(ErrorAgainstBaseline(closed->Window, "avatar-eyes-left-rest"), Threshold) << "the mouth at rest";
+  EXPECT_GT(ErrorAgainstBaseline(closed->Window, "avatar-eyes-left-rest"), Threshold)
+    << "the mouth at rest";
 }

@@ -16,6 +16,7 @@
 #include "speech/Speech.h"
 #include "speech/TimingFiles.h"
 
+#include "MorphNodeTestSkips.h"
 #include "vtkCallbackCommand.h"
 #include "vtkDelimitedTextWriter.h"
 #include "vtkDoubleArray.h"
@@ -26,7 +27,6 @@
 #include "vtkSmartPointer.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkTable.h"
-#include "MorphNodeTestSkips.h"
 
 #include <gtest/gtest.h>
 
@@ -89,7 +89,8 @@ struct Face
   Face()
   {
     this->Reader->SetFileName(DefaultFace.c_str());
-    this->Reader->SetMeshIndex(0); // the head's skin (mesh 0, every Table 1 target), one vtkPolyData
+    this->Reader->SetMeshIndex(
+      0); // the head's skin (mesh 0, every Table 1 target), one vtkPolyData
     this->Morph->SetInputConnection(this->Reader->GetOutputPort());
     this->Morph->SetWeightsConnection(this->Behavior->GetOutputPort(0));
     this->Messages->Watch(this->Morph);
@@ -106,8 +107,8 @@ struct ExecutionCounter
   explicit ExecutionCounter(vtkAlgorithm* algorithm)
   {
     this->Callback->SetClientData(this);
-    this->Callback->SetCallback(
-      [](vtkObject*, unsigned long, void* self, void*) { ++static_cast<ExecutionCounter*>(self)->Count; });
+    this->Callback->SetCallback([](vtkObject*, unsigned long, void* self, void*)
+      { ++static_cast<ExecutionCounter*>(self)->Count; });
     algorithm->AddObserver(vtkCommand::StartEvent, this->Callback);
   }
 };
@@ -128,7 +129,8 @@ void ExpectTrackEqualsCore(vtkBehaviorTimeSource* source, morphnode::BehaviorCon
   const morphnode::WeightTrack expected = core.SampleTrack();
   vtkTable* track = Track(source);
   ASSERT_EQ(track->GetNumberOfRows(), static_cast<vtkIdType>(expected.GetNumberOfFrames()));
-  ASSERT_EQ(track->GetNumberOfColumns(), static_cast<vtkIdType>(expected.GetNumberOfChannels() + 1));
+  ASSERT_EQ(
+    track->GetNumberOfColumns(), static_cast<vtkIdType>(expected.GetNumberOfChannels() + 1));
   for (size_t c = 0; c < expected.GetNumberOfChannels(); ++c)
   {
     auto* column = vtkDoubleArray::SafeDownCast(track->GetColumn(static_cast<vtkIdType>(c + 1)));
@@ -320,7 +322,8 @@ TEST(BehaviorTimeSource, MorphFilterAtTimeTShowsTheCoreSampleAtT)
       double p[3], q[3];
       out->GetPoint(i, p);
       first->GetPoint(i, q);
-      largestMotion = std::max(largestMotion, std::abs(p[0] - q[0]) + std::abs(p[1] - q[1]) + std::abs(p[2] - q[2]));
+      largestMotion = std::max(
+        largestMotion, std::abs(p[0] - q[0]) + std::abs(p[1] - q[1]) + std::abs(p[2] - q[2]));
     }
   }
   EXPECT_GT(largestMotion, 1e-3) << "the face never moved";
@@ -381,7 +384,7 @@ TEST(BehaviorTimeSource, GestureAndMoodVisibleAtTheirTime)
   // A 1 s nod has two nods (k = round(1 / 0.5)): -10 deg at u = 0.25 and 0.75.
   EXPECT_LT(Value(At(source, 2.25), "HeadPitch"), -7.0);
   EXPECT_LT(std::abs(Value(At(source, 1.5), "HeadPitch")), 2.0); // idle micro-motion only
-  EXPECT_NEAR(Value(At(source, 5.75), "BrowsAngry"), 0.8, 1e-9);  // in the hold
+  EXPECT_NEAR(Value(At(source, 5.75), "BrowsAngry"), 0.8, 1e-9); // in the hold
   EXPECT_EQ(Value(At(source, 4.9), "BrowsAngry"), 0.0);
   EXPECT_EQ(Value(At(source, 6.9), "MouthSad"), 0.0);
   EXPECT_NEAR(Value(At(source, 8.5), "MouthSad"), 0.7, 1e-9); // sad mood: MouthSad 0.7
@@ -479,7 +482,8 @@ TEST(BehaviorTimeSource, ExecutesOnlyWhenSomethingChanged)
   face.Morph->UpdateTimeStep(2.0);
   EXPECT_EQ(source.Count, 3);
   EXPECT_EQ(morph.Count, 3);
-  EXPECT_GT(Value(vtkTable::SafeDownCast(face.Behavior->GetOutputDataObject(0)), "MouthSmile"), 0.5);
+  EXPECT_GT(
+    Value(vtkTable::SafeDownCast(face.Behavior->GetOutputDataObject(0)), "MouthSmile"), 0.5);
 
   face.Behavior->SetSeed(99); // a real change of a setting
   face.Morph->UpdateTimeStep(2.0);
@@ -648,7 +652,8 @@ TEST(BehaviorTimeSource, RhubarbCuesFromFilesAndText)
     << messages->AllErrors();
   EXPECT_GT(source->GetMTime(), mtime);
   core.Speak(morphnode::UtteranceFromMouthCues(
-               morphnode::ReadRhubarbFile(Corpus + "rhubarb_tsv/sample.tsv"), options), 1.0);
+               morphnode::ReadRhubarbFile(Corpus + "rhubarb_tsv/sample.tsv"), options),
+    1.0);
   mtime = source->GetMTime();
   ASSERT_TRUE(source->SpeakRhubarbFile((Corpus + "rhubarb_json/sample.json").c_str()))
     << messages->AllErrors();
@@ -657,7 +662,9 @@ TEST(BehaviorTimeSource, RhubarbCuesFromFilesAndText)
     morphnode::ReadRhubarbFile(Corpus + "rhubarb_json/sample.json"), options));
   // The same cues as text, TSV and JSON.
   ASSERT_TRUE(source->SpeakRhubarbCues("0.0\tX\n0.1\tD\n0.5\tX\n", 4.0)) << messages->AllErrors();
-  core.Speak(morphnode::UtteranceFromMouthCues(morphnode::ParseRhubarb("0.0\tX\n0.1\tD\n0.5\tX\n"), options), 4.0);
+  core.Speak(
+    morphnode::UtteranceFromMouthCues(morphnode::ParseRhubarb("0.0\tX\n0.1\tD\n0.5\tX\n"), options),
+    4.0);
   const char* json = R"({"mouthCues": [{"start": 0, "end": 0.1, "value": "X"},
     {"start": 0.1, "end": 0.4, "value": "A"}, {"start": 0.4, "end": 0.5, "value": "X"}]})";
   ASSERT_TRUE(source->SpeakRhubarbCues(json, 5.0)) << messages->AllErrors();
@@ -716,7 +723,8 @@ TEST(BehaviorTimeSource, PhonemesFromPhoFilesAndText)
   morphnode::BehaviorController core;
   const morphnode::SpeechOptions options = PaperOptions();
 
-  ASSERT_TRUE(source->SpeakPhonemeFile((Corpus + "pho/hello.pho").c_str(), 0.5)) << messages->AllErrors();
+  ASSERT_TRUE(source->SpeakPhonemeFile((Corpus + "pho/hello.pho").c_str(), 0.5))
+    << messages->AllErrors();
   core.Speak(morphnode::LoadPhoUtterance(Corpus + "pho/hello.pho", options), 0.5);
   const std::string pho = "; a comment\n_ 50\nh 60\nA: 200 50 120\n_ 100\n";
   const vtkMTimeType mtime = source->GetMTime();
@@ -728,7 +736,8 @@ TEST(BehaviorTimeSource, PhonemesFromPhoFilesAndText)
   EXPECT_FALSE(source->HasAudio());
   ExpectTrackEqualsCore(source, core);
   const double start = source->GetUtteranceStart(1);
-  EXPECT_GT(Peak(Track(source), "A", start + 0.11, start + 0.31), 0.5) << "the long A: opens the mouth";
+  EXPECT_GT(Peak(Track(source), "A", start + 0.11, start + 0.31), 0.5)
+    << "the long A: opens the mouth";
 
   // Bad phonemes: errors with the line, nothing changed.
   const vtkMTimeType before = source->GetMTime();
@@ -771,7 +780,8 @@ TEST(BehaviorTimeSource, VisemeTableFileChangesTheChannelsOfLaterSpeech)
   EXPECT_EQ(source->GetChannelIndex("A"), -1);
   std::ostringstream printed;
   source->Print(printed);
-  EXPECT_NE(printed.str().find("VisemeTableFileName: " + table), std::string::npos) << printed.str();
+  EXPECT_NE(printed.str().find("VisemeTableFileName: " + table), std::string::npos)
+    << printed.str();
 
   // Back to the built-in table of the set.
   ASSERT_TRUE(source->SetVisemeTableFileName(nullptr));
@@ -794,10 +804,12 @@ TEST(BehaviorTimeSource, BehaviorParametersByName)
   EXPECT_EQ(source->GetBehaviorParameter("head_share_of_gaze"), 0.4);
   std::ostringstream printed;
   source->Print(printed);
-  EXPECT_NE(printed.str().find("BehaviorParameters: (defaults)"), std::string::npos) << printed.str();
+  EXPECT_NE(printed.str().find("BehaviorParameters: (defaults)"), std::string::npos)
+    << printed.str();
 
   source->SetDuration(60.0);
-  auto blinks = [&]() {
+  auto blinks = [&]()
+  {
     vtkTable* track = Track(source);
     int count = 0;
     for (vtkIdType r = 1; r < track->GetNumberOfRows(); ++r)
@@ -816,7 +828,8 @@ TEST(BehaviorTimeSource, BehaviorParametersByName)
   EXPECT_GT(fast, rest + 10) << rest << " blinks a minute at 17/min, " << fast << " at 40/min";
   printed.str("");
   source->Print(printed);
-  EXPECT_NE(printed.str().find("BehaviorParameters: BlinkRateRest=40"), std::string::npos) << printed.str();
+  EXPECT_NE(printed.str().find("BehaviorParameters: BlinkRateRest=40"), std::string::npos)
+    << printed.str();
 
   // The same value: no change. Unknown names and values out of range: errors, no change.
   mtime = source->GetMTime();
@@ -844,7 +857,8 @@ TEST(BehaviorTimeSource, FramesAndTimeStepsAreTheCoreFrames)
   source->SetFrameRate(24.0);
   source->SetDuration(2.3);
   ASSERT_EQ(source->GetNumberOfFrames(), 56); // floor(2.3 * 24) + 1 = 55 + 1
-  EXPECT_EQ(source->GetNumberOfFrames(), static_cast<vtkIdType>(morphnode::NumberOfFrames(2.3, 24.0)));
+  EXPECT_EQ(
+    source->GetNumberOfFrames(), static_cast<vtkIdType>(morphnode::NumberOfFrames(2.3, 24.0)));
   source->UpdateInformation();
   vtkInformation* info = source->GetOutputInformation(0);
   ASSERT_EQ(info->Length(vtkStreamingDemandDrivenPipeline::TIME_STEPS()), 56);
@@ -876,7 +890,8 @@ TEST(BehaviorTimeSource, ATrackTooLargeIsAnErrorWithEmptyOutputs)
   EXPECT_EQ(source->GetNumberOfFrames(), 86400001);
   source->UpdateInformation();
   vtkInformation* info = source->GetOutputInformation(0);
-  EXPECT_FALSE(info->Has(vtkStreamingDemandDrivenPipeline::TIME_STEPS())) << "86 million time steps";
+  EXPECT_FALSE(info->Has(vtkStreamingDemandDrivenPipeline::TIME_STEPS()))
+    << "86 million time steps";
   ASSERT_TRUE(info->Has(vtkStreamingDemandDrivenPipeline::TIME_RANGE()));
   EXPECT_EQ(info->Get(vtkStreamingDemandDrivenPipeline::TIME_RANGE())[1], 86400.0);
 
@@ -909,7 +924,8 @@ TEST(BehaviorTimeSource, ControllerIsReadOnlyAndChangesGoThroughTheSource)
   ASSERT_TRUE(controller.IsPrepared());
   std::vector<double> row;
   controller.Sample(1.5, row);
-  EXPECT_EQ(row[static_cast<size_t>(controller.FindChannel("MouthSmile"))], Value(At(source, 1.5), "MouthSmile"));
+  EXPECT_EQ(row[static_cast<size_t>(controller.FindChannel("MouthSmile"))],
+    Value(At(source, 1.5), "MouthSmile"));
   EXPECT_EQ(executions.Count, 1);
   // Asking for the same time again, or reading the controller, runs nothing.
   At(source, 1.5);
@@ -917,7 +933,8 @@ TEST(BehaviorTimeSource, ControllerIsReadOnlyAndChangesGoThroughTheSource)
   EXPECT_EQ(executions.Count, 1);
 
   // An utterance built in C++ (with sound) goes through Speak: modified, re-executed.
-  morphnode::Utterance u = morphnode::UtteranceFromPhonemes(morphnode::ParsePho("_ 50\nA: 300\n_ 50\n"), PaperOptions());
+  morphnode::Utterance u =
+    morphnode::UtteranceFromPhonemes(morphnode::ParsePho("_ 50\nA: 300\n_ 50\n"), PaperOptions());
   u.Audio.assign(static_cast<size_t>(0.4 * 22050), int16_t(1000));
   u.SampleRate = 22050;
   const vtkMTimeType mtime = source->GetMTime();
@@ -984,9 +1001,9 @@ TEST(BehaviorTimeSource, AnyTimingFileAndScriptsReadingThem)
 
   // Bad timing files: errors naming the file, nothing changed.
   const vtkMTimeType mtime = source->GetMTime();
-  for (const std::string& bad : { Corpus + "textgrid/out_of_order.TextGrid",
-         Corpus + "speech_marks/out_of_order.marks", Corpus + "rhubarb_tsv/decreasing.tsv",
-         OutputDir + "/missing.TextGrid" })
+  for (const std::string& bad :
+    { Corpus + "textgrid/out_of_order.TextGrid", Corpus + "speech_marks/out_of_order.marks",
+      Corpus + "rhubarb_tsv/decreasing.tsv", OutputDir + "/missing.TextGrid" })
   {
     messages->Clear();
     EXPECT_FALSE(source->SpeakTimingFile(bad.c_str(), 0.0)) << bad;
@@ -1014,7 +1031,8 @@ TEST(BehaviorTimeSource, RecordingsWithTheirTranscriptOrTimings)
   vtkNew<MessageCollector> messages;
   messages->Watch(source);
   const vtkMTimeType mtime = source->GetMTime();
-  ASSERT_TRUE(source->SpeakAudioFile(wav.c_str(), "Hello world, how are you?", 1.0)) << messages->AllErrors();
+  ASSERT_TRUE(source->SpeakAudioFile(wav.c_str(), "Hello world, how are you?", 1.0))
+    << messages->AllErrors();
   EXPECT_GT(source->GetMTime(), mtime);
   EXPECT_TRUE(source->HasAudio()) << "the recording is the utterance's sound";
   EXPECT_EQ(source->GetUtteranceStart(0), 1.0);
@@ -1072,9 +1090,11 @@ TEST(BehaviorTimeSource, RecordingsWithTheirTranscriptOrTimings)
   EXPECT_FALSE(source->SpeakAudioFile((OutputDir + "/missing.wav").c_str(), "Hello"));
   EXPECT_FALSE(source->SpeakAudioFile((Corpus + "pho/hello.pho").c_str(), "Hello")); // no sound
   EXPECT_FALSE(source->SpeakAudioFileWithTimings(wav.c_str(), nullptr));
-  EXPECT_FALSE(source->SpeakAudioFileWithTimings(wav.c_str(), (OutputDir + "/missing.TextGrid").c_str()));
+  EXPECT_FALSE(
+    source->SpeakAudioFileWithTimings(wav.c_str(), (OutputDir + "/missing.TextGrid").c_str()));
   EXPECT_EQ(messages->Errors.size(), 4u) << messages->AllErrors();
-  EXPECT_TRUE(messages->HasError("SpeakAudioFileWithTimings: a timing file is needed")) << messages->AllErrors();
+  EXPECT_TRUE(messages->HasError("SpeakAudioFileWithTimings: a timing file is needed"))
+    << messages->AllErrors();
   EXPECT_EQ(source->GetNumberOfUtterances(), 2);
   EXPECT_EQ(source->GetMTime(), after);
 }

@@ -8,9 +8,9 @@
 #include "vtkAbstractArray.h"
 #include "vtkInformation.h"
 #include "vtkNew.h"
-#include "vtkVariant.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkTable.h"
+#include "vtkVariant.h"
 
 #include <gtest/gtest.h>
 

@@ -7,8 +7,8 @@
 // PrintSelf and bad input.
 #include "vtkBehaviorTimeSource.h"
 #include "vtkEyeGazeFilter.h"
-#include "vtkMorphTargetReader.h"
 #include "vtkMorphPartData.h"
+#include "vtkMorphTargetReader.h"
 
 #include "MorphNodeTestUtilities.h"
 
@@ -43,13 +43,15 @@
 namespace
 {
 using Vec3 = std::array<double, 3>;
-const std::string DefaultHead = std::string(MORPHNODE_SOURCE_DIR) + "/Data/DefaultFace/default_head.glb";
+const std::string DefaultHead =
+  std::string(MORPHNODE_SOURCE_DIR) + "/Data/DefaultFace/default_head.glb";
 const std::string IctHead = std::string(MORPHNODE_FACEKIT_DIR) + "/ict_head_full53.glb";
 
 double AngleDegrees(const Vec3& a, const Vec3& b)
 {
   const double d = a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-  const double n = std::sqrt((a[0] * a[0] + a[1] * a[1] + a[2] * a[2]) * (b[0] * b[0] + b[1] * b[1] + b[2] * b[2]));
+  const double n = std::sqrt(
+    (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]) * (b[0] * b[0] + b[1] * b[1] + b[2] * b[2]));
   return std::acos(std::max(-1.0, std::min(1.0, d / n))) * 180.0 / M_PI;
 }
 
@@ -111,7 +113,8 @@ bool IsPupil(vtkPolyData* pd, vtkIdType i)
     return true;
   }
   vtkDataArray* colors = pd->GetPointData()->GetArray("COLOR_0");
-  return colors && StringOf(pd, vtkMorphPartData::PartNameArray).find("Iris") != std::string::npos &&
+  return colors &&
+    StringOf(pd, vtkMorphPartData::PartNameArray).find("Iris") != std::string::npos &&
     colors->GetComponent(i, 0) < 0.2 * colors->GetDataTypeMax();
 }
 
@@ -137,8 +140,10 @@ int CheckGaze(vtkDataObject* inData, vtkDataObject* outData, const morphnode::Ga
     vtkDataArray* gaze = outLeaf->GetFieldData()->GetArray("EyeGaze");
     if (!gaze)
     {
-      EXPECT_EQ(outLeaf->GetPoints(), inLeaf->GetPoints()) << name << ": not an eye, must be shared";
-      EXPECT_EQ(outLeaf->GetPointData()->GetNormals(), inLeaf->GetPointData()->GetNormals()) << name;
+      EXPECT_EQ(outLeaf->GetPoints(), inLeaf->GetPoints())
+        << name << ": not an eye, must be shared";
+      EXPECT_EQ(outLeaf->GetPointData()->GetNormals(), inLeaf->GetPointData()->GetNormals())
+        << name;
       continue;
     }
     ++eyes;
@@ -159,10 +164,12 @@ int CheckGaze(vtkDataObject* inData, vtkDataObject* outData, const morphnode::Ga
       outLeaf->GetPoint(i, c);
       outLeaf->GetPoint(j, d);
       worst = std::max(worst,
-        std::abs(std::sqrt(vtkMath::Distance2BetweenPoints(a, b)) - std::sqrt(vtkMath::Distance2BetweenPoints(c, d))));
+        std::abs(std::sqrt(vtkMath::Distance2BetweenPoints(a, b)) -
+          std::sqrt(vtkMath::Distance2BetweenPoints(c, d))));
       // Every point keeps its distance from the centre.
-      worst = std::max(worst, std::abs(std::sqrt(vtkMath::Distance2BetweenPoints(a, origin.data())) -
-                                std::sqrt(vtkMath::Distance2BetweenPoints(c, origin.data()))));
+      worst = std::max(worst,
+        std::abs(std::sqrt(vtkMath::Distance2BetweenPoints(a, origin.data())) -
+          std::sqrt(vtkMath::Distance2BetweenPoints(c, origin.data()))));
     }
     EXPECT_LT(worst, 1e-6) << name << ": not rigid about its centre (m)";
     // Normals turned with the points: the normal at a point keeps its angle to the radius.
@@ -234,8 +241,8 @@ TEST(EyeGazeFilter, DefaultHeadEyesTurnRigidlyTowardsTheGaze)
   const std::vector<double> before = AllPoints(head);
   vtkNew<vtkEyeGazeFilter> gaze;
   gaze->SetInputConnection(reader->GetOutputPort());
-  for (const morphnode::GazeAngles a : { morphnode::GazeAngles{ 25.0, -10.0 }, morphnode::GazeAngles{ -30.0, 15.0 },
-         morphnode::GazeAngles{ 0.0, 0.0 } })
+  for (const morphnode::GazeAngles a : { morphnode::GazeAngles{ 25.0, -10.0 },
+         morphnode::GazeAngles{ -30.0, 15.0 }, morphnode::GazeAngles{ 0.0, 0.0 } })
   {
     gaze->SetEyeYaw(a.Yaw);
     gaze->SetEyePitch(a.Pitch);
@@ -247,7 +254,8 @@ TEST(EyeGazeFilter, DefaultHeadEyesTurnRigidlyTowardsTheGaze)
     // The structure is kept: the names of the partitioned data sets and the assembly.
     auto* inCollection = vtkPartitionedDataSetCollection::SafeDownCast(head);
     auto* outCollection = vtkPartitionedDataSetCollection::SafeDownCast(out);
-    ASSERT_EQ(outCollection->GetNumberOfPartitionedDataSets(), inCollection->GetNumberOfPartitionedDataSets());
+    ASSERT_EQ(outCollection->GetNumberOfPartitionedDataSets(),
+      inCollection->GetNumberOfPartitionedDataSets());
     EXPECT_EQ(outCollection->GetDataAssembly(), inCollection->GetDataAssembly());
     for (unsigned int d = 0; d < inCollection->GetNumberOfPartitionedDataSets(); ++d)
     {
@@ -288,7 +296,8 @@ TEST(EyeGazeFilter, LimitsClamp)
   gaze->SetEyeYaw(80.0);
   gaze->SetEyePitch(-70.0);
   gaze->Update();
-  EXPECT_EQ(CheckGaze(head, gaze->GetOutputDataObject(0), { 40.0, -35.0 }, 1.0), 6) << "default limits";
+  EXPECT_EQ(CheckGaze(head, gaze->GetOutputDataObject(0), { 40.0, -35.0 }, 1.0), 6)
+    << "default limits";
   gaze->SetEyeYaw(-80.0);
   gaze->SetEyePitch(70.0);
   gaze->Update();
@@ -314,7 +323,9 @@ TEST(EyeGazeFilter, FaceKitHead)
   gaze->Update();
   EXPECT_EQ(gaze->GetNumberOfEyeParts(), 4) << "EyeLeft and EyeRight: sclera and iris";
   // The ICT pupils are modelled 1.7 degrees outwards of +Z: within 2 of the gaze.
-  EXPECT_EQ(CheckGaze(reader->GetOutputDataObject(0), gaze->GetOutputDataObject(0), { -20.0, 12.0 }, 2.0), 4);
+  EXPECT_EQ(
+    CheckGaze(reader->GetOutputDataObject(0), gaze->GetOutputDataObject(0), { -20.0, 12.0 }, 2.0),
+    4);
 }
 
 TEST(EyeGazeFilter, EyesByNameAndByRigFile)
@@ -336,7 +347,8 @@ TEST(EyeGazeFilter, EyesByNameAndByRigFile)
   EXPECT_EQ(gaze->GetNumberOfEyeParts(), 0) << "named eyes turn the convention off";
 
   // A rig file's eyes: the right eye only, 10 degrees at most.
-  const std::string rigFile = std::string(MORPHNODE_TEST_OUTPUT_DIR) + "/TestEyeGazeFilter_rig.json";
+  const std::string rigFile =
+    std::string(MORPHNODE_TEST_OUTPUT_DIR) + "/TestEyeGazeFilter_rig.json";
   std::ofstream(rigFile) << R"({"name": "eyes", "shapes": {},
     "eyes": {"parts": ["EyeRight"], "limits": {"yaw": 10}}})";
   gaze->RemoveAllEyeNames();
@@ -384,7 +396,8 @@ TEST(EyeGazeFilter, OneMeshAndMultiblockInput)
   EXPECT_EQ(gaze->GetNumberOfEyeParts(), 1);
   auto* pupil = vtkPolyData::SafeDownCast(gaze->GetOutputDataObject(0));
   ASSERT_TRUE(pupil);
-  const Vec3 d0 = Direction(eye->GetOutput(), { 0, 0, 0 }, [](vtkPolyData*, vtkIdType) { return true; });
+  const Vec3 d0 =
+    Direction(eye->GetOutput(), { 0, 0, 0 }, [](vtkPolyData*, vtkIdType) { return true; });
   const Vec3 d1 = Direction(pupil, { 0, 0, 0 }, [](vtkPolyData*, vtkIdType) { return true; });
   EXPECT_LT(AngleDegrees(d0, { 0, 0, 1 }), 1.0);
   EXPECT_LT(AngleDegrees(d1, morphnode::GazeDirection({ 30.0, 0.0 })), 1.0);
@@ -435,11 +448,15 @@ TEST(EyeGazeFilter, GazeFromTheBehaviour)
     EXPECT_EQ(gaze->GetLastEyePitch(), pitch) << t;
     if (t >= 2.0)
     {
-      EXPECT_NEAR(yaw + table->GetColumnByName("HeadYaw")->GetVariantValue(0).ToDouble(), 20.0, 10.0)
+      EXPECT_NEAR(
+        yaw + table->GetColumnByName("HeadYaw")->GetVariantValue(0).ToDouble(), 20.0, 10.0)
         << "looking at the target, eyes and head together";
     }
-    EXPECT_EQ(CheckGaze(reader->GetOutputDataObject(0), gaze->GetOutputDataObject(0), { yaw, pitch }, 1.0), 6);
-    EXPECT_EQ(gaze->GetOutputDataObject(0)->GetInformation()->Get(vtkDataObject::DATA_TIME_STEP()), t);
+    EXPECT_EQ(
+      CheckGaze(reader->GetOutputDataObject(0), gaze->GetOutputDataObject(0), { yaw, pitch }, 1.0),
+      6);
+    EXPECT_EQ(
+      gaze->GetOutputDataObject(0)->GetInformation()->Get(vtkDataObject::DATA_TIME_STEP()), t);
   }
 }
 
@@ -460,7 +477,8 @@ TEST(EyeGazeFilter, PropertiesAndBadInput)
   EXPECT_EQ(gaze->GetVergence(), 0.0);
   std::ostringstream os;
   gaze->Print(os);
-  for (const char* word : { "EyeYaw: 5", "MaxEyeYaw: 40", "MaxEyeUp: 25", "MaxEyeDown: 35", "'EyeLeft'", "RigFileName" })
+  for (const char* word :
+    { "EyeYaw: 5", "MaxEyeYaw: 40", "MaxEyeUp: 25", "MaxEyeDown: 35", "'EyeLeft'", "RigFileName" })
   {
     EXPECT_NE(os.str().find(word), std::string::npos) << word;
   }
@@ -470,7 +488,8 @@ TEST(EyeGazeFilter, PropertiesAndBadInput)
   vtkNew<morphnode_test::MessageCollector> messages;
   messages->Watch(gaze);
   gaze->SetInputConnection(reader->GetOutputPort());
-  auto expectError = [&](const std::string& fragment) {
+  auto expectError = [&](const std::string& fragment)
+  {
     messages->Clear();
     gaze->Update();
     EXPECT_TRUE(messages->HasError(fragment)) << fragment << "; got: " << messages->AllErrors();
@@ -507,7 +526,8 @@ TEST(EyeGazeFilter, PropertiesAndBadInput)
         vtkNew<vtkFieldData> field;
         field->DeepCopy(leaf->GetFieldData());
         vtkNew<vtkDoubleArray> array;
-        array->SetName(std::string(fault) == "origin" ? vtkMorphPartData::NodeOriginArray : vtkMorphPartData::NodeAxesArray);
+        array->SetName(std::string(fault) == "origin" ? vtkMorphPartData::NodeOriginArray
+                                                      : vtkMorphPartData::NodeAxesArray);
         array->SetNumberOfValues(3);
         array->SetValue(0, std::string(fault) == "origin" ? std::nan("") : 1.0);
         array->SetValue(1, 0.0);
@@ -520,7 +540,8 @@ TEST(EyeGazeFilter, PropertiesAndBadInput)
       }
     }
     gaze->SetInputData(bad);
-    expectError(std::string(fault) == "origin" ? "NodeOrigin is not finite" : "NodeAxes has 3 values");
+    expectError(
+      std::string(fault) == "origin" ? "NodeOrigin is not finite" : "NodeAxes has 3 values");
   }
   // The reader's output is still intact.
   gaze->SetInputConnection(reader->GetOutputPort());

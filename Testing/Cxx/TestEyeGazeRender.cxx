@@ -32,7 +32,8 @@
 
 namespace
 {
-const std::string DefaultHead = std::string(MORPHNODE_SOURCE_DIR) + "/Data/DefaultFace/default_head.glb";
+const std::string DefaultHead =
+  std::string(MORPHNODE_SOURCE_DIR) + "/Data/DefaultFace/default_head.glb";
 const std::string Baseline = std::string(MORPHNODE_BASELINE_DIR) + "/TestEyeGazeRender.png";
 
 /// VTK's legacy image metric at VTK's usual threshold. Measured: the baseline's own render
@@ -53,7 +54,8 @@ void AddHead(vtkRenderer* renderer, vtkDataObject* head)
     }
     // The glTF colour: BaseColor times COLOR_0 where the part has one.
     std::array<double, 4> base{ { 1.0, 1.0, 1.0, 1.0 } };
-    vtkMorphPartData::GetNumbers(pd->GetFieldData(), vtkMorphPartData::BaseColorArray, base.data(), 4);
+    vtkMorphPartData::GetNumbers(
+      pd->GetFieldData(), vtkMorphPartData::BaseColorArray, base.data(), 4);
     vtkNew<vtkPolyDataMapper> mapper;
     vtkNew<vtkActor> actor;
     actor->SetMapper(mapper);
@@ -71,7 +73,8 @@ void AddHead(vtkRenderer* renderer, vtkDataObject* head)
         for (int c = 0; c < 3; ++c)
         {
           rgb->SetValue(3 * i + c,
-            static_cast<unsigned char>(255.0 * base[c] * std::min(1.0, vertex->GetComponent(i, c) * scale) + 0.5));
+            static_cast<unsigned char>(
+              255.0 * base[c] * std::min(1.0, vertex->GetComponent(i, c) * scale) + 0.5));
         }
       }
       colored->GetPointData()->SetScalars(rgb);
@@ -133,7 +136,8 @@ TEST(EyeGazeRender, EyesLookLeftAndRight)
   auto window = Render(yaw, 0.0);
   std::cout << "image error against the baseline: "
             << morphnode_test::BaselineError(window, Baseline, MORPHNODE_TEST_OUTPUT_DIR) << "\n";
-  EXPECT_TRUE(morphnode_test::MatchesBaseline(window, Baseline, MORPHNODE_TEST_OUTPUT_DIR, Threshold));
+  EXPECT_TRUE(
+    morphnode_test::MatchesBaseline(window, Baseline, MORPHNODE_TEST_OUTPUT_DIR, Threshold));
 }
 
 // Negative control: the same head with the eyes straight must fail the comparison.

@@ -165,16 +165,20 @@ TEST(GltfAnimationReader, DefaultWeightsWithoutAnimation)
   EXPECT_STREQ(reader->GetAnimationNameByIndex(2), "Cubic");
   EXPECT_EQ(reader->GetAnimationNameByIndex(4), nullptr);
   EXPECT_EQ(reader->GetChosenAnimation(), -1);
-  EXPECT_FALSE(reader->GetOutputInformation(0)->Has(vtkStreamingDemandDrivenPipeline::TIME_STEPS()));
-  EXPECT_FALSE(reader->GetOutputInformation(1)->Has(vtkStreamingDemandDrivenPipeline::TIME_STEPS()));
+  EXPECT_FALSE(
+    reader->GetOutputInformation(0)->Has(vtkStreamingDemandDrivenPipeline::TIME_STEPS()));
+  EXPECT_FALSE(
+    reader->GetOutputInformation(1)->Has(vtkStreamingDemandDrivenPipeline::TIME_STEPS()));
   reader->Update();
   const auto parts = Leaves(reader->GetOutputDataObject(0));
   ASSERT_EQ(parts.size(), 3u);
-  auto* defaults = vtkDataArray::SafeDownCast(parts[0]->GetFieldData()->GetAbstractArray(vtkMorphPartData::DefaultWeightsArray));
+  auto* defaults = vtkDataArray::SafeDownCast(
+    parts[0]->GetFieldData()->GetAbstractArray(vtkMorphPartData::DefaultWeightsArray));
   ASSERT_NE(defaults, nullptr);
   ASSERT_EQ(defaults->GetNumberOfTuples(), 3);
   EXPECT_DOUBLE_EQ(defaults->GetComponent(0, 0), 0.1);
-  EXPECT_EQ(parts[0]->GetFieldData()->GetAbstractArray(vtkMorphPartData::AppliedWeightsArray), nullptr);
+  EXPECT_EQ(
+    parts[0]->GetFieldData()->GetAbstractArray(vtkMorphPartData::AppliedWeightsArray), nullptr);
   // The rest pose, as the reader always gave it: points not morphed, transforms applied.
   double p[3];
   parts[0]->GetPoint(0, p);
@@ -217,13 +221,16 @@ TEST(GltfAnimationReader, TimeStepsAndWeightsTable)
   // A regular grid when asked: 0, 0.1, ..., 2.
   reader->SetFrameRate(10);
   reader->UpdateInformation();
-  EXPECT_EQ(reader->GetOutputInformation(1)->Length(vtkStreamingDemandDrivenPipeline::TIME_STEPS()), 21);
+  EXPECT_EQ(
+    reader->GetOutputInformation(1)->Length(vtkStreamingDemandDrivenPipeline::TIME_STEPS()), 21);
   // Node transforms of the pose animation as columns.
   reader->SetAnimationName("Pose");
   reader->UpdateTimeStep(0.25);
   table = reader->GetWeightsOutput();
   EXPECT_NEAR(Column(table, "Head.translation", 0), 0.05, 1e-7);
-  EXPECT_NEAR(2 * std::atan2(Column(table, "Head.rotation", 1), Column(table, "Head.rotation", 3)) * 180 / M_PI, 20.0, 1e-5);
+  EXPECT_NEAR(2 * std::atan2(Column(table, "Head.rotation", 1), Column(table, "Head.rotation", 3)) *
+      180 / M_PI,
+    20.0, 1e-5);
   EXPECT_NE(table->GetColumnByName("EyeLeft.rotation"), nullptr);
   EXPECT_NE(table->GetColumnByName("Head.scale"), nullptr);
   EXPECT_EQ(table->GetColumnByName("Teeth.rotation"), nullptr);
@@ -237,7 +244,9 @@ TEST(GltfAnimationReader, BadChoicesAreClearErrors)
   reader->SetFileName(HeadFile().c_str());
   reader->SetAnimationName("Talk");
   EXPECT_EQ(reader->GetExecutive()->Update(), 0);
-  EXPECT_TRUE(messages->HasError("has no animation named 'Talk'; animations: Linear Step Cubic Pose")) << messages->AllErrors();
+  EXPECT_TRUE(
+    messages->HasError("has no animation named 'Talk'; animations: Linear Step Cubic Pose"))
+    << messages->AllErrors();
   EXPECT_EQ(Leaves(reader->GetOutputDataObject(0)).size(), 0u);
   EXPECT_EQ(reader->GetWeightsOutput()->GetNumberOfColumns(), 0);
   messages->Clear();
@@ -249,11 +258,13 @@ TEST(GltfAnimationReader, BadChoicesAreClearErrors)
   Builder b = AnimatedHead();
   json doc = b.Finished();
   doc["animations"][3]["channels"][3]["target"]["node"] = 7;
-  reader->SetFileName(WriteHead("bad_channel.glb", Builder::MakeGlb(doc.dump(), b.PaddedBin())).c_str());
+  reader->SetFileName(
+    WriteHead("bad_channel.glb", Builder::MakeGlb(doc.dump(), b.PaddedBin())).c_str());
   reader->SetAnimationIndex(3);
   messages->Clear();
   EXPECT_EQ(reader->GetExecutive()->Update(), 0);
-  EXPECT_TRUE(messages->HasError("/animations/3/channels/3/target/node: there is no node 7")) << messages->AllErrors();
+  EXPECT_TRUE(messages->HasError("/animations/3/channels/3/target/node: there is no node 7"))
+    << messages->AllErrors();
   EXPECT_EQ(Leaves(reader->GetOutputDataObject(0)).size(), 0u);
   EXPECT_EQ(reader->GetNumberOfAnimations(), 0);
 }
@@ -287,7 +298,8 @@ TEST(GltfAnimationCrossCheck, LinearWeightsAgreeWithVtkGltfReaderAtAnyTime)
     ASSERT_EQ(blended.size(), 3u);
     for (size_t p = 0; p < 3; ++p)
     {
-      EXPECT_LT(MaxDifference(blended[p], theirs[p]), 1e-6) << "morph filter, t " << t << " part " << p;
+      EXPECT_LT(MaxDifference(blended[p], theirs[p]), 1e-6)
+        << "morph filter, t " << t << " part " << p;
     }
     // The weights themselves: the table against the weights VTK's geometry shows.
     const std::vector<double> vtkWeights = FaceWeightsFromPoints(theirs[0], headOrigin);
@@ -310,17 +322,20 @@ TEST(GltfAnimationCrossCheck, CubicSplineAgreesAtAnyTime)
     ASSERT_EQ(theirs.size(), 3u);
     ASSERT_EQ(mine.size(), 3u);
     EXPECT_LT(MaxDifference(mine[0], theirs[0]), 1e-6) << "t " << t;
-    auto* applied = vtkDataArray::SafeDownCast(mine[0]->GetFieldData()->GetAbstractArray(vtkMorphPartData::AppliedWeightsArray));
+    auto* applied = vtkDataArray::SafeDownCast(
+      mine[0]->GetFieldData()->GetAbstractArray(vtkMorphPartData::AppliedWeightsArray));
     ASSERT_NE(applied, nullptr);
     const std::vector<double> vtkWeights = FaceWeightsFromPoints(theirs[0], headOrigin);
     for (int k = 0; k < 3; ++k)
     {
-      EXPECT_NEAR(applied->GetComponent(k, 0), vtkWeights[static_cast<size_t>(k)], 1e-6) << "t " << t;
+      EXPECT_NEAR(applied->GetComponent(k, 0), vtkWeights[static_cast<size_t>(k)], 1e-6)
+        << "t " << t;
     }
   }
   // Between keys the spline is not the straight line: the tangents count.
   const auto mine = ours.At(0.8);
-  auto* applied = vtkDataArray::SafeDownCast(mine[0]->GetFieldData()->GetAbstractArray(vtkMorphPartData::AppliedWeightsArray));
+  auto* applied = vtkDataArray::SafeDownCast(
+    mine[0]->GetFieldData()->GetAbstractArray(vtkMorphPartData::AppliedWeightsArray));
   EXPECT_GT(std::abs(applied->GetComponent(1, 0) - (0.5 + 0.4 * 0.5)), 0.01);
 }
 
@@ -343,7 +358,8 @@ TEST(GltfAnimationCrossCheck, StepAgreesBetweenTheKeys)
   const auto mine = ours.At(0.5);
   const std::vector<double> vtkWeights = FaceWeightsFromPoints(theirs[0], headOrigin);
   EXPECT_NEAR(vtkWeights[1], AnimatedFaceWeights()[1], 1e-6) << "VTK: key 0";
-  auto* applied = vtkDataArray::SafeDownCast(mine[0]->GetFieldData()->GetAbstractArray(vtkMorphPartData::AppliedWeightsArray));
+  auto* applied = vtkDataArray::SafeDownCast(
+    mine[0]->GetFieldData()->GetAbstractArray(vtkMorphPartData::AppliedWeightsArray));
   ASSERT_NE(applied, nullptr);
   EXPECT_NEAR(applied->GetComponent(1, 0), AnimatedFaceWeights()[4], 1e-6) << "spec: key 1";
 }
@@ -377,7 +393,8 @@ TEST(GltfAnimationCrossCheck, NodeTransformsAgreeAtAnyTime)
   }
   // The part's frame follows: the head's origin is its animated translation.
   const auto mine = ours.At(0.9);
-  auto* origin = vtkDataArray::SafeDownCast(mine[0]->GetFieldData()->GetAbstractArray(vtkMorphPartData::NodeOriginArray));
+  auto* origin = vtkDataArray::SafeDownCast(
+    mine[0]->GetFieldData()->GetAbstractArray(vtkMorphPartData::NodeOriginArray));
   ASSERT_NE(origin, nullptr);
   const double u = 0.4 / 0.75;
   EXPECT_NEAR(origin->GetComponent(0, 1), 1.2 + u * (0.9 - 1.2), 1e-6);

@@ -5,8 +5,8 @@
 // deltas must agree; on the whole head (ict_head_full53.glb) the points of all 11 parts,
 // with and without their node transforms (VTK reads those right; only its targets without
 // bufferView are wrong there).
-#include "gltf/GltfScene.h"
 #include "MorphNodeGltfReaderParts.h"
+#include "gltf/GltfScene.h"
 
 #include "vtkCellArray.h"
 #include "vtkCompositeDataIterator.h"
@@ -60,7 +60,8 @@ TEST(GltfSceneCrossCheck, IctFaceAgreesWithVtkGltfReader)
     poly->GetPoint(i, p);
     for (int k = 0; k < 3; ++k)
     {
-      worst = std::max(worst, std::abs(p[k] - part.Positions[3 * static_cast<size_t>(i) + static_cast<size_t>(k)]));
+      worst = std::max(worst,
+        std::abs(p[k] - part.Positions[3 * static_cast<size_t>(i) + static_cast<size_t>(k)]));
     }
   }
   EXPECT_EQ(worst, 0.0) << "neutral points differ";
@@ -76,7 +77,8 @@ TEST(GltfSceneCrossCheck, IctFaceAgreesWithVtkGltfReader)
     ASSERT_EQ(ids->GetNumberOfIds(), 3);
     for (vtkIdType k = 0; k < 3; ++k)
     {
-      mismatches += static_cast<size_t>(ids->GetId(k)) != part.Triangles[3 * t + static_cast<size_t>(k)];
+      mismatches +=
+        static_cast<size_t>(ids->GetId(k)) != part.Triangles[3 * t + static_cast<size_t>(k)];
     }
   }
   EXPECT_EQ(mismatches, 0u);
@@ -97,7 +99,8 @@ TEST(GltfSceneCrossCheck, IctFaceAgreesWithVtkGltfReader)
       {
         worstDelta = std::max(worstDelta,
           std::abs(deltas->GetComponent(i, k) -
-            part.Targets[target].PositionDeltas[3 * static_cast<size_t>(i) + static_cast<size_t>(k)]));
+            part.Targets[target]
+              .PositionDeltas[3 * static_cast<size_t>(i) + static_cast<size_t>(k)]));
       }
     }
     EXPECT_EQ(worstDelta, 0.0) << part.Targets[target].Name;
@@ -126,7 +129,8 @@ TEST(GltfSceneCrossCheck, IctHeadPartsAndTransformsAgreeWithVtkGltfReader)
     {
       const morphnode::GltfPart& part = scene.Parts[i];
       vtkPolyData* poly = vtkParts[i];
-      ASSERT_EQ(static_cast<size_t>(poly->GetNumberOfPoints()), part.GetNumberOfPoints()) << part.Name;
+      ASSERT_EQ(static_cast<size_t>(poly->GetNumberOfPoints()), part.GetNumberOfPoints())
+        << part.Name;
       double worst = 0;
       for (vtkIdType p = 0; p < poly->GetNumberOfPoints(); ++p)
       {
@@ -134,12 +138,14 @@ TEST(GltfSceneCrossCheck, IctHeadPartsAndTransformsAgreeWithVtkGltfReader)
         poly->GetPoint(p, x);
         for (int k = 0; k < 3; ++k)
         {
-          worst = std::max(worst, std::abs(x[k] - part.Positions[3 * static_cast<size_t>(p) + static_cast<size_t>(k)]));
+          worst = std::max(worst,
+            std::abs(x[k] - part.Positions[3 * static_cast<size_t>(p) + static_cast<size_t>(k)]));
         }
       }
       // VTK transforms in float, MorphNode in double then rounds to float.
       EXPECT_LT(worst, apply ? 1e-7 : 1e-12) << part.Name << (apply ? " (world)" : " (node frame)");
-      EXPECT_EQ(static_cast<size_t>(poly->GetNumberOfPolys()), part.GetNumberOfTriangles()) << part.Name;
+      EXPECT_EQ(static_cast<size_t>(poly->GetNumberOfPolys()), part.GetNumberOfTriangles())
+        << part.Name;
     }
   }
 }

@@ -16,10 +16,10 @@
 //   instead of (1.8, 3, 0)) and a point bound by set 1 alone is not skinned but moved by the
 //   skinned node's transform ((100, 1, 0) instead of (1, 1, 0); glTF 2.0 says to ignore that
 //   transform). MorphNode matches the hand-computed points (TestCoreGltfSkin too).
-#include "gltf/GltfSkin.h"
-#include "skin/Skinning.h"
 #include "Core/gltf/GltfSkinnedTestFiles.h"
 #include "MorphNodeGltfReaderParts.h"
+#include "gltf/GltfSkin.h"
+#include "skin/Skinning.h"
 
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
@@ -58,7 +58,8 @@ void SplitGlb(const std::string& glb, json& doc, std::vector<unsigned char>& bin
   const size_t binStart = 20 + jsonLength;
   uint32_t binLength;
   std::memcpy(&binLength, glb.data() + binStart, 4);
-  bin.assign(glb.begin() + static_cast<long>(binStart + 8), glb.begin() + static_cast<long>(binStart + 8 + binLength));
+  bin.assign(glb.begin() + static_cast<long>(binStart + 8),
+    glb.begin() + static_cast<long>(binStart + 8 + binLength));
 }
 
 std::string Write(const std::string& name, const std::string& bytes)
@@ -94,14 +95,16 @@ std::vector<std::vector<double>> Morphed(const GltfScene& scene)
 }
 
 /// The largest distance between MorphNode's parts and vtkGLTFReader's.
-double Worst(const std::vector<std::vector<double>>& ours, const std::vector<vtkSmartPointer<vtkPolyData>>& theirs)
+double Worst(const std::vector<std::vector<double>>& ours,
+  const std::vector<vtkSmartPointer<vtkPolyData>>& theirs)
 {
   EXPECT_EQ(ours.size(), theirs.size());
   double worst = 0.0;
   for (size_t p = 0; p < std::min(ours.size(), theirs.size()); ++p)
   {
     EXPECT_EQ(static_cast<size_t>(theirs[p]->GetNumberOfPoints()) * 3, ours[p].size());
-    for (vtkIdType i = 0; i < theirs[p]->GetNumberOfPoints() && static_cast<size_t>(3 * i + 2) < ours[p].size(); ++i)
+    for (vtkIdType i = 0;
+         i < theirs[p]->GetNumberOfPoints() && static_cast<size_t>(3 * i + 2) < ours[p].size(); ++i)
     {
       double q[3];
       theirs[p]->GetPoint(i, q);
@@ -120,8 +123,9 @@ struct Turn
   double Degrees;
   glm::dvec3 Axis; ///< in the joint's own frame
 };
-const Turn Turns[] = { { "Neck", 12, { 0, 0, 1 } }, { "Head", 20, { 1, 0, 1 } }, { "LeftEye", 15, { 0, 0, 1 } },
-  { "LeftArm", 35, { 1, 0, 0 } }, { "RightForeArm", 50, { 0, 0, 1 } } };
+const Turn Turns[] = { { "Neck", 12, { 0, 0, 1 } }, { "Head", 20, { 1, 0, 1 } },
+  { "LeftEye", 15, { 0, 0, 1 } }, { "LeftArm", 35, { 1, 0, 0 } },
+  { "RightForeArm", 50, { 0, 0, 1 } } };
 
 glm::dquat Local(const Turn& t)
 {
@@ -151,8 +155,10 @@ TEST(GltfSkinCrossCheck, AnimatedAvatarAgreesWithVtkGltfReader)
   std::vector<unsigned char> bin;
   SplitGlb(ReadBytes(Avatar), doc, bin);
   // The frame: weights on every mesh, joint rotations on the nodes.
-  const std::vector<std::string> names = doc["meshes"][0]["extras"]["targetNames"].get<std::vector<std::string>>();
-  auto index = [&](const std::string& n) { return static_cast<size_t>(std::find(names.begin(), names.end(), n) - names.begin()); };
+  const std::vector<std::string> names =
+    doc["meshes"][0]["extras"]["targetNames"].get<std::vector<std::string>>();
+  auto index = [&](const std::string& n)
+  { return static_cast<size_t>(std::find(names.begin(), names.end(), n) - names.begin()); };
   for (auto& mesh : doc["meshes"])
   {
     std::vector<double> w(names.size(), 0.0);
@@ -173,7 +179,8 @@ TEST(GltfSkinCrossCheck, AnimatedAvatarAgreesWithVtkGltfReader)
       }
     }
   }
-  const std::string file = Write("skin_crosscheck_avatar_frame.glb", gltftest::Builder::MakeGlb(doc.dump(), bin));
+  const std::string file =
+    Write("skin_crosscheck_avatar_frame.glb", gltftest::Builder::MakeGlb(doc.dump(), bin));
   const auto theirs = morphnode_test::VtkGltfReaderParts(file, true);
 
   // 1. The copy, read by MorphNode: skinned at its stored pose, morphed in rest space.
@@ -216,8 +223,9 @@ TEST(GltfSkinCrossCheck, AnimatedAvatarAgreesWithVtkGltfReader)
     reskinned.push_back(std::move(out));
   }
   const double worstPose = Worst(reskinned, theirs);
-  std::cout << "animated avatar (" << moved << " vertices moved by joints): largest difference to vtkGLTFReader "
-            << worstFile * 1e3 << " mm (file), " << worstPose * 1e3 << " mm (re-skinned)\n";
+  std::cout << "animated avatar (" << moved
+            << " vertices moved by joints): largest difference to vtkGLTFReader " << worstFile * 1e3
+            << " mm (file), " << worstPose * 1e3 << " mm (re-skinned)\n";
   EXPECT_GT(moved, 5000u);
   EXPECT_LT(worstFile, 1e-6 * AvatarHeight);
   EXPECT_LT(worstPose, 1e-6 * AvatarHeight);
@@ -242,11 +250,13 @@ TEST(GltfSkinCrossCheck, SkinnedQuadWhereVtkIsRightAndWhereItIsNot)
   simple.Doc["nodes"][3].erase("translation");
   simple.Doc["meshes"][0]["weights"] = { 1.0, 0.5 };
   const std::string simpleFile = Write("skin_crosscheck_quad_simple.glb", simple.Glb());
-  const double agree = Worst(Morphed(LoadGltfScene(simpleFile)), morphnode_test::VtkGltfReaderParts(simpleFile, true));
+  const double agree =
+    Worst(Morphed(LoadGltfScene(simpleFile)), morphnode_test::VtkGltfReaderParts(simpleFile, true));
   EXPECT_LT(agree, 1e-6) << "VTK and MorphNode should agree on a skin VTK reads right";
 
   // The full quad: MorphNode gives the hand-computed points; VTK 9.1 does not.
-  const std::string fullFile = Write("skin_crosscheck_quad_full.glb", gltftest::SkinnedQuad().Glb());
+  const std::string fullFile =
+    Write("skin_crosscheck_quad_full.glb", gltftest::SkinnedQuad().Glb());
   const auto vtkParts = morphnode_test::VtkGltfReaderParts(fullFile, true);
   const auto ours = Morphed(LoadGltfScene(fullFile));
   const std::vector<double> hand = gltftest::SkinnedQuadRest();
@@ -260,13 +270,15 @@ TEST(GltfSkinCrossCheck, SkinnedQuadWhereVtkIsRightAndWhereItIsNot)
   {
     double q[3];
     vtkParts[0]->GetPoint(i, q);
-    std::cout << "quad point " << i << ": hand-computed (" << hand[3 * i] << ", " << hand[3 * i + 1] << ", "
-              << hand[3 * i + 2] << "), vtkGLTFReader (" << q[0] << ", " << q[1] << ", " << q[2] << ")\n";
+    std::cout << "quad point " << i << ": hand-computed (" << hand[3 * i] << ", " << hand[3 * i + 1]
+              << ", " << hand[3 * i + 2] << "), vtkGLTFReader (" << q[0] << ", " << q[1] << ", "
+              << q[2] << ")\n";
     for (int k = 0; k < 3; ++k)
     {
       vtkWorst = std::max(vtkWorst, std::abs(q[k] - hand[static_cast<size_t>(3 * i + k)]));
     }
   }
   // A documented VTK 9.1 deviation (docs/avatars.md); if VTK is fixed, this says so.
-  EXPECT_GT(vtkWorst, 0.1) << "vtkGLTFReader now reads the second weight set and ignores the skinned node's transform";
+  EXPECT_GT(vtkWorst, 0.1)
+    << "vtkGLTFReader now reads the second weight set and ignores the skinned node's transform";
 }

@@ -45,7 +45,8 @@ namespace
 {
 namespace appkit = morphnode::appkit;
 
-const std::string DefaultHead = std::string(MORPHNODE_SOURCE_DIR) + "/Data/DefaultFace/default_head.glb";
+const std::string DefaultHead =
+  std::string(MORPHNODE_SOURCE_DIR) + "/Data/DefaultFace/default_head.glb";
 const std::string IctHead = std::string(MORPHNODE_FACEKIT_DIR) + "/ict_head_full53.glb";
 const std::string Output = MORPHNODE_TEST_OUTPUT_DIR;
 
@@ -183,7 +184,8 @@ TEST(HeadRender, DefaultHeadSaysO)
 TEST(HeadRender, DefaultHeadNeutralFailsTheOBaseline)
 {
   auto s = RenderHead(DefaultHead, {});
-  const double error = ErrorAgainst(s->Window, "TestHeadRenderDefaultO.png", "TestHeadRenderNeutralAsO");
+  const double error =
+    ErrorAgainst(s->Window, "TestHeadRenderDefaultO.png", "TestHeadRenderNeutralAsO");
   EXPECT_GT(error, Threshold) << "the comparison does not see the mouth";
   EXPECT_FALSE(Matches(s->Window, "TestHeadRenderDefaultO.png"));
 }
@@ -199,8 +201,9 @@ TEST(HeadRender, DefaultHeadOFailsTheNeutralBaseline)
 
 // The ICT head with the mouth open (jaw open, lips apart): the lower teeth and the tongue
 // follow the jaw (they have the targets too) and are seen.
-const std::map<std::string, double> IctOpenMouth = { { "jawOpen", 0.7 }, { "mouthLowerDown_L", 0.5 },
-  { "mouthLowerDown_R", 0.5 }, { "mouthUpperUp_L", 0.4 }, { "mouthUpperUp_R", 0.4 } };
+const std::map<std::string, double> IctOpenMouth = { { "jawOpen", 0.7 },
+  { "mouthLowerDown_L", 0.5 }, { "mouthLowerDown_R", 0.5 }, { "mouthUpperUp_L", 0.4 },
+  { "mouthUpperUp_R", 0.4 } };
 
 TEST(HeadRender, IctHeadMouthOpenShowsTeethAndTongue)
 {
@@ -214,8 +217,9 @@ TEST(HeadRender, IctHeadMouthOpenShowsTeethAndTongue)
   ErrorAgainst(s->Window, "TestHeadRenderIctMouthOpen.png", "TestHeadRenderIctMouthOpen");
   EXPECT_TRUE(Matches(s->Window, "TestHeadRenderIctMouthOpen.png"));
   const MouthPixels open = CountMouthPixels(s->Window);
-  std::cout << "open mouth: teeth pixels " << open.Teeth << ", tongue/gum pixels " << open.Tongue << "\n";
-  EXPECT_GT(open.Teeth, 400) << "no teeth in the open mouth"; // measured 1286
+  std::cout << "open mouth: teeth pixels " << open.Teeth << ", tongue/gum pixels " << open.Tongue
+            << "\n";
+  EXPECT_GT(open.Teeth, 400) << "no teeth in the open mouth";    // measured 1286
   EXPECT_GT(open.Tongue, 1500) << "no tongue in the open mouth"; // measured 4893
 }
 
@@ -236,6 +240,6 @@ TEST(HeadRender, IctHeadMouthClosedFailsTheOpenBaseline)
   const MouthPixels closed = CountMouthPixels(s->Window);
   std::cout << "closed mouth: teeth pixels " << closed.Teeth << ", tongue/gum pixels "
             << closed.Tongue << "\n";
-  EXPECT_LT(closed.Teeth, 400); // measured 8
+  EXPECT_LT(closed.Teeth, 400);   // measured 8
   EXPECT_LT(closed.Tongue, 1500); // measured 0
 }

@@ -32,13 +32,15 @@ namespace
 {
 const std::string IctGlb = std::string(MORPHNODE_FACEKIT_DIR) + "/ict_face11248_sparse53.glb";
 
-vtkDataArray* TargetDelta(vtkPolyData* face, const std::vector<std::string>& names, const std::string& name)
+vtkDataArray* TargetDelta(
+  vtkPolyData* face, const std::vector<std::string>& names, const std::string& name)
 {
   for (size_t k = 1; k < names.size(); ++k)
   {
     if (names[k] == name)
     {
-      return face->GetPointData()->GetArray(("target" + std::to_string(k - 1) + "_position").c_str());
+      return face->GetPointData()->GetArray(
+        ("target" + std::to_string(k - 1) + "_position").c_str());
     }
   }
   return nullptr;
@@ -107,7 +109,8 @@ TEST_P(LipSyncLanguages, LipsCloseRoundAndBiteOnTheFace)
   const vtkIdType puckered = MostMoved(face, pucker, true);
   ASSERT_TRUE(upper >= 0 && lower >= 0 && rolled >= 0 && puckered >= 0);
   // How far a vertex moved along a target's own delta there, in units of that delta.
-  auto along = [&](vtkPointSet* out, vtkIdType i, vtkDataArray* delta) {
+  auto along = [&](vtkPointSet* out, vtkIdType i, vtkDataArray* delta)
+  {
     const double* d = delta->GetTuple3(i);
     double dot = 0.0, length2 = 0.0;
     for (int k = 0; k < 3; ++k)
@@ -118,7 +121,8 @@ TEST_P(LipSyncLanguages, LipsCloseRoundAndBiteOnTheFace)
     return dot / length2;
   };
 
-  morphnode::Rig rig = morphnode::Rig::LoadFile(std::string(MORPHNODE_SOURCE_DIR) + "/Data/rigs/arkit.json");
+  morphnode::Rig rig =
+    morphnode::Rig::LoadFile(std::string(MORPHNODE_SOURCE_DIR) + "/Data/rigs/arkit.json");
   rig.Bind(std::vector<std::string>(names.begin() + 1, names.end()));
   morphnode::SpeechOptions options;
   options.Voice = sentence.Voice;
@@ -136,7 +140,8 @@ TEST_P(LipSyncLanguages, LipsCloseRoundAndBiteOnTheFace)
   {
     double Gap, Pucker, Roll;
   };
-  auto measure = [&](double t) {
+  auto measure = [&](double t)
+  {
     vtkPointSet* out = pose.At(t);
     return Measure{ out->GetPoint(upper)[1] - out->GetPoint(lower)[1], along(out, puckered, pucker),
       along(out, rolled, roll) };
@@ -156,7 +161,8 @@ TEST_P(LipSyncLanguages, LipsCloseRoundAndBiteOnTheFace)
     }
     const morphnode::Articulation a = morphnode::DescribePhone(parts[0]);
     const double centre = p.Start + 0.5 * p.Duration - lead;
-    auto best = [&](auto&& value, bool smallest) {
+    auto best = [&](auto&& value, bool smallest)
+    {
       double v = value(measure(centre));
       for (double t : { centre - frame, centre + frame })
       {
@@ -179,7 +185,8 @@ TEST_P(LipSyncLanguages, LipsCloseRoundAndBiteOnTheFace)
       const double forward = best([](const Measure& m) { return m.Pucker; }, false);
       if (a.Rounded && a.Height <= 0.2)
       {
-        EXPECT_GT(forward, 0.2) << sentence.Voice << " " << p.Sampa << " at " << p.Start << " s: lips not rounded";
+        EXPECT_GT(forward, 0.2) << sentence.Voice << " " << p.Sampa << " at " << p.Start
+                                << " s: lips not rounded";
         roundedPucker += forward;
         ++rounded;
       }
@@ -189,10 +196,12 @@ TEST_P(LipSyncLanguages, LipsCloseRoundAndBiteOnTheFace)
         ++spread;
       }
     }
-    else if (a.Type == morphnode::Articulation::Kind::Consonant && a.Place == morphnode::ArticulationPlace::Labiodental)
+    else if (a.Type == morphnode::Articulation::Kind::Consonant &&
+      a.Place == morphnode::ArticulationPlace::Labiodental)
     {
       EXPECT_GT(best([](const Measure& m) { return m.Roll; }, false), 0.3)
-        << sentence.Voice << " " << p.Sampa << " at " << p.Start << " s: lower lip not at the teeth";
+        << sentence.Voice << " " << p.Sampa << " at " << p.Start
+        << " s: lower lip not at the teeth";
       ++bites;
     }
   }

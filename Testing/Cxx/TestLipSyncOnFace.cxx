@@ -13,11 +13,11 @@
 #include "rig/Rig.h"
 #include "speech/Speech.h"
 
+#include "MorphNodeTestSkips.h"
 #include "vtkDataArray.h"
 #include "vtkNew.h"
 #include "vtkPointData.h"
 #include "vtkPolyData.h"
-#include "MorphNodeTestSkips.h"
 
 #include <gtest/gtest.h>
 
@@ -99,12 +99,14 @@ TEST(LipSyncOnFace, BilabialsCloseAndOpenVowelsOpenTheLips)
   ASSERT_EQ(names.size(), 54u);
 
   const vtkIdType upper = MostMovedMidlineVertex(face, names, "mouthUpperUp_L", "mouthUpperUp_R");
-  const vtkIdType lower = MostMovedMidlineVertex(face, names, "mouthLowerDown_L", "mouthLowerDown_R");
+  const vtkIdType lower =
+    MostMovedMidlineVertex(face, names, "mouthLowerDown_L", "mouthLowerDown_R");
   ASSERT_GE(upper, 0);
   ASSERT_GE(lower, 0);
   ASSERT_NE(upper, lower);
 
-  morphnode::Rig rig = morphnode::Rig::LoadFile(std::string(MORPHNODE_SOURCE_DIR) + "/Data/rigs/arkit.json");
+  morphnode::Rig rig =
+    morphnode::Rig::LoadFile(std::string(MORPHNODE_SOURCE_DIR) + "/Data/rigs/arkit.json");
   rig.Bind(std::vector<std::string>(names.begin() + 1, names.end()));
 
   morphnode::SpeechOptions options;
@@ -121,7 +123,8 @@ TEST(LipSyncOnFace, BilabialsCloseAndOpenVowelsOpenTheLips)
   morphnode_test::RigTrackPose pose(rig, visemes, morph); // viseme channel -> rig shape
   ASSERT_EQ(pose.GetMissingShape(), "") << "the ARKit rig has no shape " << pose.GetMissingShape();
   // The vertical gap between the lip centres at time t of the viseme track.
-  auto lipGap = [&](double t) {
+  auto lipGap = [&](double t)
+  {
     vtkPointSet* out = pose.At(t);
     return out->GetPoint(upper)[1] - out->GetPoint(lower)[1];
   };
@@ -137,7 +140,8 @@ TEST(LipSyncOnFace, BilabialsCloseAndOpenVowelsOpenTheLips)
     if (map.IsClosurePhoneme(p.Sampa))
     {
       // Closed within one frame of the phoneme's centre: no wider than at rest + 1 mm.
-      const double gap = std::min({ lipGap(centre - frame), lipGap(centre), lipGap(centre + frame) });
+      const double gap =
+        std::min({ lipGap(centre - frame), lipGap(centre), lipGap(centre + frame) });
       EXPECT_LT(gap, restingGap + 0.001) << p.Sampa << " at " << p.Start << " s";
       ++closures;
     }

@@ -39,11 +39,12 @@ std::string WriteTake(const std::string& name, const std::string& text)
 
 // Three rows 1/30 s apart on a 60 fps timecode: the jaw opens, the head turns (radians),
 // an unknown column "Blink" and tongueOut (ICT-FaceKit has no such target).
-const char* const Take = "Timecode,BlendShapeCount,EyeBlinkLeft,JawOpen,BrowInnerUp,TongueOut,Blink,"
-                         "HeadYaw,HeadPitch,HeadRoll\n"
-                         "10:00:00:00.250,4,0,0,0,0,7,0,0,0\n"
-                         "10:00:00:02.250,4,1,0.8,0.4,1,7,0.1,0,0\n"
-                         "10:00:00:04.250,4,0.5,0.4,0.2,0,7,0.2,0,0\n";
+const char* const Take =
+  "Timecode,BlendShapeCount,EyeBlinkLeft,JawOpen,BrowInnerUp,TongueOut,Blink,"
+  "HeadYaw,HeadPitch,HeadRoll\n"
+  "10:00:00:00.250,4,0,0,0,0,7,0,0,0\n"
+  "10:00:00:02.250,4,1,0.8,0.4,1,7,0.1,0,0\n"
+  "10:00:00:04.250,4,0.5,0.4,0.2,0,7,0.2,0,0\n";
 
 double Column(vtkTable* table, const char* name, vtkIdType row = 0)
 {
@@ -94,10 +95,12 @@ TEST(LiveLinkFaceReader, ATakeIsATemporalWeightSource)
   const std::string path = reader->GetFileName();
   std::ofstream(path) << "Timecode,JawOpen\n10:00:00:00.250,0.125\n10:00:00:02.250,0.125\n";
   reader->UpdateTimeStep(0.0);
-  EXPECT_NEAR(Column(vtkTable::SafeDownCast(reader->GetOutputDataObject(0)), "jawOpen"), 0.0, 1e-12);
+  EXPECT_NEAR(
+    Column(vtkTable::SafeDownCast(reader->GetOutputDataObject(0)), "jawOpen"), 0.0, 1e-12);
   reader->Modified();
   reader->UpdateTimeStep(0.0);
-  EXPECT_NEAR(Column(vtkTable::SafeDownCast(reader->GetOutputDataObject(0)), "jawOpen"), 0.125, 1e-12);
+  EXPECT_NEAR(
+    Column(vtkTable::SafeDownCast(reader->GetOutputDataObject(0)), "jawOpen"), 0.125, 1e-12);
   EXPECT_TRUE(messages->Errors.empty()) << messages->AllErrors();
 }
 
@@ -120,7 +123,8 @@ TEST(LiveLinkFaceReader, TheTakeDrivesTheIctHeadAndReportsWhatDoesNotMap)
   messages->Watch(reader);
   messages->Watch(morph);
 
-  auto points = [&](double time) {
+  auto points = [&](double time)
+  {
     morph->UpdateTimeStep(time);
     std::vector<double> xyz;
     for (vtkPolyData* leaf : morphnode_test::PolyDataLeaves(morph->GetOutputDataObject(0)))
@@ -153,7 +157,8 @@ TEST(LiveLinkFaceReader, TheTakeDrivesTheIctHeadAndReportsWhatDoesNotMap)
   double largest = 0.0;
   for (size_t i = 0; i < rest.size(); i += 3)
   {
-    largest = std::max(largest, std::hypot(open[i] - rest[i], open[i + 1] - rest[i + 1], open[i + 2] - rest[i + 2]));
+    largest = std::max(
+      largest, std::hypot(open[i] - rest[i], open[i + 1] - rest[i + 1], open[i + 2] - rest[i + 2]));
   }
   EXPECT_GT(largest, 0.005) << "the jaw opened by the take moves the head by centimetres";
 
@@ -165,7 +170,8 @@ TEST(LiveLinkFaceReader, TheTakeDrivesTheIctHeadAndReportsWhatDoesNotMap)
   }
   EXPECT_EQ(unmapped, (std::vector<std::string>{ "Blink", "tongueOut" }));
   const std::string report = reader->GetMappingReport();
-  EXPECT_NE(report.find("51 of 52 ARKit shapes drive 53 of 53 face targets"), std::string::npos) << report;
+  EXPECT_NE(report.find("51 of 52 ARKit shapes drive 53 of 53 face targets"), std::string::npos)
+    << report;
   EXPECT_NE(report.find("map to nothing: Blink tongueOut"), std::string::npos) << report;
 }
 
@@ -184,10 +190,12 @@ TEST(LiveLinkFaceReader, BadRowsAreErrorsNamingLineAndColumn)
 
   messages->Errors.clear();
   reader->SetFileName(WriteTake("livelink_nan.csv",
-    "Timecode,BlendShapeCount,JawOpen,HeadYaw\n00:00:00:00.000,2,0.5,0.1\n00:00:00:02.000,2,x,0.1\n")
+    "Timecode,BlendShapeCount,JawOpen,HeadYaw\n00:00:00:00.000,2,0.5,0.1\n00:00:00:02.000,2,x,0."
+    "1\n")
                         .c_str());
   reader->Update();
-  EXPECT_TRUE(messages->HasError("line 3, column 3 ('JawOpen'): 'x' is not a finite number")) << messages->AllErrors();
+  EXPECT_TRUE(messages->HasError("line 3, column 3 ('JawOpen'): 'x' is not a finite number"))
+    << messages->AllErrors();
   EXPECT_EQ(vtkTable::SafeDownCast(reader->GetOutputDataObject(0))->GetNumberOfColumns(), 0);
 
   // A good file after a bad one reads again.

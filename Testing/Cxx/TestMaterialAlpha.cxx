@@ -21,16 +21,16 @@
 
 #include "vtkActor.h"
 #include "vtkCamera.h"
-#include "vtkMapper.h"
-#include "vtkPolyData.h"
-#include "vtkProperty.h"
-#include "vtkTexture.h"
 #include "vtkImageData.h"
 #include "vtkLight.h"
+#include "vtkMapper.h"
 #include "vtkNew.h"
 #include "vtkPointData.h"
+#include "vtkPolyData.h"
+#include "vtkProperty.h"
 #include "vtkRenderWindow.h"
 #include "vtkRenderer.h"
+#include "vtkTexture.h"
 #include "vtkUnsignedCharArray.h"
 #include "vtkWindowToImageFilter.h"
 
@@ -53,13 +53,16 @@ constexpr int Size = 200;
 /// An RGBA PNG of `width` x 1 pixels (zlib from the system; PNG's chunks are simple).
 std::vector<unsigned char> Png(const std::vector<std::array<unsigned char, 4>>& pixels)
 {
-  auto be32 = [](std::vector<unsigned char>& out, uint32_t v) {
+  auto be32 = [](std::vector<unsigned char>& out, uint32_t v)
+  {
     for (int i = 3; i >= 0; --i)
     {
       out.push_back(static_cast<unsigned char>(v >> (8 * i)));
     }
   };
-  auto chunk = [&](std::vector<unsigned char>& out, const char* type, const std::vector<unsigned char>& data) {
+  auto chunk =
+    [&](std::vector<unsigned char>& out, const char* type, const std::vector<unsigned char>& data)
+  {
     be32(out, static_cast<uint32_t>(data.size()));
     std::vector<unsigned char> body(type, type + 4);
     body.insert(body.end(), data.begin(), data.end());
@@ -93,8 +96,8 @@ json Quad(Builder& b, float x0, float y0, float x1, float y1, float z, int mater
   const int n = b.Vec3({ 0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1 });
   const int uv = b.Floats({ 0, 1, 1, 1, 1, 0, 0, 0 }, "VEC2", 2);
   const int i = b.Indices({ 0, 1, 2, 0, 2, 3 });
-  return { { "attributes", { { "POSITION", p }, { "NORMAL", n }, { "TEXCOORD_0", uv } } }, { "indices", i },
-    { "material", material } };
+  return { { "attributes", { { "POSITION", p }, { "NORMAL", n }, { "TEXCOORD_0", uv } } },
+    { "indices", i }, { "material", material } };
 }
 
 /// The scene: node "Glass" (BLEND, listed first), "Wall" (opaque red), "Cutout" (MASK),
@@ -102,20 +105,27 @@ json Quad(Builder& b, float x0, float y0, float x1, float y1, float z, int mater
 std::string WriteScene(double cutoff)
 {
   Builder b;
-  const int texture = b.View(Png({ { 0, 0, 255, 51 }, { 0, 0, 255, 115 }, { 0, 0, 255, 140 }, { 0, 0, 255, 230 } }));
+  const int texture =
+    b.View(Png({ { 0, 0, 255, 51 }, { 0, 0, 255, 115 }, { 0, 0, 255, 140 }, { 0, 0, 255, 230 } }));
   const int sign = b.View(Png({ { 255, 255, 0, 255 } }));
   b.Doc["images"] = { { { "bufferView", texture }, { "mimeType", "image/png" } },
     { { "bufferView", sign }, { "mimeType", "image/png" } } };
   b.Doc["samplers"] = { { { "magFilter", 9728 }, { "minFilter", 9728 } } };
-  b.Doc["textures"] = { { { "source", 0 }, { "sampler", 0 } }, { { "source", 1 }, { "sampler", 0 } } };
-  b.Doc["materials"] = {
-    { { "name", "Glass" }, { "pbrMetallicRoughness", { { "baseColorFactor", { 0, 1, 0, 0.5 } }, { "metallicFactor", 0 } } },
-      { "alphaMode", "BLEND" } },
-    { { "name", "Wall" }, { "pbrMetallicRoughness", { { "baseColorFactor", { 1, 0, 0, 1 } }, { "metallicFactor", 0 } } } },
+  b.Doc["textures"] = { { { "source", 0 }, { "sampler", 0 } },
+    { { "source", 1 }, { "sampler", 0 } } };
+  b.Doc["materials"] = { { { "name", "Glass" },
+                           { "pbrMetallicRoughness",
+                             { { "baseColorFactor", { 0, 1, 0, 0.5 } }, { "metallicFactor", 0 } } },
+                           { "alphaMode", "BLEND" } },
+    { { "name", "Wall" },
+      { "pbrMetallicRoughness",
+        { { "baseColorFactor", { 1, 0, 0, 1 } }, { "metallicFactor", 0 } } } },
     { { "name", "Cutout" },
-      { "pbrMetallicRoughness", { { "baseColorTexture", { { "index", 0 } } }, { "metallicFactor", 0 } } },
+      { "pbrMetallicRoughness",
+        { { "baseColorTexture", { { "index", 0 } } }, { "metallicFactor", 0 } } },
       { "alphaMode", "MASK" }, { "alphaCutoff", cutoff } },
-    { { "name", "Sign" }, { "pbrMetallicRoughness", { { "baseColorTexture", { { "index", 1 } } } } },
+    { { "name", "Sign" },
+      { "pbrMetallicRoughness", { { "baseColorTexture", { { "index", 1 } } } } },
       { "extensions", { { "KHR_materials_unlit", json::object() } } } } };
   b.Doc["extensionsUsed"] = { "KHR_materials_unlit" };
   // Glass covers x -0.9..-0.1, y 0.1..0.9, in front; the wall x -0.9..-0.5 behind it.
@@ -128,7 +138,8 @@ std::string WriteScene(double cutoff)
   b.Doc["scenes"] = { { { "nodes", { 0, 1, 2, 3 } } } };
   const std::string file = Output + "/TestMaterialAlpha.glb";
   const std::string bytes = b.Glb();
-  std::ofstream(file, std::ios::binary).write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  std::ofstream(file, std::ios::binary)
+    .write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
   return file;
 }
 
@@ -151,15 +162,17 @@ std::string WriteBumpyScene(bool normalMap)
 {
   Builder b;
   json material = { { "name", "Bumpy" },
-    { "pbrMetallicRoughness", { { "baseColorFactor", { 0.5, 0.5, 0.5, 1 } }, { "metallicFactor", 0 } } } };
+    { "pbrMetallicRoughness",
+      { { "baseColorFactor", { 0.5, 0.5, 0.5, 1 } }, { "metallicFactor", 0 } } } };
   const int normal = b.View(Png({ { 230, 128, 150, 255 } }));
   const int occlusion = b.View(Png({ { 40, 0, 0, 255 } }));
   const int mr = b.View(Png({ { 0, 200, 10, 255 } }));
   b.Doc["images"] = { { { "bufferView", normal }, { "mimeType", "image/png" } },
-    { { "bufferView", occlusion }, { "mimeType", "image/png" } }, { { "bufferView", mr }, { "mimeType", "image/png" } } };
+    { { "bufferView", occlusion }, { "mimeType", "image/png" } },
+    { { "bufferView", mr }, { "mimeType", "image/png" } } };
   b.Doc["samplers"] = { { { "magFilter", 9728 }, { "minFilter", 9728 } } };
-  b.Doc["textures"] = { { { "source", 0 }, { "sampler", 0 } }, { { "source", 1 }, { "sampler", 0 } },
-    { { "source", 2 }, { "sampler", 0 } } };
+  b.Doc["textures"] = { { { "source", 0 }, { "sampler", 0 } },
+    { { "source", 1 }, { "sampler", 0 } }, { { "source", 2 }, { "sampler", 0 } } };
   if (normalMap)
   {
     material["normalTexture"] = { { "index", 0 } };
@@ -170,16 +183,18 @@ std::string WriteBumpyScene(bool normalMap)
   b.Mesh({ { "primitives", { Quad(b, -1.0f, -1.0f, 1.0f, 1.0f, 0.0f, 0) } } });
   b.Doc["nodes"] = { { { "name", "Bumpy" }, { "mesh", 0 } } };
   b.Doc["scenes"] = { { { "nodes", { 0 } } } };
-  const std::string file = Output + (normalMap ? "/TestMaterialNormalMap.glb" : "/TestMaterialNoNormalMap.glb");
+  const std::string file =
+    Output + (normalMap ? "/TestMaterialNormalMap.glb" : "/TestMaterialNoNormalMap.glb");
   const std::string bytes = b.Glb();
-  std::ofstream(file, std::ios::binary).write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  std::ofstream(file, std::ios::binary)
+    .write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
   return file;
 }
 
 /// What the test looks at in the drawn parts besides the frame.
 struct Drawn
 {
-  bool Tangents = false; // the first part's drawn copy has point Tangents
+  bool Tangents = false;                       // the first part's drawn copy has point Tangents
   std::array<int, 4> Orm = { -1, -1, -1, -1 }; // first texel of its ORM texture, channels
 };
 
@@ -248,7 +263,8 @@ std::unique_ptr<Frame> Render(double cutoff)
 
 std::string Text(const std::array<int, 3>& c)
 {
-  return "(" + std::to_string(c[0]) + ", " + std::to_string(c[1]) + ", " + std::to_string(c[2]) + ")";
+  return "(" + std::to_string(c[0]) + ", " + std::to_string(c[1]) + ", " + std::to_string(c[2]) +
+    ")";
 }
 
 bool Dark(const std::array<int, 3>& c)
@@ -267,22 +283,27 @@ TEST(MaterialAlpha, MaskCutoffKeepsAndDropsTheRightTexels)
   auto frame = Render(0.5);
   // The cutout quad spans x 0.1..0.9: texel k covers x 0.1 + 0.2 k .. 0.3 + 0.2 k.
   const double texel[4] = { 0.2, 0.4, 0.6, 0.8 };
-  EXPECT_TRUE(Dark(frame->At(texel[0], 0.5))) << "alpha 0.2 kept: " << Text(frame->At(texel[0], 0.5));
-  EXPECT_TRUE(Dark(frame->At(texel[1], 0.5))) << "alpha 0.45 kept: " << Text(frame->At(texel[1], 0.5));
-  EXPECT_TRUE(Blue(frame->At(texel[2], 0.5))) << "alpha 0.55 dropped: " << Text(frame->At(texel[2], 0.5));
-  EXPECT_TRUE(Blue(frame->At(texel[3], 0.5))) << "alpha 0.9 dropped: " << Text(frame->At(texel[3], 0.5));
+  EXPECT_TRUE(Dark(frame->At(texel[0], 0.5)))
+    << "alpha 0.2 kept: " << Text(frame->At(texel[0], 0.5));
+  EXPECT_TRUE(Dark(frame->At(texel[1], 0.5)))
+    << "alpha 0.45 kept: " << Text(frame->At(texel[1], 0.5));
+  EXPECT_TRUE(Blue(frame->At(texel[2], 0.5)))
+    << "alpha 0.55 dropped: " << Text(frame->At(texel[2], 0.5));
+  EXPECT_TRUE(Blue(frame->At(texel[3], 0.5)))
+    << "alpha 0.9 dropped: " << Text(frame->At(texel[3], 0.5));
   // Another cutoff moves the edge: 0.7 keeps only the last texel.
   auto higher = Render(0.7);
-  EXPECT_TRUE(Dark(higher->At(texel[2], 0.5))) << "alpha 0.55 kept at cutoff 0.7: " << Text(higher->At(texel[2], 0.5));
+  EXPECT_TRUE(Dark(higher->At(texel[2], 0.5)))
+    << "alpha 0.55 kept at cutoff 0.7: " << Text(higher->At(texel[2], 0.5));
   EXPECT_TRUE(Blue(higher->At(texel[3], 0.5))) << Text(higher->At(texel[3], 0.5));
 }
 
 TEST(MaterialAlpha, BlendIsDrawnAfterTheOpaqueParts)
 {
   auto frame = Render(0.5);
-  const auto overlap = frame->At(-0.7, 0.5); // glass in front of the wall
+  const auto overlap = frame->At(-0.7, 0.5);   // glass in front of the wall
   const auto glassOnly = frame->At(-0.3, 0.5); // glass in front of the background
-  const auto wall = frame->At(-0.7, -0.5); // nothing there: background
+  const auto wall = frame->At(-0.7, -0.5);     // nothing there: background
   std::cout << "glass over wall " << Text(overlap) << ", glass alone " << Text(glassOnly) << "\n";
   // Half green over red: both show. Had the glass been drawn first and written its depth,
   // the wall behind it would be missing (green only); drawn opaque, red would be hidden.

@@ -8,19 +8,19 @@
 #include "audio/AudioFile.h"
 #include "gltf/GltfScene.h"
 
+#include "vtkCompositeDataSet.h"
 #include "vtkDataArray.h"
 #include "vtkFieldData.h"
 #include "vtkImageData.h"
+#include "vtkInformation.h"
+#include "vtkMultiBlockDataSet.h"
 #include "vtkNew.h"
 #include "vtkPNGReader.h"
 #include "vtkPointData.h"
 #include "vtkPolyData.h"
-#include "vtkStringArray.h"
 #include "vtkSmartPointer.h"
+#include "vtkStringArray.h"
 #include "vtkUnsignedCharArray.h"
-#include "vtkCompositeDataSet.h"
-#include "vtkInformation.h"
-#include "vtkMultiBlockDataSet.h"
 #include "vtkXMLMultiBlockDataReader.h"
 #include "vtksys/SystemTools.hxx"
 
@@ -207,8 +207,7 @@ TEST(MorphAvatar, BadArgumentsFailClearly)
     const AvatarRun run = RunAvatar(c.Arguments);
     EXPECT_EQ(run.ExitCode, 2) << c.Arguments << " gave:\n" << run.Text;
     EXPECT_NE(run.Text.find("(see MorphAvatar --help)"), std::string::npos) << c.Arguments;
-    EXPECT_NE(run.Text.find(c.Message), std::string::npos)
-      << c.Arguments << " gave:\n" << run.Text;
+    EXPECT_NE(run.Text.find(c.Message), std::string::npos) << c.Arguments << " gave:\n" << run.Text;
   }
   const AvatarRun help = RunAvatar("--help");
   EXPECT_EQ(help.ExitCode, 0);
@@ -311,7 +310,8 @@ TEST(MorphAvatar, InteractiveWindowRunsAndKeysSwitchTheMethod)
   EXPECT_NE(run.Text.find("method 2: fixed threshold + remaining"), std::string::npos) << run.Text;
   EXPECT_NE(run.Text.find("threshold 0.125"), std::string::npos) << run.Text;
   int frames = 0;
-  ASSERT_EQ(std::sscanf(run.Text.substr(run.Text.find("rendered")).c_str(), "rendered %d", &frames), 1);
+  ASSERT_EQ(
+    std::sscanf(run.Text.substr(run.Text.find("rendered")).c_str(), "rendered %d", &frames), 1);
   EXPECT_GT(frames, 3) << "the timer did not advance the animation";
 }
 
@@ -321,11 +321,13 @@ TEST(MorphAvatar, InteractiveWindowRunsAndKeysSwitchTheMethod)
 TEST(MorphAvatar, InteractiveWindowPlaysTheSpeech)
 {
   const std::string raw = Output + "/MorphAvatarSound.raw";
-  auto played = [&](const std::string& extra) {
+  auto played = [&](const std::string& extra)
+  {
     vtksys::SystemTools::RemoveFile(raw);
     setenv("SDL_AUDIODRIVER", "disk", 1);
     setenv("SDL_DISKAUDIOFILE", raw.c_str(), 1);
-    const AvatarRun run = RunAvatar("--say 'Hello there, my friend.' --size 160x160 --exit-after 2.5 " + extra);
+    const AvatarRun run =
+      RunAvatar("--say 'Hello there, my friend.' --size 160x160 --exit-after 2.5 " + extra);
     unsetenv("SDL_AUDIODRIVER");
     unsetenv("SDL_DISKAUDIOFILE");
     EXPECT_EQ(run.ExitCode, 0) << run.Text;
@@ -382,7 +384,8 @@ TEST(MorphAvatar, TimeSeriesForParaView)
   const std::string xml((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   const std::regex entry("<DataSet timestep=\"([^\"]+)\"[^>]*file=\"([^\"]+)\"");
   std::vector<std::pair<double, std::string>> steps;
-  for (auto it = std::sregex_iterator(xml.begin(), xml.end(), entry); it != std::sregex_iterator(); ++it)
+  for (auto it = std::sregex_iterator(xml.begin(), xml.end(), entry); it != std::sregex_iterator();
+       ++it)
   {
     steps.emplace_back(std::stod((*it)[1]), (*it)[2]);
   }
@@ -390,8 +393,8 @@ TEST(MorphAvatar, TimeSeriesForParaView)
 
   // Every part of the default head, named, in every frame (skin first).
   const std::vector<std::string> parts = { "Head", "MouthInterior", "UpperTeeth", "LowerTeeth",
-    "Tongue", "EyeLeft/Sclera", "EyeLeft/Iris", "EyeLeft/Pupil", "EyeRight/Sclera",
-    "EyeRight/Iris", "EyeRight/Pupil", "Eyelashes", "Brows", "Hair", "Ears" };
+    "Tongue", "EyeLeft/Sclera", "EyeLeft/Iris", "EyeLeft/Pupil", "EyeRight/Sclera", "EyeRight/Iris",
+    "EyeRight/Pupil", "Eyelashes", "Brows", "Hair", "Ears" };
   double largestMotion = 0.0, largestTeethMotion = 0.0;
   vtkSmartPointer<vtkMultiBlockDataSet> first;
   for (size_t i = 0; i < steps.size(); ++i)
@@ -433,7 +436,8 @@ TEST(MorphAvatar, TimeSeriesForParaView)
       first = head;
       continue;
     }
-    auto motion = [&](unsigned int b) {
+    auto motion = [&](unsigned int b)
+    {
       auto* now = vtkPolyData::SafeDownCast(head->GetBlock(b));
       auto* then = vtkPolyData::SafeDownCast(first->GetBlock(b));
       double largest = 0.0;
@@ -443,7 +447,8 @@ TEST(MorphAvatar, TimeSeriesForParaView)
         double c[3];
         then->GetPoint(p, c);
         largest = std::max(largest,
-          std::sqrt((a[0] - c[0]) * (a[0] - c[0]) + (a[1] - c[1]) * (a[1] - c[1]) + (a[2] - c[2]) * (a[2] - c[2])));
+          std::sqrt((a[0] - c[0]) * (a[0] - c[0]) + (a[1] - c[1]) * (a[1] - c[1]) +
+            (a[2] - c[2]) * (a[2] - c[2])));
       }
       return largest;
     };
@@ -481,7 +486,8 @@ TEST(MorphAvatar, SpeaksARecordingWithItsSound)
   const morphnode::AudioBuffer recorded = morphnode::ReadAudioFile(recording);
   const morphnode::AudioBuffer written = morphnode::ReadAudioFile(dir + "/avatar.wav");
   EXPECT_GT(written.GetDuration(), 0.5 + recorded.GetDuration() - 0.05);
-  auto rms = [&](double t0, double t1) {
+  auto rms = [&](double t0, double t1)
+  {
     morphnode::AudioBuffer span;
     span.SampleRate = written.SampleRate;
     span.Channels = 1;
@@ -520,7 +526,8 @@ TEST(MorphAvatar, SpeaksARecordingWithRhubarbCues)
   tone.Channels = 1;
   for (int i = 0; i < 32000; ++i)
   {
-    tone.Samples.push_back(0.2f * static_cast<float>(std::sin(2.0 * 3.14159265 * 220.0 * i / 16000.0)));
+    tone.Samples.push_back(
+      0.2f * static_cast<float>(std::sin(2.0 * 3.14159265 * 220.0 * i / 16000.0)));
   }
   morphnode::WriteWavFile(dir + "/take.wav", tone);
   // X (rest) 0-0.4, A (closed) 0.4-0.8, D (wide open) 0.8-1.6, X to the end; the avatar
@@ -529,8 +536,10 @@ TEST(MorphAvatar, SpeaksARecordingWithRhubarbCues)
   std::ofstream(dir + "/take.xml")
     << "<?xml version=\"1.0\" encoding=\"utf-8\"?>\n<rhubarbResult><metadata><soundFile>take.wav"
        "</soundFile><duration>2.00</duration></metadata><mouthCues>\n"
-       "<mouthCue start=\"0.00\" end=\"0.40\">X</mouthCue>\n<mouthCue start=\"0.40\" end=\"0.80\">A</mouthCue>\n"
-       "<mouthCue start=\"0.80\" end=\"1.60\">D</mouthCue>\n<mouthCue start=\"1.60\" end=\"2.00\">X</mouthCue>\n"
+       "<mouthCue start=\"0.00\" end=\"0.40\">X</mouthCue>\n<mouthCue start=\"0.40\" "
+       "end=\"0.80\">A</mouthCue>\n"
+       "<mouthCue start=\"0.80\" end=\"1.60\">D</mouthCue>\n<mouthCue start=\"1.60\" "
+       "end=\"2.00\">X</mouthCue>\n"
        "</mouthCues></rhubarbResult>\n";
   std::ofstream(dir + "/take.cues") << "0.00\tX\n0.40\tA\n0.80\tD\n1.60\tX\n";
   double openMinusClosed = 0.0;
@@ -538,8 +547,9 @@ TEST(MorphAvatar, SpeaksARecordingWithRhubarbCues)
          std::string("take.cues' --timings-format 'rhubarb-tsv") })
   {
     const std::string frames = dir + "/frames_" + cues.substr(5, 3);
-    const AvatarRun run = RunAvatar("--audio '" + dir + "/take.wav' --timings '" + dir + "/" + cues +
-      "' --fps 10 --size 200x200 --duration 3 --no-overlay --seed 3 --frames '" + frames + "' --quiet");
+    const AvatarRun run = RunAvatar("--audio '" + dir + "/take.wav' --timings '" + dir + "/" +
+      cues + "' --fps 10 --size 200x200 --duration 3 --no-overlay --seed 3 --frames '" + frames +
+      "' --quiet");
     ASSERT_EQ(run.ExitCode, 0) << cues << ": " << run.Text;
     // 0.5 s + 0.6 s (closed) and 0.5 s + 1.2 s (open) against the first frame (rest).
     auto rest = ReadPng(frames + "/frame_00000.png");
@@ -587,8 +597,8 @@ TEST(MorphAvatar, PlaysTheFilesOwnAnimation)
   vtksys::SystemTools::MakeDirectory(dir);
   // The performance: a closure then wide open vowels, as Rhubarb cues (no eSpeak needed).
   std::ofstream(dir + "/cues.tsv") << "0.00\tX\n0.60\tA\n0.90\tD\n2.00\tX\n";
-  const AvatarRun exported = RunAvatar("--timings '" + dir + "/cues.tsv' --duration 3 --fps 10 --gltf '" +
-    dir + "/performance.glb' --quiet");
+  const AvatarRun exported = RunAvatar("--timings '" + dir +
+    "/cues.tsv' --duration 3 --fps 10 --gltf '" + dir + "/performance.glb' --quiet");
   ASSERT_EQ(exported.ExitCode, 0) << exported.Text;
   // A sound for it.
   morphnode::AudioBuffer tone;
@@ -596,26 +606,29 @@ TEST(MorphAvatar, PlaysTheFilesOwnAnimation)
   tone.Channels = 1;
   for (int i = 0; i < 40000; ++i)
   {
-    tone.Samples.push_back(0.2f * static_cast<float>(std::sin(2.0 * 3.14159265 * 220.0 * i / 16000.0)));
+    tone.Samples.push_back(
+      0.2f * static_cast<float>(std::sin(2.0 * 3.14159265 * 220.0 * i / 16000.0)));
   }
   morphnode::WriteWavFile(dir + "/sound.wav", tone);
   for (const std::string& animation : { std::string("0"), std::string("performance") })
   {
     const std::string frames = dir + "/frames_" + animation;
-    const AvatarRun run = RunAvatar("--face '" + dir + "/performance.glb' --animation " + animation +
-      " --audio '" + dir + "/sound.wav' --fps 10 --size 200x200 --no-overlay --frames '" + frames +
-      "' --video '" + frames + "/take.ogv' --quiet");
+    const AvatarRun run =
+      RunAvatar("--face '" + dir + "/performance.glb' --animation " + animation + " --audio '" +
+        dir + "/sound.wav' --fps 10 --size 200x200 --no-overlay --frames '" + frames +
+        "' --video '" + frames + "/take.ogv' --quiet");
     ASSERT_EQ(run.ExitCode, 0) << run.Text;
     // The animation: rest at 0 s, wide open in 1.0-1.9 s (the cues were placed at 0.5 s).
     EXPECT_GT(LargestMouthChange(frames, 14, 24), 2.0) << animation << ": the mouth does not open";
-    EXPECT_LT(LargestMouthChange(frames, 1, 3), 1.0) << animation << ": the mouth moves before the performance";
+    EXPECT_LT(LargestMouthChange(frames, 1, 3), 1.0)
+      << animation << ": the mouth moves before the performance";
     // The sound: the recording (2.5 s) from 0 s; the run lasts the animation's 3 s.
     const morphnode::AudioBuffer written = morphnode::ReadAudioFile(frames + "/take.wav");
     EXPECT_NEAR(written.GetDuration(), 3.0, 0.15) << animation;
     EXPECT_GT(morphnode::RootMeanSquare(morphnode::MixToMono(written)), 0.05) << animation;
   }
-  const AvatarRun missing = RunAvatar("--face '" + dir + "/performance.glb' --animation walk --png '" +
-    dir + "/x.png' --at 1");
+  const AvatarRun missing = RunAvatar(
+    "--face '" + dir + "/performance.glb' --animation walk --png '" + dir + "/x.png' --at 1");
   EXPECT_NE(missing.ExitCode, 0);
   EXPECT_NE(missing.Text.find("no animation 'walk' (it has 0 'performance')"), std::string::npos)
     << missing.Text;
@@ -636,17 +649,18 @@ TEST(MorphAvatar, PlaysALiveLinkTake)
   // The take, 60 rows a second as the app writes them (header and timecodes: docs/capture.md).
   {
     std::ofstream take(dir + "/take.csv");
-    take << "Timecode,BlendShapeCount,EyeBlinkLeft,EyeLookDownLeft,EyeLookInLeft,EyeLookOutLeft,"
-            "EyeLookUpLeft,EyeSquintLeft,EyeWideLeft,EyeBlinkRight,EyeLookDownRight,EyeLookInRight,"
-            "EyeLookOutRight,EyeLookUpRight,EyeSquintRight,EyeWideRight,JawForward,JawRight,JawLeft,"
-            "JawOpen,MouthClose,MouthFunnel,MouthPucker,MouthRight,MouthLeft,MouthSmileLeft,"
-            "MouthSmileRight,MouthFrownLeft,MouthFrownRight,MouthDimpleLeft,MouthDimpleRight,"
-            "MouthStretchLeft,MouthStretchRight,MouthRollLower,MouthRollUpper,MouthShrugLower,"
-            "MouthShrugUpper,MouthPressLeft,MouthPressRight,MouthLowerDownLeft,MouthLowerDownRight,"
-            "MouthUpperUpLeft,MouthUpperUpRight,BrowDownLeft,BrowDownRight,BrowInnerUp,"
-            "BrowOuterUpLeft,BrowOuterUpRight,CheekPuff,CheekSquintLeft,CheekSquintRight,"
-            "NoseSneerLeft,NoseSneerRight,TongueOut,HeadYaw,HeadPitch,HeadRoll,LeftEyeYaw,"
-            "LeftEyePitch,LeftEyeRoll,RightEyeYaw,RightEyePitch,RightEyeRoll\n";
+    take
+      << "Timecode,BlendShapeCount,EyeBlinkLeft,EyeLookDownLeft,EyeLookInLeft,EyeLookOutLeft,"
+         "EyeLookUpLeft,EyeSquintLeft,EyeWideLeft,EyeBlinkRight,EyeLookDownRight,EyeLookInRight,"
+         "EyeLookOutRight,EyeLookUpRight,EyeSquintRight,EyeWideRight,JawForward,JawRight,JawLeft,"
+         "JawOpen,MouthClose,MouthFunnel,MouthPucker,MouthRight,MouthLeft,MouthSmileLeft,"
+         "MouthSmileRight,MouthFrownLeft,MouthFrownRight,MouthDimpleLeft,MouthDimpleRight,"
+         "MouthStretchLeft,MouthStretchRight,MouthRollLower,MouthRollUpper,MouthShrugLower,"
+         "MouthShrugUpper,MouthPressLeft,MouthPressRight,MouthLowerDownLeft,MouthLowerDownRight,"
+         "MouthUpperUpLeft,MouthUpperUpRight,BrowDownLeft,BrowDownRight,BrowInnerUp,"
+         "BrowOuterUpLeft,BrowOuterUpRight,CheekPuff,CheekSquintLeft,CheekSquintRight,"
+         "NoseSneerLeft,NoseSneerRight,TongueOut,HeadYaw,HeadPitch,HeadRoll,LeftEyeYaw,"
+         "LeftEyePitch,LeftEyeRoll,RightEyeYaw,RightEyePitch,RightEyeRoll\n";
     for (int row = 0; row <= 120; ++row)
     {
       char timecode[32];
@@ -660,16 +674,21 @@ TEST(MorphAvatar, PlaysALiveLinkTake)
       take << "\n";
     }
   }
-  const AvatarRun run = RunAvatar("--face '" + ict + "' --capture '" + dir + "/take.csv' --fps 10 " +
-    "--size 200x200 --no-overlay --frames '" + dir + "/frames'");
+  const AvatarRun run = RunAvatar("--face '" + ict + "' --capture '" + dir +
+    "/take.csv' --fps 10 " + "--size 200x200 --no-overlay --frames '" + dir + "/frames'");
   ASSERT_EQ(run.ExitCode, 0) << run.Text;
   EXPECT_NE(run.Text.find("51 of 52 ARKit shapes drive 53 of 53 face targets"), std::string::npos)
     << run.Text; // the mapping report
-  EXPECT_GT(LargestMouthChange(dir + "/frames", 9, 11), 2.0) << "the take's jawOpen does not open the mouth";
-  EXPECT_LT(LargestMouthChange(dir + "/frames", 20, 20), 1.0) << "the mouth is not closed again at 2 s";
-  const AvatarRun bad = RunAvatar("--face '" + ict + "' --capture '" + dir + "/take.csv' --say hi --png x.png");
+  EXPECT_GT(LargestMouthChange(dir + "/frames", 9, 11), 2.0)
+    << "the take's jawOpen does not open the mouth";
+  EXPECT_LT(LargestMouthChange(dir + "/frames", 20, 20), 1.0)
+    << "the mouth is not closed again at 2 s";
+  const AvatarRun bad =
+    RunAvatar("--face '" + ict + "' --capture '" + dir + "/take.csv' --say hi --png x.png");
   EXPECT_EQ(bad.ExitCode, 2);
-  EXPECT_NE(bad.Text.find("--animation and --capture play a recorded performance"), std::string::npos) << bad.Text;
+  EXPECT_NE(
+    bad.Text.find("--animation and --capture play a recorded performance"), std::string::npos)
+    << bad.Text;
 }
 
 // A content error reaches the terminal as `MorphAvatar: what: why` lines: no VTK log
@@ -682,8 +701,9 @@ TEST(MorphAvatar, ContentErrorsReadAsProgramLines)
   std::ofstream(dir + "/bad.json") << "{\"name\": \"bad\", \"shapes\": {\"A\": {\"jawOpn\": 1}}}";
   for (const std::string& arguments :
     { "--timings '" + dir + "/bad.pho' --png '" + dir + "/x.png' --at 1",
-      "--face '" + std::string(MORPHNODE_SOURCE_DIR) + "/Data/DefaultFace/default_head.glb' --rig '" +
-        dir + "/bad.json' --png '" + dir + "/x.png' --at 1" })
+      "--face '" + std::string(MORPHNODE_SOURCE_DIR) +
+        "/Data/DefaultFace/default_head.glb' --rig '" + dir + "/bad.json' --png '" + dir +
+        "/x.png' --at 1" })
   {
     const AvatarRun run = RunAvatar(arguments);
     EXPECT_NE(run.ExitCode, 0) << arguments;
@@ -757,7 +777,8 @@ TEST(MorphAvatar, GltfExportKeepsTheFacesMaterials)
     EXPECT_EQ(b.Width, a.Width) << part.Name;
     EXPECT_EQ(b.Height, a.Height) << part.Name;
     EXPECT_TRUE(b.Pixels == a.Pixels) << part.Name << ": the base colour image differs";
-    EXPECT_EQ(part.TexCoords0.size(), it->TexCoords0.size()) << part.Name << ": no texture coordinates";
+    EXPECT_EQ(part.TexCoords0.size(), it->TexCoords0.size())
+      << part.Name << ": no texture coordinates";
   }
   // The eyes, eyebrows and eyelashes are the avatar's textured parts.
   EXPECT_EQ(textured, 4);

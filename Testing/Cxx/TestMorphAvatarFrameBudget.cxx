@@ -36,8 +36,8 @@ struct Frame
   double Threshold = -1.0;
   int Active = -1;
   double Milliseconds = -1.0;
-  int Level = -1;     ///< the mesh level shown
-  long Points = -1;   ///< the morph output's points
+  int Level = -1;   ///< the mesh level shown
+  long Points = -1; ///< the morph output's points
 };
 
 std::vector<Frame> ReadLog(const std::string& file)
@@ -57,7 +57,8 @@ std::vector<Frame> ReadLog(const std::string& file)
     std::getline(fields, budget, ',');
     std::getline(fields, level, ',');
     std::getline(fields, points, ',');
-    frames.push_back({ std::stod(threshold), std::stoi(active), std::stod(ms), std::stoi(level), std::stol(points) });
+    frames.push_back({ std::stod(threshold), std::stoi(active), std::stod(ms), std::stoi(level),
+      std::stol(points) });
   }
   return frames;
 }
@@ -129,7 +130,8 @@ TEST(MorphAvatarFrameBudget, ProfilesSetTheBudget)
   vtksys::SystemTools::RemoveADirectory(dir);
   vtksys::SystemTools::MakeDirectory(dir);
   const std::string log = dir + "/budget.csv";
-  const std::string common = "--duration 1 --fps 10 --size 96x96 --offscreen --frames '" + dir + "' ";
+  const std::string common =
+    "--duration 1 --fps 10 --size 96x96 --offscreen --frames '" + dir + "' ";
   AvatarRun run = RunAvatar(common + "--profile phone --frame-budget-log '" + log + "'");
   EXPECT_EQ(run.ExitCode, 0) << run.Text;
   EXPECT_NE(run.Text.find("frame budget 0.4 ms"), std::string::npos) << run.Text;
@@ -170,11 +172,12 @@ void PhoneAgainstFull(const std::string& face, const std::string& name)
     : "--script '" + std::string(MORPHNODE_SOURCE_DIR) + "/Data/scripts/idle.txt' ";
   const std::string common = behaviour + (face.empty() ? "" : "--face '" + face + "' ") +
     "--duration 1.5 --seed 11 --fps 6 --size 192x192 --no-overlay --offscreen ";
-  AvatarRun run = RunAvatar(common + "--frames '" + dir + "/full' --frame-budget 1000 --frame-budget-log '" +
-    dir + "/full.csv'");
+  AvatarRun run = RunAvatar(common + "--frames '" + dir +
+    "/full' --frame-budget 1000 --frame-budget-log '" + dir + "/full.csv'");
   ASSERT_EQ(run.ExitCode, 0) << run.Text;
   const std::vector<Frame> full = ReadLog(dir + "/full.csv");
-  run = RunAvatar(common + "--frames '" + dir + "/phone' --profile phone --frame-budget-log '" + dir + "/phone.csv'");
+  run = RunAvatar(common + "--frames '" + dir + "/phone' --profile phone --frame-budget-log '" +
+    dir + "/phone.csv'");
   ASSERT_EQ(run.ExitCode, 0) << run.Text;
   const std::vector<Frame> phone = ReadLog(dir + "/phone.csv");
   ASSERT_GE(full.size(), 8u);
@@ -185,23 +188,23 @@ void PhoneAgainstFull(const std::string& face, const std::string& name)
     EXPECT_GE(phone[f].Level, 1) << f;
     EXPECT_LT(phone[f].Points, full[f].Points * 3 / 4) << f;
   }
-  std::cout << name << ": full mesh " << full[0].Points << " points, phone level " << phone.back().Level << " "
-            << phone.back().Points << " points\n";
+  std::cout << name << ": full mesh " << full[0].Points << " points, phone level "
+            << phone.back().Level << " " << phone.back().Points << " points\n";
   EXPECT_NE(run.Text.find("mesh levels shown: level"), std::string::npos) << run.Text;
   if (!MORPHNODE_TEST_ESPEAK)
   {
     return;
   }
-  auto frame = [&](const std::string& which, int i) {
+  auto frame = [&](const std::string& which, int i)
+  {
     char file[32];
     std::snprintf(file, sizeof(file), "/frame_%05d.png", i);
     return ReadFrame(dir + "/" + which + file);
   };
   // The mouth: the middle third across, from a fifth to two fifths up the frame.
   const int w = 192, h = 192;
-  auto mouth = [&](vtkImageData* a, vtkImageData* b) {
-    return morphnode_test::Ssim(a, b, w / 3, 2 * w / 3, h / 5, 2 * h / 5);
-  };
+  auto mouth = [&](vtkImageData* a, vtkImageData* b)
+  { return morphnode_test::Ssim(a, b, w / 3, 2 * w / 3, h / 5, 2 * h / 5); };
   double same = 1.0, later = 1.0;
   for (int i = 2; i + 2 < static_cast<int>(full.size()); ++i)
   {

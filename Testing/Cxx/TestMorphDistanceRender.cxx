@@ -139,7 +139,8 @@ TEST(MorphDistanceRender, MirroredSmileFailsTheBaseline)
   lut->SetHueRange(0.667, 0.0);
   lut->SetTableRange(0.0, face->GetPointData()->GetArray("AnimatedRegion")->GetRange()[1]);
   lut->Build();
-  const char* const colors[] = { Panels[0], Panels[1], "Distance_mouthSmile_R", Panels[3], Panels[4] };
+  const char* const colors[] = { Panels[0], Panels[1], "Distance_mouthSmile_R", Panels[3],
+    Panels[4] };
   const auto window = RenderPanels(face, lut, colors);
   const double error = morphnode_test::BaselineError(window, Baseline, MORPHNODE_TEST_OUTPUT_DIR);
   std::cout << "image error with mouthSmile_R for mouthSmile_L: " << error << "\n";

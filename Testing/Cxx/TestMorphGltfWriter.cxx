@@ -50,7 +50,8 @@
 
 namespace
 {
-const std::string DefaultHead = std::string(MORPHNODE_SOURCE_DIR) + "/Data/DefaultFace/default_head.glb";
+const std::string DefaultHead =
+  std::string(MORPHNODE_SOURCE_DIR) + "/Data/DefaultFace/default_head.glb";
 const std::string IctHead = std::string(MORPHNODE_FACEKIT_DIR) + "/ict_head_full53.glb";
 const std::string Avatar = std::string(MORPHNODE_AVATAR_DIR) + "/makehuman_avatar.glb";
 
@@ -59,7 +60,8 @@ const std::string Avatar = std::string(MORPHNODE_AVATAR_DIR) + "/makehuman_avata
 std::string OutputPath(const std::string& name)
 {
   const char* env = std::getenv("MORPHNODE_GLTF_EXPORT_DIR");
-  const std::string dir = env && *env ? std::string(env) : std::string(MORPHNODE_TEST_OUTPUT_DIR) + "/gltf-vtk";
+  const std::string dir =
+    env && *env ? std::string(env) : std::string(MORPHNODE_TEST_OUTPUT_DIR) + "/gltf-vtk";
   std::filesystem::create_directories(dir);
   return dir + "/" + name;
 }
@@ -81,8 +83,8 @@ std::vector<std::string> SceneTargets(vtkDataObject* head)
   return names;
 }
 
-vtkSmartPointer<vtkTable> RandomPerformance(const std::vector<std::string>& targets, int frames,
-  unsigned seed, bool pose)
+vtkSmartPointer<vtkTable> RandomPerformance(
+  const std::vector<std::string>& targets, int frames, unsigned seed, bool pose)
 {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(0.0, 1.0);
@@ -157,7 +159,8 @@ std::string PatchForVtk(const std::string& file)
 {
   std::ifstream in(file, std::ios::binary);
   std::vector<char> glb((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  auto u32 = [&glb](size_t at) {
+  auto u32 = [&glb](size_t at)
+  {
     uint32_t v;
     std::memcpy(&v, glb.data() + at, 4);
     return v;
@@ -165,7 +168,8 @@ std::string PatchForVtk(const std::string& file)
   const uint32_t jsonLength = u32(12);
   nlohmann::json doc = nlohmann::json::parse(glb.begin() + 20, glb.begin() + 20 + jsonLength);
   const size_t binAt = 20 + jsonLength + 8;
-  std::vector<char> bin(glb.begin() + static_cast<long>(binAt), glb.begin() + static_cast<long>(binAt + u32(20 + jsonLength)));
+  std::vector<char> bin(glb.begin() + static_cast<long>(binAt),
+    glb.begin() + static_cast<long>(binAt + u32(20 + jsonLength)));
   size_t zeroBytes = 4;
   for (const auto& a : doc["accessors"])
   {
@@ -176,7 +180,8 @@ std::string PatchForVtk(const std::string& file)
   }
   const size_t zeroAt = bin.size();
   bin.resize(zeroAt + zeroBytes, 0);
-  doc["bufferViews"].push_back({ { "buffer", 0 }, { "byteOffset", zeroAt }, { "byteLength", zeroBytes } });
+  doc["bufferViews"].push_back(
+    { { "buffer", 0 }, { "byteOffset", zeroAt }, { "byteLength", zeroBytes } });
   const size_t zeroView = doc["bufferViews"].size() - 1;
   for (auto& a : doc["accessors"])
   {
@@ -190,7 +195,8 @@ std::string PatchForVtk(const std::string& file)
   std::string json = doc.dump();
   json.append((4 - json.size() % 4) % 4, ' ');
   std::vector<char> out;
-  auto put = [&out](uint32_t v) {
+  auto put = [&out](uint32_t v)
+  {
     const char* p = reinterpret_cast<const char*>(&v);
     out.insert(out.end(), p, p + 4);
   };
@@ -226,7 +232,8 @@ std::array<double, 3> Apply(const std::array<double, 16>& m, const double p[3])
 
 /// Exports `file` with a random performance and compares VTK's reading of the export at
 /// `times` with the pipeline: the morph filter, the eyes' and the head's turns.
-void RoundTrip(const std::string& file, const std::string& out, bool pose, const std::vector<double>& times)
+void RoundTrip(
+  const std::string& file, const std::string& out, bool pose, const std::vector<double>& times)
 {
   vtkNew<vtkMorphTargetReader> reader;
   reader->SetFileName(file.c_str());
@@ -259,7 +266,8 @@ void RoundTrip(const std::string& file, const std::string& out, bool pose, const
     }
   }
   const double size = std::sqrt((bounds[1] - bounds[0]) * (bounds[1] - bounds[0]) +
-    (bounds[3] - bounds[2]) * (bounds[3] - bounds[2]) + (bounds[5] - bounds[4]) * (bounds[5] - bounds[4]));
+    (bounds[3] - bounds[2]) * (bounds[3] - bounds[2]) +
+    (bounds[5] - bounds[4]) * (bounds[5] - bounds[4]));
   const std::array<double, 3> pivot = morphnode::HeadPivot(bounds);
 
   {
@@ -324,12 +332,15 @@ void RoundTrip(const std::string& file, const std::string& out, bool pose, const
         const auto w = Apply(headPose, x);
         double y[3];
         actual->GetPoint(p, y);
-        const double d = std::sqrt((w[0] - y[0]) * (w[0] - y[0]) + (w[1] - y[1]) * (w[1] - y[1]) + (w[2] - y[2]) * (w[2] - y[2]));
+        const double d = std::sqrt((w[0] - y[0]) * (w[0] - y[0]) + (w[1] - y[1]) * (w[1] - y[1]) +
+          (w[2] - y[2]) * (w[2] - y[2]));
         largest = std::max(largest, d);
       }
     }
-    EXPECT_LT(largest, 1e-6 * size) << "largest difference " << largest << " of a head of size " << size;
-    std::cout << out << " t = " << t << ": largest difference " << largest << " (head size " << size << ")\n";
+    EXPECT_LT(largest, 1e-6 * size)
+      << "largest difference " << largest << " of a head of size " << size;
+    std::cout << out << " t = " << t << ": largest difference " << largest << " (head size " << size
+              << ")\n";
   }
 }
 } // namespace
@@ -339,7 +350,8 @@ TEST(MorphGltfWriter, DefaultHeadRoundTripThroughVtkGltfReader)
   // Between keys only weights (glTF interpolates rotations by slerp, the behaviour its
   // angles linearly): with pose, the keys; without, keys and between them.
   RoundTrip(DefaultHead, "default_head_pose.glb", true, { 0.0, 1.0 / 30, 5.0 / 30, 11.0 / 30 });
-  RoundTrip(DefaultHead, "default_head_weights.glb", false, { 0.0, 0.5 / 30, 3.7 / 30, 10.2 / 30, 11.0 / 30 });
+  RoundTrip(DefaultHead, "default_head_weights.glb", false,
+    { 0.0, 0.5 / 30, 3.7 / 30, 10.2 / 30, 11.0 / 30 });
 }
 
 TEST(MorphGltfWriter, IctHeadRoundTripThroughVtkGltfReader)
@@ -389,15 +401,18 @@ TEST(MorphGltfWriter, OptimizedWeightsAreTheFiltersEffectiveWeights)
     morph->Update();
     for (const auto& c : back.Animations[0].Channels)
     {
-      const auto& mesh = back.Meshes[static_cast<size_t>(back.Nodes[static_cast<size_t>(c.Node)].Mesh)];
+      const auto& mesh =
+        back.Meshes[static_cast<size_t>(back.Nodes[static_cast<size_t>(c.Node)].Mesh)];
       const auto& sampler = back.Animations[0].Samplers[static_cast<size_t>(c.Sampler)];
       EXPECT_EQ(sampler.Interpolation, morphnode::GltfInterpolation::Step);
       for (size_t t = 0; t < mesh.TargetNames.size(); ++t)
       {
-        const double effective = morph->GetEffectiveWeight(morph->GetTargetIndex(mesh.TargetNames[t].c_str()));
+        const double effective =
+          morph->GetEffectiveWeight(morph->GetTargetIndex(mesh.TargetNames[t].c_str()));
         const double written = sampler.Values[static_cast<size_t>(f) * mesh.TargetNames.size() + t];
         EXPECT_NEAR(written, effective, 1e-6) << mesh.TargetNames[t] << " frame " << f;
-        pruned += (effective == 0.0 && Column(performance, mesh.TargetNames[t], f / 30.0) != 0.0) ? 1 : 0;
+        pruned +=
+          (effective == 0.0 && Column(performance, mesh.TargetNames[t], f / 30.0) != 0.0) ? 1 : 0;
       }
     }
   }
@@ -436,7 +451,8 @@ TEST(MorphGltfWriter, BadInput)
 
   // Times that do not increase: an error, no file.
   reader->Update();
-  vtkSmartPointer<vtkTable> performance = RandomPerformance(SceneTargets(reader->GetOutputDataObject(0)), 5, 3, true);
+  vtkSmartPointer<vtkTable> performance =
+    RandomPerformance(SceneTargets(reader->GetOutputDataObject(0)), 5, 3, true);
   vtkDataArray::SafeDownCast(performance->GetColumnByName("Time"))->SetComponent(3, 0, 0.0);
   const std::string file = OutputPath("bad.glb");
   std::filesystem::remove(file);
@@ -503,7 +519,9 @@ TEST(MorphGltfWriter, EyeLookWeightsMoveTheLidsNotTheEyeballsTheJointsTurn)
     vtkNew<vtkDoubleArray> a;
     a->SetName(name);
     a->InsertNextValue(0.0);
-    a->InsertNextValue(std::string(name) == "Time" ? 1.0 : std::string(name) == "EyePitch" ? -15.0 : 0.8);
+    a->InsertNextValue(std::string(name) == "Time" ? 1.0
+        : std::string(name) == "EyePitch"          ? -15.0
+                                                   : 0.8);
     performance->AddColumn(a);
   }
   const std::string out = OutputPath("makehuman_avatar_eyelook_export.glb");
@@ -538,7 +556,9 @@ TEST(MorphGltfWriter, EyeLookWeightsMoveTheLidsNotTheEyeballsTheJointsTurn)
       }
     }
   }
-  ASSERT_EQ(lastLookDown.count("Body") + lastLookDown.count("EyeLeft") + lastLookDown.count("EyeRight"), 3u);
+  ASSERT_EQ(
+    lastLookDown.count("Body") + lastLookDown.count("EyeLeft") + lastLookDown.count("EyeRight"),
+    3u);
   EXPECT_FLOAT_EQ(lastLookDown["Body"], 0.8f) << "the lids do not follow";
   EXPECT_EQ(lastLookDown["EyeLeft"], 0.0f) << "the left eyeball turns twice";
   EXPECT_EQ(lastLookDown["EyeRight"], 0.0f) << "the right eyeball turns twice";
@@ -553,8 +573,8 @@ TEST(MorphGltfWriter, SkinnedAvatarKeepsItsSkeletonAndTurnsItsBones)
   vtkNew<vtkMorphTargetReader> reader;
   reader->SetFileName(Avatar.c_str());
   // The performance: 4 keys, a vowel, the head turned and the eyes looking left and down.
-  const std::vector<std::string> names{ "Time", "jawOpen", "viseme_O", "eyeBlinkLeft", "HeadYaw", "HeadPitch",
-    "HeadRoll", "EyeYaw", "EyePitch" };
+  const std::vector<std::string> names{ "Time", "jawOpen", "viseme_O", "eyeBlinkLeft", "HeadYaw",
+    "HeadPitch", "HeadRoll", "EyeYaw", "EyePitch" };
   const std::vector<std::vector<double>> rows{ { 0.0, 0, 0, 0, 0, 0, 0, 0, 0 },
     { 0.4, 0.3, 0.5, 0.2, 10, 4, -3, 12, 5 }, { 0.8, 0.6, 1.0, 0.0, 20, -8, 5, 25, -10 },
     { 1.2, 0.0, 0.2, 0.7, -15, 6, 2, -20, 8 } };
@@ -585,7 +605,8 @@ TEST(MorphGltfWriter, SkinnedAvatarKeepsItsSkeletonAndTurnsItsBones)
   nodeFrames.ApplyTransforms = false;
   const morphnode::GltfScene original = morphnode::LoadGltfScene(Avatar, nodeFrames);
   const morphnode::GltfScene back = morphnode::LoadGltfScene(out, nodeFrames);
-  ASSERT_EQ(back.Nodes.size(), original.Nodes.size()) << "nodes inserted into or lost from the skeleton";
+  ASSERT_EQ(back.Nodes.size(), original.Nodes.size())
+    << "nodes inserted into or lost from the skeleton";
   for (size_t n = 0; n < original.Nodes.size(); ++n)
   {
     EXPECT_EQ(back.Nodes[n].Name, original.Nodes[n].Name);
@@ -598,7 +619,8 @@ TEST(MorphGltfWriter, SkinnedAvatarKeepsItsSkeletonAndTurnsItsBones)
   {
     for (size_t c = 0; c < 16; ++c)
     {
-      EXPECT_NEAR(back.Skins[0].InverseBind[j][c], original.Skins[0].InverseBind[j][c], 1e-6) << "joint " << j;
+      EXPECT_NEAR(back.Skins[0].InverseBind[j][c], original.Skins[0].InverseBind[j][c], 1e-6)
+        << "joint " << j;
     }
   }
   ASSERT_EQ(back.Parts.size(), original.Parts.size());
@@ -615,14 +637,16 @@ TEST(MorphGltfWriter, SkinnedAvatarKeepsItsSkeletonAndTurnsItsBones)
     for (size_t i = 0; i < part.Influences.Weights.size(); ++i)
     {
       differing += std::abs(other.Influences.Weights[i] - part.Influences.Weights[i]) > 1e-6 ||
-        (part.Influences.Weights[i] > 0.0f && other.Influences.Joints[i] != part.Influences.Joints[i]);
+        (part.Influences.Weights[i] > 0.0f &&
+          other.Influences.Joints[i] != part.Influences.Joints[i]);
     }
     EXPECT_EQ(differing, 0u) << part.Name << ": joints or weights differ";
     EXPECT_EQ(other.Material, part.Material) << part.Name;
     ASSERT_EQ(other.Positions.size(), part.Positions.size());
     for (size_t i = 0; i < part.Positions.size(); ++i)
     {
-      worstBind = std::max(worstBind, static_cast<double>(std::abs(other.Positions[i] - part.Positions[i])));
+      worstBind =
+        std::max(worstBind, static_cast<double>(std::abs(other.Positions[i] - part.Positions[i])));
     }
   }
   EXPECT_LT(worstBind, 1e-6 * 1.666) << "bind-space points changed";
@@ -687,8 +711,9 @@ TEST(MorphGltfWriter, SkinnedAvatarKeepsItsSkeletonAndTurnsItsBones)
       moved = std::max(moved, std::sqrt(vtkMath::Distance2BetweenPoints(a, r)));
     }
   }
-  std::cout << "skinned avatar export at t = " << t << ": largest difference to vtkGLTFReader " << worst * 1e3
-            << " mm; the frame moves points up to " << moved * 1e3 << " mm from rest\n";
+  std::cout << "skinned avatar export at t = " << t << ": largest difference to vtkGLTFReader "
+            << worst * 1e3 << " mm; the frame moves points up to " << moved * 1e3
+            << " mm from rest\n";
   EXPECT_GT(moved, 0.01) << "the frame does not move the avatar: the check could not fail";
   EXPECT_LT(worst, 1e-6 * 1.666);
 
@@ -712,6 +737,7 @@ TEST(MorphGltfWriter, SkinnedAvatarKeepsItsSkeletonAndTurnsItsBones)
       worstOurs = std::max(worstOurs, std::sqrt(vtkMath::Distance2BetweenPoints(a, b)));
     }
   }
-  std::cout << "vtkMorphTargetReader playing the export: largest difference " << worstOurs * 1e3 << " mm\n";
+  std::cout << "vtkMorphTargetReader playing the export: largest difference " << worstOurs * 1e3
+            << " mm\n";
   EXPECT_LT(worstOurs, 1e-6 * 1.666);
 }

@@ -18,8 +18,8 @@
 #include "vtkPointData.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
-#include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkSphereSource.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkStringArray.h"
 #include "vtkTable.h"
 #include "vtkTableAlgorithm.h"
@@ -125,7 +125,8 @@ public:
 
 protected:
   RampWeightsSource() { this->SetNumberOfInputPorts(0); }
-  int RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector* out) override
+  int RequestInformation(
+    vtkInformation*, vtkInformationVector**, vtkInformationVector* out) override
   {
     vtkInformation* info = out->GetInformationObject(0);
     const double steps[] = { 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10 };
@@ -419,7 +420,8 @@ TEST(MorphNodeFilter, BlendsEveryAttributeKind)
   EXPECT_NEAR(pd->GetArray("Temperature")->GetComponent(3, 0), 23.0 + 5.0, 1e-9);
   // Cells and topology shared from the neutral, not copied.
   EXPECT_EQ(out->GetPolys(), rig.Targets[0]->GetPolys());
-  EXPECT_EQ(out->GetCellData()->GetArray("CellId"), rig.Targets[0]->GetCellData()->GetArray("CellId"));
+  EXPECT_EQ(
+    out->GetCellData()->GetArray("CellId"), rig.Targets[0]->GetCellData()->GetArray("CellId"));
 }
 
 TEST(MorphNodeFilter, ClampsColorsToTheirType)
@@ -639,9 +641,11 @@ TEST(MorphNodeFilter, OptimizerAndDistanceArrays)
   // Target 2 moves every point by |(2,4,0)|; the bound is 0.05 * that.
   EXPECT_NEAR(rig.Filter->GetErrorBound(), 0.05 * std::sqrt(20.0), 1e-9);
   ASSERT_NE(out->GetPointData()->GetArray("AnimatedRegion"), nullptr);
-  EXPECT_NEAR(out->GetPointData()->GetArray("AnimatedRegion")->GetComponent(0, 0), std::sqrt(20.0), 1e-5);
+  EXPECT_NEAR(
+    out->GetPointData()->GetArray("AnimatedRegion")->GetComponent(0, 0), std::sqrt(20.0), 1e-5);
   ASSERT_NE(out->GetPointData()->GetArray("Distance_target0"), nullptr);
-  EXPECT_NEAR(out->GetPointData()->GetArray("Distance_target0")->GetComponent(3, 0), std::sqrt(5.0), 1e-5);
+  EXPECT_NEAR(
+    out->GetPointData()->GetArray("Distance_target0")->GetComponent(3, 0), std::sqrt(5.0), 1e-5);
   EXPECT_NEAR(rig.Filter->GetDistNorm()->GetValue(1), 0.5, 1e-9);
   EXPECT_NEAR(Field(out, "DistNorm", 2), 1.0, 1e-9);
 }
@@ -700,7 +704,8 @@ struct BadInput : public ::testing::Test
     vtkPolyData* out = rig.Run();
     EXPECT_EQ(out->GetNumberOfPoints(), 0);
     EXPECT_TRUE(rig.Messages->HasError(fragment))
-      << "expected an error containing '" << fragment << "', got:\n" << rig.Messages->AllErrors();
+      << "expected an error containing '" << fragment << "', got:\n"
+      << rig.Messages->AllErrors();
     EXPECT_EQ(rig.Filter->GetActiveTargetCount(), 0);
   }
 };
@@ -869,9 +874,8 @@ TEST(MorphNodeFilter, ReportsProgress)
   std::vector<double> progress;
   vtkNew<vtkCallbackCommand> observer;
   observer->SetClientData(&progress);
-  observer->SetCallback([](vtkObject*, unsigned long, void* client, void* data) {
-    static_cast<std::vector<double>*>(client)->push_back(*static_cast<double*>(data));
-  });
+  observer->SetCallback([](vtkObject*, unsigned long, void* client, void* data)
+    { static_cast<std::vector<double>*>(client)->push_back(*static_cast<double*>(data)); });
   rig.Filter->AddObserver(vtkCommand::ProgressEvent, observer);
   rig.Filter->SetWeight(1, 0.5);
   rig.Run();

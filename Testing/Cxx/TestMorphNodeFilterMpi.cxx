@@ -63,7 +63,9 @@ vtkSmartPointer<vtkPolyData> Piece(int begin, int end, bool reversed)
     delta->SetNumberOfComponents(3);
     for (int i = begin; i < end; ++i)
     {
-      const double dy = targets[k] == "wide" ? 0.01 : targets[k] == "jaw" ? (i >= 100 ? 0.3 : 0.0) : (i < 20 ? 0.05 : 0.0);
+      const double dy = targets[k] == "wide" ? 0.01
+        : targets[k] == "jaw"                ? (i >= 100 ? 0.3 : 0.0)
+                                             : (i < 20 ? 0.05 : 0.0);
       delta->InsertNextTuple3(0.0, dy, 0.0);
     }
     face->GetPointData()->AddArray(delta);
@@ -173,7 +175,8 @@ int main(int argc, char* argv[])
   auto piece = rank == 0 ? Piece(0, 100, false) : Piece(100, 200, true);
   if (rank == 1)
   {
-    vtkStringArray::SafeDownCast(piece->GetFieldData()->GetAbstractArray("TargetNames"))->InsertNextValue("extra");
+    vtkStringArray::SafeDownCast(piece->GetFieldData()->GetAbstractArray("TargetNames"))
+      ->InsertNextValue("extra");
   }
   broken->SetInputData(piece);
   std::cerr << "process " << rank << ": an error naming process 1 is expected next\n";

@@ -12,10 +12,10 @@
 
 #include "vtkCompositeDataSet.h"
 #include "vtkCompositeDataSetRange.h"
+#include "vtkFieldData.h"
 #include "vtkGLTFReader.h"
 #include "vtkMultiBlockDataSet.h"
 #include "vtkPointData.h"
-#include "vtkFieldData.h"
 #include "vtkPolyData.h"
 #include "vtkStringArray.h"
 
@@ -52,8 +52,8 @@ void AppendU32(std::vector<char>& b, uint32_t v)
 
 /// Copies a GLB with the first mesh's default weights replaced, so that VTK's reader
 /// applies exactly these weights.
-std::string WriteGlbWithWeights(const std::string& source, const std::vector<double>& weights,
-  const std::string& name)
+std::string WriteGlbWithWeights(
+  const std::string& source, const std::vector<double>& weights, const std::string& name)
 {
   std::ifstream in(source, std::ios::binary);
   std::vector<char> glb((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -131,7 +131,8 @@ std::string WriteHeadForVtk(const std::map<std::string, double>& weights, const 
   }
   const size_t zeroAt = bin.size(); // a multiple of 4, as GLB chunks are
   bin.resize(zeroAt + zeroBytes, 0);
-  doc["bufferViews"].push_back({ { "buffer", 0 }, { "byteOffset", zeroAt }, { "byteLength", zeroBytes } });
+  doc["bufferViews"].push_back(
+    { { "buffer", 0 }, { "byteOffset", zeroAt }, { "byteLength", zeroBytes } });
   const size_t zeroView = doc["bufferViews"].size() - 1;
   for (auto& accessor : doc["accessors"])
   {
@@ -210,7 +211,8 @@ void CrossCheckHead(const std::map<std::string, double>& weights, const std::str
   }
   ASSERT_EQ(ours.size(), reference.size());
 
-  double bounds[6] = { VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX, VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX, VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX };
+  double bounds[6] = { VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX, VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX,
+    VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX };
   for (vtkPolyData* part : rest)
   {
     double b[6];
@@ -222,7 +224,8 @@ void CrossCheckHead(const std::map<std::string, double>& weights, const std::str
     }
   }
   const double size = std::sqrt((bounds[1] - bounds[0]) * (bounds[1] - bounds[0]) +
-    (bounds[3] - bounds[2]) * (bounds[3] - bounds[2]) + (bounds[5] - bounds[4]) * (bounds[5] - bounds[4]));
+    (bounds[3] - bounds[2]) * (bounds[3] - bounds[2]) +
+    (bounds[5] - bounds[4]) * (bounds[5] - bounds[4]));
   EXPECT_GT(size, 0.2) << "metres";
   double moved = 0.0, largest = 0.0;
   for (size_t p = 0; p < ours.size(); ++p)
@@ -242,8 +245,9 @@ void CrossCheckHead(const std::map<std::string, double>& weights, const std::str
         moved = std::max(moved, std::abs(b[c] - n[c]));
       }
     }
-    EXPECT_LE(worst, 1e-6 * size) << vtkMorphPartData::GetPartName(rest[p]->GetFieldData(), std::to_string(p))
-                                  << ": largest coordinate difference to VTK's glTF morphing, world space";
+    EXPECT_LE(worst, 1e-6 * size)
+      << vtkMorphPartData::GetPartName(rest[p]->GetFieldData(), std::to_string(p))
+      << ": largest coordinate difference to VTK's glTF morphing, world space";
     largest = std::max(largest, worst);
   }
   EXPECT_GT(moved, 5e-3) << "the weights hardly move the head (metres)";

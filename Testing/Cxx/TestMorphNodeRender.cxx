@@ -50,7 +50,8 @@ std::vector<int> RenderFace(vtkPolyData* targets, vtkRenderWindow* window, doubl
   const double amounts[3] = { 0.0, 0.5, 1.0 };
   for (int v = 0; v < 3; ++v)
   {
-    auto makeMorph = [&](double mouthScale) {
+    auto makeMorph = [&](double mouthScale)
+    {
       auto morph = vtkSmartPointer<vtkMorphNodeFilter>::New();
       morph->SetInputData(targets);
       morph->SetWeightModeToRelative();
@@ -120,7 +121,8 @@ TEST(MorphNodeRender, FaceMorphedBetweenTargets)
   EXPECT_EQ(RenderFace(targets, window, 1.0), std::vector<int>({ 0, 5, 5 }));
   std::cout << "image error against the baseline: "
             << morphnode_test::BaselineError(window, Baseline, MORPHNODE_TEST_OUTPUT_DIR) << "\n";
-  EXPECT_TRUE(morphnode_test::MatchesBaseline(window, Baseline, MORPHNODE_TEST_OUTPUT_DIR, Threshold));
+  EXPECT_TRUE(
+    morphnode_test::MatchesBaseline(window, Baseline, MORPHNODE_TEST_OUTPUT_DIR, Threshold));
 }
 
 // Negative control: the same face with the mouth's targets off (jaw closed, lips not
@@ -138,5 +140,6 @@ TEST(MorphNodeRender, MouthlessFaceFailsTheBaseline)
   const double error = morphnode_test::BaselineError(window, Baseline, MORPHNODE_TEST_OUTPUT_DIR);
   std::cout << "image error of the mouthless face against the baseline: " << error << "\n";
   EXPECT_GT(error, Threshold) << "the comparison does not see the mouth";
-  EXPECT_FALSE(morphnode_test::MatchesBaseline(window, Baseline, MORPHNODE_TEST_OUTPUT_DIR, Threshold));
+  EXPECT_FALSE(
+    morphnode_test::MatchesBaseline(window, Baseline, MORPHNODE_TEST_OUTPUT_DIR, Threshold));
 }

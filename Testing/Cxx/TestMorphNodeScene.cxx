@@ -44,7 +44,8 @@ using namespace morphnode_test::scenes;
 namespace
 {
 const std::string IctHead = std::string(MORPHNODE_FACEKIT_DIR) + "/ict_head_full53.glb";
-const std::string DefaultHead = std::string(MORPHNODE_SOURCE_DIR) + "/Data/DefaultFace/default_head.glb";
+const std::string DefaultHead =
+  std::string(MORPHNODE_SOURCE_DIR) + "/Data/DefaultFace/default_head.glb";
 
 vtkSmartPointer<vtkPartitionedDataSetCollection> ReadHead(const std::string& file)
 {
@@ -53,7 +54,6 @@ vtkSmartPointer<vtkPartitionedDataSetCollection> ReadHead(const std::string& fil
   reader->Update();
   return vtkPartitionedDataSetCollection::SafeDownCast(reader->GetOutputDataObject(0));
 }
-
 
 std::vector<double> Values(vtkFieldData* fd, const char* name)
 {
@@ -73,7 +73,8 @@ vtkSmartPointer<vtkPartitionedDataSetCollection> CopyOf(vtkPartitionedDataSetCol
   for (unsigned int i = 0; i < head->GetNumberOfPartitionedDataSets(); ++i)
   {
     copy->SetPartition(i, 0, head->GetPartition(i, 0));
-    copy->GetMetaData(i)->Set(vtkCompositeDataSet::NAME(), head->GetMetaData(i)->Get(vtkCompositeDataSet::NAME()));
+    copy->GetMetaData(i)->Set(
+      vtkCompositeDataSet::NAME(), head->GetMetaData(i)->Get(vtkCompositeDataSet::NAME()));
   }
   return copy;
 }
@@ -83,7 +84,8 @@ double Size(vtkPolyData* merged)
 {
   double b[6];
   merged->GetBounds(b);
-  return std::sqrt((b[1] - b[0]) * (b[1] - b[0]) + (b[3] - b[2]) * (b[3] - b[2]) + (b[5] - b[4]) * (b[5] - b[4]));
+  return std::sqrt(
+    (b[1] - b[0]) * (b[1] - b[0]) + (b[3] - b[2]) * (b[3] - b[2]) + (b[5] - b[4]) * (b[5] - b[4]));
 }
 
 /// Runs the same weights and settings on the head as parts and on the head as one mesh, and
@@ -108,7 +110,8 @@ int CompareWithOneMesh(vtkPartitionedDataSetCollection* head, const std::string&
   for (int i = 0; i < n; ++i)
   {
     EXPECT_STREQ(parts->GetTargetName(i), one->GetTargetName(i)) << what;
-    EXPECT_NEAR(parts->GetDistNorm()->GetValue(i), one->GetDistNorm()->GetValue(i), 1e-12) << what << " " << i;
+    EXPECT_NEAR(parts->GetDistNorm()->GetValue(i), one->GetDistNorm()->GetValue(i), 1e-12)
+      << what << " " << i;
   }
   std::mt19937 rng(14);
   std::uniform_real_distribution<double> u(0.0, 1.0);
@@ -210,20 +213,23 @@ TEST(MorphNodeScene, WeightsByNameReachEveryPartThatHasTheTarget)
   ASSERT_EQ(out->GetNumberOfPartitionedDataSets(), 4u);
   EXPECT_STREQ(out->GetMetaData(2u)->Get(vtkCompositeDataSet::NAME()), "Tooth");
   ASSERT_NE(out->GetDataAssembly(), nullptr);
-  EXPECT_EQ(out->GetDataAssembly()->FindFirstNodeWithName("Tooth"), head->GetDataAssembly()->FindFirstNodeWithName("Tooth"));
+  EXPECT_EQ(out->GetDataAssembly()->FindFirstNodeWithName("Tooth"),
+    head->GetDataAssembly()->FindFirstNodeWithName("Tooth"));
   const std::vector<vtkPolyData*> in = morphnode_test::PolyDataLeaves(head);
   std::vector<vtkPolyData*> blended = morphnode_test::PolyDataLeaves(out);
   ASSERT_EQ(blended.size(), 4u);
 
   // Raise: the skin's primitives (sparse delta at point 2) and the tooth (points 0, 1) move;
   // the eye, without targets, does not.
-  auto moved = [&](size_t part, vtkIdType point, const Vec3& delta) {
+  auto moved = [&](size_t part, vtkIdType point, const Vec3& delta)
+  {
     double a[3], b[3];
     in[part]->GetPoint(point, a);
     blended[part]->GetPoint(point, b);
     for (int c = 0; c < 3; ++c)
     {
-      EXPECT_NEAR(b[c] - a[c], delta[static_cast<size_t>(c)], 1e-6) << "part " << part << " point " << point;
+      EXPECT_NEAR(b[c] - a[c], delta[static_cast<size_t>(c)], 1e-6)
+        << "part " << part << " point " << point;
     }
   };
   const Vec3 raiseSkin = JawDelta({ 0, 0.25, 0 }), raiseTooth = JawDelta({ 0.15, 0, 0 });
@@ -250,16 +256,21 @@ TEST(MorphNodeScene, WeightsByNameReachEveryPartThatHasTheTarget)
   // Every part holds the same decision and the model's names; no target arrays pass.
   for (vtkPolyData* leaf : blended)
   {
-    EXPECT_EQ(morphnode_test::FieldStrings(leaf->GetFieldData(), "TargetNames"), (std::vector<std::string>{ "Neutral", "Lift", "Raise" }));
+    EXPECT_EQ(morphnode_test::FieldStrings(leaf->GetFieldData(), "TargetNames"),
+      (std::vector<std::string>{ "Neutral", "Lift", "Raise" }));
     EXPECT_EQ(Values(leaf->GetFieldData(), "EffectiveWeights"), (std::vector<double>{ 0, 1, 0 }));
     EXPECT_EQ(leaf->GetPointData()->GetArray("target0_position"), nullptr);
     EXPECT_NE(leaf->GetPointData()->GetNormals(), nullptr);
-    EXPECT_EQ(morphnode_test::FieldStrings(leaf->GetFieldData(), vtkMorphPartData::PartNameArray).size(), 1u) << "the part's own field data passes";
+    EXPECT_EQ(
+      morphnode_test::FieldStrings(leaf->GetFieldData(), vtkMorphPartData::PartNameArray).size(),
+      1u)
+      << "the part's own field data passes";
   }
   // An unknown name is still an error.
   morph->SetWeightByName("Blink", 0.3);
   EXPECT_EQ(morph->GetExecutive()->Update(), 0);
-  EXPECT_TRUE(messages->HasError("no target has that name; targets: Neutral Lift Raise")) << messages->AllErrors();
+  EXPECT_TRUE(messages->HasError("no target has that name; targets: Neutral Lift Raise"))
+    << messages->AllErrors();
 }
 
 TEST(MorphNodeScene, DistanceArraysPerPart)
@@ -270,7 +281,8 @@ TEST(MorphNodeScene, DistanceArraysPerPart)
   morph->SetInputData(head);
   morph->GenerateDistanceArraysOn();
   morph->Update();
-  const std::vector<vtkPolyData*> leaves = morphnode_test::PolyDataLeaves(morph->GetOutputDataObject(0));
+  const std::vector<vtkPolyData*> leaves =
+    morphnode_test::PolyDataLeaves(morph->GetOutputDataObject(0));
   ASSERT_EQ(leaves.size(), 4u);
   for (vtkPolyData* leaf : leaves)
   {
@@ -283,7 +295,8 @@ TEST(MorphNodeScene, DistanceArraysPerPart)
   }
   // The skin's lift at point 3: 0.4 in the file, times the head's scale 2.
   EXPECT_NEAR(leaves[0]->GetPointData()->GetArray("Distance_Lift")->GetComponent(3, 0), 0.8, 1e-6);
-  EXPECT_EQ(leaves[2]->GetPointData()->GetArray("Distance_Lift")->GetRange()[1], 0.0) << "the tooth has no Lift";
+  EXPECT_EQ(leaves[2]->GetPointData()->GetArray("Distance_Lift")->GetRange()[1], 0.0)
+    << "the tooth has no Lift";
   EXPECT_NEAR(leaves[2]->GetPointData()->GetArray("Distance_Raise")->GetComponent(0, 0), 0.6, 1e-6);
   EXPECT_NEAR(leaves[2]->GetPointData()->GetArray("AnimatedRegion")->GetComponent(0, 0), 0.6, 1e-6);
   EXPECT_EQ(leaves[3]->GetPointData()->GetArray("AnimatedRegion")->GetRange()[1], 0.0) << "the eye";
@@ -410,7 +423,8 @@ TEST(MorphNodeScene, BadPartsAreErrorsThatNameThePart)
   bad->SetPartition(3, 0, image);
   morph->SetInputData(bad);
   EXPECT_EQ(morph->GetExecutive()->Update(), 0);
-  EXPECT_TRUE(messages->HasError("part 'EyeLeft' of the composite input is a vtkImageData")) << messages->AllErrors();
+  EXPECT_TRUE(messages->HasError("part 'EyeLeft' of the composite input is a vtkImageData"))
+    << messages->AllErrors();
 
   // A part whose points and normals disagree in number.
   messages->Clear();

@@ -88,7 +88,8 @@ TEST(MorphPartData, NumbersChecked)
   }
   catch (const morphnode::InputError& e)
   {
-    EXPECT_NE(std::string(e.what()).find("NodeAxes has 3 values, not 9"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("NodeAxes has 3 values, not 9"), std::string::npos)
+      << e.what();
   }
   const double nan[3] = { std::nan(""), 0, 0 };
   partdata::SetNumbers(fd, partdata::NodeOriginArray, nan, 3);
@@ -119,7 +120,8 @@ TEST(MorphPartData, FromGltfPart)
   part.Node = 1;
   part.MaterialName = "Skin";
   part.BaseColor = { { 0.5, 0.5, 0.5, 1 } };
-  part.World = morphnode::GltfComposeTrs({ { 1, 2, 3 } }, { { 0, 0, std::sqrt(0.5), std::sqrt(0.5) } }, { { 2, 2, 2 } });
+  part.World = morphnode::GltfComposeTrs(
+    { { 1, 2, 3 } }, { { 0, 0, std::sqrt(0.5), std::sqrt(0.5) } }, { { 2, 2, 2 } });
   const partdata::PartFields local = partdata::FromGltfPart(scene, part, false, 1.0);
   EXPECT_EQ(local.NodeName, "node1") << "a nameless node is node<n>";
   EXPECT_FALSE(local.NodeOrigin || local.NodeAxes) << "no world frame in the node's frame";

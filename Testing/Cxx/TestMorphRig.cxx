@@ -124,8 +124,8 @@ double Diagonal(vtkPointSet* a)
 {
   double b[6];
   a->GetBounds(b);
-  return std::sqrt((b[1] - b[0]) * (b[1] - b[0]) + (b[3] - b[2]) * (b[3] - b[2]) +
-    (b[5] - b[4]) * (b[5] - b[4]));
+  return std::sqrt(
+    (b[1] - b[0]) * (b[1] - b[0]) + (b[3] - b[2]) * (b[3] - b[2]) + (b[5] - b[4]) * (b[5] - b[4]));
 }
 
 /// A temporal weights source: TIME_STEPS 0, 1, 2; column A = t / 2, column Clock = t.
@@ -140,7 +140,8 @@ public:
 
 protected:
   TimedWeightsSource() { this->SetNumberOfInputPorts(0); }
-  int RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector* out) override
+  int RequestInformation(
+    vtkInformation*, vtkInformationVector**, vtkInformationVector* out) override
   {
     vtkInformation* info = out->GetInformationObject(0);
     const double steps[3] = { 0.0, 1.0, 2.0 };
@@ -274,7 +275,8 @@ TEST(MorphRigFilter, NamesFromTheFaceOnPort1DriveTheMorphNode)
   {
     const std::string name = morph->GetTargetName(i);
     const auto& bound = rig.GetBoundTargetNames();
-    const size_t k = static_cast<size_t>(std::find(bound.begin(), bound.end(), name) - bound.begin());
+    const size_t k =
+      static_cast<size_t>(std::find(bound.begin(), bound.end(), name) - bound.begin());
     ASSERT_LT(k, bound.size()) << name;
     EXPECT_NEAR(morph->GetEffectiveWeight(i), expected[k], 1e-12) << name;
     active += expected[k] != 0.0;
@@ -328,8 +330,7 @@ TEST(MorphRigFilter, ErrorsGiveAnEmptyTable)
   // NaN and infinite weights.
   messages->Clear();
   filter->SetTargetNames(NamesWithNeutral(rig.GetDeclaredTargets()));
-  filter->SetInputData(
-    MakeTable({ { "A", { 0.5, std::numeric_limits<double>::quiet_NaN() } } }));
+  filter->SetInputData(MakeTable({ { "A", { 0.5, std::numeric_limits<double>::quiet_NaN() } } }));
   filter->Update();
   EXPECT_TRUE(messages->HasError("not finite")) << messages->AllErrors();
   EXPECT_TRUE(messages->HasError("row 1")) << messages->AllErrors();
@@ -474,7 +475,8 @@ TEST(MorphRigBaker, BakedShapesEqualExpandedWeightsOnTheDefaultFace)
   baker->SetRigFileName(rigFile.c_str());
   baker->Update();
   vtkPointSet* baked = baker->GetOutput();
-  auto* names = vtkStringArray::SafeDownCast(baked->GetFieldData()->GetAbstractArray("TargetNames"));
+  auto* names =
+    vtkStringArray::SafeDownCast(baked->GetFieldData()->GetAbstractArray("TargetNames"));
   ASSERT_NE(names, nullptr);
   ASSERT_EQ(names->GetNumberOfValues(), 5);
   EXPECT_EQ(names->GetValue(0), "Neutral");
@@ -483,8 +485,8 @@ TEST(MorphRigBaker, BakedShapesEqualExpandedWeightsOnTheDefaultFace)
   EXPECT_NE(baked->GetPointData()->GetArray("target3_position"), nullptr);
   EXPECT_NE(baked->GetPointData()->GetArray("target3_normal"), nullptr);
   EXPECT_EQ(baked->GetPointData()->GetArray("target4_position"), nullptr); // old ones gone
-  EXPECT_EQ(baked->GetPointData()->GetArray("target0_position")->GetDataType(),
-    delta0->GetDataType());
+  EXPECT_EQ(
+    baked->GetPointData()->GetArray("target0_position")->GetDataType(), delta0->GetDataType());
   EXPECT_EQ(baked->GetNumberOfCells(), face->GetNumberOfCells());
   // The input is untouched.
   EXPECT_EQ(face->GetMTime(), faceTime);
@@ -562,7 +564,8 @@ TEST(MorphRigBaker, PaperShapesOnTheIctFaceEqualExpandPlusMorph)
   baker->SetShapeSet("paper");
   baker->Update();
   vtkPointSet* baked = baker->GetOutput();
-  auto* names = vtkStringArray::SafeDownCast(baked->GetFieldData()->GetAbstractArray("TargetNames"));
+  auto* names =
+    vtkStringArray::SafeDownCast(baked->GetFieldData()->GetAbstractArray("TargetNames"));
   ASSERT_NE(names, nullptr);
   ASSERT_EQ(names->GetNumberOfValues(), 13);
   const char* paper[13] = { "Neutral", "EyesClosed", "BrowsUp", "S", "F", "BrowsFright",
@@ -608,7 +611,8 @@ TEST(MorphRigBaker, PaperShapesOnTheIctFaceEqualExpandPlusMorph)
   viaBake->SetWeightByName("BrowsUp", 0.5);
   viaBake->SetWeightByName("EyesClosed", 0.3);
   viaBake->Update();
-  expand->SetInputData(MakeTable({ { "O", { 0.6 } }, { "BrowsUp", { 0.5 } }, { "EyesClosed", { 0.3 } } }));
+  expand->SetInputData(
+    MakeTable({ { "O", { 0.6 } }, { "BrowsUp", { 0.5 } }, { "EyesClosed", { 0.3 } } }));
   viaExpand->Update();
   EXPECT_LT(MaxPointDifference(viaBake->GetOutput(), viaExpand->GetOutput()), 1e-5 * diagonal);
 }
@@ -691,7 +695,8 @@ TEST(MorphRigFilter, OptimizerDecidesPerRigShape)
   rigFilter->SetFaceConnection(reader->GetOutputPort());
   rigFilter->SetRigFileName(ArkitRig.c_str());
   rigFilter->SetThreshold(0.1);
-  auto value = [&](const char* name, int row) {
+  auto value = [&](const char* name, int row)
+  {
     vtkDataArray* a = vtkDataArray::SafeDownCast(rigFilter->GetOutput()->GetColumnByName(name));
     return a ? a->GetComponent(row, 0) : -1.0;
   };
@@ -735,7 +740,8 @@ TEST(MorphRigFilter, OptimizerNeedsTheFacesGeometry)
   messages.TakeReference(MessageCollector::New());
   messages->Watch(filter);
   filter->Update();
-  EXPECT_TRUE(messages->HasError("measures the shapes on the face's geometry")) << messages->AllErrors();
+  EXPECT_TRUE(messages->HasError("measures the shapes on the face's geometry"))
+    << messages->AllErrors();
   EXPECT_EQ(filter->GetOutput()->GetNumberOfColumns(), 0);
   // Off (the default), names alone are enough.
   filter->SetOptimizerPreset(vtkMorphNodeFilter::OPTIMIZER_NONE);

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // Contact sheets of the paper's 13 morph targets (Table 1 order, each at weight 1): the
-// default head (every part, in its colours) with its own targets, and the ICT face with the paper's shapes baked
-// through the ARKit rig. Offscreen render tests against Testing/Baseline/*.png; run under
-// `xvfb-run -a`. The rendered sheets are also written to the test output directory.
+// default head (every part, in its colours) with its own targets, and the ICT face with the paper's
+// shapes baked through the ARKit rig. Offscreen render tests against Testing/Baseline/*.png; run
+// under `xvfb-run -a`. The rendered sheets are also written to the test output directory.
 #include "vtkMorphNodeFilter.h"
 #include "vtkMorphRigBaker.h"
 #include "vtkMorphTargetReader.h"
@@ -35,8 +35,8 @@ const std::string IctGlb = std::string(MORPHNODE_FACEKIT_DIR) + "/ict_face11248_
 const std::string ArkitRig = std::string(MORPHNODE_SOURCE_DIR) + "/Data/rigs/arkit.json";
 const std::string DefaultFace =
   std::string(MORPHNODE_SOURCE_DIR) + "/Data/DefaultFace/default_head.glb";
-const char* const PaperShapes[13] = { "Neutral", "EyesClosed", "BrowsUp", "S", "F",
-  "BrowsFright", "BrowsAngry", "L", "E", "A", "MouthSmile", "MouthSad", "O" };
+const char* const PaperShapes[13] = { "Neutral", "EyesClosed", "BrowsUp", "S", "F", "BrowsFright",
+  "BrowsAngry", "L", "E", "A", "MouthSmile", "MouthSad", "O" };
 constexpr int Columns = 5;
 constexpr int Rows = 3;
 constexpr int CellWidth = 200;
@@ -107,7 +107,8 @@ std::vector<double> RenderSheet(vtkAlgorithmOutput* face, const View& view,
     morph->Update();
     keep.push_back(morph);
     // A head of parts (a composite) or one mesh: its parts, in the input's order.
-    const std::vector<vtkPolyData*> out = morphnode::appkit::HeadParts(morph->GetOutputDataObject(0));
+    const std::vector<vtkPolyData*> out =
+      morphnode::appkit::HeadParts(morph->GetOutputDataObject(0));
     if (out.empty())
     {
       ADD_FAILURE() << "the morph output has no polydata part";
@@ -177,7 +178,8 @@ std::vector<double> RenderSheet(vtkAlgorithmOutput* face, const View& view,
   writer->Write();
 
   const std::string expected = std::string(MORPHNODE_BASELINE_DIR) + "/" + baseline;
-  const double error = morphnode_test::SensitiveBaselineError(window, expected, MORPHNODE_TEST_OUTPUT_DIR);
+  const double error =
+    morphnode_test::SensitiveBaselineError(window, expected, MORPHNODE_TEST_OUTPUT_DIR);
   std::cout << "image error against " << baseline << (shapeInOCell ? " (O cell swapped): " : ": ")
             << error << "\n";
   if (shapeInOCell)
@@ -209,8 +211,8 @@ TEST(MorphRigContactSheet, DefaultFace)
   reader->SetFileName(DefaultFace.c_str());
   reader->Update();
   ASSERT_EQ(reader->GetNumberOfTargets(), 13);
-  CheckEveryShapeMoves(RenderSheet(reader->GetOutputPort(), View{ 1.9, 0.0, 20.0 },
-    "default head", "TestRigContactSheetDefaultFace.png"));
+  CheckEveryShapeMoves(RenderSheet(reader->GetOutputPort(), View{ 1.9, 0.0, 20.0 }, "default head",
+    "TestRigContactSheetDefaultFace.png"));
 }
 
 // Negative control: the default face's sheet with "A" in the cell labelled "O" (another

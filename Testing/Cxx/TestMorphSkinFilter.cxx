@@ -18,8 +18,8 @@
 #include "vtkCompositeDataSet.h"
 #include "vtkDataArray.h"
 #include "vtkExecutive.h"
-#include "vtkInformation.h"
 #include "vtkFieldData.h"
+#include "vtkInformation.h"
 #include "vtkNew.h"
 #include "vtkPointData.h"
 #include "vtkPoints.h"
@@ -43,8 +43,8 @@ namespace
 using Vec3 = std::array<double, 3>;
 const std::string Avatar = std::string(MORPHNODE_AVATAR_DIR) + "/makehuman_avatar.glb";
 
-#define SKIP_WITHOUT_AVATAR()                                                                                        \
-  if (!std::filesystem::exists(Avatar))                                                                              \
+#define SKIP_WITHOUT_AVATAR()                                                                      \
+  if (!std::filesystem::exists(Avatar))                                                            \
   GTEST_SKIP() << "MakeHuman avatar not found: " << Avatar
 
 std::map<std::string, vtkSmartPointer<vtkPolyData>> Parts(vtkDataObject* data)
@@ -79,7 +79,8 @@ Vec3 Centroid(vtkPolyData* p)
 
 double Distance(const Vec3& a, const double* b)
 {
-  return std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
+  return std::sqrt(
+    (a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
 }
 
 double Distance(const Vec3& a, const Vec3& b)
@@ -133,7 +134,8 @@ TEST(MorphSkinFilter, AtRestEveryPartPassesAndTheBonesAreFound)
   ASSERT_EQ(parts.size(), 7u);
   EXPECT_EQ(p.Skin->GetNumberOfSkinnedParts(), 7);
   EXPECT_TRUE(p.Skin->GetHasEyeBones());
-  EXPECT_NE(std::string(p.Skin->GetBones()).find("left eye 'LeftEye'"), std::string::npos) << p.Skin->GetBones();
+  EXPECT_NE(std::string(p.Skin->GetBones()).find("left eye 'LeftEye'"), std::string::npos)
+    << p.Skin->GetBones();
   // The morph node passed the skin arrays on.
   EXPECT_NE(parts.at("Body")->GetPointData()->GetArray("SkinWeights"), nullptr);
   // At rest nothing is re-skinned: the morph output's points are shared.
@@ -149,7 +151,8 @@ TEST(MorphSkinFilter, EyesTurnAboutTheirJointsWithinTheLimits)
   // The eye joint's position, from the core's skeleton.
   const morphnode::GltfScene scene = morphnode::LoadGltfScene(Avatar);
   const morphnode::Skeleton bones = morphnode::GltfSkeleton(scene);
-  const glm::dvec3 joint(bones.World(bones.RestLocals())[static_cast<size_t>(bones.FindJoint("LeftEye"))][3]);
+  const glm::dvec3 joint(
+    bones.World(bones.RestLocals())[static_cast<size_t>(bones.FindJoint("LeftEye"))][3]);
   const double leftEyeJoint[3] = { joint.x, joint.y, joint.z };
   const Vec3 restCentre = Centroid(rest.at("EyeLeft"));
   const vtkIdType cornea = Cornea(rest.at("EyeLeft"));
@@ -169,8 +172,10 @@ TEST(MorphSkinFilter, EyesTurnAboutTheirJointsWithinTheLimits)
     {
       double a[3];
       rest.at("EyeLeft")->GetPoint(i, a);
-      worst = std::max(worst, std::abs(Distance(Vec3{ a[0], a[1], a[2] }, leftEyeJoint) -
-                                Distance(Vec3{ eye->GetPoint(i)[0], eye->GetPoint(i)[1], eye->GetPoint(i)[2] }, leftEyeJoint)));
+      worst = std::max(worst,
+        std::abs(Distance(Vec3{ a[0], a[1], a[2] }, leftEyeJoint) -
+          Distance(
+            Vec3{ eye->GetPoint(i)[0], eye->GetPoint(i)[1], eye->GetPoint(i)[2] }, leftEyeJoint)));
     }
     EXPECT_LT(worst, 1e-5) << yaw;
     EXPECT_GT(Distance(Centroid(eye), restCentre), 0.0005) << yaw; // and it did turn
@@ -179,12 +184,16 @@ TEST(MorphSkinFilter, EyesTurnAboutTheirJointsWithinTheLimits)
     eye->GetPoint(cornea, q);
     const double c = yaw > 40 ? 40 : yaw;
     const double pitch = 10.0 * M_PI / 180, y = c * M_PI / 180;
-    const Vec3 want{ std::cos(pitch) * std::sin(y), std::sin(pitch), std::cos(pitch) * std::cos(y) };
-    const Vec3 restDir{ restCornea[0] - leftEyeJoint[0], restCornea[1] - leftEyeJoint[1], restCornea[2] - leftEyeJoint[2] };
+    const Vec3 want{ std::cos(pitch) * std::sin(y), std::sin(pitch),
+      std::cos(pitch) * std::cos(y) };
+    const Vec3 restDir{ restCornea[0] - leftEyeJoint[0], restCornea[1] - leftEyeJoint[1],
+      restCornea[2] - leftEyeJoint[2] };
     const Vec3 dir{ q[0] - leftEyeJoint[0], q[1] - leftEyeJoint[1], q[2] - leftEyeJoint[2] };
     // The rest cornea direction is not exactly +Z: compare the turn, not the direction.
-    const double restYaw = std::atan2(restDir[0], restDir[2]), restPitch = std::atan2(restDir[1], std::hypot(restDir[0], restDir[2]));
-    const double yawNow = std::atan2(dir[0], dir[2]), pitchNow = std::atan2(dir[1], std::hypot(dir[0], dir[2]));
+    const double restYaw = std::atan2(restDir[0], restDir[2]),
+                 restPitch = std::atan2(restDir[1], std::hypot(restDir[0], restDir[2]));
+    const double yawNow = std::atan2(dir[0], dir[2]),
+                 pitchNow = std::atan2(dir[1], std::hypot(dir[0], dir[2]));
     EXPECT_NEAR((yawNow - restYaw) * 180 / M_PI, c, 1.0) << yaw;
     EXPECT_NEAR((pitchNow - restPitch) * 180 / M_PI, 10.0, 1.0) << yaw;
     (void)want;
@@ -212,7 +221,8 @@ TEST(MorphSkinFilter, EyesTurnAboutTheirJointsWithinTheLimits)
   gaze->SetEyeYaw(30);
   ASSERT_EQ(gaze->GetExecutive()->Update(), 1);
   EXPECT_EQ(gaze->GetNumberOfEyeParts(), 0);
-  EXPECT_LT(Distance(Centroid(Parts(gaze->GetOutputDataObject(0)).at("EyeLeft")), restCentre), 1e-9);
+  EXPECT_LT(
+    Distance(Centroid(Parts(gaze->GetOutputDataObject(0)).at("EyeLeft")), restCentre), 1e-9);
 }
 
 TEST(MorphSkinFilter, HeadPoseCarriesTheEyesAndLeavesTheFeet)
@@ -239,7 +249,7 @@ TEST(MorphSkinFilter, HeadPoseCarriesTheEyesAndLeavesTheFeet)
   for (const char* eye : { "EyeLeft", "EyeRight" })
   {
     const Vec3 a = Centroid(rest.at(eye)), b = Centroid(turned.at(eye));
-    EXPECT_GT(Distance(a, b), 0.02) << eye; // the eyes moved with the head
+    EXPECT_GT(Distance(a, b), 0.02) << eye;                     // the eyes moved with the head
     EXPECT_NEAR(Distance(b, n1), Distance(a, n0), 1e-4) << eye; // and stay in it
   }
   EXPECT_NEAR(Distance(Centroid(turned.at("EyeLeft")), Centroid(turned.at("EyeRight"))),
@@ -288,7 +298,8 @@ TEST(MorphSkinFilter, ReskinsOnlyWhatChangedAndEqualsAFullReskin)
   SKIP_WITHOUT_AVATAR();
   Pipeline p;
   // A full re-skin of the same frame: a new filter, whose first execution re-skins all.
-  auto full = [&p]() {
+  auto full = [&p]()
+  {
     vtkNew<vtkMorphSkinFilter> fresh;
     fresh->SetInputConnection(p.Morph->GetOutputPort());
     fresh->SetHeadYaw(p.Skin->GetHeadYaw());
@@ -368,7 +379,8 @@ TEST(MorphSkinFilter, EyeLookTargetsMoveTheLidsWhileTheEyeJointsTurnTheEyeballsO
     }
   }
   ASSERT_EQ(looks.size(), 2u);
-  auto frame = [&p, &looks](double pitch, double look) {
+  auto frame = [&p, &looks](double pitch, double look)
+  {
     p.Skin->SetEyePitch(pitch);
     for (const auto& name : looks)
     {
@@ -449,16 +461,19 @@ TEST(MorphSkinFilter, SkinnedQuadAndDamagedSkins)
   {
     for (int k = 0; k < 3; ++k)
     {
-      EXPECT_NEAR(parts.begin()->second->GetPoint(i)[k], hand[static_cast<size_t>(3 * i + k)], 1e-6);
+      EXPECT_NEAR(
+        parts.begin()->second->GetPoint(i)[k], hand[static_cast<size_t>(3 * i + k)], 1e-6);
     }
   }
-  EXPECT_STREQ(skin->GetBones(), "head none, neck none, left eye none, right eye none, jaw none, left arm none, right arm none");
+  EXPECT_STREQ(skin->GetBones(),
+    "head none, neck none, left eye none, right eye none, jaw none, left arm none, right arm none");
 
   // A joint index out of range in the skin arrays: an error, and nothing drawn.
   vtkNew<vtkMorphSkinFilter> bad;
   vtkSmartPointer<vtkPolyData> damaged = vtkSmartPointer<vtkPolyData>::New();
   damaged->DeepCopy(parts.begin()->second);
-  auto* joints = vtkUnsignedShortArray::SafeDownCast(damaged->GetPointData()->GetArray("SkinJoints"));
+  auto* joints =
+    vtkUnsignedShortArray::SafeDownCast(damaged->GetPointData()->GetArray("SkinJoints"));
   ASSERT_NE(joints, nullptr);
   joints->SetTypedComponent(0, 0, 7);
   bad->SetInputData(damaged);
@@ -484,7 +499,8 @@ TEST(MorphSkinFilter, JawJointTurnsOnlyWhereNoJawOpenTargetOpensTheMouth)
   const auto rest = p.Run();
   p.Skin->SetJawOpen(1.0);
   const auto automatic = p.Run();
-  EXPECT_FALSE(p.Skin->GetJawByBone()) << "the avatar's jawOpen target should open its mouth, not the joint";
+  EXPECT_FALSE(p.Skin->GetJawByBone())
+    << "the avatar's jawOpen target should open its mouth, not the joint";
   EXPECT_EQ(automatic.at("Teeth")->GetPoints(), rest.at("Teeth")->GetPoints());
   p.Skin->SetTurnJaw(vtkMorphSkinFilter::JAW_ON);
   const auto forced = p.Run();
@@ -516,7 +532,9 @@ TEST(MorphSkinFilter, VrmHumanoidBonesAndLookAtRangeMaps)
   gltftest::Builder b = gltftest::SkinnedQuad();
   b.Doc["extensions"]["VRMC_vrm"] = { { "specVersion", "1.0" },
     { "humanoid", { { "humanBones", { { "leftEye", { { "node", 2 } } } } } } },
-    { "lookAt", { { "type", "bone" }, { "rangeMapHorizontalOuter", { { "inputMaxValue", 90 }, { "outputScale", 12 } } } } } };
+    { "lookAt",
+      { { "type", "bone" },
+        { "rangeMapHorizontalOuter", { { "inputMaxValue", 90 }, { "outputScale", 12 } } } } } };
   b.Doc["extensionsUsed"] = { "VRMC_vrm" };
   std::ofstream(file, std::ios::binary) << b.Glb();
   vtkNew<vtkMorphTargetReader> reader;
@@ -538,8 +556,11 @@ TEST(MorphSkinFilter, VrmHumanoidBonesAndLookAtRangeMaps)
   double a[3], c[3];
   quad->GetPoint(2, a);
   turned->GetPoint(2, c);
-  const glm::dvec3 u = glm::dvec3(a[0], a[1], a[2]) - pivot, v = glm::dvec3(c[0], c[1], c[2]) - pivot;
+  const glm::dvec3 u = glm::dvec3(a[0], a[1], a[2]) - pivot,
+                   v = glm::dvec3(c[0], c[1], c[2]) - pivot;
   EXPECT_NEAR(glm::length(u), glm::length(v), 1e-6);
-  const double angle = std::acos(glm::clamp(glm::dot(glm::normalize(u), glm::normalize(v)), -1.0, 1.0)) * 180.0 / glm::pi<double>();
+  const double angle =
+    std::acos(glm::clamp(glm::dot(glm::normalize(u), glm::normalize(v)), -1.0, 1.0)) * 180.0 /
+    glm::pi<double>();
   EXPECT_NEAR(angle, 6.0, 0.01) << "the VRM range map was not used (the limits would give 40)";
 }

@@ -7,6 +7,7 @@
 
 #include "base/Error.h"
 
+#include "MorphNodeTestErrors.h"
 #include "vtkCellArray.h"
 #include "vtkCompositeDataSet.h"
 #include "vtkDataArrayRange.h"
@@ -24,7 +25,6 @@
 #include "vtkSmartPointer.h"
 #include "vtkStringArray.h"
 #include "vtkUnsignedCharArray.h"
-#include "MorphNodeTestErrors.h"
 
 #include <gtest/gtest.h>
 
@@ -44,7 +44,8 @@ using morphnode_test::ErrorOf;
 
 namespace
 {
-const std::string DefaultFace = std::string(MORPHNODE_SOURCE_DIR) + "/Data/DefaultFace/default_head.glb";
+const std::string DefaultFace =
+  std::string(MORPHNODE_SOURCE_DIR) + "/Data/DefaultFace/default_head.glb";
 const std::string IctFace = std::string(MORPHNODE_FACEKIT_DIR) + "/ict_face11248_sparse53.glb";
 
 /// The first poly data of vtkGLTFReader's output, targets as arrays (not applied).
@@ -84,7 +85,8 @@ void ExpectMeshHoldsTheArrays(vtkPolyData* poly, const MorphMesh& mesh, bool nor
     Values(poly->GetPoints()->GetData()));
   for (size_t k = 0; k < numTargets; ++k)
   {
-    vtkDataArray* array = poly->GetPointData()->GetArray(("target" + std::to_string(k) + "_position").c_str());
+    vtkDataArray* array =
+      poly->GetPointData()->GetArray(("target" + std::to_string(k) + "_position").c_str());
     ASSERT_NE(array, nullptr) << k;
     const std::vector<float> deltas = Dense(positions, k + 1);
     ASSERT_EQ(std::vector<double>(deltas.begin(), deltas.end()), Values(array)) << "target " << k;
@@ -96,7 +98,8 @@ void ExpectMeshHoldsTheArrays(vtkPolyData* poly, const MorphMesh& mesh, bool nor
     EXPECT_EQ(n.GetRole(), AttributeRole::Normal);
     for (size_t k = 0; k < numTargets; ++k)
     {
-      vtkDataArray* array = poly->GetPointData()->GetArray(("target" + std::to_string(k) + "_normal").c_str());
+      vtkDataArray* array =
+        poly->GetPointData()->GetArray(("target" + std::to_string(k) + "_normal").c_str());
       ASSERT_NE(array, nullptr) << k;
       const std::vector<float> deltas = Dense(n, k + 1);
       ASSERT_EQ(std::vector<double>(deltas.begin(), deltas.end()), Values(array)) << "target " << k;
@@ -115,7 +118,8 @@ MorphMesh MakeMesh()
   const std::vector<T> neutral = { 0, 0, 0, 1, 0, 0, 1, 1, T(0.1), 0, 1, T(1) / T(3) };
   const std::vector<std::vector<T>> deltas = {
     { 0, 0, 0, 0, 0, 0, 0, T(-0.25), 0, 0, T(1e-7), 0 },
-    { T(0.1), T(0.2), T(0.3), T(-0.4), T(0.5), T(0.6), T(0.7), T(0.8), T(0.9), T(1), T(1.1), T(1.2) },
+    { T(0.1), T(0.2), T(0.3), T(-0.4), T(0.5), T(0.6), T(0.7), T(0.8), T(0.9), T(1), T(1.1),
+      T(1.2) },
     std::vector<T>(3 * np, T(0)),
   };
   {
@@ -184,7 +188,8 @@ void ExpectRoundTrip()
 // filter's naming), not the first part's: a part may lack targets another has.
 TEST(MorphTargetArrays, FaceTargetNamesOfAHeadAreTheUnionOfItsParts)
 {
-  auto part = [](const std::vector<std::string>& names) {
+  auto part = [](const std::vector<std::string>& names)
+  {
     vtkNew<vtkPolyData> poly;
     arrays::SetTargetNames(poly->GetFieldData(), names);
     return vtkSmartPointer<vtkPolyData>(poly);
@@ -337,9 +342,13 @@ TEST(MorphTargetArrays, ConvertsArraysOfAnyType)
   vtkNew<vtkUnsignedCharArray> shortArray;
   shortArray->SetNumberOfComponents(3);
   shortArray->SetNumberOfTuples(1);
-  EXPECT_NE(ErrorOf([&] {
-    arrays::AddAttribute(mesh, "Colors", AttributeRole::Color, color, { shortArray }, false, 0.3);
-  }).find("target 1's array"), std::string::npos);
+  EXPECT_NE(ErrorOf(
+              [&] {
+                arrays::AddAttribute(
+                  mesh, "Colors", AttributeRole::Color, color, { shortArray }, false, 0.3);
+              })
+              .find("target 1's array"),
+    std::string::npos);
 }
 
 TEST(MorphTargetArrays, BadInputIsReported)
@@ -347,9 +356,8 @@ TEST(MorphTargetArrays, BadInputIsReported)
   auto good = [] { return arrays::ToPolyData(MakeMesh<float>()); };
   arrays::ReadOptions triangles;
   triangles.Triangles = true;
-  auto message = [&](vtkPointSet* input, const arrays::ReadOptions& options = arrays::ReadOptions()) {
-    return ErrorOf([&] { arrays::ToMorphMesh(input, options); });
-  };
+  auto message = [&](vtkPointSet* input, const arrays::ReadOptions& options = arrays::ReadOptions())
+  { return ErrorOf([&] { arrays::ToMorphMesh(input, options); }); };
   EXPECT_EQ(message(good()), "(no error)");
   EXPECT_NE(message(nullptr).find("no input"), std::string::npos);
   vtkNew<vtkPolyData> empty;
@@ -364,7 +372,8 @@ TEST(MorphTargetArrays, BadInputIsReported)
   {
     auto wrong = good();
     wrong->GetPointData()->GetArray("target1_position")->SetNumberOfTuples(3);
-    EXPECT_NE(message(wrong).find("'target1_position' must be numeric with 3 components and 4 tuples"),
+    EXPECT_NE(
+      message(wrong).find("'target1_position' must be numeric with 3 components and 4 tuples"),
       std::string::npos);
   }
   {

@@ -2,9 +2,9 @@
 // vtkMorphTargetReader: whole glTF scenes (parts, nested TRS and matrix transforms, names,
 // colours, the node tree), one mesh as before (names, normals, mesh choice), OBJ sets, bad
 // files and bad scenes.
-#include "vtkMorphTargetReader.h"
 #include "vtkMorphNodeFilter.h"
 #include "vtkMorphPartData.h"
+#include "vtkMorphTargetReader.h"
 
 #include "MorphNodeTestScenes.h"
 #include "MorphNodeTestUtilities.h"
@@ -39,7 +39,8 @@ namespace
 const std::string FaceKit = MORPHNODE_FACEKIT_DIR;
 const std::string IctGlb = FaceKit + "/ict_face11248_sparse53.glb";
 const std::string IctHead = FaceKit + "/ict_head_full53.glb";
-const std::string DefaultHead = std::string(MORPHNODE_SOURCE_DIR) + "/Data/DefaultFace/default_head.glb";
+const std::string DefaultHead =
+  std::string(MORPHNODE_SOURCE_DIR) + "/Data/DefaultFace/default_head.glb";
 
 bool HaveIct()
 {
@@ -78,7 +79,8 @@ void ExpectPoint(vtkDataArray* array, vtkIdType i, const Vec3& expected, const s
   array->GetTuple(i, p);
   for (int c = 0; c < 3; ++c)
   {
-    EXPECT_NEAR(p[c], expected[static_cast<size_t>(c)], 1e-6) << what << " point " << i << " component " << c;
+    EXPECT_NEAR(p[c], expected[static_cast<size_t>(c)], 1e-6)
+      << what << " point " << i << " component " << c;
   }
 }
 
@@ -117,8 +119,11 @@ TEST(MorphTargetReader, WholeSceneWithNestedTransforms)
   }
   EXPECT_EQ(FieldString(Part(head, 1), vtkMorphPartData::NodeNameArray), "Jaw");
   EXPECT_EQ(FieldString(Part(head, 1), vtkMorphPartData::MaterialNameArray), "Lips");
-  EXPECT_EQ(FieldDoubles(Part(head, 1), vtkMorphPartData::BaseColorArray), (std::vector<double>{ 0.7, 0.3, 0.3, 1 }));
-  EXPECT_EQ(FieldDoubles(Part(head, 3), vtkMorphPartData::BaseColorArray), (std::vector<double>{ 1, 1, 1, 1 })) << "default material";
+  EXPECT_EQ(FieldDoubles(Part(head, 1), vtkMorphPartData::BaseColorArray),
+    (std::vector<double>{ 0.7, 0.3, 0.3, 1 }));
+  EXPECT_EQ(FieldDoubles(Part(head, 3), vtkMorphPartData::BaseColorArray),
+    (std::vector<double>{ 1, 1, 1, 1 }))
+    << "default material";
 
   // Points in world space through all three levels (matrix, TRS, matrix).
   for (vtkIdType i = 0; i < 4; ++i)
@@ -130,9 +135,12 @@ TEST(MorphTargetReader, WholeSceneWithNestedTransforms)
     ExpectPoint(Part(head, 3)->GetPoints()->GetData(), i, EyeMap(p), "EyeLeft");
   }
   // Deltas turn and scale with the node; normals only turn.
-  ExpectPoint(Part(head, 0)->GetPointData()->GetArray("target0_position"), 3, JawDelta({ 0, 0, 0.4 }), "Lift");
-  ExpectPoint(Part(head, 0)->GetPointData()->GetArray("target1_position"), 2, JawDelta({ 0, 0.5, 0 }), "Raise (sparse)");
-  ExpectPoint(Part(head, 2)->GetPointData()->GetArray("target0_position"), 1, JawDelta({ 0.3, 0, 0 }), "Tooth's Raise");
+  ExpectPoint(Part(head, 0)->GetPointData()->GetArray("target0_position"), 3,
+    JawDelta({ 0, 0, 0.4 }), "Lift");
+  ExpectPoint(Part(head, 0)->GetPointData()->GetArray("target1_position"), 2,
+    JawDelta({ 0, 0.5, 0 }), "Raise (sparse)");
+  ExpectPoint(Part(head, 2)->GetPointData()->GetArray("target0_position"), 1,
+    JawDelta({ 0.3, 0, 0 }), "Tooth's Raise");
   ExpectPoint(Part(head, 0)->GetPointData()->GetNormals(), 0, { 0, 0, 1 }, "normal");
 
   // Each part keeps its own targets; the collection names every target of the scene.
@@ -147,12 +155,14 @@ TEST(MorphTargetReader, WholeSceneWithNestedTransforms)
   EXPECT_STREQ(reader->GetMeshNameByIndex(1), "Teeth");
 
   // Vertex colours as unsigned char RGBA; node origins and axes in world space.
-  auto* colors = vtkUnsignedCharArray::SafeDownCast(Part(head, 3)->GetPointData()->GetArray("COLOR_0"));
+  auto* colors =
+    vtkUnsignedCharArray::SafeDownCast(Part(head, 3)->GetPointData()->GetArray("COLOR_0"));
   ASSERT_NE(colors, nullptr);
   EXPECT_EQ(colors->GetNumberOfComponents(), 4);
   EXPECT_EQ(colors->GetValue(4 * 2 + 3), 128) << "alpha 0.5";
   EXPECT_EQ(colors->GetValue(4 * 1 + 1), 255);
-  EXPECT_EQ(FieldDoubles(Part(head, 3), vtkMorphPartData::NodeOriginArray), (std::vector<double>{ 12, 2, 2 }));
+  EXPECT_EQ(FieldDoubles(Part(head, 3), vtkMorphPartData::NodeOriginArray),
+    (std::vector<double>{ 12, 2, 2 }));
   const std::vector<double> axes = FieldDoubles(Part(head, 0), vtkMorphPartData::NodeAxesArray);
   const std::vector<double> turned{ 0, 1, 0, -1, 0, 0, 0, 0, 1 }; // x to y, y to -x; scale removed
   ASSERT_EQ(axes.size(), 9u);
@@ -161,7 +171,8 @@ TEST(MorphTargetReader, WholeSceneWithNestedTransforms)
     EXPECT_NEAR(axes[i], turned[i], 1e-12) << i;
   }
   const Vec3 jawOrigin = JawMap({ 0, 0, 0 });
-  EXPECT_EQ(FieldDoubles(Part(head, 0), vtkMorphPartData::NodeOriginArray), (std::vector<double>(jawOrigin.begin(), jawOrigin.end())));
+  EXPECT_EQ(FieldDoubles(Part(head, 0), vtkMorphPartData::NodeOriginArray),
+    (std::vector<double>(jawOrigin.begin(), jawOrigin.end())));
 
   // The node tree, each part on its node.
   vtkDataAssembly* assembly = head->GetDataAssembly();
@@ -183,8 +194,10 @@ TEST(MorphTargetReader, WholeSceneWithNestedTransforms)
   reader->SetScale(0.5);
   head = ReadScene(reader, file);
   ASSERT_NE(head, nullptr);
-  ExpectPoint(Part(head, 2)->GetPoints()->GetData(), 1, { 5, 2, 1 }, "Tooth scaled"); // ToothMap(1, 0, 0) / 2
-  EXPECT_EQ(FieldDoubles(Part(head, 3), vtkMorphPartData::NodeOriginArray), (std::vector<double>{ 6, 1, 1 }));
+  ExpectPoint(
+    Part(head, 2)->GetPoints()->GetData(), 1, { 5, 2, 1 }, "Tooth scaled"); // ToothMap(1, 0, 0) / 2
+  EXPECT_EQ(FieldDoubles(Part(head, 3), vtkMorphPartData::NodeOriginArray),
+    (std::vector<double>{ 6, 1, 1 }));
 }
 
 TEST(MorphTargetReader, OneMeshIsOnePolyDataInItsNodeFrame)
@@ -199,10 +212,12 @@ TEST(MorphTargetReader, OneMeshIsOnePolyDataInItsNodeFrame)
   ASSERT_NE(teeth, nullptr);
   ASSERT_EQ(teeth->GetNumberOfPoints(), 4);
   ExpectPoint(teeth->GetPoints()->GetData(), 2, { 1, 1, 0 }, "in the node's frame");
-  ExpectPoint(teeth->GetPointData()->GetArray("target0_position"), 0, { 0.3, 0, 0 }, "delta as in the file");
+  ExpectPoint(
+    teeth->GetPointData()->GetArray("target0_position"), 0, { 0.3, 0, 0 }, "delta as in the file");
   EXPECT_EQ(Names(teeth), (std::vector<std::string>{ "Neutral", "Raise" }));
   EXPECT_EQ(FieldString(teeth, vtkMorphPartData::MaterialNameArray), "Enamel");
-  EXPECT_EQ(teeth->GetFieldData()->GetArray(vtkMorphPartData::NodeOriginArray), nullptr) << "no world data in the node's frame";
+  EXPECT_EQ(teeth->GetFieldData()->GetArray(vtkMorphPartData::NodeOriginArray), nullptr)
+    << "no world data in the node's frame";
 
   // Mesh 0's second primitive; then back to the whole scene.
   reader->SetMeshName(nullptr);
@@ -223,7 +238,8 @@ TEST(MorphTargetReader, OneMeshIsOnePolyDataInItsNodeFrame)
   reader->SetMeshIndex(0);
   reader->SetPrimitiveIndex(2);
   EXPECT_EQ(reader->GetExecutive()->Update(), 0);
-  EXPECT_TRUE(messages->HasError("primitive 2 out of range: mesh 'Skin' has 2")) << messages->AllErrors();
+  EXPECT_TRUE(messages->HasError("primitive 2 out of range: mesh 'Skin' has 2"))
+    << messages->AllErrors();
   EXPECT_EQ(reader->GetOutput()->GetNumberOfPoints(), 0);
 }
 
@@ -232,7 +248,9 @@ TEST(MorphTargetReader, BadScenesAreClearErrors)
   vtkNew<vtkMorphTargetReader> reader;
   vtkNew<MessageCollector> messages;
   messages->Watch(reader);
-  auto expectError = [&](const std::string& name, const std::string& glb, const std::string& fragment) {
+  auto expectError = [&](
+                       const std::string& name, const std::string& glb, const std::string& fragment)
+  {
     messages->Clear();
     reader->SetFileName(WriteFile(name, glb).c_str());
     reader->Modified();
@@ -245,7 +263,8 @@ TEST(MorphTargetReader, BadScenesAreClearErrors)
 
   // A part whose target has another vertex count than its points.
   gltftest::Builder b = TestHead();
-  b.Doc["meshes"][1]["primitives"][0]["targets"][0]["POSITION"] = b.Vec3({ 0.3f, 0, 0, 0.3f, 0, 0, 0, 0, 0 });
+  b.Doc["meshes"][1]["primitives"][0]["targets"][0]["POSITION"] =
+    b.Vec3({ 0.3f, 0, 0, 0.3f, 0, 0, 0, 0, 0 });
   expectError("bad_target_count.glb", b.Glb(), "/meshes/1/primitives/0/targets/0/POSITION");
 
   // Transforms that make no points: a matrix beyond float (1e200: refused where it is, before
@@ -254,7 +273,8 @@ TEST(MorphTargetReader, BadScenesAreClearErrors)
   b = TestHead();
   b.Doc["nodes"][0]["matrix"] = { 1e200, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1 };
   b.Doc["nodes"][2]["matrix"] = { 1e200, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1 };
-  expectError("infinite_transform.glb", b.Glb(), "/nodes/0/matrix/0: 1e+200 is beyond the range of float");
+  expectError(
+    "infinite_transform.glb", b.Glb(), "/nodes/0/matrix/0: 1e+200 is beyond the range of float");
   b = TestHead();
   b.Doc["nodes"][1]["rotation"] = { 0, 0, 0, 0 };
   expectError("zero_rotation.glb", b.Glb(), "/nodes/1/rotation");
@@ -287,7 +307,8 @@ TEST(MorphTargetReader, IctHeadHasElevenPartsInMetres)
   ASSERT_NE(head, nullptr);
   ASSERT_EQ(head->GetNumberOfPartitionedDataSets(), 11u);
   vtkIdType points = 0;
-  double bounds[6] = { VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX, VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX, VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX };
+  double bounds[6] = { VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX, VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX,
+    VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX };
   int withTargets = 0;
   for (unsigned int i = 0; i < 11; ++i)
   {
@@ -302,7 +323,8 @@ TEST(MorphTargetReader, IctHeadHasElevenPartsInMetres)
       bounds[2 * k + 1] = std::max(bounds[2 * k + 1], b[2 * k + 1]);
     }
     const size_t targets = Names(part).size() - 1;
-    EXPECT_TRUE(targets == 0 || targets == 53) << FieldString(part, vtkMorphPartData::PartNameArray);
+    EXPECT_TRUE(targets == 0 || targets == 53)
+      << FieldString(part, vtkMorphPartData::PartNameArray);
     withTargets += targets == 53;
     ASSERT_NE(part->GetPointData()->GetNormals(), nullptr);
   }
@@ -317,7 +339,8 @@ TEST(MorphTargetReader, IctHeadHasElevenPartsInMetres)
   const int iris = 7;
   EXPECT_EQ(FieldString(Part(head, iris), vtkMorphPartData::PartNameArray), "EyeLeft/M_IrisLeft");
   EXPECT_NE(Part(head, iris)->GetPointData()->GetArray("COLOR_0"), nullptr);
-  const std::vector<double> origin = FieldDoubles(Part(head, iris), vtkMorphPartData::NodeOriginArray);
+  const std::vector<double> origin =
+    FieldDoubles(Part(head, iris), vtkMorphPartData::NodeOriginArray);
   ASSERT_EQ(origin.size(), 3u);
   double centre[3] = { 0, 0, 0 };
   vtkPolyData* sclera = Part(head, 6);
@@ -331,7 +354,8 @@ TEST(MorphTargetReader, IctHeadHasElevenPartsInMetres)
     }
   }
   EXPECT_LT(std::sqrt(vtkMath::Distance2BetweenPoints(centre, origin.data())), 0.006)
-    << "the node's origin is near the eyeball's centre (the sclera's points, without the corneal cap, "
+    << "the node's origin is near the eyeball's centre (the sclera's points, without the corneal "
+       "cap, "
        "lean backwards)";
 }
 
@@ -342,8 +366,8 @@ TEST(MorphTargetReader, DefaultHeadHasTheDefaultFacesTargets)
   ASSERT_NE(head, nullptr);
   EXPECT_GT(head->GetNumberOfPartitionedDataSets(), 5u);
   const std::vector<std::string> names = Names(head);
-  for (const char* name : { "Neutral", "EyesClosed", "BrowsUp", "S", "F", "BrowsFright", "BrowsAngry", "L", "E",
-         "A", "MouthSmile", "MouthSad", "O" })
+  for (const char* name : { "Neutral", "EyesClosed", "BrowsUp", "S", "F", "BrowsFright",
+         "BrowsAngry", "L", "E", "A", "MouthSmile", "MouthSad", "O" })
   {
     EXPECT_NE(std::find(names.begin(), names.end(), name), names.end()) << name;
   }
@@ -388,7 +412,9 @@ TEST(MorphTargetReader, OneIctMeshReadsNamesAndComputesNormals)
   EXPECT_NEAR(vtkMath::Norm(n), 1.0, 1e-5);
   for (int k = 0; k < 53; ++k)
   {
-    ASSERT_NE(out->GetPointData()->GetArray(("target" + std::to_string(k) + "_normal").c_str()), nullptr) << k;
+    ASSERT_NE(
+      out->GetPointData()->GetArray(("target" + std::to_string(k) + "_normal").c_str()), nullptr)
+      << k;
   }
   // jawOpen tilts the chin's normals: some normal delta is substantial.
   vtkDataArray* jaw = out->GetPointData()->GetArray("target26_normal");
@@ -456,8 +482,10 @@ TEST(MorphTargetReader, ScaleConvertsUnits)
   metres->GetOutput()->GetPoint(10, a);
   centimetres->GetOutput()->GetPoint(10, b);
   EXPECT_NEAR(b[1], 100.0 * a[1], 1e-3);
-  const double da = metres->GetOutput()->GetPointData()->GetArray("target26_position")->GetComponent(5000, 1);
-  const double db = centimetres->GetOutput()->GetPointData()->GetArray("target26_position")->GetComponent(5000, 1);
+  const double da =
+    metres->GetOutput()->GetPointData()->GetArray("target26_position")->GetComponent(5000, 1);
+  const double db =
+    centimetres->GetOutput()->GetPointData()->GetArray("target26_position")->GetComponent(5000, 1);
   EXPECT_NEAR(db, 100.0 * da, 1e-3);
 }
 
@@ -493,7 +521,8 @@ TEST(MorphTargetReader, BadFilesAreClearErrors)
     reader->SetFileName(IctGlb.c_str());
     reader->SetMeshName("Body");
     reader->Update();
-    EXPECT_TRUE(messages->HasError("no mesh named 'Body'; meshes: ICTFace")) << messages->AllErrors();
+    EXPECT_TRUE(messages->HasError("no mesh named 'Body'; meshes: ICTFace"))
+      << messages->AllErrors();
   }
 }
 
@@ -546,14 +575,17 @@ TEST(MorphTargetReader, ObjSetMatchesTheGlbOnSharedTargets)
       }
     }
     ASSERT_GE(inGlb, 1) << name << " is not in the GLB";
-    vtkDataArray* od = o->GetPointData()->GetArray(("target" + std::to_string(k - 1) + "_position").c_str());
-    vtkDataArray* gd = g->GetPointData()->GetArray(("target" + std::to_string(inGlb - 1) + "_position").c_str());
+    vtkDataArray* od =
+      o->GetPointData()->GetArray(("target" + std::to_string(k - 1) + "_position").c_str());
+    vtkDataArray* gd =
+      g->GetPointData()->GetArray(("target" + std::to_string(inGlb - 1) + "_position").c_str());
     double deltaWorst = 0.0, largest = 0.0;
     for (vtkIdType i = 0; i < g->GetNumberOfPoints(); ++i)
     {
       for (int c = 0; c < 3; ++c)
       {
-        deltaWorst = std::max(deltaWorst, std::abs(od->GetComponent(i, c) - gd->GetComponent(i, c)));
+        deltaWorst =
+          std::max(deltaWorst, std::abs(od->GetComponent(i, c) - gd->GetComponent(i, c)));
         largest = std::max(largest, std::abs(gd->GetComponent(i, c)));
       }
     }
@@ -587,5 +619,6 @@ TEST(MorphTargetReader, ObjSetWithMismatchedVertexCountNamesTheFile)
   EXPECT_EQ(reader->GetOutput()->GetNumberOfPoints(), 3);
   ASSERT_EQ(reader->GetNumberOfTargets(), 2);
   EXPECT_STREQ(reader->GetTargetName(1), "smile");
-  EXPECT_NEAR(reader->GetOutput()->GetPointData()->GetArray("target0_position")->GetComponent(2, 2), 1.0, 1e-9);
+  EXPECT_NEAR(reader->GetOutput()->GetPointData()->GetArray("target0_position")->GetComponent(2, 2),
+    1.0, 1e-9);
 }

@@ -7,9 +7,9 @@
 #include "vtkMorphNodeFilter.h"
 #include "vtkMorphTargetReader.h"
 
-#include "morph/MorphMesh.h"
 #include "SpeechTrack.h"
 #include "StudyMethods.h"
+#include "morph/MorphMesh.h"
 
 #include "base/Text.h"
 #include "morph/OptimizerPresets.h"
@@ -58,13 +58,18 @@ protected:
     // The study's track (Modules/Applications/Tools/SpeechTrack.h, as MakeSpeechTrack
     // writes it with its defaults): the long text, seed 2004, 30 fps.
     morphnode::study::SpeechTrackOptions options;
-    options.Text = morphnode::text::ReadFile(std::string(MORPHNODE_SOURCE_DIR) + "/Data/scripts/long-text.txt");
-    morphnode::Rig rig = morphnode::Rig::LoadFile(std::string(MORPHNODE_SOURCE_DIR) + "/Data/rigs/arkit.json");
+    options.Text =
+      morphnode::text::ReadFile(std::string(MORPHNODE_SOURCE_DIR) + "/Data/scripts/long-text.txt");
+    morphnode::Rig rig =
+      morphnode::Rig::LoadFile(std::string(MORPHNODE_SOURCE_DIR) + "/Data/rigs/arkit.json");
     rig.Bind(*model);
     const morphnode::WeightTrack semantic = morphnode::study::MakeBehaviorTrack(options);
-    ASSERT_GT(semantic.GetNumberOfFrames() / semantic.GetFrameRate(), 30.0) << "not a long animation";
-    const std::vector<std::string> names(model->GetTargetNames().begin() + 1, model->GetTargetNames().end());
-    const morphnode::WeightTrack relative = morphnode::study::ExpandThroughRig(semantic, rig, names);
+    ASSERT_GT(semantic.GetNumberOfFrames() / semantic.GetFrameRate(), 30.0)
+      << "not a long animation";
+    const std::vector<std::string> names(
+      model->GetTargetNames().begin() + 1, model->GetTargetNames().end());
+    const morphnode::WeightTrack relative =
+      morphnode::study::ExpandThroughRig(semantic, rig, names);
     Absolute = std::make_unique<morphnode::WeightTrack>(
       morphnode::ToAbsoluteWeights(relative, model->GetTargetNames()));
   }
@@ -83,7 +88,8 @@ protected:
     ASSERT_TRUE(Absolute && Positions) << "the face or the track could not be built";
   }
 
-  static std::vector<morphnode::FrameQuality> Run(const std::string& name, const morphnode::OptimizerSettings& s)
+  static std::vector<morphnode::FrameQuality> Run(
+    const std::string& name, const morphnode::OptimizerSettings& s)
   {
     return morphnode::MeasureOptimizerQuality(*Positions, Distances, *Absolute, { name, s });
   }
@@ -176,7 +182,8 @@ TEST_F(OptimizerStudy, ErrorBoundHoldsOnEveryFrame)
 TEST_F(OptimizerStudy, AdjustedAgainstFixedAtTheSameThreshold)
 {
   using morphnode::OptimizerPreset;
-  auto meanActive = [](const std::vector<morphnode::FrameQuality>& frames) {
+  auto meanActive = [](const std::vector<morphnode::FrameQuality>& frames)
+  {
     double sum = 0.0;
     for (const auto& q : frames)
     {
@@ -189,9 +196,10 @@ TEST_F(OptimizerStudy, AdjustedAgainstFixedAtTheSameThreshold)
     const std::string th = std::to_string(threshold).substr(0, 3);
     const auto fixed = Run("fixed-remaining " + th,
       morphnode::MakeOptimizerSettings(OptimizerPreset::FixedRemaining, threshold, 0.0));
-    const auto adjusted =
-      Run("adjusted " + th, morphnode::MakeOptimizerSettings(OptimizerPreset::Adjusted, threshold, 0.0));
-    const double fixedError = 1e3 * MeanMaxError(fixed), adjustedError = 1e3 * MeanMaxError(adjusted);
+    const auto adjusted = Run("adjusted " + th,
+      morphnode::MakeOptimizerSettings(OptimizerPreset::Adjusted, threshold, 0.0));
+    const double fixedError = 1e3 * MeanMaxError(fixed),
+                 adjustedError = 1e3 * MeanMaxError(adjusted);
     // The adjusted threshold keeps more targets at both thresholds...
     EXPECT_GT(meanActive(adjusted), meanActive(fixed)) << "threshold " << th;
     // ... and beats the fixed one at 0.3 but not at 0.5.
@@ -241,8 +249,8 @@ TEST(OptimizerStudyMethods, NamedByThePresets)
     EXPECT_EQ(methods[m].Settings.Strategy, s.Strategy) << e.Name;
     EXPECT_EQ(methods[m].Settings.AdjustThreshold, s.AdjustThreshold) << e.Name;
     EXPECT_EQ(methods[m].Settings.MaxVertexError, s.MaxVertexError) << e.Name;
-    EXPECT_EQ(morphnode::study::MethodFamily(methods[m].Name),
-      morphnode::OptimizerPresetName(e.Preset));
+    EXPECT_EQ(
+      morphnode::study::MethodFamily(methods[m].Name), morphnode::OptimizerPresetName(e.Preset));
   }
   EXPECT_EQ(methods.back().Name, "budget 2");
   EXPECT_EQ(methods.back().Settings.MaxActiveTargets, 2);

@@ -115,23 +115,26 @@ vtkSmartPointer<vtkImageData> RenderMorphNode(bool textured, const std::string& 
 /// three.js's frame of the avatar (RGB), or null with `why` set.
 vtkSmartPointer<vtkImageData> RenderThree(std::string& why)
 {
-  if (std::system("command -v node > /dev/null 2>&1") != 0 || !std::filesystem::exists("/usr/bin/chromium") ||
+  if (std::system("command -v node > /dev/null 2>&1") != 0 ||
+    !std::filesystem::exists("/usr/bin/chromium") ||
     !std::filesystem::exists(NpmTools + "/node_modules/three/package.json") ||
     !std::filesystem::exists(NpmTools + "/node_modules/playwright-core/package.json"))
   {
-    why = "needs node, Debian's chromium and three + playwright-core in .ci/npm-tools (.ci/install-npm-tools.sh)";
+    why = "needs node, Debian's chromium and three + playwright-core in .ci/npm-tools "
+          "(.ci/install-npm-tools.sh)";
     return nullptr;
   }
   const std::string out = Output + "/TestThreeJsSideBySide-three.png";
   std::filesystem::remove(out);
   char camera[256];
-  std::snprintf(camera, sizeof(camera), "%g,%g,%g,%g,%g,%g,%g", CameraPosition[0], CameraPosition[1],
-    CameraPosition[2], Eye[0], Eye[1], Eye[2], ViewAngle);
+  std::snprintf(camera, sizeof(camera), "%g,%g,%g,%g,%g,%g,%g", CameraPosition[0],
+    CameraPosition[1], CameraPosition[2], Eye[0], Eye[1], Eye[2], ViewAngle);
   char background[64];
-  std::snprintf(background, sizeof(background), "%g,%g,%g", Background[0], Background[1], Background[2]);
-  const std::string command = "node '" + Script + "' --npm '" + NpmTools + "' --glb '" + Avatar + "' --out '" + out +
-    "' --size " + std::to_string(Size) + " --camera " + camera + " --light " + std::to_string(ThreeLight) +
-    " --background " + background + " 2>&1";
+  std::snprintf(
+    background, sizeof(background), "%g,%g,%g", Background[0], Background[1], Background[2]);
+  const std::string command = "node '" + Script + "' --npm '" + NpmTools + "' --glb '" + Avatar +
+    "' --out '" + out + "' --size " + std::to_string(Size) + " --camera " + camera + " --light " +
+    std::to_string(ThreeLight) + " --background " + background + " 2>&1";
   std::cout << command << "\n";
   if (std::system(command.c_str()) != 0 || !std::filesystem::exists(out))
   {
@@ -192,11 +195,13 @@ TEST(ThreeJsSideBySide, TexturedAvatarLooksLikeThreeJs)
   vtkSmartPointer<vtkImageData> textured = RenderMorphNode(true);
   vtkSmartPointer<vtkImageData> untextured = RenderMorphNode(false);
   WriteSideBySide(textured, three, untextured, Output + "/TestThreeJsSideBySide.png");
-  const double withTextures = morphnode_test::Ssim(textured, three, RegionX0, RegionX1, RegionY0, RegionY1);
-  const double without = morphnode_test::Ssim(untextured, three, RegionX0, RegionX1, RegionY0, RegionY1);
+  const double withTextures =
+    morphnode_test::Ssim(textured, three, RegionX0, RegionX1, RegionY0, RegionY1);
+  const double without =
+    morphnode_test::Ssim(untextured, three, RegionX0, RegionX1, RegionY0, RegionY1);
   const double whole = morphnode_test::Ssim(textured, three, 0, Size, 0, Size);
-  std::cout << "SSIM of the eye region against three.js: textured " << withTextures << ", untextured " << without
-            << "; whole frame, textured " << whole << "\n";
+  std::cout << "SSIM of the eye region against three.js: textured " << withTextures
+            << ", untextured " << without << "; whole frame, textured " << whole << "\n";
   EXPECT_GT(withTextures, Threshold) << "MorphNode's textured avatar does not look like three.js's";
   // Negative control: the same scene without its textures fails the threshold.
   EXPECT_LT(without, Threshold) << "the comparison does not see the textures";
@@ -204,8 +209,8 @@ TEST(ThreeJsSideBySide, TexturedAvatarLooksLikeThreeJs)
 
 // The avatar's variants (quantized, meshopt, WebP; the data's README) drawn by MorphNode look
 // like the original: SSIM against the original's render. Measured: quantized and meshopt
-// 0.992 (eye region) and 0.998 (whole frame), WebP 1.000 and 1. The four frames side by side go to the test output
-// (docs/images/materials_variants.png).
+// 0.992 (eye region) and 0.998 (whole frame), WebP 1.000 and 1. The four frames side by side go to
+// the test output (docs/images/materials_variants.png).
 TEST(ThreeJsSideBySide, VariantsLookLikeTheOriginal)
 {
   if (!std::filesystem::exists(Avatar))
@@ -218,13 +223,15 @@ TEST(ThreeJsSideBySide, VariantsLookLikeTheOriginal)
   sheet->AddInputData(original);
   for (const char* variant : { "quantized", "meshopt", "webp" })
   {
-    const std::string file = std::string(MORPHNODE_AVATAR_DIR) + "/makehuman_avatar_" + variant + ".glb";
+    const std::string file =
+      std::string(MORPHNODE_AVATAR_DIR) + "/makehuman_avatar_" + variant + ".glb";
     vtkSmartPointer<vtkImageData> image = RenderMorphNode(true, file);
     sheet->AddInputData(image);
-    const double eyes = morphnode_test::Ssim(image, original, RegionX0, RegionX1, RegionY0, RegionY1);
+    const double eyes =
+      morphnode_test::Ssim(image, original, RegionX0, RegionX1, RegionY0, RegionY1);
     const double whole = morphnode_test::Ssim(image, original, 0, Size, 0, Size);
-    std::cout << variant << ": SSIM against the original's render: eye region " << eyes << ", whole frame " << whole
-              << "\n";
+    std::cout << variant << ": SSIM against the original's render: eye region " << eyes
+              << ", whole frame " << whole << "\n";
     EXPECT_GT(eyes, 0.95) << variant;
     EXPECT_GT(whole, 0.98) << variant;
   }

@@ -37,8 +37,8 @@ constexpr double Threshold = 10.0;
 
 /// Renders the plot of a behaviour with `seed` (and a happy mood of `mood`) and compares it
 /// with `baseline`.
-bool PlotMatches(uint64_t seed, const std::string& baseline, const std::string& outputDir,
-  double mood = 0.6)
+bool PlotMatches(
+  uint64_t seed, const std::string& baseline, const std::string& outputDir, double mood = 0.6)
 {
   morphnode::BehaviorController behavior;
   behavior.SetSeed(seed);
@@ -94,8 +94,9 @@ bool PlotMatches(uint64_t seed, const std::string& baseline, const std::string& 
     line->SetWidth(2.0);
   }
   view->GetRenderWindow()->Render();
-  std::cout << "image error (seed " << seed << ", mood " << mood << "): "
-            << morphnode_test::BaselineError(view->GetRenderWindow(), baseline, outputDir) << "\n";
+  std::cout << "image error (seed " << seed << ", mood " << mood
+            << "): " << morphnode_test::BaselineError(view->GetRenderWindow(), baseline, outputDir)
+            << "\n";
   return morphnode_test::MatchesBaseline(view->GetRenderWindow(), baseline, outputDir, Threshold);
 }
 } // namespace

@@ -22,7 +22,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
     {
       std::abort();
     }
-    morphnode::LiveBehavior live({ "sil", "aa", "ou" }, morphnode::BehaviorParameters(), 1, library);
+    morphnode::LiveBehavior live(
+      { "sil", "aa", "ou" }, morphnode::BehaviorParameters(), 1, library);
     std::vector<double> w(live.GetNumberOfChannels());
     double t = 0.0;
     for (const auto& g : library.GetGestures())

@@ -20,7 +20,8 @@
 #include <string>
 #include <vector>
 
-extern "C" size_t LLVMFuzzerMutate(uint8_t* data, size_t size, size_t maxSize) __attribute__((weak));
+extern "C" size_t LLVMFuzzerMutate(uint8_t* data, size_t size, size_t maxSize)
+  __attribute__((weak));
 
 namespace
 {
@@ -61,7 +62,8 @@ void CheckScene(const morphnode::GltfScene& scene)
     for (const auto& target : part.Targets)
     {
       Check(target.PositionDeltas.size() == 3 * n && Finite(target.PositionDeltas));
-      Check(target.NormalDeltas.empty() || (target.NormalDeltas.size() == 3 * n && Finite(target.NormalDeltas)));
+      Check(target.NormalDeltas.empty() ||
+        (target.NormalDeltas.size() == 3 * n && Finite(target.NormalDeltas)));
     }
     Check(part.Node >= 0 && static_cast<size_t>(part.Node) < scene.Nodes.size());
     Check(scene.Nodes[static_cast<size_t>(part.Node)].Mesh == part.Mesh);
@@ -85,7 +87,8 @@ void CheckScene(const morphnode::GltfScene& scene)
   {
     for (const auto& sampler : animation.Samplers)
     {
-      Check(sampler.Components > 0 && sampler.Values.size() % static_cast<size_t>(sampler.Components) == 0);
+      Check(sampler.Components > 0 &&
+        sampler.Values.size() % static_cast<size_t>(sampler.Components) == 0);
       for (size_t k = 1; k < sampler.Times.size(); ++k)
       {
         Check(sampler.Times[k] >= sampler.Times[k - 1]);
@@ -93,11 +96,13 @@ void CheckScene(const morphnode::GltfScene& scene)
     }
     for (const auto& channel : animation.Channels)
     {
-      Check(channel.Sampler >= 0 && static_cast<size_t>(channel.Sampler) < animation.Samplers.size());
+      Check(
+        channel.Sampler >= 0 && static_cast<size_t>(channel.Sampler) < animation.Samplers.size());
       Check(channel.Node >= 0 && static_cast<size_t>(channel.Node) < scene.Nodes.size());
       const auto& sampler = animation.Samplers[static_cast<size_t>(channel.Sampler)];
       const size_t keys = sampler.Times.size();
-      const size_t cubic = sampler.Interpolation == morphnode::GltfInterpolation::CubicSpline ? 3 : 1;
+      const size_t cubic =
+        sampler.Interpolation == morphnode::GltfInterpolation::CubicSpline ? 3 : 1;
       Check(channel.ValuesPerElement > 0 &&
         sampler.Values.size() == keys * cubic * static_cast<size_t>(channel.ValuesPerElement));
     }
@@ -114,7 +119,8 @@ void SampleAnimations(const morphnode::GltfScene& scene)
     {
       const morphnode::GltfAnimationPlayer player(scene, static_cast<int>(a), "fuzz");
       const double start = player.GetStartTime(), end = player.GetEndTime();
-      for (double t : { start - 1, start, 0.5 * (start + end), 0.3 * start + 0.7 * end, end, end + 1 })
+      for (double t :
+        { start - 1, start, 0.5 * (start + end), 0.3 * start + 0.7 * end, end, end + 1 })
       {
         const morphnode::GltfSceneSample sample = player.Sample(t);
         Check(sample.Nodes.size() == scene.Nodes.size());
@@ -191,16 +197,17 @@ std::vector<Slot> Slots(json& root)
 
 json Interesting(std::minstd_rand& rng, const json& current)
 {
-  static const int64_t integers[] = { -1, 0, 1, 2, 3, 4, 5, 6, 7, 8, 12, 16, 24, 252, 255, 256, 65535, 65536,
-    2147483647LL, 2147483648LL, 4294967295LL, 4294967296LL, -2147483648LL, 9007199254740993LL, 5120, 5121,
-    5122, 5123, 5124, 5125, 5126, 5127, 34962, 34963 };
-  static const char* const strings[] = { "SCALAR", "VEC2", "VEC3", "VEC4", "MAT2", "MAT3", "MAT4", "POSITION",
-    "NORMAL", "COLOR_0", "LINEAR", "STEP", "CUBICSPLINE", "translation", "rotation", "scale", "weights", "",
-    "2.0", "1.0", "data:application/octet-stream;base64,AAAA", "x.bin", "../x.bin",
-    "KHR_draco_mesh_compression", "KHR_materials_unlit", "data:image/png;base64,AAAA", "a~b/c",
-    "KHR_mesh_quantization", "EXT_meshopt_compression", "EXT_texture_webp", "KHR_texture_transform",
-    "KHR_texture_basisu", "ATTRIBUTES", "TRIANGLES", "INDICES", "OCTAHEDRAL", "QUATERNION", "EXPONENTIAL",
-    "OPAQUE", "MASK", "BLEND", "TEXCOORD_0", "TEXCOORD_1", "image/webp", "image/jpeg" };
+  static const int64_t integers[] = { -1, 0, 1, 2, 3, 4, 5, 6, 7, 8, 12, 16, 24, 252, 255, 256,
+    65535, 65536, 2147483647LL, 2147483648LL, 4294967295LL, 4294967296LL, -2147483648LL,
+    9007199254740993LL, 5120, 5121, 5122, 5123, 5124, 5125, 5126, 5127, 34962, 34963 };
+  static const char* const strings[] = { "SCALAR", "VEC2", "VEC3", "VEC4", "MAT2", "MAT3", "MAT4",
+    "POSITION", "NORMAL", "COLOR_0", "LINEAR", "STEP", "CUBICSPLINE", "translation", "rotation",
+    "scale", "weights", "", "2.0", "1.0", "data:application/octet-stream;base64,AAAA", "x.bin",
+    "../x.bin", "KHR_draco_mesh_compression", "KHR_materials_unlit", "data:image/png;base64,AAAA",
+    "a~b/c", "KHR_mesh_quantization", "EXT_meshopt_compression", "EXT_texture_webp",
+    "KHR_texture_transform", "KHR_texture_basisu", "ATTRIBUTES", "TRIANGLES", "INDICES",
+    "OCTAHEDRAL", "QUATERNION", "EXPONENTIAL", "OPAQUE", "MASK", "BLEND", "TEXCOORD_0",
+    "TEXCOORD_1", "image/webp", "image/jpeg" };
   switch (rng() % 8)
   {
     case 0:
@@ -269,13 +276,14 @@ void MutateJson(json& root, std::minstd_rand& rng)
     default: // add a known glTF key to an object
       if (s.Value->is_object())
       {
-        static const char* const keys[] = { "bufferView", "byteOffset", "byteStride", "count", "sparse",
-          "indices", "targets", "weights", "matrix", "children", "mesh", "scene", "mode", "material",
-          "normalized", "extras", "rotation", "scale", "translation", "node", "sampler", "images", "uri",
-          "extensionsRequired", "path", "interpolation", "type", "componentType", "byteLength", "input",
-          "output", "attributes", "POSITION", "NORMAL", "COLOR_0", "targetNames", "baseColorFactor",
-          "baseColorTexture", "index", "texCoord", "alphaMode", "alphaCutoff", "doubleSided", "source",
-          "extensions", "filter", "fallback", "TEXCOORD_0", "emissiveFactor", "normalTexture", "offset" };
+        static const char* const keys[] = { "bufferView", "byteOffset", "byteStride", "count",
+          "sparse", "indices", "targets", "weights", "matrix", "children", "mesh", "scene", "mode",
+          "material", "normalized", "extras", "rotation", "scale", "translation", "node", "sampler",
+          "images", "uri", "extensionsRequired", "path", "interpolation", "type", "componentType",
+          "byteLength", "input", "output", "attributes", "POSITION", "NORMAL", "COLOR_0",
+          "targetNames", "baseColorFactor", "baseColorTexture", "index", "texCoord", "alphaMode",
+          "alphaCutoff", "doubleSided", "source", "extensions", "filter", "fallback", "TEXCOORD_0",
+          "emissiveFactor", "normalTexture", "offset" };
         (*s.Value)[keys[rng() % (sizeof(keys) / sizeof(keys[0]))]] = Interesting(rng, json());
       }
       break;
@@ -289,7 +297,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
   options.MaxDecodedBytes = 64u << 20; // stay well inside libFuzzer's memory limit
   try
   {
-    const morphnode::GltfScene scene = morphnode::LoadGltfSceneFromMemory(data, size, "", options, "fuzz");
+    const morphnode::GltfScene scene =
+      morphnode::LoadGltfSceneFromMemory(data, size, "", options, "fuzz");
     CheckScene(scene);
     SampleAnimations(scene);
   }
@@ -315,7 +324,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
   return 0;
 }
 
-extern "C" size_t LLVMFuzzerCustomMutator(uint8_t* data, size_t size, size_t maxSize, unsigned int seed)
+extern "C" size_t LLVMFuzzerCustomMutator(
+  uint8_t* data, size_t size, size_t maxSize, unsigned int seed)
 {
   std::minstd_rand rng(seed);
   if (rng() % 4 == 0)

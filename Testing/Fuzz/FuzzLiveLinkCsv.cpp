@@ -20,7 +20,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
   try
   {
     const morphnode::LiveLinkCapture capture = morphnode::ReadLiveLinkCsv(in, options);
-    if (capture.Times.empty() || capture.Values.size() != capture.Times.size() * capture.Channels.size())
+    if (capture.Times.empty() ||
+      capture.Values.size() != capture.Times.size() * capture.Channels.size())
     {
       std::abort();
     }

@@ -11,7 +11,8 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
 {
-  static const morphnode::VisemeMap map = morphnode::VisemeMap::Builtin(morphnode::VisemeSet::German16, "de");
+  static const morphnode::VisemeMap map =
+    morphnode::VisemeMap::Builtin(morphnode::VisemeSet::German16, "de");
   std::istringstream in(std::string(reinterpret_cast<const char*>(data), size));
   try
   {
@@ -27,7 +28,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
     {
       morphnode::CoarticulationOptions options;
       options.FrameRate = 30.0;
-      morphnode::Coarticulate(morphnode::MouthCuesToVisemeSegments(cues, map), map, cues.back().End, options);
+      morphnode::Coarticulate(
+        morphnode::MouthCuesToVisemeSegments(cues, map), map, cues.back().End, options);
     }
   }
   catch (const morphnode::InputError&)

@@ -22,7 +22,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
       for (const auto& item : tier.Items)
       {
         // The reader promised ordered, non-negative-length items inside the grid.
-        if (!(item.End >= item.Start) || item.Start < previous - 1e-6 * std::max(1.0, std::abs(previous)))
+        if (!(item.End >= item.Start) ||
+          item.Start < previous - 1e-6 * std::max(1.0, std::abs(previous)))
         {
           std::abort();
         }

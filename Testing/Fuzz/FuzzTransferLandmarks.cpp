@@ -21,7 +21,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
     }
     for (const auto& l : landmarks)
     {
-      if (!std::isfinite(l.Position.x) || !std::isfinite(l.Position.y) || !std::isfinite(l.Position.z))
+      if (!std::isfinite(l.Position.x) || !std::isfinite(l.Position.y) ||
+        !std::isfinite(l.Position.z))
       {
         std::abort(); // the reader promised finite numbers
       }

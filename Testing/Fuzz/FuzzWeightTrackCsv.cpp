@@ -25,7 +25,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
     {
       for (size_t c = 0; c < track.GetNumberOfChannels(); ++c)
       {
-        if (!std::isfinite(track.GetValue(f, c)) || !std::isfinite(track.Sample(track.GetTime(f), c)))
+        if (!std::isfinite(track.GetValue(f, c)) ||
+          !std::isfinite(track.Sample(track.GetTime(f), c)))
         {
           std::abort();
         }

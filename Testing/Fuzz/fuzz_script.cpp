@@ -3,9 +3,9 @@
 // or throws morphnode::InputError; what parses is applied, prepared and sampled, so that
 // nothing the parser accepts can crash the controller either.
 #include "base/Error.h"
-#include "speech/SpeechTypes.h"
 #include "behavior/BehaviorController.h"
 #include "behavior/BehaviorScript.h"
+#include "speech/SpeechTypes.h"
 
 #include <algorithm>
 #include <cmath>

@@ -96,7 +96,8 @@ public:
   Curve(std::initializer_list<dvec2> knots)
     : Knots(knots)
   {
-    std::sort(this->Knots.begin(), this->Knots.end(), [](const dvec2& a, const dvec2& b) { return a.x < b.x; });
+    std::sort(this->Knots.begin(), this->Knots.end(),
+      [](const dvec2& a, const dvec2& b) { return a.x < b.x; });
   }
   double operator()(double x) const
   {
@@ -120,8 +121,8 @@ public:
     const double m1 = this->Slope(i + 1) * h;
     const double t2 = t * t;
     const double t3 = t2 * t;
-    return (2 * t3 - 3 * t2 + 1) * k[i].y + (t3 - 2 * t2 + t) * m0 + (-2 * t3 + 3 * t2) * k[i + 1].y +
-      (t3 - t2) * m1;
+    return (2 * t3 - 3 * t2 + 1) * k[i].y + (t3 - 2 * t2 + t) * m0 +
+      (-2 * t3 + 3 * t2) * k[i + 1].y + (t3 - t2) * m1;
   }
 
 private:
@@ -158,8 +159,8 @@ dvec3 Normalized(const dvec3& v)
 // ---------------------------------------------------------------------------------------
 // Design constants (before the final scale)
 // ---------------------------------------------------------------------------------------
-constexpr int Columns = 104;        // around the head
-constexpr int Rows = 92;            // neck bottom to just below the crown
+constexpr int Columns = 104; // around the head
+constexpr int Rows = 92;     // neck bottom to just below the crown
 constexpr double NeckBottom = -0.170;
 constexpr double Crown = 0.135;
 constexpr double FinalScale = 0.88; // chin to crown about 0.205 m
@@ -188,34 +189,34 @@ const Curve HalfWidth{ { -0.170, 0.051 }, { -0.120, 0.0515 }, { -0.100, 0.054 },
 // Nose: the midline profile (absolute z) from between the brows to the base of the nose,
 // and the half width of its ridge, by y.
 const Curve NoseProfile{ { 0.030, 0.0920 }, { 0.020, 0.0935 }, { 0.010, 0.0972 }, { 0.000, 0.1018 },
-  { -0.010, 0.1068 }, { -0.018, 0.1118 }, { -0.024, 0.1160 }, { -0.028, 0.1172 }, { -0.031, 0.1150 },
-  { -0.034, 0.1090 }, { -0.036, 0.1030 }, { -0.038, 0.0990 } };
+  { -0.010, 0.1068 }, { -0.018, 0.1118 }, { -0.024, 0.1160 }, { -0.028, 0.1172 },
+  { -0.031, 0.1150 }, { -0.034, 0.1090 }, { -0.036, 0.1030 }, { -0.038, 0.0990 } };
 const Curve NoseWidth{ { 0.030, 0.0075 }, { 0.018, 0.0078 }, { 0.005, 0.0082 }, { -0.010, 0.0092 },
   { -0.020, 0.0108 }, { -0.026, 0.0118 }, { -0.032, 0.0112 }, { -0.038, 0.0095 } };
 // The lower jaw's border: its height by column angle (0 the chin, then along the jaw to
 // its angle below the ear).
-const Curve JawLine{ { 0.0, -0.107 }, { 0.4, -0.103 }, { 0.7, -0.095 }, { 1.0, -0.086 }, { 1.3, -0.079 },
-  { 1.6, -0.075 }, { 1.9, -0.073 } };
+const Curve JawLine{ { 0.0, -0.107 }, { 0.4, -0.103 }, { 0.7, -0.095 }, { 1.0, -0.086 },
+  { 1.3, -0.079 }, { 1.6, -0.075 }, { 1.9, -0.073 } };
 
 // ---------------------------------------------------------------------------------------
 // Pose: what a target changes. The neutral is the all-zero pose.
 // ---------------------------------------------------------------------------------------
 struct Pose
 {
-  double JawAngle = 0.0;       // radians, opens the mouth
-  double UpperLipRaise = 0.0;  // m, centre of the upper lip up
-  double LowerLipDrop = 0.0;   // m, centre of the lower lip down beyond the jaw (negative: less far)
-  double LowerLipTuck = 0.0;   // m, lower lip up and back under the upper teeth (F)
-  double Pucker = 0.0;         // 0..1, lips narrow and push forward (O)
-  dvec3 CornerMove{ 0.0 };     // m, mouth corners: x outward, y up, z forward
-  double CheekRaise = 0.0;     // m
-  double ChinRaise = 0.0;      // m, lower lip and chin pushed up (sad)
-  double LidClose = 0.0;       // 0..1, upper lids down to the lower lids
-  double BrowInnerUp = 0.0;    // m
-  double BrowOuterUp = 0.0;    // m
-  double BrowSqueeze = 0.0;    // m, brows toward the midline
-  double BrowForward = 0.0;    // m
-  double TongueTipUp = 0.0;    // m, tongue tip raised toward the upper teeth (L)
+  double JawAngle = 0.0;      // radians, opens the mouth
+  double UpperLipRaise = 0.0; // m, centre of the upper lip up
+  double LowerLipDrop = 0.0;  // m, centre of the lower lip down beyond the jaw (negative: less far)
+  double LowerLipTuck = 0.0;  // m, lower lip up and back under the upper teeth (F)
+  double Pucker = 0.0;        // 0..1, lips narrow and push forward (O)
+  dvec3 CornerMove{ 0.0 };    // m, mouth corners: x outward, y up, z forward
+  double CheekRaise = 0.0;    // m
+  double ChinRaise = 0.0;     // m, lower lip and chin pushed up (sad)
+  double LidClose = 0.0;      // 0..1, upper lids down to the lower lids
+  double BrowInnerUp = 0.0;   // m
+  double BrowOuterUp = 0.0;   // m
+  double BrowSqueeze = 0.0;   // m, brows toward the midline
+  double BrowForward = 0.0;   // m
+  double TongueTipUp = 0.0;   // m, tongue tip raised toward the upper teeth (L)
 };
 
 struct Target
@@ -412,11 +413,11 @@ struct Head
   std::vector<double> ColumnAngle;
   int MouthRow = 0;
   int EyeRow = 0;
-  std::vector<std::vector<int>> SkinIndex;      // [row][column] -> vertex (Side None/Lower)
-  std::vector<std::vector<int>> SkinUpperIndex; // [row][column] -> upper copy or -1
-  std::vector<int> MouthLoop;                   // corner, upper copies, corner, lower copies
-  std::vector<int> InnerLipLoop;                // the innermost inner-lip ring (same order)
-  std::array<std::vector<int>, 2> EyeLoops;     // right, left eye slit loops
+  std::vector<std::vector<int>> SkinIndex;         // [row][column] -> vertex (Side None/Lower)
+  std::vector<std::vector<int>> SkinUpperIndex;    // [row][column] -> upper copy or -1
+  std::vector<int> MouthLoop;                      // corner, upper copies, corner, lower copies
+  std::vector<int> InnerLipLoop;                   // the innermost inner-lip ring (same order)
+  std::array<std::vector<int>, 2> EyeLoops;        // right, left eye slit loops
   std::array<std::vector<int>, 2> UpperLidColumns; // columns of each eye's upper lid edge
 };
 
@@ -453,7 +454,8 @@ double Squareness(double y)
 /// an ellipse behind and a flatter superellipse in front, pulled in under the jaw to the neck.
 dvec3 BaseHead(double y, double angle)
 {
-  auto section = [angle](double height, double yOut) {
+  auto section = [angle](double height, double yOut)
+  {
     const double front = FrontZ(height);
     const double back = BackZ(height);
     const double mid = 0.5 * (front + back);
@@ -466,12 +468,13 @@ dvec3 BaseHead(double y, double angle)
     const double e = 2.0 / Squareness(height);
     // The lower face narrows toward the chin in front.
     const double taper = 1.0 - 0.20 * SmoothStep(-0.060, -0.100, height) * c * c;
-    return dvec3(HalfWidth(height) * taper * SignedPow(s, e), yOut, mid + (front - mid) * std::pow(c, e));
+    return dvec3(
+      HalfWidth(height) * taper * SignedPow(s, e), yOut, mid + (front - mid) * std::pow(c, e));
   };
   dvec3 p = section(y, y);
   // Below the jaw's border the skin runs in to the neck.
-  const double under = SmoothStep(0.0, 0.020, JawLine(std::abs(angle)) - y) * SmoothStep(2.1, 1.8, std::abs(angle)) *
-    SmoothStep(-0.150, -0.120, y);
+  const double under = SmoothStep(0.0, 0.020, JawLine(std::abs(angle)) - y) *
+    SmoothStep(2.1, 1.8, std::abs(angle)) * SmoothStep(-0.150, -0.120, y);
   if (under > 0.0)
   {
     const dvec3 neck = section(-0.135, y);
@@ -496,7 +499,8 @@ std::vector<double> SampleRows()
 {
   const int dense = 8000;
   std::vector<double> ys(dense + 1), length(dense + 1, 0.0);
-  auto profile = [](double y) {
+  auto profile = [](double y)
+  {
     const dvec3 p = BaseHead(y, 0.0);
     return p.z + Features(p, 0.0).z;
   };
@@ -516,12 +520,14 @@ std::vector<double> SampleRows()
     const double density = 1.0 + 2.0 * SmoothStep(-0.125, -0.105, y) * SmoothStep(0.075, 0.055, y);
     length[k] = length[k - 1] + std::sqrt(dy * dy + dz * dz) * density;
   }
-  auto lengthAt = [&](double y) {
+  auto lengthAt = [&](double y)
+  {
     const double f = (y - NeckBottom) / (Crown - NeckBottom) * dense;
     const int k = std::min(dense - 1, static_cast<int>(f));
     return length[k] + (f - k) * (length[k + 1] - length[k]);
   };
-  auto heightAt = [&](double target) {
+  auto heightAt = [&](double target)
+  {
     int k = 0;
     while (k < dense - 1 && length[k + 1] < target)
     {
@@ -647,10 +653,12 @@ Head BuildHeadTopology()
     {
       const int c1 = (c + 1) % Columns;
       auto below = [&](int col) {
-        return head.SkinUpperIndex[r][col] >= 0 ? head.SkinUpperIndex[r][col] : head.SkinIndex[r][col];
+        return head.SkinUpperIndex[r][col] >= 0 ? head.SkinUpperIndex[r][col]
+                                                : head.SkinIndex[r][col];
       };
       // Counter-clockwise seen from outside: angle grows toward +X, rows grow upward.
-      AddQuad(head.Triangles, below(c), below(c1), head.SkinIndex[r + 1][c1], head.SkinIndex[r + 1][c]);
+      AddQuad(
+        head.Triangles, below(c), below(c1), head.SkinIndex[r + 1][c1], head.SkinIndex[r + 1][c]);
     }
   }
   // Crown and neck caps.
@@ -663,11 +671,13 @@ Head BuildHeadTopology()
   for (int c = 0; c < Columns; ++c)
   {
     const int c1 = (c + 1) % Columns;
-    AddTriangle(head.Triangles, head.SkinIndex[Rows - 1][c], head.SkinIndex[Rows - 1][c1], crownIndex);
+    AddTriangle(
+      head.Triangles, head.SkinIndex[Rows - 1][c], head.SkinIndex[Rows - 1][c1], crownIndex);
     AddTriangle(head.Triangles, head.SkinIndex[0][c1], head.SkinIndex[0][c], neckIndex);
   }
 
-  auto slitColumns = [&](int row, int eye) {
+  auto slitColumns = [&](int row, int eye)
+  {
     std::vector<int> columns;
     for (int c = 0; c < Columns; ++c)
     {
@@ -680,7 +690,8 @@ Head BuildHeadTopology()
   };
 
   // Rings hanging from a slit loop (lid margins, inner lips). Quads are oriented later.
-  auto hangRings = [&](const std::vector<int>& loop, Kind kind, int rings, int eye) {
+  auto hangRings = [&](const std::vector<int>& loop, Kind kind, int rings, int eye)
+  {
     std::vector<int> previous = loop;
     for (int ring = 1; ring <= rings; ++ring)
     {
@@ -733,7 +744,8 @@ dvec3 EyeCenter(int eye)
 void LipHeights(double ax, double& upper, double& lower)
 {
   const double across = Clamp01(1.0 - std::pow(ax / (MouthCornerX + 0.003), 2.0));
-  upper = 0.0030 + 0.0042 * across + 0.0009 * Bump(std::abs(ax - 0.0055) / 0.0065) - 0.0005 * Bump(ax / 0.004);
+  upper = 0.0030 + 0.0042 * across + 0.0009 * Bump(std::abs(ax - 0.0055) / 0.0065) -
+    0.0005 * Bump(ax / 0.004);
   lower = 0.0045 + 0.0062 * std::pow(across, 0.8);
 }
 
@@ -786,7 +798,7 @@ dvec3 Features(const dvec3& p, double angle)
   if (dy >= 0.0)
   {
     dz += 0.0046 * across * Bump(std::abs(dy - 0.40 * upperH) / (0.75 * upperH));
-    dz += 0.0006 * across * Bump(std::abs(dy - upperH) / 0.0014); // the border's roll
+    dz += 0.0006 * across * Bump(std::abs(dy - upperH) / 0.0014);            // the border's roll
     dz -= 0.0011 * Bump(ax / 0.0050) * Bump(std::abs(dy - 0.0135) / 0.0075); // philtrum
   }
   else
@@ -794,9 +806,9 @@ dvec3 Features(const dvec3& p, double angle)
     dz += 0.0060 * across * Bump(std::abs(dy + 0.45 * lowerH) / (0.75 * lowerH));
     dz -= 0.0020 * Bump(std::hypot(ax / 0.020, (dy + 0.0185) / 0.0065)); // below the lower lip
   }
-  dz -= 0.0012 * Bump(std::abs(dy) / 0.0016) * across;                   // lip line crease
-  dz += 0.0090 * Bump(std::hypot(ax / 0.021, (y + 0.091) / 0.016));      // chin
-  dz -= 0.0014 * Bump(std::hypot((ax - 0.032) / 0.008, dy / 0.012));      // mouth-corner hollow
+  dz -= 0.0012 * Bump(std::abs(dy) / 0.0016) * across;               // lip line crease
+  dz += 0.0090 * Bump(std::hypot(ax / 0.021, (y + 0.091) / 0.016));  // chin
+  dz -= 0.0014 * Bump(std::hypot((ax - 0.032) / 0.008, dy / 0.012)); // mouth-corner hollow
 
   return dvec3(0.0, 0.0, dz * front);
 }
@@ -808,7 +820,7 @@ dvec3 ShapeEyeRegion(Side which, const dvec3& p, double lidClose)
   const int eye = p.x < 0.0 ? -1 : 1;
   const dvec3 center = EyeCenter(eye);
   const double s = (p.x - center.x) / EyeHalfWidth; // along the eye, -1..1 at the corners
-  const double lateral = eye * s;                  // -1 inner corner, +1 outer corner
+  const double lateral = eye * s;                   // -1 inner corner, +1 outer corner
   const double dy = p.y - EyeY;
   const double region = Bump(std::hypot((p.x - center.x) / 0.026, dy / 0.018));
   if (region <= 0.0)
@@ -821,7 +833,8 @@ dvec3 ShapeEyeRegion(Side which, const dvec3& p, double lidClose)
   const double openness = std::pow(Clamp01(1.0 - s * s), 0.5);
   const double tilt = 0.0009 * s * eye;
   const double upperOpen = tilt + 0.0056 * openness * (1.0 - 0.16 * lateral);
-  const double lowerOpen = tilt - 0.0052 * openness * (1.0 + 0.10 * lateral) * std::pow(Clamp01(1.0 - s * s), 0.15);
+  const double lowerOpen =
+    tilt - 0.0052 * openness * (1.0 + 0.10 * lateral) * std::pow(Clamp01(1.0 - s * s), 0.15);
   const double upperEdge = upperOpen + lidClose * (lowerOpen - upperOpen);
   const double upperSpan = 0.014; // rows above the slit compress into this band
   const double lowerSpan = 0.012;
@@ -965,13 +978,15 @@ dvec3 BrowMotion(const dvec3& p, const Pose& pose)
   const double outer = SmoothStep(0.012, 0.055, ax);
   const double up = pose.BrowInnerUp * (1.0 - outer) + pose.BrowOuterUp * outer;
   const double inner = 1.0 - outer;
-  return w * dvec3(-sign * pose.BrowSqueeze * (0.4 + 0.6 * inner) * SmoothStep(0.0, 0.012, ax), up,
-                 pose.BrowForward * inner);
+  return w *
+    dvec3(-sign * pose.BrowSqueeze * (0.4 + 0.6 * inner) * SmoothStep(0.0, 0.012, ax), up,
+      pose.BrowForward * inner);
 }
 
 /// A skin point in a pose, from its place on the base head (height y, column angle).
 /// `neutral` (optional) receives the point with the eye region shaped but no pose.
-dvec3 SkinPoint(double y, double angle, Side which, bool mouthSlit, const Pose& pose, dvec3* neutral = nullptr)
+dvec3 SkinPoint(
+  double y, double angle, Side which, bool mouthSlit, const Pose& pose, dvec3* neutral = nullptr)
 {
   dvec3 p = BaseHead(y, angle);
   p += Features(p, angle);
@@ -1011,8 +1026,10 @@ dvec3 SkinPoint(double y, double angle, Side which, bool mouthSlit, const Pose& 
 dvec3 SkinNormal(double y, double angle, const Pose& pose)
 {
   const double h = 1e-4;
-  const dvec3 dy = SkinPoint(y + h, angle, Side::None, false, pose) - SkinPoint(y - h, angle, Side::None, false, pose);
-  const dvec3 da = SkinPoint(y, angle + h, Side::None, false, pose) - SkinPoint(y, angle - h, Side::None, false, pose);
+  const dvec3 dy = SkinPoint(y + h, angle, Side::None, false, pose) -
+    SkinPoint(y - h, angle, Side::None, false, pose);
+  const dvec3 da = SkinPoint(y, angle + h, Side::None, false, pose) -
+    SkinPoint(y, angle - h, Side::None, false, pose);
   return Normalized(glm::cross(da, dy));
 }
 
@@ -1041,7 +1058,8 @@ HeadPose PlaceHead(const Head& head, const Pose& pose)
     }
     else if (info.Row == -1)
     {
-      out.Position[v] = out.Neutral[v] = dvec3(0.0, NeckBottom, 0.5 * (FrontZ(NeckBottom) + BackZ(NeckBottom)));
+      out.Position[v] = out.Neutral[v] =
+        dvec3(0.0, NeckBottom, 0.5 * (FrontZ(NeckBottom) + BackZ(NeckBottom)));
     }
     else
     {
@@ -1079,9 +1097,11 @@ HeadPose PlaceHead(const Head& head, const Pose& pose)
     const dvec3 l0 = out.Neutral[info.Loop];
     const dvec3 l = out.Position[info.Loop];
     const double s = Clamp01(std::abs(l0.x) / MouthCornerX);
-    const double sideSign = info.Which == Side::Upper ? 1.0 : (info.Which == Side::Lower ? -1.0 : 0.0);
+    const double sideSign =
+      info.Which == Side::Upper ? 1.0 : (info.Which == Side::Lower ? -1.0 : 0.0);
     const double taper = std::sqrt(std::max(0.0, 1.0 - s * s));
-    out.Position[v] = l + dvec3(0.0, sideSign * height[info.Ring] * taper, -depth[info.Ring] * (0.4 + 0.6 * taper));
+    out.Position[v] =
+      l + dvec3(0.0, sideSign * height[info.Ring] * taper, -depth[info.Ring] * (0.4 + 0.6 * taper));
   }
   return out;
 }
@@ -1129,8 +1149,8 @@ dvec3 SkinTint(const VertexInfo& info, const dvec3& p)
   const double nose = Bump(std::hypot(ax / 0.013, (p.y + 0.028) / 0.010)) * front;
   const double warm = 0.025 * cheek + 0.030 * nose;
   tint *= dvec3(1.0, 1.0 - warm, 1.0 - warm);
-  const double nostril = Bump(std::hypot((ax - 0.0060) / 0.0036, (p.y + 0.0352) / 0.0024)) * SmoothStep(0.05, 0.08, p.z) *
-    SmoothStep(FrontZ(p.y) + 0.001, FrontZ(p.y) + 0.004, p.z);
+  const double nostril = Bump(std::hypot((ax - 0.0060) / 0.0036, (p.y + 0.0352) / 0.0024)) *
+    SmoothStep(0.05, 0.08, p.z) * SmoothStep(FrontZ(p.y) + 0.001, FrontZ(p.y) + 0.004, p.z);
   tint *= 1.0 - 0.25 * nostril;
   return tint;
 }
@@ -1170,7 +1190,8 @@ Part MakeHeadPart(Head& head, const HeadPose& neutral)
   part.Colors.resize(part.VertexCount);
   for (size_t v = 0; v < part.VertexCount; ++v)
   {
-    part.Colors[v] = SkinTint(head.Info[v], neutral.Neutral[head.Info[v].Type == Kind::Skin ? v : head.Info[v].Loop]);
+    part.Colors[v] = SkinTint(
+      head.Info[v], neutral.Neutral[head.Info[v].Type == Kind::Skin ? v : head.Info[v].Loop]);
   }
   return part;
 }
@@ -1198,7 +1219,8 @@ Part MakeMouthInterior(const Head& head)
   const int apex = loopSize * (MouthBagRings + 1);
   for (int k = 0; k < loopSize; ++k)
   {
-    AddTriangle(prim.Triangles, MouthBagRings * loopSize + k, MouthBagRings * loopSize + (k + 1) % loopSize, apex);
+    AddTriangle(prim.Triangles, MouthBagRings * loopSize + k,
+      MouthBagRings * loopSize + (k + 1) % loopSize, apex);
   }
   part.Primitives.push_back(prim);
   return part;
@@ -1228,8 +1250,8 @@ std::vector<dvec3> PlaceMouthInterior(const Head& head, const HeadPose& hp, cons
     const dvec3 loopJaw = l0 + jaw * (RotateX(l0, pivot, pose.JawAngle) - l0);
     for (int ring = 1; ring <= MouthBagRings; ++ring)
     {
-      const dvec3 q0(l0.x * widthScale[ring], MouthY + sideSign * height[ring] * std::sqrt(1.0 - s * s),
-        l0.z - depth[ring]);
+      const dvec3 q0(l0.x * widthScale[ring],
+        MouthY + sideSign * height[ring] * std::sqrt(1.0 - s * s), l0.z - depth[ring]);
       const dvec3 jawMoved = q0 + jaw * (RotateX(q0, pivot, pose.JawAngle) - q0);
       out[static_cast<size_t>(ring) * loopSize + k] = jawMoved + follow[ring] * (l - loopJaw);
     }
@@ -1249,11 +1271,11 @@ constexpr int TeethPerSide = 6;
 
 struct Tooth
 {
-  dvec3 Center;  // middle of the crown
-  dvec3 Along;   // unit tangent of the arch
-  dvec3 Out;     // unit, away from the tongue
-  dvec3 Half;    // half extents: along, out, vertical
-  double Taper;  // thickness at the biting edge relative to the gum
+  dvec3 Center;    // middle of the crown
+  dvec3 Along;     // unit tangent of the arch
+  dvec3 Out;       // unit, away from the tongue
+  dvec3 Half;      // half extents: along, out, vertical
+  double Taper;    // thickness at the biting edge relative to the gum
   double EdgeSign; // +1: biting edge at the top (lower teeth), -1 at the bottom (upper)
 };
 
@@ -1277,13 +1299,16 @@ std::vector<Tooth> TeethLayout(bool upper)
   // Arc length along the arch by fine sampling.
   const int samples = 2000;
   std::vector<double> length(samples + 1, 0.0);
-  auto arch = [&](double phi) { return dvec3(a * std::sin(phi), 0.0, front - b * (1.0 - std::cos(phi))); };
+  auto arch = [&](double phi)
+  { return dvec3(a * std::sin(phi), 0.0, front - b * (1.0 - std::cos(phi))); };
   const double maxPhi = 1.45;
   for (int k = 1; k <= samples; ++k)
   {
-    length[k] = length[k - 1] + glm::length(arch(maxPhi * k / samples) - arch(maxPhi * (k - 1) / samples));
+    length[k] =
+      length[k - 1] + glm::length(arch(maxPhi * k / samples) - arch(maxPhi * (k - 1) / samples));
   }
-  auto phiAt = [&](double s) {
+  auto phiAt = [&](double s)
+  {
     int k = 0;
     while (k < samples - 1 && length[k + 1] < s)
     {
@@ -1350,7 +1375,8 @@ Part MakeTeeth(bool upper)
     {
       const int a1 = (a + 1) % ToothAround;
       AddTriangle(prim.Triangles, base + a, bottom, base + a1);
-      AddTriangle(prim.Triangles, base + (ToothRings - 1) * ToothAround + a, base + (ToothRings - 1) * ToothAround + a1, top);
+      AddTriangle(prim.Triangles, base + (ToothRings - 1) * ToothAround + a,
+        base + (ToothRings - 1) * ToothAround + a1, top);
     }
   }
   part.Primitives.push_back(prim);
@@ -1377,8 +1403,8 @@ std::vector<dvec3> PlaceTeeth(bool upper, const Pose& pose)
         const double t = 2.0 * Pi * (a + 0.5) / ToothAround;
         const double u = SignedPow(std::cos(t), 0.55) * scale;
         const double w = SignedPow(std::sin(t), 0.55) * scale * thick;
-        out.push_back(tooth.Center + tooth.Along * (u * tooth.Half.x) + tooth.Out * (w * tooth.Half.y) +
-          dvec3(0.0, vertical * tooth.Half.z, 0.0));
+        out.push_back(tooth.Center + tooth.Along * (u * tooth.Half.x) +
+          tooth.Out * (w * tooth.Half.y) + dvec3(0.0, vertical * tooth.Half.z, 0.0));
       }
     }
     out.push_back(tooth.Center - dvec3(0.0, tooth.Half.z, 0.0));
@@ -1432,15 +1458,16 @@ Part MakeTongue()
     for (int a = 0; a < TongueAround; ++a)
     {
       const int a1 = (a + 1) % TongueAround;
-      AddQuad(prim.Triangles, r * TongueAround + a, r * TongueAround + a1, (r + 1) * TongueAround + a1,
-        (r + 1) * TongueAround + a);
+      AddQuad(prim.Triangles, r * TongueAround + a, r * TongueAround + a1,
+        (r + 1) * TongueAround + a1, (r + 1) * TongueAround + a);
     }
   }
   for (int a = 0; a < TongueAround; ++a)
   {
     const int a1 = (a + 1) % TongueAround;
     AddTriangle(prim.Triangles, a, tip, a1);
-    AddTriangle(prim.Triangles, (TongueRings - 1) * TongueAround + a, (TongueRings - 1) * TongueAround + a1, back);
+    AddTriangle(prim.Triangles, (TongueRings - 1) * TongueAround + a,
+      (TongueRings - 1) * TongueAround + a1, back);
   }
   part.Primitives.push_back(prim);
   return part;
@@ -1463,7 +1490,8 @@ std::vector<dvec3> PlaceTongue(const Pose& pose)
 {
   std::vector<dvec3> out(static_cast<size_t>(TongueRings) * TongueAround + 2);
   const dvec3 pivot = JawPivot();
-  auto place = [&](dvec3 p, double u) {
+  auto place = [&](dvec3 p, double u)
+  {
     // L: the front third curls up toward the upper teeth (before the jaw opens it).
     if (pose.TongueTipUp != 0.0)
     {
@@ -1489,7 +1517,8 @@ std::vector<dvec3> PlaceTongue(const Pose& pose)
       // Flat below, domed above with a shallow groove along the middle.
       double y = cy > 0.0 ? hh * std::pow(cy, 0.7) : 0.6 * hh * SignedPow(cy, 0.5);
       y -= cy > 0.0 ? 0.0012 * Bump(std::abs(cx) / 0.4) * Clamp01(u / 0.2) : 0.0;
-      out[static_cast<size_t>(r) * TongueAround + a] = place(c + dvec3(hw * SignedPow(cx, 0.8), y, 0.0), u);
+      out[static_cast<size_t>(r) * TongueAround + a] =
+        place(c + dvec3(hw * SignedPow(cx, 0.8), y, 0.0), u);
     }
   }
   dvec3 c;
@@ -1589,7 +1618,8 @@ std::vector<dvec3> PlaceEye(const dvec3& center)
     for (int a = 0; a < EyeAround; ++a)
     {
       const double phi = 2.0 * Pi * a / EyeAround;
-      dvec3 p = r * dvec3(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta));
+      dvec3 p = r *
+        dvec3(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta));
       if (theta < IrisAngle)
       {
         // Flatten toward the plane of the iris edge (a third of the way).
@@ -1598,7 +1628,8 @@ std::vector<dvec3> PlaceEye(const dvec3& center)
       out[static_cast<size_t>(ring - 1) * EyeAround + a] = p;
     }
   }
-  out[static_cast<size_t>(rings) * EyeAround] = dvec3(0.0, 0.0, irisDepth + 0.45 * (r - irisDepth) + (r - irisDepth - 0.45 * (r - irisDepth)) * 0.45);
+  out[static_cast<size_t>(rings) * EyeAround] = dvec3(
+    0.0, 0.0, irisDepth + 0.45 * (r - irisDepth) + (r - irisDepth - 0.45 * (r - irisDepth)) * 0.45);
   out[static_cast<size_t>(rings) * EyeAround + 1] = dvec3(0.0, 0.0, -r);
   for (dvec3& p : out)
   {
@@ -1633,7 +1664,8 @@ std::array<LashEdge, 2> LashEdges(const Head& head)
     {
       const int c = cols[k];
       const bool corner = k == 0 || k + 1 == cols.size();
-      edges[e].Edge.push_back(corner ? head.SkinIndex[head.EyeRow][c] : head.SkinUpperIndex[head.EyeRow][c]);
+      edges[e].Edge.push_back(
+        corner ? head.SkinIndex[head.EyeRow][c] : head.SkinUpperIndex[head.EyeRow][c]);
       edges[e].Above.push_back(head.SkinIndex[head.EyeRow + 1][c]);
     }
   }
@@ -1690,13 +1722,14 @@ std::vector<dvec3> PlaceLashes(const Head& head, const HeadPose& hp)
         const double s = static_cast<double>(i) / (along - 1); // corner to corner
         // Longest a little outside the middle, short at the corners.
         const double outer = base[0].x < 0.0 ? 1.0 - s : s; // 1 at the outer corner
-        const double length = 0.0024 * std::pow(std::sin(Pi * Clamp01(0.04 + 0.92 * s)), 0.6) * (0.75 + 0.4 * outer) *
-          SmoothStep(0.12, 0.35, outer);
+        const double length = 0.0024 * std::pow(std::sin(Pi * Clamp01(0.04 + 0.92 * s)), 0.6) *
+          (0.75 + 0.4 * outer) * SmoothStep(0.12, 0.35, outer);
         const dvec3 out0 = Normalized(base[i] - center); // out of the eyeball
         const dvec3 dir = Normalized(out0 + 0.35 * up[i]);
         const double t = static_cast<double>(r) / (LashRows - 1);
         // Grows outward, then curls up along the lid.
-        out.push_back(base[i] + out0 * 0.0003 + dir * (length * t) + up[i] * (0.0012 * t * t) * (length / 0.0024));
+        out.push_back(base[i] + out0 * 0.0003 + dir * (length * t) +
+          up[i] * (0.0012 * t * t) * (length / 0.0024));
       }
     }
   }
@@ -1741,7 +1774,8 @@ std::vector<dvec3> PlaceBrows(const Pose& pose)
       const double u = static_cast<double>(i) / (BrowAlong - 1); // inner head .. outer tail
       const double x = sign * (EyeCenterX - 0.0205 + 0.0445 * u);
       // An arch peaking two thirds along, the tail dropping.
-      const double centerY = EyeY + 0.0215 + 0.0045 * std::sin(Pi * std::pow(u, 0.8)) - 0.0025 * u * u;
+      const double centerY =
+        EyeY + 0.0215 + 0.0045 * std::sin(Pi * std::pow(u, 0.8)) - 0.0025 * u * u;
       const double halfHeight = 0.0026 * (1.0 - 0.55 * std::pow(u, 1.5)) + 0.0004;
       for (int j = 0; j < BrowAcross; ++j)
       {
@@ -1800,7 +1834,8 @@ std::vector<dvec3> PlaceEars()
   {
     dvec3 center, back, outward;
     EarFrame(side, center, back, outward);
-    auto point = [&](double rho, double theta, bool frontFace) {
+    auto point = [&](double rho, double theta, bool frontFace)
+    {
       const double u = rho * std::cos(theta); // -1 front .. +1 back
       const double v = rho * std::sin(theta); // -1 lobe .. +1 top
       double w;
@@ -1816,7 +1851,8 @@ std::vector<dvec3> PlaceEars()
         w = -0.0030 * std::sqrt(std::max(0.0, 1.0 - rho * rho));
       }
       const double halfWidth = EarHalfWidth * (1.0 + 0.18 * v);
-      return center + back * (halfWidth * u) + dvec3(0.0, EarY + EarHalfHeight * v, 0.0) + outward * w;
+      return center + back * (halfWidth * u) + dvec3(0.0, EarY + EarHalfHeight * v, 0.0) +
+        outward * w;
     };
     out.push_back(point(0.0, 0.0, true));
     for (int k = 1; k <= EarRings; ++k)
@@ -1830,7 +1866,8 @@ std::vector<dvec3> PlaceEars()
     {
       for (int a = 0; a < EarAround; ++a)
       {
-        out.push_back(point(1.0 - static_cast<double>(k) / EarRings, 2.0 * Pi * a / EarAround, false));
+        out.push_back(
+          point(1.0 - static_cast<double>(k) / EarRings, 2.0 * Pi * a / EarAround, false));
       }
     }
     out.push_back(point(0.0, 0.0, false));
@@ -1861,7 +1898,8 @@ Part MakeEars()
     {
       for (int a = 0; a < EarAround; ++a)
       {
-        AddQuad(ring < EarRings ? front : rear, at(ring, a), at(ring + 1, a), at(ring + 1, a + 1), at(ring, a + 1));
+        AddQuad(ring < EarRings ? front : rear, at(ring, a), at(ring + 1, a), at(ring + 1, a + 1),
+          at(ring, a + 1));
       }
     }
     dvec3 center, back, outward;
@@ -1886,10 +1924,10 @@ constexpr int HairRows = 14;
 /// Height of the hairline at a column angle (0 = front).
 double Hairline(double angle)
 {
-  static const Curve line{ { 0.00, 0.093 }, { 0.40, 0.091 }, { 0.70, 0.085 }, { 0.90, 0.079 }, { 1.05, 0.070 },
-    { 1.20, 0.060 }, { 1.30, 0.042 }, { 1.38, 0.018 }, { 1.45, 0.004 }, { 1.52, 0.006 }, { 1.56, 0.030 },
-    { 1.62, 0.044 }, { 1.75, 0.047 }, { 1.86, 0.042 }, { 1.95, 0.018 }, { 2.05, -0.016 }, { 2.30, -0.040 },
-    { 2.70, -0.050 }, { Pi, -0.054 } };
+  static const Curve line{ { 0.00, 0.093 }, { 0.40, 0.091 }, { 0.70, 0.085 }, { 0.90, 0.079 },
+    { 1.05, 0.070 }, { 1.20, 0.060 }, { 1.30, 0.042 }, { 1.38, 0.018 }, { 1.45, 0.004 },
+    { 1.52, 0.006 }, { 1.56, 0.030 }, { 1.62, 0.044 }, { 1.75, 0.047 }, { 1.86, 0.042 },
+    { 1.95, 0.018 }, { 2.05, -0.016 }, { 2.30, -0.040 }, { 2.70, -0.050 }, { Pi, -0.054 } };
   return line(std::abs(angle));
 }
 
@@ -1905,13 +1943,15 @@ Part MakeHair()
     for (int a = 0; a < HairAround; ++a)
     {
       const int a1 = (a + 1) % HairAround;
-      AddQuad(prim.Triangles, r * HairAround + a, r * HairAround + a1, (r + 1) * HairAround + a1, (r + 1) * HairAround + a);
+      AddQuad(prim.Triangles, r * HairAround + a, r * HairAround + a1, (r + 1) * HairAround + a1,
+        (r + 1) * HairAround + a);
     }
   }
   const int crown = (HairRows + 1) * HairAround;
   for (int a = 0; a < HairAround; ++a)
   {
-    AddTriangle(prim.Triangles, HairRows * HairAround + a, HairRows * HairAround + (a + 1) % HairAround, crown);
+    AddTriangle(prim.Triangles, HairRows * HairAround + a,
+      HairRows * HairAround + (a + 1) % HairAround, crown);
   }
   part.Primitives.push_back(prim);
   return part;
@@ -1932,7 +1972,8 @@ std::vector<dvec3> PlaceHair(const Pose& pose)
       const dvec3 p = SkinPoint(y, angle, Side::None, false, pose);
       const dvec3 n = SkinNormal(y, angle, pose);
       // Thin at the hairline, fuller on top and at the back.
-      const double thickness = r == 0 ? 0.0002 : 0.0012 + 0.0048 * SmoothStep(0.0, 0.5, v) + 0.0015 * v;
+      const double thickness =
+        r == 0 ? 0.0002 : 0.0012 + 0.0048 * SmoothStep(0.0, 0.5, v) + 0.0015 * v;
       out[static_cast<size_t>(r) * HairAround + a] = p + n * thickness;
     }
   }
@@ -2038,8 +2079,8 @@ std::vector<std::vector<dvec3>> PlaceScene(const Scene& scene, const Pose& pose)
     }
     if (out.back().size() != part.VertexCount)
     {
-      std::cerr << "GenerateDefaultFace: internal error, " << part.Name << " has " << out.back().size()
-                << " positions for " << part.VertexCount << " vertices\n";
+      std::cerr << "GenerateDefaultFace: internal error, " << part.Name << " has "
+                << out.back().size() << " positions for " << part.VertexCount << " vertices\n";
       std::exit(1);
     }
   }
@@ -2059,21 +2100,22 @@ void OrientParts(Scene& scene, const std::vector<std::vector<dvec3>>& neutral)
       // Faces inward: its normals point toward the mouth's axis.
       for (auto& prim : part.Primitives)
       {
-        OrientOutward(prim.Triangles, p, [](const dvec3& c) {
-          return dvec3(c.x * 1.6, MouthY + (c.y - MouthY) * 1.6, c.z);
-        });
+        OrientOutward(prim.Triangles, p,
+          [](const dvec3& c) { return dvec3(c.x * 1.6, MouthY + (c.y - MouthY) * 1.6, c.z); });
       }
     }
     else if (part.Name == "Tongue")
     {
       for (auto& prim : part.Primitives)
       {
-        OrientOutward(prim.Triangles, p, [](const dvec3& c) {
-          dvec3 center;
-          double hw, hh;
-          TongueSection(0.5, center, hw, hh);
-          return dvec3(0.0, center.y, c.z);
-        });
+        OrientOutward(prim.Triangles, p,
+          [](const dvec3& c)
+          {
+            dvec3 center;
+            double hw, hh;
+            TongueSection(0.5, center, hw, hh);
+            return dvec3(0.0, center.y, c.z);
+          });
       }
     }
     else if (part.Name == "EyeLeft" || part.Name == "EyeRight")
@@ -2089,7 +2131,8 @@ void OrientParts(Scene& scene, const std::vector<std::vector<dvec3>>& neutral)
       // Away from the head's centre.
       for (auto& prim : part.Primitives)
       {
-        OrientOutward(prim.Triangles, p, [](const dvec3& c) { return dvec3(0.0, std::min(c.y, 0.03), -0.005); });
+        OrientOutward(prim.Triangles, p,
+          [](const dvec3& c) { return dvec3(0.0, std::min(c.y, 0.03), -0.005); });
       }
     }
   }
@@ -2123,7 +2166,8 @@ std::vector<float> ComputeNormals(const std::vector<float>& positions, const Par
 {
   const size_t n = positions.size() / 3;
   std::vector<dvec3> sum(n, dvec3(0.0));
-  auto at = [&](uint32_t i) { return dvec3(positions[3 * i], positions[3 * i + 1], positions[3 * i + 2]); };
+  auto at = [&](uint32_t i)
+  { return dvec3(positions[3 * i], positions[3 * i + 1], positions[3 * i + 2]); };
   for (const Primitive& prim : part.Primitives)
   {
     for (size_t t = 0; t < prim.Triangles.size(); t += 3)
@@ -2180,7 +2224,8 @@ struct BinaryBuilder
     return static_cast<int>(this->BufferViews.size()) - 1;
   }
 
-  static void Bounds(const std::vector<float>& values, size_t width, nlohmann::ordered_json& accessor)
+  static void Bounds(
+    const std::vector<float>& values, size_t width, nlohmann::ordered_json& accessor)
   {
     std::vector<float> lo(values.begin(), values.begin() + width), hi = lo;
     for (size_t i = 0; i < values.size(); ++i)
@@ -2211,7 +2256,8 @@ struct BinaryBuilder
 
   /// A morph target attribute: sparse over the shared zero view (only the moved
   /// vertices stored), or the zero view alone when nothing moves.
-  int AddDelta(const std::vector<float>& deltas, const std::vector<uint32_t>& moved, bool withBounds)
+  int AddDelta(
+    const std::vector<float>& deltas, const std::vector<uint32_t>& moved, bool withBounds)
   {
     const size_t count = deltas.size() / 3;
     nlohmann::ordered_json accessor;
@@ -2245,7 +2291,9 @@ struct BinaryBuilder
       }
       const int valueView = this->AddView(values.data(), values.size() * sizeof(float), 0);
       accessor["sparse"] = { { "count", moved.size() },
-        { "indices", { { "bufferView", indexView }, { "byteOffset", 0 }, { "componentType", shortIndices ? 5123 : 5125 } } },
+        { "indices",
+          { { "bufferView", indexView }, { "byteOffset", 0 },
+            { "componentType", shortIndices ? 5123 : 5125 } } },
         { "values", { { "bufferView", valueView }, { "byteOffset", 0 } } } };
     }
     this->Accessors.push_back(accessor);
@@ -2268,7 +2316,8 @@ struct BinaryBuilder
       accessor["componentType"] = 5125;
     }
     accessor = nlohmann::ordered_json{ { "bufferView", view }, { "byteOffset", 0 },
-      { "componentType", accessor["componentType"] }, { "count", indices.size() }, { "type", "SCALAR" } };
+      { "componentType", accessor["componentType"] }, { "count", indices.size() },
+      { "type", "SCALAR" } };
     this->Accessors.push_back(accessor);
     return static_cast<int>(this->Accessors.size()) - 1;
   }
@@ -2337,7 +2386,8 @@ Subset MakeSubset(const Primitive& prim, size_t partVertices)
   return subset;
 }
 
-std::vector<float> Gather(const std::vector<float>& values, const std::vector<uint32_t>& vertices, size_t width)
+std::vector<float> Gather(
+  const std::vector<float>& values, const std::vector<uint32_t>& vertices, size_t width)
 {
   std::vector<float> out;
   out.reserve(vertices.size() * width);
@@ -2421,8 +2471,10 @@ int main(int argc, char* argv[])
       partVertices += count;
       partTriangles += subset.Triangles.size() / 3;
       nlohmann::ordered_json attributes;
-      attributes["POSITION"] = bin.AddFloats(Gather(neutral.Position, subset.Vertices, 3), "VEC3", 3, true);
-      attributes["NORMAL"] = bin.AddFloats(Gather(neutral.Normal, subset.Vertices, 3), "VEC3", 3, false);
+      attributes["POSITION"] =
+        bin.AddFloats(Gather(neutral.Position, subset.Vertices, 3), "VEC3", 3, true);
+      attributes["NORMAL"] =
+        bin.AddFloats(Gather(neutral.Normal, subset.Vertices, 3), "VEC3", 3, false);
       if (!part.Colors.empty())
       {
         std::vector<float> colors;
@@ -2462,8 +2514,8 @@ int main(int argc, char* argv[])
             {
               moved.push_back(static_cast<uint32_t>(k));
             }
-            distMorph[t] += std::sqrt(double(dp[3 * k]) * dp[3 * k] + double(dp[3 * k + 1]) * dp[3 * k + 1] +
-              double(dp[3 * k + 2]) * dp[3 * k + 2]);
+            distMorph[t] += std::sqrt(double(dp[3 * k]) * dp[3 * k] +
+              double(dp[3 * k + 1]) * dp[3 * k + 1] + double(dp[3 * k + 2]) * dp[3 * k + 2]);
           }
           nlohmann::ordered_json attributesT;
           attributesT["POSITION"] = bin.AddDelta(dp, moved, true);
@@ -2506,8 +2558,8 @@ int main(int argc, char* argv[])
     {
       names += std::string(names.empty() ? "" : " ") + targets[t].Name;
     }
-    std::printf("%-14s %10zu %9zu %8zu  %s\n", part.Name.c_str(), part.Primitives.size(), partVertices,
-      partTriangles, part.Rigid ? "(none: rotated for gaze)" : names.c_str());
+    std::printf("%-14s %10zu %9zu %8zu  %s\n", part.Name.c_str(), part.Primitives.size(),
+      partVertices, partTriangles, part.Rigid ? "(none: rotated for gaze)" : names.c_str());
   }
 
   nlohmann::ordered_json materials = nlohmann::ordered_json::array();
@@ -2533,7 +2585,8 @@ int main(int argc, char* argv[])
   gltf["asset"] = { { "version", "2.0" },
     { "generator", "MorphNode GenerateDefaultFace (Data/DefaultFace/generator)" } };
   gltf["scene"] = 0;
-  gltf["scenes"] = nlohmann::ordered_json::array({ { { "name", "DefaultHead" }, { "nodes", { 0 } } } });
+  gltf["scenes"] =
+    nlohmann::ordered_json::array({ { { "name", "DefaultHead" }, { "nodes", { 0 } } } });
   gltf["nodes"] = nodes;
   gltf["meshes"] = meshes;
   gltf["materials"] = materials;

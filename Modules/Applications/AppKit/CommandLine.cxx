@@ -77,7 +77,8 @@ void FailUsage(const CLI::App& app, const std::string& message)
 CLI::Validator NumberIn(double lo, double hi)
 {
   return CLI::Validator(
-    [lo, hi](std::string& value) -> std::string {
+    [lo, hi](std::string& value) -> std::string
+    {
       double v = 0.0;
       if (!text::ParseNumber(value, v))
       {
@@ -85,7 +86,8 @@ CLI::Validator NumberIn(double lo, double hi)
       }
       if (v < lo || v > hi)
       {
-        return "must be in [" + text::FormatNumber(lo) + ", " + text::FormatNumber(hi) + "], got " + value;
+        return "must be in [" + text::FormatNumber(lo) + ", " + text::FormatNumber(hi) + "], got " +
+          value;
       }
       return std::string();
     },
@@ -95,7 +97,8 @@ CLI::Validator NumberIn(double lo, double hi)
 CLI::Validator UnsignedInteger()
 {
   return CLI::Validator(
-    [](std::string& value) -> std::string {
+    [](std::string& value) -> std::string
+    {
       unsigned long long v = 0;
       if (!text::ParseNumber(value, v))
       {
@@ -122,7 +125,8 @@ CLI::Option* AddSizeOption(CLI::App& app, const std::string& name, int& width, i
   const std::string& help, int lo, int hi)
 {
   CLI::Validator size(
-    [lo, hi](std::string& s) -> std::string {
+    [lo, hi](std::string& s) -> std::string
+    {
       int w = 0, h = 0;
       if (!ParseSize(s, w, h) || w < lo || h < lo || w > hi || h > hi)
       {
@@ -151,7 +155,8 @@ CLI::Option* AddNumberListOption(CLI::App& app, const std::string& name,
   return app
     .add_option_function<std::vector<std::string>>(
       name,
-      [&values](const std::vector<std::string>& items) {
+      [&values](const std::vector<std::string>& items)
+      {
         values.clear();
         for (const auto& item : items)
         {
@@ -171,7 +176,8 @@ CLI::Option* AddOptimizerPresetOption(
   CLI::App& app, const std::string& name, OptimizerPreset& preset, const std::string& help)
 {
   CLI::Validator known(
-    [](std::string& s) -> std::string {
+    [](std::string& s) -> std::string
+    {
       try
       {
         ParseOptimizerPreset(s);

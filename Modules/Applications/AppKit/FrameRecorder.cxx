@@ -121,7 +121,7 @@ void FrameRecorder::Finish(const std::function<bool(const std::string&)>& writeS
   if (!this->Folder.empty())
   {
     *this->Log << "wrote " << this->Frames << " frames to " << this->Folder << "/frame_*.png at "
-              << this->Fps << " fps\n";
+               << this->Fps << " fps\n";
   }
   if (!this->VideoStarted)
   {
@@ -140,16 +140,16 @@ void FrameRecorder::Finish(const std::function<bool(const std::string&)>& writeS
   if (!HasProgram("ffmpeg"))
   {
     *this->Log << "ffmpeg is not on PATH: no video with sound; kept the silent " << this->Ogv
-              << " and " << this->Wav << " (mux them with: ffmpeg " << mux << " "
-              << ShellQuote(this->Muxed) << ")\n";
+               << " and " << this->Wav << " (mux them with: ffmpeg " << mux << " "
+               << ShellQuote(this->Muxed) << ")\n";
     return;
   }
   const std::string command =
     "ffmpeg -y -loglevel error " + mux + " -b:a 128k -shortest " + ShellQuote(this->Muxed);
   if (std::system(command.c_str()) != 0)
   {
-    throw std::runtime_error("ffmpeg could not mux " + this->Muxed + " (kept " + this->Ogv +
-      " and " + this->Wav + ")");
+    throw std::runtime_error(
+      "ffmpeg could not mux " + this->Muxed + " (kept " + this->Ogv + " and " + this->Wav + ")");
   }
   *this->Log << "wrote " << this->Muxed << " (video with sound)\n";
 }

@@ -7,7 +7,8 @@ namespace morphnode
 {
 namespace appkit
 {
-void FramingBox(const double head[6], const double all[6], const std::string& framing, double box[6])
+void FramingBox(
+  const double head[6], const double all[6], const std::string& framing, double box[6])
 {
   const double h = head[3] - head[2];
   const double w = std::max(head[1] - head[0], 0.75 * h);
@@ -15,7 +16,8 @@ void FramingBox(const double head[6], const double all[6], const std::string& fr
   if (framing == "body")
   {
     const double height = all[3] - all[2];
-    const double b[6] = { all[0], all[1], all[2] - 0.2 * height, all[3] + 0.18 * height, all[4], all[5] };
+    const double b[6] = { all[0], all[1], all[2] - 0.2 * height, all[3] + 0.18 * height, all[4],
+      all[5] };
     std::copy(b, b + 6, box);
     return;
   }

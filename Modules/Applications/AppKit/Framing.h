@@ -16,6 +16,7 @@ namespace appkit
 /// GetHeadBounds) has bounds `head`, and whose whole body has bounds `all`. SetUpView drops
 /// the lowest 15 % of the box (neck, chest or the margin under the feet) and puts the top a
 /// little under the frame's top, clear of the overlay in the top left corner.
-void FramingBox(const double head[6], const double all[6], const std::string& framing, double box[6]);
+void FramingBox(
+  const double head[6], const double all[6], const std::string& framing, double box[6]);
 } // namespace appkit
 } // namespace morphnode

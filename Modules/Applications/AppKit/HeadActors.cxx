@@ -10,6 +10,7 @@
 #include "vtkCompositeDataSetRange.h"
 #include "vtkDataArray.h"
 #include "vtkFieldData.h"
+#include "vtkImageData.h"
 #include "vtkLightKit.h"
 #include "vtkLinearTransform.h"
 #include "vtkMath.h"
@@ -25,14 +26,13 @@
 #include "vtkRenderWindow.h"
 #include "vtkRenderer.h"
 #include "vtkScalarsToColors.h"
-#include "vtkImageData.h"
 #include "vtkTexture.h"
 #include "vtkUnsignedCharArray.h"
 
 #include <algorithm>
-#include <cstdlib>
 #include <array>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 #include <map>
 #include <tuple>
@@ -67,7 +67,8 @@ std::array<double, 4> PartColor(vtkPolyData* part)
 }
 
 /// COLOR_0 times the base colour, as RGB bytes; null when the part has no COLOR_0.
-vtkSmartPointer<vtkUnsignedCharArray> PointColors(vtkPolyData* part, const std::array<double, 4>& base)
+vtkSmartPointer<vtkUnsignedCharArray> PointColors(
+  vtkPolyData* part, const std::array<double, 4>& base)
 {
   vtkDataArray* color = part->GetPointData()->GetArray("COLOR_0");
   if (!color || color->GetNumberOfComponents() < 3 ||
@@ -86,7 +87,8 @@ vtkSmartPointer<vtkUnsignedCharArray> PointColors(vtkPolyData* part, const std::
     for (int k = 0; k < 3; ++k)
     {
       const double v = color->GetComponent(i, k) * scale * base[k];
-      rgb->SetValue(3 * i + k, static_cast<unsigned char>(std::lround(std::clamp(v, 0.0, 1.0) * 255.0)));
+      rgb->SetValue(
+        3 * i + k, static_cast<unsigned char>(std::lround(std::clamp(v, 0.0, 1.0) * 255.0)));
     }
   }
   return rgb;
@@ -96,7 +98,8 @@ vtkSmartPointer<vtkUnsignedCharArray> PointColors(vtkPolyData* part, const std::
 double FieldNumber(vtkPolyData* part, const std::string& name, size_t component, double fallback)
 {
   const std::vector<double> values = partdata::GetNumbers(part->GetFieldData(), name.c_str());
-  return component < values.size() && std::isfinite(values[component]) ? values[component] : fallback;
+  return component < values.size() && std::isfinite(values[component]) ? values[component]
+                                                                       : fallback;
 }
 
 std::string FieldString(vtkPolyData* part, const char* name)
@@ -113,10 +116,11 @@ std::string FieldString(vtkPolyData* part, const char* name)
 vtkSmartPointer<vtkTexture> PartTexture(vtkPolyData* part, const std::string& name, bool srgb,
   const std::string& mode = "BLEND", double cutoff = 0.5, double factor = 1.0)
 {
-  auto* pixels =
-    vtkUnsignedCharArray::SafeDownCast(part->GetFieldData()->GetArray(partdata::ImageArray(name).c_str()));
+  auto* pixels = vtkUnsignedCharArray::SafeDownCast(
+    part->GetFieldData()->GetArray(partdata::ImageArray(name).c_str()));
   // Sizes from field data another pipeline may have set: within int before the cast.
-  auto size = [&](size_t k) {
+  auto size = [&](size_t k)
+  {
     const double v = FieldNumber(part, partdata::ImageSizeArray(name), k, 0);
     return v >= 1 && v <= 65536 ? static_cast<int>(v) : 0;
   };
@@ -141,14 +145,16 @@ vtkSmartPointer<vtkTexture> PartTexture(vtkPolyData* part, const std::string& na
     if (components == 4)
     {
       const double alpha = in[4 * i + 3] / 255.0 * factor;
-      out[4 * i + 3] = mode == "MASK" ? (alpha >= cutoff ? 255 : 0)
-                                      : static_cast<unsigned char>(std::lround(std::clamp(alpha, 0.0, 1.0) * 255));
+      out[4 * i + 3] = mode == "MASK"
+        ? (alpha >= cutoff ? 255 : 0)
+        : static_cast<unsigned char>(std::lround(std::clamp(alpha, 0.0, 1.0) * 255));
     }
   }
   auto texture = vtkSmartPointer<vtkTexture>::New();
   texture->SetInputData(image);
   texture->SetUseSRGBColorSpace(srgb);
-  auto sampler = [&](size_t k, double fallback) {
+  auto sampler = [&](size_t k, double fallback)
+  {
     const double v = FieldNumber(part, partdata::SamplerArray(name), k, fallback);
     return v >= 0 && v <= 65535 ? static_cast<int>(v) : static_cast<int>(fallback);
   };
@@ -174,7 +180,8 @@ vtkSmartPointer<vtkTexture> OrmTexture(vtkPolyData* part)
   }
   vtkSmartPointer<vtkTexture> orm = mr ? mr : occlusion;
   auto* image = vtkImageData::SafeDownCast(orm->GetInputDataObject(0, 0));
-  auto* other = occlusion && mr ? vtkImageData::SafeDownCast(occlusion->GetInputDataObject(0, 0)) : nullptr;
+  auto* other =
+    occlusion && mr ? vtkImageData::SafeDownCast(occlusion->GetInputDataObject(0, 0)) : nullptr;
   int dims[3], otherDims[3] = { 0, 0, 0 };
   image->GetDimensions(dims);
   if (other)
@@ -210,9 +217,10 @@ vtkSmartPointer<vtkTexture> OrmTexture(vtkPolyData* part)
 /// and the shader orthogonalizes the tangent against the current normal.
 vtkSmartPointer<vtkDataArray> PartTangents(vtkPolyData* part)
 {
-  if (!part->GetFieldData()->GetArray(partdata::ImageArray(partdata::NormalSlot).c_str()) || !part->GetPointData()->GetTCoords() ||
-    !part->GetPointData()->GetNormals() || part->GetNumberOfPolys() == 0 ||
-    part->GetPolys()->GetMaxCellSize() != 3 || part->GetNumberOfStrips() > 0)
+  if (!part->GetFieldData()->GetArray(partdata::ImageArray(partdata::NormalSlot).c_str()) ||
+    !part->GetPointData()->GetTCoords() || !part->GetPointData()->GetNormals() ||
+    part->GetNumberOfPolys() == 0 || part->GetPolys()->GetMaxCellSize() != 3 ||
+    part->GetNumberOfStrips() > 0)
   {
     return nullptr;
   }
@@ -236,7 +244,8 @@ vtkSmartPointer<vtkDataArray> PartTangents(vtkPolyData* part)
 /// (factors, and the ORM texture), normal and emissive textures, alpha modes, back faces
 /// culled unless double-sided, unlit as flat ambient colour. False when the part has no
 /// material fields (the classic look stays).
-bool ApplyMaterial(vtkPolyData* part, vtkActor* actor, const std::array<double, 4>& color, bool tangents)
+bool ApplyMaterial(
+  vtkPolyData* part, vtkActor* actor, const std::array<double, 4>& color, bool tangents)
 {
   vtkProperty* property = actor->GetProperty();
   if (!part->GetFieldData()->GetArray(partdata::MetallicFactorArray))
@@ -251,15 +260,16 @@ bool ApplyMaterial(vtkPolyData* part, vtkActor* actor, const std::array<double, 
   property->SetMetallic(FieldNumber(part, partdata::MetallicFactorArray, 0, 1.0));
   property->SetRoughness(FieldNumber(part, partdata::RoughnessFactorArray, 0, 1.0));
   property->SetEmissiveFactor(FieldNumber(part, partdata::EmissiveFactorArray, 0, 0),
-    FieldNumber(part, partdata::EmissiveFactorArray, 1, 0), FieldNumber(part, partdata::EmissiveFactorArray, 2, 0));
+    FieldNumber(part, partdata::EmissiveFactorArray, 1, 0),
+    FieldNumber(part, partdata::EmissiveFactorArray, 2, 0));
   property->SetBackfaceCulling(FieldNumber(part, partdata::DoubleSidedArray, 0, 0) == 0);
 
   // Opacity: BLEND takes the factor's alpha; MASK and OPAQUE draw whole where they draw.
   property->SetOpacity(mode == "BLEND" ? color[3] : 1.0);
   if (textured)
   {
-    if (auto base = PartTexture(part, partdata::BaseColorSlot, true, mode.empty() ? "OPAQUE" : mode, cutoff,
-          mode == "BLEND" ? 1.0 : color[3]))
+    if (auto base = PartTexture(part, partdata::BaseColorSlot, true, mode.empty() ? "OPAQUE" : mode,
+          cutoff, mode == "BLEND" ? 1.0 : color[3]))
     {
       property->SetBaseColorTexture(base);
     }
@@ -309,14 +319,16 @@ struct HeadActors::Part
   vtkNew<vtkPolyDataMapper> Mapper;
   vtkNew<vtkActor> Actor;
   vtkSmartPointer<vtkUnsignedCharArray> Colors; // COLOR_0 x BaseColor, or null
-  vtkSmartPointer<vtkDataArray> Tangents; // for a normal texture (PartTangents), or null
+  vtkSmartPointer<vtkDataArray> Tangents;       // for a normal texture (PartTangents), or null
   vtkIdType Points = 0;
   std::string Name;
   std::array<double, 4> Color = { 1, 1, 1, 1 };
   /// A morph filter's mesh levels (point data OriginalPointId, docs/lod.md): the part's
   /// point count changes with its level; its colours and tangents per level, made at the
   /// level's first frame.
-  std::map<vtkIdType, std::pair<vtkSmartPointer<vtkUnsignedCharArray>, vtkSmartPointer<vtkDataArray>>> ByLevel;
+  std::map<vtkIdType,
+    std::pair<vtkSmartPointer<vtkUnsignedCharArray>, vtkSmartPointer<vtkDataArray>>>
+    ByLevel;
 
   void Take(vtkPolyData* part)
   {
@@ -650,16 +662,16 @@ void HeadActors::SetUpView(vtkRenderer* renderer, const double bounds[6], double
   const double height = 1.12 * (b[3] - bottom);
   const double center[3] = { 0.5 * (b[0] + b[1]), 0.5 * (bottom + b[3]) + 0.04 * height,
     0.5 * (b[4] + b[5]) };
-  const double distance = 0.5 * height / std::tan(vtkMath::RadiansFromDegrees(15.0)) /
-    (zoom > 0.0 ? zoom : 1.0);
+  const double distance =
+    0.5 * height / std::tan(vtkMath::RadiansFromDegrees(15.0)) / (zoom > 0.0 ? zoom : 1.0);
   vtkCamera* camera = renderer->GetActiveCamera();
   camera->SetFocalPoint(center);
   camera->SetPosition(center[0], center[1], b[5] + distance); // the height fits at the front
   camera->SetViewUp(0.0, 1.0, 0.0);
   camera->SetViewAngle(30.0);
   // Far enough for a head turned by the pose (the diagonal all round).
-  const double d = std::sqrt((b[1] - b[0]) * (b[1] - b[0]) + (b[3] - b[2]) * (b[3] - b[2]) +
-    (b[5] - b[4]) * (b[5] - b[4]));
+  const double d = std::sqrt(
+    (b[1] - b[0]) * (b[1] - b[0]) + (b[3] - b[2]) * (b[3] - b[2]) + (b[5] - b[4]) * (b[5] - b[4]));
   renderer->ResetCameraClippingRange(b[0] - d, b[1] + d, b[2] - d, b[3] + d, b[4] - d, b[5] + d);
   // Smooth edges without multisampling (offscreen under Xvfb too); FXAA on a multisampled
   // window renders black there, so only on a window without it.

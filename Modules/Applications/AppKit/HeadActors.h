@@ -9,7 +9,8 @@
 /// vtkMorphTargetReader (docs/materials.md) is drawn with VTK's PBR: base colour texture
 /// (sRGB), metallic-roughness, emissive, alpha modes (MASK as a 0/1 alpha at the cutoff,
 /// BLEND translucent, both drawn after the opaque parts by depth peeling), back faces
-/// culled unless double-sided, unlit; SetUpView lights it with an environment made here. One transform (the head pose) moves every part.
+/// culled unless double-sided, unlit; SetUpView lights it with an environment made here. One
+/// transform (the head pose) moves every part.
 ///
 /// Why one actor per part and not vtkCompositePolyDataMapper2: VTK 9.1's composite display
 /// attributes set a colour, an opacity and a visibility per block, but not a material

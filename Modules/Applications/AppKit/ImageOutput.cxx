@@ -46,7 +46,8 @@ void WritePng(vtkRenderWindow* window, const std::string& file)
   writer->Write();
   if (writer->GetErrorCode() != 0)
   {
-    throw std::runtime_error("cannot write the image '" + file + "' (the disk is full or the folder not writable); the old file, if any, is unchanged");
+    throw std::runtime_error("cannot write the image '" + file +
+      "' (the disk is full or the folder not writable); the old file, if any, is unchanged");
   }
   out.Commit();
 }

@@ -14,9 +14,9 @@
 #include "vtkMultiBlockDataSet.h"
 #include "vtkNew.h"
 #include "vtkPolyData.h"
+#include "vtkSmartPointer.h"
 #include "vtkStringArray.h"
 #include "vtkTable.h"
-#include "vtkSmartPointer.h"
 #include "vtkXMLMultiBlockDataWriter.h"
 #include "vtkXMLPolyDataWriter.h"
 
@@ -24,9 +24,9 @@
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
-#include <sstream>
 #include <iostream>
 #include <locale>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 
@@ -70,7 +70,8 @@ void TimeSeriesWriter::Write(vtkDataObject* face, vtkTable* weights, double t)
   time->SetName("TimeValue");
   time->InsertNextValue(t);
   step->AddArray(time);
-  auto withStep = [&step](vtkPolyData* part) {
+  auto withStep = [&step](vtkPolyData* part)
+  {
     auto copy = vtkSmartPointer<vtkPolyData>::New();
     copy->ShallowCopy(part);
     vtkNew<vtkFieldData> fieldData;

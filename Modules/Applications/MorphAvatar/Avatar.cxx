@@ -12,16 +12,16 @@
 #include "speech/Speech.h"
 
 #include "vtkCamera.h"
-#include "vtkInformation.h"
-#include "vtkStreamingDemandDrivenPipeline.h"
-#include "vtkMath.h"
-#include "vtkRenderWindow.h"
 #include "vtkCoordinate.h"
 #include "vtkDataArray.h"
 #include "vtkFieldData.h"
+#include "vtkInformation.h"
+#include "vtkMath.h"
 #include "vtkPolyData.h"
 #include "vtkProperty.h"
+#include "vtkRenderWindow.h"
 #include "vtkSmartPointer.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkTable.h"
 #include "vtkTextProperty.h"
 
@@ -76,7 +76,8 @@ bool Avatar::SetUpBehavior()
       u.Audio.resize(sound.Samples.size());
       for (size_t i = 0; i < sound.Samples.size(); ++i)
       {
-        u.Audio[i] = static_cast<int16_t>(std::lround(32767.0 * std::clamp(sound.Samples[i], -1.0f, 1.0f)));
+        u.Audio[i] =
+          static_cast<int16_t>(std::lround(32767.0 * std::clamp(sound.Samples[i], -1.0f, 1.0f)));
       }
       u.Duration = std::max(u.Duration, sound.GetDuration());
       if (!behavior->Speak(u, 0.0))
@@ -109,8 +110,7 @@ bool Avatar::SetUpBehavior()
         return false;
       }
     }
-    const bool spoken = o.Audio.empty()
-      ? behavior->SpeakTimingFile(o.Timings.c_str(), speechStart)
+    const bool spoken = o.Audio.empty() ? behavior->SpeakTimingFile(o.Timings.c_str(), speechStart)
       : !o.Timings.empty()
       ? behavior->SpeakAudioFileWithTimings(o.Audio.c_str(), o.Timings.c_str(), speechStart)
       : behavior->SpeakAudioFile(o.Audio.c_str(), transcript.c_str(), speechStart);
@@ -221,7 +221,8 @@ bool Avatar::SetUpFace()
         names << (i ? ", " : "") << i << " '" << this->Reader->GetAnimationNameByIndex(i) << "'";
       }
       std::cerr << "MorphAvatar: " << this->FaceFile << ": no animation '" << o.Animation << "' ("
-                << (names.str().empty() ? std::string("the file has none") : "it has " + names.str())
+                << (names.str().empty() ? std::string("the file has none")
+                                        : "it has " + names.str())
                 << ")\n";
       return false;
     }
@@ -251,8 +252,8 @@ bool Avatar::SetUpFace()
     return false;
   }
   const double* b = this->Bounds;
-  this->Diagonal = std::sqrt((b[1] - b[0]) * (b[1] - b[0]) + (b[3] - b[2]) * (b[3] - b[2]) +
-    (b[5] - b[4]) * (b[5] - b[4]));
+  this->Diagonal = std::sqrt(
+    (b[1] - b[0]) * (b[1] - b[0]) + (b[3] - b[2]) * (b[3] - b[2]) + (b[5] - b[4]) * (b[5] - b[4]));
   if (!(this->Diagonal > 0.0))
   {
     this->Diagonal = 1.0;
@@ -304,7 +305,8 @@ void Avatar::SetUpScene()
   this->Renderer->AddActor2D(this->Overlay);
 
   // The sentence (or the script's name) at the bottom, like the paper's sentence choice.
-  std::string caption = !o.Script.empty() ? std::filesystem::path(o.Script).filename().string() : "";
+  std::string caption =
+    !o.Script.empty() ? std::filesystem::path(o.Script).filename().string() : "";
   if (!o.Audio.empty() || !o.Timings.empty())
   {
     const std::string recording =
@@ -377,8 +379,10 @@ bool Avatar::Update(double t)
     vtkCamera* camera = this->Renderer->GetActiveCamera();
     const double* b = this->Bounds;
     const double center[3] = { 0.5 * (b[0] + b[1]), 0.5 * (b[2] + b[3]), 0.5 * (b[4] + b[5]) };
-    const double distance = std::sqrt(vtkMath::Distance2BetweenPoints(camera->GetPosition(), center));
-    const int height = this->Window->GetSize()[1] > 0 ? this->Window->GetSize()[1] : this->Opt.Height;
+    const double distance =
+      std::sqrt(vtkMath::Distance2BetweenPoints(camera->GetPosition(), center));
+    const int height =
+      this->Window->GetSize()[1] > 0 ? this->Window->GetSize()[1] : this->Opt.Height;
     this->Morph->SetPixelsPerUnit(distance > 0.0 && !camera->GetParallelProjection()
         ? morphnode::ScreenPixelsPerUnit(height, camera->GetViewAngle(), distance)
         : 0.0);
@@ -436,7 +440,8 @@ std::string Avatar::OverlayText(bool offscreen, int frame, int frames) const
   }
   else
   {
-    os << std::setprecision(1) << this->MeasuredFps << " fps" << (this->Paused ? "   (paused)" : "");
+    os << std::setprecision(1) << this->MeasuredFps << " fps"
+       << (this->Paused ? "   (paused)" : "");
   }
   os << "\nmethod " << static_cast<int>(this->Method) << ": "
      << morphnode::OptimizerPresetLabel(this->Method) << "\n";
@@ -465,7 +470,8 @@ std::string Avatar::OverlayText(bool offscreen, int frame, int frames) const
       break;
   }
   const int targets = std::max(0, this->Morph->GetNumberOfTargets() - 1);
-  const double bound = this->DecidesPerShape() ? this->Rig->GetLastErrorBound() : this->Morph->GetErrorBound();
+  const double bound =
+    this->DecidesPerShape() ? this->Rig->GetLastErrorBound() : this->Morph->GetErrorBound();
   os << "active targets " << this->Morph->GetActiveTargetCount() << " / " << targets
      << (this->DecidesPerShape() ? " (decided per rig shape)" : "") << "   error bound "
      << std::setprecision(2) << 100.0 * bound / this->Diagonal << " %\n";
@@ -481,9 +487,10 @@ std::string Avatar::OverlayText(bool offscreen, int frame, int frames) const
         level = std::max(level, static_cast<int>(lod->GetComponent(0, 0)));
       }
     }
-    os << "LOD " << (this->Opt.Profile.empty() ? "" : this->Opt.Profile + " ") << "level " << level << "   targets "
-       << this->Morph->GetActiveTargetCount() << "   points "
-       << this->GetHead()->GetNumberOfElements(vtkDataObject::POINT) << "   face " << std::setprecision(0) << this->Morph->GetPixelsPerUnit() * this->Diagonal << " px\n";
+    os << "LOD " << (this->Opt.Profile.empty() ? "" : this->Opt.Profile + " ") << "level " << level
+       << "   targets " << this->Morph->GetActiveTargetCount() << "   points "
+       << this->GetHead()->GetNumberOfElements(vtkDataObject::POINT) << "   face "
+       << std::setprecision(0) << this->Morph->GetPixelsPerUnit() * this->Diagonal << " px\n";
   }
   os << "t = " << std::setprecision(2) << this->Time << " s / " << this->Duration << " s";
   if (!offscreen)

@@ -16,8 +16,8 @@
 /// the actors (head parts, overlay, caption) and the window, and the two ways to run it.
 
 #include "AvatarOptions.h"
-#include "playback/AudioPlayer.h"
 #include "HeadActors.h"
+#include "playback/AudioPlayer.h"
 
 #include "vtkBehaviorTimeSource.h"
 #include "vtkEyeGazeFilter.h"

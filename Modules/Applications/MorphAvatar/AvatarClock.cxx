@@ -197,7 +197,8 @@ bool Avatar::WriteSessionSound(const std::string& wav) const
   }
   catch (const std::exception& e)
   {
-    std::cerr << "MorphAvatar: cannot write the session's sound " << wav << ": " << e.what() << "\n";
+    std::cerr << "MorphAvatar: cannot write the session's sound " << wav << ": " << e.what()
+              << "\n";
     return false;
   }
   return true;

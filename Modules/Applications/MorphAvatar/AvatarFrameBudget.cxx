@@ -54,7 +54,8 @@ public:
     {
       std::ostringstream line;
       line << this->Thresholds.size() << "," << threshold << "," << active << ","
-           << std::setprecision(6) << ms << "," << this->Budget << "," << level << "," << points << "\n";
+           << std::setprecision(6) << ms << "," << this->Budget << "," << level << "," << points
+           << "\n";
       this->WriteLog(line.str());
     }
     this->Levels[level] += 1;
@@ -120,7 +121,8 @@ protected:
       thresholdSum += this->Thresholds[i];
       activeSum += this->Active[i];
     }
-    std::vector<double> sorted(this->Times.begin() + static_cast<std::ptrdiff_t>(first), this->Times.end());
+    std::vector<double> sorted(
+      this->Times.begin() + static_cast<std::ptrdiff_t>(first), this->Times.end());
     std::sort(sorted.begin(), sorted.end());
     std::cout << "frame budget " << this->Budget << " ms: " << std::fixed << std::setprecision(3)
               << n << " frames, within budget " << std::setprecision(1)
@@ -170,7 +172,8 @@ void WatchFrameBudget(vtkMorphNodeFilter* morph, const Options& o)
   {
     try
     {
-      watch->Log = std::make_unique<morphnode::file::SafeOutput>(o.FrameBudgetLog, "--frame-budget-log");
+      watch->Log =
+        std::make_unique<morphnode::file::SafeOutput>(o.FrameBudgetLog, "--frame-budget-log");
     }
     catch (const std::exception& e)
     {

@@ -62,14 +62,15 @@ bool ExportGltf(Avatar& a)
     std::cerr << "MorphAvatar: cannot write " << o.Gltf << " (see above)\n";
     return false;
   }
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double seconds =
+    std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (!o.Quiet)
   {
     std::cout << "wrote " << o.Gltf << " (" << writer->GetNumberOfParts() << " parts, "
               << writer->GetNumberOfFrames() << " frames, " << writer->GetNumberOfWeightColumns()
               << " animated targets, weights " << (o.GltfOptimized ? "optimized" : "raw")
-              << (writer->GetTurnsBones() ? ", head and eyes turned by the skeleton's joints" : "") << ", "
-              << seconds << " s) and " << wav << "\n";
+              << (writer->GetTurnsBones() ? ", head and eyes turned by the skeleton's joints" : "")
+              << ", " << seconds << " s) and " << wav << "\n";
   }
   return true;
 }

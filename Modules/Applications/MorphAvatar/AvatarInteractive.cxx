@@ -94,7 +94,8 @@ void OnTimer(vtkObject* caller, unsigned long, void* clientData, void*)
     a->Morph->ResetHysteresis();
     t = 0.0;
   }
-  if ((a->LiveFrame && !a->LiveFrame(t, false)) || morphnode::appkit::StopRequested()) // quit, SIGTERM/SIGINT
+  if ((a->LiveFrame && !a->LiveFrame(t, false)) ||
+    morphnode::appkit::StopRequested()) // quit, SIGTERM/SIGINT
   {
     interactor->TerminateApp();
     return;
@@ -146,7 +147,10 @@ int RunInteractive(Avatar& a)
   for (char key : a.Opt.Keys)
   {
     const char sym[2] = { key, '\0' };
-    interactor->SetKeyEventInformation(0, 0, key, 1, key == '+' ? "plus" : key == '-' ? "minus" : sym);
+    interactor->SetKeyEventInformation(0, 0, key, 1,
+      key == '+'     ? "plus"
+        : key == '-' ? "minus"
+                     : sym);
     interactor->InvokeEvent(vtkCommand::KeyPressEvent);
     interactor->InvokeEvent(vtkCommand::CharEvent);
   }

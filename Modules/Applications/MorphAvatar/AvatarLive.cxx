@@ -14,11 +14,11 @@
 #include "FrameRecorder.h"
 #include "StopSignal.h"
 
+#include "align/RecordingSpeech.h"
 #include "base/Error.h"
 #include "behavior/LiveBehavior.h"
 #include "dialog/DialogServer.h"
 #include "dialog/DialogSession.h"
-#include "align/RecordingSpeech.h"
 #include "speech/Speech.h"
 #include "speech/TimingFiles.h"
 
@@ -26,11 +26,11 @@
 #include "vtkNew.h"
 
 #include <algorithm>
-#include <filesystem>
 #include <chrono>
 #include <cmath>
 #include <csignal>
 #include <cstdlib>
+#include <filesystem>
 #include <iostream>
 #include <limits>
 #include <memory>
@@ -71,7 +71,8 @@ std::string InsideFolder(const std::string& path, const std::string& folder, con
   namespace fs = std::filesystem;
   if (folder.empty())
   {
-    throw morphnode::InputError(std::string("'") + field + "' names a file: start the avatar with "
+    throw morphnode::InputError(std::string("'") + field +
+      "' names a file: start the avatar with "
       "--speech-dir DIR, the folder clients may name recordings and timings in");
   }
   std::error_code error;
@@ -79,12 +80,14 @@ std::string InsideFolder(const std::string& path, const std::string& folder, con
   const fs::path file = fs::canonical(fs::path(folder) / path, error);
   if (error || dir.empty())
   {
-    throw morphnode::InputError(std::string("'") + field + "': no file '" + path + "' in the speech folder");
+    throw morphnode::InputError(
+      std::string("'") + field + "': no file '" + path + "' in the speech folder");
   }
   const std::string d = dir.string() + "/";
   if (file.string().compare(0, d.size(), d) != 0 || !fs::is_regular_file(file))
   {
-    throw morphnode::InputError(std::string("'") + field + "': '" + path + "' is not a file inside the "
+    throw morphnode::InputError(std::string("'") + field + "': '" + path +
+      "' is not a file inside the "
       "speech folder (--speech-dir)");
   }
   return file.string();
@@ -108,7 +111,8 @@ public:
       // its timings (or its transcript); the recording is the sound, the mouth its timing.
       const std::string folder = this->A ? this->A->Opt.SpeechDir : std::string();
       const std::string audio = InsideFolder(c.Audio, folder, "audio");
-      const std::string timings = c.Timings.empty() ? "" : InsideFolder(c.Timings, folder, "timings");
+      const std::string timings =
+        c.Timings.empty() ? "" : InsideFolder(c.Timings, folder, "timings");
       morphnode::SpeechOptions options = this->Speech;
       if (!c.Voice.empty())
       {
@@ -238,7 +242,8 @@ struct Live
   {
     this->Session->Receive(this->BehaviorTime(t), 0);
     this->Source->Modified(); // commands may have come
-    return !this->Session->QuitRequested() && !morphnode::appkit::StopRequested(); // SIGTERM/SIGINT: as quit
+    return !this->Session->QuitRequested() &&
+      !morphnode::appkit::StopRequested(); // SIGTERM/SIGINT: as quit
   }
   /// After the frame at t is on the screen: the sound of chunks synthesized while sampling
   /// (later chunks of long texts) and their errors, then started / ended events.
@@ -330,7 +335,8 @@ int RunHeadless(Live& live)
       return 1;
     }
   }
-  auto finish = [&]() {
+  auto finish = [&]()
+  {
     live.Session->Shutdown(live.Now());
     if (!recorder)
     {
@@ -340,7 +346,8 @@ int RunHeadless(Live& live)
     {
       // The last frame shown holds until the session ends (a slow render or a quit that
       // came before the next frame must not shorten the recording against its sound).
-      for (const int last = static_cast<int>(std::floor(live.Now() * a.Fps + 1e-9)); recorded <= last; ++recorded)
+      for (const int last = static_cast<int>(std::floor(live.Now() * a.Fps + 1e-9));
+           recorded <= last; ++recorded)
       {
         recorder->Capture(recorded);
       }
@@ -372,7 +379,8 @@ int RunHeadless(Live& live)
     try
     {
       // Every frame slot up to now shows this render (none skipped, none twice).
-      for (const int last = static_cast<int>(std::floor(t * a.Fps + 1e-9)); recorder && recorded <= last; ++recorded)
+      for (const int last = static_cast<int>(std::floor(t * a.Fps + 1e-9));
+           recorder && recorded <= last; ++recorded)
       {
         recorder->Capture(recorded);
       }
@@ -394,7 +402,8 @@ int RunHeadless(Live& live)
     }
     for (;;)
     {
-      const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(next - Clock::now()).count();
+      const auto left =
+        std::chrono::duration_cast<std::chrono::milliseconds>(next - Clock::now()).count();
       if (left <= 0 || live.Session->QuitRequested() || morphnode::appkit::StopRequested())
       {
         break;
@@ -483,7 +492,8 @@ int RunLive(Avatar& a)
     return RunHeadless(live);
   }
   // The window's loop (AvatarInteractive.cxx) calls LiveFrame around every frame.
-  a.LiveFrame = [&live](double t, bool rendered) {
+  a.LiveFrame = [&live](double t, bool rendered)
+  {
     if (rendered)
     {
       live.After(t);

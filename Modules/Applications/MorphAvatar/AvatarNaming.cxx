@@ -63,7 +63,8 @@ bool ChooseFaceSetup(Avatar& a)
   std::ostream& out = o.CommandsStdin ? std::cerr : std::cout;
   // Every line a program line ("MorphAvatar: ..."), as the content errors are.
   std::ostringstream log;
-  const auto flush = [&]() {
+  const auto flush = [&]()
+  {
     std::istringstream lines(log.str());
     for (std::string line; std::getline(lines, line);)
     {
@@ -77,7 +78,8 @@ bool ChooseFaceSetup(Avatar& a)
   std::string lookAt;
   try
   {
-    const std::string ext = morphnode::text::ToLower(std::filesystem::path(face).extension().string());
+    const std::string ext =
+      morphnode::text::ToLower(std::filesystem::path(face).extension().string());
     if (ext == ".glb" || ext == ".gltf" || ext == ".vrm")
     {
       const morphnode::GltfVrm vrm = morphnode::ReadGltfVrm(face);
@@ -108,7 +110,8 @@ bool ChooseFaceSetup(Avatar& a)
       if (!o.Quiet)
       {
         log << face << ": " << choice.Report()
-            << (choice.NeedsRig ? "rig: chosen from the face's names (--rig FILE overrides)\n" : "");
+            << (choice.NeedsRig ? "rig: chosen from the face's names (--rig FILE overrides)\n"
+                                : "");
       }
       if (choice.NeedsRig)
       {
@@ -170,9 +173,10 @@ bool ChooseFaceSetup(Avatar& a)
   {
     if (o.Gaze == "bones")
     {
-      log << "eyes: turned by the eye joints (" << (eyeBones ? skin->GetBones() : "none found") << ")"
-          << (offParts ? "; eyeLook* targets move the lids, not the eyeballs (" + std::to_string(offParts) +
-                 " eye parts)"
+      log << "eyes: turned by the eye joints (" << (eyeBones ? skin->GetBones() : "none found")
+          << ")"
+          << (offParts ? "; eyeLook* targets move the lids, not the eyeballs (" +
+                   std::to_string(offParts) + " eye parts)"
                        : std::string())
           << " (--gaze targets overrides)\n";
     }
@@ -197,7 +201,8 @@ bool ChooseFaceSetup(Avatar& a)
   return true;
 }
 
-std::string ChooseServeNaming(const morphnode::GltfScene& face, const std::string& faceFile, Options& o)
+std::string ChooseServeNaming(
+  const morphnode::GltfScene& face, const std::string& faceFile, Options& o)
 {
   std::vector<std::string> targets;
   for (const auto& part : face.Parts)
@@ -211,7 +216,8 @@ std::string ChooseServeNaming(const morphnode::GltfScene& face, const std::strin
     }
   }
   std::vector<morphnode::FaceExpression> expressions;
-  const std::string ext = morphnode::text::ToLower(std::filesystem::path(faceFile).extension().string());
+  const std::string ext =
+    morphnode::text::ToLower(std::filesystem::path(faceFile).extension().string());
   if (ext == ".glb" || ext == ".gltf" || ext == ".vrm")
   {
     for (const auto& e : morphnode::ReadGltfVrm(faceFile).Expressions)
@@ -251,7 +257,8 @@ std::string ChooseServeNaming(const morphnode::GltfScene& face, const std::strin
     o.Visemes = ownVisemes ? "oculus15" : "paper6";
     if (!o.Quiet && ownVisemes)
     {
-      out << "MorphAvatar: visemes: oculus15 (the face has its own viseme_* targets; --visemes overrides)\n";
+      out << "MorphAvatar: visemes: oculus15 (the face has its own viseme_* targets; --visemes "
+             "overrides)\n";
     }
   }
   return rigJson;

@@ -26,5 +26,6 @@ bool ChooseFaceSetup(Avatar& a);
 /// names and a VRM's expressions unless --rig (the rig JSON, empty when none is needed),
 /// the viseme set unless --visemes (oculus15 for a face with its own viseme_* targets,
 /// else paper6); printed unless --quiet. InputError when no naming family is recognised.
-std::string ChooseServeNaming(const morphnode::GltfScene& face, const std::string& faceFile, Options& o);
+std::string ChooseServeNaming(
+  const morphnode::GltfScene& face, const std::string& faceFile, Options& o);
 } // namespace morphavatar

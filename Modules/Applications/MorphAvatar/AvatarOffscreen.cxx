@@ -10,11 +10,11 @@
 #include "Progress.h"
 #include "TimeSeriesWriter.h"
 
-#include "vtkTable.h"
 #include "vtkImageDifference.h"
 #include "vtkImageExtractComponents.h"
 #include "vtkPNGReader.h"
 #include "vtkPNGWriter.h"
+#include "vtkTable.h"
 #include "vtkWindowToImageFilter.h"
 
 #include <cmath>
@@ -50,9 +50,8 @@ int RunOneFrame(Avatar& a)
   if (!o.Compare.empty())
   {
     namespace fs = std::filesystem;
-    const std::string outDir = o.Png.empty()
-      ? fs::current_path().string()
-      : fs::absolute(fs::path(o.Png)).parent_path().string();
+    const std::string outDir = o.Png.empty() ? fs::current_path().string()
+                                             : fs::absolute(fs::path(o.Png)).parent_path().string();
     // VTK's legacy image metric (3 x 3 averaging, shifts of two pixels, the error summed
     // over the pixels that still differ) with a per-channel tolerance of 24 levels:
     // vtkTesting's fixed 105 does not see an open mouth on glTF materials drawn
@@ -85,7 +84,8 @@ int RunOneFrame(Avatar& a)
     {
       vtkNew<vtkPNGWriter> writer;
       writer->SetInputConnection(grab->GetOutputPort());
-      writer->SetFileName((outDir + "/" + fs::path(baseline).stem().string() + "-test.png").c_str());
+      writer->SetFileName(
+        (outDir + "/" + fs::path(baseline).stem().string() + "-test.png").c_str());
       writer->Write();
       std::cerr << "MorphAvatar: the frame differs from " << o.Compare << " (images in " << outDir
                 << ")\n";
@@ -121,7 +121,8 @@ int RunAllFrames(Avatar& a)
     if (appkit::StopRequested())
     {
       // SIGTERM/SIGINT: what was recorded so far is completed below, as at the last frame.
-      std::cerr << "\nMorphAvatar: stopped by signal " << appkit::StopSignalNumber() << " after " << f << " frames\n";
+      std::cerr << "\nMorphAvatar: stopped by signal " << appkit::StopSignalNumber() << " after "
+                << f << " frames\n";
       break;
     }
     const double t = f / a.Fps;

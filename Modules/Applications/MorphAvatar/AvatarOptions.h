@@ -17,17 +17,17 @@ struct Options
   std::string Say;
   std::string Voice = "en";
   std::string Visemes; // empty: chosen from the face (oculus15 when it has its own, else paper6)
-  std::string Gaze = "auto";      // eyes by: auto, bones (eye joints), targets (eyeLook*/eye nodes)
-  std::string Framing = "face";   // face, bust, body
-  std::string Pose = "relaxed";   // a skinned body's arms: relaxed (down) or stored
+  std::string Gaze = "auto";    // eyes by: auto, bones (eye joints), targets (eyeLook*/eye nodes)
+  std::string Framing = "face"; // face, bust, body
+  std::string Pose = "relaxed"; // a skinned body's arms: relaxed (down) or stored
   std::string Script;
   std::string Audio;    // a recording to speak (WAV, FLAC, OGG)
   std::string Text;     // its transcript
   std::string TextFile; // its transcript, from a file
   std::string Timings;  // a timing file (of the recording, or alone: speech without sound)
   std::string TimingsFormat = "auto"; // its format where the extension does not tell
-  std::string Animation; // play the face file's own glTF animation (a name or an index)
-  std::string Capture;   // play a Live Link Face take (CSV)
+  std::string Animation;  // play the face file's own glTF animation (a name or an index)
+  std::string Capture;    // play a Live Link Face take (CSV)
   double Duration = -1.0; // < 0: the script's, else automatic
   double Fps = -1.0;      // < 0: the script's, else 30
   int Width = 640;
@@ -45,7 +45,7 @@ struct Options
   bool Offscreen = false;
   std::string FramesDir;
   std::string Video;
-  std::string Pvd; // a ParaView time series: FILE.pvd + FILE/face_*.vtp
+  std::string Pvd;           // a ParaView time series: FILE.pvd + FILE/face_*.vtp
   std::string Gltf;          // the performance as glTF: FILE.glb/.gltf and FILE.wav
   bool GltfOptimized = true; // --gltf-weights optimized (else raw)
   std::string Png;
@@ -54,8 +54,8 @@ struct Options
   double At = -1.0;
   bool Overlay = true;
   bool Quiet = false;
-  double ExitAfter = -1.0; // interactive: close after this many seconds (smoke tests)
-  std::string Keys;        // interactive: keys pressed at the start (smoke tests)
+  double ExitAfter = -1.0;         // interactive: close after this many seconds (smoke tests)
+  std::string Keys;                // interactive: keys pressed at the start (smoke tests)
   std::vector<std::string> Listen; // live: command addresses (AvatarLive.h)
   bool CommandsStdin = false;      // live: commands on stdin, events on stdout
   bool ListenRemote = false;       // live: allow non-loopback --listen addresses
@@ -65,8 +65,8 @@ struct Options
   bool ServeRemote = false;        // serve: allow non-loopback addresses (needs a token)
   std::string ServeToken;          // serve: the session token (made up when remote and empty)
   std::vector<std::string> ServeOrigins; // serve: origins allowed besides the server's own
-  int ServeThreads = 0;            // serve: threads running the sessions (0: cores, at least 2)
-  int ServeMaxSessions = 64;       // serve: sessions at once
+  int ServeThreads = 0;      // serve: threads running the sessions (0: cores, at least 2)
+  int ServeMaxSessions = 64; // serve: sessions at once
 };
 
 /// Reads the command line; --help and usage errors exit (0 and 2).

@@ -72,7 +72,8 @@ int RunServe(const Options& o)
 {
 #ifndef MORPHNODE_HAVE_STREAM_SERVER
   (void)o;
-  std::cerr << "MorphAvatar: this build has no stream server (Boost.Beast, libboost-dev, was missing)\n";
+  std::cerr
+    << "MorphAvatar: this build has no stream server (Boost.Beast, libboost-dev, was missing)\n";
   return 1;
 #else
   std::signal(SIGPIPE, SIG_IGN);
@@ -126,8 +127,8 @@ int RunServe(const Options& o)
         }
       }
     }
-    const double diagonal = std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
-      (hi[2] - lo[2]) * (hi[2] - lo[2]));
+    const double diagonal = std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) +
+      (hi[1] - lo[1]) * (hi[1] - lo[1]) + (hi[2] - lo[2]) * (hi[2] - lo[2]));
     const double maxError = o.MaxError >= 0.0 ? o.MaxError : 0.005 * diagonal;
     stream::StreamSettings base;
     base.Optimizer = morphnode::MakeOptimizerSettings(o.Method, o.Threshold, maxError);
@@ -144,16 +145,20 @@ int RunServe(const Options& o)
       settings.Token = MakeToken();
     }
     settings.AllowedOrigins = o.ServeOrigins;
-    settings.Threads = o.ServeThreads > 0 ? o.ServeThreads
-                                          : static_cast<int>(std::max(2u, std::thread::hardware_concurrency()));
+    settings.Threads = o.ServeThreads > 0
+      ? o.ServeThreads
+      : static_cast<int>(std::max(2u, std::thread::hardware_concurrency()));
     settings.MaxSessions = static_cast<size_t>(o.ServeMaxSessions);
     const std::string web = morphnode::appkit::DataPath("web");
-    for (const char* file : { "index.html", "avatar-stream.js", "stream-worklet.js", "opus-worker.js", "stream-socket.js" })
+    for (const char* file : { "index.html", "avatar-stream.js", "stream-worklet.js",
+           "opus-worker.js", "stream-socket.js" })
     {
       const std::string path = web + "/" + file;
       stream::StaticFile f;
       f.Body = morphnode::text::ReadFile(path, "page file");
-      f.ContentType = std::string(file).find(".html") != std::string::npos ? "text/html; charset=utf-8" : "text/javascript";
+      f.ContentType = std::string(file).find(".html") != std::string::npos
+        ? "text/html; charset=utf-8"
+        : "text/javascript";
       settings.Files[std::string("/") + (std::string(file) == "index.html" ? "" : file)] = f;
     }
     settings.Files["/avatar.glb"] = { "model/gltf-binary",
@@ -164,16 +169,18 @@ int RunServe(const Options& o)
     std::map<std::string, std::shared_ptr<const stream::StreamAvatar>> devices;
     for (const morphnode::DeviceProfile& profile : morphnode::DeviceProfiles())
     {
-      auto prepared = std::make_shared<const stream::StreamAvatar>(face, channels, rig.get(),
-        stream::DeviceAvatarOptions(profile));
+      auto prepared = std::make_shared<const stream::StreamAvatar>(
+        face, channels, rig.get(), stream::DeviceAvatarOptions(profile));
       settings.Files["/avatar-" + profile.Name + ".glb"] = { "model/gltf-binary",
         std::string(prepared->GetFile().begin(), prepared->GetFile().end()) };
       if (!o.Quiet)
       {
-        std::cerr << "MorphAvatar: for a " << profile.Name << ": " << prepared->GetTargetNames().size()
-                  << " targets (" << prepared->GetPrunedTargets().size() << " below " << profile.TargetPixelBound
+        std::cerr << "MorphAvatar: for a " << profile.Name << ": "
+                  << prepared->GetTargetNames().size() << " targets ("
+                  << prepared->GetPrunedTargets().size() << " below " << profile.TargetPixelBound
                   << " px left out), " << prepared->GetNumberOfTriangles() << " triangles (level "
-                  << prepared->GetLevel() << "), " << prepared->GetFile().size() / 1024 << " KiB" << std::endl;
+                  << prepared->GetLevel() << "), " << prepared->GetFile().size() / 1024 << " KiB"
+                  << std::endl;
       }
       devices[profile.Name] = std::move(prepared);
     }
@@ -186,18 +193,23 @@ int RunServe(const Options& o)
     auto pool = std::make_shared<morphnode::SynthesisPool>(poolSettings);
     // A say's `voice`: one of eSpeak NG's voices, checked against its list (not by
     // synthesizing, which would block the session).
-    auto voices = std::make_shared<const std::vector<std::string>>(morphnode::SpeechSynthesizer::ListVoices());
+    auto voices =
+      std::make_shared<const std::vector<std::string>>(morphnode::SpeechSynthesizer::ListVoices());
     stream::StreamSession::VoiceSynthesizers makeVoice =
-      [speech, voices](const std::string& voice) -> morphnode::LiveBehavior::Synthesizer {
+      [speech, voices](const std::string& voice) -> morphnode::LiveBehavior::Synthesizer
+    {
       if (std::find(voices->begin(), voices->end(), voice) == voices->end())
       {
-        throw morphnode::InputError("unknown voice '" + voice + "' (eSpeak NG's voices: espeak-ng --voices)");
+        throw morphnode::InputError(
+          "unknown voice '" + voice + "' (eSpeak NG's voices: espeak-ng --voices)");
       }
       morphnode::SpeechOptions options = speech;
       options.Voice = voice;
       return [options](const std::string& text) { return morphnode::SpeakText(text, options); };
     };
-    settings.MakeSession = [avatar, devices, visemes, speech, base, pool, makeVoice](const stream::SessionRequest& want) {
+    settings.MakeSession = [avatar, devices, visemes, speech, base, pool, makeVoice](
+                             const stream::SessionRequest& want)
+    {
       stream::StreamSettings s = base;
       s.Codec = want.Codec;
       s.Seed = want.Seed;
@@ -205,13 +217,13 @@ int RunServe(const Options& o)
       std::string url;
       if (!want.Device.empty())
       {
-        const morphnode::DeviceProfile& profile = morphnode::FindDeviceProfile(want.Device); // InputError: refused
+        const morphnode::DeviceProfile& profile =
+          morphnode::FindDeviceProfile(want.Device); // InputError: refused
         face = devices.at(profile.Name);
         url = "/avatar-" + profile.Name + ".glb";
       }
-      morphnode::LiveBehavior::Synthesizer synth = [speech](const std::string& text) {
-        return morphnode::SpeakText(text, speech);
-      };
+      morphnode::LiveBehavior::Synthesizer synth = [speech](const std::string& text)
+      { return morphnode::SpeakText(text, speech); };
       auto session = std::make_unique<stream::StreamSession>(*face, visemes, synth, s);
       session->SetAvatarUrl(url);
       session->SetSynthesisPool(pool);
@@ -222,7 +234,8 @@ int RunServe(const Options& o)
     // loop below (DialogServer is the loop's).
     auto eventMutex = std::make_shared<std::mutex>();
     auto events = std::make_shared<std::vector<std::pair<int, dialog::Event>>>();
-    settings.CommandEvents = [eventMutex, events](int client, const dialog::Event& e) {
+    settings.CommandEvents = [eventMutex, events](int client, const dialog::Event& e)
+    {
       std::lock_guard<std::mutex> lock(*eventMutex);
       if (events->size() < 100000) // a loop that stopped draining must not grow this for ever
       {
@@ -231,11 +244,13 @@ int RunServe(const Options& o)
     };
     stream::StreamServer server(settings);
     const std::string bound = server.Start();
-    const double prepare = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-    std::cerr << "MorphAvatar: serving " << faceFile << " (" << avatar->GetTargetNames().size() << " of "
-              << avatar->GetNumberOfFaceTargets() << " targets driven, avatar file "
-              << avatar->GetFile().size() / 1024 << " KiB, prepared in " << prepare << " s) on http://" << bound
-              << "/" << (settings.Token.empty() ? "" : "?token=" + settings.Token) << std::endl;
+    const double prepare =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+    std::cerr << "MorphAvatar: serving " << faceFile << " (" << avatar->GetTargetNames().size()
+              << " of " << avatar->GetNumberOfFaceTargets() << " targets driven, avatar file "
+              << avatar->GetFile().size() / 1024 << " KiB, prepared in " << prepare
+              << " s) on http://" << bound << "/"
+              << (settings.Token.empty() ? "" : "?token=" + settings.Token) << std::endl;
 
     // The command socket: a command goes to the session its `session` names, or to every
     // session; its events (accepted, started, ended, error, each naming the session) come
@@ -252,7 +267,8 @@ int RunServe(const Options& o)
     const auto start = std::chrono::steady_clock::now();
     while (!Interrupted)
     {
-      const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      const double t =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       if (o.ExitAfter >= 0.0 && t >= o.ExitAfter)
       {
         break;
@@ -298,9 +314,10 @@ int RunServe(const Options& o)
     server.Stop();
     if (!o.Quiet)
     {
-      std::cerr << "MorphAvatar: served " << stats.SessionsStarted << " session(s), " << stats.FramesSent
-                << " frames (" << stats.FramesLate << " late), " << stats.BytesSent << " bytes, "
-                << stats.ClientErrors << " client error(s), " << stats.SessionsRefused << " refused\n";
+      std::cerr << "MorphAvatar: served " << stats.SessionsStarted << " session(s), "
+                << stats.FramesSent << " frames (" << stats.FramesLate << " late), "
+                << stats.BytesSent << " bytes, " << stats.ClientErrors << " client error(s), "
+                << stats.SessionsRefused << " refused\n";
     }
     return 0;
   }

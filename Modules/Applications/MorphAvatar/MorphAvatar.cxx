@@ -8,19 +8,21 @@
 //   MorphAvatar --say "Hello, how are you?"
 //   MorphAvatar --script Data/scripts/greeting.txt
 // Offscreen (every frame at the frame rate, to PNG frames and/or a video with sound):
-//   MorphAvatar --script Data/scripts/greeting.txt --offscreen --frames out/ --video out/greeting.ogv
+//   MorphAvatar --script Data/scripts/greeting.txt --offscreen --frames out/ --video
+//   out/greeting.ogv
 // One frame, compared with a baseline (the render regression test):
-//   MorphAvatar --script ... --at 1.5 --png frame.png --compare Testing/Baseline/TestMorphAvatar.png
+//   MorphAvatar --script ... --at 1.5 --png frame.png --compare
+//   Testing/Baseline/TestMorphAvatar.png
 //
 // The files: AvatarOptions (the command line), Avatar (the pipeline and the scene),
 // AvatarInteractive and AvatarOffscreen (the two modes). `MorphAvatar --help` lists every
 // option; docs/avatar.md describes them.
 #include "Avatar.h"
+#include "AvatarFrameBudget.h"
 #include "AvatarGltf.h"
 #include "AvatarLive.h"
 #include "AvatarNaming.h"
 #include "AvatarServe.h"
-#include "AvatarFrameBudget.h"
 #include "StopSignal.h"
 
 #include <cstdlib>
@@ -79,12 +81,14 @@ int Run(int argc, char* argv[])
   if (!a.Opt.Quiet)
   {
     // With commands on stdin, stdout carries only their events.
-    (a.Opt.CommandsStdin ? std::cerr : std::cout) << a.FaceFile << ": " << a.Morph->GetNumberOfTargets() << " targets; behaviour "
-              << a.Duration << " s at " << a.Fps << " fps, " << a.Behavior->GetNumberOfChannels()
-              << " channels, " << a.Behavior->GetNumberOfUtterances() << " utterance(s)\n";
+    (a.Opt.CommandsStdin ? std::cerr : std::cout)
+      << a.FaceFile << ": " << a.Morph->GetNumberOfTargets() << " targets; behaviour " << a.Duration
+      << " s at " << a.Fps << " fps, " << a.Behavior->GetNumberOfChannels() << " channels, "
+      << a.Behavior->GetNumberOfUtterances() << " utterance(s)\n";
   }
   // Live: commands from a dialog system (docs/dialog.md).
-  const int code = IsLive(a.Opt) ? RunLive(a) : (a.Opt.Offscreen ? RunOffscreen(a) : RunInteractive(a));
+  const int code =
+    IsLive(a.Opt) ? RunLive(a) : (a.Opt.Offscreen ? RunOffscreen(a) : RunInteractive(a));
   const bool logged = FinishFrameBudget();
   if (morphnode::appkit::StopRequested() && !a.Opt.Quiet)
   {
@@ -103,7 +107,8 @@ int main(int argc, char* argv[])
   }
   catch (const std::bad_alloc&)
   {
-    std::cerr << "MorphAvatar: out of memory (an input too large for this machine; see docs/limits.md)\n";
+    std::cerr
+      << "MorphAvatar: out of memory (an input too large for this machine; see docs/limits.md)\n";
   }
   catch (const std::exception& e)
   {

@@ -54,8 +54,8 @@ struct Row
 };
 
 /// Renders the face's mouth with the given relative target weights (the face's targets).
-vtkSmartPointer<vtkImageData> RenderMouth(const StudyFace& face, const std::vector<double>& weights,
-  const std::string& label, int size)
+vtkSmartPointer<vtkImageData> RenderMouth(
+  const StudyFace& face, const std::vector<double>& weights, const std::string& label, int size)
 {
   vtkNew<vtkMorphTargetReader> reader;
   reader->SetFileName(face.Spec.File.c_str());
@@ -166,8 +166,10 @@ int main(int argc, char* argv[])
                "optimizer method, deciding per face target or per rig shape, on the default "
                "face, the ICT head and the MakeHuman avatar (docs/optimizer-study.md)");
   app.add_option("--out", out, "output folder")->capture_default_str();
-  app.add_option("--text", textFile, "the text to speak")->default_str("Data/scripts/long-text.txt");
-  appkit::AddNumberOption(app, "--threshold", threshold, 0.0, 1.0, "th_fix of the threshold methods");
+  app.add_option("--text", textFile, "the text to speak")
+    ->default_str("Data/scripts/long-text.txt");
+  appkit::AddNumberOption(
+    app, "--threshold", threshold, 0.0, 1.0, "th_fix of the threshold methods");
   appkit::AddNumberOption(app, "--plot-from", plotFrom, 0.0, 1e6, "plot window start (s)");
   appkit::AddNumberOption(app, "--plot-to", plotTo, 0.0, 1e6, "plot window end (s)");
   appkit::ParseCommandLine(app, argc, argv);
@@ -177,7 +179,8 @@ int main(int argc, char* argv[])
     { "ICT head", appkit::FaceKitPath("ict_head_full53.glb"), appkit::DataPath("rigs/arkit.json"),
       VisemeSet::Oculus15, "aa", "MouthSmile", 1000.0 },
     { "MakeHuman avatar", appkit::AvatarPath("makehuman_avatar.glb"),
-      appkit::DataPath("rigs/readyplayerme.json"), VisemeSet::Oculus15, "aa", "MouthSmile", 1000.0 },
+      appkit::DataPath("rigs/readyplayerme.json"), VisemeSet::Oculus15, "aa", "MouthSmile",
+      1000.0 },
   };
   try
   {
@@ -209,7 +212,8 @@ int main(int argc, char* argv[])
       const VisemeMap map = SelectVisemeMap(options);
       const auto bilabials = BilabialFrames(speech, map, options.Coarticulation.Lead);
       const double eps = 0.005 * face->Diagonal;
-      const std::vector<double> none = LipGaps(*face, speech.Visemes, OptimizerSettings{}, Decide::PerShape);
+      const std::vector<double> none =
+        LipGaps(*face, speech.Visemes, OptimizerSettings{}, Decide::PerShape);
       std::cout << spec.Name << ": " << speech.Visemes.GetNumberOfFrames() << " frames, "
                 << bilabials.size() << " bilabials, rest gap " << face->RestGap() << " mm, eps "
                 << eps * 1000.0 << " mm\n";
@@ -260,22 +264,25 @@ int main(int argc, char* argv[])
               time->SetName("time (s)");
               plot->AddColumn(time);
               const size_t first = static_cast<size_t>(plotFrom * speech.Visemes.GetFrameRate());
-              const size_t last = std::min(gaps.size(), static_cast<size_t>(plotTo * speech.Visemes.GetFrameRate()));
+              const size_t last =
+                std::min(gaps.size(), static_cast<size_t>(plotTo * speech.Visemes.GetFrameRate()));
               plot->SetNumberOfRows(static_cast<vtkIdType>(last - first));
               for (size_t f = first; f < last; ++f)
               {
-                plot->SetValue(static_cast<vtkIdType>(f - first), 0, f / speech.Visemes.GetFrameRate());
+                plot->SetValue(
+                  static_cast<vtkIdType>(f - first), 0, f / speech.Visemes.GetFrameRate());
               }
             }
             vtkNew<vtkFloatArray> column;
-            const std::string name = m == 0 ? std::string("unoptimized")
-                                            : std::string("adjusted, ") + row.Decision;
+            const std::string name =
+              m == 0 ? std::string("unoptimized") : std::string("adjusted, ") + row.Decision;
             column->SetName(name.c_str());
             column->SetNumberOfValues(plot->GetNumberOfRows());
             const size_t first = static_cast<size_t>(plotFrom * speech.Visemes.GetFrameRate());
             for (vtkIdType r = 0; r < plot->GetNumberOfRows(); ++r)
             {
-              column->SetValue(r, static_cast<float>(gaps[first + static_cast<size_t>(r)] - face->RestGap()));
+              column->SetValue(
+                r, static_cast<float>(gaps[first + static_cast<size_t>(r)] - face->RestGap()));
             }
             plot->AddColumn(column);
           }
@@ -283,7 +290,8 @@ int main(int argc, char* argv[])
       }
       // Contact sheet row: the worst bilabial of the default method per target, then per
       // shape; the rounded vowel before (the ARKit rig's earlier oh) and after.
-      const OptimizerSettings adjusted = MakeOptimizerSettings(OptimizerPreset::Adjusted, threshold, eps);
+      const OptimizerSettings adjusted =
+        MakeOptimizerSettings(OptimizerPreset::Adjusted, threshold, eps);
       const std::string round = spec.RigFile.empty() ? "O" : "oh";
       std::vector<double> before = face->ExpandShape(round);
       if (spec.Name == "ICT head")
@@ -299,7 +307,8 @@ int main(int argc, char* argv[])
       }
       const int size = 280;
       std::ostringstream at;
-      at << std::fixed << std::setprecision(2) << worstFrame / speech.Visemes.GetFrameRate() << " s";
+      at << std::fixed << std::setprecision(2) << worstFrame / speech.Visemes.GetFrameRate()
+         << " s";
       vtkNew<vtkImageAppend> row;
       row->SetAppendAxis(0);
       const std::vector<std::pair<std::vector<double>, std::string>> cells = {
@@ -326,14 +335,16 @@ int main(int argc, char* argv[])
     }
 
     std::ofstream md(out + "/summary.md"), csv(out + "/summary.csv");
-    md << "| face | method | decided | open bilabials | mean gap (mm) | worst gap (mm) | most over unoptimized (mm) |\n"
+    md << "| face | method | decided | open bilabials | mean gap (mm) | worst gap (mm) | most over "
+          "unoptimized (mm) |\n"
        << "| --- | --- | --- | --- | --- | --- | --- |\n";
     csv << "face,method,decided,bilabials,open,mean_gap_mm,worst_gap_mm,over_open_mm\n";
     md << std::fixed << std::setprecision(2);
     for (const Row& r : rows)
     {
       md << "| " << r.Face << " | " << r.Method << " | " << r.Decision << " | " << r.Open << " / "
-         << r.Bilabials << " | " << r.MeanGap << " | " << r.WorstGap << " | " << r.OverOpen << " |\n";
+         << r.Bilabials << " | " << r.MeanGap << " | " << r.WorstGap << " | " << r.OverOpen
+         << " |\n";
       csv << r.Face << "," << r.Method << "," << r.Decision << "," << r.Bilabials << "," << r.Open
           << "," << r.MeanGap << "," << r.WorstGap << "," << r.OverOpen << "\n";
     }
@@ -347,7 +358,8 @@ int main(int argc, char* argv[])
       view->GetRenderWindow()->SetSize(1000, 420);
       view->GetRenderer()->SetBackground(1, 1, 1);
       vtkNew<vtkChartXY> chart;
-      chart->SetTitle("ICT head: lip gap above rest, adjusted threshold 0.1 (0 = lips touch as at rest)");
+      chart->SetTitle(
+        "ICT head: lip gap above rest, adjusted threshold 0.1 (0 = lips touch as at rest)");
       chart->GetAxis(vtkAxis::LEFT)->SetTitle("lip gap - rest gap (mm)");
       chart->GetAxis(vtkAxis::BOTTOM)->SetTitle("time (s)");
       chart->SetShowLegend(true);
@@ -375,7 +387,8 @@ int main(int argc, char* argv[])
       writer->SetFileName((out + "/lips_contact_sheet.png").c_str());
       writer->Write();
     }
-    std::cout << "wrote " << out << "/summary.md, summary.csv, bilabials.csv, lip_gap_over_time.png, "
+    std::cout << "wrote " << out
+              << "/summary.md, summary.csv, bilabials.csv, lip_gap_over_time.png, "
               << "lips_contact_sheet.png\n";
   }
   catch (const std::exception& e)

@@ -35,10 +35,10 @@ struct FaceSpec
 {
   std::string Name;
   std::string File;
-  std::string RigFile;   ///< empty: the face's own targets are the shapes
+  std::string RigFile; ///< empty: the face's own targets are the shapes
   VisemeSet Visemes = VisemeSet::Oculus15;
-  std::string Open;      ///< an open vowel's shape (finds the lips)
-  std::string Spread;    ///< a shape that pulls the mouth corners apart (finds them)
+  std::string Open;   ///< an open vowel's shape (finds the lips)
+  std::string Spread; ///< a shape that pulls the mouth corners apart (finds them)
   double MillimetresPerUnit = 1000.0;
 };
 
@@ -48,14 +48,14 @@ struct StudyFace
   FaceSpec Spec;
   GltfScene Scene;
   Rig Shapes;
-  std::vector<std::string> Targets;     ///< the face's targets (no neutral), union over parts
-  TargetDistances TargetFigures;        ///< neutral first, per face target
-  TargetDistances ShapeFigures;         ///< neutral first, per rig shape
+  std::vector<std::string> Targets; ///< the face's targets (no neutral), union over parts
+  TargetDistances TargetFigures;    ///< neutral first, per face target
+  TargetDistances ShapeFigures;     ///< neutral first, per rig shape
   size_t LipPart = 0;
   LipPair Lips;
   std::array<size_t, 2> Corners{ { 0, 0 } };
-  std::vector<const float*> LipDeltas;  ///< per face target: the lip part's deltas or nullptr
-  double Diagonal = 0.0;                ///< of the whole scene, in units
+  std::vector<const float*> LipDeltas; ///< per face target: the lip part's deltas or nullptr
+  double Diagonal = 0.0;               ///< of the whole scene, in units
 
   /// Relative target weights -> the lip gap in millimetres.
   double Gap(const std::vector<double>& targetWeights) const
@@ -95,7 +95,8 @@ inline Rig IdentityRig(const std::vector<std::string>& targets)
   return Rig::LoadString(json.str(), "identity rig");
 }
 
-inline std::vector<double> DenseOpening(const StudyFace& face, size_t part, const std::vector<double>& w)
+inline std::vector<double> DenseOpening(
+  const StudyFace& face, size_t part, const std::vector<double>& w)
 {
   const GltfPart& p = face.Scene.Parts[part];
   std::vector<double> d(p.Positions.size(), 0.0);
@@ -181,8 +182,8 @@ inline std::unique_ptr<StudyFace> LoadStudyFace(const FaceSpec& spec)
   {
     centred[p] -= cx;
   }
-  if (!FindMouthCorners(centred, DenseOpening(*face, face->LipPart, face->ExpandShape(spec.Spread)),
-        face->Corners))
+  if (!FindMouthCorners(
+        centred, DenseOpening(*face, face->LipPart, face->ExpandShape(spec.Spread)), face->Corners))
   {
     throw InputError(spec.Name + ": no mouth corners found");
   }
@@ -198,8 +199,8 @@ enum class Decide
 
 /// The lip gap (mm) at every frame of `visemes` (channels named after rig shapes) with the
 /// optimizer's settings `s` (inactive: the unoptimized blend).
-inline std::vector<double> LipGaps(const StudyFace& face, const WeightTrack& visemes,
-  const OptimizerSettings& s, Decide decide)
+inline std::vector<double> LipGaps(
+  const StudyFace& face, const WeightTrack& visemes, const OptimizerSettings& s, Decide decide)
 {
   const Rig& rig = face.Shapes;
   std::vector<int> shapeOf(visemes.GetNumberOfChannels());
@@ -254,7 +255,8 @@ inline std::vector<double> LipGaps(const StudyFace& face, const WeightTrack& vis
 
 /// The frames of the track at the centres of the bilabials (p, b, m): the mouth leads the
 /// sound by the coarticulation's lead.
-inline std::vector<size_t> BilabialFrames(const Utterance& speech, const VisemeMap& map, double lead)
+inline std::vector<size_t> BilabialFrames(
+  const Utterance& speech, const VisemeMap& map, double lead)
 {
   std::vector<size_t> frames;
   const double fps = speech.Visemes.GetFrameRate();

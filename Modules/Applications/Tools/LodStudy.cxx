@@ -65,8 +65,8 @@ struct StudyOptions
   std::string OutDir = "lod-study";
   std::string ImageDir;
   double Seconds = 20.0;
-  double Fov = 30.0;       ///< vertical field of view, degrees
-  double Height = 1080.0;  ///< viewport height, pixels
+  double Fov = 30.0;      ///< vertical field of view, degrees
+  double Height = 1080.0; ///< viewport height, pixels
   double PixelBound = 1.0;
   double TargetPixelBound = 0.5;
   double FarFactor = 60.0; ///< the dolly ends this many times farther than it starts
@@ -117,7 +117,8 @@ void VertexView(const morphnode::MorphLadder& ladder, const morphnode::MorphAttr
   out.resize(work.size());
   for (size_t p = 0; p < ladder.Mesh.GetNumberOfPoints(); ++p)
   {
-    const size_t r = p < n ? p : ladder.Representative(static_cast<size_t>(s.Level), static_cast<uint32_t>(p));
+    const size_t r =
+      p < n ? p : ladder.Representative(static_cast<size_t>(s.Level), static_cast<uint32_t>(p));
     std::copy_n(&work[3 * r], 3, &out[3 * p]);
   }
 }
@@ -142,7 +143,8 @@ void Plot(const std::vector<Run>& runs, const std::string& file, const std::stri
   chart->SetTitle(title);
   chart->GetAxis(vtkAxis::BOTTOM)->SetTitle("distance (multiples of the closest)");
   chart->GetAxis(vtkAxis::BOTTOM)->SetLogScale(true);
-  chart->GetAxis(vtkAxis::LEFT)->SetTitle("level (0 = full) / active targets / 10 / pixel error p95");
+  chart->GetAxis(vtkAxis::LEFT)
+    ->SetTitle("level (0 = full) / active targets / 10 / pixel error p95");
   chart->SetShowLegend(true);
   chart->GetLegend()->SetHorizontalAlignment(vtkChartLegend::RIGHT);
   chart->GetLegend()->SetVerticalAlignment(vtkChartLegend::TOP);
@@ -156,8 +158,8 @@ void Plot(const std::vector<Run>& runs, const std::string& file, const std::stri
       continue;
     }
     auto table = vtkSmartPointer<vtkTable>::New();
-    const std::string names[] = { "distance", r.Budget + ": level", r.Budget + ": active targets / 10",
-      r.Budget + ": pixel error p95" };
+    const std::string names[] = { "distance", r.Budget + ": level",
+      r.Budget + ": active targets / 10", r.Budget + ": pixel error p95" };
     for (const auto& n : names)
     {
       vtkNew<vtkFloatArray> col;
@@ -178,7 +180,8 @@ void Plot(const std::vector<Run>& runs, const std::string& file, const std::stri
       line->SetInputData(table, 0, k);
       line->SetColor(colors[c % 3][0], colors[c % 3][1], colors[c % 3][2], 255);
       line->SetWidth(k == 1 ? 3.0 : 1.5);
-      line->GetPen()->SetLineType(k == 1 ? vtkPen::SOLID_LINE : (k == 2 ? vtkPen::DASH_LINE : vtkPen::DOT_LINE));
+      line->GetPen()->SetLineType(
+        k == 1 ? vtkPen::SOLID_LINE : (k == 2 ? vtkPen::DASH_LINE : vtkPen::DOT_LINE));
     }
     tables.push_back(table);
     ++c;
@@ -196,7 +199,8 @@ struct FrameTimes
 
 FrameTimes TimeFrames(const std::shared_ptr<const morphnode::MorphLadder>& ladder,
   const std::vector<morphnode::CostModel>& costs, const morphnode::ControllerSettings& settings,
-  double ppu, const morphnode::WeightTrack& track, int frames, vtkRenderWindow* window, vtkPolyData* poly)
+  double ppu, const morphnode::WeightTrack& track, int frames, vtkRenderWindow* window,
+  vtkPolyData* poly)
 {
   morphnode::ScalableMorph morph;
   morph.SetSettings(settings);
@@ -210,7 +214,8 @@ FrameTimes TimeFrames(const std::shared_ptr<const morphnode::MorphLadder>& ladde
   for (int f = 0; f < frames; ++f)
   {
     const double t0 = Now();
-    const morphnode::ScalableFrame& fr = morph.Update(Absolute(track, static_cast<size_t>(f) % track.GetNumberOfFrames()), ppu);
+    const morphnode::ScalableFrame& fr =
+      morph.Update(Absolute(track, static_cast<size_t>(f) % track.GetNumberOfFrames()), ppu);
     // Hand the shown prefix and, on a change of level, its index buffer to VTK.
     points->SetNumberOfPoints(static_cast<vtkIdType>(fr.NumberOfPoints));
     std::copy_n(morph.GetPositions().data(), 3 * fr.NumberOfPoints,
@@ -239,7 +244,8 @@ FrameTimes TimeFrames(const std::shared_ptr<const morphnode::MorphLadder>& ladde
   }
   // The 10th percentile: the frame as it costs when no other job takes the cores (the
   // machine is shared; see docs/benchmarks.md, "Machine and load").
-  auto low = [](std::vector<double> v) {
+  auto low = [](std::vector<double> v)
+  {
     std::nth_element(v.begin(), v.begin() + v.size() / 10, v.end());
     return v[v.size() / 10];
   };
@@ -257,12 +263,18 @@ int main(int argc, char* argv[])
     ->capture_default_str();
   app.add_option("--out", o.OutDir, "output folder")->capture_default_str();
   app.add_option("--images", o.ImageDir, "folder for the PNGs (default: the output folder)");
-  appkit::AddNumberOption(app, "--seconds", o.Seconds, 1.0, 3600.0, "length of the synthetic speech track");
-  appkit::AddNumberOption(app, "--pixel-bound", o.PixelBound, 0.0, 100.0, "level error on screen, px");
-  appkit::AddNumberOption(app, "--target-pixel-bound", o.TargetPixelBound, 0.0, 100.0, "target LOD bound, px");
-  appkit::AddNumberOption(app, "--far", o.FarFactor, 1.0, 1000.0, "the dolly's end, in multiples of its start");
-  app.add_option("--bench-frames", o.BenchFrames, "frames per benchmark run")->check(CLI::Range(1, 100000));
-  app.add_flag_callback("--no-bench", [&o]() { o.Bench = false; }, "skip the rendering benchmark");
+  appkit::AddNumberOption(
+    app, "--seconds", o.Seconds, 1.0, 3600.0, "length of the synthetic speech track");
+  appkit::AddNumberOption(
+    app, "--pixel-bound", o.PixelBound, 0.0, 100.0, "level error on screen, px");
+  appkit::AddNumberOption(
+    app, "--target-pixel-bound", o.TargetPixelBound, 0.0, 100.0, "target LOD bound, px");
+  appkit::AddNumberOption(
+    app, "--far", o.FarFactor, 1.0, 1000.0, "the dolly's end, in multiples of its start");
+  app.add_option("--bench-frames", o.BenchFrames, "frames per benchmark run")
+    ->check(CLI::Range(1, 100000));
+  app.add_flag_callback(
+    "--no-bench", [&o]() { o.Bench = false; }, "skip the rendering benchmark");
   appkit::ParseCommandLine(app, argc, argv);
   if (o.ImageDir.empty())
   {
@@ -326,20 +338,24 @@ int main(int argc, char* argv[])
     }
     const double faceHeight = hi - lo;
     const double near = faceHeight / 0.9 / (2.0 * std::tan(0.5 * o.Fov * 3.14159265358979 / 180.0));
-    md << "Face: `" << std::filesystem::path(o.FacePath).filename().string() << "`, " << mesh.GetNumberOfPoints()
-       << " points, " << mesh.GetNumberOfTriangles() << " triangles, " << mesh.GetNumberOfTargets() - 1
-       << " targets; ladder built in " << buildSeconds << " s. Screen " << o.Height << " px high, field of view "
-       << o.Fov << " degrees; the dolly goes from " << near << " to " << near * o.FarFactor
-       << " units (the face " << std::lround(0.9 * o.Height) << " to " << std::lround(0.9 * o.Height / o.FarFactor)
-       << " px high) over " << track.GetNumberOfFrames() << " frames. Pixel bound " << o.PixelBound
+    md << "Face: `" << std::filesystem::path(o.FacePath).filename().string() << "`, "
+       << mesh.GetNumberOfPoints() << " points, " << mesh.GetNumberOfTriangles() << " triangles, "
+       << mesh.GetNumberOfTargets() - 1 << " targets; ladder built in " << buildSeconds
+       << " s. Screen " << o.Height << " px high, field of view " << o.Fov
+       << " degrees; the dolly goes from " << near << " to " << near * o.FarFactor
+       << " units (the face " << std::lround(0.9 * o.Height) << " to "
+       << std::lround(0.9 * o.Height / o.FarFactor) << " px high) over "
+       << track.GetNumberOfFrames() << " frames. Pixel bound " << o.PixelBound
        << " px, target pixel bound " << o.TargetPixelBound << " px.\n\n";
-    md << "| level | points | triangles | error p99 (units; chosen by) | max error | RMS error | cost a (us) | b (ns per target point) |\n"
+    md << "| level | points | triangles | error p99 (units; chosen by) | max error | RMS error | "
+          "cost a (us) | b (ns per target point) |\n"
           "|---|---|---|---|---|---|---|---|\n";
     for (size_t l = 0; l < ladder->Levels.size(); ++l)
     {
       const auto& L = ladder->Levels[l];
-      md << "| " << l << " | " << L.NumberOfPoints << " | " << L.Triangles.size() / 3 << " | " << L.Error99 << " | " << L.MaxError << " | "
-         << L.RmsError << " | " << 1e6 * costs[l].Fixed << " | " << 1e9 * costs[l].PerTargetPoint << " |\n";
+      md << "| " << l << " | " << L.NumberOfPoints << " | " << L.Triangles.size() / 3 << " | "
+         << L.Error99 << " | " << L.MaxError << " | " << L.RmsError << " | " << 1e6 * costs[l].Fixed
+         << " | " << 1e9 * costs[l].PerTargetPoint << " |\n";
     }
     // Budgets relative to the full face's 95th percentile predicted cost on the track.
     std::vector<double> fullCost;
@@ -355,14 +371,16 @@ int main(int argc, char* argv[])
     }
     std::sort(fullCost.begin(), fullCost.end());
     const double p95 = fullCost[fullCost.size() * 95 / 100];
-    md << "\nFull face, 95th percentile of the predicted blend time on the track: " << Us(p95) << " us.\n\n";
+    md << "\nFull face, 95th percentile of the predicted blend time on the track: " << Us(p95)
+       << " us.\n\n";
 
     std::vector<Run> runs;
     std::ofstream csv(o.OutDir + "/lod_dolly.csv");
-    csv << "budget,geomorph,frame,distance,pixels_per_unit,level,morph_towards,alpha,active,blend_us,"
-           "error_max_px,error_p95_px,jump_px\n";
-    const std::pair<std::string, double> budgets[] = { { "generous (100 %)", 1.0 }, { "medium (45 %)", 0.45 },
-      { "tight (18 %)", 0.18 } };
+    csv
+      << "budget,geomorph,frame,distance,pixels_per_unit,level,morph_towards,alpha,active,blend_us,"
+         "error_max_px,error_p95_px,jump_px\n";
+    const std::pair<std::string, double> budgets[] = { { "generous (100 %)", 1.0 },
+      { "medium (45 %)", 0.45 }, { "tight (18 %)", 0.18 } };
     for (const auto& [name, share] : budgets)
     {
       for (int geomorph : { 8, 0 })
@@ -388,7 +406,8 @@ int main(int argc, char* argv[])
         std::vector<float> full(3 * mesh.GetNumberOfPoints()), work, now, before, shownPoints;
         for (size_t f = 0; f < track.GetNumberOfFrames(); ++f)
         {
-          const double distance = near * std::pow(o.FarFactor, double(f) / double(track.GetNumberOfFrames() - 1));
+          const double distance =
+            near * std::pow(o.FarFactor, double(f) / double(track.GetNumberOfFrames() - 1));
           const double ppu = morphnode::ScreenPixelsPerUnit(o.Height, o.Fov, distance);
           const std::vector<double> w = Absolute(track, f);
           const morphnode::ScalableFrame& fr = morph.Update(w, ppu);
@@ -396,14 +415,16 @@ int main(int argc, char* argv[])
           const Shown state{ d.Level, d.MorphTowards, d.Alpha };
           // Jump: this frame's state against the previous one's, same weights.
           double jump = 0.0;
-          if (!first && (state.Level != previous.Level || state.MorphTowards != previous.MorphTowards ||
-                          state.Alpha != previous.Alpha))
+          if (!first &&
+            (state.Level != previous.Level || state.MorphTowards != previous.MorphTowards ||
+              state.Alpha != previous.Alpha))
           {
             VertexView(*ladder, attr, d.Weights, state, work, now);
             VertexView(*ladder, attr, d.Weights, previous, work, before);
             for (size_t i = 0; i < now.size(); i += 3)
             {
-              const double dx = now[i] - before[i], dy = now[i + 1] - before[i + 1], dz = now[i + 2] - before[i + 2];
+              const double dx = now[i] - before[i], dy = now[i + 1] - before[i + 1],
+                           dz = now[i + 2] - before[i + 2];
               jump = std::max(jump, std::sqrt(dx * dx + dy * dy + dz * dz) * ppu);
             }
           }
@@ -433,7 +454,8 @@ int main(int argc, char* argv[])
                 }
               }
             }
-            const double dx = q[0] - full[3 * p], dy = q[1] - full[3 * p + 1], dz = q[2] - full[3 * p + 2];
+            const double dx = q[0] - full[3 * p], dy = q[1] - full[3 * p + 1],
+                         dz = q[2] - full[3 * p + 2];
             err[p] = std::sqrt(dx * dx + dy * dy + dz * dz) * ppu;
           }
           std::nth_element(err.begin(), err.begin() + err.size() * 95 / 100, err.end());
@@ -448,26 +470,29 @@ int main(int argc, char* argv[])
           run.JumpPx.push_back(jump);
           run.Over += fr.BlendSeconds > run.BudgetSeconds ? 1 : 0;
           run.MaxJump = std::max(run.MaxJump, jump);
-          csv << name << "," << geomorph << "," << f << "," << distance << "," << ppu << "," << d.Level << ","
-              << d.MorphTowards << "," << d.Alpha << "," << d.ActiveTargets << "," << 1e6 * fr.BlendSeconds << ","
-              << emax << "," << e95 << "," << jump << "\n";
+          csv << name << "," << geomorph << "," << f << "," << distance << "," << ppu << ","
+              << d.Level << "," << d.MorphTowards << "," << d.Alpha << "," << d.ActiveTargets << ","
+              << 1e6 * fr.BlendSeconds << "," << emax << "," << e95 << "," << jump << "\n";
         }
         run.Switches = morph.GetController().GetNumberOfSwitches();
-        std::cerr << name << " geomorph " << geomorph << ": switches " << run.Switches << ", over " << run.Over
-                  << ", max jump " << run.MaxJump << " px\n";
+        std::cerr << name << " geomorph " << geomorph << ": switches " << run.Switches << ", over "
+                  << run.Over << ", max jump " << run.MaxJump << " px\n";
         runs.push_back(std::move(run));
       }
     }
-    md << "| budget | us | geomorph frames (at least; slower where a step would exceed 1 px) | frames over budget (measured) | level switches | largest jump of a vertex (px) |\n"
+    md << "| budget | us | geomorph frames (at least; slower where a step would exceed 1 px) | "
+          "frames over budget (measured) | level switches | largest jump of a vertex (px) |\n"
           "|---|---|---|---|---|---|\n";
     for (const Run& r : runs)
     {
-      md << "| " << r.Budget << " | " << Us(r.BudgetSeconds) << " | " << r.Geomorph << " | " << r.Over << " of "
-         << r.Distance.size() << " | " << r.Switches << " | " << r.MaxJump << " |\n";
+      md << "| " << r.Budget << " | " << Us(r.BudgetSeconds) << " | " << r.Geomorph << " | "
+         << r.Over << " of " << r.Distance.size() << " | " << r.Switches << " | " << r.MaxJump
+         << " |\n";
     }
     // At each distance (five stretches of the dolly), with geomorphs.
     md << "\nAlong the dolly (with geomorphs; means over each fifth of the frames):\n\n"
-          "| budget | face height (px) | mean level | mean active targets | blend time (us) | pixel error p95 / max (px) |\n"
+          "| budget | face height (px) | mean level | mean active targets | blend time (us) | "
+          "pixel error p95 / max (px) |\n"
           "|---|---|---|---|---|---|\n";
     for (const Run& r : runs)
     {
@@ -479,20 +504,20 @@ int main(int argc, char* argv[])
       for (int part = 0; part < 5; ++part)
       {
         const size_t b = n * part / 5, e = n * (part + 1) / 5;
-        auto mean = [&](const std::vector<double>& v) {
-          return std::accumulate(v.begin() + b, v.begin() + e, 0.0) / double(e - b);
-        };
+        auto mean = [&](const std::vector<double>& v)
+        { return std::accumulate(v.begin() + b, v.begin() + e, 0.0) / double(e - b); };
         const double mid = r.Distance[(b + e) / 2];
         std::ostringstream row;
         row << std::fixed << std::setprecision(2) << "| " << r.Budget << " | "
-            << std::lround(faceHeight * morphnode::ScreenPixelsPerUnit(o.Height, o.Fov, mid)) << " | "
-            << mean(r.Level) << " | " << mean(r.Active) << " | " << std::setprecision(1) << mean(r.BlendUs) << " | "
-            << std::setprecision(2) << mean(r.ErrorP95Px) << " / "
+            << std::lround(faceHeight * morphnode::ScreenPixelsPerUnit(o.Height, o.Fov, mid))
+            << " | " << mean(r.Level) << " | " << mean(r.Active) << " | " << std::setprecision(1)
+            << mean(r.BlendUs) << " | " << std::setprecision(2) << mean(r.ErrorP95Px) << " / "
             << *std::max_element(r.ErrorMaxPx.begin() + b, r.ErrorMaxPx.begin() + e) << " |\n";
         md << row.str();
       }
     }
-    Plot(runs, o.ImageDir + "/lod_dolly.png", "Dolly-out of the talking face: level, targets and pixel error");
+    Plot(runs, o.ImageDir + "/lod_dolly.png",
+      "Dolly-out of the talking face: level, targets and pixel error");
 
     if (o.Bench)
     {
@@ -566,15 +591,18 @@ int main(int argc, char* argv[])
       {
         for (auto& c : configs)
         {
-          c.Rounds.push_back(TimeFrames(ladder, costs, c.Settings, c.Ppu, track, perRound, window, poly));
+          c.Rounds.push_back(
+            TimeFrames(ladder, costs, c.Settings, c.Ppu, track, perRound, window, poly));
         }
       }
-      auto median = [](std::vector<double> v) {
+      auto median = [](std::vector<double> v)
+      {
         std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
         return v[v.size() / 2];
       };
-      auto summary = [&](const Config& c, const Config& base, double& morph, double& frame, double& morphUp,
-                       double& frameUp) {
+      auto summary = [&](const Config& c, const Config& base, double& morph, double& frame,
+                       double& morphUp, double& frameUp)
+      {
         std::vector<double> m, f, mu, fu;
         for (int r = 0; r < rounds; ++r)
         {
@@ -588,12 +616,15 @@ int main(int argc, char* argv[])
         morphUp = median(mu);
         frameUp = median(fu);
       };
-      md << "\nWhole frame (morph + offscreen render, 640x480; " << rounds << " rounds of " << perRound
+      md << "\nWhole frame (morph + offscreen render, 640x480; " << rounds << " rounds of "
+         << perRound
          << " frames of the track, every configuration in every round in turn; per round the 10th "
             "percentile of its frames, then medians over the rounds, "
-            "speed-ups the median of the per-round ratios), each level shown alone and each device profile "
+            "speed-ups the median of the per-round ratios), each level shown alone and each device "
+            "profile "
             "with the face 300 px high, against full resolution in the same run:\n\n"
-            "| run | mean level | mean active targets | morph (us) | frame (ms) | frames per second | morph speed-up | frame speed-up |\n"
+            "| run | mean level | mean active targets | morph (us) | frame (ms) | frames per "
+            "second | morph speed-up | frame speed-up |\n"
             "|---|---|---|---|---|---|---|---|\n";
       for (size_t i = 0; i < figureFirst; ++i)
       {
@@ -607,10 +638,10 @@ int main(int argc, char* argv[])
           targets += r.Targets / rounds;
         }
         std::ostringstream row;
-        row << std::fixed << std::setprecision(2) << "| " << c.Name << " | " << level << " | " << targets << " | "
-            << std::setprecision(1) << 1e6 * morphS << " | " << std::setprecision(2) << 1e3 * frameS << " | "
-            << std::setprecision(1) << 1.0 / frameS << " | " << std::setprecision(2) << morphUp << " x | "
-            << frameUp << " x |\n";
+        row << std::fixed << std::setprecision(2) << "| " << c.Name << " | " << level << " | "
+            << targets << " | " << std::setprecision(1) << 1e6 * morphS << " | "
+            << std::setprecision(2) << 1e3 * frameS << " | " << std::setprecision(1) << 1.0 / frameS
+            << " | " << std::setprecision(2) << morphUp << " x | " << frameUp << " x |\n";
         md << row.str();
       }
       vtkNew<vtkTable> table;
@@ -620,12 +651,14 @@ int main(int argc, char* argv[])
       for (size_t l = 0; l < ladder->Levels.size(); ++l)
       {
         vtkNew<vtkFloatArray> col;
-        col->SetName(("level " + std::to_string(l) + " (" + std::to_string(ladder->Levels[l].Triangles.size() / 3) +
-          " triangles)").c_str());
+        col->SetName(("level " + std::to_string(l) + " (" +
+          std::to_string(ladder->Levels[l].Triangles.size() / 3) + " triangles)")
+                       .c_str());
         table->AddColumn(col);
       }
       table->SetNumberOfRows(static_cast<vtkIdType>(thresholds.size()));
-      md << "\nThe paper's Figure 3 with levels: whole frames per second (median over the rounds) against the "
+      md << "\nThe paper's Figure 3 with levels: whole frames per second (median over the rounds) "
+            "against the "
             "adjusted threshold (remaining redistribution), one column per level:\n\n| threshold |";
       std::string rule = "|---|";
       for (size_t l = 0; l < ladder->Levels.size(); ++l)
@@ -657,7 +690,8 @@ int main(int argc, char* argv[])
       chart->GetAxis(vtkAxis::BOTTOM)->SetTitle("adjusted threshold");
       chart->GetAxis(vtkAxis::LEFT)->SetTitle("frames per second");
       chart->SetShowLegend(true);
-      const unsigned char colors[4][3] = { { 0, 0, 0 }, { 31, 119, 180 }, { 255, 127, 14 }, { 214, 39, 40 } };
+      const unsigned char colors[4][3] = { { 0, 0, 0 }, { 31, 119, 180 }, { 255, 127, 14 },
+        { 214, 39, 40 } };
       for (size_t l = 0; l < ladder->Levels.size(); ++l)
       {
         vtkPlot* line = chart->AddPlot(vtkChart::LINE);

@@ -49,7 +49,8 @@ std::vector<std::string> ReadTargetNames(const std::string& path)
   std::string json = bytes;
   if (bytes.size() >= 20 && bytes.compare(0, 4, "glTF") == 0)
   {
-    auto u32 = [&](size_t at) {
+    auto u32 = [&](size_t at)
+    {
       return static_cast<uint32_t>(static_cast<unsigned char>(bytes[at])) |
         static_cast<uint32_t>(static_cast<unsigned char>(bytes[at + 1])) << 8 |
         static_cast<uint32_t>(static_cast<unsigned char>(bytes[at + 2])) << 16 |
@@ -80,7 +81,7 @@ int main(int argc, char* argv[])
 {
   namespace appkit = morphnode::appkit;
   std::string face, out, livelinkFile, textFile = appkit::DataPath("scripts/long-text.txt"),
-                         rigFile = appkit::DataPath("rigs/arkit.json");
+                                       rigFile = appkit::DataPath("rigs/arkit.json");
   morphnode::study::SpeechTrackOptions options;
   CLI::App app("MakeSpeechTrack: a long speech-driven weight track of a face's targets, for "
                "OptimizerStudy (docs/optimizer-study.md).",
@@ -90,7 +91,8 @@ int main(int argc, char* argv[])
     ->check(CLI::ExistingFile);
   app.add_option("--out", out, "the CSV to write")->required();
   app.add_option("--livelink-csv", livelinkFile,
-    "also write the performance as a Live Link Face CSV take (ARKit blendshapes, head and eye angles)");
+    "also write the performance as a Live Link Face CSV take (ARKit blendshapes, head and eye "
+    "angles)");
   // Defaults shown as the project's paths, not this machine's.
   app.add_option("--text", textFile, "what is said")
     ->check(CLI::ExistingFile)
@@ -104,7 +106,8 @@ int main(int argc, char* argv[])
   appkit::AddNumberOption(app, "--fps", options.FrameRate, 1.0, 240.0, "frame rate, in [1, 240]");
   app.add_option("--voice", options.Voice, "eSpeak NG voice")->capture_default_str();
   app.add_option("--rate", options.Rate, "words per minute")
-    ->check(CLI::Range(morphnode::SpeechSynthesizer::MinimumRate, morphnode::SpeechSynthesizer::MaximumRate))
+    ->check(CLI::Range(
+      morphnode::SpeechSynthesizer::MinimumRate, morphnode::SpeechSynthesizer::MaximumRate))
     ->capture_default_str();
   appkit::ParseCommandLine(app, argc, argv);
   try
@@ -124,8 +127,9 @@ int main(int argc, char* argv[])
       const appkit::DeferStopSignals whole; // a SIGTERM now: the whole file or none
       morphnode::file::WriteFileSafely(out, csv.str(), "--out"); // every write checked
     }
-    std::cout << "wrote " << out << ": " << track.GetNumberOfFrames() << " frames at " << track.GetFrameRate()
-              << " fps (" << track.GetNumberOfFrames() / track.GetFrameRate() << " s), " << targets.size()
+    std::cout << "wrote " << out << ": " << track.GetNumberOfFrames() << " frames at "
+              << track.GetFrameRate() << " fps ("
+              << track.GetNumberOfFrames() / track.GetFrameRate() << " s), " << targets.size()
               << " targets, from " << semantic.GetNumberOfChannels() << " behaviour channels";
     if (!dropped.empty())
     {
@@ -158,21 +162,24 @@ int main(int argc, char* argv[])
         std::copy(track.GetFrame(f), track.GetFrame(f) + track.GetNumberOfChannels(), row.begin());
         for (size_t a = 0; a < angles.size(); ++a)
         {
-          row[track.GetNumberOfChannels() + a] = semantic.GetValue(f, static_cast<size_t>(angles[a]));
+          row[track.GetNumberOfChannels() + a] =
+            semantic.GetValue(f, static_cast<size_t>(angles[a]));
         }
         performance.AppendFrame(row);
       }
       std::vector<std::string> unmapped;
-      const morphnode::LiveLinkCapture take = morphnode::CaptureFromTrack(performance, {}, &unmapped);
+      const morphnode::LiveLinkCapture take =
+        morphnode::CaptureFromTrack(performance, {}, &unmapped);
       {
         std::ostringstream livelink;
         morphnode::WriteLiveLinkCsv(livelink, take);
         const appkit::DeferStopSignals whole;
         morphnode::file::WriteFileSafely(livelinkFile, livelink.str(), "--livelink");
       }
-      std::cout << "wrote " << livelinkFile << ": Live Link Face CSV, " << take.GetNumberOfRows() << " rows at "
-                << take.TimecodeRate << " fps timecode, " << morphnode::ArkitShapeCount - take.MissingShapes.size()
-                << " of " << morphnode::ArkitShapeCount << " ARKit shapes";
+      std::cout << "wrote " << livelinkFile << ": Live Link Face CSV, " << take.GetNumberOfRows()
+                << " rows at " << take.TimecodeRate << " fps timecode, "
+                << morphnode::ArkitShapeCount - take.MissingShapes.size() << " of "
+                << morphnode::ArkitShapeCount << " ARKit shapes";
       if (!take.MissingShapes.empty())
       {
         std::cout << " (no face target, written as 0:";
@@ -197,7 +204,8 @@ int main(int argc, char* argv[])
   }
   catch (const std::bad_alloc&)
   {
-    std::cerr << "MakeSpeechTrack: out of memory (the input is too long for this machine; see docs/limits.md)\n";
+    std::cerr << "MakeSpeechTrack: out of memory (the input is too long for this machine; see "
+                 "docs/limits.md)\n";
     return 1;
   }
   catch (const std::exception& e)

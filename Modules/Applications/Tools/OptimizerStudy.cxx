@@ -70,8 +70,10 @@ Options ParseOptions(int argc, char* argv[])
     ->required()
     ->check(CLI::ExistingFile);
   app.add_option("--out", o.Out, "output folder")->capture_default_str();
-  appkit::AddNumberListOption(app, "--thresholds", o.Thresholds, 0.0, 1.0, "th_fix of the threshold methods");
-  appkit::AddNumberListOption(app, "--bounds", o.Bounds, 0.0, 1e30, "eps of error-bounded, model units");
+  appkit::AddNumberListOption(
+    app, "--thresholds", o.Thresholds, 0.0, 1.0, "th_fix of the threshold methods");
+  appkit::AddNumberListOption(
+    app, "--bounds", o.Bounds, 0.0, 1e30, "eps of error-bounded, model units");
   appkit::AddNumberListOption(app, "--budgets", o.Budgets, 1.0, 1e6, "target counts of the budget");
   appkit::AddNumberOption(app, "--figure5-threshold", o.Figure5, 0.0, 1.0,
     "the threshold of Figure 5's fixed-remaining and adjusted panels");
@@ -150,7 +152,8 @@ struct Face
   {
     this->Reader->SetFileName(file.c_str());
     this->Reader->SetMeshIndex(0); // the face mesh as one vtkPolyData
-    this->Reader->SetNormalsMode(vtkMorphTargetReader::NORMALS_FROM_FILE); // vertex error: positions only
+    this->Reader->SetNormalsMode(
+      vtkMorphTargetReader::NORMALS_FROM_FILE); // vertex error: positions only
     this->Morph->SetInputConnection(this->Reader->GetOutputPort());
     this->Morph->SetWeightModeToRelative();
     this->Morph->Update();
@@ -174,33 +177,39 @@ struct Results
 {
   std::vector<MethodRun> Figure5Runs;
   std::vector<std::tuple<std::string, double, double>> RmsPoints, MaxPoints;
-  std::map<double, Summary> AdjustedAt; // threshold -> adjusted summary
+  std::map<double, Summary> AdjustedAt;                      // threshold -> adjusted summary
   std::vector<std::pair<double, double>> FixedRms, FixedMax; // sweep: active -> error
 };
 
 /// The study's methods: frames.csv, summary.csv/.md, and what the plots need.
 std::string RunMethods(const Options& o, const Face& face, const WeightTrack& absolute,
-  const std::vector<OptimizerMethod>& methods, bool sweep, appkit::ProgressBar& progress, Results& r)
+  const std::vector<OptimizerMethod>& methods, bool sweep, appkit::ProgressBar& progress,
+  Results& r)
 {
   std::ofstream frames(o.Out + "/frames.csv");
   frames << "method,frame,time,active_targets,rms_error,max_error,error_bound,morph_us\n";
   std::ofstream summaryCsv(o.Out + "/summary.csv");
-  summaryCsv << "method,mean_active_targets,mean_rms_error_mm,max_rms_error_mm,mean_max_vertex_error_mm,"
-                "max_vertex_error_mm,max_error_bound_mm,frames_over_bound,mean_morph_us,morph_speedup\n";
+  summaryCsv
+    << "method,mean_active_targets,mean_rms_error_mm,max_rms_error_mm,mean_max_vertex_error_mm,"
+       "max_vertex_error_mm,max_error_bound_mm,frames_over_bound,mean_morph_us,morph_speedup\n";
   std::ostringstream md;
-  md << "| method | mean active targets | mean RMS error (mm) | max RMS error (mm) | mean max vertex error (mm) | max vertex error (mm) | max bound B (mm) | frames over eps | morph speed-up |\n"
+  md << "| method | mean active targets | mean RMS error (mm) | max RMS error (mm) | mean max "
+        "vertex error (mm) | max vertex error (mm) | max bound B (mm) | frames over eps | morph "
+        "speed-up |\n"
      << "| --- | --- | --- | --- | --- | --- | --- | --- | --- |\n";
   double noneTime = 0.0;
   for (size_t m = 0; m < methods.size(); ++m)
   {
     progress.Show(static_cast<int>(m), methods[m].Name);
     const auto& settings = methods[m].Settings;
-    const auto result = MeasureOptimizerQuality(*face.Positions, face.Distances, absolute, methods[m]);
+    const auto result =
+      MeasureOptimizerQuality(*face.Positions, face.Distances, absolute, methods[m]);
     for (size_t f = 0; f < result.size(); ++f)
     {
       const auto& q = result[f];
-      frames << methods[m].Name << "," << f << "," << absolute.GetTime(f) << "," << q.ActiveTargets << ","
-             << q.RmsError << "," << q.MaxError << "," << q.ErrorBound << "," << q.MorphSeconds * 1e6 << "\n";
+      frames << methods[m].Name << "," << f << "," << absolute.GetTime(f) << "," << q.ActiveTargets
+             << "," << q.RmsError << "," << q.MaxError << "," << q.ErrorBound << ","
+             << q.MorphSeconds * 1e6 << "\n";
     }
     const Summary s = Summarize(result, settings.MaxVertexError);
     const double n = std::max<double>(1.0, static_cast<double>(result.size()));
@@ -210,13 +219,13 @@ std::string RunMethods(const Options& o, const Face& face, const WeightTrack& ab
     }
     const double speedup = s.Time > 0 ? noneTime / s.Time : 0.0;
     const std::string over = settings.MaxVertexError > 0.0 ? std::to_string(s.OverBound) : "-";
-    summaryCsv << methods[m].Name << "," << s.Active << "," << s.Rms * Mm << "," << s.RmsMax * Mm << ","
-               << s.MeanMax * Mm << "," << s.MaxError * Mm << "," << s.Bound * Mm << "," << over << ","
-               << s.Time / n * 1e6 << "," << speedup << "\n";
-    md << std::fixed << "| " << methods[m].Name << " | " << std::setprecision(2) << s.Active << " | "
-       << std::setprecision(3) << s.Rms * Mm << " | " << s.RmsMax * Mm << " | " << s.MeanMax * Mm << " | "
-       << s.MaxError * Mm << " | " << s.Bound * Mm << " | " << over << " | " << std::setprecision(2) << speedup
-       << " x |\n";
+    summaryCsv << methods[m].Name << "," << s.Active << "," << s.Rms * Mm << "," << s.RmsMax * Mm
+               << "," << s.MeanMax * Mm << "," << s.MaxError * Mm << "," << s.Bound * Mm << ","
+               << over << "," << s.Time / n * 1e6 << "," << speedup << "\n";
+    md << std::fixed << "| " << methods[m].Name << " | " << std::setprecision(2) << s.Active
+       << " | " << std::setprecision(3) << s.Rms * Mm << " | " << s.RmsMax * Mm << " | "
+       << s.MeanMax * Mm << " | " << s.MaxError * Mm << " | " << s.Bound * Mm << " | " << over
+       << " | " << std::setprecision(2) << speedup << " x |\n";
     md.unsetf(std::ios::floatfield);
     // With a sweep, its finer curves stand for fixed-remaining and adjusted in the plots.
     if (m > 0 && (!sweep || settings.Strategy != Redistribution::Remaining))
@@ -229,7 +238,8 @@ std::string RunMethods(const Options& o, const Face& face, const WeightTrack& ab
       r.AdjustedAt[settings.Threshold] = s;
     }
     const bool figure5Method = m == 0 ||
-      (std::abs(settings.Threshold - o.Figure5) < 1e-12 && settings.Strategy == Redistribution::Remaining);
+      (std::abs(settings.Threshold - o.Figure5) < 1e-12 &&
+        settings.Strategy == Redistribution::Remaining);
     if (figure5Method)
     {
       r.Figure5Runs.emplace_back(methods[m].Name, result);
@@ -251,8 +261,8 @@ void RunSweep(const Options& o, const Face& face, const WeightTrack& absolute,
     const auto s =
       Summarize(MeasureOptimizerQuality(*face.Positions, face.Distances, absolute, sweep[k]), 0.0);
     const auto& settings = sweep[k].Settings;
-    sweepCsv << sweep[k].Name << "," << settings.Threshold << "," << s.Active << "," << s.Rms * Mm << ","
-             << s.MeanMax * Mm << "\n";
+    sweepCsv << sweep[k].Name << "," << settings.Threshold << "," << s.Active << "," << s.Rms * Mm
+             << "," << s.MeanMax * Mm << "\n";
     r.RmsPoints.emplace_back(sweep[k].Name, s.Active, s.Rms * Mm);
     r.MaxPoints.emplace_back(sweep[k].Name, s.Active, s.MeanMax * Mm);
     if (!settings.AdjustThreshold)
@@ -268,18 +278,21 @@ std::string WriteMatched(const Options& o, const Results& r)
 {
   std::ostringstream matched;
   std::ofstream matchedCsv(o.Out + "/matched.csv");
-  matchedCsv << "threshold,mean_active_targets,adjusted_rms_mm,fixed_rms_mm,adjusted_mean_max_mm,fixed_mean_max_mm\n";
-  matched << "| threshold | mean active targets (adjusted) | mean RMS error: adjusted / fixed (mm) | mean max vertex error: adjusted / fixed (mm) |\n"
+  matchedCsv << "threshold,mean_active_targets,adjusted_rms_mm,fixed_rms_mm,adjusted_mean_max_mm,"
+                "fixed_mean_max_mm\n";
+  matched << "| threshold | mean active targets (adjusted) | mean RMS error: adjusted / fixed (mm) "
+             "| mean max vertex error: adjusted / fixed (mm) |\n"
           << "| --- | --- | --- | --- |\n";
   for (const auto& [th, s] : r.AdjustedAt)
   {
     const double rms = Interpolate(r.FixedRms, s.Active), mx = Interpolate(r.FixedMax, s.Active);
-    matchedCsv << th << "," << s.Active << "," << s.Rms * Mm << "," << rms << "," << s.MeanMax * Mm << "," << mx
-               << "\n";
+    matchedCsv << th << "," << s.Active << "," << s.Rms * Mm << "," << rms << "," << s.MeanMax * Mm
+               << "," << mx << "\n";
     matched << std::fixed << "| " << std::setprecision(2) << th << " | " << s.Active << " | "
             << std::setprecision(3) << s.Rms * Mm << " / " << rms << " (" << std::setprecision(0)
-            << 100.0 * (s.Rms * Mm / rms - 1.0) << " %) | " << std::setprecision(3) << s.MeanMax * Mm << " / "
-            << mx << " (" << std::setprecision(0) << 100.0 * (s.MeanMax * Mm / mx - 1.0) << " %) |\n";
+            << 100.0 * (s.Rms * Mm / rms - 1.0) << " %) | " << std::setprecision(3)
+            << s.MeanMax * Mm << " / " << mx << " (" << std::setprecision(0)
+            << 100.0 * (s.MeanMax * Mm / mx - 1.0) << " %) |\n";
   }
   std::ofstream(o.Out + "/matched.md") << matched.str();
   return matched.str();
@@ -298,7 +311,8 @@ int main(int argc, char* argv[])
     {
       throw InputError("cannot open " + o.Track);
     }
-    const WeightTrack absolute = ToAbsoluteWeights(WeightTrack::ReadCsv(csv), face.Model->GetTargetNames());
+    const WeightTrack absolute =
+      ToAbsoluteWeights(WeightTrack::ReadCsv(csv), face.Model->GetTargetNames());
     const std::vector<int> budgets(o.Budgets.begin(), o.Budgets.end());
     const auto methods = StudyMethods(o.Thresholds, o.Bounds, budgets);
     const auto sweep = SweepMethods(o.Sweep);
@@ -306,7 +320,8 @@ int main(int argc, char* argv[])
     std::filesystem::create_directories(o.Out);
     appkit::ProgressBar progress(static_cast<int>(methods.size() + sweep.size()), "methods");
     Results results;
-    const std::string summary = RunMethods(o, face, absolute, methods, !sweep.empty(), progress, results);
+    const std::string summary =
+      RunMethods(o, face, absolute, methods, !sweep.empty(), progress, results);
     RunSweep(o, face, absolute, sweep, static_cast<int>(methods.size()), progress, results);
     progress.Show(static_cast<int>(methods.size() + sweep.size()));
     std::cout << summary;
@@ -316,15 +331,17 @@ int main(int argc, char* argv[])
                 << WriteMatched(o, results);
     }
 
-    const double from = o.Window.empty() ? 0.0 : o.Window[0], to = o.Window.empty() ? 0.0 : o.Window[1];
-    PlotWeightsOverTime(results.Figure5Runs, face.Model->GetTargetNames(), absolute.GetFrameRate(), from, to,
-      o.Out + "/weights_over_time.png");
+    const double from = o.Window.empty() ? 0.0 : o.Window[0],
+                 to = o.Window.empty() ? 0.0 : o.Window[1];
+    PlotWeightsOverTime(results.Figure5Runs, face.Model->GetTargetNames(), absolute.GetFrameRate(),
+      from, to, o.Out + "/weights_over_time.png");
     PlotErrorVsActive(results.RmsPoints, "Mean RMS vertex error against mean active targets",
       "RMS vertex error (mm)", o.Out + "/error_vs_active.png");
     PlotErrorVsActive(results.MaxPoints, "Mean largest vertex error against mean active targets",
       "largest vertex error per frame, mean (mm)", o.Out + "/max_error_vs_active.png");
     std::cout << "wrote " << o.Out
-              << "/{frames.csv,summary.csv,summary.md,sweep.csv,matched.csv,matched.md,weights_over_time.png,"
+              << "/{frames.csv,summary.csv,summary.md,sweep.csv,matched.csv,matched.md,weights_"
+                 "over_time.png,"
                  "error_vs_active.png,max_error_vs_active.png}\n";
   }
   catch (const std::exception& e)

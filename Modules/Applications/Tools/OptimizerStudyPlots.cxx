@@ -92,7 +92,8 @@ void PlotWeightsOverTime(const std::vector<MethodRun>& runs, const std::vector<s
     }
     const float h = 1.0f / runs.size();
     chart->SetAutoSize(false);
-    chart->SetSize(vtkRectf(0, (runs.size() - 1 - r) * h * 250 * runs.size(), 1000, h * 250 * runs.size()));
+    chart->SetSize(
+      vtkRectf(0, (runs.size() - 1 - r) * h * 250 * runs.size(), 1000, h * 250 * runs.size()));
     view->GetScene()->AddItem(chart);
   }
   appkit::WritePng(view, file);

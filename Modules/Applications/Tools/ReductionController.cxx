@@ -19,8 +19,8 @@ namespace
 struct Level
 {
   ReductionMesh Mesh;
-  std::vector<uint32_t> ToFull;      // level point -> full point
-  std::vector<uint32_t> ToPrevious;  // level point -> previous level's point
+  std::vector<uint32_t> ToFull;          // level point -> full point
+  std::vector<uint32_t> ToPrevious;      // level point -> previous level's point
   std::vector<uint32_t> Representatives; // previous level point -> this level's point
   std::unique_ptr<morphnode::MorphAttribute<float>> Attribute;
   Correspondence Corr;
@@ -44,7 +44,8 @@ double TimeBlend(const morphnode::MorphAttribute<float>& attr, const std::vector
 
 /// The chain of levels: the full face, then each budget (largest first) reduced from the
 /// previous level.
-std::vector<Level> BuildLevels(const ReductionMesh& full, const std::vector<double>& sorted, double weight)
+std::vector<Level> BuildLevels(
+  const ReductionMesh& full, const std::vector<double>& sorted, double weight)
 {
   std::vector<Level> levels(1);
   levels[0].Mesh = full;
@@ -72,9 +73,9 @@ std::vector<Level> BuildLevels(const ReductionMesh& full, const std::vector<doub
 
 /// A level's attribute, correspondence, cost model (timed on random active sets, written to
 /// `cal`) and error over the track, as the controller's LevelOfDetail.
-morphnode::LevelOfDetail PrepareLevel(std::vector<Level>& levels, size_t l, const std::vector<double>& sorted,
-  const ReductionMesh& full, const morphnode::WeightTrack& track, size_t stride, std::mt19937& rng,
-  std::ostream& cal)
+morphnode::LevelOfDetail PrepareLevel(std::vector<Level>& levels, size_t l,
+  const std::vector<double>& sorted, const ReductionMesh& full, const morphnode::WeightTrack& track,
+  size_t stride, std::mt19937& rng, std::ostream& cal)
 {
   Level& level = levels[l];
   const size_t np = level.Mesh.GetNumberOfPoints();
@@ -95,7 +96,8 @@ morphnode::LevelOfDetail PrepareLevel(std::vector<Level>& levels, size_t l, cons
   std::vector<double> xs, ys;
   std::vector<float> out(3 * np);
   const size_t nt = level.Mesh.GetNumberOfTargets();
-  for (size_t active : { size_t(0), size_t(1), size_t(2), size_t(4), size_t(8), size_t(16), size_t(32), nt })
+  for (size_t active :
+    { size_t(0), size_t(1), size_t(2), size_t(4), size_t(8), size_t(16), size_t(32), nt })
   {
     for (int trial = 0; trial < 3; ++trial)
     {
@@ -144,8 +146,9 @@ morphnode::LevelOfDetail PrepareLevel(std::vector<Level>& levels, size_t l, cons
     }
     lod.CoarserToThis = next.ToPrevious;
   }
-  std::cerr << "level " << lod.Name << ": " << np << " points, cost " << Us(lod.Cost.Fixed) << " us + "
-            << lod.Cost.PerTargetPoint * 1e9 << " ns per target point, error " << Mm(level.Error) << " mm\n";
+  std::cerr << "level " << lod.Name << ": " << np << " points, cost " << Us(lod.Cost.Fixed)
+            << " us + " << lod.Cost.PerTargetPoint * 1e9 << " ns per target point, error "
+            << Mm(level.Error) << " mm\n";
   return lod;
 }
 
@@ -164,7 +167,8 @@ morphnode::WeightTrack AbsoluteWeights(const Face& face, const morphnode::Weight
 /// The controller at one frame budget over the track: a row of `md`, rows of `ctl`.
 void RunBudget(const std::string& label, double budget, const std::vector<Level>& levels,
   const std::vector<morphnode::LevelOfDetail>& lods, const ReductionMesh& full,
-  const morphnode::WeightTrack& track, const morphnode::WeightTrack& absolute, std::ostream& ctl, std::ostream& md)
+  const morphnode::WeightTrack& track, const morphnode::WeightTrack& absolute, std::ostream& ctl,
+  std::ostream& md)
 {
   morphnode::FrameBudgetController controller;
   morphnode::ControllerSettings cs;
@@ -181,12 +185,14 @@ void RunBudget(const std::string& label, double budget, const std::vector<Level>
   std::vector<float> shown, morphed, truth;
   for (size_t f = 0; f < absolute.GetNumberOfFrames(); ++f)
   {
-    std::vector<double> w(absolute.GetFrame(f), absolute.GetFrame(f) + absolute.GetNumberOfChannels());
+    std::vector<double> w(
+      absolute.GetFrame(f), absolute.GetFrame(f) + absolute.GetNumberOfChannels());
     const morphnode::ControllerDecision d = controller.Update(w);
     const Level& level = levels[d.Level];
     shown.resize(3 * level.Mesh.GetNumberOfPoints());
     const auto t0 = std::chrono::steady_clock::now();
-    level.Attribute->Blend(d.Weights.data(), d.Weights.size(), shown.data(), 0, level.Mesh.GetNumberOfPoints());
+    level.Attribute->Blend(
+      d.Weights.data(), d.Weights.size(), shown.data(), 0, level.Mesh.GetNumberOfPoints());
     if (d.MorphTowards >= 0)
     {
       morphed.resize(shown.size());
@@ -205,9 +211,9 @@ void RunBudget(const std::string& label, double budget, const std::vector<Level>
     predictedSum += d.PredictedError;
     measuredSum += err;
     measuredMax = std::max(measuredMax, err);
-    ctl << std::quoted(label) << "," << f << "," << d.Level << "," << d.MorphTowards << "," << d.Alpha << ","
-        << d.Threshold << "," << d.ActiveTargets << "," << Us(d.PredictedSeconds) << "," << Us(t) << ","
-        << Mm(d.PredictedError, 5) << "," << Mm(err, 5) << "\n";
+    ctl << std::quoted(label) << "," << f << "," << d.Level << "," << d.MorphTowards << ","
+        << d.Alpha << "," << d.Threshold << "," << d.ActiveTargets << "," << Us(d.PredictedSeconds)
+        << "," << Us(t) << "," << Mm(d.PredictedError, 5) << "," << Mm(err, 5) << "\n";
   }
   const double n = static_cast<double>(absolute.GetNumberOfFrames());
   std::vector<double> sortedTimes = times;
@@ -218,17 +224,19 @@ void RunBudget(const std::string& label, double budget, const std::vector<Level>
     levelsText << (l ? " / " : "") << perLevel[l];
   }
   md << "| " << label << " | " << Us(budget) << " | " << levelsText.str() << " | "
-     << controller.GetNumberOfSwitches() << " | " << std::setprecision(3) << thresholdSum / n << " | "
-     << std::setprecision(3) << activeSum / n << " | "
+     << controller.GetNumberOfSwitches() << " | " << std::setprecision(3) << thresholdSum / n
+     << " | " << std::setprecision(3) << activeSum / n << " | "
      << Us(std::accumulate(times.begin(), times.end(), 0.0) / n) << " / "
-     << Us(sortedTimes[sortedTimes.size() * 95 / 100]) << " | " << over << " of " << times.size() << " | "
-     << Mm(predictedSum / n) << " | " << Mm(measuredSum / n) << " / " << Mm(measuredMax) << " |\n";
+     << Us(sortedTimes[sortedTimes.size() * 95 / 100]) << " | " << over << " of " << times.size()
+     << " | " << Mm(predictedSum / n) << " | " << Mm(measuredSum / n) << " / " << Mm(measuredMax)
+     << " |\n";
   std::cerr << "controller " << label << ": levels " << levelsText.str() << ", switches "
             << controller.GetNumberOfSwitches() << ", over budget " << over << "\n";
 }
 } // namespace
 
-void RunController(const Options& o, const Face& face, const morphnode::WeightTrack& track, std::ostream& md)
+void RunController(
+  const Options& o, const Face& face, const morphnode::WeightTrack& track, std::ostream& md)
 {
   const ReductionMesh& full = face.Mesh;
   std::vector<double> sorted = o.Budgets;
@@ -257,23 +265,32 @@ void RunController(const Options& o, const Face& face, const morphnode::WeightTr
   }
   std::sort(fullCosts.begin(), fullCosts.end());
   const double p95 = fullCosts[fullCosts.size() * 95 / 100];
-  const std::vector<std::pair<std::string, double>> frameBudgets = { { "generous (100 % of full p95)", p95 },
-    { "medium (45 %)", 0.45 * p95 }, { "tight (18 %)", 0.18 * p95 } };
+  const std::vector<std::pair<std::string, double>> frameBudgets = {
+    { "generous (100 % of full p95)", p95 }, { "medium (45 %)", 0.45 * p95 },
+    { "tight (18 %)", 0.18 * p95 }
+  };
 
   std::ofstream ctl(o.OutDir + "/controller.csv");
-  ctl << "budget,frame,level,morph_towards,alpha,threshold,active,predicted_us,measured_us,predicted_error_mm,"
+  ctl << "budget,frame,level,morph_towards,alpha,threshold,active,predicted_us,measured_us,"
+         "predicted_error_mm,"
          "measured_error_mm\n";
-  md << "\n## Frame-budget controller\n\nLevels (chained reductions, each from the previous one):\n\n"
-     << "| level | points | cost model a | b (ns per target point) | level error (correspondence RMS, mm) |\n"
+  md << "\n## Frame-budget controller\n\nLevels (chained reductions, each from the previous "
+        "one):\n\n"
+     << "| level | points | cost model a | b (ns per target point) | level error (correspondence "
+        "RMS, mm) |\n"
      << "|---|---|---|---|---|\n";
   for (const auto& lod : lods)
   {
     md << "| " << lod.Name << " | " << lod.NumberOfPoints << " | " << Us(lod.Cost.Fixed) << " us | "
-       << std::setprecision(3) << lod.Cost.PerTargetPoint * 1e9 << " | " << Mm(lod.GeometricError) << " |\n";
+       << std::setprecision(3) << lod.Cost.PerTargetPoint * 1e9 << " | " << Mm(lod.GeometricError)
+       << " |\n";
   }
-  md << "\nFull face, 95th percentile of the predicted per-frame cost on the track: " << Us(p95) << " us.\n\n";
-  md << "| budget | us | frames per level (full/...) | switches | mean threshold | mean active targets "
-        "| measured time mean / p95 (us) | frames over budget (measured) | predicted error mean (mm) "
+  md << "\nFull face, 95th percentile of the predicted per-frame cost on the track: " << Us(p95)
+     << " us.\n\n";
+  md << "| budget | us | frames per level (full/...) | switches | mean threshold | mean active "
+        "targets "
+        "| measured time mean / p95 (us) | frames over budget (measured) | predicted error mean "
+        "(mm) "
         "| measured error mean / max (mm) |\n|---|---|---|---|---|---|---|---|---|---|\n";
   for (const auto& [label, budget] : frameBudgets)
   {

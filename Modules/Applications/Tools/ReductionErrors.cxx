@@ -16,8 +16,8 @@
 
 namespace reductionstudy
 {
-Reduced ReduceOpenMesh(
-  const ReductionMesh& mesh, size_t triangles, double weight, const morphnode::ReductionSettings& base)
+Reduced ReduceOpenMesh(const ReductionMesh& mesh, size_t triangles, double weight,
+  const morphnode::ReductionSettings& base)
 {
   morphnode::ReductionSettings s = base;
   s.TargetTriangles = triangles;
@@ -60,7 +60,8 @@ Reduced ReduceVTK(const ReductionMesh& mesh, size_t triangles)
   }
   for (const auto& d : mesh.PositionDeltas)
   {
-    r.Mesh.PositionDeltas.push_back(morphnode::GatherPoints(d, 3, mesh.GetNumberOfPoints(), r.Source));
+    r.Mesh.PositionDeltas.push_back(
+      morphnode::GatherPoints(d, 3, mesh.GetNumberOfPoints(), r.Source));
   }
   return r;
 }
@@ -113,7 +114,8 @@ Correspondence Correspond(const ReductionMesh& full, const ReductionMesh& reduce
   return c;
 }
 
-double CorrespondenceRms(const Correspondence& corr, const std::vector<float>& shown, const std::vector<float>& full)
+double CorrespondenceRms(
+  const Correspondence& corr, const std::vector<float>& shown, const std::vector<float>& full)
 {
   double sum = 0.0;
   for (size_t p = 0; p < corr.Corners.size(); ++p)
@@ -160,7 +162,8 @@ LipsAndLids FindLipsAndLids(const Face& face)
   for (size_t k = 0; k < m.GetNumberOfTargets(); ++k)
   {
     const std::string& name = face.Names[k + 1];
-    const bool lip = name.rfind("mouthRoll", 0) == 0 || name == "mouthFunnel" || name == "mouthPucker";
+    const bool lip =
+      name.rfind("mouthRoll", 0) == 0 || name == "mouthFunnel" || name == "mouthPucker";
     const bool lid = name.rfind("eyeBlink", 0) == 0;
     if (!lip && !lid)
     {
@@ -186,9 +189,9 @@ LipsAndLids FindLipsAndLids(const Face& face)
   return out;
 }
 
-Errors Measure(const std::string& method, double budget, const ReductionMesh& full, const Reduced& r,
-  const morphnode::WeightTrack& track, size_t stride, const std::vector<bool>& animatedRegion,
-  const LipsAndLids* regions)
+Errors Measure(const std::string& method, double budget, const ReductionMesh& full,
+  const Reduced& r, const morphnode::WeightTrack& track, size_t stride,
+  const std::vector<bool>& animatedRegion, const LipsAndLids* regions)
 {
   std::vector<float> lips, lids;
   Errors e;
@@ -235,7 +238,8 @@ Errors Measure(const std::string& method, double budget, const ReductionMesh& fu
           q[c] += corr.Weights[p][i] * b[3 * corr.Corners[p][i] + c];
         }
       }
-      const double d2 = (q[0] - a[3 * p]) * (q[0] - a[3 * p]) + (q[1] - a[3 * p + 1]) * (q[1] - a[3 * p + 1]) +
+      const double d2 = (q[0] - a[3 * p]) * (q[0] - a[3 * p]) +
+        (q[1] - a[3 * p + 1]) * (q[1] - a[3 * p + 1]) +
         (q[2] - a[3 * p + 2]) * (q[2] - a[3 * p + 2]);
       corrFrame += d2;
       e.CorrMax = std::max(e.CorrMax, std::sqrt(d2));
@@ -307,7 +311,8 @@ Errors Measure(const std::string& method, double budget, const ReductionMesh& fu
   e.MotionP95 = motionAll[motionAll.size() * 95 / 100];
   e.MotionP99 = motionAll[motionAll.size() * 99 / 100];
   e.MotionRegionRms = std::sqrt(motionRegionSum / std::max<size_t>(corrRegionCount, 1));
-  auto percentile = [](std::vector<float>& v, int q) {
+  auto percentile = [](std::vector<float>& v, int q)
+  {
     if (v.empty())
     {
       return 0.0;

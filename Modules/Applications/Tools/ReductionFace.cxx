@@ -64,7 +64,8 @@ Face LoadFace(const std::string& path)
   {
     double x[3];
     poly->GetPoint(p, x);
-    face.Mesh.Positions.insert(face.Mesh.Positions.end(), { float(x[0]), float(x[1]), float(x[2]) });
+    face.Mesh.Positions.insert(
+      face.Mesh.Positions.end(), { float(x[0]), float(x[1]), float(x[2]) });
   }
   auto it = vtk::TakeSmartPointer(poly->GetPolys()->NewIterator());
   for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell())
@@ -79,7 +80,8 @@ Face LoadFace(const std::string& path)
   }
   for (size_t k = 0; k + 1 < face.Names.size(); ++k)
   {
-    vtkDataArray* d = poly->GetPointData()->GetArray(("target" + std::to_string(k) + "_position").c_str());
+    vtkDataArray* d =
+      poly->GetPointData()->GetArray(("target" + std::to_string(k) + "_position").c_str());
     std::vector<float> deltas(3 * np);
     for (vtkIdType p = 0; p < np; ++p)
     {
@@ -95,7 +97,8 @@ Face LoadFace(const std::string& path)
   return face;
 }
 
-vtkSmartPointer<vtkPolyData> ToPolyData(const float* positions, size_t np, const std::vector<uint32_t>& tris)
+vtkSmartPointer<vtkPolyData> ToPolyData(
+  const float* positions, size_t np, const std::vector<uint32_t>& tris)
 {
   auto poly = vtkSmartPointer<vtkPolyData>::New();
   vtkNew<vtkPoints> points;

@@ -17,7 +17,8 @@
 
 namespace reductionstudy
 {
-Reduced ReduceGltfpack(const Face& face, double ratio, const std::string& gltfpack, const std::string& workDir)
+Reduced ReduceGltfpack(
+  const Face& face, double ratio, const std::string& gltfpack, const std::string& workDir)
 {
   const ReductionMesh& mesh = face.Mesh;
   morphnode::GltfScene scene;
@@ -48,8 +49,8 @@ Reduced ReduceGltfpack(const Face& face, double ratio, const std::string& gltfpa
   // the points match by position exactly. gltfpack 1.3 has no switch for its regularization
   // of meshes with targets: it decides that itself.
   std::ostringstream command;
-  command << "\"" << gltfpack << "\" -i \"" << in << "\" -o \"" << out << "\" -si " << ratio << " -noq > \""
-          << workDir << "/gltfpack.log\" 2>&1";
+  command << "\"" << gltfpack << "\" -i \"" << in << "\" -o \"" << out << "\" -si " << ratio
+          << " -noq > \"" << workDir << "/gltfpack.log\" 2>&1";
   if (std::system(command.str().c_str()) != 0)
   {
     throw morphnode::InputError("gltfpack failed: " + command.str());
@@ -57,14 +58,16 @@ Reduced ReduceGltfpack(const Face& face, double ratio, const std::string& gltfpa
   const morphnode::GltfScene packed = morphnode::LoadGltfScene(out);
   if (packed.Parts.size() != 1)
   {
-    throw morphnode::InputError("gltfpack wrote " + std::to_string(packed.Parts.size()) + " parts, expected 1");
+    throw morphnode::InputError(
+      "gltfpack wrote " + std::to_string(packed.Parts.size()) + " parts, expected 1");
   }
   const morphnode::GltfPart& p = packed.Parts[0];
   // Points by position (exact float match; the nearest when none, which -noq should not give).
   std::map<std::tuple<float, float, float>, uint32_t> byPosition;
   for (size_t i = 0; i < mesh.GetNumberOfPoints(); ++i)
   {
-    byPosition.emplace(std::make_tuple(mesh.Positions[3 * i], mesh.Positions[3 * i + 1], mesh.Positions[3 * i + 2]),
+    byPosition.emplace(
+      std::make_tuple(mesh.Positions[3 * i], mesh.Positions[3 * i + 1], mesh.Positions[3 * i + 2]),
       static_cast<uint32_t>(i));
   }
   Reduced r;
@@ -73,7 +76,8 @@ Reduced ReduceGltfpack(const Face& face, double ratio, const std::string& gltfpa
   size_t unmatched = 0;
   for (size_t i = 0; i < p.GetNumberOfPoints(); ++i)
   {
-    const auto key = std::make_tuple(p.Positions[3 * i], p.Positions[3 * i + 1], p.Positions[3 * i + 2]);
+    const auto key =
+      std::make_tuple(p.Positions[3 * i], p.Positions[3 * i + 1], p.Positions[3 * i + 2]);
     auto it = byPosition.find(key);
     if (it == byPosition.end())
     {
@@ -106,7 +110,8 @@ Reduced ReduceGltfpack(const Face& face, double ratio, const std::string& gltfpa
   for (size_t k = 0; k < mesh.GetNumberOfTargets(); ++k)
   {
     const std::string& name = face.Names[k + 1];
-    auto t = std::find_if(p.Targets.begin(), p.Targets.end(), [&](const auto& x) { return x.Name == name; });
+    auto t = std::find_if(
+      p.Targets.begin(), p.Targets.end(), [&](const auto& x) { return x.Name == name; });
     if (t == p.Targets.end())
     {
       throw morphnode::InputError("gltfpack's output lost the target '" + name + "'");
@@ -115,7 +120,8 @@ Reduced ReduceGltfpack(const Face& face, double ratio, const std::string& gltfpa
   }
   if (unmatched > 0)
   {
-    std::cerr << "gltfpack at " << ratio << ": " << unmatched << " points without an exact twin (nearest used)\n";
+    std::cerr << "gltfpack at " << ratio << ": " << unmatched
+              << " points without an exact twin (nearest used)\n";
   }
   return r;
 }

@@ -13,10 +13,10 @@
 #include "vtkNew.h"
 #include "vtkPen.h"
 #include "vtkPlot.h"
-#include "vtkTextProperty.h"
 #include "vtkRenderWindow.h"
 #include "vtkRenderer.h"
 #include "vtkTable.h"
+#include "vtkTextProperty.h"
 
 #include <algorithm>
 
@@ -26,7 +26,8 @@ namespace appkit = morphnode::appkit;
 
 namespace
 {
-const unsigned char Colors[4][3] = { { 214, 39, 40 }, { 31, 119, 180 }, { 127, 127, 127 }, { 44, 160, 44 } };
+const unsigned char Colors[4][3] = { { 214, 39, 40 }, { 31, 119, 180 }, { 127, 127, 127 },
+  { 44, 160, 44 } };
 
 } // namespace
 
@@ -76,7 +77,8 @@ void PlotVersusBudget(const std::vector<Errors>& all, const std::vector<std::str
       line->SetInputData(table, 0, c);
       line->SetColor(Colors[m][0], Colors[m][1], Colors[m][2], 255);
       line->SetWidth(c == 1 ? 3.0 : 2.0);
-      line->GetPen()->SetLineType(c == 1 ? vtkPen::SOLID_LINE : (c == 2 ? vtkPen::DASH_LINE : vtkPen::DOT_LINE));
+      line->GetPen()->SetLineType(
+        c == 1 ? vtkPen::SOLID_LINE : (c == 2 ? vtkPen::DASH_LINE : vtkPen::DOT_LINE));
     }
     tables.push_back(table);
   }
@@ -84,15 +86,16 @@ void PlotVersusBudget(const std::vector<Errors>& all, const std::vector<std::str
   appkit::WritePng(view, file);
 }
 
-void PlotOverTime(const std::vector<Errors>& all, const std::vector<std::string>& methods, double budget,
-  const morphnode::WeightTrack& track, size_t stride, const std::string& file)
+void PlotOverTime(const std::vector<Errors>& all, const std::vector<std::string>& methods,
+  double budget, const morphnode::WeightTrack& track, size_t stride, const std::string& file)
 {
   vtkNew<vtkContextView> view;
   view->GetRenderWindow()->SetSize(1000, 420);
   view->GetRenderer()->SetBackground(1, 1, 1);
   vtkNew<vtkChartXY> chart;
   std::ostringstream title;
-  title << "Motion error per frame (95th percentile over points) at " << 100.0 * budget << " % of the triangles (jawOpen x 0.5 mm in black)";
+  title << "Motion error per frame (95th percentile over points) at " << 100.0 * budget
+        << " % of the triangles (jawOpen x 0.5 mm in black)";
   chart->SetTitle(title.str());
   chart->GetAxis(vtkAxis::LEFT)->SetTitle("motion error p95 (mm)");
   chart->GetAxis(vtkAxis::BOTTOM)->SetTitle("time (s)");
@@ -120,7 +123,8 @@ void PlotOverTime(const std::vector<Errors>& all, const std::vector<std::string>
   for (size_t r = 0; r < rows; ++r)
   {
     table->SetValue(r, 0, track.GetTime(r * stride));
-    table->SetValue(r, methods.size() + 1, jawChannel >= 0 ? 0.5 * track.GetValue(r * stride, jawChannel) : 0.0);
+    table->SetValue(
+      r, methods.size() + 1, jawChannel >= 0 ? 0.5 * track.GetValue(r * stride, jawChannel) : 0.0);
   }
   for (size_t m = 0; m < methods.size(); ++m)
   {

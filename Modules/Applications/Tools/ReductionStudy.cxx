@@ -34,7 +34,8 @@
 
 namespace reductionstudy
 {
-void CompareReductions(const Options& o, const Face& face, const morphnode::WeightTrack& track, std::ostream& md)
+void CompareReductions(
+  const Options& o, const Face& face, const morphnode::WeightTrack& track, std::ostream& md)
 {
   const ReductionMesh& full = face.Mesh;
   const std::string& outDir = o.OutDir;
@@ -48,7 +49,8 @@ void CompareReductions(const Options& o, const Face& face, const morphnode::Weig
     for (size_t p = 0; p < region.size(); ++p)
     {
       region[p] = std::max(region[p],
-        std::sqrt(double(d[3 * p]) * d[3 * p] + double(d[3 * p + 1]) * d[3 * p + 1] + double(d[3 * p + 2]) * d[3 * p + 2]));
+        std::sqrt(double(d[3 * p]) * d[3 * p] + double(d[3 * p + 1]) * d[3 * p + 1] +
+          double(d[3 * p + 2]) * d[3 * p + 2]));
     }
   }
   const double regionCut = 0.1 * *std::max_element(region.begin(), region.end());
@@ -89,51 +91,61 @@ void CompareReductions(const Options& o, const Face& face, const morphnode::Weig
       }
       keptAnimated[m][b] = kept;
       std::cerr << methods[m] << " at " << b << ": corr " << Mm(all.back().CorrRms) << " mm, anim "
-                << Mm(all.back().AnimRms) << " mm, motion " << Mm(all.back().MotionRms) << " / region "
-                << Mm(all.back().MotionRegionRms) << " / max " << Mm(all.back().MotionMax) << " / p95 " << Mm(all.back().MotionP95) << " / p99 "
-                << Mm(all.back().MotionP99) << " mm, lips p95 " << Mm(all.back().LipsP95) << ", lids p95 "
-                << Mm(all.back().LidsP95) << " mm, static " << Mm(all.back().StaticRms) << " mm ("
+                << Mm(all.back().AnimRms) << " mm, motion " << Mm(all.back().MotionRms)
+                << " / region " << Mm(all.back().MotionRegionRms) << " / max "
+                << Mm(all.back().MotionMax) << " / p95 " << Mm(all.back().MotionP95) << " / p99 "
+                << Mm(all.back().MotionP99) << " mm, lips p95 " << Mm(all.back().LipsP95)
+                << ", lids p95 " << Mm(all.back().LidsP95) << " mm, static "
+                << Mm(all.back().StaticRms) << " mm ("
                 << Seconds(std::chrono::steady_clock::now() - t0) << " s)\n";
     }
   }
 
   // Tables.
-  md << "Face: " << full.GetNumberOfPoints() << " points, " << full.GetNumberOfTriangles() << " triangles, "
-     << full.GetNumberOfTargets() << " targets. Track: " << track.GetNumberOfFrames() << " frames at "
-     << track.GetFrameRate() << " fps, every " << stride << ". frame measured. AnimationWeight " << weight
+  md << "Face: " << full.GetNumberOfPoints() << " points, " << full.GetNumberOfTriangles()
+     << " triangles, " << full.GetNumberOfTargets()
+     << " targets. Track: " << track.GetNumberOfFrames() << " frames at " << track.GetFrameRate()
+     << " fps, every " << stride << ". frame measured. AnimationWeight " << weight
      << ". Animated region: " << animatedCount << " points (some target moves them > "
      << Mm(regionCut, 2) << " mm). Distances in mm.\n\n";
   md << "| triangles kept | method | triangles | points | points kept in animated region "
         "| static RMS | static max | motion error p95 | motion error p99 | motion error RMS "
-        "| motion error RMS, animated region | animated surface distance RMS | animated surface distance max "
+        "| motion error RMS, animated region | animated surface distance RMS | animated surface "
+        "distance max "
         "| correspondence RMS | kept-vertex RMS |\n";
   md << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   std::ostringstream lipsTable;
-  lipsTable << "\nThe lips (" << std::count(regions.Lips.begin(), regions.Lips.end(), true) << " points) and lids ("
-            << std::count(regions.Lids.begin(), regions.Lids.end(), true)
-            << " points) alone, motion error in mm:\n\n| triangles kept | method | lips p95 | lips p99 | lids p95 | lids p99 |\n"
+  lipsTable << "\nThe lips (" << std::count(regions.Lips.begin(), regions.Lips.end(), true)
+            << " points) and lids (" << std::count(regions.Lids.begin(), regions.Lids.end(), true)
+            << " points) alone, motion error in mm:\n\n| triangles kept | method | lips p95 | lips "
+               "p99 | lids p95 | lids p99 |\n"
                "|---|---|---|---|---|---|\n";
   std::ofstream csv(outDir + "/reduction_errors.csv");
-  csv << "budget,method,triangles,points,kept_animated,static_rms_mm,static_max_mm,anim_rms_mm,anim_max_mm,"
-         "anim_region_rms_mm,corr_rms_mm,corr_max_mm,corr_region_rms_mm,kept_rms_mm,motion_p95_mm,motion_p99_mm,"
-         "motion_rms_mm,motion_region_rms_mm,motion_max_mm,lips_p95_mm,lips_p99_mm,lids_p95_mm,lids_p99_mm\n";
+  csv << "budget,method,triangles,points,kept_animated,static_rms_mm,static_max_mm,anim_rms_mm,"
+         "anim_max_mm,"
+         "anim_region_rms_mm,corr_rms_mm,corr_max_mm,corr_region_rms_mm,kept_rms_mm,motion_p95_mm,"
+         "motion_p99_mm,"
+         "motion_rms_mm,motion_region_rms_mm,motion_max_mm,lips_p95_mm,lips_p99_mm,lids_p95_mm,"
+         "lids_p99_mm\n";
   for (const auto& e : all)
   {
-    const int m = static_cast<int>(std::find(methods.begin(), methods.end(), e.Method) - methods.begin());
-    md << "| " << 100.0 * e.Budget << " % | " << e.Method << " | " << e.Triangles << " | " << e.Points << " | "
-       << keptAnimated[m][e.Budget] << " | " << Mm(e.StaticRms) << " | " << Mm(e.StaticMax) << " | "
-       << Mm(e.MotionP95) << " | " << Mm(e.MotionP99) << " | " << Mm(e.MotionRms) << " | "
-       << Mm(e.MotionRegionRms) << " | " << Mm(e.AnimRms) << " | " << Mm(e.AnimMax) << " | " << Mm(e.CorrRms)
-       << " | " << Mm(e.KeptRms) << " |\n";
-    lipsTable << "| " << 100.0 * e.Budget << " % | " << e.Method << " | " << Mm(e.LipsP95) << " | " << Mm(e.LipsP99)
-              << " | " << Mm(e.LidsP95) << " | " << Mm(e.LidsP99) << " |\n";
+    const int m =
+      static_cast<int>(std::find(methods.begin(), methods.end(), e.Method) - methods.begin());
+    md << "| " << 100.0 * e.Budget << " % | " << e.Method << " | " << e.Triangles << " | "
+       << e.Points << " | " << keptAnimated[m][e.Budget] << " | " << Mm(e.StaticRms) << " | "
+       << Mm(e.StaticMax) << " | " << Mm(e.MotionP95) << " | " << Mm(e.MotionP99) << " | "
+       << Mm(e.MotionRms) << " | " << Mm(e.MotionRegionRms) << " | " << Mm(e.AnimRms) << " | "
+       << Mm(e.AnimMax) << " | " << Mm(e.CorrRms) << " | " << Mm(e.KeptRms) << " |\n";
+    lipsTable << "| " << 100.0 * e.Budget << " % | " << e.Method << " | " << Mm(e.LipsP95) << " | "
+              << Mm(e.LipsP99) << " | " << Mm(e.LidsP95) << " | " << Mm(e.LidsP99) << " |\n";
     csv << e.Budget << "," << e.Method << "," << e.Triangles << "," << e.Points << ","
-        << keptAnimated[m][e.Budget] << "," << Mm(e.StaticRms, 5) << "," << Mm(e.StaticMax, 5) << ","
-        << Mm(e.AnimRms, 5) << "," << Mm(e.AnimMax, 5) << "," << Mm(e.AnimRegionRms, 5) << ","
-        << Mm(e.CorrRms, 5) << "," << Mm(e.CorrMax, 5) << "," << Mm(e.CorrRegionRms, 5) << ","
-        << Mm(e.KeptRms, 5) << "," << Mm(e.MotionP95, 5) << "," << Mm(e.MotionP99, 5) << ","
+        << keptAnimated[m][e.Budget] << "," << Mm(e.StaticRms, 5) << "," << Mm(e.StaticMax, 5)
+        << "," << Mm(e.AnimRms, 5) << "," << Mm(e.AnimMax, 5) << "," << Mm(e.AnimRegionRms, 5)
+        << "," << Mm(e.CorrRms, 5) << "," << Mm(e.CorrMax, 5) << "," << Mm(e.CorrRegionRms, 5)
+        << "," << Mm(e.KeptRms, 5) << "," << Mm(e.MotionP95, 5) << "," << Mm(e.MotionP99, 5) << ","
         << Mm(e.MotionRms, 5) << "," << Mm(e.MotionRegionRms, 5) << "," << Mm(e.MotionMax, 5) << ","
-        << Mm(e.LipsP95, 5) << "," << Mm(e.LipsP99, 5) << "," << Mm(e.LidsP95, 5) << "," << Mm(e.LidsP99, 5) << "\n";
+        << Mm(e.LipsP95, 5) << "," << Mm(e.LipsP99, 5) << "," << Mm(e.LidsP95, 5) << ","
+        << Mm(e.LidsP99, 5) << "\n";
   }
   md << lipsTable.str() << "\n";
   PlotVersusBudget(all, methods, budgets, outDir + "/reduction_error_vs_budget.png");
@@ -157,20 +169,33 @@ Options ParseOptions(int argc, char* argv[])
   app.add_option("--face", o.FacePath, "a face with morph targets (glTF/GLB)")
     ->check(CLI::ExistingFile)
     ->capture_default_str();
-  app.add_option("--track", o.TrackPath, "relative target weights, CSV (default: a synthetic speech track)")
+  app
+    .add_option(
+      "--track", o.TrackPath, "relative target weights, CSV (default: a synthetic speech track)")
     ->check(CLI::ExistingFile);
   app.add_option("--out", o.OutDir, "output folder")->capture_default_str();
-  appkit::AddNumberListOption(app, "--budgets", o.Budgets, 1e-6, 1.0, "fractions of the triangles kept");
-  appkit::AddNumberOption(app, "--weight", o.Weight, 0.0, 1e6, "AnimationWeight of the animation-aware reduction");
-  app.add_option("--stride", o.Stride, "measure every N-th frame")->check(CLI::Range(1, 1000000))->capture_default_str();
-  appkit::AddNumberOption(app, "--seconds", o.Seconds, 1.0, 3600.0, "length of the synthetic track");
-  appkit::AddNumberOption(app, "--motion", o.Base.MotionWeight, 0.0, 1e6, "MotionWeight of the reductions");
-  appkit::AddNumberOption(app, "--boundary", o.Base.BoundaryWeight, 0.0, 1e6, "BoundaryWeight of the reductions");
-  app.add_option("--gltfpack", o.Gltfpack, "gltfpack executable (npm 1.3, .ci/install-npm-tools.sh) as a "
-                 "fourth method; empty: left out")
+  appkit::AddNumberListOption(
+    app, "--budgets", o.Budgets, 1e-6, 1.0, "fractions of the triangles kept");
+  appkit::AddNumberOption(
+    app, "--weight", o.Weight, 0.0, 1e6, "AnimationWeight of the animation-aware reduction");
+  app.add_option("--stride", o.Stride, "measure every N-th frame")
+    ->check(CLI::Range(1, 1000000))
     ->capture_default_str();
-  app.add_flag_callback("--no-controller", [&o]() { o.Controller = false; }, "skip the frame-budget part");
-  app.add_flag_callback("--no-poses", [&o]() { o.Base.PoseQuadrics = false; }, "no pose quadrics");
+  appkit::AddNumberOption(
+    app, "--seconds", o.Seconds, 1.0, 3600.0, "length of the synthetic track");
+  appkit::AddNumberOption(
+    app, "--motion", o.Base.MotionWeight, 0.0, 1e6, "MotionWeight of the reductions");
+  appkit::AddNumberOption(
+    app, "--boundary", o.Base.BoundaryWeight, 0.0, 1e6, "BoundaryWeight of the reductions");
+  app
+    .add_option("--gltfpack", o.Gltfpack,
+      "gltfpack executable (npm 1.3, .ci/install-npm-tools.sh) as a "
+      "fourth method; empty: left out")
+    ->capture_default_str();
+  app.add_flag_callback(
+    "--no-controller", [&o]() { o.Controller = false; }, "skip the frame-budget part");
+  app.add_flag_callback(
+    "--no-poses", [&o]() { o.Base.PoseQuadrics = false; }, "no pose quadrics");
   appkit::ParseCommandLine(app, argc, argv);
   return o;
 }
@@ -213,7 +238,8 @@ int main(int argc, char* argv[])
     std::cerr << "face: " << full.GetNumberOfPoints() << " points, " << full.GetNumberOfTriangles()
               << " triangles, " << full.GetNumberOfTargets() << " targets\n";
     const morphnode::WeightTrack track = LoadTrack(o, face);
-    std::cerr << "track: " << track.GetNumberOfFrames() << " frames at " << track.GetFrameRate() << " fps\n";
+    std::cerr << "track: " << track.GetNumberOfFrames() << " frames at " << track.GetFrameRate()
+              << " fps\n";
     std::ofstream md(o.OutDir + "/reduction.md");
     CompareReductions(o, face, track, md);
     if (o.Controller)

@@ -33,8 +33,8 @@ struct Options
   std::string OutDir = "reduction-study";
   std::vector<double> Budgets = { 0.5, 0.25, 0.1 }; ///< fractions of the triangles
   double Weight = morphnode::ReductionSettings().AnimationWeight;
-  size_t Stride = 2;      ///< every Stride-th frame is measured
-  double Seconds = 20.0;  ///< of the synthetic track
+  size_t Stride = 2;     ///< every Stride-th frame is measured
+  double Seconds = 20.0; ///< of the synthetic track
   /// MotionWeight, BoundaryWeight and PoseQuadrics of the compared reductions.
   morphnode::ReductionSettings Base;
   /// gltfpack (npm 1.3) as a fourth method; empty: left out.
@@ -69,7 +69,8 @@ struct Face
 
 Face LoadFace(const std::string& path);
 
-vtkSmartPointer<vtkPolyData> ToPolyData(const float* positions, size_t np, const std::vector<uint32_t>& tris);
+vtkSmartPointer<vtkPolyData> ToPolyData(
+  const float* positions, size_t np, const std::vector<uint32_t>& tris);
 
 // --- the weight track ----------------------------------------------------------------------
 
@@ -78,7 +79,8 @@ vtkSmartPointer<vtkPolyData> ToPolyData(const float* positions, size_t np, const
 /// with pauses, blended by Cohen-Massaro-style dominance functions (coarticulation);
 /// blinks (Poisson, ~17/min, 100 ms closing, 150 ms opening); brow raises every few
 /// seconds; small gaze shifts; a slow smile. Deterministic (seed).
-morphnode::WeightTrack MakeSyntheticSpeechTrack(const std::vector<std::string>& names, double seconds, unsigned seed);
+morphnode::WeightTrack MakeSyntheticSpeechTrack(
+  const std::vector<std::string>& names, double seconds, unsigned seed);
 
 // --- reductions and their errors -------------------------------------------------------------
 
@@ -92,8 +94,8 @@ struct Reduced
 
 /// The animation-aware reduction (weight > 0) or plain quadric decimation (weight 0) of
 /// OpenMesh, with `base`'s motion and boundary weights and pose quadrics.
-Reduced ReduceOpenMesh(
-  const ReductionMesh& mesh, size_t triangles, double weight, const morphnode::ReductionSettings& base);
+Reduced ReduceOpenMesh(const ReductionMesh& mesh, size_t triangles, double weight,
+  const morphnode::ReductionSettings& base);
 /// VTK's quadric decimation of the neutral; targets by the nearest original vertex.
 Reduced ReduceVTK(const ReductionMesh& mesh, size_t triangles);
 
@@ -112,7 +114,8 @@ struct Correspondence
 
 Correspondence Correspond(const ReductionMesh& full, const ReductionMesh& reduced);
 /// RMS distance of the full-resolution points carried by `corr` on `shown` from `full`.
-double CorrespondenceRms(const Correspondence& corr, const std::vector<float>& shown, const std::vector<float>& full);
+double CorrespondenceRms(
+  const Correspondence& corr, const std::vector<float>& shown, const std::vector<float>& full);
 
 struct Errors
 {
@@ -140,30 +143,33 @@ struct LipsAndLids
 LipsAndLids FindLipsAndLids(const Face& face);
 
 /// The errors of one reduction over the track (every `stride`-th frame).
-Errors Measure(const std::string& method, double budget, const ReductionMesh& full, const Reduced& r,
-  const morphnode::WeightTrack& track, size_t stride, const std::vector<bool>& animatedRegion,
-  const LipsAndLids* regions = nullptr);
+Errors Measure(const std::string& method, double budget, const ReductionMesh& full,
+  const Reduced& r, const morphnode::WeightTrack& track, size_t stride,
+  const std::vector<bool>& animatedRegion, const LipsAndLids* regions = nullptr);
 
 /// gltfpack's simplification (`-si ratio -noq`) of the face, written to and read from
 /// workDir; points matched to the face's by position. Throws InputError when gltfpack fails.
-Reduced ReduceGltfpack(const Face& face, double ratio, const std::string& gltfpack, const std::string& workDir);
+Reduced ReduceGltfpack(
+  const Face& face, double ratio, const std::string& gltfpack, const std::string& workDir);
 
 // --- plots ---------------------------------------------------------------------------------
 
 void PlotVersusBudget(const std::vector<Errors>& all, const std::vector<std::string>& methods,
   const std::vector<double>& budgets, const std::string& file);
-void PlotOverTime(const std::vector<Errors>& all, const std::vector<std::string>& methods, double budget,
-  const morphnode::WeightTrack& track, size_t stride, const std::string& file);
+void PlotOverTime(const std::vector<Errors>& all, const std::vector<std::string>& methods,
+  double budget, const morphnode::WeightTrack& track, size_t stride, const std::string& file);
 
 // --- the two parts of the study ------------------------------------------------------------
 
 /// The three reductions at every budget over the track: the first table of reduction.md
 /// (to `md`), reduction_errors.csv and the two plots.
-void CompareReductions(const Options& o, const Face& face, const morphnode::WeightTrack& track, std::ostream& md);
+void CompareReductions(
+  const Options& o, const Face& face, const morphnode::WeightTrack& track, std::ostream& md);
 
 /// The frame-budget controller over a chain of animation-aware levels at three frame
 /// budgets: its tables (to `md`), controller.csv and controller_calibration.csv.
-void RunController(const Options& o, const Face& face, const morphnode::WeightTrack& track, std::ostream& md);
+void RunController(
+  const Options& o, const Face& face, const morphnode::WeightTrack& track, std::ostream& md);
 
 // --- formatting ------------------------------------------------------------------------------
 

@@ -25,8 +25,8 @@
 
 namespace
 {
-const char* const PaperNames[13] = { "Neutral", "EyesClosed", "BrowsUp", "S", "F",
-  "BrowsFright", "BrowsAngry", "L", "E", "A", "MouthSmile", "MouthSad", "O" };
+const char* const PaperNames[13] = { "Neutral", "EyesClosed", "BrowsUp", "S", "F", "BrowsFright",
+  "BrowsAngry", "L", "E", "A", "MouthSmile", "MouthSad", "O" };
 const double PaperValues[13] = { 0, 0.11, 0.12, 0.16, 0.20, 0.31, 0.39, 0.51, 0.62, 0.66, 0.67,
   0.90, 1.0 };
 
@@ -121,7 +121,8 @@ int main(int argc, char* argv[])
   const bool haveIct = ict.size() == 13;
   if (!haveIct)
   {
-    std::fprintf(stderr, "RigTable: ICT face not available (%s); its column is n/a\n", ictFace.c_str());
+    std::fprintf(
+      stderr, "RigTable: ICT face not available (%s); its column is n/a\n", ictFace.c_str());
   }
 
   std::vector<double> paper, face, scan;
@@ -138,7 +139,8 @@ int main(int argc, char* argv[])
   std::printf("| Neutral | 0 | | 0 | | %s | |\n", haveIct ? "0" : "n/a");
   for (size_t i = 0; i < paper.size(); ++i)
   {
-    std::printf("| %s | %.2f | %d | %.2f | %d |", PaperNames[i + 1], paper[i], rPaper[i], face[i], rFace[i]);
+    std::printf(
+      "| %s | %.2f | %d | %.2f | %d |", PaperNames[i + 1], paper[i], rPaper[i], face[i], rFace[i]);
     if (haveIct)
     {
       std::printf(" %.2f | %d |\n", scan[i], rScan[i]);
@@ -148,10 +150,12 @@ int main(int argc, char* argv[])
       std::printf(" n/a | |\n");
     }
   }
-  std::printf("\nSpearman rank correlation with the paper: default face %.2f", Spearman(rPaper, rFace));
+  std::printf(
+    "\nSpearman rank correlation with the paper: default face %.2f", Spearman(rPaper, rFace));
   if (haveIct)
   {
-    std::printf(", ICT face %.2f; between the two faces %.2f", Spearman(rPaper, rScan), Spearman(rFace, rScan));
+    std::printf(", ICT face %.2f; between the two faces %.2f", Spearman(rPaper, rScan),
+      Spearman(rFace, rScan));
   }
   std::printf(".\n");
   return 0;

@@ -20,7 +20,8 @@ std::string Label(const std::string& what, double value)
 
 OptimizerMethod Preset(OptimizerPreset preset, double threshold, double bound, double label)
 {
-  return { Label(OptimizerPresetName(preset), label), MakeOptimizerSettings(preset, threshold, bound) };
+  return { Label(OptimizerPresetName(preset), label),
+    MakeOptimizerSettings(preset, threshold, bound) };
 }
 } // namespace
 

@@ -9,23 +9,28 @@
 
 namespace reductionstudy
 {
-morphnode::WeightTrack MakeSyntheticSpeechTrack(const std::vector<std::string>& names, double seconds, unsigned seed)
+morphnode::WeightTrack MakeSyntheticSpeechTrack(
+  const std::vector<std::string>& names, double seconds, unsigned seed)
 {
   const double fps = 30.0;
   using Shape = std::map<std::string, double>;
   const std::vector<Shape> visemes = {
-    { { "mouthClose", 0.5 }, { "mouthPress_L", 0.4 }, { "mouthPress_R", 0.4 }, { "jawOpen", 0.05 } }, // PP
-    { { "mouthRollLower", 0.5 }, { "mouthUpperUp_L", 0.25 }, { "mouthUpperUp_R", 0.25 }, { "jawOpen", 0.1 } }, // FF
-    { { "jawOpen", 0.2 }, { "mouthShrugUpper", 0.2 }, { "mouthStretch_L", 0.15 }, { "mouthStretch_R", 0.15 } }, // TH/DD/nn
-    { { "jawOpen", 0.25 }, { "mouthShrugLower", 0.2 } }, // kk
+    { { "mouthClose", 0.5 }, { "mouthPress_L", 0.4 }, { "mouthPress_R", 0.4 },
+      { "jawOpen", 0.05 } }, // PP
+    { { "mouthRollLower", 0.5 }, { "mouthUpperUp_L", 0.25 }, { "mouthUpperUp_R", 0.25 },
+      { "jawOpen", 0.1 } }, // FF
+    { { "jawOpen", 0.2 }, { "mouthShrugUpper", 0.2 }, { "mouthStretch_L", 0.15 },
+      { "mouthStretch_R", 0.15 } },                                            // TH/DD/nn
+    { { "jawOpen", 0.25 }, { "mouthShrugLower", 0.2 } },                       // kk
     { { "mouthFunnel", 0.45 }, { "mouthPucker", 0.25 }, { "jawOpen", 0.15 } }, // CH
-    { { "jawOpen", 0.1 }, { "mouthStretch_L", 0.3 }, { "mouthStretch_R", 0.3 }, { "mouthClose", 0.1 } }, // SS
+    { { "jawOpen", 0.1 }, { "mouthStretch_L", 0.3 }, { "mouthStretch_R", 0.3 },
+      { "mouthClose", 0.1 } },                                                          // SS
     { { "jawOpen", 0.6 }, { "mouthLowerDown_L", 0.35 }, { "mouthLowerDown_R", 0.35 } }, // aa
-    { { "jawOpen", 0.3 }, { "mouthStretch_L", 0.35 }, { "mouthStretch_R", 0.35 }, { "mouthSmile_L", 0.2 },
-      { "mouthSmile_R", 0.2 } }, // E
+    { { "jawOpen", 0.3 }, { "mouthStretch_L", 0.35 }, { "mouthStretch_R", 0.35 },
+      { "mouthSmile_L", 0.2 }, { "mouthSmile_R", 0.2 } },                         // E
     { { "jawOpen", 0.2 }, { "mouthStretch_L", 0.3 }, { "mouthStretch_R", 0.3 } }, // ih
-    { { "jawOpen", 0.4 }, { "mouthFunnel", 0.55 } }, // oh
-    { { "mouthPucker", 0.7 }, { "mouthFunnel", 0.3 }, { "jawOpen", 0.15 } }, // ou
+    { { "jawOpen", 0.4 }, { "mouthFunnel", 0.55 } },                              // oh
+    { { "mouthPucker", 0.7 }, { "mouthFunnel", 0.3 }, { "jawOpen", 0.15 } },      // ou
   };
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
@@ -112,7 +117,8 @@ morphnode::WeightTrack MakeSyntheticSpeechTrack(const std::vector<std::string>& 
         w[c] = presence * shape[c] / total;
       }
     }
-    auto add = [&](const std::string& n, double v) {
+    auto add = [&](const std::string& n, double v)
+    {
       const int c = channel(n);
       if (c >= 0)
       {

@@ -112,7 +112,8 @@ Case Remesh(const TransferSource& s, double reduction)
   for (size_t i = 0; i < pts.size(); ++i)
     parents[i] = { uint32_t(i), uint32_t(i) };
   std::map<std::pair<uint32_t, uint32_t>, uint32_t> mid;
-  auto midpoint = [&](uint32_t a, uint32_t b) {
+  auto midpoint = [&](uint32_t a, uint32_t b)
+  {
     const auto key = std::minmax(a, b);
     const auto it = mid.find(key);
     if (it != mid.end())
@@ -124,7 +125,8 @@ Case Remesh(const TransferSource& s, double reduction)
   vtkNew<vtkCellArray> polys;
   for (size_t t = 0; t < src.GetNumberOfTriangles(); ++t)
   {
-    const uint32_t a = src.Triangles[3 * t], b = src.Triangles[3 * t + 1], c = src.Triangles[3 * t + 2];
+    const uint32_t a = src.Triangles[3 * t], b = src.Triangles[3 * t + 1],
+                   c = src.Triangles[3 * t + 2];
     const uint32_t ab = midpoint(a, b), bc = midpoint(b, c), ca = midpoint(c, a);
     const vtkIdType tris[4][3] = { { a, ab, ca }, { ab, b, bc }, { ca, bc, c }, { ab, bc, ca } };
     for (const auto& tri : tris)
@@ -222,7 +224,8 @@ Row Evaluate(const Case& c, const TransferResult& r, const std::vector<std::vect
     for (const auto& v : c.Truth[k])
       largest = std::max(largest, glm::length(v));
     std::vector<double> e, ep;
-    const bool seamTarget = names[k] == "jawOpen" || names[k] == "eyeBlink_L" || names[k] == "eyeBlink_R";
+    const bool seamTarget =
+      names[k] == "jawOpen" || names[k] == "eyeBlink_L" || names[k] == "eyeBlink_R";
     for (size_t i = 0; i < n; ++i)
     {
       const glm::dvec3 got = At(deltas[k], i);
@@ -292,7 +295,8 @@ int main(int argc, char** argv)
                 "(docs/transfer.md)." };
   bool quick = false;
   std::string csvFile;
-  app.add_flag("--quick", quick, "the identity and subset cases only, without the spoken track (the smoke test)");
+  app.add_flag("--quick", quick,
+    "the identity and subset cases only, without the spoken track (the smoke test)");
   app.add_option("--csv", csvFile, "per target and case: the errors as CSV");
   appkit::ParseCommandLine(app, argc, argv);
   try
@@ -301,7 +305,8 @@ int main(int argc, char** argv)
     const std::string dec = appkit::FaceKitPath("ict_face_dec70_sparse53.glb");
     const GltfScene a = LoadGltfScene(full);
     const TransferSource source = MakeTransferSource(GltfPartToMorphMesh(a.Parts.at(0)));
-    const TransferSource small = MakeTransferSource(GltfPartToMorphMesh(LoadGltfScene(dec).Parts.at(0)));
+    const TransferSource small =
+      MakeTransferSource(GltfPartToMorphMesh(LoadGltfScene(dec).Parts.at(0)));
 
     std::unique_ptr<WeightTrack> track;
     if (!quick && SpeechSynthesizer::IsAvailable())
@@ -312,7 +317,8 @@ int main(int argc, char** argv)
       rig.Bind(source.TargetNames);
       track = std::make_unique<WeightTrack>(
         study::ExpandThroughRig(study::MakeBehaviorTrack(so), rig, source.TargetNames));
-      std::printf("spoken track: %zu frames at %g fps (Data/scripts/greeting.txt through the ARKit rig)\n\n",
+      std::printf(
+        "spoken track: %zu frames at %g fps (Data/scripts/greeting.txt through the ARKit rig)\n\n",
         track->GetNumberOfFrames(), track->GetFrameRate());
     }
 
@@ -322,7 +328,8 @@ int main(int argc, char** argv)
     if (!quick)
     {
       cases.push_back(Remesh(source, 0.75));
-      const glm::dmat3 rot(glm::rotate(glm::dmat4(1.0), glm::radians(30.0), glm::normalize(glm::dvec3(0.2, 1.0, 0.1))));
+      const glm::dmat3 rot(glm::rotate(
+        glm::dmat4(1.0), glm::radians(30.0), glm::normalize(glm::dvec3(0.2, 1.0, 0.1))));
       cases.push_back(Similar(source, "rotation 30 deg", 1.0, rot));
       cases.push_back(Similar(source, "scale 0.9", 0.9, glm::dmat3(1.0)));
       cases.push_back(Similar(source, "scale 1.1", 1.1, glm::dmat3(1.0)));
@@ -334,12 +341,14 @@ int main(int argc, char** argv)
       std::mt19937 random(2004);
       std::uniform_real_distribution<double> noise(-0.002, 0.002);
       for (const auto& l : p.SourceLandmarks)
-        noisy.Landmarks.push_back({ l.Name, l.Position + glm::dvec3(noise(random), noise(random), noise(random)) });
+        noisy.Landmarks.push_back(
+          { l.Name, l.Position + glm::dvec3(noise(random), noise(random), noise(random)) });
       cases.push_back(noisy);
     }
 
     std::vector<Row> rows;
-    std::printf("| case | points | alignment | residual p95 (mm) | wall s | CPU s |\n|---|---|---|---|---|---|\n");
+    std::printf("| case | points | alignment | residual p95 (mm) | wall s | CPU s "
+                "|\n|---|---|---|---|---|---|\n");
     for (const auto& c : cases)
     {
       TransferOptions options;
@@ -349,17 +358,23 @@ int main(int argc, char** argv)
       const std::clock_t cpu = std::clock();
       const TransferResult r = TransferTargets(source, c.Target, options);
       const double cpuSeconds = double(std::clock() - cpu) / CLOCKS_PER_SEC;
-      const double wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall).count();
-      std::printf("| %s | %zu | %s | %s | %.2f (align %.2f, register %.2f, transfer %.2f, resample %.2f) | %.2f |\n",
+      const double wallSeconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - wall).count();
+      std::printf("| %s | %zu | %s | %s | %.2f (align %.2f, register %.2f, transfer %.2f, resample "
+                  "%.2f) | %.2f |\n",
         c.Name.c_str(), c.Target.Points.size(), c.Landmarks.empty() ? "automatic" : "landmarks",
-        F(1000 * r.ResidualP95).c_str(), wallSeconds, r.AlignSeconds, r.RegisterSeconds, r.TransferSeconds,
-        r.ResampleSeconds, cpuSeconds);
+        F(1000 * r.ResidualP95).c_str(), wallSeconds, r.AlignSeconds, r.RegisterSeconds,
+        r.TransferSeconds, r.ResampleSeconds, cpuSeconds);
       std::fflush(stdout);
-      rows.push_back(Evaluate(c, r, r.NearestDeltas, "nearest vertex", source.TargetNames, track.get()));
-      rows.push_back(Evaluate(c, r, r.BarycentricDeltas, "barycentric", source.TargetNames, track.get()));
-      rows.push_back(Evaluate(c, r, r.Deltas, "deformation transfer", source.TargetNames, track.get()));
+      rows.push_back(
+        Evaluate(c, r, r.NearestDeltas, "nearest vertex", source.TargetNames, track.get()));
+      rows.push_back(
+        Evaluate(c, r, r.BarycentricDeltas, "barycentric", source.TargetNames, track.get()));
+      rows.push_back(
+        Evaluate(c, r, r.Deltas, "deformation transfer", source.TargetNames, track.get()));
     }
-    std::printf("\n| case | method | mean mm | p95 mm | max mm | p95 %% | lips p95 mm | lids p95 mm | swaps | track p95 mm | track max mm |\n"
+    std::printf("\n| case | method | mean mm | p95 mm | max mm | p95 %% | lips p95 mm | lids p95 "
+                "mm | swaps | track p95 mm | track max mm |\n"
                 "|---|---|---|---|---|---|---|---|---|---|---|\n");
     for (const auto& row : rows)
       std::printf("| %s | %s | %s | %s | %s | %s | %s | %s | %zu | %s | %s |\n", row.Case.c_str(),
@@ -372,8 +387,9 @@ int main(int argc, char** argv)
       csv << "case,method,target,mean_mm,p95_mm,max_mm,p95_percent\n";
       for (const auto& row : rows)
         for (size_t k = 0; k < row.PerTarget.size(); ++k)
-          csv << row.Case << "," << row.Method << "," << source.TargetNames[k] << "," << row.PerTarget[k].Mean << ","
-              << row.PerTarget[k].P95 << "," << row.PerTarget[k].Max << "," << row.PerTargetPercent[k].P95 << "\n";
+          csv << row.Case << "," << row.Method << "," << source.TargetNames[k] << ","
+              << row.PerTarget[k].Mean << "," << row.PerTarget[k].P95 << "," << row.PerTarget[k].Max
+              << "," << row.PerTargetPercent[k].P95 << "\n";
     }
   }
   catch (const std::exception& e)

@@ -52,9 +52,7 @@ std::vector<std::pair<size_t, size_t>> Solve(const FeatureMatrix& a, const Featu
   std::vector<std::vector<uint8_t>> step(n);
   const float penalty = static_cast<float>(options.SilencePenalty);
   auto at = [&](const std::vector<std::vector<float>>& table, size_t i, size_t j) -> float
-  {
-    return (j >= w.Lo[i] && j < w.Hi[i]) ? table[i][j - w.Lo[i]] : Infinity;
-  };
+  { return (j >= w.Lo[i] && j < w.Hi[i]) ? table[i][j - w.Lo[i]] : Infinity; };
   for (size_t i = 0; i < n; ++i)
   {
     const size_t lo = w.Lo[i], hi = w.Hi[i];
@@ -193,7 +191,8 @@ FeatureMatrix Halve(const FeatureMatrix& x)
     const size_t r0 = 2 * i, r1 = std::min(2 * i + 1, x.Rows - 1);
     for (int k = 0; k < x.Dimension; ++k)
     {
-      h.Values[i * static_cast<size_t>(x.Dimension) + static_cast<size_t>(k)] = 0.5f * (x.Row(r0)[k] + x.Row(r1)[k]);
+      h.Values[i * static_cast<size_t>(x.Dimension) + static_cast<size_t>(k)] =
+        0.5f * (x.Row(r0)[k] + x.Row(r1)[k]);
     }
   }
   return h;
@@ -257,9 +256,9 @@ Window Project(const std::vector<std::pair<size_t, size_t>>& coarse, size_t n, s
   return w;
 }
 
-std::vector<std::pair<size_t, size_t>> SolveMultiscale(const FeatureMatrix& a, const FeatureMatrix& b,
-  const std::vector<bool>& silentA, const std::vector<bool>& silentB, const DtwOptions& options,
-  size_t& cells, double& meanDistance, int depth)
+std::vector<std::pair<size_t, size_t>> SolveMultiscale(const FeatureMatrix& a,
+  const FeatureMatrix& b, const std::vector<bool>& silentA, const std::vector<bool>& silentB,
+  const DtwOptions& options, size_t& cells, double& meanDistance, int depth)
 {
   const size_t n = a.Rows, m = b.Rows;
   if (n * m <= options.MaximumCells || n < 8 || m < 8 || depth > 20)
@@ -269,14 +268,16 @@ std::vector<std::pair<size_t, size_t>> SolveMultiscale(const FeatureMatrix& a, c
   DtwOptions coarseOptions = options;
   coarseOptions.Progress = nullptr;
   double ignored = 0.0;
-  const auto coarse = SolveMultiscale(Halve(a), Halve(b), silentA.empty() ? silentA : HalveFlags(silentA),
-    silentB.empty() ? silentB : HalveFlags(silentB), coarseOptions, cells, ignored, depth + 1);
+  const auto coarse =
+    SolveMultiscale(Halve(a), Halve(b), silentA.empty() ? silentA : HalveFlags(silentA),
+      silentB.empty() ? silentB : HalveFlags(silentB), coarseOptions, cells, ignored, depth + 1);
   if (coarse.empty())
   {
     return coarse;
   }
-  return Solve(a, b, silentA, silentB, Project(coarse, n, m, static_cast<size_t>(std::max(1, options.Radius))),
-    options, cells, meanDistance);
+  return Solve(a, b, silentA, silentB,
+    Project(coarse, n, m, static_cast<size_t>(std::max(1, options.Radius))), options, cells,
+    meanDistance);
 }
 } // namespace
 
@@ -293,12 +294,14 @@ DtwResult AlignFeatures(const FeatureMatrix& a, const FeatureMatrix& b,
   {
     throw InputError("DTW: the sequences need the same feature dimension and whole rows");
   }
-  if ((!silentA.empty() && silentA.size() != a.Rows) || (!silentB.empty() && silentB.size() != b.Rows))
+  if ((!silentA.empty() && silentA.size() != a.Rows) ||
+    (!silentB.empty() && silentB.size() != b.Rows))
   {
     throw InputError("DTW: one silence flag per row (or none)");
   }
   DtwResult result;
-  result.Path = SolveMultiscale(a, b, silentA, silentB, options, result.CellsEvaluated, result.MeanDistance, 0);
+  result.Path =
+    SolveMultiscale(a, b, silentA, silentB, options, result.CellsEvaluated, result.MeanDistance, 0);
   if (result.Path.empty())
   {
     throw InputError("DTW: no path within the slope constraint (the sequences differ in length "

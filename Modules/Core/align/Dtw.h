@@ -24,7 +24,10 @@ struct FeatureMatrix
   size_t Rows = 0;
   int Dimension = 0;
   std::vector<float> Values;
-  const float* Row(size_t i) const { return this->Values.data() + i * static_cast<size_t>(this->Dimension); }
+  const float* Row(size_t i) const
+  {
+    return this->Values.data() + i * static_cast<size_t>(this->Dimension);
+  }
 };
 
 struct DtwOptions
@@ -40,13 +43,14 @@ struct DtwOptions
 struct DtwResult
 {
   std::vector<std::pair<size_t, size_t>> Path; ///< (row of A, row of B), from (0,0) to the ends
-  double MeanDistance = 0.0;  ///< mean local distance along the path
-  size_t CellsEvaluated = 0;  ///< work done, all levels
+  double MeanDistance = 0.0;                   ///< mean local distance along the path
+  size_t CellsEvaluated = 0;                   ///< work done, all levels
 };
 
 /// Aligns A to B (Euclidean local distance). `silentA` / `silentB` (empty or one flag per
 /// row) mark the rows that may be held. InputError for empty or mismatched input, or when
 /// no path satisfies the constraints (then retry without them).
 DtwResult AlignFeatures(const FeatureMatrix& a, const FeatureMatrix& b,
-  const std::vector<bool>& silentA, const std::vector<bool>& silentB, const DtwOptions& options = {});
+  const std::vector<bool>& silentA, const std::vector<bool>& silentB,
+  const DtwOptions& options = {});
 } // namespace morphnode

@@ -48,7 +48,8 @@ MfccFeatures ComputeMfcc(const AudioBuffer& audio, const MfccOptions& options)
   const AudioBuffer mono = Resample(MixToMono(audio), options.SampleRate, ResampleQuality::Medium);
   const int rate = options.SampleRate;
   const size_t frameLength = static_cast<size_t>(std::lround(options.FrameLength * rate));
-  const size_t frameStep = std::max<size_t>(1, static_cast<size_t>(std::lround(options.FrameStep * rate)));
+  const size_t frameStep =
+    std::max<size_t>(1, static_cast<size_t>(std::lround(options.FrameStep * rate)));
   size_t fftSize = 1;
   while (fftSize < frameLength)
   {
@@ -78,14 +79,16 @@ MfccFeatures ComputeMfcc(const AudioBuffer& audio, const MfccOptions& options)
   std::vector<double> edges(static_cast<size_t>(filters) + 2);
   for (size_t k = 0; k < edges.size(); ++k)
   {
-    edges[k] = MelToHz(melLow + (melHigh - melLow) * static_cast<double>(k) / (filters + 1)) * fftSize / rate;
+    edges[k] = MelToHz(melLow + (melHigh - melLow) * static_cast<double>(k) / (filters + 1)) *
+      fftSize / rate;
   }
   std::vector<std::vector<std::pair<size_t, float>>> bank(static_cast<size_t>(filters));
   for (int m = 0; m < filters; ++m)
   {
     const double left = edges[static_cast<size_t>(m)], centre = edges[static_cast<size_t>(m) + 1],
                  right = edges[static_cast<size_t>(m) + 2];
-    for (size_t b = static_cast<size_t>(std::max(0.0, std::floor(left))); b < bins && b <= right; ++b)
+    for (size_t b = static_cast<size_t>(std::max(0.0, std::floor(left))); b < bins && b <= right;
+         ++b)
     {
       const double w = b < centre ? (b - left) / (centre - left) : (right - b) / (right - centre);
       if (w > 0.0)
@@ -153,7 +156,8 @@ MfccFeatures ComputeMfcc(const AudioBuffer& audio, const MfccOptions& options)
       double sum = 0.0;
       for (int m = 0; m < filters; ++m)
       {
-        sum += static_cast<double>(dct[static_cast<size_t>(c * filters + m)]) * logMel[static_cast<size_t>(m)];
+        sum += static_cast<double>(dct[static_cast<size_t>(c * filters + m)]) *
+          logMel[static_cast<size_t>(m)];
       }
       row[c] = static_cast<float>(sum);
     }

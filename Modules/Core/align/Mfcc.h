@@ -14,12 +14,12 @@ namespace morphnode
 {
 struct MfccOptions
 {
-  int SampleRate = 16000;       ///< audio is resampled to this rate first
-  double FrameLength = 0.025;   ///< seconds of the analysis window (Hamming)
-  double FrameStep = 0.010;     ///< seconds between frames
-  int Filters = 26;             ///< mel filters
-  int Coefficients = 13;        ///< cepstral coefficients c0..c12
-  double LowFrequency = 60.0;   ///< Hz
+  int SampleRate = 16000;        ///< audio is resampled to this rate first
+  double FrameLength = 0.025;    ///< seconds of the analysis window (Hamming)
+  double FrameStep = 0.010;      ///< seconds between frames
+  int Filters = 26;              ///< mel filters
+  int Coefficients = 13;         ///< cepstral coefficients c0..c12
+  double LowFrequency = 60.0;    ///< Hz
   double HighFrequency = 7600.0; ///< Hz (clamped below the Nyquist frequency)
   double PreEmphasis = 0.97;
 };
@@ -29,13 +29,16 @@ struct MfccFeatures
 {
   size_t Frames = 0;
   int Dimension = 0;
-  std::vector<float> Values;      ///< Frames * Dimension, row-major
-  std::vector<float> LogEnergy;   ///< natural log of the frame's mean power (floor 1e-10)
-  double FrameStep = 0.010;       ///< seconds
-  double FrameLength = 0.025;     ///< seconds
+  std::vector<float> Values;    ///< Frames * Dimension, row-major
+  std::vector<float> LogEnergy; ///< natural log of the frame's mean power (floor 1e-10)
+  double FrameStep = 0.010;     ///< seconds
+  double FrameLength = 0.025;   ///< seconds
   /// Time of the centre of frame i, seconds.
   double FrameTime(double i) const { return i * this->FrameStep + 0.5 * this->FrameLength; }
-  const float* Row(size_t i) const { return this->Values.data() + i * static_cast<size_t>(this->Dimension); }
+  const float* Row(size_t i) const
+  {
+    return this->Values.data() + i * static_cast<size_t>(this->Dimension);
+  }
 };
 
 /// MFCCs of the mono mix of `audio`, resampled to options.SampleRate. A buffer shorter than

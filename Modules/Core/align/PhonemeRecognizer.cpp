@@ -21,7 +21,8 @@ bool IsPhonemeRecognitionAvailable()
   return MORPHNODE_HAVE_POCKETSPHINX != 0;
 }
 
-PhonemeRecognition RecognizePhonemes(const AudioBuffer& recording, const RecognitionOptions& options)
+PhonemeRecognition RecognizePhonemes(
+  const AudioBuffer& recording, const RecognitionOptions& options)
 {
   if (recording.IsEmpty() || recording.SampleRate <= 0)
   {
@@ -29,15 +30,16 @@ PhonemeRecognition RecognizePhonemes(const AudioBuffer& recording, const Recogni
   }
 #if MORPHNODE_HAVE_POCKETSPHINX
   namespace fs = std::filesystem;
-  const std::string folder = options.ModelDirectory.empty() ? std::string(MORPHNODE_POCKETSPHINX_MODEL_DIR)
-                                                            : options.ModelDirectory;
+  const std::string folder = options.ModelDirectory.empty()
+    ? std::string(MORPHNODE_POCKETSPHINX_MODEL_DIR)
+    : options.ModelDirectory;
   const std::string hmm = (fs::path(folder) / "en-us").string();
   const std::string lm = (fs::path(folder) / "en-us-phone.lm.bin").string();
   std::error_code ignored;
   if (!fs::is_directory(hmm, ignored) || !fs::is_regular_file(lm, ignored))
   {
-    throw InputError("phoneme recognition needs the PocketSphinx en-us model: '" + hmm +
-      "' and '" + lm + "' (Debian: pocketsphinx-en-us)");
+    throw InputError("phoneme recognition needs the PocketSphinx en-us model: '" + hmm + "' and '" +
+      lm + "' (Debian: pocketsphinx-en-us)");
   }
   const std::string weight = std::to_string(options.LanguageWeight);
   cmd_ln_t* config = cmd_ln_init(nullptr, ps_args(), TRUE, "-hmm", hmm.c_str(), "-allphone",
@@ -87,7 +89,8 @@ PhonemeRecognition RecognizePhonemes(const AudioBuffer& recording, const Recogni
     TimedPhoneme p;
     const std::string name = label ? label : "";
     p.Sampa = (name.empty() || name[0] == '+' || name == "SIL" || name == "<s>" || name == "</s>")
-      ? std::string("_") : ArpabetToSampa(name);
+      ? std::string("_")
+      : ArpabetToSampa(name);
     p.Start = first * frameSeconds;
     const double end = (last + 1) * frameSeconds;
     if (!(end > p.Start))

@@ -40,5 +40,6 @@ bool IsPhonemeRecognitionAvailable();
 /// Recognizes the phonemes of an English recording (any rate and channel count; it is
 /// resampled to 16 kHz mono). InputError when recognition is unavailable, the model folder
 /// lacks the model, the recording is empty or holds no speech, or on cancellation.
-PhonemeRecognition RecognizePhonemes(const AudioBuffer& recording, const RecognitionOptions& options = {});
+PhonemeRecognition RecognizePhonemes(
+  const AudioBuffer& recording, const RecognitionOptions& options = {});
 } // namespace morphnode

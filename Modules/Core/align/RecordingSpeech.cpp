@@ -31,7 +31,8 @@ std::vector<int16_t> SoundOf(const AudioBuffer& recording, int& rate)
   return ToInt16Mono(mono);
 }
 
-std::function<bool(double)> Scaled(const std::function<bool(double)>& progress, double from, double to)
+std::function<bool(double)> Scaled(
+  const std::function<bool(double)>& progress, double from, double to)
 {
   if (!progress)
   {
@@ -60,15 +61,16 @@ const char* RecordingRouteName(RecordingRoute route)
 RecordingRoute ParseRecordingRoute(const std::string& name)
 {
   const std::string n = text::ToLower(name);
-  for (RecordingRoute r : { RecordingRoute::Auto, RecordingRoute::Transcript, RecordingRoute::TimingFile,
-         RecordingRoute::Recognition })
+  for (RecordingRoute r : { RecordingRoute::Auto, RecordingRoute::Transcript,
+         RecordingRoute::TimingFile, RecordingRoute::Recognition })
   {
     if (n == RecordingRouteName(r))
     {
       return r;
     }
   }
-  throw InputError("unknown route " + text::Quote(name) + " (auto, transcript, timing-file, recognition)");
+  throw InputError(
+    "unknown route " + text::Quote(name) + " (auto, transcript, timing-file, recognition)");
 }
 
 Utterance SpeakRecording(const AudioBuffer& recording, const SpeechOptions& speech,
@@ -81,7 +83,7 @@ Utterance SpeakRecording(const AudioBuffer& recording, const SpeechOptions& spee
   RecordingRoute route = options.Route;
   if (route == RecordingRoute::Auto)
   {
-    route = !options.TimingFile.empty() ? RecordingRoute::TimingFile
+    route = !options.TimingFile.empty()         ? RecordingRoute::TimingFile
       : !text::Trim(options.Transcript).empty() ? RecordingRoute::Transcript
                                                 : RecordingRoute::Recognition;
   }
@@ -194,7 +196,8 @@ Utterance SpeakRecording(const AudioBuffer& recording, const SpeechOptions& spee
   }
   int rate = 0;
   std::vector<int16_t> sound = SoundOf(recording, rate);
-  Utterance u = BuildUtterance(std::move(phonemes), std::move(sound), rate, SelectVisemeMap(speech), speech);
+  Utterance u =
+    BuildUtterance(std::move(phonemes), std::move(sound), rate, SelectVisemeMap(speech), speech);
   // BuildUtterance may delay everything for the mouth's lead: words follow.
   if (!u.Phonemes.empty() && !done.Words.empty())
   {

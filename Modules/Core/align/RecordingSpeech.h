@@ -19,17 +19,17 @@ namespace morphnode
 {
 enum class RecordingRoute
 {
-  Auto,        ///< timing file if given, else transcript if given, else recognition
-  Transcript,  ///< eSpeak NG synthesis of the transcript + DTW
-  TimingFile,  ///< timings read from a file
-  Recognition  ///< PocketSphinx phoneme recognition (English only)
+  Auto,       ///< timing file if given, else transcript if given, else recognition
+  Transcript, ///< eSpeak NG synthesis of the transcript + DTW
+  TimingFile, ///< timings read from a file
+  Recognition ///< PocketSphinx phoneme recognition (English only)
 };
 
 struct RecordingOptions
 {
   RecordingRoute Route = RecordingRoute::Auto;
-  std::string Transcript;   ///< UTF-8, in the language of SpeechOptions::Voice
-  std::string TimingFile;   ///< a .TextGrid, .marks, .pho, .tsv, .json
+  std::string Transcript; ///< UTF-8, in the language of SpeechOptions::Voice
+  std::string TimingFile; ///< a .TextGrid, .marks, .pho, .tsv, .json
   TimingFileOptions Timing;
   /// Passed to the aligner (its Voice, Warn and Progress are taken from here and the
   /// SpeechOptions when left at their defaults).
@@ -42,8 +42,8 @@ struct RecordingOptions
 struct RecordingReport
 {
   RecordingRoute Route = RecordingRoute::Auto;
-  double Score = 0.0;    ///< alignment or recognition confidence (0..1); 1 for timing files
-  bool Reliable = true;  ///< false when the route doubts its own result (a warning was sent)
+  double Score = 0.0;   ///< alignment or recognition confidence (0..1); 1 for timing files
+  bool Reliable = true; ///< false when the route doubts its own result (a warning was sent)
   std::vector<SynthesizedWord> Words; ///< timed words when the route knows them
 };
 

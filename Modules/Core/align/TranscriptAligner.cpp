@@ -25,7 +25,8 @@ double Percentile(std::vector<float> values, double q)
   {
     return 0.0;
   }
-  const size_t k = static_cast<size_t>(std::clamp(q, 0.0, 1.0) * static_cast<double>(values.size() - 1));
+  const size_t k =
+    static_cast<size_t>(std::clamp(q, 0.0, 1.0) * static_cast<double>(values.size() - 1));
   std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(k), values.end());
   return values[k];
 }
@@ -72,7 +73,8 @@ Prepared Prepare(const AudioBuffer& audio, const TranscriptAlignOptions& options
 /// Normalized features of frames [from, to]: cepstra c1.. with mean and variance of the
 /// speech frames removed, plus the weighted log energy under the loud level; silent frames
 /// all get one canonical vector, so pauses match whatever their noise.
-FeatureMatrix Features(const Prepared& p, size_t from, size_t to, const TranscriptAlignOptions& options)
+FeatureMatrix Features(
+  const Prepared& p, size_t from, size_t to, const TranscriptAlignOptions& options)
 {
   const MfccFeatures& m = p.Mfcc;
   const int cepstra = m.Dimension - 1;
@@ -80,7 +82,8 @@ FeatureMatrix Features(const Prepared& p, size_t from, size_t to, const Transcri
   f.Rows = to - from + 1;
   f.Dimension = cepstra + 1;
   f.Values.assign(f.Rows * static_cast<size_t>(f.Dimension), 0.0f);
-  std::vector<double> mean(static_cast<size_t>(cepstra), 0.0), var(static_cast<size_t>(cepstra), 0.0);
+  std::vector<double> mean(static_cast<size_t>(cepstra), 0.0),
+    var(static_cast<size_t>(cepstra), 0.0);
   size_t count = 0;
   for (size_t i = from; i <= to; ++i)
   {
@@ -200,11 +203,13 @@ public:
     for (size_t i = 0; i < aRows; ++i)
     {
       const double centre = 0.5 * (first[i] + last[i]);
-      anchors.emplace_back(time(static_cast<double>(i + aFrom)), time(centre + static_cast<double>(bFrom)));
+      anchors.emplace_back(
+        time(static_cast<double>(i + aFrom)), time(centre + static_cast<double>(bFrom)));
       if (i + 1 < aRows)
       {
         const double boundary = 0.5 * (last[i] + first[i + 1]);
-        anchors.emplace_back(time(static_cast<double>(i + aFrom) + 0.5), time(boundary + static_cast<double>(bFrom)));
+        anchors.emplace_back(
+          time(static_cast<double>(i + aFrom) + 0.5), time(boundary + static_cast<double>(bFrom)));
       }
     }
     // Outside the aligned speech time runs at the synthesis' pace (slope 1; the synthesis
@@ -270,7 +275,8 @@ private:
   double EndB = 0.0;
 };
 
-SynthesisResult Synthesize(const std::string& transcript, int rate, const TranscriptAlignOptions& options)
+SynthesisResult Synthesize(
+  const std::string& transcript, int rate, const TranscriptAlignOptions& options)
 {
   SpeechSynthesizer synthesizer(options.Voice, rate);
   synthesizer.SetDataPath(options.DataPath);
@@ -301,7 +307,8 @@ std::vector<bool> FindSilentFrames(const MfccFeatures& features, double silenceD
   const double floor = Percentile(e, 0.10);
   // Under the loud level by silenceDecibels, or within the lower third between a noisy
   // recording's floor and its loud level.
-  const double threshold = std::max(loud - LogPower(silenceDecibels), floor + 0.35 * (loud - floor));
+  const double threshold =
+    std::max(loud - LogPower(silenceDecibels), floor + 0.35 * (loud - floor));
   for (size_t i = 0; i < e.size(); ++i)
   {
     silent[i] = e[i] < threshold || e[i] < std::log(1e-9); // -90 dB full scale is silence
@@ -380,7 +387,8 @@ TranscriptAlignment AlignTranscript(const AudioBuffer& recording, const std::str
       syn = Prepare(FromInt16Mono(synth.Audio, synth.SampleRate), options);
       if (!syn.HasSpeech)
       {
-        throw InputError("eSpeak NG finds nothing to say in the transcript " + text::Quote(transcript));
+        throw InputError(
+          "eSpeak NG finds nothing to say in the transcript " + text::Quote(transcript));
       }
     }
   }
@@ -454,7 +462,8 @@ TranscriptAlignment AlignTranscript(const AudioBuffer& recording, const std::str
   const double synthDuration = synth.Duration;
   const TimeMap map(dtw, aFrom, bFrom, a.Rows, syn.Mfcc, synthDuration, recordingDuration);
   result.Duration = recordingDuration;
-  result.SpeechStart = rec.Mfcc.FrameTime(static_cast<double>(rec.First)) - 0.5 * rec.Mfcc.FrameStep;
+  result.SpeechStart =
+    rec.Mfcc.FrameTime(static_cast<double>(rec.First)) - 0.5 * rec.Mfcc.FrameStep;
   result.SpeechEnd = rec.Mfcc.FrameTime(static_cast<double>(rec.Last)) + 0.5 * rec.Mfcc.FrameStep;
   for (const TimedPhoneme& p : synth.Phonemes)
   {
@@ -469,7 +478,8 @@ TranscriptAlignment AlignTranscript(const AudioBuffer& recording, const std::str
   }
   for (size_t k = 0; k < result.Phonemes.size(); ++k)
   {
-    const double end = k + 1 < result.Phonemes.size() ? result.Phonemes[k + 1].Start : recordingDuration;
+    const double end =
+      k + 1 < result.Phonemes.size() ? result.Phonemes[k + 1].Start : recordingDuration;
     result.Phonemes[k].Duration = std::max(0.0, end - result.Phonemes[k].Start);
   }
   for (const SynthesizedWord& w : synth.Words)

@@ -28,8 +28,8 @@ namespace morphnode
 {
 struct TranscriptAlignOptions
 {
-  std::string Voice = "en";   ///< eSpeak voice of the transcript's language
-  std::string DataPath;       ///< espeak-ng-data folder; empty: eSpeak's default
+  std::string Voice = "en"; ///< eSpeak voice of the transcript's language
+  std::string DataPath;     ///< espeak-ng-data folder; empty: eSpeak's default
   /// Words per minute of the first synthesis; 0: eSpeak's default (175).
   int Rate = 0;
   /// Re-synthesize at the recording's measured rate when it differs by more than 10 %.
@@ -62,9 +62,9 @@ struct TranscriptAlignment
   /// 1 - (mean distance along the path) / (mean distance between random frames): near 0.5
   /// for a recording of the transcript, near 0 for a transcript that does not match it.
   double Score = 0.0;
-  bool Reliable = false;    ///< Score >= MinimumScore and the tempo was plausible
-  int SynthesisRate = 0;    ///< words per minute of the synthesis aligned
-  double TempoRatio = 1.0;  ///< recorded speech duration / synthetic, before rate adaption
+  bool Reliable = false;   ///< Score >= MinimumScore and the tempo was plausible
+  int SynthesisRate = 0;   ///< words per minute of the synthesis aligned
+  double TempoRatio = 1.0; ///< recorded speech duration / synthetic, before rate adaption
   size_t CellsEvaluated = 0;
 };
 

@@ -36,7 +36,8 @@ struct AudioBuffer
   /// Seconds; 0 when the rate is not set.
   double GetDuration() const
   {
-    return this->SampleRate > 0 ? static_cast<double>(this->GetFrameCount()) / this->SampleRate : 0.0;
+    return this->SampleRate > 0 ? static_cast<double>(this->GetFrameCount()) / this->SampleRate
+                                : 0.0;
   }
   bool IsEmpty() const { return this->GetFrameCount() == 0; }
 };

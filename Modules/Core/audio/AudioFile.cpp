@@ -8,8 +8,8 @@
 #include <sndfile.h>
 
 #include <algorithm>
-#include <cstring>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <memory>
 #include <ostream>
@@ -122,7 +122,8 @@ AudioBuffer Decode(SNDFILE* file, const SF_INFO& info, const std::string& origin
   if (info.samplerate < MinSampleRate || info.samplerate > MaxSampleRate)
   {
     throw InputError(origin + ": a sample rate of " + std::to_string(info.samplerate) +
-      " Hz is outside [" + std::to_string(MinSampleRate) + ", " + std::to_string(MaxSampleRate) + "] Hz");
+      " Hz is outside [" + std::to_string(MinSampleRate) + ", " + std::to_string(MaxSampleRate) +
+      "] Hz");
   }
   if (info.channels > MaxAudioChannels)
   {
@@ -131,8 +132,9 @@ AudioBuffer Decode(SNDFILE* file, const SF_INFO& info, const std::string& origin
   }
   const size_t maximumSamples = std::min<size_t>(MaxAudioSamples,
     static_cast<size_t>(MaxAudioSeconds * info.samplerate) * static_cast<size_t>(info.channels));
-  const std::string tooLong = origin + ": too long (more than " + text::FormatNumber(MaxAudioSeconds / 3600.0) +
-    " h or " + std::to_string(MaxAudioSamples) + " samples; docs/limits.md)";
+  const std::string tooLong = origin + ": too long (more than " +
+    text::FormatNumber(MaxAudioSeconds / 3600.0) + " h or " + std::to_string(MaxAudioSamples) +
+    " samples; docs/limits.md)";
   if (info.frames > 0 && info.frames < (sf_count_t(1) << 50) &&
     static_cast<size_t>(info.frames) * static_cast<size_t>(info.channels) > maximumSamples)
   {
@@ -157,7 +159,8 @@ AudioBuffer Decode(SNDFILE* file, const SF_INFO& info, const std::string& origin
     {
       throw InputError(tooLong);
     }
-    audio.Samples.insert(audio.Samples.end(), block.begin(), block.begin() + static_cast<std::ptrdiff_t>(n));
+    audio.Samples.insert(
+      audio.Samples.end(), block.begin(), block.begin() + static_cast<std::ptrdiff_t>(n));
   }
   if (sf_error(file) != SF_ERR_NO_ERROR)
   {
@@ -230,8 +233,8 @@ namespace
 /// Opens `path` (or, when empty, a memory file appended to `out`) for 16-bit WAV output and
 /// hands it to `write`.
 template <typename Writer>
-void WriteWavWith(const std::string& path, std::ostream* out, int sampleRate, int channels,
-  Writer&& write)
+void WriteWavWith(
+  const std::string& path, std::ostream* out, int sampleRate, int channels, Writer&& write)
 {
   SF_INFO info;
   std::memset(&info, 0, sizeof(info));
@@ -242,7 +245,8 @@ void WriteWavWith(const std::string& path, std::ostream* out, int sampleRate, in
   {
     // Beside the target, renamed onto it when complete (base/File.h).
     file::SafeOutput target(path, "WAV file");
-    std::unique_ptr<SNDFILE, SndFileCloser> file(sf_open(target.GetTemporaryPath().c_str(), SFM_WRITE, &info));
+    std::unique_ptr<SNDFILE, SndFileCloser> file(
+      sf_open(target.GetTemporaryPath().c_str(), SFM_WRITE, &info));
     if (!file)
     {
       throw InputError("cannot write WAV file '" + path + "': " + sf_strerror(nullptr));
@@ -288,8 +292,8 @@ void WriteFloat(const AudioBuffer& audio, const std::string& path, std::ostream*
     });
 }
 
-void WriteShort(const std::vector<int16_t>& samples, int sampleRate, const std::string& path,
-  std::ostream* out)
+void WriteShort(
+  const std::vector<int16_t>& samples, int sampleRate, const std::string& path, std::ostream* out)
 {
   if (sampleRate <= 0)
   {

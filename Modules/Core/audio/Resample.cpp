@@ -14,8 +14,8 @@ AudioBuffer Resample(const AudioBuffer& audio, int targetRate, ResampleQuality q
 {
   if (audio.SampleRate <= 0 || targetRate <= 0)
   {
-    throw InputError("resampling needs sample rates > 0 (from " +
-      std::to_string(audio.SampleRate) + " Hz to " + std::to_string(targetRate) + " Hz)");
+    throw InputError("resampling needs sample rates > 0 (from " + std::to_string(audio.SampleRate) +
+      " Hz to " + std::to_string(targetRate) + " Hz)");
   }
   if (audio.Channels <= 0 || audio.Samples.size() % static_cast<size_t>(audio.Channels) != 0)
   {
@@ -38,9 +38,9 @@ AudioBuffer Resample(const AudioBuffer& audio, int targetRate, ResampleQuality q
   if (!(outLength <= static_cast<double>(MaxAudioSamples)))
   {
     // Decided before the memory is taken (docs/limits.md).
-    throw InputError("resampling " + std::to_string(frames) + " frames from " + std::to_string(audio.SampleRate) +
-      " Hz to " + std::to_string(targetRate) + " Hz would make more than " + std::to_string(MaxAudioSamples) +
-      " samples");
+    throw InputError("resampling " + std::to_string(frames) + " frames from " +
+      std::to_string(audio.SampleRate) + " Hz to " + std::to_string(targetRate) +
+      " Hz would make more than " + std::to_string(MaxAudioSamples) + " samples");
   }
   const size_t outFrames = static_cast<size_t>(std::llround(static_cast<double>(frames) * ratio));
   out.Samples.resize(outFrames * static_cast<size_t>(audio.Channels));

@@ -18,6 +18,6 @@ enum class ResampleQuality
 /// The buffer at `targetRate`, every channel converted (a buffer already at that rate is
 /// returned as is). The length becomes round(frames * targetRate / rate). InputError for a
 /// rate <= 0 or a malformed buffer.
-AudioBuffer Resample(const AudioBuffer& audio, int targetRate,
-  ResampleQuality quality = ResampleQuality::Medium);
+AudioBuffer Resample(
+  const AudioBuffer& audio, int targetRate, ResampleQuality quality = ResampleQuality::Medium);
 } // namespace morphnode

@@ -71,8 +71,9 @@ inline std::string Kind(mode_t mode)
 
 inline std::string Errno(int e)
 {
-  return e == EFBIG || e == ENOSPC ? std::string(std::strerror(e)) + ": the disk or the file size limit is full"
-                                   : std::string(std::strerror(e));
+  return e == EFBIG || e == ENOSPC
+    ? std::string(std::strerror(e)) + ": the disk or the file size limit is full"
+    : std::string(std::strerror(e));
 }
 
 inline std::string Name(const std::string& what, const std::string& path)
@@ -81,7 +82,8 @@ inline std::string Name(const std::string& what, const std::string& path)
 }
 
 /// Opens for reading without blocking and checks kind and size. Returns the descriptor.
-inline int OpenChecked(const std::string& path, const std::string& what, uint64_t maxBytes, uint64_t& size)
+inline int OpenChecked(
+  const std::string& path, const std::string& what, uint64_t maxBytes, uint64_t& size)
 {
   const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
   if (fd < 0)
@@ -98,7 +100,8 @@ inline int OpenChecked(const std::string& path, const std::string& what, uint64_
   if (!S_ISREG(st.st_mode))
   {
     ::close(fd);
-    throw InputError(Name(what, path) + " is " + Kind(st.st_mode) + "; only regular files are read");
+    throw InputError(
+      Name(what, path) + " is " + Kind(st.st_mode) + "; only regular files are read");
   }
   size = static_cast<uint64_t>(st.st_size);
   if (size > maxBytes)
@@ -136,7 +139,8 @@ inline std::string ReadFile(const std::string& path, const std::string& what = "
   catch (const std::bad_alloc&)
   {
     ::close(fd);
-    throw InputError(detail::Name(what, path) + " (" + std::to_string(size) + " bytes) does not fit in memory");
+    throw InputError(
+      detail::Name(what, path) + " (" + std::to_string(size) + " bytes) does not fit in memory");
   }
   size_t done = 0;
   while (done < bytes.size())
@@ -179,7 +183,8 @@ inline void CheckOutputPath(const std::string& path, const std::string& what = "
     {
       return;
     }
-    throw InputError(detail::Name(what, path) + " cannot be checked (" + detail::Errno(errno) + ")");
+    throw InputError(
+      detail::Name(what, path) + " cannot be checked (" + detail::Errno(errno) + ")");
   }
   if (!S_ISREG(st.st_mode))
   {
@@ -204,7 +209,8 @@ public:
     this->Fd = ::mkstemps(&pattern[0], 5);
     if (this->Fd < 0)
     {
-      throw InputError(detail::Name(what, path) + " cannot be written (" + detail::Errno(errno) + ")");
+      throw InputError(
+        detail::Name(what, path) + " cannot be written (" + detail::Errno(errno) + ")");
     }
     ::fcntl(this->Fd, F_SETFD, FD_CLOEXEC);
     // mkstemps makes 0600; a finished file gets the usual mode (umask applies).
@@ -293,8 +299,8 @@ private:
   [[noreturn]] void Fail(int e)
   {
     this->Discard();
-    throw InputError(detail::Name(this->What, this->Path) + " cannot be written (" + detail::Errno(e) +
-      "); the old file, if any, is unchanged");
+    throw InputError(detail::Name(this->What, this->Path) + " cannot be written (" +
+      detail::Errno(e) + "); the old file, if any, is unchanged");
   }
 
   std::string Path;
@@ -304,7 +310,8 @@ private:
 };
 
 /// Writes `bytes` to `path` through a SafeOutput.
-inline void WriteFileSafely(const std::string& path, std::string_view bytes, const std::string& what = "output")
+inline void WriteFileSafely(
+  const std::string& path, std::string_view bytes, const std::string& what = "output")
 {
   SafeOutput out(path, what);
   out.Write(bytes);

@@ -3,8 +3,8 @@
 /// @file Text.h
 /// @brief The one home of the small text helpers every reader and writer of the core uses:
 /// locale-independent numbers (a German locale must not turn "0.5" into 0), ASCII
-/// lower-casing, whitespace splitting and trimming, whole-file reading (base/File.h), and quoting of
-/// untrusted tokens in error messages.
+/// lower-casing, whitespace splitting and trimming, whole-file reading (base/File.h), and quoting
+/// of untrusted tokens in error messages.
 
 #include "base/Error.h"
 #include "base/File.h"

@@ -29,7 +29,8 @@ AudioBuffer MixUtteranceAudio(
     if (!u.Speech.Audio.empty() && u.Speech.SampleRate > 0 && u.Start >= 0.0)
     {
       mix.SampleRate = std::max(mix.SampleRate, u.Speech.SampleRate);
-      end = std::max(end, u.Start + static_cast<double>(u.Speech.Audio.size()) / u.Speech.SampleRate);
+      end =
+        std::max(end, u.Start + static_cast<double>(u.Speech.Audio.size()) / u.Speech.SampleRate);
     }
   }
   if (mix.SampleRate == 0)

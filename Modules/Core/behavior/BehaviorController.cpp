@@ -32,11 +32,13 @@ void CheckStart(double start)
 /// gesture or mood: one definition for the finite controller and the live behaviour.
 const GestureDefinition& Definition(GestureKind kind)
 {
-  static const std::vector<const GestureDefinition*> table = [] {
+  static const std::vector<const GestureDefinition*> table = []
+  {
     std::vector<const GestureDefinition*> out;
     for (int k = 0; k <= static_cast<int>(GestureKind::Blink); ++k)
     {
-      out.push_back(&BehaviorLibrary::Default().FindGesture(GestureName(static_cast<GestureKind>(k))));
+      out.push_back(
+        &BehaviorLibrary::Default().FindGesture(GestureName(static_cast<GestureKind>(k))));
     }
     return out;
   }();
@@ -46,7 +48,8 @@ const GestureDefinition& Definition(GestureKind kind)
 /// The moods of the mood vector (Happy .. Surprised).
 const MoodDefinition& Definition(int moodIndex)
 {
-  static const std::vector<const MoodDefinition*> table = [] {
+  static const std::vector<const MoodDefinition*> table = []
+  {
     std::vector<const MoodDefinition*> out;
     for (int m = 1; m <= NumberOfMoods; ++m)
     {
@@ -155,10 +158,8 @@ void BehaviorController::AddUtterance(Utterance u, double start)
   this->Changed();
 }
 
-void BehaviorController::Gesture(const std::string& name,
-  double start,
-  double duration,
-  double intensity)
+void BehaviorController::Gesture(
+  const std::string& name, double start, double duration, double intensity)
 {
   this->Gesture(ParseGestureName(name), start, duration, intensity);
 }
@@ -187,10 +188,8 @@ SyncPoints BehaviorController::GestureSync(const ScheduledGesture& g, const Beha
   return Definition(g.Kind).Sync(g.Start, g.Duration, p);
 }
 
-void BehaviorController::SetMood(const std::string& name,
-  double intensity,
-  double start,
-  double fade)
+void BehaviorController::SetMood(
+  const std::string& name, double intensity, double start, double fade)
 {
   this->SetMood(ParseMoodName(name), intensity, start, fade);
 }
@@ -328,9 +327,9 @@ void BehaviorController::BuildGaze()
 {
   const BehaviorParameters& p = this->Parameters;
   std::vector<LookCommand> looks = this->Looks;
-  std::sort(looks.begin(), looks.end(), [](const LookCommand& a, const LookCommand& b) {
-    return a.Start < b.Start || (a.Start == b.Start && a.Order < b.Order);
-  });
+  std::sort(looks.begin(), looks.end(),
+    [](const LookCommand& a, const LookCommand& b)
+    { return a.Start < b.Start || (a.Start == b.Start && a.Order < b.Order); });
   this->EyeGazeTrack.Clear();
   this->HeadGazeTrack.Clear();
   double fromYaw = 0.0, fromPitch = 0.0; // where the previous look left the gaze
@@ -376,7 +375,8 @@ void BehaviorController::BuildBlinks(const std::vector<std::pair<double, double>
       merged.push_back(c);
     }
   }
-  auto underClosedEyes = [&](double start) {
+  auto underClosedEyes = [&](double start)
+  {
     // The first span ending after the blink starts is the only one it can overlap.
     auto it = std::upper_bound(merged.begin(), merged.end(), start,
       [](double v, const std::pair<double, double>& c) { return v < c.second; });
@@ -404,9 +404,8 @@ void BehaviorController::BuildBlinks(const std::vector<std::pair<double, double>
       blinks.push_back({ g.Sync.Start, g.Intensity }); // explicit: merged, never dropped
     }
   }
-  std::stable_sort(blinks.begin(), blinks.end(), [](const BlinkEvent& a, const BlinkEvent& b) {
-    return a.Start < b.Start;
-  });
+  std::stable_sort(blinks.begin(), blinks.end(),
+    [](const BlinkEvent& a, const BlinkEvent& b) { return a.Start < b.Start; });
   this->Idle.Blinks = std::move(blinks);
   std::vector<std::pair<double, double>> spans;
   for (const BlinkEvent& b : this->Idle.Blinks)
@@ -552,45 +551,51 @@ void BehaviorController::Sample(double t, double* out) const
 
   // Background: idle behaviour.
   double smile = 0.0;
-  this->SmileIndex.ForEachCandidate(t, [&](uint32_t i) {
-    const IdleSmileEvent& e = this->Idle.Smiles[i];
-    const double x = (t - e.Start) / e.Duration;
-    if (x > 0.0 && x < 1.0)
+  this->SmileIndex.ForEachCandidate(t,
+    [&](uint32_t i)
     {
-      smile = std::max(smile, e.Intensity * Smoothstep(std::min(x, 1.0 - x) / 0.4));
-    }
-  });
+      const IdleSmileEvent& e = this->Idle.Smiles[i];
+      const double x = (t - e.Start) / e.Duration;
+      if (x > 0.0 && x < 1.0)
+      {
+        smile = std::max(smile, e.Intensity * Smoothstep(std::min(x, 1.0 - x) / 0.4));
+      }
+    });
   // Happiness makes idle smiles broader; a negative mood holds them back.
   bb.Background[C::MouthSmile] += smile * (1.0 + happy) * (1.0 - negative);
   this->Idle.Head.Evaluate(t, bb.HeadIdle.data());
   this->Idle.GazeOffset(t, bb.Saccade[0], bb.Saccade[1]);
-  this->BlinkIndex.ForEachCandidate(t, [&](uint32_t i) {
-    const BlinkEvent& b = this->Idle.Blinks[i];
-    bb.Blink = std::max(bb.Blink, b.Amplitude * BlinkLidCurve(p, t - b.Start));
-  });
+  this->BlinkIndex.ForEachCandidate(t,
+    [&](uint32_t i)
+    {
+      const BlinkEvent& b = this->Idle.Blinks[i];
+      bb.Blink = std::max(bb.Blink, b.Amplitude * BlinkLidCurve(p, t - b.Start));
+    });
 
   // Speech: visemes straight to the mouth channels (overlapping utterances: maximum).
-  this->UtteranceIndex.ForEachCandidate(t, [&](uint32_t i) {
-    const ScheduledUtterance& u = this->Utterances[i];
-    const WeightTrack& v = u.Speech.Visemes;
-    const size_t frames = v.GetNumberOfFrames();
-    const double f = (t - u.Start) * v.GetFrameRate();
-    if (frames == 0 || !(f >= 0.0) || f > static_cast<double>(frames - 1))
+  this->UtteranceIndex.ForEachCandidate(t,
+    [&](uint32_t i)
     {
-      return;
-    }
-    const size_t f0 = static_cast<size_t>(f);
-    const size_t f1 = std::min(f0 + 1, frames - 1);
-    const double a = f - static_cast<double>(f0);
-    const double* r0 = v.GetFrame(f0);
-    const double* r1 = v.GetFrame(f1);
-    const std::vector<int>& map = this->VisemeChannelMaps[i];
-    for (size_t c = 0; c < map.size(); ++c)
-    {
-      double& o = out[map[c]];
-      o = std::max(o, r0[c] + a * (r1[c] - r0[c]));
-    }
-  });
+      const ScheduledUtterance& u = this->Utterances[i];
+      const WeightTrack& v = u.Speech.Visemes;
+      const size_t frames = v.GetNumberOfFrames();
+      const double f = (t - u.Start) * v.GetFrameRate();
+      if (frames == 0 || !(f >= 0.0) || f > static_cast<double>(frames - 1))
+      {
+        return;
+      }
+      const size_t f0 = static_cast<size_t>(f);
+      const size_t f1 = std::min(f0 + 1, frames - 1);
+      const double a = f - static_cast<double>(f0);
+      const double* r0 = v.GetFrame(f0);
+      const double* r1 = v.GetFrame(f1);
+      const std::vector<int>& map = this->VisemeChannelMaps[i];
+      for (size_t c = 0; c < map.size(); ++c)
+      {
+        double& o = out[map[c]];
+        o = std::max(o, r0[c] + a * (r1[c] - r0[c]));
+      }
+    });
   double activity = 0.0;
   for (size_t c = C::NumberOfBaseChannels; c < channels; ++c)
   {
@@ -599,16 +604,20 @@ void BehaviorController::Sample(double t, double* out) const
   bb.SpeechActivity = activity;
 
   // Speech: cues.
-  this->CueIndex.ForEachCandidate(t, [&](uint32_t i) {
-    const ScheduledCue& cue = this->Cues[i];
-    bb.AddSpeechCue(cue.Kind, cue.Sync, cue.Intensity, t, p);
-  });
+  this->CueIndex.ForEachCandidate(t,
+    [&](uint32_t i)
+    {
+      const ScheduledCue& cue = this->Cues[i];
+      bb.AddSpeechCue(cue.Kind, cue.Sync, cue.Intensity, t, p);
+    });
 
   // Explicit gestures: the shapes and head motion of their data.
-  this->GestureIndex.ForEachCandidate(t, [&](uint32_t i) {
-    const ScheduledGesture& g = this->Gestures[i];
-    Definition(g.Kind).Contribute(g.Sync, g.Intensity, t, p, bb);
-  });
+  this->GestureIndex.ForEachCandidate(t,
+    [&](uint32_t i)
+    {
+      const ScheduledGesture& g = this->Gestures[i];
+      Definition(g.Kind).Contribute(g.Sync, g.Intensity, t, p, bb);
+    });
 
   // Explicit gaze.
   bb.SetExplicitGaze(this->EyeGazeTrack, this->HeadGazeTrack, t);

@@ -20,13 +20,13 @@
 ///   std::vector<double> w(behavior.GetNumberOfChannels());
 ///   behavior.Sample(1.25, w.data());
 
-#include "speech/SpeechTypes.h"
-#include "track/WeightTrack.h"
 #include "behavior/BehaviorScript.h"
 #include "behavior/BehaviorTypes.h"
 #include "behavior/Frames.h"
 #include "behavior/IdleSchedule.h"
 #include "behavior/Timeline.h"
+#include "speech/SpeechTypes.h"
+#include "track/WeightTrack.h"
 
 #include <cstdint>
 #include <functional>
@@ -87,10 +87,8 @@ public:
   /// Loads a phoneme file through the phoneme loader (InputError if none is set).
   void SpeakPhonemeFile(const std::string& path, double start = AfterPrevious);
   /// duration <= 0 takes the gesture's default; intensity in [0, 1].
-  void Gesture(const std::string& name,
-    double start,
-    double duration = 0.0,
-    double intensity = 1.0);
+  void Gesture(
+    const std::string& name, double start, double duration = 0.0, double intensity = 1.0);
   void Gesture(GestureKind kind, double start, double duration = 0.0, double intensity = 1.0);
   /// The mood fades from its current state over `fade` seconds (< 0: MoodFadeTime).
   /// One mood at a time: the others fade out; "neutral" fades all out.

@@ -17,7 +17,8 @@ namespace morphnode
 {
 namespace behavior_detail
 {
-const char* DefaultBehaviorLibraryJson(); // behavior/data/behavior.json (DefaultBehaviorLibrary.cpp)
+const char*
+DefaultBehaviorLibraryJson(); // behavior/data/behavior.json (DefaultBehaviorLibrary.cpp)
 }
 
 namespace
@@ -42,7 +43,8 @@ class Reader
 public:
   explicit Reader(std::string origin)
     : Origin(std::move(origin))
-  {}
+  {
+  }
 
   [[noreturn]] void Fail(const std::string& path, const std::string& what) const
   {
@@ -91,7 +93,8 @@ public:
     return v;
   }
 
-  ParameterValue NumberOrParameter(const Json& j, const std::string& path, double lo, double hi) const
+  ParameterValue NumberOrParameter(
+    const Json& j, const std::string& path, double lo, double hi) const
   {
     ParameterValue v;
     if (j.is_string())
@@ -144,7 +147,8 @@ public:
   }
 
   /// "shapes": { "MouthSmile": 0.7, ... } over the semantic shapes.
-  std::array<double, Blackboard::NumberOfShapes> Shapes(const Json& j, const std::string& path) const
+  std::array<double, Blackboard::NumberOfShapes> Shapes(
+    const Json& j, const std::string& path) const
   {
     this->Object(j, path);
     std::array<double, Blackboard::NumberOfShapes> out{};
@@ -172,12 +176,13 @@ public:
   std::string Origin;
 };
 
-GestureDefinition ParseGesture(const Reader& r, const std::string& name, const Json& j,
-  const std::string& path)
+GestureDefinition ParseGesture(
+  const Reader& r, const std::string& name, const Json& j, const std::string& path)
 {
   r.Object(j, path);
-  r.Keys(j, path, { "aliases", "duration", "attack", "release", "shapes", "head", "blink",
-    "overrideBlink", "overrideLookAt", "overrideMouth", "mouthShapes", "description" });
+  r.Keys(j, path,
+    { "aliases", "duration", "attack", "release", "shapes", "head", "blink", "overrideBlink",
+      "overrideLookAt", "overrideMouth", "mouthShapes", "description" });
   GestureDefinition g;
   g.Name = name;
   if (j.contains("aliases"))
@@ -232,7 +237,8 @@ GestureDefinition ParseGesture(const Reader& r, const std::string& name, const J
       else
       {
         r.Fail(hp + ".motion",
-          "unknown motion " + Quoted(h["motion"].get<std::string>()) + " (known: hold, nod, shake)");
+          "unknown motion " + Quoted(h["motion"].get<std::string>()) +
+            " (known: hold, nod, shake)");
       }
     }
     if (h.contains("amplitude"))
@@ -275,12 +281,13 @@ GestureDefinition ParseGesture(const Reader& r, const std::string& name, const J
   return g;
 }
 
-MoodDefinition ParseMood(const Reader& r, const std::string& name, const Json& j,
-  const std::string& path)
+MoodDefinition ParseMood(
+  const Reader& r, const std::string& name, const Json& j, const std::string& path)
 {
   r.Object(j, path);
-  r.Keys(j, path, { "aliases", "shapes", "head", "blinkRate", "saccadeRange", "fixation", "gaze",
-    "headMotion", "idleSmiles", "description" });
+  r.Keys(j, path,
+    { "aliases", "shapes", "head", "blinkRate", "saccadeRange", "fixation", "gaze", "headMotion",
+      "idleSmiles", "description" });
   MoodDefinition m;
   m.Name = name;
   if (j.contains("aliases"))
@@ -321,7 +328,8 @@ MoodDefinition ParseMood(const Reader& r, const std::string& name, const Json& j
   }
   // Factors: within [0.1, 10] for rates and times (a zero blink rate would stop the eyes),
   // [0, 10] for amplitudes.
-  auto factor = [&](const char* key, double lo, double& v) {
+  auto factor = [&](const char* key, double lo, double& v)
+  {
     if (j.contains(key))
     {
       v = r.Number(j[key], path + "." + key, lo, 10.0);
@@ -335,7 +343,7 @@ MoodDefinition ParseMood(const Reader& r, const std::string& name, const Json& j
   return m;
 }
 
-template<typename T>
+template <typename T>
 int FindByName(const std::vector<T>& items, const std::string& name)
 {
   const std::string key = CanonicalBehaviorName(name);
@@ -359,7 +367,7 @@ int FindByName(const std::vector<T>& items, const std::string& name)
   return -1;
 }
 
-template<typename T>
+template <typename T>
 std::string KnownNames(const std::vector<T>& items)
 {
   std::string out;
@@ -370,7 +378,7 @@ std::string KnownNames(const std::vector<T>& items)
   return out;
 }
 
-template<typename T>
+template <typename T>
 void AddOrReplace(std::vector<T>& items, T item)
 {
   const std::string key = CanonicalBehaviorName(item.Name);
@@ -448,17 +456,12 @@ SyncPoints GestureDefinition::Sync(double start, double duration, const Behavior
   {
     return SyncPoints::Make(start, BlinkLength(p), p.BlinkCloseTime, p.BlinkOpenTime);
   }
-  return SyncPoints::Make(start,
-    duration > 0.0 ? duration : this->Duration,
-    this->Attack.Resolve(p),
-    this->Release.Resolve(p));
+  return SyncPoints::Make(start, duration > 0.0 ? duration : this->Duration,
+    this->Attack.Resolve(p), this->Release.Resolve(p));
 }
 
-void GestureDefinition::Contribute(const SyncPoints& sync,
-  double intensity,
-  double t,
-  const BehaviorParameters& p,
-  Blackboard& bb) const
+void GestureDefinition::Contribute(const SyncPoints& sync, double intensity, double t,
+  const BehaviorParameters& p, Blackboard& bb) const
 {
   const double e = sync.Envelope(t);
   if (!(e > 0.0) || this->Blink)
@@ -497,7 +500,8 @@ void GestureDefinition::Contribute(const SyncPoints& sync,
     return;
   }
   const double span = sync.End - sync.Start;
-  if (!(span > 0.0) || !std::isfinite(span)) // (durations have a floor; a span lost to rounding has no motion)
+  if (!(span > 0.0) ||
+    !std::isfinite(span)) // (durations have a floor; a span lost to rounding has no motion)
   {
     return;
   }
@@ -509,8 +513,8 @@ void GestureDefinition::Contribute(const SyncPoints& sync,
       bb.HeadExplicit[1] -= this->Amplitude.Resolve(p) * intensity * Bumps(u, cycles);
       break;
     case HeadMotion::Shake: // left-right swings in a smooth window
-      bb.HeadExplicit[0] += this->Amplitude.Resolve(p) * intensity * std::sin(Pi * u) *
-        std::sin(2.0 * Pi * cycles * u);
+      bb.HeadExplicit[0] +=
+        this->Amplitude.Resolve(p) * intensity * std::sin(Pi * u) * std::sin(2.0 * Pi * cycles * u);
       break;
     case HeadMotion::Hold:
       for (int a = 0; a < 3; ++a)
@@ -570,9 +574,8 @@ const BehaviorLibrary& BehaviorLibrary::Default()
   return library;
 }
 
-BehaviorLibrary BehaviorLibrary::FromJson(const std::string& text,
-  const std::string& origin,
-  const BehaviorLibrary* base)
+BehaviorLibrary BehaviorLibrary::FromJson(
+  const std::string& text, const std::string& origin, const BehaviorLibrary* base)
 {
   const Reader r(origin);
   Json doc;
@@ -642,7 +645,8 @@ const GestureDefinition& BehaviorLibrary::FindGesture(const std::string& name) c
   const int i = this->FindGestureIndex(name);
   if (i < 0)
   {
-    throw InputError("unknown gesture " + Quoted(name) + " (known: " + KnownNames(this->Gestures) + ")");
+    throw InputError(
+      "unknown gesture " + Quoted(name) + " (known: " + KnownNames(this->Gestures) + ")");
   }
   return this->Gestures[i];
 }

@@ -65,16 +65,16 @@ struct ParameterValue
 
 enum class HeadMotion
 {
-  Hold,  ///< yaw/pitch/roll offsets under the envelope
-  Nod,   ///< pitch down by Amplitude and back, one bump per Cycle seconds
-  Shake  ///< yaw left-right by Amplitude, one swing per Cycle seconds, in a sine window
+  Hold, ///< yaw/pitch/roll offsets under the envelope
+  Nod,  ///< pitch down by Amplitude and back, one bump per Cycle seconds
+  Shake ///< yaw left-right by Amplitude, one swing per Cycle seconds, in a sine window
 };
 
 struct GestureDefinition
 {
   std::string Name; ///< canonical (lower case, '_' kept)
   std::vector<std::string> Aliases;
-  double Duration = 1.5; ///< used when a command gives none
+  double Duration = 1.5;             ///< used when a command gives none
   ParameterValue Attack{ 0.3, -1 };  ///< seconds; fitted to the duration (SyncPoints::Make)
   ParameterValue Release{ 0.4, -1 }; ///< seconds
   /// Contributions at intensity 1 to the semantic shapes (BehaviorChannel ids 0..5).
@@ -96,10 +96,7 @@ struct GestureDefinition
   SyncPoints Sync(double start, double duration, const BehaviorParameters& p) const;
   /// Adds the gesture's contribution at t to the blackboard (explicit layer). `sync` from
   /// Sync(). Blink gestures add nothing here (their blink is played with the others).
-  void Contribute(const SyncPoints& sync,
-    double intensity,
-    double t,
-    const BehaviorParameters& p,
+  void Contribute(const SyncPoints& sync, double intensity, double t, const BehaviorParameters& p,
     Blackboard& bb) const;
 };
 
@@ -155,8 +152,7 @@ public:
   /// its entries are added to (or replace, by name) a copy of `base`. InputError naming
   /// `origin` and the JSON path of the problem.
   static BehaviorLibrary FromJson(const std::string& text,
-    const std::string& origin = "behaviour library",
-    const BehaviorLibrary* base = nullptr);
+    const std::string& origin = "behaviour library", const BehaviorLibrary* base = nullptr);
   /// Reads a file (InputError when it cannot be read), over the defaults.
   static BehaviorLibrary Load(const std::string& path);
 

@@ -170,9 +170,7 @@ std::vector<std::string> Tokenize(const std::string& line)
 }
 
 /// Reads "key value" pairs from words[from...] into the command.
-void ParseOptions(const std::vector<std::string>& w,
-  size_t from,
-  BehaviorCommand& c,
+void ParseOptions(const std::vector<std::string>& w, size_t from, BehaviorCommand& c,
   std::initializer_list<const char*> allowed)
 {
   for (size_t i = from; i < w.size(); i += 2)
@@ -500,7 +498,8 @@ BehaviorScript ParseJson(const std::string& text)
   int line = 1;
   std::vector<int> openLines;
   Json root;
-  const Json::parser_callback_t noteLines = [&](int, Json::parse_event_t event, Json& parsed) {
+  const Json::parser_callback_t noteLines = [&](int, Json::parse_event_t event, Json& parsed)
+  {
     if (event == Json::parse_event_t::object_start)
     {
       openLines.push_back(line);

@@ -15,27 +15,16 @@ namespace morphnode
 {
 namespace
 {
-const char* const ChannelNames[BehaviorChannel::NumberOfBaseChannels] = { "EyesClosed",
-  "BrowsUp",
-  "BrowsFright",
-  "BrowsAngry",
-  "MouthSmile",
-  "MouthSad",
-  "LookUp",
-  "LookDown",
-  "LookLeft",
-  "LookRight",
-  "HeadYaw",
-  "HeadPitch",
-  "HeadRoll",
-  "EyeYaw",
-  "EyePitch" };
+const char* const ChannelNames[BehaviorChannel::NumberOfBaseChannels] = { "EyesClosed", "BrowsUp",
+  "BrowsFright", "BrowsAngry", "MouthSmile", "MouthSad", "LookUp", "LookDown", "LookLeft",
+  "LookRight", "HeadYaw", "HeadPitch", "HeadRoll", "EyeYaw", "EyePitch" };
 
 /// Lower case without '_', '-' and blanks: "Raise_Brows" and "raise-brows" are one name.
 std::string Canonical(const std::string& name)
 {
   std::string out = text::ToLower(name);
-  out.erase(std::remove_if(out.begin(), out.end(), [](char c) { return c == '_' || c == '-' || c == ' '; }),
+  out.erase(
+    std::remove_if(out.begin(), out.end(), [](char c) { return c == '_' || c == '-' || c == ' '; }),
     out.end());
   return out;
 }
@@ -53,33 +42,20 @@ struct Alias
 };
 
 const Alias GestureAliases[] = { { "smile", int(GestureKind::Smile) },
-  { "sad", int(GestureKind::Sad) },
-  { "nod", int(GestureKind::Nod) },
-  { "shake", int(GestureKind::Shake) },
-  { "headshake", int(GestureKind::Shake) },
-  { "tilt", int(GestureKind::Tilt) },
-  { "raisebrows", int(GestureKind::RaiseBrows) },
-  { "browsup", int(GestureKind::RaiseBrows) },
-  { "browraise", int(GestureKind::RaiseBrows) },
-  { "raiseeyebrows", int(GestureKind::RaiseBrows) },
-  { "frown", int(GestureKind::Frown) },
-  { "browsangry", int(GestureKind::Frown) },
-  { "fright", int(GestureKind::Fright) },
-  { "browsfright", int(GestureKind::Fright) },
-  { "closeeyes", int(GestureKind::CloseEyes) },
-  { "eyesclosed", int(GestureKind::CloseEyes) },
-  { "blink", int(GestureKind::Blink) } };
+  { "sad", int(GestureKind::Sad) }, { "nod", int(GestureKind::Nod) },
+  { "shake", int(GestureKind::Shake) }, { "headshake", int(GestureKind::Shake) },
+  { "tilt", int(GestureKind::Tilt) }, { "raisebrows", int(GestureKind::RaiseBrows) },
+  { "browsup", int(GestureKind::RaiseBrows) }, { "browraise", int(GestureKind::RaiseBrows) },
+  { "raiseeyebrows", int(GestureKind::RaiseBrows) }, { "frown", int(GestureKind::Frown) },
+  { "browsangry", int(GestureKind::Frown) }, { "fright", int(GestureKind::Fright) },
+  { "browsfright", int(GestureKind::Fright) }, { "closeeyes", int(GestureKind::CloseEyes) },
+  { "eyesclosed", int(GestureKind::CloseEyes) }, { "blink", int(GestureKind::Blink) } };
 
 const Alias MoodAliases[] = { { "neutral", int(MoodKind::Neutral) },
-  { "happy", int(MoodKind::Happy) },
-  { "joy", int(MoodKind::Happy) },
-  { "sad", int(MoodKind::Sad) },
-  { "sadness", int(MoodKind::Sad) },
-  { "angry", int(MoodKind::Angry) },
-  { "anger", int(MoodKind::Angry) },
-  { "afraid", int(MoodKind::Afraid) },
-  { "fear", int(MoodKind::Afraid) },
-  { "surprised", int(MoodKind::Surprised) },
+  { "happy", int(MoodKind::Happy) }, { "joy", int(MoodKind::Happy) }, { "sad", int(MoodKind::Sad) },
+  { "sadness", int(MoodKind::Sad) }, { "angry", int(MoodKind::Angry) },
+  { "anger", int(MoodKind::Angry) }, { "afraid", int(MoodKind::Afraid) },
+  { "fear", int(MoodKind::Afraid) }, { "surprised", int(MoodKind::Surprised) },
   { "surprise", int(MoodKind::Surprised) } };
 } // namespace
 
@@ -236,36 +212,25 @@ struct ParameterField
   double BehaviorParameters::*Field;
 };
 
-#define MORPHNODE_PARAMETER(name) { #name, &BehaviorParameters::name }
+#define MORPHNODE_PARAMETER(name)                                                                  \
+  {                                                                                                \
+#name, &BehaviorParameters::name                                                               \
+  }
 const ParameterField ParameterFields[] = { MORPHNODE_PARAMETER(BlinkRateRest),
-  MORPHNODE_PARAMETER(BlinkRateSpeaking),
-  MORPHNODE_PARAMETER(BlinkIntervalSigma),
-  MORPHNODE_PARAMETER(BlinkMinInterval),
-  MORPHNODE_PARAMETER(BlinkCloseTime),
-  MORPHNODE_PARAMETER(BlinkClosedTime),
-  MORPHNODE_PARAMETER(BlinkOpenTime),
-  MORPHNODE_PARAMETER(SaccadeBase),
-  MORPHNODE_PARAMETER(SaccadePerDegree),
-  MORPHNODE_PARAMETER(SaccadeMaxAmplitude),
-  MORPHNODE_PARAMETER(SaccadeRange),
-  MORPHNODE_PARAMETER(FixationMean),
-  MORPHNODE_PARAMETER(FixationSigma),
-  MORPHNODE_PARAMETER(FixationMin),
-  MORPHNODE_PARAMETER(HeadYawAmplitude),
-  MORPHNODE_PARAMETER(HeadPitchAmplitude),
-  MORPHNODE_PARAMETER(HeadRollAmplitude),
-  MORPHNODE_PARAMETER(IdleSmileInterval),
-  MORPHNODE_PARAMETER(IdleSmileIntensity),
-  MORPHNODE_PARAMETER(HeadShareOfGaze),
-  MORPHNODE_PARAMETER(HeadGazeTime),
-  MORPHNODE_PARAMETER(EyeYawRange),
-  MORPHNODE_PARAMETER(EyePitchRange),
-  MORPHNODE_PARAMETER(NodAmplitude),
-  MORPHNODE_PARAMETER(ShakeAmplitude),
-  MORPHNODE_PARAMETER(TiltAmplitude),
-  MORPHNODE_PARAMETER(SpeechNodAmplitude),
-  MORPHNODE_PARAMETER(MoodFadeTime),
-  MORPHNODE_PARAMETER(SpeechExpressionDamping) };
+  MORPHNODE_PARAMETER(BlinkRateSpeaking), MORPHNODE_PARAMETER(BlinkIntervalSigma),
+  MORPHNODE_PARAMETER(BlinkMinInterval), MORPHNODE_PARAMETER(BlinkCloseTime),
+  MORPHNODE_PARAMETER(BlinkClosedTime), MORPHNODE_PARAMETER(BlinkOpenTime),
+  MORPHNODE_PARAMETER(SaccadeBase), MORPHNODE_PARAMETER(SaccadePerDegree),
+  MORPHNODE_PARAMETER(SaccadeMaxAmplitude), MORPHNODE_PARAMETER(SaccadeRange),
+  MORPHNODE_PARAMETER(FixationMean), MORPHNODE_PARAMETER(FixationSigma),
+  MORPHNODE_PARAMETER(FixationMin), MORPHNODE_PARAMETER(HeadYawAmplitude),
+  MORPHNODE_PARAMETER(HeadPitchAmplitude), MORPHNODE_PARAMETER(HeadRollAmplitude),
+  MORPHNODE_PARAMETER(IdleSmileInterval), MORPHNODE_PARAMETER(IdleSmileIntensity),
+  MORPHNODE_PARAMETER(HeadShareOfGaze), MORPHNODE_PARAMETER(HeadGazeTime),
+  MORPHNODE_PARAMETER(EyeYawRange), MORPHNODE_PARAMETER(EyePitchRange),
+  MORPHNODE_PARAMETER(NodAmplitude), MORPHNODE_PARAMETER(ShakeAmplitude),
+  MORPHNODE_PARAMETER(TiltAmplitude), MORPHNODE_PARAMETER(SpeechNodAmplitude),
+  MORPHNODE_PARAMETER(MoodFadeTime), MORPHNODE_PARAMETER(SpeechExpressionDamping) };
 #undef MORPHNODE_PARAMETER
 // Every field is in the table (all fields are doubles).
 static_assert(sizeof(ParameterFields) / sizeof(ParameterFields[0]) * sizeof(double) ==
@@ -288,7 +253,8 @@ const ParameterField& FindParameter(const std::string& name)
 
 const std::vector<std::string>& BehaviorParameterNames()
 {
-  static const std::vector<std::string> names = [] {
+  static const std::vector<std::string> names = []
+  {
     std::vector<std::string> out;
     for (const ParameterField& p : ParameterFields)
     {

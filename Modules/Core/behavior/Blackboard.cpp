@@ -63,13 +63,11 @@ void Blackboard::Resolve(const BehaviorParameters& p, double* out) const
   // Gaze: the eyes hold the target against the head.
   const double saccadeShare = 1.0 - Clamp01(this->Ownership[GazeGroup]);
   const double eyeYaw =
-    std::clamp(this->Gaze[0] + saccadeShare * this->Saccade[0] - out[C::HeadYaw],
-      -p.EyeYawRange,
+    std::clamp(this->Gaze[0] + saccadeShare * this->Saccade[0] - out[C::HeadYaw], -p.EyeYawRange,
       p.EyeYawRange);
   const double eyePitch =
     std::clamp(this->Gaze[1] + saccadeShare * this->Saccade[1] - out[C::HeadPitch],
-      -p.EyePitchRange,
-      p.EyePitchRange);
+      -p.EyePitchRange, p.EyePitchRange);
   out[C::EyeYaw] = eyeYaw;
   out[C::EyePitch] = eyePitch;
   out[C::LookLeft] = Clamp01(eyeYaw / p.EyeYawRange);
@@ -78,11 +76,8 @@ void Blackboard::Resolve(const BehaviorParameters& p, double* out) const
   out[C::LookDown] = Clamp01(-eyePitch / p.EyePitchRange);
 }
 
-void Blackboard::AddSpeechCue(NonverbalCue::Kind kind,
-  const SyncPoints& sync,
-  double intensity,
-  double t,
-  const BehaviorParameters& p)
+void Blackboard::AddSpeechCue(NonverbalCue::Kind kind, const SyncPoints& sync, double intensity,
+  double t, const BehaviorParameters& p)
 {
   using C = BehaviorChannel;
   const double e = sync.Envelope(t);

@@ -70,13 +70,11 @@ struct Blackboard
 
   /// Adds a speech cue at t (speech layer): a brow raise, a relaxation, a nod. Blink cues
   /// add nothing here (they are played with the other blinks).
-  void AddSpeechCue(NonverbalCue::Kind kind,
-    const SyncPoints& sync,
-    double intensity,
-    double t,
+  void AddSpeechCue(NonverbalCue::Kind kind, const SyncPoints& sync, double intensity, double t,
     const BehaviorParameters& parameters);
 };
 
 /// The sync points of a speech cue that starts at `start` on the behaviour's time axis.
-SyncPoints SpeechCueSync(const NonverbalCue& cue, double start, const BehaviorParameters& parameters);
+SyncPoints SpeechCueSync(
+  const NonverbalCue& cue, double start, const BehaviorParameters& parameters);
 } // namespace morphnode

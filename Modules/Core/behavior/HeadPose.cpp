@@ -51,7 +51,8 @@ std::array<double, 16> HeadPoseMatrix(const HeadAngles& a, const std::array<doub
   {
     throw InputError("the head pose needs finite angles and a finite pivot");
   }
-  const Matrix3 r = Multiply(Multiply(Rotation(1, a.Yaw), Rotation(0, -a.Pitch)), Rotation(2, -a.Roll));
+  const Matrix3 r =
+    Multiply(Multiply(Rotation(1, a.Yaw), Rotation(0, -a.Pitch)), Rotation(2, -a.Roll));
   std::array<double, 16> m{};
   for (int i = 0; i < 3; ++i)
   {
@@ -69,7 +70,8 @@ std::array<double, 16> HeadPoseMatrix(const HeadAngles& a, const std::array<doub
 
 HeadAngles FiniteHeadAngles(const HeadAngles& a)
 {
-  const auto finite = [](double v) {
+  const auto finite = [](double v)
+  {
     return std::isfinite(v) ? std::remainder(v, 360.0) : 0.0; // remainder: [-180, 180]
   };
   return { finite(a.Yaw), finite(a.Pitch), finite(a.Roll) };

@@ -25,8 +25,7 @@ enum Stream : uint64_t
 
 std::vector<std::pair<double, double>> MergeIntervals(std::vector<std::pair<double, double>> in)
 {
-  in.erase(std::remove_if(in.begin(),
-             in.end(),
+  in.erase(std::remove_if(in.begin(), in.end(),
              [](const std::pair<double, double>& i) { return !(i.second > i.first); }),
     in.end());
   std::sort(in.begin(), in.end());
@@ -48,11 +47,8 @@ std::vector<std::pair<double, double>> MergeIntervals(std::vector<std::pair<doub
 /// Advances real time t by `clock` seconds of the rest-rate blink clock, which runs
 /// `factor` times faster inside the speaking intervals. `k` is the first interval that
 /// ends after t (kept between calls since t only grows).
-double AdvanceBlinkClock(double t,
-  double clock,
-  double factor,
-  const std::vector<std::pair<double, double>>& speaking,
-  size_t& k)
+double AdvanceBlinkClock(double t, double clock, double factor,
+  const std::vector<std::pair<double, double>>& speaking, size_t& k)
 {
   const double inf = std::numeric_limits<double>::infinity();
   while (clock > 0.0)
@@ -139,8 +135,7 @@ double BlinkLidCurve(const BehaviorParameters& p, double t)
   return u * u;
 }
 
-BlinkTrain::BlinkTrain(const BehaviorParameters& p,
-  uint64_t seed,
+BlinkTrain::BlinkTrain(const BehaviorParameters& p, uint64_t seed,
   const std::vector<std::pair<double, double>>& speaking)
   : Parameters(p)
   , Random(seed, BlinkStream)
@@ -151,11 +146,8 @@ BlinkTrain::BlinkTrain(const BehaviorParameters& p,
     throw InputError("blink rates must be > 0");
   }
   // A random phase for the first blink: no blink pile-up at t = 0 for every seed.
-  this->Time = AdvanceBlinkClock(0.0,
-    this->Random.Uniform() * (60.0 / p.BlinkRateRest),
-    p.BlinkRateSpeaking / p.BlinkRateRest,
-    this->Speaking,
-    this->Interval);
+  this->Time = AdvanceBlinkClock(0.0, this->Random.Uniform() * (60.0 / p.BlinkRateRest),
+    p.BlinkRateSpeaking / p.BlinkRateRest, this->Speaking, this->Interval);
 }
 
 BlinkEvent BlinkTrain::Next()
@@ -164,11 +156,8 @@ BlinkEvent BlinkTrain::Next()
   const BlinkEvent blink{ this->Time, this->Random.Uniform(0.9, 1.0) };
   const double clock = this->Random.LogNormalWithMean(60.0 / p.BlinkRateRest, p.BlinkIntervalSigma);
   const double minInterval = std::max(p.BlinkMinInterval, BlinkLength(p));
-  this->Time = std::max(AdvanceBlinkClock(this->Time,
-                          clock,
-                          p.BlinkRateSpeaking / p.BlinkRateRest,
-                          this->Speaking,
-                          this->Interval),
+  this->Time = std::max(AdvanceBlinkClock(this->Time, clock, p.BlinkRateSpeaking / p.BlinkRateRest,
+                          this->Speaking, this->Interval),
     this->Time + minInterval);
   return blink;
 }
@@ -256,9 +245,7 @@ HeadMicroMotion MakeHeadMicroMotion(const BehaviorParameters& p, uint64_t seed)
   return head;
 }
 
-IdleSchedule IdleSchedule::Generate(const BehaviorParameters& p,
-  uint64_t seed,
-  double horizon,
+IdleSchedule IdleSchedule::Generate(const BehaviorParameters& p, uint64_t seed, double horizon,
   const std::vector<std::pair<double, double>>& speaking)
 {
   if (!(horizon >= 0.0) || !std::isfinite(horizon))
@@ -291,10 +278,8 @@ IdleSchedule IdleSchedule::Generate(const BehaviorParameters& p,
 
 void IdleSchedule::GazeOffset(double t, double& yaw, double& pitch) const
 {
-  auto it = std::upper_bound(
-    this->Saccades.begin(), this->Saccades.end(), t, [](double v, const SaccadeEvent& e) {
-      return v < e.Start;
-    });
+  auto it = std::upper_bound(this->Saccades.begin(), this->Saccades.end(), t,
+    [](double v, const SaccadeEvent& e) { return v < e.Start; });
   if (it == this->Saccades.begin())
   {
     yaw = pitch = 0.0;

@@ -67,8 +67,7 @@ double BlinkLength(const BehaviorParameters& parameters);
 class BlinkTrain
 {
 public:
-  BlinkTrain(const BehaviorParameters& parameters,
-    uint64_t seed,
+  BlinkTrain(const BehaviorParameters& parameters, uint64_t seed,
     const std::vector<std::pair<double, double>>& speaking = {});
   /// The next blink (its start is Peek()).
   BlinkEvent Next();
@@ -126,9 +125,7 @@ struct IdleSchedule
   /// of speech: the blink clock runs BlinkRateSpeaking / BlinkRateRest times faster there,
   /// so the rate follows speech immediately. Each behaviour draws from its own random
   /// stream of `seed`. Throws InputError for a horizon < 0 or non-finite.
-  static IdleSchedule Generate(const BehaviorParameters& parameters,
-    uint64_t seed,
-    double horizon,
+  static IdleSchedule Generate(const BehaviorParameters& parameters, uint64_t seed, double horizon,
     const std::vector<std::pair<double, double>>& speaking);
 
   /// The idle gaze offset (degrees) at t.

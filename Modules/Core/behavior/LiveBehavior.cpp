@@ -46,7 +46,7 @@ std::string Trimmed(const std::string& s)
 /// Cuts `piece` into parts of at most `max` characters, only after a character for which
 /// `cut(i)` holds (then at the blank that follows it), greedily; parts that cannot be cut
 /// stay longer.
-template<typename F>
+template <typename F>
 std::vector<std::string> CutGreedy(const std::string& piece, size_t max, F&& cut)
 {
   std::vector<std::string> out;
@@ -86,10 +86,10 @@ std::vector<std::string> CutLong(const std::string& piece, size_t max)
 {
   std::vector<std::string> out;
   for (const std::string& part :
-    CutGreedy(piece, max, [](const std::string& s, size_t i) { return s[i] == ','; }))
+    CutGreedy(piece, max, [](const std::string&s, size_t i) { return s[i] == ','; }))
   {
     for (std::string& word :
-      CutGreedy(part, max, [](const std::string& s, size_t i) { return !IsBlank(s[i]); }))
+      CutGreedy(part, max, [](const std::string&s, size_t i) { return !IsBlank(s[i]); }))
     {
       out.push_back(std::move(word));
     }
@@ -99,7 +99,8 @@ std::vector<std::string> CutLong(const std::string& piece, size_t max)
 
 } // namespace
 
-std::vector<std::string> SplitSpeechChunks(const std::string& text, size_t firstMaxChars, size_t maxChars)
+std::vector<std::string> SplitSpeechChunks(
+  const std::string& text, size_t firstMaxChars, size_t maxChars)
 {
   firstMaxChars = std::max<size_t>(firstMaxChars, 1);
   maxChars = std::max<size_t>(maxChars, 1);
@@ -159,9 +160,7 @@ std::vector<std::string> SplitSpeechChunks(const std::string& text, size_t first
 // ------------------------------------------------------------------ construction
 
 LiveBehavior::LiveBehavior(const std::vector<std::string>& visemeChannels,
-  const BehaviorParameters& parameters,
-  uint64_t seed,
-  const BehaviorLibrary& library)
+  const BehaviorParameters& parameters, uint64_t seed, const BehaviorLibrary& library)
   : Parameters((CheckBehaviorParameters(parameters), parameters))
   , Seed(seed)
   , Library(library)
@@ -179,8 +178,8 @@ LiveBehavior::LiveBehavior(const std::vector<std::string>& visemeChannels,
     if (std::find(this->ChannelNames.begin(), this->ChannelNames.end(), name) !=
       this->ChannelNames.end())
     {
-      throw InputError("viseme channel '" + name +
-        "' is given twice or has the name of a behaviour channel");
+      throw InputError(
+        "viseme channel '" + name + "' is given twice or has the name of a behaviour channel");
     }
     this->ChannelNames.push_back(name);
   }
@@ -195,10 +194,9 @@ LiveBehavior::LiveBehavior(const std::vector<std::string>& visemeChannels,
     std::vector<char> mask(this->ChannelNames.size(), 0);
     for (size_t c = C::NumberOfBaseChannels; c < this->ChannelNames.size(); ++c)
     {
-      mask[c] = g.MouthShapes.empty()
-        ? !this->SilentChannel[c]
-        : std::find(g.MouthShapes.begin(), g.MouthShapes.end(), this->ChannelNames[c]) !=
-          g.MouthShapes.end();
+      mask[c] = g.MouthShapes.empty() ? !this->SilentChannel[c]
+                                      : std::find(g.MouthShapes.begin(), g.MouthShapes.end(),
+                                          this->ChannelNames[c]) != g.MouthShapes.end();
     }
     this->MouthMasks.push_back(std::move(mask));
   }
@@ -210,9 +208,8 @@ LiveBehavior::LiveBehavior(const std::vector<std::string>& visemeChannels,
   }
   this->MaxBlinkFactor =
     moodMax * std::max(1.0, this->Parameters.BlinkRateSpeaking / this->Parameters.BlinkRateRest);
-  this->NextExtraBlink = this->MaxBlinkFactor > 1.0
-    ? this->ExtraBlinks.Exponential(this->ExtraBlinkMean())
-    : Infinity;
+  this->NextExtraBlink =
+    this->MaxBlinkFactor > 1.0 ? this->ExtraBlinks.Exponential(this->ExtraBlinkMean()) : Infinity;
 }
 
 double LiveBehavior::ExtraBlinkMean() const
@@ -254,10 +251,8 @@ double LiveBehavior::ClampNow(double now) const
 
 // ------------------------------------------------------------------ commands
 
-LiveBehavior::Timing LiveBehavior::Gesture(const std::string& name,
-  double now,
-  double intensity,
-  double duration)
+LiveBehavior::Timing LiveBehavior::Gesture(
+  const std::string& name, double now, double intensity, double duration)
 {
   const int index = this->Library.FindGestureIndex(name);
   if (index < 0)
@@ -307,7 +302,8 @@ LiveBehavior::Timing LiveBehavior::LookAt(double yaw, double pitch, double now, 
   // The eyes jump like a saccade; the head follows slower and takes its share.
   const double jump = std::hypot(yaw - from[0], pitch - from[1]);
   this->EyeGazeTrack.Add(now, SaccadeDuration(p, jump), { yaw, pitch, 1.0 });
-  this->HeadGazeTrack.Add(now, p.HeadGazeTime, { p.HeadShareOfGaze * yaw, p.HeadShareOfGaze * pitch });
+  this->HeadGazeTrack.Add(
+    now, p.HeadGazeTime, { p.HeadShareOfGaze * yaw, p.HeadShareOfGaze * pitch });
   double end = now + std::max(SaccadeDuration(p, jump), p.HeadGazeTime);
   if (duration > 0.0)
   {
@@ -331,9 +327,8 @@ LiveBehavior::Timing LiveBehavior::Say(const std::string& text, double now)
   return this->Say(text, now, this->Synthesize);
 }
 
-LiveBehavior::Timing LiveBehavior::Say(const std::string& text,
-  double now,
-  const Synthesizer& synthesizer)
+LiveBehavior::Timing LiveBehavior::Say(
+  const std::string& text, double now, const Synthesizer& synthesizer)
 {
   if (!synthesizer)
   {
@@ -351,7 +346,8 @@ LiveBehavior::Timing LiveBehavior::Say(const std::string& text,
     // Nothing is synthesized here: the text is queued and its first chunk submitted when
     // nothing is ahead of it; Sample() schedules it once the pool has it.
     ++this->NextId;
-    const double spc = this->Pending.empty() ? this->SecondsPerChar : this->Pending.back().SecondsPerChar;
+    const double spc =
+      this->Pending.empty() ? this->SecondsPerChar : this->Pending.back().SecondsPerChar;
     PendingSpeech p{ id, std::move(chunks), spc, synthesizer };
     p.NotBefore = now;
     const double start = std::max(now, this->GetSpeechEnd());
@@ -589,13 +585,12 @@ LiveBehavior::Timing LiveBehavior::AddUtterance(uint64_t id, Utterance u, double
   std::vector<int> map;
   for (const auto& name : v.GetChannels())
   {
-    auto it = std::find(this->ChannelNames.begin() + C::NumberOfBaseChannels,
-      this->ChannelNames.end(),
-      name);
+    auto it = std::find(
+      this->ChannelNames.begin() + C::NumberOfBaseChannels, this->ChannelNames.end(), name);
     if (it == this->ChannelNames.end())
     {
-      throw InputError("utterance viseme channel '" + name +
-        "' is not one of the avatar's viseme channels");
+      throw InputError(
+        "utterance viseme channel '" + name + "' is not one of the avatar's viseme channels");
     }
     map.push_back(static_cast<int>(it - this->ChannelNames.begin()));
   }
@@ -644,21 +639,18 @@ void LiveBehavior::StopSpeaking(double now)
   }
   this->Pending.clear();
   this->Audio.clear();
-  this->Utterances.erase(std::remove_if(this->Utterances.begin(),
-                           this->Utterances.end(),
+  this->Utterances.erase(std::remove_if(this->Utterances.begin(), this->Utterances.end(),
                            [now](const LiveUtterance& u) { return u.Start >= now; }),
     this->Utterances.end());
   for (LiveUtterance& u : this->Utterances)
   {
     u.Cut = std::min(u.Cut, now);
   }
-  this->Cues.erase(std::remove_if(this->Cues.begin(),
-                     this->Cues.end(),
+  this->Cues.erase(std::remove_if(this->Cues.begin(), this->Cues.end(),
                      [now](const LiveCue& c) { return c.Sync.Start >= now; }),
     this->Cues.end());
   // Speech blink cues not started yet go too (idle and gesture blinks stay).
-  this->Blinks.erase(std::remove_if(this->Blinks.begin(),
-                       this->Blinks.end(),
+  this->Blinks.erase(std::remove_if(this->Blinks.begin(), this->Blinks.end(),
                        [now](const LiveBlink& b) { return b.Source == 3 && b.Start >= now; }),
     this->Blinks.end());
 }
@@ -795,9 +787,7 @@ std::vector<SaccadeEvent> LiveBehavior::GetSaccades(double from, double to) cons
 
 void LiveBehavior::InsertBlink(const LiveBlink& blink)
 {
-  auto it = std::upper_bound(this->Blinks.begin(),
-    this->Blinks.end(),
-    blink.Start,
+  auto it = std::upper_bound(this->Blinks.begin(), this->Blinks.end(), blink.Start,
     [](double v, const LiveBlink& b) { return v < b.Start; });
   this->Blinks.insert(it, blink);
 }
@@ -813,8 +803,8 @@ void LiveBehavior::Extend(double horizon)
   {
     const double amplitude = this->ExtraBlinks.Uniform(0.9, 1.0);
     this->InsertBlink({ this->NextExtraBlink, amplitude, this->ExtraBlinks.Uniform(), 1, -1 });
-    this->NextExtraBlink += std::max(BlinkLength(this->Parameters),
-      this->ExtraBlinks.Exponential(this->ExtraBlinkMean()));
+    this->NextExtraBlink += std::max(
+      BlinkLength(this->Parameters), this->ExtraBlinks.Exponential(this->ExtraBlinkMean()));
   }
   while (this->Saccades.Peek() <= horizon)
   {
@@ -849,17 +839,15 @@ void LiveBehavior::Forget(double t)
   {
     this->SmileEvents.pop_front();
   }
-  this->Gestures.erase(std::remove_if(this->Gestures.begin(),
-                         this->Gestures.end(),
+  this->Gestures.erase(std::remove_if(this->Gestures.begin(), this->Gestures.end(),
                          [t](const LiveGesture& g) { return g.Sync.End < t; }),
     this->Gestures.end());
-  this->Cues.erase(std::remove_if(this->Cues.begin(),
-                     this->Cues.end(),
+  this->Cues.erase(std::remove_if(this->Cues.begin(), this->Cues.end(),
                      [t](const LiveCue& c) { return c.Sync.End < t; }),
     this->Cues.end());
-  this->Utterances.erase(std::remove_if(this->Utterances.begin(),
-                           this->Utterances.end(),
-                           [t](const LiveUtterance& u) {
+  this->Utterances.erase(std::remove_if(this->Utterances.begin(), this->Utterances.end(),
+                           [t](const LiveUtterance& u)
+                           {
                              // Kept ForgetAfter longer: GetSpeechTiming still answers.
                              return std::min(u.End, u.Cut + StopFade) < t - ForgetAfter;
                            }),

@@ -65,9 +65,8 @@ namespace morphnode
 /// cut further (at a comma or blank) to at most `firstMaxChars` so that speech starts
 /// quickly. Chunks keep their punctuation, are trimmed, never empty; concatenated with
 /// blanks they give the text's words in order. An empty or blank text gives no chunk.
-std::vector<std::string> SplitSpeechChunks(const std::string& text,
-  size_t firstMaxChars = 60,
-  size_t maxChars = 200);
+std::vector<std::string> SplitSpeechChunks(
+  const std::string& text, size_t firstMaxChars = 60, size_t maxChars = 200);
 
 class LiveBehavior
 {
@@ -113,8 +112,7 @@ public:
   /// InputError for parameters out of range (BehaviorController::SetParameters' checks),
   /// a viseme channel named like a base channel, or duplicate viseme channels.
   explicit LiveBehavior(const std::vector<std::string>& visemeChannels,
-    const BehaviorParameters& parameters = BehaviorParameters(),
-    uint64_t seed = 1,
+    const BehaviorParameters& parameters = BehaviorParameters(), uint64_t seed = 1,
     const BehaviorLibrary& library = BehaviorLibrary::Default());
 
   /// A text of an utterance that could not be spoken (e.g. its synthesis failed or waited
@@ -155,7 +153,8 @@ public:
   /// Schedules a ready utterance (queued after the scheduled speech, like Say).
   Timing Speak(const Utterance& utterance, double now);
   /// A gesture of the library from `now`; intensity in [0, 1]; duration <= 0: its default.
-  Timing Gesture(const std::string& name, double now, double intensity = 1.0, double duration = 0.0);
+  Timing Gesture(
+    const std::string& name, double now, double intensity = 1.0, double duration = 0.0);
   /// Fades to the mood (intensity in [0, 1]) over MoodFadeTime from `now`; one mood at a
   /// time, "neutral" fades every mood out. Span: [now, infinity) (End = now + fade).
   Timing SetMood(const std::string& name, double intensity, double now);

@@ -17,7 +17,8 @@ public:
   /// changing how many numbers one behaviour draws leaves the others untouched.
   explicit BehaviorRandom(uint64_t seed, uint64_t stream = 0)
     : State(seed ^ Mix(stream + 0x632BE59BD9B4E019ull))
-  {}
+  {
+  }
 
   uint64_t Next() { return Mix(this->State += 0x9E3779B97F4A7C15ull); }
   /// Uniform in [0, 1).

@@ -31,15 +31,15 @@ void IntervalIndex::Build(const std::vector<std::pair<double, double>>& interval
   this->Origin = lo;
   this->InverseWidth = 1.0 / width;
   std::vector<uint32_t> counts(buckets + 1, 0);
-  auto range = [&](const std::pair<double, double>& i) {
+  auto range = [&](const std::pair<double, double>& i)
+  {
     const size_t b0 = static_cast<size_t>((i.first - lo) * this->InverseWidth);
     const size_t b1 =
       std::min(buckets - 1, static_cast<size_t>((i.second - lo) * this->InverseWidth));
     return std::make_pair(b0, b1);
   };
-  auto valid = [](const std::pair<double, double>& i) {
-    return std::isfinite(i.first) && std::isfinite(i.second) && i.second >= i.first;
-  };
+  auto valid = [](const std::pair<double, double>& i)
+  { return std::isfinite(i.first) && std::isfinite(i.second) && i.second >= i.first; };
   for (uint32_t n = 0; n < intervals.size(); ++n)
   {
     if (!valid(intervals[n]))

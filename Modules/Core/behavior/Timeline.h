@@ -22,7 +22,7 @@ public:
   /// Intervals with end < begin or non-finite ends are never found.
   void Build(const std::vector<std::pair<double, double>>& intervals);
   /// Calls f(i) for every interval i that may contain t (a superset of those that do).
-  template<typename F>
+  template <typename F>
   void ForEachCandidate(double t, F&& f) const
   {
     for (uint32_t i : this->Long)
@@ -55,7 +55,7 @@ private:
 
 /// A state of N values that changes by smoothstep fades: each key fades from whatever the
 /// state is at its time to its target, so an interrupted fade never jumps.
-template<int N>
+template <int N>
 class FadeTrack
 {
 public:
@@ -63,7 +63,8 @@ public:
 
   explicit FadeTrack(const State& initial = State{})
     : Initial(initial)
-  {}
+  {
+  }
   /// Keys may come in any order; among keys at the same time the one added last wins.
   void Add(double time, double fade, const State& target)
   {
@@ -73,9 +74,9 @@ public:
   /// Sorts the keys and computes where each fade starts from. Call after the last Add().
   void Finalize()
   {
-    std::sort(this->Keys.begin(), this->Keys.end(), [](const Key& a, const Key& b) {
-      return a.Time < b.Time || (a.Time == b.Time && a.Order < b.Order);
-    });
+    std::sort(this->Keys.begin(), this->Keys.end(),
+      [](const Key& a, const Key& b)
+      { return a.Time < b.Time || (a.Time == b.Time && a.Order < b.Order); });
     for (size_t i = 0; i < this->Keys.size(); ++i)
     {
       this->Keys[i].From =
@@ -89,8 +90,7 @@ public:
   /// then on, e.g. the return of a timed look). Call Finalize() before evaluating.
   void DropFrom(double time)
   {
-    this->Keys.erase(std::remove_if(this->Keys.begin(),
-                       this->Keys.end(),
+    this->Keys.erase(std::remove_if(this->Keys.begin(), this->Keys.end(),
                        [time](const Key& k) { return k.Time >= time; }),
       this->Keys.end());
   }

@@ -158,8 +158,8 @@ void FrameBudgetController::SetSettings(const ControllerSettings& s)
   {
     if (!std::isfinite(t) || t < 0.0 || t > 1.0)
     {
-      throw InputError("FrameBudgetController: thresholds must lie in [0, 1], got " +
-        std::to_string(t) + ".");
+      throw InputError(
+        "FrameBudgetController: thresholds must lie in [0, 1], got " + std::to_string(t) + ".");
     }
   }
   if (!(s.LevelHysteresis >= 0.0 && s.LevelHysteresis < 1.0) ||
@@ -222,9 +222,9 @@ void FrameBudgetController::AddLevel(const LevelOfDetail& level)
   }
   if (level.Distances.MaxDisplacement.size() != level.MovedPoints.size())
   {
-    throw InputError("FrameBudgetController: level '" + level.Name +
-      "' has distances for " + std::to_string(level.Distances.MaxDisplacement.size()) +
-      " targets and moved points for " + std::to_string(level.MovedPoints.size()) + ".");
+    throw InputError("FrameBudgetController: level '" + level.Name + "' has distances for " +
+      std::to_string(level.Distances.MaxDisplacement.size()) + " targets and moved points for " +
+      std::to_string(level.MovedPoints.size()) + ".");
   }
   std::vector<WeightOptimizer> optimizers(this->Settings.Thresholds.size());
   for (size_t t = 0; t < optimizers.size(); ++t)
@@ -302,7 +302,8 @@ FrameBudgetController::Candidate FrameBudgetController::Evaluate(
     }
     // The cheapest; of equal predictions (a flat cost model) the fewest moved points.
     const Candidate* k = cheapest < 0 ? nullptr : &all[static_cast<size_t>(cheapest)];
-    if (!k || c.Seconds < k->Seconds || (c.Seconds == k->Seconds && c.TargetPoints < k->TargetPoints))
+    if (!k || c.Seconds < k->Seconds ||
+      (c.Seconds == k->Seconds && c.TargetPoints < k->TargetPoints))
     {
       cheapest = ti;
     }
@@ -317,10 +318,10 @@ FrameBudgetController::Candidate FrameBudgetController::Evaluate(
   {
     const Candidate& p = all[static_cast<size_t>(previous)];
     const Candidate& c = all[static_cast<size_t>(chosen)];
-    const bool keep = best >= 0
-      ? p.Seconds <= budget &&
-        !(c.Seconds <= (1.0 - this->Settings.ThresholdHysteresis) * budget || c.Seconds <= p.Seconds)
-      : p.Seconds <= c.Seconds && p.TargetPoints <= c.TargetPoints;
+    const bool keep = best >= 0 ? p.Seconds <= budget &&
+        !(c.Seconds <= (1.0 - this->Settings.ThresholdHysteresis) * budget ||
+          c.Seconds <= p.Seconds)
+                                : p.Seconds <= c.Seconds && p.TargetPoints <= c.TargetPoints;
     chosen = keep ? previous : chosen;
   }
   this->Chosen[level] = chosen;
@@ -527,11 +528,14 @@ ControllerDecision FrameBudgetController::Update(
       if (jump * delta > this->Settings.MaxGeomorphPixels)
       {
         delta = std::max(this->Settings.MaxGeomorphPixels / jump,
-          1.0 / static_cast<double>(std::max(this->Settings.MaxGeomorphFrames, this->Settings.GeomorphFrames)));
+          1.0 /
+            static_cast<double>(
+              std::max(this->Settings.MaxGeomorphFrames, this->Settings.GeomorphFrames)));
       }
     }
     // Snap a progress within rounding of the end onto it.
-    this->MorphProgress = this->MorphProgress + delta >= 1.0 - 1e-9 ? 1.0 : this->MorphProgress + delta;
+    this->MorphProgress =
+      this->MorphProgress + delta >= 1.0 - 1e-9 ? 1.0 : this->MorphProgress + delta;
     const double step = this->MorphProgress;
     d.MorphTowards = fine + 1;
     d.Alpha = coarsening ? step : 1.0 - step;
@@ -615,16 +619,17 @@ void FrameBudgetController::ReportMeasuredSeconds(double seconds, double targetP
   auto& samples = this->Samples[level];
   if (samples.size() >= window)
   {
-    samples.erase(samples.begin(), samples.begin() + static_cast<std::ptrdiff_t>(samples.size() - window + 1));
+    samples.erase(
+      samples.begin(), samples.begin() + static_cast<std::ptrdiff_t>(samples.size() - window + 1));
   }
   samples.emplace_back(targetPoints, seconds);
   // Frames far slower than the model expects (preempted, a page fault) are left out of the
   // fit while they are a minority; when most are, the machine has slowed down: all count.
   const CostModel& current = this->Models[level];
-  auto slow = [&](const std::pair<double, double>& m) {
-    return m.second > 3.0 * (current.Predict(m.first) + this->Margins[level]);
-  };
-  const size_t slowFrames = static_cast<size_t>(std::count_if(samples.begin(), samples.end(), slow));
+  auto slow = [&](const std::pair<double, double>& m)
+  { return m.second > 3.0 * (current.Predict(m.first) + this->Margins[level]); };
+  const size_t slowFrames =
+    static_cast<size_t>(std::count_if(samples.begin(), samples.end(), slow));
   const bool dropSlow = 3 * slowFrames < samples.size();
   std::vector<double> x, y;
   for (const auto& m : samples)
@@ -644,7 +649,8 @@ void FrameBudgetController::ReportMeasuredSeconds(double seconds, double targetP
   }
   const size_t q = static_cast<size_t>(
     this->Settings.MeasuredQuantile * static_cast<double>(residuals.size() - 1));
-  std::nth_element(residuals.begin(), residuals.begin() + static_cast<std::ptrdiff_t>(q), residuals.end());
+  std::nth_element(
+    residuals.begin(), residuals.begin() + static_cast<std::ptrdiff_t>(q), residuals.end());
   this->Margins[level] = std::max(0.0, residuals[q]);
 }
 } // namespace morphnode

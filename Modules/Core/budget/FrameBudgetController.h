@@ -20,8 +20,8 @@
 ///
 /// and picks the least error among the candidates within the budget (the cheapest when none
 /// is), keeping the previous frame's threshold while it is nearly as good
-/// (ThresholdHysteresis). The threshold may change every frame; the level only with hysteresis: at once to
-/// the next coarser level when the current one cannot meet the budget at any threshold;
+/// (ThresholdHysteresis). The threshold may change every frame; the level only with hysteresis: at
+/// once to the next coarser level when the current one cannot meet the budget at any threshold;
 /// otherwise to a neighbour level only when its error (within the budget, for a finer one
 /// within (1 - LevelHysteresis) of it) is below (1 - LevelHysteresis) times the current
 /// one's for MinFramesPerLevel frames in a row. Levels change one step at a time.
@@ -58,7 +58,10 @@ struct CostModel
   double Fixed = 0.0;
   double PerTargetPoint = 0.0;
 
-  double Predict(double targetPoints) const { return this->Fixed + this->PerTargetPoint * targetPoints; }
+  double Predict(double targetPoints) const
+  {
+    return this->Fixed + this->PerTargetPoint * targetPoints;
+  }
   /// Least-squares fit to measurements; both clamped to >= 0.
   /// Throws InputError for fewer than two samples or mismatched sizes.
   static CostModel Fit(const std::vector<double>& targetPoints, const std::vector<double>& seconds);
@@ -166,7 +169,7 @@ struct ControllerDecision
   double Threshold = 0.0;      ///< optimizer threshold used at that level
   std::vector<double> Weights; ///< effective absolute weights (neutral first)
   int ActiveTargets = 0;
-  double TargetPoints = 0.0;   ///< points moved, summed over the active targets
+  double TargetPoints = 0.0; ///< points moved, summed over the active targets
   double PredictedSeconds = 0.0;
   double PredictedError = 0.0; ///< level error + optimizer bound
   bool WithinBudget = true;
@@ -252,15 +255,15 @@ private:
   /// oldest first.
   std::vector<CostModel> Models;
   std::vector<double> Margins;
-  std::vector<int> Chosen; ///< per level: the threshold index chosen last frame, -1: none
+  std::vector<int> Chosen;     ///< per level: the threshold index chosen last frame, -1: none
   std::vector<bool> Evaluated; ///< per level: evaluated last frame (current level +- 1)
   std::vector<std::vector<std::pair<double, double>>> Samples;
   int LastLevel = -1; ///< displayed by the last Update, -1: none since the levels were set
   double LastTargetPoints = 0.0;
   int Current = 0;
-  int Streak = 0;          ///< consecutive frames preferring StreakDirection
-  int StreakDirection = 0; ///< +1 coarser, -1 finer, 0 stay
-  int MorphFrom = -1; ///< transition: the level we come from
+  int Streak = 0;             ///< consecutive frames preferring StreakDirection
+  int StreakDirection = 0;    ///< +1 coarser, -1 finer, 0 stay
+  int MorphFrom = -1;         ///< transition: the level we come from
   double MorphProgress = 0.0; ///< of the transition, in [0, 1]
   size_t Switches = 0;
   double OptimizerBound = 0.0; ///< MaxVertexError the optimizers have now

@@ -27,12 +27,14 @@ std::vector<double> SceneBudgetController::MovedPoints(const MorphScene* scene, 
     const std::vector<size_t>& targets = scene->GetPartTargets(p);
     points += static_cast<double>(mesh.GetNumberOfPoints());
     std::visit(
-      [&](const auto& positions) {
+      [&](const auto& positions)
+      {
         for (size_t k = 1; k < positions.GetNumberOfTargets() && k < targets.size(); ++k)
         {
           if (targets[k] < numTargets)
           {
-            moved[targets[k]] += static_cast<double>(positions.GetTarget(k).GetNumberOfMovedPoints());
+            moved[targets[k]] +=
+              static_cast<double>(positions.GetTarget(k).GetNumberOfMovedPoints());
           }
         }
       },
@@ -86,7 +88,8 @@ double SceneBudgetController::Decide(MorphScene& scene, const std::vector<double
   cs.GeomorphFrames = 0;
   const ControllerSettings& was = this->Settings;
   if (!measuredLevel || was.FrameBudget != cs.FrameBudget || was.Strategy != cs.Strategy ||
-    was.AdjustThreshold != cs.AdjustThreshold || was.OptimizerHysteresis != cs.OptimizerHysteresis ||
+    was.AdjustThreshold != cs.AdjustThreshold ||
+    was.OptimizerHysteresis != cs.OptimizerHysteresis ||
     was.MaxActiveTargets != cs.MaxActiveTargets || was.MaxVertexError != cs.MaxVertexError ||
     was.TargetPixelBound != cs.TargetPixelBound)
   {
@@ -104,8 +107,8 @@ double SceneBudgetController::Decide(MorphScene& scene, const std::vector<double
     this->ControllerOf = this->Generation;
   }
   ResolveWeights(scene.GetWeightMode(), requested.data(), requested.size(), this->Absolute);
-  const ControllerDecision decision =
-    this->Controller.Update(this->Absolute, goals.HasTargetLevelOfDetail() ? goals.PixelsPerUnit : 0.0);
+  const ControllerDecision decision = this->Controller.Update(
+    this->Absolute, goals.HasTargetLevelOfDetail() ? goals.PixelsPerUnit : 0.0);
   OptimizerSettings chosen = settings;
   chosen.Threshold = goals.FrameBudget > 0.0 ? decision.Threshold : settings.Threshold;
   if (decision.TargetErrorBound > 0.0)

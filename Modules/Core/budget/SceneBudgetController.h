@@ -45,7 +45,10 @@ public:
     double TargetPixelBound = 0.0; ///< the target level of detail's bound, pixels; <= 0: none
     double PixelsPerUnit = 0.0;    ///< the screen's, for the target level of detail
 
-    bool HasTargetLevelOfDetail() const { return this->PixelsPerUnit > 0.0 && this->TargetPixelBound > 0.0; }
+    bool HasTargetLevelOfDetail() const
+    {
+      return this->PixelsPerUnit > 0.0 && this->TargetPixelBound > 0.0;
+    }
     /// Anything to decide.
     bool Any() const { return this->FrameBudget > 0.0 || this->HasTargetLevelOfDetail(); }
   };
@@ -88,7 +91,7 @@ public:
 private:
   FrameBudgetController Controller;
   ControllerSettings Settings;
-  uint64_t Generation = 0;  ///< the model's; 0: none
+  uint64_t Generation = 0;   ///< the model's; 0: none
   uint64_t ControllerOf = 0; ///< the model Controller was made for; 0: none
   std::vector<double> Moved; ///< per model target
   double ModelPoints = 0.0;

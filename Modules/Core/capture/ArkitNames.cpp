@@ -80,7 +80,8 @@ constexpr ShapeRow Shapes[ArkitShapeCount] = {
 
 const std::map<std::string, int>& Lookup()
 {
-  static const std::map<std::string, int> lookup = [] {
+  static const std::map<std::string, int> lookup = []
+  {
     std::map<std::string, int> m;
     for (size_t s = 0; s < ArkitShapeCount; ++s)
     {
@@ -108,7 +109,8 @@ void Append(std::ostringstream& out, const std::vector<std::string>& names)
 
 const std::vector<std::string>& ArkitShapeNames()
 {
-  static const std::vector<std::string> names = [] {
+  static const std::vector<std::string> names = []
+  {
     std::vector<std::string> v;
     for (const auto& row : Shapes)
     {
@@ -128,7 +130,8 @@ std::string ArkitLiveLinkName(size_t shape)
 
 const std::vector<std::string>& ArkitIctNames(size_t shape)
 {
-  static const std::vector<std::vector<std::string>> names = [] {
+  static const std::vector<std::vector<std::string>> names = []
+  {
     std::vector<std::vector<std::string>> v;
     for (const auto& row : Shapes)
     {

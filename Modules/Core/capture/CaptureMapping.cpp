@@ -35,7 +35,8 @@ CaptureFaceMapping::CaptureFaceMapping(
   }
   else
   {
-    this->Report = "no face: the " + std::to_string(ArkitShapeCount - capture.MissingShapes.size()) +
+    this->Report = "no face: the " +
+      std::to_string(ArkitShapeCount - capture.MissingShapes.size()) +
       " ARKit shapes of the take by Apple's names";
   }
   // The angles (every channel without a face) are copied.

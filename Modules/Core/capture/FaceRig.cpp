@@ -22,22 +22,41 @@ const std::map<std::string, std::vector<std::string>>& OwnNames()
 {
   static const std::map<std::string, std::vector<std::string>> table = {
     // Meta / Oculus visemes (the rig's "meta" set) and the German set's aliases.
-    { "sil", { "viseme_sil" } }, { "PP", { "viseme_PP" } }, { "P", { "viseme_PP" } },
-    { "FF", { "viseme_FF" } }, { "TH", { "viseme_TH" } }, { "DD", { "viseme_DD" } }, { "T", { "viseme_DD" } },
-    { "kk", { "viseme_kk" } }, { "K", { "viseme_kk" } }, { "CH", { "viseme_CH" } }, { "Z", { "viseme_CH" } },
-    { "SS", { "viseme_SS" } }, { "nn", { "viseme_nn" } }, { "RR", { "viseme_RR" } },
-    { "aa", { "viseme_aa", "Fcl_MTH_A", "aa" } }, { "ih", { "viseme_I", "Fcl_MTH_I", "ih" } },
-    { "oh", { "viseme_O", "Fcl_MTH_O", "oh" } }, { "ou", { "viseme_U", "Fcl_MTH_U", "ou" } },
+    { "sil", { "viseme_sil" } },
+    { "PP", { "viseme_PP" } },
+    { "P", { "viseme_PP" } },
+    { "FF", { "viseme_FF" } },
+    { "TH", { "viseme_TH" } },
+    { "DD", { "viseme_DD" } },
+    { "T", { "viseme_DD" } },
+    { "kk", { "viseme_kk" } },
+    { "K", { "viseme_kk" } },
+    { "CH", { "viseme_CH" } },
+    { "Z", { "viseme_CH" } },
+    { "SS", { "viseme_SS" } },
+    { "nn", { "viseme_nn" } },
+    { "RR", { "viseme_RR" } },
+    { "aa", { "viseme_aa", "Fcl_MTH_A", "aa" } },
+    { "ih", { "viseme_I", "Fcl_MTH_I", "ih" } },
+    { "oh", { "viseme_O", "Fcl_MTH_O", "oh" } },
+    { "ou", { "viseme_U", "Fcl_MTH_U", "ou" } },
     { "U", { "viseme_U", "Fcl_MTH_U", "ou" } },
     // The paper's shapes, where a family has a close peer.
-    { "A", { "viseme_aa", "Fcl_MTH_A", "aa" } }, { "E", { "viseme_E", "Fcl_MTH_E", "ee" } },
-    { "O", { "viseme_O", "Fcl_MTH_O", "oh" } }, { "S", { "viseme_SS" } }, { "F", { "viseme_FF" } },
-    { "EyesClosed", { "Fcl_EYE_Close", "blink" } }, { "MouthSmile", { "Fcl_MTH_Joy", "Fcl_ALL_Joy", "happy", "joy" } },
+    { "A", { "viseme_aa", "Fcl_MTH_A", "aa" } },
+    { "E", { "viseme_E", "Fcl_MTH_E", "ee" } },
+    { "O", { "viseme_O", "Fcl_MTH_O", "oh" } },
+    { "S", { "viseme_SS" } },
+    { "F", { "viseme_FF" } },
+    { "EyesClosed", { "Fcl_EYE_Close", "blink" } },
+    { "MouthSmile", { "Fcl_MTH_Joy", "Fcl_ALL_Joy", "happy", "joy" } },
     { "MouthSad", { "Fcl_MTH_Sorrow", "Fcl_ALL_Sorrow", "sad", "sorrow" } },
-    { "BrowsAngry", { "Fcl_BRW_Angry", "angry" } }, { "BrowsUp", { "Fcl_BRW_Surprised", "surprised" } },
+    { "BrowsAngry", { "Fcl_BRW_Angry", "angry" } },
+    { "BrowsUp", { "Fcl_BRW_Surprised", "surprised" } },
     { "BrowsFright", { "Fcl_BRW_Sorrow" } },
     // The behaviour's looks: VRM's look expressions.
-    { "LookUp", { "lookUp" } }, { "LookDown", { "lookDown" } }, { "LookLeft", { "lookLeft" } },
+    { "LookUp", { "lookUp" } },
+    { "LookDown", { "lookDown" } },
+    { "LookLeft", { "lookLeft" } },
     { "LookRight", { "lookRight" } },
   };
   return table;
@@ -45,8 +64,8 @@ const std::map<std::string, std::vector<std::string>>& OwnNames()
 
 bool IsPaperName(const std::string& name)
 {
-  static const char* const paper[] = { "EyesClosed", "BrowsUp", "S", "F", "BrowsFright", "BrowsAngry", "L", "E",
-    "A", "MouthSmile", "MouthSad", "O" };
+  static const char* const paper[] = { "EyesClosed", "BrowsUp", "S", "F", "BrowsFright",
+    "BrowsAngry", "L", "E", "A", "MouthSmile", "MouthSad", "O" };
   return std::find(std::begin(paper), std::end(paper), name) != std::end(paper);
 }
 } // namespace
@@ -60,7 +79,8 @@ std::string FaceRigChoice::Report() const
     out << "rig: none needed (the face's targets are the behaviour's shapes)\n";
     return out.str();
   }
-  auto list = [&](const char* what, const std::vector<std::string>& shapes) {
+  auto list = [&](const char* what, const std::vector<std::string>& shapes)
+  {
     out << what << " (" << shapes.size() << "): ";
     for (size_t i = 0; i < shapes.size(); ++i)
     {
@@ -104,8 +124,8 @@ FaceRigChoice ChooseFaceRig(const std::vector<std::string>& faceTargets, const R
     const std::string lower = text::ToLower(t);
     oculus += lower.rfind("viseme_", 0) == 0 ? 1 : 0;
     vroid += lower.rfind("fcl_", 0) == 0 ? 1 : 0;
-    static const char* const vrmNames[] = { "aa", "ih", "ou", "ee", "oh", "blink", "blinkleft", "blinkright", "happy",
-      "angry", "sad", "relaxed", "surprised", "joy", "sorrow", "fun" };
+    static const char* const vrmNames[] = { "aa", "ih", "ou", "ee", "oh", "blink", "blinkleft",
+      "blinkright", "happy", "angry", "sad", "relaxed", "surprised", "joy", "sorrow", "fun" };
     vrm += std::find(std::begin(vrmNames), std::end(vrmNames), lower) != std::end(vrmNames) ? 1 : 0;
   }
   const ArkitFaceMapping arkit = MapArkitShapes(faceTargets);
@@ -133,7 +153,8 @@ FaceRigChoice ChooseFaceRig(const std::vector<std::string>& faceTargets, const R
   }
   if (!expressionByLower.empty())
   {
-    families.push_back("VRM expressions (" + std::to_string(expressionByLower.size()) + ", from the file)");
+    families.push_back(
+      "VRM expressions (" + std::to_string(expressionByLower.size()) + ", from the file)");
   }
   for (size_t i = 0; i < families.size(); ++i)
   {
@@ -144,16 +165,19 @@ FaceRigChoice ChooseFaceRig(const std::vector<std::string>& faceTargets, const R
     choice.NeedsRig = false;
     return choice;
   }
-  if (families.empty() || (arkitShapes == 0 && oculus == 0 && vroid == 0 && vrm == 0 && expressionByLower.empty()))
+  if (families.empty() ||
+    (arkitShapes == 0 && oculus == 0 && vroid == 0 && vrm == 0 && expressionByLower.empty()))
   {
-    throw InputError("no target name of the face belongs to a known naming family (the paper's shapes, ARKit, "
-                     "Oculus visemes viseme_*, VRoid Fcl_*, VRM expressions): give a rig with --rig");
+    throw InputError(
+      "no target name of the face belongs to a known naming family (the paper's shapes, ARKit, "
+      "Oculus visemes viseme_*, VRoid Fcl_*, VRM expressions): give a rig with --rig");
   }
   choice.HasOwnVisemes = oculus >= 10;
 
   nlohmann::ordered_json doc;
   doc["name"] = "Chosen for the face";
-  doc["description"] = "Made by MorphNode from the face's target names (capture/FaceRig.h): " + choice.Families;
+  doc["description"] =
+    "Made by MorphNode from the face's target names (capture/FaceRig.h): " + choice.Families;
   nlohmann::ordered_json shapes = nlohmann::ordered_json::object();
   for (const std::string& shape : arkitRig.GetShapeNames())
   {

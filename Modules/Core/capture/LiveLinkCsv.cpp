@@ -8,8 +8,8 @@
 
 #include <algorithm>
 #include <charconv>
-#include <cstdio>
 #include <cmath>
+#include <cstdio>
 #include <istream>
 #include <map>
 #include <ostream>
@@ -40,7 +40,8 @@ std::vector<std::string> SplitCells(const std::string& line)
   while (true)
   {
     const size_t comma = line.find(',', start);
-    cells.push_back(line.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
+    cells.push_back(
+      line.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
     if (comma == std::string::npos)
     {
       return cells;
@@ -67,7 +68,8 @@ void CheckRate(int rate)
   if (rate < 1 || rate > 1000)
   {
     throw InputError("Live Link CSV: the timecode rate must be a whole number of frames per "
-                     "second in [1, 1000], not " + std::to_string(rate));
+                     "second in [1, 1000], not " +
+      std::to_string(rate));
   }
 }
 
@@ -99,7 +101,8 @@ bool ParseField(std::string_view s, size_t maxDigits, long& value)
 std::string FixedNumber(double value)
 {
   char buffer[400]; // 309 digits before the point at most, 10 after
-  const auto result = std::to_chars(buffer, buffer + sizeof(buffer), value, std::chars_format::fixed, 10);
+  const auto result =
+    std::to_chars(buffer, buffer + sizeof(buffer), value, std::chars_format::fixed, 10);
   std::string s(buffer, result.ptr);
   if (s == "-0.0000000000")
   {
@@ -131,7 +134,8 @@ double LiveLinkCapture::Sample(double time, size_t channel) const
     return this->GetValue(rows - 1, channel);
   }
   // The first row after `time`; time lies in [Times[r - 1], Times[r]).
-  const size_t r = static_cast<size_t>(std::upper_bound(this->Times.begin(), this->Times.end(), time) - this->Times.begin());
+  const size_t r = static_cast<size_t>(
+    std::upper_bound(this->Times.begin(), this->Times.end(), time) - this->Times.begin());
   const double t0 = this->Times[r - 1];
   const double t1 = this->Times[r];
   const double a = (time - t0) / (t1 - t0);
@@ -167,9 +171,8 @@ double ParseLiveLinkTimecode(const std::string& timecode, int rate)
 {
   CheckRate(rate);
   const std::string_view tc = text::Trim(timecode);
-  auto bad = [&](const std::string& why) {
-    return InputError("timecode " + text::Quote(tc) + " " + why);
-  };
+  auto bad = [&](const std::string& why)
+  { return InputError("timecode " + text::Quote(tc) + " " + why); };
   // HH:MM:SS:FF[.fff]; ';' before FF marks drop-frame timecode in SMPTE notation, read the
   // same way (the rate is a whole number here).
   std::string_view fields[4];
@@ -191,14 +194,15 @@ double ParseLiveLinkTimecode(const std::string& timecode, int rate)
   {
     sub = fields[3].substr(dot + 1);
     fields[3] = fields[3].substr(0, dot);
-    if (sub.empty() || sub.size() > 9 || sub.find_first_not_of("0123456789") != std::string_view::npos)
+    if (sub.empty() || sub.size() > 9 ||
+      sub.find_first_not_of("0123456789") != std::string_view::npos)
     {
       throw bad("has a sub-frame part that is not 1 to 9 digits");
     }
   }
   long h = 0, m = 0, s = 0, f = 0;
-  if (!ParseField(fields[0], 2, h) || !ParseField(fields[1], 2, m) || !ParseField(fields[2], 2, s) ||
-    !ParseField(fields[3], 4, f))
+  if (!ParseField(fields[0], 2, h) || !ParseField(fields[1], 2, m) ||
+    !ParseField(fields[2], 2, s) || !ParseField(fields[3], 4, f))
   {
     throw bad("is not HH:MM:SS:FF(.fff)");
   }
@@ -262,7 +266,8 @@ LiveLinkCapture ReadLiveLinkCsv(std::istream& in, const LiveLinkOptions& options
   const std::vector<std::string> header = SplitCells(line);
   if (text::ToLower(text::Trim(header[0])) != "timecode")
   {
-    throw InputError(Place(1, 1, header[0]) + "the header must start with 'Timecode' (a Live Link Face CSV)");
+    throw InputError(
+      Place(1, 1, header[0]) + "the header must start with 'Timecode' (a Live Link Face CSV)");
   }
   // What each column holds.
   enum Kind
@@ -292,7 +297,8 @@ LiveLinkCapture ReadLiveLinkCsv(std::istream& in, const LiveLinkOptions& options
     {
       throw InputError(Place(1, c + 1, "") + "a column without a name");
     }
-    if (std::any_of(name.begin(), name.end(), [](char ch) { return static_cast<unsigned char>(ch) < 0x20 || ch == 0x7f; }))
+    if (std::any_of(name.begin(), name.end(),
+          [](char ch) { return static_cast<unsigned char>(ch) < 0x20 || ch == 0x7f; }))
     {
       throw InputError(Place(1, c + 1, name) + "a column name with a control character");
     }
@@ -343,12 +349,14 @@ LiveLinkCapture ReadLiveLinkCsv(std::istream& in, const LiveLinkOptions& options
   {
     if (poseColumn[p] >= 0)
     {
-      channelOfColumn[static_cast<size_t>(poseColumn[p])] = static_cast<int>(capture.Channels.size());
+      channelOfColumn[static_cast<size_t>(poseColumn[p])] =
+        static_cast<int>(capture.Channels.size());
       capture.Channels.push_back(LiveLinkPoseNames()[p]);
     }
   }
   // LeftEyeYaw, LeftEyePitch, RightEyeYaw, RightEyePitch: pose indices 3, 4, 6, 7.
-  const bool gaze = poseColumn[3] >= 0 && poseColumn[4] >= 0 && poseColumn[6] >= 0 && poseColumn[7] >= 0;
+  const bool gaze =
+    poseColumn[3] >= 0 && poseColumn[4] >= 0 && poseColumn[6] >= 0 && poseColumn[7] >= 0;
   if (gaze)
   {
     capture.Channels.push_back("EyeYaw");
@@ -377,13 +385,14 @@ LiveLinkCapture ReadLiveLinkCsv(std::istream& in, const LiveLinkOptions& options
     const std::vector<std::string> cells = SplitCells(line);
     if (cells.size() < header.size())
     {
-      throw InputError(Place(lineNumber, cells.size() + 1, header[cells.size()]) + "missing: the row has " +
-        std::to_string(cells.size()) + " cells, the header " + std::to_string(header.size()));
+      throw InputError(Place(lineNumber, cells.size() + 1, header[cells.size()]) +
+        "missing: the row has " + std::to_string(cells.size()) + " cells, the header " +
+        std::to_string(header.size()));
     }
     if (cells.size() > header.size())
     {
-      throw InputError(Place(lineNumber, header.size() + 1, "") + "the row has " + std::to_string(cells.size()) +
-        " cells, the header only " + std::to_string(header.size()));
+      throw InputError(Place(lineNumber, header.size() + 1, "") + "the row has " +
+        std::to_string(cells.size()) + " cells, the header only " + std::to_string(header.size()));
     }
     double time = 0.0;
     try
@@ -399,14 +408,16 @@ LiveLinkCapture ReadLiveLinkCsv(std::istream& in, const LiveLinkOptions& options
       double v = 0.0;
       if (!text::ParseNumber(text::Trim(cells[c]), v))
       {
-        throw InputError(Place(lineNumber, c + 1, header[c]) + text::Quote(cells[c]) + " is not a finite number");
+        throw InputError(
+          Place(lineNumber, c + 1, header[c]) + text::Quote(cells[c]) + " is not a finite number");
       }
       if (columns[c].What == PoseColumn)
       {
         v *= options.PoseDegreesPerUnit;
         if (!std::isfinite(v))
         {
-          throw InputError(Place(lineNumber, c + 1, header[c]) + text::Quote(cells[c]) + " is no angle");
+          throw InputError(
+            Place(lineNumber, c + 1, header[c]) + text::Quote(cells[c]) + " is no angle");
         }
       }
       if (channelOfColumn[c] >= 0)
@@ -416,7 +427,8 @@ LiveLinkCapture ReadLiveLinkCsv(std::istream& in, const LiveLinkOptions& options
     }
     if (gaze)
     {
-      auto value = [&](size_t pose) { return row[static_cast<size_t>(channelOfColumn[static_cast<size_t>(poseColumn[pose])])]; };
+      auto value = [&](size_t pose)
+      { return row[static_cast<size_t>(channelOfColumn[static_cast<size_t>(poseColumn[pose])])]; };
       row[numChannels - 2] = 0.5 * value(3) + 0.5 * value(6);
       row[numChannels - 1] = 0.5 * value(4) + 0.5 * value(7);
     }
@@ -461,7 +473,8 @@ LiveLinkCapture ReadLiveLinkCsvFile(const std::string& path, const LiveLinkOptio
   }
 }
 
-void WriteLiveLinkCsv(std::ostream& out, const LiveLinkCapture& capture, const LiveLinkOptions& options)
+void WriteLiveLinkCsv(
+  std::ostream& out, const LiveLinkCapture& capture, const LiveLinkOptions& options)
 {
   CheckRate(capture.TimecodeRate);
   CheckPoseUnit(options.PoseDegreesPerUnit);
@@ -500,23 +513,27 @@ void WriteLiveLinkCsv(std::ostream& out, const LiveLinkCapture& capture, const L
   const size_t count = ArkitShapeCount + poses.size();
   for (size_t r = 0; r < capture.GetNumberOfRows(); ++r)
   {
-    out << FormatLiveLinkTimecode(capture.StartTimecode + capture.Times[r], capture.TimecodeRate) << ","
-        << count;
+    out << FormatLiveLinkTimecode(capture.StartTimecode + capture.Times[r], capture.TimecodeRate)
+        << "," << count;
     for (size_t s = 0; s < ArkitShapeCount; ++s)
     {
-      out << "," << FixedNumber(shapeChannel[s] >= 0 ? capture.GetValue(r, static_cast<size_t>(shapeChannel[s])) : 0.0);
+      out << ","
+          << FixedNumber(shapeChannel[s] >= 0
+                 ? capture.GetValue(r, static_cast<size_t>(shapeChannel[s]))
+                 : 0.0);
     }
     for (size_t p = 0; p < poses.size(); ++p)
     {
-      const double degrees = poseChannel[p] >= 0 ? capture.GetValue(r, static_cast<size_t>(poseChannel[p])) : 0.0;
+      const double degrees =
+        poseChannel[p] >= 0 ? capture.GetValue(r, static_cast<size_t>(poseChannel[p])) : 0.0;
       out << "," << FixedNumber(degrees / options.PoseDegreesPerUnit);
     }
     out << "\n";
   }
 }
 
-LiveLinkCapture CaptureFromTrack(const WeightTrack& track, const LiveLinkOptions& options,
-  std::vector<std::string>* unmapped)
+LiveLinkCapture CaptureFromTrack(
+  const WeightTrack& track, const LiveLinkOptions& options, std::vector<std::string>* unmapped)
 {
   CheckRate(options.TimecodeRate);
   if (!(options.StartTimecode >= 0.0 && options.StartTimecode < SecondsPerDay))
@@ -548,7 +565,8 @@ LiveLinkCapture CaptureFromTrack(const WeightTrack& track, const LiveLinkOptions
       sources[it->second].push_back(c);
       continue;
     }
-    if (std::find(poses.begin(), poses.end(), name) != poses.end() || name == "EyeYaw" || name == "EyePitch")
+    if (std::find(poses.begin(), poses.end(), name) != poses.end() || name == "EyeYaw" ||
+      name == "EyePitch")
     {
       capture.Channels.push_back(name);
       sources.push_back({ c });

@@ -46,7 +46,10 @@ struct LiveLinkCapture
   size_t GetNumberOfRows() const { return this->Times.size(); }
   /// -1 when absent.
   int FindChannel(const std::string& name) const;
-  double GetValue(size_t row, size_t channel) const { return this->Values[row * this->Channels.size() + channel]; }
+  double GetValue(size_t row, size_t channel) const
+  {
+    return this->Values[row * this->Channels.size() + channel];
+  }
   /// Linear interpolation between rows at `time` seconds, clamped to the capture.
   double Sample(double time, size_t channel) const;
   /// Every channel at `time` (Channels.size() values).
@@ -89,8 +92,8 @@ std::string FormatLiveLinkTimecode(double seconds, int rate);
 /// Writes a capture as Live Link Face CSV: the full header (52 shapes, 9 angles, in the app's
 /// order), one row per capture row, shapes and angles it lacks written as 0, angles converted
 /// from degrees. The capture's own StartTimecode and TimecodeRate are used.
-void WriteLiveLinkCsv(std::ostream& out, const LiveLinkCapture& capture,
-  const LiveLinkOptions& options = {});
+void WriteLiveLinkCsv(
+  std::ostream& out, const LiveLinkCapture& capture, const LiveLinkOptions& options = {});
 
 /// A capture from a weight track (e.g. the behaviour's output expanded through a rig onto
 /// an ARKit-named face): channels spelled as any ARKit name (`eyeBlinkLeft`,

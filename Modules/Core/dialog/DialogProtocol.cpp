@@ -81,8 +81,8 @@ std::string GetString(const json& object, const char* key, bool required, bool n
 }
 
 /// A finite number in [lo, hi]; `fallback` when absent and not required.
-double GetNumber(const json& object, const char* key, bool required, double fallback, double lo,
-  double hi)
+double GetNumber(
+  const json& object, const char* key, bool required, double fallback, double lo, double hi)
 {
   auto it = object.find(key);
   if (it == object.end())
@@ -138,7 +138,8 @@ CommandBody ParseBody(const std::string& cmd, const json& o)
     c.Voice = GetString(o, "voice", false, false);
     if (o.contains("voice") && c.Voice.find_first_not_of(" \t") == std::string::npos)
     {
-      throw FieldError{ reason::BadField, "'voice' must not be empty (leave it out for the avatar's voice)" };
+      throw FieldError{ reason::BadField,
+        "'voice' must not be empty (leave it out for the avatar's voice)" };
     }
     return c;
   }
@@ -236,7 +237,8 @@ std::string FormatEvent(const Event& e)
   {
     j["cmd"] = e.Cmd;
   }
-  const auto number = [&j](const char* key, double value, double scale = 1e6) {
+  const auto number = [&j](const char* key, double value, double scale = 1e6)
+  {
     if (std::isfinite(value))
     {
       j[key] = std::round(value * scale) / scale; // microseconds: short lines
@@ -263,8 +265,8 @@ std::string FormatEvent(const Event& e)
   return j.dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n";
 }
 
-Event MakeError(
-  const std::string& reasonCode, const std::string& message, const std::string& id, const std::string& cmd)
+Event MakeError(const std::string& reasonCode, const std::string& message, const std::string& id,
+  const std::string& cmd)
 {
   Event e;
   e.Kind = EventKind::Error;
@@ -290,7 +292,8 @@ bool IsBlankLine(std::string_view line)
 ParsedLine ParseCommand(std::string_view line, size_t maxLineBytes)
 {
   ParsedLine out;
-  const auto fail = [&out](const char* code, const std::string& message) {
+  const auto fail = [&out](const char* code, const std::string& message)
+  {
     out.Error = MakeError(code, message, out.Cmd.Id, out.Error.Cmd);
     return out;
   };
@@ -312,7 +315,9 @@ ParsedLine ParseCommand(std::string_view line, size_t maxLineBytes)
   // thing to every reader of the line).
   std::vector<std::set<std::string>> keys;
   std::string duplicate;
-  const json::parser_callback_t noteKeys = [&keys, &duplicate](int, json::parse_event_t event, json& parsed) {
+  const json::parser_callback_t noteKeys = [&keys, &duplicate](
+                                             int, json::parse_event_t event, json& parsed)
+  {
     if (event == json::parse_event_t::object_start)
     {
       keys.emplace_back();
@@ -335,7 +340,8 @@ ParsedLine ParseCommand(std::string_view line, size_t maxLineBytes)
   }
   if (!duplicate.empty())
   {
-    return fail(reason::Malformed, "the key '" + duplicate.substr(0, 64) + "' appears twice in one object");
+    return fail(
+      reason::Malformed, "the key '" + duplicate.substr(0, 64) + "' appears twice in one object");
   }
   if (!j.is_object())
   {
@@ -368,7 +374,8 @@ ParsedLine ParseCommand(std::string_view line, size_t maxLineBytes)
       session->get_ref<const std::string&>().size() > MaxSessionBytes)
     {
       return fail(reason::BadField,
-        "'session' must be a non-empty string of at most " + std::to_string(MaxSessionBytes) + " bytes");
+        "'session' must be a non-empty string of at most " + std::to_string(MaxSessionBytes) +
+          " bytes");
     }
     out.Cmd.Session = session->get<std::string>();
   }

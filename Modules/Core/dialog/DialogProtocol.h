@@ -6,9 +6,10 @@
 /// lines, one object per line with an `event` field (accepted, started, ended, error) that
 /// echo the command's `id`.
 ///
-///   morphnode::dialog::ParsedLine p = morphnode::dialog::ParseCommand(R"({"cmd":"say","text":"Hi"})");
-///   if (p.Ok()) { const auto& say = std::get<morphnode::dialog::SayCommand>(p.Cmd.Body); }
-///   else        { send(morphnode::dialog::FormatEvent(p.Error)); }
+///   morphnode::dialog::ParsedLine p =
+///   morphnode::dialog::ParseCommand(R"({"cmd":"say","text":"Hi"})"); if (p.Ok()) { const auto& say
+///   = std::get<morphnode::dialog::SayCommand>(p.Cmd.Body); } else        {
+///   send(morphnode::dialog::FormatEvent(p.Error)); }
 ///
 /// ParseCommand never throws: every input (any bytes) is either one valid command or one
 /// error event with a reason (Reason below) and a message for people.
@@ -104,16 +105,17 @@ const char* EventName(EventKind kind);
 /// Machine-readable reasons of error events (docs/dialog.md lists them).
 namespace reason
 {
-constexpr const char* Malformed = "malformed";           ///< not JSON (or a NUL byte)
-constexpr const char* NotObject = "not_object";          ///< JSON, but not an object
-constexpr const char* MissingCmd = "missing_cmd";        ///< no `cmd` field
-constexpr const char* UnknownCmd = "unknown_cmd";        ///< `cmd` is not a command
-constexpr const char* BadField = "bad_field";            ///< a field of the wrong type or range
-constexpr const char* UnknownField = "unknown_field";    ///< a field the command does not take
-constexpr const char* TooLong = "too_long";              ///< the line exceeds the limit
-constexpr const char* Incomplete = "incomplete";         ///< the client left mid-line
+constexpr const char* Malformed = "malformed";             ///< not JSON (or a NUL byte)
+constexpr const char* NotObject = "not_object";            ///< JSON, but not an object
+constexpr const char* MissingCmd = "missing_cmd";          ///< no `cmd` field
+constexpr const char* UnknownCmd = "unknown_cmd";          ///< `cmd` is not a command
+constexpr const char* BadField = "bad_field";              ///< a field of the wrong type or range
+constexpr const char* UnknownField = "unknown_field";      ///< a field the command does not take
+constexpr const char* TooLong = "too_long";                ///< the line exceeds the limit
+constexpr const char* Incomplete = "incomplete";           ///< the client left mid-line
 constexpr const char* TooManyClients = "too_many_clients"; ///< connection refused
-constexpr const char* Rejected = "rejected"; ///< valid, but the avatar cannot do it (e.g. unknown gesture)
+constexpr const char* Rejected =
+  "rejected"; ///< valid, but the avatar cannot do it (e.g. unknown gesture)
 /// An accepted say that could not be spoken after all: the server was too busy to
 /// synthesize it in time (it ends, interrupted).
 constexpr const char* Overloaded = "overloaded";
@@ -122,18 +124,18 @@ constexpr const char* Overloaded = "overloaded";
 struct Event
 {
   EventKind Kind = EventKind::Error;
-  std::string Id;  ///< the command's id as JSON text; empty: none
-  std::string Cmd; ///< the command's name; empty when unknown
+  std::string Id;      ///< the command's id as JSON text; empty: none
+  std::string Cmd;     ///< the command's name; empty when unknown
   std::string Session; ///< the stream session it came from (MorphAvatar --serve); empty: none
   /// Times in seconds on the avatar's clock; NaN: absent from the JSON.
-  double Time;  ///< when the event was made
-  double Start; ///< accepted, started, ended: the command's start
-  double End;   ///< accepted, ended: its (expected or actual) end
-  double Sound; ///< say: when its sound starts
-  double LatencyMs; ///< started: wall-clock milliseconds from the command's arrival
+  double Time;              ///< when the event was made
+  double Start;             ///< accepted, started, ended: the command's start
+  double End;               ///< accepted, ended: its (expected or actual) end
+  double Sound;             ///< say: when its sound starts
+  double LatencyMs;         ///< started: wall-clock milliseconds from the command's arrival
   bool Interrupted = false; ///< ended: cut short by stop (or by a later command)
-  std::string Reason;  ///< error: one of reason::...
-  std::string Message; ///< error: for people
+  std::string Reason;       ///< error: one of reason::...
+  std::string Message;      ///< error: for people
 
   Event();
 };
@@ -149,8 +151,8 @@ Event MakeError(const std::string& reasonCode, const std::string& message,
 // ---- parsing -----------------------------------------------------------------------------
 struct ParsedLine
 {
-  Command Cmd;  ///< valid when Error.Reason is empty
-  Event Error;  ///< an error event (with the id and cmd when they could be read)
+  Command Cmd; ///< valid when Error.Reason is empty
+  Event Error; ///< an error event (with the id and cmd when they could be read)
   bool Ok() const { return this->Error.Reason.empty(); }
 };
 

@@ -64,19 +64,20 @@ void SplitHostPort(const std::string& address, std::string& host, std::string& p
     }
     else if (host.find(':') != std::string::npos)
     {
-      throw InputError("address '" + address + "': write IPv6 addresses in brackets, e.g. [::1]:5555");
+      throw InputError(
+        "address '" + address + "': write IPv6 addresses in brackets, e.g. [::1]:5555");
     }
     if (host.empty())
     {
       host = "127.0.0.1";
     }
   }
-  const bool digits = !port.empty() && port.size() <= 5 &&
-    port.find_first_not_of("0123456789") == std::string::npos;
+  const bool digits =
+    !port.empty() && port.size() <= 5 && port.find_first_not_of("0123456789") == std::string::npos;
   if (!digits || std::stoi(port) > 65535)
   {
-    throw InputError("address '" + address +
-      "': expected HOST:PORT (e.g. 127.0.0.1:5555), PORT, or unix:PATH");
+    throw InputError(
+      "address '" + address + "': expected HOST:PORT (e.g. 127.0.0.1:5555), PORT, or unix:PATH");
   }
 }
 
@@ -201,7 +202,9 @@ std::string DialogServer::Listen(const std::string& address)
         std::to_string(sizeof(sun.sun_path) - 1) + " bytes");
     }
     std::memcpy(sun.sun_path, path.data(), path.size());
-    struct stat st{};
+    struct stat st
+    {
+    };
     if (::lstat(path.c_str(), &st) == 0)
     {
       if (!S_ISSOCK(st.st_mode))
@@ -210,8 +213,8 @@ std::string DialogServer::Listen(const std::string& address)
       }
       // A socket file: in use if someone answers, else left over by a dead process.
       const int probe = ::socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
-      const bool alive = probe >= 0 &&
-        ::connect(probe, reinterpret_cast<const sockaddr*>(&sun), sizeof(sun)) == 0;
+      const bool alive =
+        probe >= 0 && ::connect(probe, reinterpret_cast<const sockaddr*>(&sun), sizeof(sun)) == 0;
       if (probe >= 0)
       {
         ::close(probe);
@@ -265,7 +268,8 @@ std::string DialogServer::Listen(const std::string& address)
     int lastError = 0;
     for (addrinfo* a = info.List; a && listener.Fd < 0; a = a->ai_next)
     {
-      const int fd = ::socket(a->ai_family, a->ai_socktype | SOCK_NONBLOCK | SOCK_CLOEXEC, a->ai_protocol);
+      const int fd =
+        ::socket(a->ai_family, a->ai_socktype | SOCK_NONBLOCK | SOCK_CLOEXEC, a->ai_protocol);
       if (fd < 0)
       {
         lastError = errno;
@@ -348,13 +352,15 @@ void DialogServer::Accept(const Listener& listener)
       return; // EAGAIN (no more), or the client left already
     }
     // Held half-closed clients count too: each still holds a socket.
-    const size_t held = static_cast<size_t>(std::count_if(this->Clients.begin(), this->Clients.end(),
-      [](const std::unique_ptr<Client>& c) { return c->Socket && !c->Dead; }));
+    const size_t held = static_cast<size_t>(std::count_if(this->Clients.begin(),
+      this->Clients.end(), [](const std::unique_ptr<Client>& c) { return c->Socket && !c->Dead; }));
     if (held >= this->Config.MaxClients)
     {
       const std::string line = FormatEvent(MakeError(reason::TooManyClients,
-        "the avatar serves at most " + std::to_string(this->Config.MaxClients) + " clients at once"));
-      [[maybe_unused]] const ssize_t sent = ::send(fd, line.data(), line.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
+        "the avatar serves at most " + std::to_string(this->Config.MaxClients) +
+          " clients at once"));
+      [[maybe_unused]] const ssize_t sent =
+        ::send(fd, line.data(), line.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
       ::close(fd);
       ++this->Errors;
       continue;
@@ -385,7 +391,8 @@ void DialogServer::FlushClient(Client& client)
   while (!client.Output.empty() && client.OutFd >= 0)
   {
     const ssize_t n = client.Socket
-      ? ::send(client.OutFd, client.Output.data(), client.Output.size(), MSG_NOSIGNAL | MSG_DONTWAIT)
+      ? ::send(
+          client.OutFd, client.Output.data(), client.Output.size(), MSG_NOSIGNAL | MSG_DONTWAIT)
       : ::write(client.OutFd, client.Output.data(), client.Output.size());
     if (n > 0)
     {
@@ -440,9 +447,10 @@ void DialogServer::HandleLines(Client& client, const std::vector<LineFramer::Ite
   {
     if (item.TooLong)
     {
-      this->SendError(client, MakeError(reason::TooLong,
-        "the line has " + std::to_string(item.Length) + " bytes; the limit is " +
-          std::to_string(this->Config.MaxLineBytes)));
+      this->SendError(client,
+        MakeError(reason::TooLong,
+          "the line has " + std::to_string(item.Length) + " bytes; the limit is " +
+            std::to_string(this->Config.MaxLineBytes)));
       continue;
     }
     if (IsBlankLine(item.Line))
@@ -485,10 +493,11 @@ void DialogServer::ReadClient(Client& client, std::vector<Incoming>& out)
       // End of input (or a reset): complete lines were handled; a partial one is not run.
       if (client.Framer.HasPartialLine())
       {
-        this->SendError(client, MakeError(reason::Incomplete,
-          "the input ended in the middle of a line (" +
-            std::to_string(client.Framer.GetPartialLength()) +
-            " bytes after the last newline); that line was not executed"));
+        this->SendError(client,
+          MakeError(reason::Incomplete,
+            "the input ended in the middle of a line (" +
+              std::to_string(client.Framer.GetPartialLength()) +
+              " bytes after the last newline); that line was not executed"));
         client.Framer.Reset();
       }
       client.Open = false;
@@ -642,7 +651,8 @@ void DialogServer::Flush(int timeoutMs)
       }
     }
     const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
-      until - std::chrono::steady_clock::now()).count();
+      until - std::chrono::steady_clock::now())
+                        .count();
     if (fds.empty() || left <= 0)
     {
       return;

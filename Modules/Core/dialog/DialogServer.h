@@ -22,8 +22,8 @@
 #include "dialog/DialogProtocol.h"
 
 #include <chrono>
-#include <functional>
 #include <cstddef>
+#include <functional>
 #include <map>
 #include <memory>
 #include <string>

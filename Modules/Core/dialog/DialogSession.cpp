@@ -89,7 +89,8 @@ bool DialogSession::Execute(ClientId client, const Command& command, double now,
   try
   {
     std::visit(
-      [&](const auto& c) {
+      [&](const auto& c)
+      {
         using T = std::decay_t<decltype(c)>;
         if constexpr (std::is_same_v<T, SayCommand>)
         {
@@ -186,8 +187,8 @@ void DialogSession::Advance(double now)
   this->ReleaseEnded();
 }
 
-bool DialogSession::Fail(unsigned long long handle, const std::string& reasonCode,
-  const std::string& message, double now)
+bool DialogSession::Fail(
+  unsigned long long handle, const std::string& reasonCode, const std::string& message, double now)
 {
   for (Tracked& t : this->Running)
   {
@@ -212,10 +213,12 @@ void DialogSession::ReleaseEnded()
   {
     return; // events go to a callback: no connections to close
   }
-  this->Server->ReleaseEnded([this](ClientId client) {
-    return std::any_of(this->Running.begin(), this->Running.end(),
-      [client](const Tracked& t) { return t.Client == client; });
-  });
+  this->Server->ReleaseEnded(
+    [this](ClientId client)
+    {
+      return std::any_of(this->Running.begin(), this->Running.end(),
+        [client](const Tracked& t) { return t.Client == client; });
+    });
 }
 
 void DialogSession::Shutdown(double now, int timeoutMs)

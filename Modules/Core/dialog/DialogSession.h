@@ -95,7 +95,8 @@ public:
   /// could not be synthesized): its client gets an error event (reasonCode, message, the
   /// command's id) and the command ends now, interrupted, without having started. False
   /// when no running command has the handle.
-  bool Fail(unsigned long long handle, const std::string& reasonCode, const std::string& message, double now);
+  bool Fail(unsigned long long handle, const std::string& reasonCode, const std::string& message,
+    double now);
   /// Every command still running ends, interrupted (e.g. before quitting); sends the events
   /// and flushes them (at most timeoutMs).
   void Shutdown(double now, int timeoutMs = 200);

@@ -24,7 +24,8 @@ void CheckDirections(
   {
     throw InputError(what + ": the forward and up directions must be finite");
   }
-  const double f = std::sqrt(forward[0] * forward[0] + forward[1] * forward[1] + forward[2] * forward[2]);
+  const double f =
+    std::sqrt(forward[0] * forward[0] + forward[1] * forward[1] + forward[2] * forward[2]);
   const double u = std::sqrt(up[0] * up[0] + up[1] * up[1] + up[2] * up[2]);
   if (!(f > 1e-12) || !(u > 1e-12))
   {
@@ -104,7 +105,8 @@ void EyeRig::AddEye(const EyeSpec& eye)
   this->Eyes.push_back(eye);
 }
 
-void EyeRig::SetDefaultDirections(const std::array<double, 3>& forward, const std::array<double, 3>& up)
+void EyeRig::SetDefaultDirections(
+  const std::array<double, 3>& forward, const std::array<double, 3>& up)
 {
   CheckDirections(forward, up, "the eyes' default directions");
   this->DefaultForward = forward;
@@ -179,9 +181,8 @@ EyeSide EyeRig::SideFromName(const std::string& name)
   }
   // An L/R token at either end: eye_L, eye.R, L_eye, or glued to "eye": lEye, EyeL.
   const size_t n = lower.size();
-  auto sideOf = [](char c) {
-    return c == 'l' ? EyeSide::Left : (c == 'r' ? EyeSide::Right : EyeSide::Unknown);
-  };
+  auto sideOf = [](char c)
+  { return c == 'l' ? EyeSide::Left : (c == 'r' ? EyeSide::Right : EyeSide::Unknown); };
   EyeSide end = EyeSide::Unknown;
   if (IsSeparator(lower[n - 2]) || (n >= 4 && lower.compare(n - 4, 3, "eye") == 0))
   {

@@ -154,8 +154,10 @@ std::array<double, 9> EyeRotationMatrix(const GazeAngles& angles, const std::arr
   const glm::dmat3 eye = node * Frame(Vec(forward), Vec(up), "the eye's directions");
 
   // R = Ry(yaw) * Rx(-pitch) in the eye's frame (left, up, forward).
-  const glm::dmat4 ry = glm::rotate(glm::dmat4(1.0), angles.Yaw * DegreesToRadians, glm::dvec3(0, 1, 0));
-  const glm::dmat4 rx = glm::rotate(glm::dmat4(1.0), -angles.Pitch * DegreesToRadians, glm::dvec3(1, 0, 0));
+  const glm::dmat4 ry =
+    glm::rotate(glm::dmat4(1.0), angles.Yaw * DegreesToRadians, glm::dvec3(0, 1, 0));
+  const glm::dmat4 rx =
+    glm::rotate(glm::dmat4(1.0), -angles.Pitch * DegreesToRadians, glm::dvec3(1, 0, 0));
   const glm::dmat3 local = glm::dmat3(ry * rx);
   // The eye frame is orthogonal (a mirroring node gives det -1): its inverse is its transpose.
   const glm::dmat3 world = eye * local * glm::transpose(eye);

@@ -48,7 +48,8 @@ std::array<double, 3> GazeDirection(const GazeAngles& angles);
 /// turn inward, towards a near point) added inward (the left eye, at +X, turns to -yaw; the
 /// right eye to +yaw; an eye of unknown side does not converge), then clamped to `limits`.
 /// InputError for non-finite angles or a negative vergence.
-GazeAngles EyeAngles(const GazeAngles& gaze, double vergence, EyeSide side, const EyeLimits& limits);
+GazeAngles EyeAngles(
+  const GazeAngles& gaze, double vergence, EyeSide side, const EyeLimits& limits);
 
 /// The world rotation of an eye turned by `angles` (not clamped here): `axes` are the eye
 /// node's world x, y and z axes, 3 values each (the reader's NodeAxes; orthonormalized

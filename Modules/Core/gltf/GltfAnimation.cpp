@@ -110,19 +110,23 @@ int FindGltfAnimation(const GltfScene& scene, const std::string& name)
   return -1;
 }
 
-void SampleGltfSampler(const GltfAnimationSampler& sampler, int width, bool rotation, double t, double* out)
+void SampleGltfSampler(
+  const GltfAnimationSampler& sampler, int width, bool rotation, double t, double* out)
 {
   const size_t keys = sampler.Times.size();
   const bool cubic = sampler.Interpolation == GltfInterpolation::CubicSpline;
   const size_t w = static_cast<size_t>(std::max(width, 0));
   if (keys == 0 || w == 0 || sampler.Values.size() != keys * w * (cubic ? 3 : 1))
   {
-    throw InputError("glTF animation sampler: " + std::to_string(sampler.Values.size()) + " output values for " +
-      std::to_string(keys) + " keys of " + std::to_string(w) + " values" + (cubic ? " (CUBICSPLINE)" : ""));
+    throw InputError("glTF animation sampler: " + std::to_string(sampler.Values.size()) +
+      " output values for " + std::to_string(keys) + " keys of " + std::to_string(w) + " values" +
+      (cubic ? " (CUBICSPLINE)" : ""));
   }
   // Element e of key k: for CUBICSPLINE, 0 in-tangent, 1 value, 2 out-tangent.
-  auto at = [&](size_t k, size_t e) { return sampler.Values.data() + (cubic ? (3 * k + e) * w : k * w); };
-  auto copy = [&](const float* v) {
+  auto at = [&](size_t k, size_t e)
+  { return sampler.Values.data() + (cubic ? (3 * k + e) * w : k * w); };
+  auto copy = [&](const float* v)
+  {
     for (size_t i = 0; i < w; ++i)
     {
       out[i] = v[i];
@@ -177,7 +181,8 @@ void SampleGltfSampler(const GltfAnimationSampler& sampler, int width, bool rota
       case GltfInterpolation::CubicSpline:
       {
         const double u2 = u * u, u3 = u2 * u;
-        const double h00 = 2 * u3 - 3 * u2 + 1, h10 = u3 - 2 * u2 + u, h01 = -2 * u3 + 3 * u2, h11 = u3 - u2;
+        const double h00 = 2 * u3 - 3 * u2 + 1, h10 = u3 - 2 * u2 + u, h01 = -2 * u3 + 3 * u2,
+                     h11 = u3 - u2;
         const float* v0 = at(k, 1);
         const float* b0 = at(k, 2);
         const float* v1 = at(k + 1, 1);
@@ -250,14 +255,15 @@ GltfNamedWeights GltfWeightsByTargetName(const GltfScene& scene, const GltfScene
   return out;
 }
 
-GltfAnimationPlayer::GltfAnimationPlayer(const GltfScene& scene, int animation, const std::string& source)
+GltfAnimationPlayer::GltfAnimationPlayer(
+  const GltfScene& scene, int animation, const std::string& source)
   : Scene(&scene)
   , Index(animation)
 {
   if (animation < 0 || static_cast<size_t>(animation) >= scene.Animations.size())
   {
-    throw InputError(source + ": there is no animation " + std::to_string(animation) + " (the file has " +
-      std::to_string(scene.Animations.size()) + ")");
+    throw InputError(source + ": there is no animation " + std::to_string(animation) +
+      " (the file has " + std::to_string(scene.Animations.size()) + ")");
   }
   const GltfAnimation& a = scene.Animations[static_cast<size_t>(animation)];
   this->Name = a.Name;
@@ -267,9 +273,10 @@ GltfAnimationPlayer::GltfAnimationPlayer(const GltfScene& scene, int animation, 
   for (size_t c = 0; c < a.Channels.size(); ++c)
   {
     const GltfAnimationChannel& channel = a.Channels[c];
-    const std::string cp = "/animations/" + std::to_string(animation) + "/channels/" + std::to_string(c);
-    if (channel.Sampler < 0 || static_cast<size_t>(channel.Sampler) >= a.Samplers.size() || channel.Node < 0 ||
-      static_cast<size_t>(channel.Node) >= scene.Nodes.size())
+    const std::string cp =
+      "/animations/" + std::to_string(animation) + "/channels/" + std::to_string(c);
+    if (channel.Sampler < 0 || static_cast<size_t>(channel.Sampler) >= a.Samplers.size() ||
+      channel.Node < 0 || static_cast<size_t>(channel.Node) >= scene.Nodes.size())
     {
       throw InputError(source + ": " + cp + ": sampler or node out of range");
     }
@@ -277,7 +284,8 @@ GltfAnimationPlayer::GltfAnimationPlayer(const GltfScene& scene, int animation, 
     if (node.HasMatrix && channel.Path != GltfAnimationPath::Weights)
     {
       throw InputError(source + ": " + cp + "/target/node: node " + std::to_string(channel.Node) +
-        " gives a matrix; glTF lets animations move only nodes given by translation, rotation and scale (" +
+        " gives a matrix; glTF lets animations move only nodes given by translation, rotation and "
+        "scale (" +
         PathName(channel.Path) + " animated here)");
     }
     const GltfAnimationSampler& sampler = a.Samplers[static_cast<size_t>(channel.Sampler)];
@@ -285,14 +293,16 @@ GltfAnimationPlayer::GltfAnimationPlayer(const GltfScene& scene, int animation, 
       (sampler.Interpolation == GltfInterpolation::CubicSpline ? 3 : 1);
     if (sampler.Times.empty() || per == 0 || sampler.Values.size() != sampler.Times.size() * per)
     {
-      throw InputError(source + ": " + cp + ": " + std::to_string(sampler.Values.size()) + " output values for " +
-        std::to_string(sampler.Times.size()) + " keys of " + std::to_string(per) + " values");
+      throw InputError(source + ": " + cp + ": " + std::to_string(sampler.Values.size()) +
+        " output values for " + std::to_string(sampler.Times.size()) + " keys of " +
+        std::to_string(per) + " values");
     }
     for (float t : sampler.Times)
     {
       times.insert(double(t));
     }
-    this->Start = first ? sampler.Times.front() : std::min(this->Start, double(sampler.Times.front()));
+    this->Start =
+      first ? sampler.Times.front() : std::min(this->Start, double(sampler.Times.front()));
     this->End = first ? sampler.Times.back() : std::max(this->End, double(sampler.Times.back()));
     first = false;
     nodes.insert(channel.Node);

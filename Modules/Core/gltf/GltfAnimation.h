@@ -83,7 +83,8 @@ int FindGltfAnimation(const GltfScene& scene, const std::string& name);
 /// and scale, 4 for rotation, the number of targets for weights). `rotation` selects slerp
 /// for LINEAR and normalization for every mode. The sampler must hold width values per key
 /// (three times that for CUBICSPLINE); throws InputError otherwise.
-void SampleGltfSampler(const GltfAnimationSampler& sampler, int width, bool rotation, double t, double* out);
+void SampleGltfSampler(
+  const GltfAnimationSampler& sampler, int width, bool rotation, double t, double* out);
 
 /// The rest pose: every node's TRS (or matrix) and default weights, nothing animated.
 GltfSceneSample GltfRestPose(const GltfScene& scene);

@@ -7,8 +7,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <cstring>
+#include <limits>
 #include <map>
 #include <set>
 #include <utility>
@@ -124,7 +124,8 @@ public:
 private:
   [[noreturn]] void Fail(const std::string& pointer, const std::string& what) const
   {
-    throw InputError(this->Source + ": " + (pointer.empty() ? std::string("/") : pointer) + ": " + what);
+    throw InputError(
+      this->Source + ": " + (pointer.empty() ? std::string("/") : pointer) + ": " + what);
   }
 
   static std::string Describe(const json& v)
@@ -167,8 +168,8 @@ private:
   }
 
   /// The array `key` of `object` (empty when absent and not required).
-  const json& Array(const json& object, const char* key, const std::string& pointer,
-    bool required, size_t minSize = 0) const
+  const json& Array(const json& object, const char* key, const std::string& pointer, bool required,
+    size_t minSize = 0) const
   {
     static const json empty = json::array();
     const json* v = this->Member(object, key);
@@ -186,8 +187,8 @@ private:
     }
     if (v->size() < minSize)
     {
-      this->Fail(At(pointer, key), "must have at least " + std::to_string(minSize) + " element" +
-          (minSize == 1 ? "" : "s"));
+      this->Fail(At(pointer, key),
+        "must have at least " + std::to_string(minSize) + " element" + (minSize == 1 ? "" : "s"));
     }
     return *v;
   }
@@ -222,8 +223,8 @@ private:
     return u;
   }
 
-  uint64_t Unsigned(const json& object, const char* key, const std::string& pointer,
-    bool required, uint64_t fallback, uint64_t min, uint64_t max) const
+  uint64_t Unsigned(const json& object, const char* key, const std::string& pointer, bool required,
+    uint64_t fallback, uint64_t min, uint64_t max) const
   {
     const json* v = this->Member(object, key);
     if (!v)
@@ -237,7 +238,8 @@ private:
     const uint64_t u = this->UnsignedValue(*v, At(pointer, key), max);
     if (u < min)
     {
-      this->Fail(At(pointer, key), "must be at least " + std::to_string(min) + ", got " + Describe(*v));
+      this->Fail(
+        At(pointer, key), "must be at least " + std::to_string(min) + ", got " + Describe(*v));
     }
     return u;
   }
@@ -248,7 +250,8 @@ private:
     const uint64_t u = this->UnsignedValue(v, pointer, MaxIndex);
     if (u >= size)
     {
-      this->Fail(pointer, "there is no " + std::string(array) + " " + std::to_string(u) + " (" + owner + " has " +
+      this->Fail(pointer,
+        "there is no " + std::string(array) + " " + std::to_string(u) + " (" + owner + " has " +
           std::to_string(size) + ")");
     }
     return static_cast<int>(u);
@@ -270,8 +273,8 @@ private:
     return this->IndexValue(*v, At(pointer, key), size, array, owner);
   }
 
-  std::string String(const json& object, const char* key, const std::string& pointer,
-    bool required) const
+  std::string String(
+    const json& object, const char* key, const std::string& pointer, bool required) const
   {
     const json* v = this->Member(object, key);
     if (!v)
@@ -304,14 +307,14 @@ private:
   }
 
   /// An array of numbers (`size` of them unless 0); absent: empty.
-  std::vector<double> Numbers(const json& object, const char* key, const std::string& pointer,
-    size_t size) const
+  std::vector<double> Numbers(
+    const json& object, const char* key, const std::string& pointer, size_t size) const
   {
     const json& a = this->Array(object, key, pointer, false);
     if (this->Member(object, key) && size != 0 && a.size() != size)
     {
-      this->Fail(At(pointer, key), "must have " + std::to_string(size) + " numbers, got " +
-          std::to_string(a.size()));
+      this->Fail(At(pointer, key),
+        "must have " + std::to_string(size) + " numbers, got " + std::to_string(a.size()));
     }
     std::vector<double> out;
     out.reserve(a.size());
@@ -330,7 +333,8 @@ private:
       }
       if (std::fabs(out.back()) > static_cast<double>(std::numeric_limits<float>::max()))
       {
-        this->Fail(At(At(pointer, key), i), text::FormatNumber(out.back()) + " is beyond the range of float");
+        this->Fail(At(At(pointer, key), i),
+          text::FormatNumber(out.back()) + " is beyond the range of float");
       }
     }
     return out;
@@ -361,8 +365,9 @@ private:
     const AccessorInfo& info = this->Accessors[static_cast<size_t>(accessor)];
     if (!allowed(info))
     {
-      this->Fail(pointer, std::string("accessor ") + std::to_string(accessor) + " is " + info.Describe() +
-          "; " + semantic + " must be " + expected);
+      this->Fail(pointer,
+        std::string("accessor ") + std::to_string(accessor) + " is " + info.Describe() + "; " +
+          semantic + " must be " + expected);
     }
     return info;
   }
@@ -416,7 +421,8 @@ void Checker::CheckAsset()
   if (!minVersion.empty() && minVersion != "2.0")
   {
     // The file needs a newer reader than glTF 2.0 (the spec: refuse, do not guess).
-    this->Fail("/asset/minVersion", "glTF " + text::Quote(minVersion) + " is required; this reader reads 2.0");
+    this->Fail("/asset/minVersion",
+      "glTF " + text::Quote(minVersion) + " is required; this reader reads 2.0");
   }
   this->String(*asset, "generator", "/asset", false);
 
@@ -442,7 +448,8 @@ void Checker::CheckAsset()
     if (!gltfext::IsImplemented(name))
     {
       const std::string why = gltfext::WhyNotImplemented(name);
-      this->Fail(At("/extensionsRequired", i), "the file requires the extension " + text::Quote(name) +
+      this->Fail(At("/extensionsRequired", i),
+        "the file requires the extension " + text::Quote(name) +
           ", which MorphNode does not support" + (why.empty() ? std::string() : " (" + why + ")"));
     }
   }
@@ -479,7 +486,8 @@ void Checker::CheckBuffers()
       }
       if (length > this->Input.BinSize)
       {
-        this->Fail(At(p, "byteLength"), std::to_string(length) + " exceeds the BIN chunk (" +
+        this->Fail(At(p, "byteLength"),
+          std::to_string(length) + " exceeds the BIN chunk (" +
             std::to_string(this->Input.BinSize) + " bytes)");
       }
     }
@@ -503,11 +511,13 @@ void Checker::CheckBuffers()
         }
         if (payload.empty())
         {
-          this->Fail(up, "a data URI must be base64 of application/octet-stream or application/gltf-buffer");
+          this->Fail(
+            up, "a data URI must be base64 of application/octet-stream or application/gltf-buffer");
         }
         size_t n = 0;
         while (n < payload.size() &&
-          (std::isalnum(static_cast<unsigned char>(payload[n])) || payload[n] == '+' || payload[n] == '/'))
+          (std::isalnum(static_cast<unsigned char>(payload[n])) || payload[n] == '+' ||
+            payload[n] == '/'))
         {
           if (static_cast<unsigned char>(payload[n]) >= 128)
           {
@@ -522,12 +532,14 @@ void Checker::CheckBuffers()
         }
         if (n + pad != payload.size() || n % 4 == 1)
         {
-          this->Fail(up, "the data URI is not valid base64 (at character " + std::to_string(n + pad) + ")");
+          this->Fail(
+            up, "the data URI is not valid base64 (at character " + std::to_string(n + pad) + ")");
         }
         const uint64_t bytes = uint64_t(n) * 3 / 4;
         if (bytes != length)
         {
-          this->Fail(up, "the data URI holds " + std::to_string(bytes) + " bytes, but byteLength is " +
+          this->Fail(up,
+            "the data URI holds " + std::to_string(bytes) + " bytes, but byteLength is " +
               std::to_string(length));
         }
       }
@@ -535,7 +547,8 @@ void Checker::CheckBuffers()
       {
         if (!this->External)
         {
-          this->Fail(up, "the buffer is in a separate file " + text::Quote(uri) +
+          this->Fail(up,
+            "the buffer is in a separate file " + text::Quote(uri) +
               ", which cannot be found when reading from memory");
         }
         // tinygltf URL-decodes the path ('+' too); what it will open must be a plain
@@ -545,7 +558,8 @@ void Checker::CheckBuffers()
         {
           if (uri[i] == '%' && i + 2 < uri.size())
           {
-            auto hex = [](char c) -> int {
+            auto hex = [](char c) -> int
+            {
               return c >= '0' && c <= '9' ? c - '0'
                 : c >= 'a' && c <= 'f'    ? c - 'a' + 10
                 : c >= 'A' && c <= 'F'    ? c - 'A' + 10
@@ -569,8 +583,10 @@ void Checker::CheckBuffers()
         }
         if (!plain)
         {
-          this->Fail(up, text::Quote(uri) + " is not a file name in the glTF file's own folder (paths, "
-                         "'..' and URL schemes are not followed)");
+          this->Fail(up,
+            text::Quote(uri) +
+              " is not a file name in the glTF file's own folder (paths, "
+              "'..' and URL schemes are not followed)");
         }
       }
     }
@@ -592,23 +608,26 @@ void Checker::CheckBufferViews()
     info.Stride = this->Unsigned(view, "byteStride", p, false, 0, 4, 252);
     if (info.Stride % 4 != 0)
     {
-      this->Fail(At(p, "byteStride"), "must be a multiple of 4, got " + std::to_string(info.Stride));
+      this->Fail(
+        At(p, "byteStride"), "must be a multiple of 4, got " + std::to_string(info.Stride));
     }
     if (const json* target = this->Member(view, "target"))
     {
       const uint64_t t = this->UnsignedValue(*target, At(p, "target"), MaxIndex);
       if (t != 34962 && t != 34963)
       {
-        this->Fail(At(p, "target"), "must be 34962 (ARRAY_BUFFER) or 34963 (ELEMENT_ARRAY_BUFFER), got " +
-            std::to_string(t));
+        this->Fail(At(p, "target"),
+          "must be 34962 (ARRAY_BUFFER) or 34963 (ELEMENT_ARRAY_BUFFER), got " + std::to_string(t));
       }
     }
     this->CheckNames(view, p);
     const uint64_t bufferLength = this->BufferLengths[static_cast<size_t>(info.Buffer)];
     if (info.Offset > bufferLength || info.Length > bufferLength - info.Offset)
     {
-      this->Fail(p, "bytes " + std::to_string(info.Offset) + " to " + std::to_string(info.Offset + info.Length) +
-          " lie outside buffer " + std::to_string(info.Buffer) + " (" + std::to_string(bufferLength) + " bytes)");
+      this->Fail(p,
+        "bytes " + std::to_string(info.Offset) + " to " +
+          std::to_string(info.Offset + info.Length) + " lie outside buffer " +
+          std::to_string(info.Buffer) + " (" + std::to_string(bufferLength) + " bytes)");
     }
     this->Views.push_back(info);
   }
@@ -622,7 +641,8 @@ void Checker::CheckAccessors()
     const std::string p = At("/accessors", a);
     const json& accessor = accessors[a];
     AccessorInfo info;
-    const int view = this->Index(accessor, "bufferView", p, false, this->Views.size(), "bufferView");
+    const int view =
+      this->Index(accessor, "bufferView", p, false, this->Views.size(), "bufferView");
     info.HasBufferView = view >= 0;
     const uint64_t offset = this->Unsigned(accessor, "byteOffset", p, false, 0, 0, MaxBytes);
     if (!info.HasBufferView && this->Member(accessor, "byteOffset"))
@@ -634,20 +654,23 @@ void Checker::CheckAccessors()
     const size_t componentSize = ComponentSize(info.ComponentType);
     if (componentSize == 0)
     {
-      this->Fail(At(p, "componentType"), std::to_string(info.ComponentType) +
+      this->Fail(At(p, "componentType"),
+        std::to_string(info.ComponentType) +
           " is not a glTF component type (5120, 5121, 5122, 5123, 5125 or 5126)");
     }
     info.Normalized = this->Boolean(accessor, "normalized", p);
     if (info.Normalized && (info.ComponentType == Float || info.ComponentType == UnsignedInt))
     {
-      this->Fail(At(p, "normalized"), std::string("cannot be true for ") + ComponentName(info.ComponentType));
+      this->Fail(At(p, "normalized"),
+        std::string("cannot be true for ") + ComponentName(info.ComponentType));
     }
     info.Count = this->Unsigned(accessor, "count", p, true, 0, 1, MaxIndex);
     info.Type = this->String(accessor, "type", p, true);
     info.Components = ComponentCount(info.Type);
     if (info.Components == 0)
     {
-      this->Fail(At(p, "type"), text::Quote(info.Type) + " is not SCALAR, VEC2, VEC3, VEC4, MAT2, MAT3 or MAT4");
+      this->Fail(At(p, "type"),
+        text::Quote(info.Type) + " is not SCALAR, VEC2, VEC3, VEC4, MAT2, MAT3 or MAT4");
     }
     this->Numbers(accessor, "min", p, static_cast<size_t>(info.Components));
     this->Numbers(accessor, "max", p, static_cast<size_t>(info.Components));
@@ -669,21 +692,24 @@ void Checker::CheckAccessors()
       const ViewInfo& v = this->Views[static_cast<size_t>(view)];
       if (offset % componentSize != 0 || (v.Offset + offset) % componentSize != 0)
       {
-        this->Fail(At(p, "byteOffset"), "the accessor's data do not start on a multiple of " +
-            std::to_string(componentSize) + " bytes");
+        this->Fail(At(p, "byteOffset"),
+          "the accessor's data do not start on a multiple of " + std::to_string(componentSize) +
+            " bytes");
       }
       const uint64_t stride = v.Stride ? v.Stride : elementSize;
       if (stride < elementSize)
       {
-        this->Fail(p, "bufferView " + std::to_string(view) + "'s byteStride " + std::to_string(stride) +
+        this->Fail(p,
+          "bufferView " + std::to_string(view) + "'s byteStride " + std::to_string(stride) +
             " is less than an element (" + std::to_string(elementSize) + " bytes)");
       }
       // Count < 2^31 and stride <= 252: no overflow in 64 bits.
       const uint64_t end = offset + stride * (info.Count - 1) + elementSize;
       if (end > v.Length)
       {
-        this->Fail(At(p, "count"), std::to_string(info.Count) + " elements from byte " + std::to_string(offset) +
-            " need " + std::to_string(end) + " bytes, but bufferView " + std::to_string(view) + " has " +
+        this->Fail(At(p, "count"),
+          std::to_string(info.Count) + " elements from byte " + std::to_string(offset) + " need " +
+            std::to_string(end) + " bytes, but bufferView " + std::to_string(view) + " has " +
             std::to_string(v.Length));
       }
     }
@@ -696,8 +722,8 @@ void Checker::CheckAccessors()
       const uint64_t count = this->Unsigned(*sparse, "count", sp, true, 0, 1, MaxIndex);
       if (count > info.Count)
       {
-        this->Fail(At(sp, "count"), std::to_string(count) + " exceeds the accessor's count " +
-            std::to_string(info.Count));
+        this->Fail(At(sp, "count"),
+          std::to_string(count) + " exceeds the accessor's count " + std::to_string(info.Count));
       }
       const json* indices = this->Member(*sparse, "indices");
       const json* values = this->Member(*sparse, "values");
@@ -713,50 +739,57 @@ void Checker::CheckAccessors()
       this->ExpectObject(*indices, ip);
       this->ExpectObject(*values, vp);
 
-      const int iview = this->Index(*indices, "bufferView", ip, true, this->Views.size(), "bufferView");
+      const int iview =
+        this->Index(*indices, "bufferView", ip, true, this->Views.size(), "bufferView");
       const uint64_t ioffset = this->Unsigned(*indices, "byteOffset", ip, false, 0, 0, MaxIndex);
-      const int itype = static_cast<int>(this->Unsigned(*indices, "componentType", ip, true, 0, 0, MaxIndex));
+      const int itype =
+        static_cast<int>(this->Unsigned(*indices, "componentType", ip, true, 0, 0, MaxIndex));
       if (itype != UnsignedByte && itype != UnsignedShort && itype != UnsignedInt)
       {
-        this->Fail(At(ip, "componentType"), std::to_string(itype) +
-            " is not an unsigned integer type (5121, 5123 or 5125)");
+        this->Fail(At(ip, "componentType"),
+          std::to_string(itype) + " is not an unsigned integer type (5121, 5123 or 5125)");
       }
       const ViewInfo& iv = this->Views[static_cast<size_t>(iview)];
       if (iv.Stride != 0)
       {
-        this->Fail(At(ip, "bufferView"), "sparse indices must be tightly packed, but bufferView " +
-            std::to_string(iview) + " has a byteStride");
+        this->Fail(At(ip, "bufferView"),
+          "sparse indices must be tightly packed, but bufferView " + std::to_string(iview) +
+            " has a byteStride");
       }
       const uint64_t isize = ComponentSize(itype);
       if ((iv.Offset + ioffset) % isize != 0)
       {
-        this->Fail(At(ip, "byteOffset"), "the indices do not start on a multiple of " + std::to_string(isize) +
-            " bytes");
+        this->Fail(At(ip, "byteOffset"),
+          "the indices do not start on a multiple of " + std::to_string(isize) + " bytes");
       }
       if (ioffset + count * isize > iv.Length)
       {
-        this->Fail(At(sp, "count"), std::to_string(count) + " indices from byte " + std::to_string(ioffset) +
-            " need " + std::to_string(ioffset + count * isize) + " bytes, but bufferView " +
+        this->Fail(At(sp, "count"),
+          std::to_string(count) + " indices from byte " + std::to_string(ioffset) + " need " +
+            std::to_string(ioffset + count * isize) + " bytes, but bufferView " +
             std::to_string(iview) + " has " + std::to_string(iv.Length));
       }
 
-      const int vview = this->Index(*values, "bufferView", vp, true, this->Views.size(), "bufferView");
+      const int vview =
+        this->Index(*values, "bufferView", vp, true, this->Views.size(), "bufferView");
       const uint64_t voffset = this->Unsigned(*values, "byteOffset", vp, false, 0, 0, MaxIndex);
       const ViewInfo& vv = this->Views[static_cast<size_t>(vview)];
       if (vv.Stride != 0)
       {
-        this->Fail(At(vp, "bufferView"), "sparse values must be tightly packed, but bufferView " +
-            std::to_string(vview) + " has a byteStride");
+        this->Fail(At(vp, "bufferView"),
+          "sparse values must be tightly packed, but bufferView " + std::to_string(vview) +
+            " has a byteStride");
       }
       if ((vv.Offset + voffset) % componentSize != 0)
       {
-        this->Fail(At(vp, "byteOffset"), "the values do not start on a multiple of " +
-            std::to_string(componentSize) + " bytes");
+        this->Fail(At(vp, "byteOffset"),
+          "the values do not start on a multiple of " + std::to_string(componentSize) + " bytes");
       }
       if (voffset + count * elementSize > vv.Length)
       {
-        this->Fail(At(sp, "count"), std::to_string(count) + " values from byte " + std::to_string(voffset) +
-            " need " + std::to_string(voffset + count * elementSize) + " bytes, but bufferView " +
+        this->Fail(At(sp, "count"),
+          std::to_string(count) + " values from byte " + std::to_string(voffset) + " need " +
+            std::to_string(voffset + count * elementSize) + " bytes, but bufferView " +
             std::to_string(vview) + " has " + std::to_string(vv.Length));
       }
     }
@@ -780,7 +813,8 @@ void Checker::CheckMaterials()
       {
         if (color[i] < 0 || color[i] > 1)
         {
-          this->Fail(At(At(pp, "baseColorFactor"), i), "must lie in [0, 1], got " + text::FormatNumber(color[i]));
+          this->Fail(At(At(pp, "baseColorFactor"), i),
+            "must lie in [0, 1], got " + text::FormatNumber(color[i]));
         }
       }
     }
@@ -810,18 +844,22 @@ bool IsQuantizedPosition(const AccessorInfo& a)
 
 bool IsQuantizedNormal(const AccessorInfo& a)
 {
-  return a.Type == "VEC3" && (a.ComponentType == Float || (a.Normalized && (a.ComponentType == Byte || a.ComponentType == Short)));
+  return a.Type == "VEC3" &&
+    (a.ComponentType == Float ||
+      (a.Normalized && (a.ComponentType == Byte || a.ComponentType == Short)));
 }
 
 bool IsQuantizedTargetPosition(const AccessorInfo& a)
 {
-  return a.Type == "VEC3" && (a.ComponentType == Float || a.ComponentType == Byte || a.ComponentType == Short);
+  return a.Type == "VEC3" &&
+    (a.ComponentType == Float || a.ComponentType == Byte || a.ComponentType == Short);
 }
 
 bool IsTexCoord(const AccessorInfo& a)
 {
   return a.Type == "VEC2" &&
-    (a.ComponentType == Float || (a.Normalized && (a.ComponentType == UnsignedByte || a.ComponentType == UnsignedShort)));
+    (a.ComponentType == Float ||
+      (a.Normalized && (a.ComponentType == UnsignedByte || a.ComponentType == UnsignedShort)));
 }
 
 bool IsQuantizedTexCoord(const AccessorInfo& a)
@@ -834,7 +872,8 @@ bool IsQuantizedTexCoord(const AccessorInfo& a)
 bool IsIndex(const AccessorInfo& a)
 {
   return a.Type == "SCALAR" && !a.Normalized &&
-    (a.ComponentType == UnsignedByte || a.ComponentType == UnsignedShort || a.ComponentType == UnsignedInt);
+    (a.ComponentType == UnsignedByte || a.ComponentType == UnsignedShort ||
+      a.ComponentType == UnsignedInt);
 }
 
 void Checker::CheckMeshes()
@@ -863,10 +902,13 @@ void Checker::CheckMeshes()
       {
         this->Fail(ap, "has no POSITION (MorphNode reads meshes with points)");
       }
-      const AccessorInfo& position = this->Attribute(
-        this->IndexValue((*attributes)["POSITION"], At(ap, "POSITION"), this->Accessors.size(), "accessor"),
-        At(ap, "POSITION"), "POSITION", this->Quantized ? "VEC3 of FLOAT or (normalized) BYTE/SHORT, unsigned too"
-        : "VEC3 of FLOAT (integers need KHR_mesh_quantization)", this->Quantized ? IsQuantizedPosition : IsVec3Float);
+      const AccessorInfo& position =
+        this->Attribute(this->IndexValue((*attributes)["POSITION"], At(ap, "POSITION"),
+                          this->Accessors.size(), "accessor"),
+          At(ap, "POSITION"), "POSITION",
+          this->Quantized ? "VEC3 of FLOAT or (normalized) BYTE/SHORT, unsigned too"
+                          : "VEC3 of FLOAT (integers need KHR_mesh_quantization)",
+          this->Quantized ? IsQuantizedPosition : IsVec3Float);
       prim.Points = position.Count;
       for (auto it = attributes->begin(); it != attributes->end(); ++it)
       {
@@ -875,23 +917,28 @@ void Checker::CheckMeshes()
         const AccessorInfo& info = this->Accessors[static_cast<size_t>(a)];
         if (info.Count != prim.Points)
         {
-          this->Fail(at, "accessor " + std::to_string(a) + " has " + std::to_string(info.Count) +
+          this->Fail(at,
+            "accessor " + std::to_string(a) + " has " + std::to_string(info.Count) +
               " elements, but POSITION has " + std::to_string(prim.Points));
         }
         if (it.key() == "NORMAL")
         {
-          this->Attribute(a, at, "NORMAL", this->Quantized ? "VEC3 of FLOAT or normalized BYTE/SHORT" : "VEC3 of FLOAT",
+          this->Attribute(a, at, "NORMAL",
+            this->Quantized ? "VEC3 of FLOAT or normalized BYTE/SHORT" : "VEC3 of FLOAT",
             this->Quantized ? IsQuantizedNormal : IsVec3Float);
           prim.Normals = true;
         }
         else if (it.key() == "TEXCOORD_0" || it.key() == "TEXCOORD_1")
         {
-          this->Attribute(a, at, it.key().c_str(), this->Quantized ? "VEC2 of FLOAT or (normalized) BYTE/SHORT, unsigned too"
-            : "VEC2 of FLOAT or normalized UNSIGNED_BYTE/SHORT", this->Quantized ? IsQuantizedTexCoord : IsTexCoord);
+          this->Attribute(a, at, it.key().c_str(),
+            this->Quantized ? "VEC2 of FLOAT or (normalized) BYTE/SHORT, unsigned too"
+                            : "VEC2 of FLOAT or normalized UNSIGNED_BYTE/SHORT",
+            this->Quantized ? IsQuantizedTexCoord : IsTexCoord);
         }
         else if (it.key() == "COLOR_0")
         {
-          this->Attribute(a, at, "COLOR_0", "VEC3 or VEC4 of FLOAT or normalized UNSIGNED_BYTE/SHORT", IsColor);
+          this->Attribute(
+            a, at, "COLOR_0", "VEC3 or VEC4 of FLOAT or normalized UNSIGNED_BYTE/SHORT", IsColor);
           prim.Colors = true;
         }
       }
@@ -904,18 +951,22 @@ void Checker::CheckMeshes()
       if (mode < 4)
       {
         static const char* const names[] = { "POINTS", "LINES", "LINE_LOOP", "LINE_STRIP" };
-        this->Fail(At(pp, "mode"), std::string(names[mode]) +
+        this->Fail(At(pp, "mode"),
+          std::string(names[mode]) +
             " is not supported: MorphNode reads triangles (modes 4, 5 and 6)");
       }
       uint64_t corners = prim.Points;
       if (this->Member(primitive, "indices"))
       {
         const std::string ip = At(pp, "indices");
-        const int a = this->Index(primitive, "indices", pp, true, this->Accessors.size(), "accessor");
-        const AccessorInfo& info = this->Attribute(a, ip, "indices", "SCALAR of UNSIGNED_BYTE, _SHORT or _INT", IsIndex);
+        const int a =
+          this->Index(primitive, "indices", pp, true, this->Accessors.size(), "accessor");
+        const AccessorInfo& info =
+          this->Attribute(a, ip, "indices", "SCALAR of UNSIGNED_BYTE, _SHORT or _INT", IsIndex);
         if (!info.HasBufferView)
         {
-          this->Fail(ip, "accessor " + std::to_string(a) + " has no bufferView, which indices need");
+          this->Fail(
+            ip, "accessor " + std::to_string(a) + " has no bufferView, which indices need");
         }
         corners = info.Count;
       }
@@ -944,16 +995,20 @@ void Checker::CheckMeshes()
           const AccessorInfo& info = this->Accessors[static_cast<size_t>(a)];
           if (info.Count != prim.Points)
           {
-            this->Fail(at, "accessor " + std::to_string(a) + " has " + std::to_string(info.Count) +
+            this->Fail(at,
+              "accessor " + std::to_string(a) + " has " + std::to_string(info.Count) +
                 " elements, but the primitive has " + std::to_string(prim.Points) + " points");
           }
           if (it.key() == "POSITION" || it.key() == "NORMAL")
           {
             const bool position = it.key() == "POSITION";
             this->Attribute(a, at, position ? "a POSITION target" : "a NORMAL target",
-              !this->Quantized ? "VEC3 of FLOAT" : position ? "VEC3 of FLOAT or (normalized) BYTE/SHORT"
-                                                            : "VEC3 of FLOAT or normalized BYTE/SHORT",
-              !this->Quantized ? IsVec3Float : position ? IsQuantizedTargetPosition : IsQuantizedNormal);
+              !this->Quantized ? "VEC3 of FLOAT"
+                : position     ? "VEC3 of FLOAT or (normalized) BYTE/SHORT"
+                               : "VEC3 of FLOAT or normalized BYTE/SHORT",
+              !this->Quantized ? IsVec3Float
+                : position     ? IsQuantizedTargetPosition
+                               : IsQuantizedNormal);
             normals = normals || it.key() == "NORMAL";
           }
         }
@@ -965,7 +1020,8 @@ void Checker::CheckMeshes()
       }
       else if (targets.size() != info.Targets)
       {
-        this->Fail(At(pp, "targets"), "the primitive has " + std::to_string(targets.size()) +
+        this->Fail(At(pp, "targets"),
+          "the primitive has " + std::to_string(targets.size()) +
             " morph targets, but primitive 0 of the mesh has " + std::to_string(info.Targets));
       }
       info.Primitives.push_back(std::move(prim));
@@ -974,8 +1030,9 @@ void Checker::CheckMeshes()
     const std::vector<double> weights = this->Numbers(mesh, "weights", p, 0);
     if (this->Member(mesh, "weights") && weights.size() != info.Targets)
     {
-      this->Fail(At(p, "weights"), std::to_string(weights.size()) + " weights for " +
-          std::to_string(info.Targets) + " morph targets");
+      this->Fail(At(p, "weights"),
+        std::to_string(weights.size()) + " weights for " + std::to_string(info.Targets) +
+          " morph targets");
     }
     if (const json* extras = this->Member(mesh, "extras"))
     {
@@ -989,7 +1046,8 @@ void Checker::CheckMeshes()
         }
         if (names.size() != info.Targets)
         {
-          this->Fail(np, std::to_string(names.size()) + " names for " + std::to_string(info.Targets) +
+          this->Fail(np,
+            std::to_string(names.size()) + " names for " + std::to_string(info.Targets) +
               " morph targets");
         }
         std::map<std::string, size_t> seen;
@@ -1003,7 +1061,8 @@ void Checker::CheckMeshes()
           auto inserted = seen.emplace(name, i);
           if (!inserted.second)
           {
-            this->Fail(At(np, i), text::Quote(name) + " names target " + std::to_string(inserted.first->second) +
+            this->Fail(At(np, i),
+              text::Quote(name) + " names target " + std::to_string(inserted.first->second) +
                 " already");
           }
         }
@@ -1038,7 +1097,8 @@ void Checker::CheckNodes()
       {
         if (this->Member(node, trs))
         {
-          this->Fail(At(p, trs), "a node with a 'matrix' cannot also have a translation, rotation or scale");
+          this->Fail(
+            At(p, trs), "a node with a 'matrix' cannot also have a translation, rotation or scale");
         }
       }
       if (matrix[3] != 0 || matrix[7] != 0 || matrix[11] != 0 || matrix[15] != 1)
@@ -1064,9 +1124,10 @@ void Checker::CheckNodes()
       }
       if (weights.size() != this->Meshes[static_cast<size_t>(mesh)].Targets)
       {
-        this->Fail(At(p, "weights"), std::to_string(weights.size()) + " weights for " +
-            std::to_string(this->Meshes[static_cast<size_t>(mesh)].Targets) + " morph targets of mesh " +
-            std::to_string(mesh));
+        this->Fail(At(p, "weights"),
+          std::to_string(weights.size()) + " weights for " +
+            std::to_string(this->Meshes[static_cast<size_t>(mesh)].Targets) +
+            " morph targets of mesh " + std::to_string(mesh));
       }
     }
   }
@@ -1085,7 +1146,8 @@ void Checker::CheckNodes()
       }
       if (this->Parent[static_cast<size_t>(child)] >= 0)
       {
-        this->Fail(cp, "node " + std::to_string(child) + " is already a child of node " +
+        this->Fail(cp,
+          "node " + std::to_string(child) + " is already a child of node " +
             std::to_string(this->Parent[static_cast<size_t>(child)]) + " (a node has one parent)");
       }
       this->Parent[static_cast<size_t>(child)] = static_cast<int>(n);
@@ -1142,7 +1204,8 @@ void Checker::CheckScenes(Document& doc)
       const int n = this->IndexValue(roots[i], rp, this->NumNodes, "node");
       if (this->Parent[static_cast<size_t>(n)] >= 0)
       {
-        this->Fail(rp, "node " + std::to_string(n) + " is a child of node " +
+        this->Fail(rp,
+          "node " + std::to_string(n) + " is a child of node " +
             std::to_string(this->Parent[static_cast<size_t>(n)]) + ", not a root");
       }
       if (!seen.insert(n).second)
@@ -1200,18 +1263,22 @@ void Checker::CheckAnimations()
       const json& sampler = samplers[s];
       SamplerInfo info;
       const int input = this->Index(sampler, "input", sp, true, this->Accessors.size(), "accessor");
-      const int output = this->Index(sampler, "output", sp, true, this->Accessors.size(), "accessor");
+      const int output =
+        this->Index(sampler, "output", sp, true, this->Accessors.size(), "accessor");
       const AccessorInfo& in = this->Accessors[static_cast<size_t>(input)];
       if (in.Type != "SCALAR" || in.ComponentType != Float)
       {
-        this->Fail(At(sp, "input"), "accessor " + std::to_string(input) + " is " + in.Describe() +
+        this->Fail(At(sp, "input"),
+          "accessor " + std::to_string(input) + " is " + in.Describe() +
             "; key times must be SCALAR of FLOAT");
       }
-      const std::string interpolation =
-        this->Member(sampler, "interpolation") ? this->String(sampler, "interpolation", sp, true) : "LINEAR";
+      const std::string interpolation = this->Member(sampler, "interpolation")
+        ? this->String(sampler, "interpolation", sp, true)
+        : "LINEAR";
       if (interpolation != "LINEAR" && interpolation != "STEP" && interpolation != "CUBICSPLINE")
       {
-        this->Fail(At(sp, "interpolation"), text::Quote(interpolation) + " is not LINEAR, STEP or CUBICSPLINE");
+        this->Fail(At(sp, "interpolation"),
+          text::Quote(interpolation) + " is not LINEAR, STEP or CUBICSPLINE");
       }
       info.Cubic = interpolation == "CUBICSPLINE";
       info.Keys = in.Count;
@@ -1220,13 +1287,15 @@ void Checker::CheckAnimations()
       const uint64_t per = info.Cubic ? 3 * info.Keys : info.Keys;
       if (info.Cubic && info.Keys < 2)
       {
-        this->Fail(At(sp, "input"), "CUBICSPLINE needs at least 2 keys, the input has " + std::to_string(info.Keys));
+        this->Fail(At(sp, "input"),
+          "CUBICSPLINE needs at least 2 keys, the input has " + std::to_string(info.Keys));
       }
       if (info.Outputs % per != 0)
       {
-        this->Fail(At(sp, "output"), "accessor " + std::to_string(output) + " has " + std::to_string(info.Outputs) +
-            " elements, not a multiple of " + std::to_string(per) + " (" + std::to_string(info.Keys) + " keys" +
-            (info.Cubic ? " times 3 for CUBICSPLINE)" : ")"));
+        this->Fail(At(sp, "output"),
+          "accessor " + std::to_string(output) + " has " + std::to_string(info.Outputs) +
+            " elements, not a multiple of " + std::to_string(per) + " (" +
+            std::to_string(info.Keys) + " keys" + (info.Cubic ? " times 3 for CUBICSPLINE)" : ")"));
       }
       infos.push_back(info);
     }
@@ -1237,7 +1306,8 @@ void Checker::CheckAnimations()
     {
       const std::string cp = At(At(p, "channels"), c);
       const json& channel = channels[c];
-      const int s = this->Index(channel, "sampler", cp, true, samplers.size(), "sampler", "the animation");
+      const int s =
+        this->Index(channel, "sampler", cp, true, samplers.size(), "sampler", "the animation");
       const json* target = this->Member(channel, "target");
       if (!target)
       {
@@ -1249,7 +1319,8 @@ void Checker::CheckAnimations()
       const std::string path = this->String(*target, "path", tp, true);
       if (path != "translation" && path != "rotation" && path != "scale" && path != "weights")
       {
-        this->Fail(At(tp, "path"), text::Quote(path) + " is not translation, rotation, scale or weights");
+        this->Fail(
+          At(tp, "path"), text::Quote(path) + " is not translation, rotation, scale or weights");
       }
       if (node < 0)
       {
@@ -1257,7 +1328,8 @@ void Checker::CheckAnimations()
       }
       if (!targeted.emplace(node, path).second)
       {
-        this->Fail(tp, "node " + std::to_string(node) + "'s " + path + " is animated by an earlier channel too");
+        this->Fail(tp,
+          "node " + std::to_string(node) + "'s " + path + " is animated by an earlier channel too");
       }
       const SamplerInfo& info = infos[static_cast<size_t>(s)];
       const AccessorInfo& out = *info.Output;
@@ -1267,7 +1339,8 @@ void Checker::CheckAnimations()
       {
         if (out.Type != "VEC3" || out.ComponentType != Float)
         {
-          this->Fail(op, "is " + out.Describe() + ", but channel " + std::to_string(c) + " animates " + path +
+          this->Fail(op,
+            "is " + out.Describe() + ", but channel " + std::to_string(c) + " animates " + path +
               ", which needs VEC3 of FLOAT");
         }
       }
@@ -1275,12 +1348,14 @@ void Checker::CheckAnimations()
       {
         const bool isRotation = path == "rotation";
         const bool typeOk = out.Type == (isRotation ? "VEC4" : "SCALAR");
-        const bool componentOk = out.ComponentType == Float ||
-          (out.Normalized && out.ComponentType != UnsignedInt);
+        const bool componentOk =
+          out.ComponentType == Float || (out.Normalized && out.ComponentType != UnsignedInt);
         if (!typeOk || !componentOk)
         {
-          this->Fail(op, "is " + out.Describe() + ", but channel " + std::to_string(c) + " animates " + path +
-              ", which needs " + (isRotation ? "VEC4" : "SCALAR") + " of FLOAT or a normalized integer");
+          this->Fail(op,
+            "is " + out.Describe() + ", but channel " + std::to_string(c) + " animates " + path +
+              ", which needs " + (isRotation ? "VEC4" : "SCALAR") +
+              " of FLOAT or a normalized integer");
         }
         if (!isRotation)
         {
@@ -1289,15 +1364,18 @@ void Checker::CheckAnimations()
           perKey = mesh ? this->Meshes[mesh->get<size_t>()].Targets : 0;
           if (perKey == 0)
           {
-            this->Fail(At(tp, "node"), "node " + std::to_string(node) + " has no mesh with morph targets to weigh");
+            this->Fail(At(tp, "node"),
+              "node " + std::to_string(node) + " has no mesh with morph targets to weigh");
           }
         }
       }
       const uint64_t expected = info.Keys * perKey * (info.Cubic ? 3 : 1);
       if (info.Outputs != expected)
       {
-        this->Fail(op, std::to_string(info.Outputs) + " output elements, but " + std::to_string(info.Keys) +
-            " keys of " + path + (perKey > 1 ? " (" + std::to_string(perKey) + " morph targets)" : std::string()) +
+        this->Fail(op,
+          std::to_string(info.Outputs) + " output elements, but " + std::to_string(info.Keys) +
+            " keys of " + path +
+            (perKey > 1 ? " (" + std::to_string(perKey) + " morph targets)" : std::string()) +
             (info.Cubic ? " with CUBICSPLINE tangents" : "") + " need " + std::to_string(expected));
       }
     }
@@ -1316,7 +1394,8 @@ void Checker::CheckImages()
     this->Index(images[i], "bufferView", p, false, this->Views.size(), "bufferView");
     this->String(images[i], "uri", p, false);
     this->String(images[i], "mimeType", p, false);
-    if (this->Member(images[i], "bufferView") == nullptr && this->Member(images[i], "uri") == nullptr)
+    if (this->Member(images[i], "bufferView") == nullptr &&
+      this->Member(images[i], "uri") == nullptr)
     {
       this->Fail(p, "has neither 'uri' nor 'bufferView'");
     }
@@ -1386,7 +1465,8 @@ void Checker::Estimate(Document& doc)
   doc.DecodedBytes = bytes;
   if (bytes > this->MaxDecoded)
   {
-    this->Fail("", "the scene would take " + std::to_string(bytes) + " bytes decoded, more than the limit of " +
+    this->Fail("",
+      "the scene would take " + std::to_string(bytes) + " bytes decoded, more than the limit of " +
         std::to_string(this->MaxDecoded) + " (GltfLoadOptions::MaxDecodedBytes)");
   }
 }
@@ -1472,15 +1552,16 @@ Container SplitContainer(const unsigned char* data, size_t size, const std::stri
     {
       if (size - at < 8)
       {
-        fail("chunk " + std::to_string(chunk) + " at byte " + std::to_string(at) + ": the file ends inside its header");
+        fail("chunk " + std::to_string(chunk) + " at byte " + std::to_string(at) +
+          ": the file ends inside its header");
       }
       const uint32_t chunkLength = ReadLe32(data + at);
       const uint32_t chunkType = ReadLe32(data + at + 4);
       if (chunkLength > size - at - 8)
       {
         fail("chunk " + std::to_string(chunk) + " at byte " + std::to_string(at) + ": its length " +
-          std::to_string(chunkLength) + " runs past the end of the file (" + std::to_string(size - at - 8) +
-          " bytes left)");
+          std::to_string(chunkLength) + " runs past the end of the file (" +
+          std::to_string(size - at - 8) + " bytes left)");
       }
       if (chunk == 0)
       {
@@ -1505,7 +1586,8 @@ Container SplitContainer(const unsigned char* data, size_t size, const std::stri
         }
         if (chunkLength == 0 || chunkLength % 4 != 0)
         {
-          fail("the BIN chunk's length " + std::to_string(chunkLength) + " is not a positive multiple of 4");
+          fail("the BIN chunk's length " + std::to_string(chunkLength) +
+            " is not a positive multiple of 4");
         }
         c.Bin = data + at + 8;
         c.BinSize = chunkLength;
@@ -1537,7 +1619,8 @@ nlohmann::json ParseJson(const Container& container, const std::string& source)
   // tinygltf wants at least 4 bytes and an unsigned int length.
   if (container.JsonSize < 4)
   {
-    throw InputError(source + ": is neither a GLB nor glTF JSON (" + std::to_string(container.JsonSize) + " bytes)");
+    throw InputError(source + ": is neither a GLB nor glTF JSON (" +
+      std::to_string(container.JsonSize) + " bytes)");
   }
   if (container.JsonSize > 0xffffffffull)
   {
@@ -1546,7 +1629,8 @@ nlohmann::json ParseJson(const Container& container, const std::string& source)
   try
   {
     return nlohmann::json::parse(container.Json, container.Json + container.JsonSize,
-      [](int depth, nlohmann::json::parse_event_t, nlohmann::json&) {
+      [](int depth, nlohmann::json::parse_event_t, nlohmann::json&)
+      {
         if (depth > MaxDepth)
         {
           throw InputError("the JSON nests deeper than " + std::to_string(MaxDepth) + " levels");

@@ -44,7 +44,8 @@ bool NeedsPatch(const nlohmann::json& root);
 /// data URI instead. For a GLB the result is a whole GLB (the patched JSON chunk and the
 /// original BIN chunk), for a .gltf the JSON text. `bin` / `binSize`: the GLB's BIN chunk
 /// (null for a .gltf).
-std::string PatchForTinygltf(const nlohmann::json& root, bool binary, const unsigned char* bin, size_t binSize);
+std::string PatchForTinygltf(
+  const nlohmann::json& root, bool binary, const unsigned char* bin, size_t binSize);
 
 /// Decoded bytes of compressed buffer views, by bufferView index; each holds the view's
 /// byteLength bytes.
@@ -54,8 +55,8 @@ using DecodedViews = std::map<int, std::vector<unsigned char>>;
 /// INDICES; filters NONE, OCTAHEDRAL, QUATERNION and EXPONENTIAL) through Debian's
 /// libmeshoptimizer. A stream version or filter the library cannot decode, a source range
 /// outside its buffer, or more than `maxBytes` decoded in all: InputError naming the view.
-DecodedViews DecodeMeshopt(const tinygltf::Model& model, const nlohmann::json& root, uint64_t maxBytes,
-  const std::string& source);
+DecodedViews DecodeMeshopt(const tinygltf::Model& model, const nlohmann::json& root,
+  uint64_t maxBytes, const std::string& source);
 } // namespace gltfext
 } // namespace morphnode
 
@@ -71,8 +72,10 @@ namespace gltfext
 /// not decode keeps its index with an Error, and the textures using it draw without it;
 /// so does one that would take the decoded images past `maxBytes` in all.
 /// Malformed material JSON: InputError naming the pointer.
-void ReadMaterials(const nlohmann::json& root, const std::vector<std::vector<unsigned char>>& imageBytes,
-  bool (*readFile)(const std::string& uri, std::vector<unsigned char>& bytes, std::string& error, void* user),
+void ReadMaterials(const nlohmann::json& root,
+  const std::vector<std::vector<unsigned char>>& imageBytes,
+  bool (*readFile)(
+    const std::string& uri, std::vector<unsigned char>& bytes, std::string& error, void* user),
   void* user, uint64_t maxBytes, GltfScene& scene, const std::string& source);
 } // namespace gltfext
 } // namespace morphnode

@@ -88,8 +88,8 @@ bool DecodeJpeg(const unsigned char* bytes, size_t size, GltfImage& image, uint6
     return false;
   }
   int width = 0, height = 0, subsampling = 0, colorspace = 0;
-  bool ok = tjDecompressHeader3(handle, bytes, static_cast<unsigned long>(size), &width, &height, &subsampling,
-              &colorspace) == 0;
+  bool ok = tjDecompressHeader3(handle, bytes, static_cast<unsigned long>(size), &width, &height,
+              &subsampling, &colorspace) == 0;
   if (!ok)
   {
     image.Error = std::string("JPEG: ") + tjGetErrorStr2(handle);
@@ -101,8 +101,8 @@ bool DecodeJpeg(const unsigned char* bytes, size_t size, GltfImage& image, uint6
   else
   {
     image.Pixels.assign(size_t(4) * static_cast<size_t>(width) * static_cast<size_t>(height), 0);
-    ok = tjDecompress2(handle, bytes, static_cast<unsigned long>(size), image.Pixels.data(), width, 0, height,
-           TJPF_RGBA, 0) == 0;
+    ok = tjDecompress2(handle, bytes, static_cast<unsigned long>(size), image.Pixels.data(), width,
+           0, height, TJPF_RGBA, 0) == 0;
     if (!ok)
     {
       image.Error = std::string("JPEG: ") + tjGetErrorStr2(handle);

@@ -67,22 +67,26 @@ public:
     return *a;
   }
 
-  double Number(const json& object, const char* key, const std::string& p, double fallback, double lo, double hi) const
+  double Number(const json& object, const char* key, const std::string& p, double fallback,
+    double lo, double hi) const
   {
     const json* v = this->Member(object, key);
     if (!v)
     {
       return fallback;
     }
-    if (!v->is_number() || !std::isfinite(v->get<double>()) || v->get<double>() < lo || v->get<double>() > hi)
+    if (!v->is_number() || !std::isfinite(v->get<double>()) || v->get<double>() < lo ||
+      v->get<double>() > hi)
     {
-      this->Fail(p + "/" + key, "must be a number from " + text::FormatNumber(lo) + " to " +
-          text::FormatNumber(hi) + ", got " + v->dump());
+      this->Fail(p + "/" + key,
+        "must be a number from " + text::FormatNumber(lo) + " to " + text::FormatNumber(hi) +
+          ", got " + v->dump());
     }
     return v->get<double>();
   }
 
-  int Index(const json& object, const char* key, const std::string& p, size_t size, const char* what) const
+  int Index(
+    const json& object, const char* key, const std::string& p, size_t size, const char* what) const
   {
     const json* v = this->Member(object, key);
     if (!v)
@@ -91,15 +95,15 @@ public:
     }
     if (!v->is_number_unsigned() || v->get<uint64_t>() >= size)
     {
-      this->Fail(p + "/" + key, v->dump() + " is not the index of one of the file's " + std::to_string(size) + " " +
-          what);
+      this->Fail(p + "/" + key,
+        v->dump() + " is not the index of one of the file's " + std::to_string(size) + " " + what);
     }
     return static_cast<int>(v->get<uint64_t>());
   }
 
   template <size_t N>
-  void Numbers(const json& object, const char* key, const std::string& p, std::array<double, N>& out, double lo,
-    double hi) const
+  void Numbers(const json& object, const char* key, const std::string& p,
+    std::array<double, N>& out, double lo, double hi) const
   {
     const json* v = this->Member(object, key);
     if (!v)
@@ -113,10 +117,12 @@ public:
     for (size_t i = 0; i < N; ++i)
     {
       const json& x = (*v)[i];
-      if (!x.is_number() || !std::isfinite(x.get<double>()) || x.get<double>() < lo || x.get<double>() > hi)
+      if (!x.is_number() || !std::isfinite(x.get<double>()) || x.get<double>() < lo ||
+        x.get<double>() > hi)
       {
-        this->Fail(p + "/" + key + "/" + std::to_string(i), "must be a number from " + text::FormatNumber(lo) +
-            " to " + text::FormatNumber(hi) + ", got " + x.dump());
+        this->Fail(p + "/" + key + "/" + std::to_string(i),
+          "must be a number from " + text::FormatNumber(lo) + " to " + text::FormatNumber(hi) +
+            ", got " + x.dump());
       }
       out[i] = x.get<double>();
     }
@@ -145,8 +151,8 @@ public:
   }
 
   void ReadImages(const std::vector<std::vector<unsigned char>>& bytes,
-    bool (*readFile)(const std::string&, std::vector<unsigned char>&, std::string&, void*), void* user,
-    uint64_t maxBytes)
+    bool (*readFile)(const std::string&, std::vector<unsigned char>&, std::string&, void*),
+    void* user, uint64_t maxBytes)
   {
     uint64_t total = 0;
     const json& images = this->Array("images");
@@ -161,7 +167,8 @@ public:
       std::vector<unsigned char> fileBytes;
       const std::vector<unsigned char>* data = i < bytes.size() ? &bytes[i] : nullptr;
       const json* uri = this->Member(images[i], "uri");
-      if ((!data || data->empty()) && uri && uri->is_string() && uri->get<std::string>().rfind("data:", 0) != 0)
+      if ((!data || data->empty()) && uri && uri->is_string() &&
+        uri->get<std::string>().rfind("data:", 0) != 0)
       {
         std::string error;
         if (readFile && readFile(uri->get<std::string>(), fileBytes, error, user))
@@ -170,8 +177,8 @@ public:
         }
         else
         {
-          image.Error = "the image file " + text::Quote(uri->get<std::string>()) + " cannot be read" +
-            (error.empty() ? std::string() : ": " + error);
+          image.Error = "the image file " + text::Quote(uri->get<std::string>()) +
+            " cannot be read" + (error.empty() ? std::string() : ": " + error);
         }
       }
       if (image.Error.empty())
@@ -185,15 +192,16 @@ public:
           // What is left of the decoded-size budget bounds this image (a small PNG can
           // declare a huge canvas of one colour).
           const uint64_t left = maxBytes > total ? (maxBytes - total) / 4 : 0;
-          GltfDecodeImage(data->data(), data->size(), image, std::min<uint64_t>(left, uint64_t(1) << 26));
+          GltfDecodeImage(
+            data->data(), data->size(), image, std::min<uint64_t>(left, uint64_t(1) << 26));
           image.Encoded.assign(data->begin(), data->end());
           total += image.Pixels.size();
         }
       }
       if (!image.Error.empty())
       {
-        this->Note(p + " (" + (image.Name.empty() ? "unnamed" : image.Name) + "): not decoded (" + image.Error +
-          "); textures using it are drawn without it");
+        this->Note(p + " (" + (image.Name.empty() ? "unnamed" : image.Name) + "): not decoded (" +
+          image.Error + "); textures using it are drawn without it");
       }
       this->Scene.Images.push_back(std::move(image));
     }
@@ -213,7 +221,8 @@ public:
     {
       const std::string p = "/samplers/" + std::to_string(s);
       GltfSampler sampler;
-      auto value = [&](const char* key, int fallback, std::initializer_list<int> allowed) {
+      auto value = [&](const char* key, int fallback, std::initializer_list<int> allowed)
+      {
         const json* v = this->Member(samplers[s], key);
         if (!v)
         {
@@ -266,7 +275,8 @@ public:
           }
         }
       }
-      auto decoded = [&](int i) { return i >= 0 && this->Scene.Images[static_cast<size_t>(i)].IsDecoded(); };
+      auto decoded = [&](int i)
+      { return i >= 0 && this->Scene.Images[static_cast<size_t>(i)].IsDecoded(); };
       // EXT_texture_webp first, `source` its fallback (the extension's rule); a KTX2 image
       // has no decoder here, so only the fallback can draw.
       texture.Image = decoded(webp) ? webp : decoded(source) ? source : -1;
@@ -284,7 +294,8 @@ public:
     }
   }
 
-  GltfTextureRef TextureInfo(const json& material, const char* key, const std::string& mp, const char* scaleKey)
+  GltfTextureRef TextureInfo(
+    const json& material, const char* key, const std::string& mp, const char* scaleKey)
   {
     GltfTextureRef ref;
     const json* info = this->Member(material, key);
@@ -305,8 +316,9 @@ public:
     ref.TexCoord = static_cast<int>(this->Number(*info, "texCoord", p, 0, 0, 65535));
     if (scaleKey)
     {
-      ref.Scale = this->Number(*info, scaleKey, p, 1.0, std::string(scaleKey) == "strength" ? 0.0 : -1e6,
-        std::string(scaleKey) == "strength" ? 1.0 : 1e6);
+      ref.Scale =
+        this->Number(*info, scaleKey, p, 1.0, std::string(scaleKey) == "strength" ? 0.0 : -1e6,
+          std::string(scaleKey) == "strength" ? 1.0 : 1e6);
     }
     if (const json* ext = this->Extensions(*info, p))
     {
@@ -340,7 +352,8 @@ public:
     ref.Sampler = texture.Sampler;
     if (ref.TexCoord > 1)
     {
-      this->Note(p + ": TEXCOORD_" + std::to_string(ref.TexCoord) + " is not read (only _0 and _1); the texture is left out");
+      this->Note(p + ": TEXCOORD_" + std::to_string(ref.TexCoord) +
+        " is not read (only _0 and _1); the texture is left out");
       ref.Image = -1;
     }
     return ref;
@@ -365,7 +378,8 @@ public:
         out.MetallicFactor = this->Number(*pbr, "metallicFactor", pp, 1.0, 0, 1);
         out.RoughnessFactor = this->Number(*pbr, "roughnessFactor", pp, 1.0, 0, 1);
         out.BaseColorTexture = this->TextureInfo(*pbr, "baseColorTexture", pp, nullptr);
-        out.MetallicRoughnessTexture = this->TextureInfo(*pbr, "metallicRoughnessTexture", pp, nullptr);
+        out.MetallicRoughnessTexture =
+          this->TextureInfo(*pbr, "metallicRoughnessTexture", pp, nullptr);
       }
       out.NormalTexture = this->TextureInfo(jm, "normalTexture", p, "scale");
       out.OcclusionTexture = this->TextureInfo(jm, "occlusionTexture", p, "strength");
@@ -436,8 +450,8 @@ public:
 } // namespace
 
 void ReadMaterials(const json& root, const std::vector<std::vector<unsigned char>>& imageBytes,
-  bool (*readFile)(const std::string&, std::vector<unsigned char>&, std::string&, void*), void* user,
-  uint64_t maxBytes, GltfScene& scene, const std::string& source)
+  bool (*readFile)(const std::string&, std::vector<unsigned char>&, std::string&, void*),
+  void* user, uint64_t maxBytes, GltfScene& scene, const std::string& source)
 {
   MaterialReader reader(root, scene, source);
   reader.ReadImages(imageBytes, readFile, user, maxBytes);
@@ -452,8 +466,8 @@ void ReadMaterials(const json& root, const std::vector<std::vector<unsigned char
         name.get<std::string>().rfind("KHR_materials_", 0) != 0)
       {
         const std::string why = WhyNotImplemented(name.get<std::string>());
-        reader.Note("/extensionsUsed: " + name.get<std::string>() + " is optional and not read (ignored" +
-          (why.empty() ? std::string() : ": " + why) + ")");
+        reader.Note("/extensionsUsed: " + name.get<std::string>() +
+          " is optional and not read (ignored" + (why.empty() ? std::string() : ": " + why) + ")");
       }
     }
   }

@@ -96,7 +96,8 @@ const char* GltfAlphaModeName(GltfAlphaMode mode);
 /// Decodes a PNG, JPEG or WebP held in memory (the format from its signature) to RGBA8
 /// through libpng, libjpeg-turbo and libwebp. Returns false with `error` set when the bytes
 /// are not an image these decode or it is larger than `maxPixels`.
-bool GltfDecodeImage(const unsigned char* bytes, size_t size, GltfImage& image, uint64_t maxPixels = uint64_t(1) << 26);
+bool GltfDecodeImage(const unsigned char* bytes, size_t size, GltfImage& image,
+  uint64_t maxPixels = uint64_t(1) << 26);
 
 /// Encodes a decoded image (RGBA8) as PNG through libpng. Throws InputError when the
 /// image has no pixels or libpng fails.

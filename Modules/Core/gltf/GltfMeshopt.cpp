@@ -19,8 +19,9 @@ using json = nlohmann::json;
 
 bool IsImplemented(const std::string& name)
 {
-  static const std::set<std::string> implemented{ "KHR_mesh_quantization", "EXT_meshopt_compression",
-    "EXT_texture_webp", "KHR_texture_transform", "KHR_materials_unlit", "KHR_materials_emissive_strength" };
+  static const std::set<std::string> implemented{ "KHR_mesh_quantization",
+    "EXT_meshopt_compression", "EXT_texture_webp", "KHR_texture_transform", "KHR_materials_unlit",
+    "KHR_materials_emissive_strength" };
   return implemented.count(name) > 0;
 }
 
@@ -79,7 +80,8 @@ bool NeedsPatch(const json& root)
   return false;
 }
 
-std::string PatchForTinygltf(const json& root, bool binary, const unsigned char* bin, size_t binSize)
+std::string PatchForTinygltf(
+  const json& root, bool binary, const unsigned char* bin, size_t binSize)
 {
   json patched = root;
   for (auto& buffer : patched["buffers"])
@@ -103,7 +105,8 @@ std::string PatchForTinygltf(const json& root, bool binary, const unsigned char*
   const uint64_t total = 12 + 8 + text.size() + (bin ? 8 + binPadded : 0);
   std::string glb;
   glb.reserve(static_cast<size_t>(total));
-  auto le32 = [&glb](uint64_t v) {
+  auto le32 = [&glb](uint64_t v)
+  {
     for (int i = 0; i < 4; ++i)
     {
       glb += static_cast<char>((v >> (8 * i)) & 0xff);
@@ -128,8 +131,8 @@ std::string PatchForTinygltf(const json& root, bool binary, const unsigned char*
 namespace
 {
 /// A member of the extension object, as an unsigned integer no larger than `max`.
-uint64_t Unsigned(const json& object, const char* key, bool required, uint64_t fallback, uint64_t max,
-  const std::string& pointer, const std::string& source)
+uint64_t Unsigned(const json& object, const char* key, bool required, uint64_t fallback,
+  uint64_t max, const std::string& pointer, const std::string& source)
 {
   const auto it = object.find(key);
   if (it == object.end())
@@ -148,8 +151,8 @@ uint64_t Unsigned(const json& object, const char* key, bool required, uint64_t f
   return it->get<uint64_t>();
 }
 
-std::string String(const json& object, const char* key, const char* fallback, const std::string& pointer,
-  const std::string& source)
+std::string String(const json& object, const char* key, const char* fallback,
+  const std::string& pointer, const std::string& source)
 {
   const auto it = object.find(key);
   if (it == object.end())
@@ -168,7 +171,8 @@ std::string String(const json& object, const char* key, const char* fallback, co
 }
 } // namespace
 
-DecodedViews DecodeMeshopt(const tinygltf::Model& model, const json& root, uint64_t maxBytes, const std::string& source)
+DecodedViews DecodeMeshopt(
+  const tinygltf::Model& model, const json& root, uint64_t maxBytes, const std::string& source)
 {
   DecodedViews out;
   const auto views = root.find("bufferViews");
@@ -187,7 +191,8 @@ DecodedViews DecodeMeshopt(const tinygltf::Model& model, const json& root, uint6
       continue;
     }
     const json& ext = (*exts)["EXT_meshopt_compression"];
-    const std::string p = "/bufferViews/" + std::to_string(v) + "/extensions/EXT_meshopt_compression";
+    const std::string p =
+      "/bufferViews/" + std::to_string(v) + "/extensions/EXT_meshopt_compression";
     if (!ext.is_object())
     {
       throw InputError(source + ": " + p + ": must be an object, got " + ext.dump());
@@ -196,8 +201,10 @@ DecodedViews DecodeMeshopt(const tinygltf::Model& model, const json& root, uint6
     {
       throw InputError(source + ": " + p + ": the file has no buffers");
     }
-    const size_t buffer = static_cast<size_t>(Unsigned(ext, "buffer", true, 0, model.buffers.size() - 1, p, source));
-    if (buffers != root.end() && buffers->is_array() && buffer < buffers->size() && IsMeshoptFallback((*buffers)[buffer]))
+    const size_t buffer =
+      static_cast<size_t>(Unsigned(ext, "buffer", true, 0, model.buffers.size() - 1, p, source));
+    if (buffers != root.end() && buffers->is_array() && buffer < buffers->size() &&
+      IsMeshoptFallback((*buffers)[buffer]))
     {
       throw InputError(source + ": " + p + "/buffer: buffer " + std::to_string(buffer) +
         " holds no data (it is a fallback buffer)");
@@ -215,7 +222,8 @@ DecodedViews DecodeMeshopt(const tinygltf::Model& model, const json& root, uint6
     if (stride == 0 || count * stride > viewLength)
     {
       throw InputError(source + ": " + p + ": count " + std::to_string(count) + " x byteStride " +
-        std::to_string(stride) + " does not fit the bufferView's byteLength " + std::to_string(viewLength));
+        std::to_string(stride) + " does not fit the bufferView's byteLength " +
+        std::to_string(viewLength));
     }
     total += viewLength;
     if (total > maxBytes)
@@ -247,8 +255,9 @@ DecodedViews DecodeMeshopt(const tinygltf::Model& model, const json& root, uint6
       }
       if ((src[0] & 0x0f) > 0)
       {
-        throw InputError(source + ": " + p + ": meshopt vertex stream version " + std::to_string(src[0] & 0x0f) +
-          ", which Debian's meshoptimizer " + std::to_string(MESHOPTIMIZER_VERSION / 1000) + "." +
+        throw InputError(source + ": " + p + ": meshopt vertex stream version " +
+          std::to_string(src[0] & 0x0f) + ", which Debian's meshoptimizer " +
+          std::to_string(MESHOPTIMIZER_VERSION / 1000) + "." +
           std::to_string(MESHOPTIMIZER_VERSION / 10 % 100) + " cannot decode (it reads version 0)");
       }
       rc = meshopt_decodeVertexBuffer(decoded.data(), n, s, src, static_cast<size_t>(length));
@@ -257,31 +266,36 @@ DecodedViews DecodeMeshopt(const tinygltf::Model& model, const json& root, uint6
     {
       if (s != 2 && s != 4)
       {
-        throw InputError(source + ": " + p + "/byteStride: " + std::to_string(s) + " must be 2 or 4 for " + mode);
+        throw InputError(
+          source + ": " + p + "/byteStride: " + std::to_string(s) + " must be 2 or 4 for " + mode);
       }
       if (filter != "NONE")
       {
-        throw InputError(source + ": " + p + "/filter: " + text::Quote(filter) + " is only allowed with ATTRIBUTES");
+        throw InputError(source + ": " + p + "/filter: " + text::Quote(filter) +
+          " is only allowed with ATTRIBUTES");
       }
       const bool triangles = mode == "TRIANGLES";
       if (triangles && n % 3 != 0)
       {
-        throw InputError(source + ": " + p + "/count: " + std::to_string(n) + " is not a multiple of 3 (TRIANGLES)");
+        throw InputError(source + ": " + p + "/count: " + std::to_string(n) +
+          " is not a multiple of 3 (TRIANGLES)");
       }
       const unsigned header = triangles ? 0xe0u : 0xd0u;
       const unsigned maxVersion = triangles ? 1u : 0u;
       if ((src[0] & 0xf0u) != header)
       {
-        throw InputError(source + ": " + p + ": not a meshopt " + (triangles ? "index" : "index sequence") +
-          " stream (header byte " + std::to_string(src[0]) + ")");
+        throw InputError(source + ": " + p + ": not a meshopt " +
+          (triangles ? "index" : "index sequence") + " stream (header byte " +
+          std::to_string(src[0]) + ")");
       }
       if ((src[0] & 0x0fu) > maxVersion)
       {
-        throw InputError(source + ": " + p + ": meshopt " + mode + " stream version " + std::to_string(src[0] & 0x0f) +
-          ", which Debian's meshoptimizer 0.18 cannot decode");
+        throw InputError(source + ": " + p + ": meshopt " + mode + " stream version " +
+          std::to_string(src[0] & 0x0f) + ", which Debian's meshoptimizer 0.18 cannot decode");
       }
-      rc = triangles ? meshopt_decodeIndexBuffer(decoded.data(), n, s, src, static_cast<size_t>(length))
-                     : meshopt_decodeIndexSequence(decoded.data(), n, s, src, static_cast<size_t>(length));
+      rc = triangles
+        ? meshopt_decodeIndexBuffer(decoded.data(), n, s, src, static_cast<size_t>(length))
+        : meshopt_decodeIndexSequence(decoded.data(), n, s, src, static_cast<size_t>(length));
     }
     else
     {
@@ -290,14 +304,15 @@ DecodedViews DecodeMeshopt(const tinygltf::Model& model, const json& root, uint6
     }
     if (rc != 0)
     {
-      throw InputError(source + ": " + p + ": the compressed " + mode + " stream cannot be decoded (meshoptimizer error " +
-        std::to_string(rc) + ")");
+      throw InputError(source + ": " + p + ": the compressed " + mode +
+        " stream cannot be decoded (meshoptimizer error " + std::to_string(rc) + ")");
     }
     if (filter == "OCTAHEDRAL")
     {
       if (s != 4 && s != 8)
       {
-        throw InputError(source + ": " + p + "/byteStride: the OCTAHEDRAL filter needs 4 or 8, got " + std::to_string(s));
+        throw InputError(source + ": " + p +
+          "/byteStride: the OCTAHEDRAL filter needs 4 or 8, got " + std::to_string(s));
       }
       meshopt_decodeFilterOct(decoded.data(), n, s);
     }
@@ -305,7 +320,8 @@ DecodedViews DecodeMeshopt(const tinygltf::Model& model, const json& root, uint6
     {
       if (s != 8)
       {
-        throw InputError(source + ": " + p + "/byteStride: the QUATERNION filter needs 8, got " + std::to_string(s));
+        throw InputError(source + ": " + p + "/byteStride: the QUATERNION filter needs 8, got " +
+          std::to_string(s));
       }
       meshopt_decodeFilterQuat(decoded.data(), n, s);
     }
@@ -316,7 +332,8 @@ DecodedViews DecodeMeshopt(const tinygltf::Model& model, const json& root, uint6
     else if (filter != "NONE")
     {
       throw InputError(source + ": " + p + "/filter: " + text::Quote(filter) +
-        " is a filter Debian's meshoptimizer 0.18 cannot decode (NONE, OCTAHEDRAL, QUATERNION, EXPONENTIAL)");
+        " is a filter Debian's meshoptimizer 0.18 cannot decode (NONE, OCTAHEDRAL, QUATERNION, "
+        "EXPONENTIAL)");
     }
     out.emplace(static_cast<int>(v), std::move(decoded));
   }

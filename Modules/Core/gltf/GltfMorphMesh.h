@@ -17,7 +17,8 @@ namespace morphnode
 /// targets' deltas, the target names (neutral first, as MorphMesh names them) and the
 /// triangles. Targets are stored sparsely where they move at most `sparseCoverage` of the
 /// points. COLOR_0 is not morphed and stays with the part.
-inline MorphMesh GltfPartToMorphMesh(const GltfPart& part, double sparseCoverage = MorphMesh::DefaultSparseCoverage)
+inline MorphMesh GltfPartToMorphMesh(
+  const GltfPart& part, double sparseCoverage = MorphMesh::DefaultSparseCoverage)
 {
   const size_t n = part.GetNumberOfPoints();
   MorphMesh mesh(n);
@@ -40,7 +41,8 @@ inline MorphMesh GltfPartToMorphMesh(const GltfPart& part, double sparseCoverage
     const std::vector<float> none(3 * n, 0.0f);
     for (const auto& target : part.Targets)
     {
-      normals.AddRelativeTarget(target.NormalDeltas.empty() ? none.data() : target.NormalDeltas.data(), sparseCoverage);
+      normals.AddRelativeTarget(
+        target.NormalDeltas.empty() ? none.data() : target.NormalDeltas.data(), sparseCoverage);
     }
   }
   mesh.SetTriangles(part.Triangles);

@@ -2,12 +2,12 @@
 #include "gltf/GltfPerformanceExport.h"
 
 #include "base/Error.h"
+#include "base/Text.h"
 #include "gaze/EyeRotation.h"
 #include "gltf/GltfMorphMesh.h"
 #include "gltf/GltfSkin.h"
 #include "morph/MorphScene.h"
 #include "morph/OptimizerPresets.h"
-#include "base/Text.h"
 #include "skin/AvatarBones.h"
 
 #include <algorithm>
@@ -34,13 +34,14 @@ namespace
 /// (x, y, z, w) of a rotation matrix given row-major in a 4x4 (GltfQuaternionFromRowMajor).
 std::array<double, 4> Quaternion(const std::array<double, 9>& r)
 {
-  const std::array<double, 16> m{ { r[0], r[1], r[2], 0, r[3], r[4], r[5], 0, r[6], r[7], r[8], 0, 0, 0, 0, 1 } };
+  const std::array<double, 16> m{ { r[0], r[1], r[2], 0, r[3], r[4], r[5], 0, r[6], r[7], r[8], 0,
+    0, 0, 0, 1 } };
   return GltfQuaternionFromRowMajor(m);
 }
 
 /// The weights of the table's target columns, optionally through the optimizer.
-void Weights(const GltfScene& scene, const GltfPerformanceTable& table, const GltfPerformanceSettings& s,
-  GltfPerformance& p)
+void Weights(const GltfScene& scene, const GltfPerformanceTable& table,
+  const GltfPerformanceSettings& s, GltfPerformance& p)
 {
   std::set<std::string> targets;
   for (const auto& part : scene.Parts)
@@ -54,7 +55,8 @@ void Weights(const GltfScene& scene, const GltfPerformanceTable& table, const Gl
   std::vector<const std::vector<double>*> columns;
   for (size_t c = 0; c < table.Names.size(); ++c)
   {
-    if (targets.count(table.Names[c]) && std::find(p.TargetNames.begin(), p.TargetNames.end(), table.Names[c]) == p.TargetNames.end())
+    if (targets.count(table.Names[c]) &&
+      std::find(p.TargetNames.begin(), p.TargetNames.end(), table.Names[c]) == p.TargetNames.end())
     {
       p.TargetNames.push_back(table.Names[c]);
       columns.push_back(&table.Columns[c]);
@@ -81,8 +83,8 @@ void Weights(const GltfScene& scene, const GltfPerformanceTable& table, const Gl
   }
   MorphScene model;
   model.SetParts(meshes);
-  OptimizerSettings settings =
-    MakeOptimizerSettings(static_cast<OptimizerPreset>(s.OptimizerPreset), s.Threshold, s.MaxVertexError);
+  OptimizerSettings settings = MakeOptimizerSettings(
+    static_cast<OptimizerPreset>(s.OptimizerPreset), s.Threshold, s.MaxVertexError);
   settings.Hysteresis = s.Hysteresis;
   model.SetOptimizerSettings(settings);
   model.SetWeightMode(WeightMode::Relative);
@@ -128,15 +130,16 @@ GltfPerformance MakeGltfPerformance(const GltfScene& scene, const GltfPerformanc
   const size_t frames = p.Times.size();
   if (table.Names.size() != table.Columns.size())
   {
-    throw InputError("the performance table has " + std::to_string(table.Names.size()) + " names and " +
-      std::to_string(table.Columns.size()) + " columns");
+    throw InputError("the performance table has " + std::to_string(table.Names.size()) +
+      " names and " + std::to_string(table.Columns.size()) + " columns");
   }
   for (size_t c = 0; c < table.Columns.size(); ++c)
   {
     if (table.Columns[c].size() != frames)
     {
       throw InputError("the performance's column '" + table.Names[c] + "' has " +
-        std::to_string(table.Columns[c].size()) + " values for " + std::to_string(frames) + " times");
+        std::to_string(table.Columns[c].size()) + " values for " + std::to_string(frames) +
+        " times");
     }
   }
   Weights(scene, table, s, p);
@@ -169,7 +172,8 @@ GltfPerformance MakeGltfPerformance(const GltfScene& scene, const GltfPerformanc
   // The avatar's bones, when its parts are skinned in their nodes' frames.
   const bool skinned = std::any_of(scene.Parts.begin(), scene.Parts.end(),
     [](const GltfPart& part) { return part.Skin >= 0 && !part.TransformApplied; });
-  const EyeRig rig = MakeEyeRig(s.EyeNodeNames, { { 0.0, 0.0, 1.0 } }, { { 0.0, 1.0, 0.0 } }, s.Limits);
+  const EyeRig rig =
+    MakeEyeRig(s.EyeNodeNames, { { 0.0, 0.0, 1.0 } }, { { 0.0, 1.0, 0.0 } }, s.Limits);
   bool headByBones = false;
   bool eyesByBones = false;
   if (skinned && (head || eyes || jawOpen))
@@ -199,8 +203,8 @@ GltfPerformance MakeGltfPerformance(const GltfScene& scene, const GltfPerformanc
     }
     if (eyesByBones)
     {
-      for (int j : { roles.LeftEye, roles.RightEye, roles.LeftUpperLid, roles.RightUpperLid, roles.LeftLowerLid,
-             roles.RightLowerLid })
+      for (int j : { roles.LeftEye, roles.RightEye, roles.LeftUpperLid, roles.RightUpperLid,
+             roles.LeftLowerLid, roles.RightLowerLid })
       {
         if (j >= 0)
         {
@@ -216,14 +220,16 @@ GltfPerformance MakeGltfPerformance(const GltfScene& scene, const GltfPerformanc
       for (const GltfPart& part : scene.Parts)
       {
         if (part.Skin < 0 || part.Node < 0 ||
-          !TurnedByEyeJoints(part.Influences, GltfSkinJoints(scene, part.Skin).Joints, skeleton, roles))
+          !TurnedByEyeJoints(
+            part.Influences, GltfSkinJoints(scene, part.Skin).Joints, skeleton, roles))
         {
           continue;
         }
         std::vector<std::string>& off = p.TargetsOffAtNode[part.Node];
         for (const auto& t : part.Targets)
         {
-          if (text::ToLower(t.Name).rfind("eyelook", 0) == 0 && std::find(off.begin(), off.end(), t.Name) == off.end())
+          if (text::ToLower(t.Name).rfind("eyelook", 0) == 0 &&
+            std::find(off.begin(), off.end(), t.Name) == off.end())
           {
             off.push_back(t.Name);
           }
@@ -263,10 +269,12 @@ GltfPerformance MakeGltfPerformance(const GltfScene& scene, const GltfPerformanc
       for (size_t k = 0; k < joints.size(); ++k)
       {
         const GltfNode& node = scene.Nodes[static_cast<size_t>(joints[k])];
-        const glm::dquat rest(node.Rotation[3], node.Rotation[0], node.Rotation[1], node.Rotation[2]);
+        const glm::dquat rest(
+          node.Rotation[3], node.Rotation[0], node.Rotation[1], node.Rotation[2]);
         // The writer's channel holds turn * rest rotation (GltfWriter.h): the turn is the
         // posed local rotation times the rest rotation's inverse.
-        const glm::dquat turn = LocalRotation(pose.GetLocals()[static_cast<size_t>(joints[k])]) * glm::conjugate(rest);
+        const glm::dquat turn =
+          LocalRotation(pose.GetLocals()[static_cast<size_t>(joints[k])]) * glm::conjugate(rest);
         tracks[k].Rotations.insert(tracks[k].Rotations.end(), { turn.x, turn.y, turn.z, turn.w });
       }
     }
@@ -305,8 +313,9 @@ GltfPerformance MakeGltfPerformance(const GltfScene& scene, const GltfPerformanc
       }
       const GltfNode& node = scene.Nodes[static_cast<size_t>(part.Node)];
       EyeSpec eye;
-      const bool unique = std::count_if(scene.Nodes.begin(), scene.Nodes.end(),
-                            [&node](const GltfNode& other) { return other.Name == node.Name; }) == 1;
+      const bool unique =
+        std::count_if(scene.Nodes.begin(), scene.Nodes.end(),
+          [&node](const GltfNode& other) { return other.Name == node.Name; }) == 1;
       if (!unique || !rig.FindEye(node.Name, part.Name, eye))
       {
         continue;
@@ -346,8 +355,9 @@ GltfPerformance MakeGltfPerformance(const GltfScene& scene, const GltfPerformanc
   return p;
 }
 
-std::vector<unsigned char> WriteGltfPerformanceToMemory(const GltfScene& scene, const GltfPerformanceTable* table,
-  const GltfPerformanceSettings& settings, const GltfWriteOptions& options, GltfPerformanceReport* report)
+std::vector<unsigned char> WriteGltfPerformanceToMemory(const GltfScene& scene,
+  const GltfPerformanceTable* table, const GltfPerformanceSettings& settings,
+  const GltfWriteOptions& options, GltfPerformanceReport* report)
 {
   if (table && !table->Times.empty())
   {

@@ -134,8 +134,8 @@ std::vector<std::string> GltfTargetNames(const GltfScene& scene)
   return names;
 }
 
-const GltfPart& FindGltfPart(const GltfScene& scene, const std::string& meshName, int meshIndexWanted,
-  int primitiveWanted, const std::string& source)
+const GltfPart& FindGltfPart(const GltfScene& scene, const std::string& meshName,
+  int meshIndexWanted, int primitiveWanted, const std::string& source)
 {
   std::vector<std::string> meshNames;
   for (size_t m = 0; m < scene.Meshes.size(); ++m)
@@ -169,8 +169,8 @@ const GltfPart& FindGltfPart(const GltfScene& scene, const std::string& meshName
   if (static_cast<size_t>(primitive) >= scene.Meshes[meshIndex].NumberOfPrimitives)
   {
     std::ostringstream msg;
-    msg << "primitive " << primitive << " out of range: mesh '" << meshNames[meshIndex]
-        << "' has " << scene.Meshes[meshIndex].NumberOfPrimitives;
+    msg << "primitive " << primitive << " out of range: mesh '" << meshNames[meshIndex] << "' has "
+        << scene.Meshes[meshIndex].NumberOfPrimitives;
     throw InputError(msg.str());
   }
   for (const GltfPart& part : scene.Parts)
@@ -180,6 +180,7 @@ const GltfPart& FindGltfPart(const GltfScene& scene, const std::string& meshName
       return part;
     }
   }
-  throw InputError("mesh '" + meshNames[meshIndex] + "' of '" + source + "' is on no node of the scene");
+  throw InputError(
+    "mesh '" + meshNames[meshIndex] + "' of '" + source + "' is on no node of the scene");
 }
 } // namespace morphnode

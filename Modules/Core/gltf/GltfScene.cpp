@@ -2,8 +2,8 @@
 #include "gltf/GltfScene.h"
 
 #include "GltfCheck.h"
-#include "GltfSkinRead.h"
 #include "GltfExtensions.h"
+#include "GltfSkinRead.h"
 #include "TinyGltfConfig.h"
 
 #include "base/Error.h"
@@ -25,8 +25,8 @@ GltfMatrix GltfIdentity()
   return GltfMatrix{ { 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1 } };
 }
 
-GltfMatrix GltfComposeTrs(const std::array<double, 3>& t, const std::array<double, 4>& q,
-  const std::array<double, 3>& s)
+GltfMatrix GltfComposeTrs(
+  const std::array<double, 3>& t, const std::array<double, 4>& q, const std::array<double, 3>& s)
 {
   const double x = q[0], y = q[1], z = q[2], w = q[3];
   const double r[3][3] = {
@@ -112,8 +112,8 @@ using json = nlohmann::json;
 
 struct Folder
 {
-  std::string Base;    ///< with a trailing '/'
-  uint64_t MaxBytes;   ///< the largest byteLength of any buffer
+  std::string Base;  ///< with a trailing '/'
+  uint64_t MaxBytes; ///< the largest byteLength of any buffer
 };
 
 bool InFolder(const std::string& path, const Folder& folder)
@@ -130,7 +130,8 @@ bool InFolder(const std::string& path, const Folder& folder)
   {
     return false;
   }
-  const std::filesystem::path base = std::filesystem::canonical(folder.Base.empty() ? "." : folder.Base, ec);
+  const std::filesystem::path base =
+    std::filesystem::canonical(folder.Base.empty() ? "." : folder.Base, ec);
   return !ec && real.parent_path() == base;
 }
 
@@ -144,7 +145,8 @@ std::string ExpandFilePath(const std::string& path, void*)
   return path; // no shell expansion
 }
 
-bool ReadWholeFile(std::vector<unsigned char>* out, std::string* err, const std::string& path, void* user)
+bool ReadWholeFile(
+  std::vector<unsigned char>* out, std::string* err, const std::string& path, void* user)
 {
   const Folder& folder = *static_cast<Folder*>(user);
   std::error_code ec;
@@ -165,7 +167,8 @@ bool ReadWholeFile(std::vector<unsigned char>* out, std::string* err, const std:
   }
   std::ifstream in(path, std::ios::binary);
   out->resize(static_cast<size_t>(size));
-  if (size > 0 && !in.read(reinterpret_cast<char*>(out->data()), static_cast<std::streamsize>(size)))
+  if (size > 0 &&
+    !in.read(reinterpret_cast<char*>(out->data()), static_cast<std::streamsize>(size)))
   {
     *err = "cannot be read";
     return false;
@@ -181,7 +184,8 @@ constexpr double MaxBlendCoordinate = 1e18;
 
 void CheckBlendRange(const GltfPart& part, const std::string& where)
 {
-  const auto largest = [](const std::vector<float>& v) {
+  const auto largest = [](const std::vector<float>& v)
+  {
     double m = 0.0;
     for (float x : v)
     {
@@ -204,8 +208,8 @@ void CheckBlendRange(const GltfPart& part, const std::string& where)
 }
 
 /// Keeps each image's encoded bytes (gltf/GltfMaterial.cpp decodes them after the checks).
-bool KeepImage(tinygltf::Image*, const int index, std::string*, std::string*, int, int, const unsigned char* bytes,
-  int size, void* user)
+bool KeepImage(tinygltf::Image*, const int index, std::string*, std::string*, int, int,
+  const unsigned char* bytes, int size, void* user)
 {
   auto& images = *static_cast<std::vector<std::vector<unsigned char>>*>(user);
   if (index >= 0 && static_cast<size_t>(index) < images.size() && bytes && size > 0)
@@ -216,7 +220,8 @@ bool KeepImage(tinygltf::Image*, const int index, std::string*, std::string*, in
 }
 
 /// An image file named by a .gltf: a plain file name in the input's folder only.
-bool ReadImageFile(const std::string& uri, std::vector<unsigned char>& bytes, std::string& error, void* user)
+bool ReadImageFile(
+  const std::string& uri, std::vector<unsigned char>& bytes, std::string& error, void* user)
 {
   if (uri.empty() || uri == "." || uri == ".." || uri.find_first_of("/\\:%") != std::string::npos)
   {
@@ -224,12 +229,13 @@ bool ReadImageFile(const std::string& uri, std::vector<unsigned char>& bytes, st
     return false;
   }
   const Folder& folder = *static_cast<const Folder*>(user);
-  return !folder.Base.empty() && ReadWholeFile(&bytes, &error, folder.Base + uri, const_cast<Folder*>(&folder));
+  return !folder.Base.empty() &&
+    ReadWholeFile(&bytes, &error, folder.Base + uri, const_cast<Folder*>(&folder));
 }
 
-tinygltf::Model LoadModel(const unsigned char* data, size_t size, const gltfcheck::Container& container,
-  const std::string& baseDirectory, const json& root, const std::string& source,
-  std::vector<std::vector<unsigned char>>& images)
+tinygltf::Model LoadModel(const unsigned char* data, size_t size,
+  const gltfcheck::Container& container, const std::string& baseDirectory, const json& root,
+  const std::string& source, std::vector<std::vector<unsigned char>>& images)
 {
   Folder folder;
   folder.Base = baseDirectory.empty() ? std::string() : baseDirectory + "/";
@@ -266,7 +272,8 @@ tinygltf::Model LoadModel(const unsigned char* data, size_t size, const gltfchec
     }
     else
     {
-      ok = loader.LoadASCIIFromString(&model, &err, &warn, patched.empty() ? container.Json : patched.data(),
+      ok = loader.LoadASCIIFromString(&model, &err, &warn,
+        patched.empty() ? container.Json : patched.data(),
         static_cast<unsigned int>(patched.empty() ? container.JsonSize : patched.size()),
         baseDirectory.empty() ? std::string(".") : baseDirectory);
     }
@@ -287,12 +294,14 @@ tinygltf::Model LoadModel(const unsigned char* data, size_t size, const gltfchec
     const auto buffers = root.value("buffers", json::array());
     for (size_t b = 0; b < buffers.size(); ++b)
     {
-      const std::string uri = buffers[b].is_object() ? buffers[b].value("uri", std::string()) : std::string();
+      const std::string uri =
+        buffers[b].is_object() ? buffers[b].value("uri", std::string()) : std::string();
       if (!uri.empty() && uri.rfind("data:", 0) != 0 && err.find(uri) != std::string::npos &&
         (err.find("File not found") != std::string::npos || err.find("read") != std::string::npos))
       {
         throw InputError(source + ": /buffers/" + std::to_string(b) + "/uri: " + text::Quote(uri) +
-          " is not a readable regular file in the glTF file's folder (links leading out of the folder are refused)");
+          " is not a readable regular file in the glTF file's folder (links leading out of the "
+          "folder are refused)");
       }
     }
     throw InputError(source + ": the file cannot be read as glTF (" +
@@ -311,7 +320,8 @@ std::string Pointer(const char* array, size_t index)
 class Reader
 {
 public:
-  Reader(const tinygltf::Model& model, const gltfext::DecodedViews& decoded, const std::string& source)
+  Reader(
+    const tinygltf::Model& model, const gltfext::DecodedViews& decoded, const std::string& source)
     : Model(model)
     , Decoded(decoded)
     , Source(source)
@@ -325,7 +335,8 @@ public:
 
   int Components(int accessor) const
   {
-    return tinygltf::GetNumComponentsInType(static_cast<uint32_t>(this->Model.accessors.at(accessor).type));
+    return tinygltf::GetNumComponentsInType(
+      static_cast<uint32_t>(this->Model.accessors.at(accessor).type));
   }
 
   /// The accessor's values as floats (normalized integers converted as glTF says),
@@ -352,15 +363,16 @@ public:
       const uint64_t end = uint64_t(a.byteOffset) + stride * (a.count - 1) + elementSize;
       if (a.count == 0 || end > size)
       {
-        this->Fail(p, "the data run past bufferView " + std::to_string(a.bufferView) + " (internal check)");
+        this->Fail(
+          p, "the data run past bufferView " + std::to_string(a.bufferView) + " (internal check)");
       }
       for (size_t i = 0; i < a.count; ++i)
       {
         const unsigned char* e = bytes + a.byteOffset + i * stride;
         for (int c = 0; c < components; ++c)
         {
-          out[i * static_cast<size_t>(components) + static_cast<size_t>(c)] =
-            static_cast<float>(Component(e + static_cast<size_t>(c) * csize, a.componentType, a.normalized));
+          out[i * static_cast<size_t>(components) + static_cast<size_t>(c)] = static_cast<float>(
+            Component(e + static_cast<size_t>(c) * csize, a.componentType, a.normalized));
         }
       }
     }
@@ -381,7 +393,8 @@ public:
         for (int c = 0; c < components; ++c)
         {
           out[indices[k] * static_cast<size_t>(components) + static_cast<size_t>(c)] =
-            static_cast<float>(Component(e + static_cast<size_t>(c) * csize, a.componentType, a.normalized));
+            static_cast<float>(
+              Component(e + static_cast<size_t>(c) * csize, a.componentType, a.normalized));
         }
       }
     }
@@ -389,7 +402,8 @@ public:
     {
       if (!std::isfinite(out[i]))
       {
-        this->Fail(p, "element " + std::to_string(i / static_cast<size_t>(components)) + " (" + use + ") is " +
+        this->Fail(p,
+          "element " + std::to_string(i / static_cast<size_t>(components)) + " (" + use + ") is " +
             (std::isnan(out[i]) ? "NaN" : "infinite"));
       }
     }
@@ -415,7 +429,8 @@ public:
     const uint64_t stride = view.byteStride ? view.byteStride : csize;
     if (uint64_t(a.byteOffset) + stride * (a.count - 1) + csize > size)
     {
-      this->Fail(p, "the data run past bufferView " + std::to_string(a.bufferView) + " (internal check)");
+      this->Fail(
+        p, "the data run past bufferView " + std::to_string(a.bufferView) + " (internal check)");
     }
     std::vector<uint32_t> out(a.count);
     for (size_t i = 0; i < a.count; ++i)
@@ -441,7 +456,8 @@ public:
     {
       if (out[i] >= limit)
       {
-        this->Fail(p, "element " + std::to_string(i) + " (" + use + ") is " + std::to_string(out[i]) +
+        this->Fail(p,
+          "element " + std::to_string(i) + " (" + use + ") is " + std::to_string(out[i]) +
             ", but there are only " + std::to_string(limit) + " points");
       }
     }
@@ -467,7 +483,8 @@ private:
     {
       this->Fail(p, "no such buffer (internal check)");
     }
-    const std::vector<unsigned char>& data = this->Model.buffers[static_cast<size_t>(view.buffer)].data;
+    const std::vector<unsigned char>& data =
+      this->Model.buffers[static_cast<size_t>(view.buffer)].data;
     if (view.byteOffset > data.size() || view.byteLength > data.size() - view.byteOffset)
     {
       this->Fail(p, "lies outside its buffer's data (internal check)");
@@ -480,8 +497,8 @@ private:
   {
     const auto& s = a.sparse;
     const size_t csize = gltfcheck::ComponentSize(s.indices.componentType);
-    if (s.count <= 0 || static_cast<size_t>(s.count) > a.count || csize == 0 || s.indices.byteOffset < 0 ||
-      s.values.byteOffset < 0)
+    if (s.count <= 0 || static_cast<size_t>(s.count) > a.count || csize == 0 ||
+      s.indices.byteOffset < 0 || s.values.byteOffset < 0)
     {
       this->Fail(p + "/sparse", "unexpected sparse storage (internal check)");
     }
@@ -498,12 +515,14 @@ private:
       out[k] = ReadUnsigned(bytes + s.indices.byteOffset + k * csize, s.indices.componentType);
       if (out[k] >= a.count)
       {
-        this->Fail(p + "/sparse/indices", "index " + std::to_string(k) + " is " + std::to_string(out[k]) +
+        this->Fail(p + "/sparse/indices",
+          "index " + std::to_string(k) + " is " + std::to_string(out[k]) +
             ", outside the accessor's " + std::to_string(a.count) + " elements");
       }
       if (k > 0 && out[k] <= out[k - 1])
       {
-        this->Fail(p + "/sparse/indices", "index " + std::to_string(k) + " (" + std::to_string(out[k]) +
+        this->Fail(p + "/sparse/indices",
+          "index " + std::to_string(k) + " (" + std::to_string(out[k]) +
             ") does not follow index " + std::to_string(k - 1) + " (" + std::to_string(out[k - 1]) +
             "): sparse indices must increase");
       }
@@ -603,7 +622,8 @@ void ApplyTransform(GltfPart& part, const GltfMatrix& m)
       nm[r][c] = det < 0 ? -cof[r][c] : cof[r][c];
     }
   }
-  auto linear = [](const double (*a)[3], const float* v, double* out) {
+  auto linear = [](const double(*a)[3], const float* v, double* out)
+  {
     for (int r = 0; r < 3; ++r)
     {
       out[r] = a[r][0] * v[0] + a[r][1] * v[1] + a[r][2] * v[2];
@@ -648,7 +668,8 @@ void ApplyTransform(GltfPart& part, const GltfMatrix& m)
         linear(nm, &target.NormalDeltas[3 * i], d);
         for (int k = 0; k < 3; ++k)
         {
-          target.NormalDeltas[3 * i + static_cast<size_t>(k)] = static_cast<float>(d[k] * normalScale[i]);
+          target.NormalDeltas[3 * i + static_cast<size_t>(k)] =
+            static_cast<float>(d[k] * normalScale[i]);
         }
       }
     }
@@ -734,18 +755,23 @@ private:
   void CheckModel() const
   {
     auto size = [&](const char* key) { return this->Root.value(key, json::array()).size(); };
-    if (this->Model.buffers.size() != size("buffers") || this->Model.bufferViews.size() != size("bufferViews") ||
-      this->Model.accessors.size() != size("accessors") || this->Model.meshes.size() != size("meshes") ||
-      this->Model.nodes.size() != size("nodes") || this->Model.materials.size() != size("materials") ||
-      this->Model.animations.size() != size("animations") || this->Model.scenes.size() != size("scenes"))
+    if (this->Model.buffers.size() != size("buffers") ||
+      this->Model.bufferViews.size() != size("bufferViews") ||
+      this->Model.accessors.size() != size("accessors") ||
+      this->Model.meshes.size() != size("meshes") || this->Model.nodes.size() != size("nodes") ||
+      this->Model.materials.size() != size("materials") ||
+      this->Model.animations.size() != size("animations") ||
+      this->Model.scenes.size() != size("scenes"))
     {
-      throw InputError(this->Source + ": tinygltf read a different document than was checked (internal check)");
+      throw InputError(
+        this->Source + ": tinygltf read a different document than was checked (internal check)");
     }
     for (size_t m = 0; m < this->Model.meshes.size(); ++m)
     {
       if (this->Model.meshes[m].primitives.size() != this->Root["meshes"][m]["primitives"].size())
       {
-        throw InputError(this->Source + ": " + Pointer("meshes", m) + ": tinygltf dropped a primitive (internal check)");
+        throw InputError(this->Source + ": " + Pointer("meshes", m) +
+          ": tinygltf dropped a primitive (internal check)");
       }
     }
     for (size_t b = 0; b < this->Model.buffers.size(); ++b)
@@ -758,7 +784,8 @@ private:
       if (this->Model.buffers[b].data.size() != length)
       {
         throw InputError(this->Source + ": " + Pointer("buffers", b) + ": holds " +
-          std::to_string(this->Model.buffers[b].data.size()) + " bytes, but byteLength is " + std::to_string(length));
+          std::to_string(this->Model.buffers[b].data.size()) + " bytes, but byteLength is " +
+          std::to_string(length));
       }
     }
   }
@@ -819,8 +846,9 @@ private:
         }
         if (node.rotation.size() == 4)
         {
-          const double norm = std::sqrt(node.rotation[0] * node.rotation[0] + node.rotation[1] * node.rotation[1] +
-            node.rotation[2] * node.rotation[2] + node.rotation[3] * node.rotation[3]);
+          const double norm =
+            std::sqrt(node.rotation[0] * node.rotation[0] + node.rotation[1] * node.rotation[1] +
+              node.rotation[2] * node.rotation[2] + node.rotation[3] * node.rotation[3]);
           for (size_t k = 0; k < 4; ++k)
           {
             out.Rotation[k] = node.rotation[k] / norm;
@@ -861,7 +889,8 @@ private:
         if (!std::isfinite(v))
         {
           throw InputError(this->Source + ": " + Pointer("nodes", n) +
-            ": the world transform overflows (its parents' scales multiply past the range of a double)");
+            ": the world transform overflows (its parents' scales multiply past the range of a "
+            "double)");
         }
       }
     }
@@ -886,7 +915,8 @@ private:
           std::string name = GltfNodeName(scene, static_cast<int>(n));
           if (mesh.primitives.size() > 1)
           {
-            name += "/" + (part.MaterialName.empty() ? "primitive" + std::to_string(k) : part.MaterialName);
+            name += "/" +
+              (part.MaterialName.empty() ? "primitive" + std::to_string(k) : part.MaterialName);
           }
           std::string unique = name;
           for (int i = 2; !names.insert(unique).second; ++i)
@@ -917,7 +947,8 @@ private:
     part.Material = prim.material;
     if (prim.material >= 0)
     {
-      const tinygltf::Material& material = this->Model.materials[static_cast<size_t>(prim.material)];
+      const tinygltf::Material& material =
+        this->Model.materials[static_cast<size_t>(prim.material)];
       part.MaterialName = material.name;
       const auto& color = material.pbrMetallicRoughness.baseColorFactor;
       if (color.size() == 4)
@@ -927,7 +958,8 @@ private:
     }
     part.World = node.World;
 
-    auto attribute = [&](const std::map<std::string, int>& attributes, const char* name) {
+    auto attribute = [&](const std::map<std::string, int>& attributes, const char* name)
+    {
       auto it = attributes.find(name);
       return it == attributes.end() ? -1 : it->second;
     };
@@ -1002,7 +1034,8 @@ private:
       if (target.PositionDeltas.size() != 3 * points ||
         (!target.NormalDeltas.empty() && target.NormalDeltas.size() != 3 * points))
       {
-        throw InputError(this->Source + ": " + tp + ": the target's point count differs (internal check)");
+        throw InputError(
+          this->Source + ": " + tp + ": the target's point count differs (internal check)");
       }
       part.Targets.push_back(std::move(target));
     }
@@ -1010,13 +1043,16 @@ private:
     part.DefaultWeights = !nodeWeights.empty() ? nodeWeights : scene.Meshes[m].Weights;
     if (part.DefaultWeights.size() != part.Targets.size())
     {
-      throw InputError(this->Source + ": " + pp + ": weights and targets differ in number (internal check)");
+      throw InputError(
+        this->Source + ": " + pp + ": weights and targets differ in number (internal check)");
     }
     const int skin = this->Model.nodes[n].skin;
     if (skin >= 0) // gltf/GltfSkin.cpp
     {
-      gltfskin::ReadInfluences(this->Model, prim, skin, scene.Skins, pp,
-        [this](int a, const std::string& use) { return this->Read.Floats(a, use); }, this->Source, part);
+      gltfskin::ReadInfluences(
+        this->Model, prim, skin, scene.Skins, pp,
+        [this](int a, const std::string& use) { return this->Read.Floats(a, use); }, this->Source,
+        part);
     }
     if (this->Options.ApplyTransforms)
     {
@@ -1029,9 +1065,8 @@ private:
         ApplyTransform(part, part.World);
       }
       // A finite but huge transform (1e300) can take points past the range of float.
-      auto finite = [](const std::vector<float>& v) {
-        return std::all_of(v.begin(), v.end(), [](float x) { return std::isfinite(x); });
-      };
+      auto finite = [](const std::vector<float>& v)
+      { return std::all_of(v.begin(), v.end(), [](float x) { return std::isfinite(x); }); };
       bool ok = finite(part.Positions) && finite(part.Normals);
       for (const auto& target : part.Targets)
       {
@@ -1039,8 +1074,8 @@ private:
       }
       if (!ok)
       {
-        throw InputError(this->Source + ": " + Pointer("nodes", n) + ": its world transform takes the points of " +
-          pp + " beyond the range of float");
+        throw InputError(this->Source + ": " + Pointer("nodes", n) +
+          ": its world transform takes the points of " + pp + " beyond the range of float");
       }
     }
     CheckBlendRange(part, this->Source + ": " + pp);
@@ -1068,8 +1103,9 @@ private:
         {
           if (so.Times[i] < 0 || (i > 0 && so.Times[i] < so.Times[i - 1]))
           {
-            throw InputError(this->Source + ": " + Pointer("accessors", static_cast<size_t>(sampler.input)) +
-              ": key time " + std::to_string(i) + " (" + text::FormatNumber(so.Times[i]) + " s, input of " + sp +
+            throw InputError(this->Source + ": " +
+              Pointer("accessors", static_cast<size_t>(sampler.input)) + ": key time " +
+              std::to_string(i) + " (" + text::FormatNumber(so.Times[i]) + " s, input of " + sp +
               ") is " + (so.Times[i] < 0 ? "negative" : "earlier than the key before it"));
           }
         }
@@ -1093,7 +1129,9 @@ private:
                                         : GltfAnimationPath::Weights;
         co.ValuesPerElement = co.Path == GltfAnimationPath::Rotation ? 4
           : co.Path == GltfAnimationPath::Weights
-          ? static_cast<int>(this->Doc.MeshTargets[static_cast<size_t>(scene.Nodes[static_cast<size_t>(co.Node)].Mesh)])
+          ? static_cast<int>(
+              this->Doc
+                .MeshTargets[static_cast<size_t>(scene.Nodes[static_cast<size_t>(co.Node)].Mesh)])
           : 3;
         out.Channels.push_back(co);
       }
@@ -1126,14 +1164,19 @@ GltfScene LoadGltfSceneFromMemory(const void* data, size_t size, const std::stri
   }
   const gltfcheck::Container container = gltfcheck::SplitContainer(bytes, size, sourceName);
   const json root = gltfcheck::ParseJson(container, sourceName);
-  const gltfcheck::Document doc =
-    gltfcheck::CheckDocument(root, container, !baseDirectory.empty(), options.MaxDecodedBytes, sourceName);
+  const gltfcheck::Document doc = gltfcheck::CheckDocument(
+    root, container, !baseDirectory.empty(), options.MaxDecodedBytes, sourceName);
   std::vector<std::vector<unsigned char>> images;
-  const tinygltf::Model model = LoadModel(bytes, size, container, baseDirectory, root, sourceName, images);
-  const gltfext::DecodedViews decoded = gltfext::DecodeMeshopt(model, root, options.MaxDecodedBytes, sourceName);
+  const tinygltf::Model model =
+    LoadModel(bytes, size, container, baseDirectory, root, sourceName, images);
+  const gltfext::DecodedViews decoded =
+    gltfext::DecodeMeshopt(model, root, options.MaxDecodedBytes, sourceName);
   GltfScene scene = SceneBuilder(model, root, doc, options, decoded, sourceName).Build();
-  Folder folder{ baseDirectory.empty() ? std::string() : baseDirectory + "/", options.MaxDecodedBytes };
-  const uint64_t used = doc.DecodedBytes + [&decoded] {
+  Folder folder{ baseDirectory.empty() ? std::string() : baseDirectory + "/",
+    options.MaxDecodedBytes };
+  const uint64_t used = doc.DecodedBytes +
+    [&decoded]
+  {
     uint64_t n = 0;
     for (const auto& view : decoded)
     {
@@ -1148,7 +1191,8 @@ GltfScene LoadGltfSceneFromMemory(const void* data, size_t size, const std::stri
 
 GltfScene LoadGltfScene(const std::string& fileName, const GltfLoadOptions& options)
 {
-  const std::string bytes = text::ReadFile(fileName, "glTF file", (uint64_t(4) << 30) - 1); // glTF's 4 GiB
+  const std::string bytes =
+    text::ReadFile(fileName, "glTF file", (uint64_t(4) << 30) - 1); // glTF's 4 GiB
   std::string folder = std::filesystem::path(fileName).parent_path().string();
   if (folder.empty())
   {

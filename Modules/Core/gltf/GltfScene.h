@@ -30,8 +30,8 @@
 ///
 /// Nothing here depends on VTK.
 
-#include "skin/SkinInfluences.h"
 #include "gltf/GltfMaterial.h"
+#include "skin/SkinInfluences.h"
 
 #include <array>
 #include <cstddef>

@@ -42,7 +42,8 @@ Skeleton GltfSkeleton(const GltfScene& scene)
     else
     {
       joint.Translation = glm::dvec3(node.Translation[0], node.Translation[1], node.Translation[2]);
-      joint.Rotation = glm::dquat(node.Rotation[3], node.Rotation[0], node.Rotation[1], node.Rotation[2]);
+      joint.Rotation =
+        glm::dquat(node.Rotation[3], node.Rotation[0], node.Rotation[1], node.Rotation[2]);
       joint.Scale = glm::dvec3(node.Scale[0], node.Scale[1], node.Scale[2]);
     }
     skeleton.AddJoint(joint);
@@ -78,18 +79,21 @@ std::string SkinPointer(size_t s)
 }
 
 /// A MAT4 FLOAT accessor's matrices, bounds-checked (the loader's reader reads vectors only).
-std::vector<GltfMatrix> ReadMatrices(const tinygltf::Model& model, int index, const std::string& source,
-  const std::string& use, const std::map<int, std::vector<unsigned char>>* decoded)
+std::vector<GltfMatrix> ReadMatrices(const tinygltf::Model& model, int index,
+  const std::string& source, const std::string& use,
+  const std::map<int, std::vector<unsigned char>>* decoded)
 {
   const std::string p = "/accessors/" + std::to_string(index);
   if (index < 0 || static_cast<size_t>(index) >= model.accessors.size())
   {
-    throw InputError(source + ": " + use + ": accessor " + std::to_string(index) + " does not exist");
+    throw InputError(
+      source + ": " + use + ": accessor " + std::to_string(index) + " does not exist");
   }
   const tinygltf::Accessor& a = model.accessors[static_cast<size_t>(index)];
   if (a.type != TINYGLTF_TYPE_MAT4 || a.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT)
   {
-    throw InputError(source + ": " + p + ": the inverse bind matrices (" + use + ") must be MAT4 of FLOAT");
+    throw InputError(
+      source + ": " + p + ": the inverse bind matrices (" + use + ") must be MAT4 of FLOAT");
   }
   if (a.sparse.isSparse || a.bufferView < 0)
   {
@@ -114,11 +118,12 @@ std::vector<GltfMatrix> ReadMatrices(const tinygltf::Model& model, int index, co
   const size_t viewOffset = isDecoded ? 0 : view.byteOffset;
   const size_t viewLength = isDecoded ? found->second.size() : view.byteLength;
   const uint64_t stride = view.byteStride ? view.byteStride : 64;
-  if (a.count == 0 || stride < 64 || viewOffset > data.size() || viewLength > data.size() - viewOffset ||
+  if (a.count == 0 || stride < 64 || viewOffset > data.size() ||
+    viewLength > data.size() - viewOffset ||
     uint64_t(a.byteOffset) + stride * (a.count - 1) + 64 > viewLength)
   {
-    throw InputError(source + ": " + p + ": the inverse bind matrices (" + use + ") run past bufferView " +
-      std::to_string(v));
+    throw InputError(source + ": " + p + ": the inverse bind matrices (" + use +
+      ") run past bufferView " + std::to_string(v));
   }
   const unsigned char* bytes = data.data() + viewOffset + a.byteOffset;
   std::vector<GltfMatrix> out(a.count);
@@ -135,8 +140,8 @@ std::vector<GltfMatrix> ReadMatrices(const tinygltf::Model& model, int index, co
 }
 } // namespace
 
-std::vector<GltfSkin> ReadSkins(const tinygltf::Model& model, const std::vector<GltfNode>& nodes, const std::string& source,
-  const std::map<int, std::vector<unsigned char>>* decoded)
+std::vector<GltfSkin> ReadSkins(const tinygltf::Model& model, const std::vector<GltfNode>& nodes,
+  const std::string& source, const std::map<int, std::vector<unsigned char>>* decoded)
 {
   std::vector<GltfSkin> skins;
   for (size_t s = 0; s < model.skins.size(); ++s)
@@ -155,28 +160,31 @@ std::vector<GltfSkin> ReadSkins(const tinygltf::Model& model, const std::vector<
       const int j = skin.joints[k];
       if (j < 0 || static_cast<size_t>(j) >= nodes.size())
       {
-        throw InputError(source + ": " + sp + "/joints/" + std::to_string(k) + ": node " + std::to_string(j) +
-          " does not exist");
+        throw InputError(source + ": " + sp + "/joints/" + std::to_string(k) + ": node " +
+          std::to_string(j) + " does not exist");
       }
       if (!seen.insert(j).second)
       {
-        throw InputError(source + ": " + sp + "/joints/" + std::to_string(k) + ": node " + std::to_string(j) +
-          " is a joint twice");
+        throw InputError(source + ": " + sp + "/joints/" + std::to_string(k) + ": node " +
+          std::to_string(j) + " is a joint twice");
       }
     }
     out.Joints = skin.joints;
     if (skin.skeleton >= 0 && static_cast<size_t>(skin.skeleton) >= nodes.size())
     {
-      throw InputError(source + ": " + sp + "/skeleton: node " + std::to_string(skin.skeleton) + " does not exist");
+      throw InputError(source + ": " + sp + "/skeleton: node " + std::to_string(skin.skeleton) +
+        " does not exist");
     }
     out.Skeleton = skin.skeleton;
     if (skin.inverseBindMatrices >= 0)
     {
-      out.InverseBind = ReadMatrices(model, skin.inverseBindMatrices, source, sp + "/inverseBindMatrices", decoded);
+      out.InverseBind =
+        ReadMatrices(model, skin.inverseBindMatrices, source, sp + "/inverseBindMatrices", decoded);
       if (out.InverseBind.size() < out.Joints.size())
       {
-        throw InputError(source + ": " + sp + "/inverseBindMatrices: " + std::to_string(out.InverseBind.size()) +
-          " matrices for " + std::to_string(out.Joints.size()) + " joints");
+        throw InputError(source + ": " + sp +
+          "/inverseBindMatrices: " + std::to_string(out.InverseBind.size()) + " matrices for " +
+          std::to_string(out.Joints.size()) + " joints");
       }
       out.InverseBind.resize(out.Joints.size());
     }
@@ -206,16 +214,17 @@ std::vector<GltfSkin> ReadSkins(const tinygltf::Model& model, const std::vector<
     const int skin = model.nodes[n].skin;
     if (skin >= 0 && static_cast<size_t>(skin) >= skins.size())
     {
-      throw InputError(source + ": /nodes/" + std::to_string(n) + "/skin: skin " + std::to_string(skin) +
-        " does not exist (the file has " + std::to_string(skins.size()) + ")");
+      throw InputError(source + ": /nodes/" + std::to_string(n) + "/skin: skin " +
+        std::to_string(skin) + " does not exist (the file has " + std::to_string(skins.size()) +
+        ")");
     }
   }
   return skins;
 }
 
 void ReadInfluences(const tinygltf::Model& model, const tinygltf::Primitive& primitive, int skin,
-  const std::vector<GltfSkin>& skins, const std::string& pp, const FloatReader& read, const std::string& source,
-  GltfPart& part)
+  const std::vector<GltfSkin>& skins, const std::string& pp, const FloatReader& read,
+  const std::string& source, GltfPart& part)
 {
   const size_t points = part.GetNumberOfPoints();
   const size_t numJoints = skins.at(static_cast<size_t>(skin)).Joints.size();
@@ -228,26 +237,28 @@ void ReadInfluences(const tinygltf::Model& model, const tinygltf::Primitive& pri
     {
       if (set == 0)
       {
-        throw InputError(source + ": " + pp + "/attributes: the mesh is skinned (its node has skin " +
-          std::to_string(skin) + ") but the primitive has no JOINTS_0 and WEIGHTS_0");
+        throw InputError(source + ": " + pp +
+          "/attributes: the mesh is skinned (its node has skin " + std::to_string(skin) +
+          ") but the primitive has no JOINTS_0 and WEIGHTS_0");
       }
       break;
     }
     if (j == primitive.attributes.end() || w == primitive.attributes.end())
     {
-      throw InputError(source + ": " + pp + "/attributes: " + (j == primitive.attributes.end() ? ws : js) +
-        " needs " + (j == primitive.attributes.end() ? js : ws));
+      throw InputError(source + ": " + pp +
+        "/attributes: " + (j == primitive.attributes.end() ? ws : js) + " needs " +
+        (j == primitive.attributes.end() ? js : ws));
     }
-    const auto accessor = [&](int index) -> const tinygltf::Accessor& {
-      return model.accessors.at(static_cast<size_t>(index));
-    };
+    const auto accessor = [&](int index) -> const tinygltf::Accessor&
+    { return model.accessors.at(static_cast<size_t>(index)); };
     const tinygltf::Accessor& ja = accessor(j->second);
     const tinygltf::Accessor& wa = accessor(w->second);
     if (ja.type != TINYGLTF_TYPE_VEC4 || ja.normalized ||
       (ja.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE &&
         ja.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT))
     {
-      throw InputError(source + ": " + pp + "/attributes/" + js + ": accessor " + std::to_string(j->second) +
+      throw InputError(source + ": " + pp + "/attributes/" + js + ": accessor " +
+        std::to_string(j->second) +
         " must be VEC4 of UNSIGNED_BYTE or UNSIGNED_SHORT (not normalized)");
     }
     if (wa.type != TINYGLTF_TYPE_VEC4 ||
@@ -256,14 +267,16 @@ void ReadInfluences(const tinygltf::Model& model, const tinygltf::Primitive& pri
           (wa.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
             wa.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT))))
     {
-      throw InputError(source + ": " + pp + "/attributes/" + ws + ": accessor " + std::to_string(w->second) +
+      throw InputError(source + ": " + pp + "/attributes/" + ws + ": accessor " +
+        std::to_string(w->second) +
         " must be VEC4 of FLOAT or normalized UNSIGNED_BYTE/UNSIGNED_SHORT");
     }
     const std::vector<float> joints = read(j->second, js + " of " + pp);
     const std::vector<float> weights = read(w->second, ws + " of " + pp);
     if (joints.size() != 4 * points || weights.size() != 4 * points)
     {
-      throw InputError(source + ": " + pp + ": " + js + "/" + ws + " do not have one element per point");
+      throw InputError(
+        source + ": " + pp + ": " + js + "/" + ws + " do not have one element per point");
     }
     influences.AddSet(joints, weights, points);
   }
@@ -283,7 +296,8 @@ void SkinAtRest(GltfPart& part, const GltfScene& scene, const std::string& what)
 }
 } // namespace gltfskin
 
-void GltfSkinPart(GltfPart& part, const GltfScene& scene, const std::vector<GltfMatrix>& nodeWorlds, const std::string& what)
+void GltfSkinPart(GltfPart& part, const GltfScene& scene, const std::vector<GltfMatrix>& nodeWorlds,
+  const std::string& what)
 {
   if (part.Skin < 0 || part.TransformApplied || nodeWorlds.size() != scene.Nodes.size())
   {
@@ -345,7 +359,8 @@ void GltfSkinPart(GltfPart& part, const GltfScene& scene, const std::vector<Gltf
   }
   if (!finite)
   {
-    throw InputError(what + ": skin " + std::to_string(part.Skin) + " takes the points beyond the range of float");
+    throw InputError(
+      what + ": skin " + std::to_string(part.Skin) + " takes the points beyond the range of float");
   }
   part.TransformApplied = true;
 }
@@ -363,7 +378,8 @@ GltfMatrix GltfFromGlm(const glm::dmat4& m)
   return out;
 }
 
-void GltfUnskinPart(GltfPart& part, const GltfScene& scene, const std::vector<GltfMatrix>& nodeWorlds, const std::string& what)
+void GltfUnskinPart(GltfPart& part, const GltfScene& scene,
+  const std::vector<GltfMatrix>& nodeWorlds, const std::string& what)
 {
   if (part.Skin < 0 || !part.TransformApplied || nodeWorlds.size() != scene.Nodes.size())
   {
@@ -389,7 +405,8 @@ void GltfUnskinPart(GltfPart& part, const GltfScene& scene, const std::vector<Gl
     const double det = glm::determinant(l);
     if (!(std::abs(det) > 1e-12) || !std::isfinite(det))
     {
-      throw InputError(what + ": point " + std::to_string(i) + "'s blended joint matrix is singular");
+      throw InputError(
+        what + ": point " + std::to_string(i) + "'s blended joint matrix is singular");
     }
     const glm::dmat3 inv = glm::inverse(l);
     const glm::dvec3 t(b[3]);
@@ -458,12 +475,13 @@ std::vector<GltfNode> GltfNodesFromSkeleton(Skeleton skeleton)
     // scales, orthogonal to each other, and the last row is (0, 0, 0, 1).
     glm::dvec3 scale(glm::length(glm::dvec3(local[0])), glm::length(glm::dvec3(local[1])),
       glm::length(glm::dvec3(local[2])));
-    bool trs = scale.x > 0.0 && scale.y > 0.0 && scale.z > 0.0 && local[0][3] == 0.0 && local[1][3] == 0.0 &&
-      local[2][3] == 0.0 && local[3][3] == 1.0;
+    bool trs = scale.x > 0.0 && scale.y > 0.0 && scale.z > 0.0 && local[0][3] == 0.0 &&
+      local[1][3] == 0.0 && local[2][3] == 0.0 && local[3][3] == 1.0;
     glm::dmat3 r(1.0);
     if (trs)
     {
-      r = glm::dmat3(glm::dvec3(local[0]) / scale.x, glm::dvec3(local[1]) / scale.y, glm::dvec3(local[2]) / scale.z);
+      r = glm::dmat3(glm::dvec3(local[0]) / scale.x, glm::dvec3(local[1]) / scale.y,
+        glm::dvec3(local[2]) / scale.z);
       trs = glm::determinant(r) > 0.0 && std::abs(glm::dot(r[0], r[1])) < 1e-9 &&
         std::abs(glm::dot(r[1], r[2])) < 1e-9 && std::abs(glm::dot(r[0], r[2])) < 1e-9;
     }

@@ -34,8 +34,8 @@ void GltfSkinPart(GltfPart& part, const GltfScene& scene, const std::vector<Gltf
 /// deltas by the inverse of B's linear part, B the point's blended joint matrix. Clears
 /// TransformApplied. InputError for a part that is not skinned or not transformed, or a
 /// point whose blended matrix is singular.
-void GltfUnskinPart(GltfPart& part, const GltfScene& scene, const std::vector<GltfMatrix>& nodeWorlds,
-  const std::string& what);
+void GltfUnskinPart(GltfPart& part, const GltfScene& scene,
+  const std::vector<GltfMatrix>& nodeWorlds, const std::string& what);
 
 /// Scene nodes (names, parents, children, local transforms; every node in the scene) from a
 /// skeleton, joint i = node i: a local matrix that is translation * rotation * positive

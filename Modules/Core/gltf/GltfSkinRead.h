@@ -29,8 +29,8 @@ std::vector<GltfSkin> ReadSkins(const tinygltf::Model& model, const std::vector<
 /// The part's JOINTS_n / WEIGHTS_n, every set, checked and renormalized, into
 /// part.Influences; part.Skin set. `pp` is the primitive's JSON pointer.
 void ReadInfluences(const tinygltf::Model& model, const tinygltf::Primitive& primitive, int skin,
-  const std::vector<GltfSkin>& skins, const std::string& pp, const FloatReader& read, const std::string& source,
-  GltfPart& part);
+  const std::vector<GltfSkin>& skins, const std::string& pp, const FloatReader& read,
+  const std::string& source, GltfPart& part);
 
 /// Skins the part at rest (the scene's node transforms as stored), its points, normals and
 /// every target's deltas (see skin/Skinning.h); sets TransformApplied. `what` names the

@@ -32,8 +32,8 @@ std::string GltfVrm::Describe() const
     return "not a VRM file";
   }
   std::ostringstream out;
-  out << (this->Version == 2 ? "VRM 1.0" : "VRM 0.x") << ": " << this->Expressions.size() << " expressions, "
-      << this->HumanBones.size() << " humanoid bones";
+  out << (this->Version == 2 ? "VRM 1.0" : "VRM 0.x") << ": " << this->Expressions.size()
+      << " expressions, " << this->HumanBones.size() << " humanoid bones";
   if (!this->LookAtType.empty())
   {
     out << ", look-at by " << this->LookAtType;
@@ -46,15 +46,16 @@ namespace
 /// The target names of mesh `m`: extras.targetNames, else target<k>.
 std::vector<std::string> TargetNames(const json& root, int m, const std::string& what)
 {
-  const json* meshes = root.contains("meshes") && root["meshes"].is_array() ? &root["meshes"] : nullptr;
+  const json* meshes =
+    root.contains("meshes") && root["meshes"].is_array() ? &root["meshes"] : nullptr;
   if (!meshes || m < 0 || static_cast<size_t>(m) >= meshes->size())
   {
     throw InputError(what + ": mesh " + std::to_string(m) + " does not exist");
   }
   const json& mesh = (*meshes)[static_cast<size_t>(m)];
   std::vector<std::string> names;
-  if (mesh.contains("extras") && mesh["extras"].is_object() && mesh["extras"].contains("targetNames") &&
-    mesh["extras"]["targetNames"].is_array())
+  if (mesh.contains("extras") && mesh["extras"].is_object() &&
+    mesh["extras"].contains("targetNames") && mesh["extras"]["targetNames"].is_array())
   {
     for (const auto& n : mesh["extras"]["targetNames"])
     {
@@ -81,12 +82,14 @@ std::vector<std::string> TargetNames(const json& root, int m, const std::string&
 
 int Int(const json& o, const char* key, int fallback = -1)
 {
-  return o.is_object() && o.contains(key) && o[key].is_number_integer() ? o[key].get<int>() : fallback;
+  return o.is_object() && o.contains(key) && o[key].is_number_integer() ? o[key].get<int>()
+                                                                        : fallback;
 }
 
 double Number(const json& o, const char* key, double fallback)
 {
-  return o.is_object() && o.contains(key) && o[key].is_number() && std::isfinite(o[key].get<double>())
+  return o.is_object() && o.contains(key) && o[key].is_number() &&
+      std::isfinite(o[key].get<double>())
     ? o[key].get<double>()
     : fallback;
 }
@@ -99,8 +102,9 @@ std::string NodeName(const json& root, int node, const std::string& what)
     throw InputError(what + ": node " + std::to_string(node) + " does not exist");
   }
   const json& n = root["nodes"][static_cast<size_t>(node)];
-  return n.is_object() && n.contains("name") && n["name"].is_string() ? n["name"].get<std::string>()
-                                                                       : "node" + std::to_string(node);
+  return n.is_object() && n.contains("name") && n["name"].is_string()
+    ? n["name"].get<std::string>()
+    : "node" + std::to_string(node);
 }
 
 /// One bind: the target name at `index` of mesh `mesh`.
@@ -109,8 +113,8 @@ std::string BindTarget(const json& root, int mesh, int index, const std::string&
   const std::vector<std::string> names = TargetNames(root, mesh, what);
   if (index < 0 || static_cast<size_t>(index) >= names.size())
   {
-    throw InputError(what + ": target " + std::to_string(index) + " of mesh " + std::to_string(mesh) +
-      " does not exist (the mesh has " + std::to_string(names.size()) + ")");
+    throw InputError(what + ": target " + std::to_string(index) + " of mesh " +
+      std::to_string(mesh) + " does not exist (the mesh has " + std::to_string(names.size()) + ")");
   }
   return names[static_cast<size_t>(index)];
 }
@@ -118,11 +122,12 @@ std::string BindTarget(const json& root, int mesh, int index, const std::string&
 /// VRM 0.x preset names as VRM 1.0's.
 std::string PresetName(const std::string& preset)
 {
-  static const std::map<std::string, std::string> names = { { "a", "aa" }, { "i", "ih" }, { "u", "ou" },
-    { "e", "ee" }, { "o", "oh" }, { "joy", "happy" }, { "sorrow", "sad" }, { "fun", "relaxed" },
-    { "angry", "angry" }, { "blink", "blink" }, { "blink_l", "blinkLeft" }, { "blink_r", "blinkRight" },
-    { "lookup", "lookUp" }, { "lookdown", "lookDown" }, { "lookleft", "lookLeft" }, { "lookright", "lookRight" },
-    { "neutral", "neutral" }, { "surprised", "surprised" } };
+  static const std::map<std::string, std::string> names = { { "a", "aa" }, { "i", "ih" },
+    { "u", "ou" }, { "e", "ee" }, { "o", "oh" }, { "joy", "happy" }, { "sorrow", "sad" },
+    { "fun", "relaxed" }, { "angry", "angry" }, { "blink", "blink" }, { "blink_l", "blinkLeft" },
+    { "blink_r", "blinkRight" }, { "lookup", "lookUp" }, { "lookdown", "lookDown" },
+    { "lookleft", "lookLeft" }, { "lookright", "lookRight" }, { "neutral", "neutral" },
+    { "surprised", "surprised" } };
   const auto it = names.find(text::ToLower(preset));
   return it == names.end() ? std::string() : it->second;
 }
@@ -190,7 +195,8 @@ void ReadVrm1(const json& root, const json& vrm, GltfVrm& out)
   {
     out.LookAtType = lookAt["type"].get<std::string>() == "expression" ? "expression" : "bone";
     const double scale = out.LookAtType == "bone" ? 10.0 : 1.0;
-    auto range = [&](const char* key, GltfVrmRangeMap& map) {
+    auto range = [&](const char* key, GltfVrmRangeMap& map)
+    {
       const json& r = lookAt.value(key, json::object());
       map.InputMax = Number(r, "inputMaxValue", 90.0);
       map.OutputScale = Number(r, "outputScale", scale);
@@ -211,7 +217,8 @@ void ReadVrm0(const json& root, const json& vrm, GltfVrm& out)
 {
   out.Version = 1;
   const json& master = vrm.value("blendShapeMaster", json::object());
-  if (master.is_object() && master.contains("blendShapeGroups") && master["blendShapeGroups"].is_array())
+  if (master.is_object() && master.contains("blendShapeGroups") &&
+    master["blendShapeGroups"].is_array())
   {
     for (const auto& group : master["blendShapeGroups"])
     {
@@ -254,9 +261,11 @@ void ReadVrm0(const json& root, const json& vrm, GltfVrm& out)
   const json& first = vrm.value("firstPerson", json::object());
   if (first.is_object() && first.contains("lookAtTypeName") && first["lookAtTypeName"].is_string())
   {
-    out.LookAtType = first["lookAtTypeName"].get<std::string>() == "BlendShape" ? "expression" : "bone";
+    out.LookAtType =
+      first["lookAtTypeName"].get<std::string>() == "BlendShape" ? "expression" : "bone";
     const double scale = out.LookAtType == "bone" ? 10.0 : 1.0;
-    auto curve = [&](const char* key, GltfVrmRangeMap& map) {
+    auto curve = [&](const char* key, GltfVrmRangeMap& map)
+    {
       const json& r = first.value(key, json::object());
       map.InputMax = Number(r, "xRange", 90.0);
       map.OutputScale = Number(r, "yRange", scale);
@@ -266,7 +275,8 @@ void ReadVrm0(const json& root, const json& vrm, GltfVrm& out)
     curve("lookAtVerticalDown", out.VerticalDown);
     curve("lookAtVerticalUp", out.VerticalUp);
     const json& offset = first.value("firstPersonBoneOffset", json::object());
-    out.LookAtOffset = { { Number(offset, "x", 0.0), Number(offset, "y", 0.0), Number(offset, "z", 0.0) } };
+    out.LookAtOffset = { { Number(offset, "x", 0.0), Number(offset, "y", 0.0),
+      Number(offset, "z", 0.0) } };
   }
 }
 

@@ -35,10 +35,7 @@ struct ModelBuilder
   tinygltf::Model Model;
   bool Quantized = false; ///< some accessor uses KHR_mesh_quantization
 
-  ModelBuilder()
-  {
-    this->Model.buffers.emplace_back();
-  }
+  ModelBuilder() { this->Model.buffers.emplace_back(); }
 
   std::vector<unsigned char>& Bin() { return this->Model.buffers[0].data; }
 
@@ -174,7 +171,8 @@ struct ModelBuilder
         a.sparse.indices.componentType = TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
       }
       a.sparse.indices.byteOffset = 0;
-      const bool fits = std::all_of(values.begin(), values.end(), [](float v) { return v >= -1.0f && v <= 1.0f; });
+      const bool fits =
+        std::all_of(values.begin(), values.end(), [](float v) { return v >= -1.0f && v <= 1.0f; });
       if (quantize && fits)
       {
         // KHR_mesh_quantization: normalized SHORT, value = max(q / 32767, -1); min and max
@@ -218,12 +216,14 @@ struct ModelBuilder
     {
       std::vector<uint16_t> small(triangles.begin(), triangles.end());
       a.componentType = TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT;
-      a.bufferView = this->AddView(small.data(), small.size() * 2, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
+      a.bufferView =
+        this->AddView(small.data(), small.size() * 2, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
     }
     else
     {
       a.componentType = TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
-      a.bufferView = this->AddView(triangles.data(), triangles.size() * 4, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
+      a.bufferView =
+        this->AddView(triangles.data(), triangles.size() * 4, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
     }
     return this->AddAccessor(std::move(a));
   }
@@ -258,8 +258,8 @@ void CheckPart(const GltfPart& part, size_t index, const GltfScene& scene)
   {
     if (!uv->empty() && (uv->size() != 2 * n || !AllFinite(*uv)))
     {
-      Fail(where + ": texture coordinates must be 2 finite values per point (got " + std::to_string(uv->size()) +
-        " values for " + std::to_string(n) + " points)");
+      Fail(where + ": texture coordinates must be 2 finite values per point (got " +
+        std::to_string(uv->size()) + " values for " + std::to_string(n) + " points)");
     }
   }
   if (part.Triangles.empty() || part.Triangles.size() % 3 != 0)
@@ -270,7 +270,8 @@ void CheckPart(const GltfPart& part, size_t index, const GltfScene& scene)
   {
     if (i >= n)
     {
-      Fail(where + ": triangle index " + std::to_string(i) + " beyond its " + std::to_string(n) + " points");
+      Fail(where + ": triangle index " + std::to_string(i) + " beyond its " + std::to_string(n) +
+        " points");
     }
   }
   if (!AllFinite(part.Positions) || !AllFinite(part.Normals) || !AllFinite(part.Colors))
@@ -289,12 +290,15 @@ void CheckPart(const GltfPart& part, size_t index, const GltfScene& scene)
     }
     if (target.PositionDeltas.size() != 3 * n)
     {
-      Fail(where + ": target '" + target.Name + "' has " + std::to_string(target.PositionDeltas.size()) +
-        " position delta values for " + std::to_string(n) + " points");
+      Fail(where + ": target '" + target.Name + "' has " +
+        std::to_string(target.PositionDeltas.size()) + " position delta values for " +
+        std::to_string(n) + " points");
     }
-    if (!target.NormalDeltas.empty() && (target.NormalDeltas.size() != 3 * n || part.Normals.empty()))
+    if (!target.NormalDeltas.empty() &&
+      (target.NormalDeltas.size() != 3 * n || part.Normals.empty()))
     {
-      Fail(where + ": target '" + target.Name + "': normal deltas need normals and 3 values per point");
+      Fail(where + ": target '" + target.Name +
+        "': normal deltas need normals and 3 values per point");
     }
     if (!AllFinite(target.PositionDeltas) || !AllFinite(target.NormalDeltas))
     {
@@ -345,27 +349,28 @@ void CheckPerformance(const GltfPerformance& p)
     const double t = p.Times[i];
     if (!std::isfinite(t) || t < 0.0)
     {
-      Fail("time " + std::to_string(i) + " is " + std::to_string(t) + ": times must be finite and >= 0");
+      Fail("time " + std::to_string(i) + " is " + std::to_string(t) +
+        ": times must be finite and >= 0");
     }
     if (i > 0 && !(static_cast<float>(t) > static_cast<float>(p.Times[i - 1])))
     {
       Fail("times must increase: time " + std::to_string(i) + " (" + std::to_string(t) +
-        " s) does not come after time " + std::to_string(i - 1) + " (" + std::to_string(p.Times[i - 1]) +
-        " s) (as 32-bit floats, as glTF stores them)");
+        " s) does not come after time " + std::to_string(i - 1) + " (" +
+        std::to_string(p.Times[i - 1]) + " s) (as 32-bit floats, as glTF stores them)");
     }
   }
   if (p.Weights.size() != p.Times.size() * p.TargetNames.size())
   {
-    Fail(std::to_string(p.Weights.size()) + " weights for " + std::to_string(p.Times.size()) + " times x " +
-      std::to_string(p.TargetNames.size()) + " targets");
+    Fail(std::to_string(p.Weights.size()) + " weights for " + std::to_string(p.Times.size()) +
+      " times x " + std::to_string(p.TargetNames.size()) + " targets");
   }
   for (size_t i = 0; i < p.Weights.size(); ++i)
   {
     if (!std::isfinite(p.Weights[i]))
     {
       const size_t k = p.TargetNames.empty() ? 0 : i / p.TargetNames.size();
-      Fail("the weight of '" + p.TargetNames[i % p.TargetNames.size()] + "' at time " + std::to_string(k) +
-        " is not finite");
+      Fail("the weight of '" + p.TargetNames[i % p.TargetNames.size()] + "' at time " +
+        std::to_string(k) + " is not finite");
     }
   }
   std::map<std::string, int> seen;
@@ -378,11 +383,12 @@ void CheckPerformance(const GltfPerformance& p)
   }
   for (const auto& r : p.Rotations)
   {
-    const std::string what = r.Node.empty() ? std::string("the scene's rotation") : "the rotation of '" + r.Node + "'";
+    const std::string what =
+      r.Node.empty() ? std::string("the scene's rotation") : "the rotation of '" + r.Node + "'";
     if (r.Rotations.size() != 4 * p.Times.size())
     {
-      Fail(what + " has " + std::to_string(r.Rotations.size()) + " values for " + std::to_string(p.Times.size()) +
-        " times (4 per time: x, y, z, w)");
+      Fail(what + " has " + std::to_string(r.Rotations.size()) + " values for " +
+        std::to_string(p.Times.size()) + " times (4 per time: x, y, z, w)");
     }
     for (double v : r.Pivot)
     {
@@ -397,7 +403,8 @@ void CheckPerformance(const GltfPerformance& p)
       const double len = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
       if (!std::isfinite(len) || len < 1e-6)
       {
-        Fail(what + " at time " + std::to_string(k) + " is not a rotation (a non-finite or zero quaternion)");
+        Fail(what + " at time " + std::to_string(k) +
+          " is not a rotation (a non-finite or zero quaternion)");
       }
     }
   }
@@ -442,22 +449,26 @@ std::array<double, 4> GltfQuaternionFromRowMajor(const std::array<double, 16>& m
   if (trace > 0.0)
   {
     const double s = 0.5 / std::sqrt(trace + 1.0);
-    q = { (at(2, 1) - at(1, 2)) * s, (at(0, 2) - at(2, 0)) * s, (at(1, 0) - at(0, 1)) * s, 0.25 / s };
+    q = { (at(2, 1) - at(1, 2)) * s, (at(0, 2) - at(2, 0)) * s, (at(1, 0) - at(0, 1)) * s,
+      0.25 / s };
   }
   else if (at(0, 0) > at(1, 1) && at(0, 0) > at(2, 2))
   {
     const double s = 2.0 * std::sqrt(1.0 + at(0, 0) - at(1, 1) - at(2, 2));
-    q = { 0.25 * s, (at(0, 1) + at(1, 0)) / s, (at(0, 2) + at(2, 0)) / s, (at(2, 1) - at(1, 2)) / s };
+    q = { 0.25 * s, (at(0, 1) + at(1, 0)) / s, (at(0, 2) + at(2, 0)) / s,
+      (at(2, 1) - at(1, 2)) / s };
   }
   else if (at(1, 1) > at(2, 2))
   {
     const double s = 2.0 * std::sqrt(1.0 + at(1, 1) - at(0, 0) - at(2, 2));
-    q = { (at(0, 1) + at(1, 0)) / s, 0.25 * s, (at(1, 2) + at(2, 1)) / s, (at(0, 2) - at(2, 0)) / s };
+    q = { (at(0, 1) + at(1, 0)) / s, 0.25 * s, (at(1, 2) + at(2, 1)) / s,
+      (at(0, 2) - at(2, 0)) / s };
   }
   else
   {
     const double s = 2.0 * std::sqrt(1.0 + at(2, 2) - at(0, 0) - at(1, 1));
-    q = { (at(0, 2) + at(2, 0)) / s, (at(1, 2) + at(2, 1)) / s, 0.25 * s, (at(1, 0) - at(0, 1)) / s };
+    q = { (at(0, 2) + at(2, 0)) / s, (at(1, 2) + at(2, 1)) / s, 0.25 * s,
+      (at(1, 0) - at(0, 1)) / s };
   }
   const double len = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
   if (!std::isfinite(len) || len == 0.0)
@@ -471,8 +482,8 @@ std::array<double, 4> GltfQuaternionFromRowMajor(const std::array<double, 16>& m
   return q;
 }
 
-std::vector<unsigned char> WriteGltfSceneToMemory(const GltfScene& scene,
-  const GltfPerformance* performance, const GltfWriteOptions& options)
+std::vector<unsigned char> WriteGltfSceneToMemory(
+  const GltfScene& scene, const GltfPerformance* performance, const GltfWriteOptions& options)
 {
   if (scene.Parts.empty())
   {
@@ -496,13 +507,16 @@ std::vector<unsigned char> WriteGltfSceneToMemory(const GltfScene& scene,
     const GltfNode& node = scene.Nodes[n];
     if (node.Parent < -1 || node.Parent >= static_cast<int>(numNodes))
     {
-      Fail("node " + std::to_string(n) + ": parent " + std::to_string(node.Parent) + " is not a node");
+      Fail(
+        "node " + std::to_string(n) + ": parent " + std::to_string(node.Parent) + " is not a node");
     }
     for (int c : node.Children)
     {
-      if (c < 0 || c >= static_cast<int>(numNodes) || scene.Nodes[static_cast<size_t>(c)].Parent != static_cast<int>(n))
+      if (c < 0 || c >= static_cast<int>(numNodes) ||
+        scene.Nodes[static_cast<size_t>(c)].Parent != static_cast<int>(n))
       {
-        Fail("node " + std::to_string(n) + ": child " + std::to_string(c) + " is not a node whose parent it is");
+        Fail("node " + std::to_string(n) + ": child " + std::to_string(c) +
+          " is not a node whose parent it is");
       }
     }
   }
@@ -571,7 +585,8 @@ std::vector<unsigned char> WriteGltfSceneToMemory(const GltfScene& scene,
   std::map<std::array<int, 4>, int> samplers;
   std::map<std::pair<int, int>, int> textures; // (written image, sampler) -> texture
   bool textureTransform = false, unlit = false, emissiveStrength = false;
-  auto imageOf = [&](int index) {
+  auto imageOf = [&](int index)
+  {
     const auto it = sceneImages.find(index);
     if (it != sceneImages.end())
     {
@@ -583,7 +598,8 @@ std::vector<unsigned char> WriteGltfSceneToMemory(const GltfScene& scene,
     // PNG and JPEG go back as the file held them (no loss, the original size); WebP and
     // images without their bytes are re-encoded as PNG from the decoded pixels, so that
     // the file needs no extension.
-    const bool original = !src.Encoded.empty() && (src.MimeType == "image/png" || src.MimeType == "image/jpeg");
+    const bool original =
+      !src.Encoded.empty() && (src.MimeType == "image/png" || src.MimeType == "image/jpeg");
     const std::vector<uint8_t> bytes = original ? src.Encoded : GltfEncodePng(src);
     image.mimeType = original ? src.MimeType : "image/png";
     image.bufferView = b.AddView(bytes.data(), bytes.size(), 0);
@@ -594,14 +610,16 @@ std::vector<unsigned char> WriteGltfSceneToMemory(const GltfScene& scene,
   };
   // A texture reference as textureInfo: index, texCoord and KHR_texture_transform; -1 when
   // the reference has no decoded image.
-  auto textureOf = [&](const GltfTextureRef& ref, tinygltf::ExtensionMap& extensions, int& texCoord) {
+  auto textureOf = [&](const GltfTextureRef& ref, tinygltf::ExtensionMap& extensions, int& texCoord)
+  {
     if (!ref.IsSet() || static_cast<size_t>(ref.Image) >= scene.Images.size() ||
       !scene.Images[static_cast<size_t>(ref.Image)].IsDecoded())
     {
       return -1;
     }
     const int image = imageOf(ref.Image);
-    const std::array<int, 4> key{ { ref.Sampler.MagFilter, ref.Sampler.MinFilter, ref.Sampler.WrapS, ref.Sampler.WrapT } };
+    const std::array<int, 4> key{ { ref.Sampler.MagFilter, ref.Sampler.MinFilter, ref.Sampler.WrapS,
+      ref.Sampler.WrapT } };
     auto sit = samplers.find(key);
     if (sit == samplers.end())
     {
@@ -620,35 +638,41 @@ std::vector<unsigned char> WriteGltfSceneToMemory(const GltfScene& scene,
       texture.source = image;
       texture.sampler = sit->second;
       m.textures.push_back(texture);
-      tit = textures.emplace(std::make_pair(image, sit->second), static_cast<int>(m.textures.size() - 1)).first;
+      tit = textures
+              .emplace(std::make_pair(image, sit->second), static_cast<int>(m.textures.size() - 1))
+              .first;
     }
     texCoord = ref.TexCoord;
     if (ref.HasTransform)
     {
       tinygltf::Value::Object t;
-      t["offset"] = tinygltf::Value(tinygltf::Value::Array{ tinygltf::Value(ref.Offset[0]), tinygltf::Value(ref.Offset[1]) });
+      t["offset"] = tinygltf::Value(
+        tinygltf::Value::Array{ tinygltf::Value(ref.Offset[0]), tinygltf::Value(ref.Offset[1]) });
       t["rotation"] = tinygltf::Value(ref.Rotation);
-      t["scale"] = tinygltf::Value(tinygltf::Value::Array{ tinygltf::Value(ref.UvScale[0]), tinygltf::Value(ref.UvScale[1]) });
+      t["scale"] = tinygltf::Value(
+        tinygltf::Value::Array{ tinygltf::Value(ref.UvScale[0]), tinygltf::Value(ref.UvScale[1]) });
       extensions["KHR_texture_transform"] = tinygltf::Value(t);
       textureTransform = true;
     }
     return tit->second;
   };
-  auto writeMaterial = [&](const GltfMaterial& src) {
+  auto writeMaterial = [&](const GltfMaterial& src)
+  {
     tinygltf::Material mat;
     mat.name = src.Name;
     auto& pbr = mat.pbrMetallicRoughness;
     pbr.baseColorFactor.assign(src.BaseColorFactor.begin(), src.BaseColorFactor.end());
     pbr.metallicFactor = src.MetallicFactor;
     pbr.roughnessFactor = src.RoughnessFactor;
-    pbr.baseColorTexture.index =
-      textureOf(src.BaseColorTexture, pbr.baseColorTexture.extensions, pbr.baseColorTexture.texCoord);
-    pbr.metallicRoughnessTexture.index = textureOf(
-      src.MetallicRoughnessTexture, pbr.metallicRoughnessTexture.extensions, pbr.metallicRoughnessTexture.texCoord);
-    mat.normalTexture.index = textureOf(src.NormalTexture, mat.normalTexture.extensions, mat.normalTexture.texCoord);
+    pbr.baseColorTexture.index = textureOf(
+      src.BaseColorTexture, pbr.baseColorTexture.extensions, pbr.baseColorTexture.texCoord);
+    pbr.metallicRoughnessTexture.index = textureOf(src.MetallicRoughnessTexture,
+      pbr.metallicRoughnessTexture.extensions, pbr.metallicRoughnessTexture.texCoord);
+    mat.normalTexture.index =
+      textureOf(src.NormalTexture, mat.normalTexture.extensions, mat.normalTexture.texCoord);
     mat.normalTexture.scale = src.NormalTexture.Scale;
-    mat.occlusionTexture.index =
-      textureOf(src.OcclusionTexture, mat.occlusionTexture.extensions, mat.occlusionTexture.texCoord);
+    mat.occlusionTexture.index = textureOf(
+      src.OcclusionTexture, mat.occlusionTexture.extensions, mat.occlusionTexture.texCoord);
     mat.occlusionTexture.strength = src.OcclusionTexture.Scale;
     mat.emissiveTexture.index =
       textureOf(src.EmissiveTexture, mat.emissiveTexture.extensions, mat.emissiveTexture.texCoord);
@@ -675,7 +699,8 @@ std::vector<unsigned char> WriteGltfSceneToMemory(const GltfScene& scene,
     return static_cast<int>(m.materials.size() - 1);
   };
   std::map<std::pair<std::string, std::array<double, 4>>, int> materials;
-  auto materialOf = [&](const GltfPart& part) {
+  auto materialOf = [&](const GltfPart& part)
+  {
     if (part.Material >= 0 && static_cast<size_t>(part.Material) < scene.Materials.size())
     {
       const auto it = sceneMaterials.find(part.Material);
@@ -740,7 +765,8 @@ std::vector<unsigned char> WriteGltfSceneToMemory(const GltfScene& scene,
         }
       }
       skin.joints = src.Joints;
-      skin.skeleton = src.Skeleton >= 0 && static_cast<size_t>(src.Skeleton) < numNodes ? src.Skeleton : -1;
+      skin.skeleton =
+        src.Skeleton >= 0 && static_cast<size_t>(src.Skeleton) < numNodes ? src.Skeleton : -1;
       std::vector<float> matrices;
       for (const auto& ibm : src.InverseBind)
       {
@@ -762,19 +788,22 @@ std::vector<unsigned char> WriteGltfSceneToMemory(const GltfScene& scene,
       {
         continue;
       }
-      if (static_cast<size_t>(part.Skin) >= scene.Skins.size() || part.Influences.PerPoint % 4 != 0 ||
-        part.Influences.PerPoint == 0 || part.Influences.GetNumberOfPoints() != part.GetNumberOfPoints() ||
+      if (static_cast<size_t>(part.Skin) >= scene.Skins.size() ||
+        part.Influences.PerPoint % 4 != 0 || part.Influences.PerPoint == 0 ||
+        part.Influences.GetNumberOfPoints() != part.GetNumberOfPoints() ||
         part.Influences.Joints.size() != part.Influences.Weights.size())
       {
-        Fail("part '" + part.Name + "': its skin " + std::to_string(part.Skin) + " or influences do not fit");
+        Fail("part '" + part.Name + "': its skin " + std::to_string(part.Skin) +
+          " or influences do not fit");
       }
       const size_t jointCount = scene.Skins[static_cast<size_t>(part.Skin)].Joints.size();
       for (size_t i = 0; i < part.Influences.Joints.size(); ++i)
       {
         if (part.Influences.Weights[i] > 0.0f && part.Influences.Joints[i] >= jointCount)
         {
-          Fail("part '" + part.Name + "': joint index " + std::to_string(part.Influences.Joints[i]) +
-            " beyond its skin's " + std::to_string(jointCount) + " joints");
+          Fail("part '" + part.Name + "': joint index " +
+            std::to_string(part.Influences.Joints[i]) + " beyond its skin's " +
+            std::to_string(jointCount) + " joints");
         }
       }
       tinygltf::Node& node = m.nodes[static_cast<size_t>(part.Node)];
@@ -819,14 +848,15 @@ std::vector<unsigned char> WriteGltfSceneToMemory(const GltfScene& scene,
     {
       tinygltf::Primitive prim;
       prim.mode = TINYGLTF_MODE_TRIANGLES;
-      prim.attributes["POSITION"] = b.AddFloats(part->Positions, 3, true, TINYGLTF_TARGET_ARRAY_BUFFER);
+      prim.attributes["POSITION"] =
+        b.AddFloats(part->Positions, 3, true, TINYGLTF_TARGET_ARRAY_BUFFER);
       if (!part->Normals.empty())
       {
         std::vector<float> normals(part->Normals);
         for (size_t i = 0; i < normals.size(); i += 3)
         {
-          const double len = std::sqrt(double(normals[i]) * normals[i] + double(normals[i + 1]) * normals[i + 1] +
-            double(normals[i + 2]) * normals[i + 2]);
+          const double len = std::sqrt(double(normals[i]) * normals[i] +
+            double(normals[i + 1]) * normals[i + 1] + double(normals[i + 2]) * normals[i + 2]);
           if (len > 1e-12)
           {
             for (int c = 0; c < 3; ++c)
@@ -855,11 +885,13 @@ std::vector<unsigned char> WriteGltfSceneToMemory(const GltfScene& scene,
       const size_t points = part->GetNumberOfPoints();
       if (part->TexCoords0.size() == 2 * points && points > 0)
       {
-        prim.attributes["TEXCOORD_0"] = b.AddFloats(part->TexCoords0, 2, false, TINYGLTF_TARGET_ARRAY_BUFFER);
+        prim.attributes["TEXCOORD_0"] =
+          b.AddFloats(part->TexCoords0, 2, false, TINYGLTF_TARGET_ARRAY_BUFFER);
       }
       if (part->TexCoords1.size() == 2 * points && points > 0)
       {
-        prim.attributes["TEXCOORD_1"] = b.AddFloats(part->TexCoords1, 2, false, TINYGLTF_TARGET_ARRAY_BUFFER);
+        prim.attributes["TEXCOORD_1"] =
+          b.AddFloats(part->TexCoords1, 2, false, TINYGLTF_TARGET_ARRAY_BUFFER);
       }
       if (skinned && part->Skin >= 0)
       {
@@ -893,7 +925,8 @@ std::vector<unsigned char> WriteGltfSceneToMemory(const GltfScene& scene,
           else
           {
             a.componentType = TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT;
-            a.bufferView = b.AddView(joints.data(), joints.size() * 2, TINYGLTF_TARGET_ARRAY_BUFFER);
+            a.bufferView =
+              b.AddView(joints.data(), joints.size() * 2, TINYGLTF_TARGET_ARRAY_BUFFER);
           }
           prim.attributes["JOINTS_" + std::to_string(set)] = b.AddAccessor(std::move(a));
           prim.attributes["WEIGHTS_" + std::to_string(set)] =
@@ -933,8 +966,8 @@ std::vector<unsigned char> WriteGltfSceneToMemory(const GltfScene& scene,
 
   // Roots of the scene: nodes without parent that are in the scene (all of them when no
   // node is marked).
-  const bool anyInScene =
-    std::any_of(scene.Nodes.begin(), scene.Nodes.end(), [](const GltfNode& node) { return node.InScene; });
+  const bool anyInScene = std::any_of(
+    scene.Nodes.begin(), scene.Nodes.end(), [](const GltfNode& node) { return node.InScene; });
   std::vector<int> roots;
   for (size_t n = 0; n < numNodes; ++n)
   {
@@ -964,7 +997,8 @@ std::vector<unsigned char> WriteGltfSceneToMemory(const GltfScene& scene,
     for (const auto& name : p.TargetNames)
     {
       const bool found = std::any_of(meshTargets.begin(), meshTargets.end(),
-        [&name](const std::vector<std::string>& t) { return std::find(t.begin(), t.end(), name) != t.end(); });
+        [&name](const std::vector<std::string>& t)
+        { return std::find(t.begin(), t.end(), name) != t.end(); });
       if (!found)
       {
         Fail("the performance names the target '" + name + "', which no part of the scene has");
@@ -972,10 +1006,12 @@ std::vector<unsigned char> WriteGltfSceneToMemory(const GltfScene& scene,
     }
     tinygltf::Animation anim;
     anim.name = p.Name;
-    const std::string interpolation = p.Interpolation == GltfInterpolation::Step ? "STEP" : "LINEAR";
+    const std::string interpolation =
+      p.Interpolation == GltfInterpolation::Step ? "STEP" : "LINEAR";
     std::vector<float> times(p.Times.begin(), p.Times.end());
     const int input = b.AddFloats(times, 1, true, 0);
-    auto addSampler = [&](int output) {
+    auto addSampler = [&](int output)
+    {
       tinygltf::AnimationSampler s;
       s.input = input;
       s.output = output;
@@ -983,7 +1019,8 @@ std::vector<unsigned char> WriteGltfSceneToMemory(const GltfScene& scene,
       anim.samplers.push_back(s);
       return static_cast<int>(anim.samplers.size() - 1);
     };
-    auto addChannel = [&](int sampler, int node, const std::string& path) {
+    auto addChannel = [&](int sampler, int node, const std::string& path)
+    {
       tinygltf::AnimationChannel c;
       c.sampler = sampler;
       c.target_node = node;
@@ -1004,7 +1041,8 @@ std::vector<unsigned char> WriteGltfSceneToMemory(const GltfScene& scene,
         const auto it = std::find(p.TargetNames.begin(), p.TargetNames.end(), names[t]);
         const bool off = offAt != p.TargetsOffAtNode.end() &&
           std::find(offAt->second.begin(), offAt->second.end(), names[t]) != offAt->second.end();
-        column[t] = it == p.TargetNames.end() || off ? -1 : static_cast<int>(it - p.TargetNames.begin());
+        column[t] =
+          it == p.TargetNames.end() || off ? -1 : static_cast<int>(it - p.TargetNames.begin());
       }
       std::vector<float> values(frames * names.size(), 0.0f);
       for (size_t f = 0; f < frames; ++f)
@@ -1013,8 +1051,8 @@ std::vector<unsigned char> WriteGltfSceneToMemory(const GltfScene& scene,
         {
           if (column[t] >= 0)
           {
-            values[f * names.size() + t] =
-              static_cast<float>(p.Weights[f * p.TargetNames.size() + static_cast<size_t>(column[t])]);
+            values[f * names.size() + t] = static_cast<float>(
+              p.Weights[f * p.TargetNames.size() + static_cast<size_t>(column[t])]);
           }
         }
       }
@@ -1049,11 +1087,13 @@ std::vector<unsigned char> WriteGltfSceneToMemory(const GltfScene& scene,
       if (turned >= 0 && skinned)
       {
         const GltfNode& joint = scene.Nodes[static_cast<size_t>(turned)];
-        const bool isJoint = std::any_of(scene.Skins.begin(), scene.Skins.end(), [turned](const GltfSkin& skin) {
-          return std::find(skin.Joints.begin(), skin.Joints.end(), turned) != skin.Joints.end();
-        });
+        const bool isJoint = std::any_of(scene.Skins.begin(), scene.Skins.end(),
+          [turned](const GltfSkin& skin) {
+            return std::find(skin.Joints.begin(), skin.Joints.end(), turned) != skin.Joints.end();
+          });
         const bool atOrigin = std::abs(r.Pivot[0] - joint.Translation[0]) < 1e-9 &&
-          std::abs(r.Pivot[1] - joint.Translation[1]) < 1e-9 && std::abs(r.Pivot[2] - joint.Translation[2]) < 1e-9;
+          std::abs(r.Pivot[1] - joint.Translation[1]) < 1e-9 &&
+          std::abs(r.Pivot[2] - joint.Translation[2]) < 1e-9;
         if (isJoint && !joint.HasMatrix && atOrigin)
         {
           const auto& q0 = joint.Rotation;

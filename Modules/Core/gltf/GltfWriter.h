@@ -100,8 +100,8 @@ struct GltfWriteOptions
 };
 
 /// The file in memory. `performance` may be null (no animation). Throws InputError.
-std::vector<unsigned char> WriteGltfSceneToMemory(const GltfScene& scene,
-  const GltfPerformance* performance, const GltfWriteOptions& options = {});
+std::vector<unsigned char> WriteGltfSceneToMemory(
+  const GltfScene& scene, const GltfPerformance* performance, const GltfWriteOptions& options = {});
 
 /// Writes a file: GLB unless the name ends in ".gltf" (options.Binary is set from the
 /// name). Throws InputError for bad input or a file that cannot be written.

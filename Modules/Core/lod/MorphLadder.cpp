@@ -21,12 +21,13 @@ namespace
 /// "Real-Time Collision Detection" 5.1.5); returns the squared distance. Written here
 /// because the core has no geometry library that does it (VTK's vtkTriangle is outside the
 /// VTK-free core).
-double ClosestOnTriangle(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c,
-  glm::dvec3& bary)
+double ClosestOnTriangle(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b,
+  const glm::dvec3& c, glm::dvec3& bary)
 {
   const glm::dvec3 ab = b - a, ac = c - a, ap = p - a;
   const double d1 = glm::dot(ab, ap), d2 = glm::dot(ac, ap);
-  auto at = [&](double u, double v, double w) {
+  auto at = [&](double u, double v, double w)
+  {
     bary = glm::dvec3(u, v, w);
     const glm::dvec3 q = u * a + v * b + w * c;
     return glm::dot(p - q, p - q);
@@ -91,7 +92,8 @@ DensePositions ReadPositions(const MorphMesh& mesh)
   }
   DensePositions out;
   std::visit(
-    [&](const auto& positions) {
+    [&](const auto& positions)
+    {
       using T = typename std::decay_t<decltype(positions.GetNeutral())>::value_type;
       const size_t n = positions.GetNeutral().size();
       out.Neutral.assign(positions.GetNeutral().begin(), positions.GetNeutral().end());
@@ -154,8 +156,10 @@ void LevelErrors(const MorphLadder& ladder, size_t l, const DensePositions& posi
       fan[tris[3 * t + c]].push_back(static_cast<uint32_t>(t));
     }
   }
-  auto neutral = [&](size_t p) {
-    return glm::dvec3(positions.Neutral[3 * p], positions.Neutral[3 * p + 1], positions.Neutral[3 * p + 2]);
+  auto neutral = [&](size_t p)
+  {
+    return glm::dvec3(
+      positions.Neutral[3 * p], positions.Neutral[3 * p + 1], positions.Neutral[3 * p + 2]);
   };
   level.Corners.resize(3 * np);
   level.Barycentrics.resize(3 * np);
@@ -215,8 +219,9 @@ void LevelErrors(const MorphLadder& ladder, size_t l, const DensePositions& posi
       }
       if (s > 0)
       {
-        SkinPoints(ladder.Influences, skinPoseList[s - 1], pose.data(), static_cast<const double*>(nullptr),
-          skinned.data(), static_cast<double*>(nullptr), 0, np);
+        SkinPoints(ladder.Influences, skinPoseList[s - 1], pose.data(),
+          static_cast<const double*>(nullptr), skinned.data(), static_cast<double*>(nullptr), 0,
+          np);
         pose.swap(skinned);
       }
       for (size_t p = n; p < np; ++p)
@@ -257,7 +262,8 @@ void Reach(const MorphLadder& ladder, size_t l, const DensePositions& positions,
     for (size_t p = begin; p < end; ++p)
     {
       const size_t r = ladder.Parent[p];
-      const double dx = v[3 * p] - v[3 * r], dy = v[3 * p + 1] - v[3 * r + 1], dz = v[3 * p + 2] - v[3 * r + 2];
+      const double dx = v[3 * p] - v[3 * r], dy = v[3 * p + 1] - v[3 * r + 1],
+                   dz = v[3 * p + 2] - v[3 * r + 2];
       reach = std::max(reach, dx * dx + dy * dy + dz * dz);
     }
     level.GeomorphReach[k] = std::sqrt(reach);
@@ -281,7 +287,8 @@ uint32_t MorphLadder::Representative(size_t level, uint32_t point) const
 
 namespace
 {
-MorphLadder BuildLadder(const MorphMesh& mesh, const SkinInfluences* influences, const LadderSettings& settings)
+MorphLadder BuildLadder(
+  const MorphMesh& mesh, const SkinInfluences* influences, const LadderSettings& settings)
 {
   double previous = 1.0;
   for (double f : settings.TriangleFractions)
@@ -311,8 +318,8 @@ MorphLadder BuildLadder(const MorphMesh& mesh, const SkinInfluences* influences,
   {
     ReductionSettings rs = settings.Reduction;
     rs.TargetPoints = 0;
-    rs.TargetTriangles = std::max<size_t>(1,
-      static_cast<size_t>(std::llround(settings.TriangleFractions[l - 1] * fullTriangles)));
+    rs.TargetTriangles = std::max<size_t>(
+      1, static_cast<size_t>(std::llround(settings.TriangleFractions[l - 1] * fullTriangles)));
     ReductionResult r = ReduceAnimationAware(l == 1 ? mesh : current, rs);
     if (l == 1)
     {
@@ -418,8 +425,9 @@ MorphLadder BuildMorphLadder(
   {
     if (influences.GetNumberOfPoints() != mesh.GetNumberOfPoints())
     {
-      throw InputError("MorphLadder: skin influences for " + std::to_string(influences.GetNumberOfPoints()) +
-        " points on a mesh of " + std::to_string(mesh.GetNumberOfPoints()) + ".");
+      throw InputError("MorphLadder: skin influences for " +
+        std::to_string(influences.GetNumberOfPoints()) + " points on a mesh of " +
+        std::to_string(mesh.GetNumberOfPoints()) + ".");
     }
     size_t joints = 0; // joints a pose must have: the largest weighted index + 1
     for (size_t i = 0; i < influences.Weights.size(); ++i)
@@ -443,12 +451,13 @@ MorphLadder BuildMorphLadder(
 }
 
 template <typename T>
-void GeomorphLadder(const MorphLadder& ladder, size_t level, double alpha, T* values, int components)
+void GeomorphLadder(
+  const MorphLadder& ladder, size_t level, double alpha, T* values, int components)
 {
   if (level + 1 >= ladder.Levels.size())
   {
-    throw InputError("GeomorphLadder: level " + std::to_string(level) +
-      " has no coarser level to morph towards.");
+    throw InputError(
+      "GeomorphLadder: level " + std::to_string(level) + " has no coarser level to morph towards.");
   }
   if (components < 1)
   {

@@ -43,7 +43,8 @@ struct LadderSettings
   /// The reduction (its budget fields are ignored). AnimationWeight 0: plain quadric.
   /// SkipNonManifold is on: a few non-manifold triangles (the default head has two) stay in
   /// the full level and are left out of the reduced ones (MorphLadder::SkippedTriangles).
-  ReductionSettings Reduction = [] {
+  ReductionSettings Reduction = []
+  {
     ReductionSettings r;
     r.SkipNonManifold = true;
     return r;
@@ -73,9 +74,9 @@ struct LadderLevel
   std::vector<float> Barycentrics;
   /// Largest distance between a full-resolution point and its carried point (Corners,
   /// Barycentrics) on this level, in the neutral and in every target's pose at weight 1,
-  /// and those poses skinned by LadderSettings::SkinPoses (model units; 0 for level 0): surface error plus the motion the level gets wrong
-  /// (sliding included). Times the pixels per unit: the level's error in pixels, by which
-  /// it is chosen on screen.
+  /// and those poses skinned by LadderSettings::SkinPoses (model units; 0 for level 0): surface
+  /// error plus the motion the level gets wrong (sliding included). Times the pixels per unit: the
+  /// level's error in pixels, by which it is chosen on screen.
   double MaxError = 0.0;
   /// The 99th percentile over the points of each point's largest distance over the poses:
   /// the error the level is chosen by on screen (ToLevelOfDetail). The largest (MaxError)
@@ -141,7 +142,8 @@ void GeomorphLadder(const MorphLadder& ladder, size_t level, double alpha, T* po
 /// The same for any per-point attribute of the shared mesh (normals, texture coordinates,
 /// colours): `components` values per point.
 template <typename T>
-void GeomorphLadder(const MorphLadder& ladder, size_t level, double alpha, T* values, int components);
+void GeomorphLadder(
+  const MorphLadder& ladder, size_t level, double alpha, T* values, int components);
 
 /// A level for the FrameBudgetController, with the level's cost model; GeometricError is
 /// the level's Error99.

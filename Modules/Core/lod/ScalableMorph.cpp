@@ -7,7 +7,8 @@
 
 namespace morphnode
 {
-void ScalableMorph::SetLadder(std::shared_ptr<const MorphLadder> ladder, const std::vector<CostModel>& costs)
+void ScalableMorph::SetLadder(
+  std::shared_ptr<const MorphLadder> ladder, const std::vector<CostModel>& costs)
 {
   if (!ladder || ladder->Levels.empty())
   {
@@ -62,6 +63,7 @@ const ScalableFrame& ScalableMorph::Update(const std::vector<double>& weights, d
 std::vector<CostModel> ScalableMorph::Calibrate(const MorphLadder& ladder, unsigned seed)
 {
   // A non-owning pointer: the scene lives only for the calibration.
-  return ScalableScene::Calibrate({ std::shared_ptr<const MorphLadder>(&ladder, [](const MorphLadder*) {}) }, seed);
+  return ScalableScene::Calibrate(
+    { std::shared_ptr<const MorphLadder>(&ladder, [](const MorphLadder*) {}) }, seed);
 }
 } // namespace morphnode

@@ -68,7 +68,8 @@ void ScalableScene::Layout(Ladders parts)
     for (size_t k = 1; k < part.Names.size(); ++k)
     {
       map[k] = static_cast<size_t>(
-        std::find(this->TargetNames.begin(), this->TargetNames.end(), part.Names[k]) - this->TargetNames.begin());
+        std::find(this->TargetNames.begin(), this->TargetNames.end(), part.Names[k]) -
+        this->TargetNames.begin());
       has[map[k]] = 1;
     }
     // The scene targets a part lacks: their weight goes to its neutral.
@@ -133,7 +134,8 @@ LevelOfDetail ScalableScene::GetSceneLevel(size_t l, const CostModel& cost) cons
 {
   if (l >= this->Levels)
   {
-    throw InputError("ScalableScene: level " + std::to_string(l) + " of " + std::to_string(this->Levels) + ".");
+    throw InputError(
+      "ScalableScene: level " + std::to_string(l) + " of " + std::to_string(this->Levels) + ".");
   }
   const size_t nt = this->TargetNames.size();
   LevelOfDetail lod;
@@ -154,7 +156,8 @@ LevelOfDetail ScalableScene::GetSceneLevel(size_t l, const CostModel& cost) cons
     lod.NumberOfPoints += level.NumberOfPoints;
     // The part whose error is largest sets the level.
     lod.GeometricError = std::max(lod.GeometricError, level.Error99);
-    named.push_back({ ladder.Mesh.GetTargetNames(), level.Distances.DistMorph, level.Distances.MaxDisplacement });
+    named.push_back(
+      { ladder.Mesh.GetTargetNames(), level.Distances.DistMorph, level.Distances.MaxDisplacement });
     for (size_t k = 1; k < map.size(); ++k)
     {
       lod.MovedPoints[map[k]] += level.MovedPoints.at(k);
@@ -189,7 +192,8 @@ void ScalableScene::Rebuild()
 const std::vector<uint32_t>& ScalableScene::GetTriangles(size_t part) const
 {
   const MorphLadder& ladder = *this->Parts.at(part);
-  return ladder.Levels.at(static_cast<size_t>(this->GetPartLevel(part, this->Frame.Decision.Level))).Triangles;
+  return ladder.Levels.at(static_cast<size_t>(this->GetPartLevel(part, this->Frame.Decision.Level)))
+    .Triangles;
 }
 
 void ScalableScene::Blend(const std::vector<double>& w, int level, int morphTowards, double alpha)
@@ -216,12 +220,13 @@ void ScalableScene::Blend(const std::vector<double>& w, int level, int morphTowa
     {
       pw[k] = w[map[k]];
     }
-    const bool morphs = morphTowards >= 0 && pl == level && static_cast<size_t>(pl) + 1 < ladder.Levels.size();
+    const bool morphs =
+      morphTowards >= 0 && pl == level && static_cast<size_t>(pl) + 1 < ladder.Levels.size();
     // A part shown as in the last frame (its level, its weights, no geomorph then or now,
     // e.g. an eye no active target moves) keeps its positions: nothing to blend.
     ShownState& shown = this->Shown[p];
-    const bool same = this->SkipUnchanged && shown.Valid && shown.Level == pl && !shown.Morphed && !morphs &&
-      this->PartWeights[p] == pw;
+    const bool same = this->SkipUnchanged && shown.Valid && shown.Level == pl && !shown.Morphed &&
+      !morphs && this->PartWeights[p] == pw;
     this->PartWeights[p].swap(pw);
     if (!same)
     {
@@ -259,18 +264,20 @@ void ScalableScene::BlendAttribute(size_t part, size_t attribute, T* out) const
 {
   if (part >= this->Parts.size() || this->PartWeights.at(part).empty())
   {
-    throw InputError("ScalableScene: no frame of part " + std::to_string(part) + " to blend an attribute of.");
+    throw InputError(
+      "ScalableScene: no frame of part " + std::to_string(part) + " to blend an attribute of.");
   }
   const MorphLadder& ladder = *this->Parts[part];
   if (attribute >= ladder.Mesh.GetNumberOfAttributes())
   {
-    throw InputError("ScalableScene: part " + std::to_string(part) + " has no attribute " + std::to_string(attribute) + ".");
+    throw InputError("ScalableScene: part " + std::to_string(part) + " has no attribute " +
+      std::to_string(attribute) + ".");
   }
   const auto* values = std::get_if<MorphAttribute<T>>(&ladder.Mesh.GetAttribute(attribute));
   if (!values)
   {
-    throw InputError("ScalableScene: attribute " + std::to_string(attribute) + " of part " + std::to_string(part) +
-      " is not of the type asked for.");
+    throw InputError("ScalableScene: attribute " + std::to_string(attribute) + " of part " +
+      std::to_string(part) + " is not of the type asked for.");
   }
   const std::vector<double>& w = this->PartWeights[part];
   const int pl = this->Frame.PartLevels.at(part);
@@ -337,7 +344,8 @@ std::vector<CostModel> ScalableScene::Calibrate(const Ladders& parts, unsigned s
         {
           const auto t0 = std::chrono::steady_clock::now();
           scene.Blend(w, static_cast<int>(l), -1, 0.0);
-          best = std::min(best, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+          best = std::min(
+            best, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
         }
         xs.push_back(x);
         ys.push_back(best);

@@ -96,7 +96,10 @@ public:
   /// The weights part `part` blended with in the last frame: its own targets' scene
   /// weights, neutral first (the weight of scene targets it lacks on its neutral). Empty
   /// before a frame.
-  const std::vector<double>& GetPartWeights(size_t part) const { return this->PartWeights.at(part); }
+  const std::vector<double>& GetPartWeights(size_t part) const
+  {
+    return this->PartWeights.at(part);
+  }
   /// Any other attribute of a part (an index into its ladder's Mesh attributes: normals,
   /// texture coordinates, colours) as the last frame shows it: blended over the shown
   /// prefix with GetPartWeights and geomorphed as the positions were (normals renormalized

@@ -64,8 +64,8 @@ constexpr int MaxTargetsPerPass = 4;
 
 template <bool Start, int Count, typename T>
 __attribute__((noinline)) MORPHNODE_KERNEL_CLONES void AxpyN(const T* w, const T* __restrict x0,
-  const T* __restrict x1, const T* __restrict x2, const T* __restrict x3, const T* __restrict neutral,
-  T* __restrict y, size_t n)
+  const T* __restrict x1, const T* __restrict x2, const T* __restrict x3,
+  const T* __restrict neutral, T* __restrict y, size_t n)
 {
   static_assert(Count >= 1 && Count <= MaxTargetsPerPass, "one to four targets a pass");
   const T w0 = w[0];
@@ -120,7 +120,8 @@ void AxpyPending(int count, const T* w, const T* const* x, const T* neutral, T* 
 // the normals (MorphAvatar's default face). GCC vectorizes it only with -fno-math-errno
 // and -fno-trapping-math (Modules/Core/CMakeLists.txt); neither changes a value.
 template <typename T>
-__attribute__((noinline)) MORPHNODE_NORMALIZE_CLONES void NormalizeTriples(T* __restrict v, size_t count)
+__attribute__((noinline)) MORPHNODE_NORMALIZE_CLONES void NormalizeTriples(
+  T* __restrict v, size_t count)
 {
   for (size_t p = 0; p < count; ++p)
   {
@@ -211,7 +212,8 @@ void TargetDeltas<T>::AddScaled(T weight, T* out, size_t begin, size_t end) cons
   const size_t c = static_cast<size_t>(this->Components);
   if (!this->Sparse)
   {
-    Axpy<false, T>(weight, this->Dense.data() + begin * c, nullptr, out + begin * c, (end - begin) * c);
+    Axpy<false, T>(
+      weight, this->Dense.data() + begin * c, nullptr, out + begin * c, (end - begin) * c);
     return;
   }
   // Each moved point is in a span or among the single points, never both, so the order in
@@ -222,12 +224,13 @@ void TargetDeltas<T>::AddScaled(T weight, T* out, size_t begin, size_t end) cons
   {
     const size_t lo = std::max<size_t>(span->Begin, begin);
     const size_t hi = std::min<size_t>(size_t(span->Begin) + span->Count, end);
-    Axpy<false, T>(weight, this->SpanValues.data() + (span->First + (lo - span->Begin)) * c, nullptr,
-      out + lo * c, (hi - lo) * c);
+    Axpy<false, T>(weight, this->SpanValues.data() + (span->First + (lo - span->Begin)) * c,
+      nullptr, out + lo * c, (hi - lo) * c);
   }
   const uint32_t* idx = this->Points.data();
   const size_t count = this->Points.size();
-  size_t k = static_cast<size_t>(std::lower_bound(this->Points.begin(), this->Points.end(), begin) - this->Points.begin());
+  size_t k = static_cast<size_t>(
+    std::lower_bound(this->Points.begin(), this->Points.end(), begin) - this->Points.begin());
   if (c == 3)
   {
     // The common case (positions, normals) with the component loop unrolled.
@@ -388,14 +391,16 @@ void MorphAttribute<T>::BlendBlock(
   const T* const neutral = this->Neutral.data() + begin * c;
   const size_t count = (end - begin) * c;
   bool started = false; // y holds the neutral plus what was added so far
-  const auto startFromNeutral = [&] {
+  const auto startFromNeutral = [&]
+  {
     if (!started)
     {
       std::copy_n(neutral, count, y);
       started = true;
     }
   };
-  const auto flushPending = [&] {
+  const auto flushPending = [&]
+  {
     if (pending == 0)
     {
       return;

@@ -33,8 +33,8 @@ class TargetDeltas
 public:
   /// Keeps the points whose delta is not exactly zero. Stores them sparsely when they are
   /// at most `sparseCoverage` of all points (0 forces dense, 1 forces sparse).
-  static TargetDeltas FromDense(const T* deltas, size_t numPoints, int components,
-    double sparseCoverage);
+  static TargetDeltas FromDense(
+    const T* deltas, size_t numPoints, int components, double sparseCoverage);
 
   bool IsSparse() const { return this->Sparse; }
   /// Points with a non-zero delta.
@@ -81,11 +81,11 @@ private:
     uint32_t Count;
     uint32_t First;
   };
-  std::vector<T> Dense;             // NumPoints * Components
-  std::vector<Span> Spans;          // sparse: long runs, sorted, disjoint
-  std::vector<T> SpanValues;        // sparse: the spans' deltas, span after span
-  std::vector<uint32_t> Points;     // sparse: the moved points outside spans, sorted
-  std::vector<T> PointValues;       // sparse: Points.size() * Components
+  std::vector<T> Dense;         // NumPoints * Components
+  std::vector<Span> Spans;      // sparse: long runs, sorted, disjoint
+  std::vector<T> SpanValues;    // sparse: the spans' deltas, span after span
+  std::vector<uint32_t> Points; // sparse: the moved points outside spans, sorted
+  std::vector<T> PointValues;   // sparse: Points.size() * Components
 };
 
 /// The neutral values of an attribute and its per-target deltas.

@@ -42,7 +42,8 @@ void MorphMesh::Validate() const
   for (const auto& any : this->Attributes)
   {
     std::visit(
-      [&](const auto& a) {
+      [&](const auto& a)
+      {
         if (a.GetNumberOfTargets() != this->TargetNames.size())
         {
           std::ostringstream msg;

@@ -60,8 +60,7 @@ void MorphNode::CheckOutputs(const std::vector<AttributeOutput>& outputs) const
   if (outputs.size() != numAttributes)
   {
     std::ostringstream msg;
-    msg << "the blend got " << outputs.size() << " outputs for " << numAttributes
-        << " attributes";
+    msg << "the blend got " << outputs.size() << " outputs for " << numAttributes << " attributes";
     throw InputError(msg.str());
   }
   for (size_t a = 0; a < numAttributes; ++a)
@@ -93,7 +92,8 @@ void MorphNode::Blend(const std::vector<AttributeOutput>& outputs, size_t begin,
   for (size_t a = 0; a < outputs.size(); ++a)
   {
     std::visit(
-      [&](const auto& attribute) {
+      [&](const auto& attribute)
+      {
         using T = typename std::decay_t<decltype(attribute.GetNeutral())>::value_type;
         attribute.Blend(weights, numWeights, std::get<T*>(outputs[a]), begin, end);
       },
@@ -119,14 +119,15 @@ void MorphNode::BlendAttribute(size_t attribute, T* out, size_t begin, size_t en
   if (!stored || !out)
   {
     std::ostringstream msg;
-    msg << "attribute " << attribute << " is not stored as " << (sizeof(T) == 4 ? "float" : "double")
-        << ", or its output is null";
+    msg << "attribute " << attribute << " is not stored as "
+        << (sizeof(T) == 4 ? "float" : "double") << ", or its output is null";
     throw InputError(msg.str());
   }
   end = std::min(end, this->Mesh->GetNumberOfPoints());
   if (begin < end)
   {
-    stored->Blend(this->GetEffectiveWeights().data(), this->GetEffectiveWeights().size(), out, begin, end);
+    stored->Blend(
+      this->GetEffectiveWeights().data(), this->GetEffectiveWeights().size(), out, begin, end);
   }
 }
 

@@ -90,7 +90,8 @@ NamedTargetDistances CombineTargetDistances(const std::vector<NamedTargetDistanc
         throw InputError(msg.str());
       }
       model.DistMorph[it->second] += piece.DistMorph[k];
-      model.MaxDisplacement[it->second] = std::max(model.MaxDisplacement[it->second], piece.MaxDisplacement[k]);
+      model.MaxDisplacement[it->second] =
+        std::max(model.MaxDisplacement[it->second], piece.MaxDisplacement[k]);
     }
   }
   return model;
@@ -108,7 +109,8 @@ TargetDistances MakeTargetDistances(const NamedTargetDistances& model)
     d.DistMorph[i] = model.DistMorph[i];
     d.MaxDisplacement[i] = model.MaxDisplacement[i];
   }
-  NormalizeDistances(d); // as ComputeTargetDistances: one part gives MorphNode's figures bit for bit
+  NormalizeDistances(
+    d); // as ComputeTargetDistances: one part gives MorphNode's figures bit for bit
   return d;
 }
 
@@ -161,7 +163,8 @@ void MorphScene::SetParts(std::vector<std::shared_ptr<const MorphMesh>> parts,
     piece.MaxDisplacement = own.MaxDisplacement;
     piece.DistMorph.resize(piece.Names.size(), 0.0); // a mesh without positions moves nothing
     piece.MaxDisplacement.resize(piece.Names.size(), 0.0);
-    const std::vector<uint8_t>* excluded = excludedFromSums.empty() ? nullptr : &excludedFromSums[p];
+    const std::vector<uint8_t>* excluded =
+      excludedFromSums.empty() ? nullptr : &excludedFromSums[p];
     if (excluded && !excluded->empty())
     {
       if (excluded->size() != mesh.GetNumberOfPoints())
@@ -212,7 +215,8 @@ void MorphScene::SetModel(const NamedTargetDistances& model)
       if (it == index.end() || it->second == 0)
       {
         std::ostringstream msg;
-        msg << "part " << p << " of the morph scene has a target '" << names[k] << "' that the model "
+        msg << "part " << p << " of the morph scene has a target '" << names[k]
+            << "' that the model "
             << (it == index.end() ? "does not have" : "names like its neutral");
         throw InputError(msg.str());
       }

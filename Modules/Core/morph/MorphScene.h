@@ -157,7 +157,8 @@ public:
   const MorphNode& GetPartNode(size_t part) const;
   /// Blends points [begin, end) of part `part` (MorphNode::Blend): disjoint ranges, of one
   /// part or of different parts, may be blended by different threads at once.
-  void Blend(size_t part, const std::vector<AttributeOutput>& outputs, size_t begin, size_t end) const
+  void Blend(
+    size_t part, const std::vector<AttributeOutput>& outputs, size_t begin, size_t end) const
   {
     this->GetPartNode(part).Blend(outputs, begin, end);
   }
@@ -179,10 +180,10 @@ private:
   struct PartState
   {
     std::shared_ptr<const MorphMesh> Mesh;
-    MorphNode Node;                 // Relative mode, no optimizer: blends what the scene decided
-    std::vector<size_t> Targets;    // scene target of each of the part's targets
-    std::vector<double> Weights;    // requested of Node (neutral ignored in Relative mode)
-    std::vector<char> Off;          // per target of the part: its weight is 0 here (SetPartTargetsOff)
+    MorphNode Node;              // Relative mode, no optimizer: blends what the scene decided
+    std::vector<size_t> Targets; // scene target of each of the part's targets
+    std::vector<double> Weights; // requested of Node (neutral ignored in Relative mode)
+    std::vector<char> Off;       // per target of the part: its weight is 0 here (SetPartTargetsOff)
     bool Moved = false;
   };
   std::vector<std::unique_ptr<PartState>> Parts;

@@ -14,9 +14,8 @@ std::vector<float> ComputeVertexNormals(
   const float* positions, size_t numPoints, const uint32_t* triangles, size_t numTriangles)
 {
   std::vector<glm::dvec3> sum(numPoints, glm::dvec3(0.0));
-  auto point = [&](uint32_t id) {
-    return glm::dvec3(positions[3 * id], positions[3 * id + 1], positions[3 * id + 2]);
-  };
+  auto point = [&](uint32_t id)
+  { return glm::dvec3(positions[3 * id], positions[3 * id + 1], positions[3 * id + 2]); };
   for (size_t t = 0; t < numTriangles; ++t)
   {
     const uint32_t* tri = triangles + 3 * t;
@@ -25,7 +24,8 @@ std::vector<float> ComputeVertexNormals(
       if (tri[k] >= numPoints)
       {
         std::ostringstream msg;
-        msg << "triangle " << t << " uses point " << tri[k] << " of a mesh of " << numPoints << " points";
+        msg << "triangle " << t << " uses point " << tri[k] << " of a mesh of " << numPoints
+            << " points";
         throw InputError(msg.str());
       }
     }
@@ -60,7 +60,8 @@ std::vector<float> ComputeNormalDeltas(const float* basePositions, const float* 
   {
     shape[i] = basePositions[i] + positionDeltas[i];
   }
-  std::vector<float> deltas = ComputeVertexNormals(shape.data(), numPoints, triangles, numTriangles);
+  std::vector<float> deltas =
+    ComputeVertexNormals(shape.data(), numPoints, triangles, numTriangles);
   for (size_t i = 0; i < deltas.size(); ++i)
   {
     deltas[i] -= baseNormals[i];

@@ -12,8 +12,8 @@ namespace morphnode
 /// Area-weighted vertex normals (unit length; zero for vertices on no triangle).
 /// `positions`: numPoints * 3; `triangles`: numTriangles * 3 point ids.
 /// Throws InputError for a point id out of range.
-std::vector<float> ComputeVertexNormals(const float* positions, size_t numPoints,
-  const uint32_t* triangles, size_t numTriangles);
+std::vector<float> ComputeVertexNormals(
+  const float* positions, size_t numPoints, const uint32_t* triangles, size_t numTriangles);
 
 /// Normal deltas of a relative target: normals(base + delta) - normals(base), the form
 /// glTF stores; `baseNormals` from ComputeVertexNormals of the base.

@@ -55,7 +55,8 @@ std::vector<FrameQuality> MeasureOptimizerQuality(const MorphAttribute<float>& p
   return frames;
 }
 
-WeightTrack ToAbsoluteWeights(const WeightTrack& relative, const std::vector<std::string>& targetNames)
+WeightTrack ToAbsoluteWeights(
+  const WeightTrack& relative, const std::vector<std::string>& targetNames)
 {
   std::vector<int> source(targetNames.size(), -1);
   for (size_t c = 0; c < relative.GetNumberOfChannels(); ++c)

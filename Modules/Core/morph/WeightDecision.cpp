@@ -10,7 +10,8 @@ void WeightDecision::SetOptimizerSettings(const OptimizerSettings& settings)
   this->Optimizer.SetSettings(settings);
 }
 
-void WeightDecision::SetOptimizerPreset(OptimizerPreset preset, double threshold, double maxVertexError)
+void WeightDecision::SetOptimizerPreset(
+  OptimizerPreset preset, double threshold, double maxVertexError)
 {
   OptimizerSettings settings = MakeOptimizerSettings(preset, threshold, maxVertexError);
   settings.MaxActiveTargets = this->Optimizer.GetSettings().MaxActiveTargets;

@@ -26,7 +26,8 @@ const char* RedistributionName(Redistribution strategy)
 
 void WeightOptimizer::SetSettings(const OptimizerSettings& s)
 {
-  auto check = [](double v, const char* what) {
+  auto check = [](double v, const char* what)
+  {
     if (!std::isfinite(v) || v < 0.0)
     {
       std::ostringstream msg;
@@ -136,8 +137,8 @@ double WeightOptimizer::ErrorBound(const std::vector<double>& original,
 
 double WeightOptimizer::Bound(const std::vector<double>& w, const std::vector<bool>& keep) const
 {
-  return ErrorBound(w, Redistribute(w, keep, this->Settings.Strategy),
-    this->Distances.MaxDisplacement);
+  return ErrorBound(
+    w, Redistribute(w, keep, this->Settings.Strategy), this->Distances.MaxDisplacement);
 }
 
 std::vector<double> WeightOptimizer::Optimize(const std::vector<double>& w)
@@ -167,9 +168,8 @@ std::vector<double> WeightOptimizer::Optimize(const std::vector<double>& w)
   // ranked by c_i / (1 - h). Bound: pruned only while B <= eps (1 - h).
   const double stay = 1.0 - s.Hysteresis;
   auto incumbent = [&](size_t i) { return s.Hysteresis > 0.0 && this->WasActive[i]; };
-  auto stickyContribution = [&](size_t i) {
-    return incumbent(i) ? contribution(i) / stay : contribution(i);
-  };
+  auto stickyContribution = [&](size_t i)
+  { return incumbent(i) ? contribution(i) / stay : contribution(i); };
 
   std::vector<bool> keep(n);
   for (size_t i = 0; i < n; ++i)
@@ -293,8 +293,7 @@ std::vector<double> WeightOptimizer::Optimize(const std::vector<double>& w)
       // band wins over the budget.
       if (s.Hysteresis > 0.0)
       {
-        for (size_t k = 0; k < pruned.size() && this->Bound(w, keep) > s.MaxVertexError * stay;
-             ++k)
+        for (size_t k = 0; k < pruned.size() && this->Bound(w, keep) > s.MaxVertexError * stay; ++k)
         {
           if (this->WasActive[pruned[k]])
           {

@@ -64,10 +64,10 @@ struct OptimizerSettings
 {
   double Threshold = 0.0; ///< th_fix; 0 turns thresholding off
   Redistribution Strategy = Redistribution::Remaining;
-  bool AdjustThreshold = false;  ///< th_adj = th_fix * (1 - dist_norm)
-  double MaxVertexError = 0.0;   ///< model units; 0 = no bound
-  int MaxActiveTargets = 0;      ///< 0 = no budget
-  double Hysteresis = 0.0;       ///< in [0, 1)
+  bool AdjustThreshold = false; ///< th_adj = th_fix * (1 - dist_norm)
+  double MaxVertexError = 0.0;  ///< model units; 0 = no bound
+  int MaxActiveTargets = 0;     ///< 0 = no budget
+  double Hysteresis = 0.0;      ///< in [0, 1)
 
   bool IsActive() const
   {

@@ -143,13 +143,14 @@ void WeightRequests::Resolve(std::vector<double>& requested) const
   std::ostringstream msg;
   if (outOfRangeOrder && (!unknown || outOfRangeOrder < unknownOrder))
   {
-    msg << "a weight is set for target " << outOfRange << ", but the input has " << n << " targets (0.."
-        << (n > 0 ? n - 1 : 0) << ", neutral first)";
+    msg << "a weight is set for target " << outOfRange << ", but the input has " << n
+        << " targets (0.." << (n > 0 ? n - 1 : 0) << ", neutral first)";
     throw InputError(msg.str());
   }
   if (unknown)
   {
-    msg << "a weight is set for target '" << unknown->Name << "', but no target has that name; targets:";
+    msg << "a weight is set for target '" << unknown->Name
+        << "', but no target has that name; targets:";
     for (const std::string& name : this->Names)
     {
       msg << " " << name;

@@ -65,8 +65,8 @@ void ResolveWeights(
       if (std::abs(sum - 1.0) > StrictTolerance)
       {
         std::ostringstream msg;
-        msg << "Strict weight mode: the weights sum to " << sum
-            << ", not 1 (tolerance " << StrictTolerance << ", as in Java3D's Morph node)";
+        msg << "Strict weight mode: the weights sum to " << sum << ", not 1 (tolerance "
+            << StrictTolerance << ", as in Java3D's Morph node)";
         throw InputError(msg.str());
       }
       break;

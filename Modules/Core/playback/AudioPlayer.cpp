@@ -57,9 +57,9 @@ struct AudioPlayer::Internals
 {
   mutable std::mutex Mutex; // the clips and the position
   std::vector<Clip> Clips;
-  int64_t Position = 0;        // timeline frame of the next frame the device takes
-  int64_t Taken = 0;           // frames the device has taken since Open
-  int64_t CallbackNs = 0;      // steady time of the device's last request
+  int64_t Position = 0;   // timeline frame of the next frame the device takes
+  int64_t Taken = 0;      // frames the device has taken since Open
+  int64_t CallbackNs = 0; // steady time of the device's last request
   int64_t PositionAtCallback = 0;
   std::atomic<bool> Paused{ true };
   bool Open = false;
@@ -146,7 +146,8 @@ void AudioPlayer::Open(const Options& options)
   {
     driver = "dummy";
   }
-  auto tryOpen = [&](const std::string& name) -> bool {
+  auto tryOpen = [&](const std::string& name) -> bool
+  {
     SDL_SetHint(SDL_HINT_AUDIODRIVER, name.empty() ? nullptr : name.c_str());
     if (SDL_InitSubSystem(SDL_INIT_AUDIO) != 0)
     {
@@ -160,8 +161,8 @@ void AudioPlayer::Open(const Options& options)
     want.samples = static_cast<Uint16>(std::min(options.BufferFrames, 32768));
     want.callback = &Internals::Callback;
     want.userdata = &d;
-    d.Device = SDL_OpenAudioDevice(nullptr, 0, &want, &have, SDL_AUDIO_ALLOW_FREQUENCY_CHANGE |
-        SDL_AUDIO_ALLOW_SAMPLES_CHANGE);
+    d.Device = SDL_OpenAudioDevice(
+      nullptr, 0, &want, &have, SDL_AUDIO_ALLOW_FREQUENCY_CHANGE | SDL_AUDIO_ALLOW_SAMPLES_CHANGE);
     if (d.Device == 0)
     {
       SDL_QuitSubSystem(SDL_INIT_AUDIO);
@@ -175,8 +176,8 @@ void AudioPlayer::Open(const Options& options)
   };
   if (!tryOpen(driver) && (driver == "dummy" || !tryOpen("dummy")))
   {
-    throw InputError(std::string("audio player: no sound device, not even SDL's dummy one: ") +
-      SDL_GetError());
+    throw InputError(
+      std::string("audio player: no sound device, not even SDL's dummy one: ") + SDL_GetError());
   }
   d.CallbackNs = Nanoseconds(Clock::now());
   d.DeviceClock = options.Clock == Options::ClockSource::Device ||
@@ -243,8 +244,8 @@ void AudioPlayer::Schedule(const AudioBuffer& clip, double start)
   const int64_t now = this->PresentFrame();
   std::lock_guard<std::mutex> lock(d.Mutex);
   // Without a device nothing takes the clips: forget those that are over.
-  d.Clips.erase(std::remove_if(d.Clips.begin(), d.Clips.end(),
-                  [now](const Clip& k) { return k.End() <= now; }),
+  d.Clips.erase(
+    std::remove_if(d.Clips.begin(), d.Clips.end(), [now](const Clip& k) { return k.End() <= now; }),
     d.Clips.end());
   d.Clips.push_back(std::move(c));
 }
@@ -274,8 +275,8 @@ void AudioPlayer::CutFrom(double t)
       c.Samples.resize(static_cast<size_t>(std::max<int64_t>(0, frame - c.StartFrame)));
     }
   }
-  d.Clips.erase(std::remove_if(d.Clips.begin(), d.Clips.end(),
-                  [](const Clip& c) { return c.Samples.empty(); }),
+  d.Clips.erase(
+    std::remove_if(d.Clips.begin(), d.Clips.end(), [](const Clip& c) { return c.Samples.empty(); }),
     d.Clips.end());
 }
 

@@ -34,8 +34,8 @@ class AudioPlayer
 public:
   struct Options
   {
-    int SampleRate = 22050;  ///< the rate asked of the device (clips are resampled to its rate)
-    int BufferFrames = 512;  ///< the device's buffer, frames (latency = BufferFrames / rate)
+    int SampleRate = 22050; ///< the rate asked of the device (clips are resampled to its rate)
+    int BufferFrames = 512; ///< the device's buffer, frames (latency = BufferFrames / rate)
     /// An SDL audio driver ("pulseaudio", "alsa", "dummy", ...); empty: SDL's choice where the
     /// machine has a sound device, else "dummy". The environment's SDL_AUDIODRIVER wins.
     std::string Driver;

@@ -30,8 +30,8 @@ using Mesh = OpenMesh::TriMesh_ArrayKernelT<Traits>;
 using Quadric = OpenMesh::Geometry::QuadricT<double>;
 
 /// The area-weighted plane quadric of a triangle, as ModQuadricT builds it.
-Quadric FaceQuadric(const OpenMesh::Vec3d& a, const OpenMesh::Vec3d& b, const OpenMesh::Vec3d& c,
-  double* areaOut)
+Quadric FaceQuadric(
+  const OpenMesh::Vec3d& a, const OpenMesh::Vec3d& b, const OpenMesh::Vec3d& c, double* areaOut)
 {
   OpenMesh::Vec3d n = (b - a) % (c - a);
   double area = n.norm();
@@ -111,7 +111,8 @@ public:
   {
   }
 
-  void Configure(const FlatPositions<T>* morph, double weight, bool poseQuadrics, double motionWeight)
+  void Configure(
+    const FlatPositions<T>* morph, double weight, bool poseQuadrics, double motionWeight)
   {
     this->Morph = morph;
     this->Weight = weight;
@@ -128,7 +129,8 @@ public:
     this->Area.assign(nv, 0.0);
     this->MotionBound.assign(nv, 0.0);
     const auto& P = this->Morph->Positions;
-    auto point = [&](uint32_t v, const T* delta) {
+    auto point = [&](uint32_t v, const T* delta)
+    {
       OpenMesh::Vec3d p(P[3 * v], P[3 * v + 1], P[3 * v + 2]);
       if (delta)
       {
@@ -146,8 +148,8 @@ public:
         ids[i++] = static_cast<uint32_t>(vh.idx());
       }
       double area = 0.0;
-      const Quadric q = FaceQuadric(point(ids[0], nullptr), point(ids[1], nullptr),
-        point(ids[2], nullptr), &area);
+      const Quadric q =
+        FaceQuadric(point(ids[0], nullptr), point(ids[1], nullptr), point(ids[2], nullptr), &area);
       for (uint32_t id : ids)
       {
         this->Neutral[id] += q;
@@ -156,7 +158,8 @@ public:
       for (size_t k = 0; k < nk; ++k)
       {
         const T* d = this->Morph->PositionDeltas[k].data();
-        const Quadric qk = FaceQuadric(point(ids[0], d), point(ids[1], d), point(ids[2], d), nullptr);
+        const Quadric qk =
+          FaceQuadric(point(ids[0], d), point(ids[1], d), point(ids[2], d), nullptr);
         for (uint32_t id : ids)
         {
           this->Poses[id * nk + k] += qk;
@@ -166,7 +169,7 @@ public:
     // Boundary contours (lips, eyelids) in every pose: a plane through each boundary edge,
     // perpendicular to its face, weighted by the squared edge length (Garland & Heckbert),
     // so that contours the animation opens and closes do not erode.
-    for (size_t k = 0; k < nk && this->BoundaryWeight > 0.0; ++k)
+    for (size_t k = 0; k<nk&& this->BoundaryWeight> 0.0; ++k)
     {
       const T* d = this->Morph->PositionDeltas[k].data();
       for (const auto heh : Base::mesh().halfedges())
@@ -273,8 +276,10 @@ private:
   const FlatPositions<T>* Morph = nullptr;
   double Weight = 0.0;
   double MotionWeight = 1.0;
+
 public:
   double BoundaryWeight = 0.0;
+
 private:
   bool UsePoses = false;
   std::vector<Quadric> Neutral;
@@ -306,7 +311,8 @@ const AnyMorphAttribute& Validate(const MorphMesh& mesh, const ReductionSettings
   }
   mesh.Validate();
   std::visit(
-    [](const auto& a) {
+    [](const auto& a)
+    {
       for (const auto x : a.GetNeutral())
       {
         if (!std::isfinite(x))
@@ -325,8 +331,9 @@ const AnyMorphAttribute& Validate(const MorphMesh& mesh, const ReductionSettings
   {
     if (settings.TargetTriangles >= mesh.GetNumberOfTriangles())
     {
-      throw InputError("Reduction: the triangle budget (" + std::to_string(settings.TargetTriangles) +
-        ") must be below the mesh's " + std::to_string(mesh.GetNumberOfTriangles()) + " triangles.");
+      throw InputError("Reduction: the triangle budget (" +
+        std::to_string(settings.TargetTriangles) + ") must be below the mesh's " +
+        std::to_string(mesh.GetNumberOfTriangles()) + " triangles.");
     }
   }
   else if (settings.TargetPoints > 0)
@@ -347,8 +354,8 @@ const AnyMorphAttribute& Validate(const MorphMesh& mesh, const ReductionSettings
 /// The reduced mesh: every attribute of `input` gathered through `ids`.
 
 template <typename T>
-ReductionResult Reduce(const MorphMesh& morph, const MorphAttribute<T>& positions,
-  const ReductionSettings& settings)
+ReductionResult Reduce(
+  const MorphMesh& morph, const MorphAttribute<T>& positions, const ReductionSettings& settings)
 {
   const FlatPositions<T> input(positions);
   const std::vector<uint32_t>& triangles = morph.GetTriangles();
@@ -409,7 +416,8 @@ ReductionResult Reduce(const MorphMesh& morph, const MorphAttribute<T>& position
   if (settings.AnimationWeight > 0.0)
   {
     decimater.add(animated);
-    decimater.module(animated).Configure(&input, settings.AnimationWeight, settings.PoseQuadrics, settings.MotionWeight);
+    decimater.module(animated).Configure(
+      &input, settings.AnimationWeight, settings.PoseQuadrics, settings.MotionWeight);
     decimater.module(animated).BoundaryWeight = settings.BoundaryWeight;
   }
   else
@@ -492,7 +500,8 @@ MorphMesh GatherMorphMesh(const MorphMesh& input, const std::vector<uint32_t>& i
   for (size_t a = 0; a < input.GetNumberOfAttributes(); ++a)
   {
     std::visit(
-      [&](const auto& attribute) {
+      [&](const auto& attribute)
+      {
         using T = typename std::decay_t<decltype(attribute.GetNeutral())>::value_type;
         const int nc = attribute.GetNumberOfComponents();
         auto& reduced = out.AddAttribute<T>(attribute.GetName(), attribute.GetRole(), nc);
@@ -524,7 +533,8 @@ std::vector<T> GatherPoints(const std::vector<T>& values, int components, size_t
   if (components <= 0 || values.size() != numPoints * nc)
   {
     throw InputError("GatherPoints: expected " + std::to_string(numPoints) + " points of " +
-      std::to_string(components) + " components, got " + std::to_string(values.size()) + " values.");
+      std::to_string(components) + " components, got " + std::to_string(values.size()) +
+      " values.");
   }
   std::vector<T> out(originalPointIds.size() * nc);
   for (size_t i = 0; i < originalPointIds.size(); ++i)
@@ -545,8 +555,9 @@ void Geomorph(const float* fine, size_t numPoints, const std::vector<uint32_t>& 
 {
   if (representative.size() != numPoints)
   {
-    throw InputError("Geomorph: the representative map has " + std::to_string(representative.size()) +
-      " entries for " + std::to_string(numPoints) + " points.");
+    throw InputError("Geomorph: the representative map has " +
+      std::to_string(representative.size()) + " entries for " + std::to_string(numPoints) +
+      " points.");
   }
   const float a = static_cast<float>(std::clamp(alpha, 0.0, 1.0));
   for (size_t v = 0; v < numPoints; ++v)

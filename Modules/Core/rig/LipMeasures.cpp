@@ -38,7 +38,8 @@ bool FindLipPair(const std::vector<float>& points, const std::vector<double>& op
       const double dx = points[3 * u] - points[3 * l];
       const double dy = points[3 * u + 1] - points[3 * l + 1];
       const double dz = points[3 * u + 2] - points[3 * l + 2];
-      if (u == l || dy < 0.0 || std::abs(dx) > midline || std::sqrt(dx * dx + dy * dy + dz * dz) > touch)
+      if (u == l || dy < 0.0 || std::abs(dx) > midline ||
+        std::sqrt(dx * dx + dy * dy + dz * dz) > touch)
       {
         continue;
       }
@@ -56,8 +57,8 @@ bool FindLipPair(const std::vector<float>& points, const std::vector<double>& op
   return found && pair.Opening > 0.0;
 }
 
-bool FindMouthCorners(
-  const std::vector<float>& points, const std::vector<double>& spread, std::array<size_t, 2>& corners)
+bool FindMouthCorners(const std::vector<float>& points, const std::vector<double>& spread,
+  std::array<size_t, 2>& corners)
 {
   const size_t n = points.size() / 3;
   double best[2] = { 0.0, 0.0 };

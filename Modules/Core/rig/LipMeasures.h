@@ -33,8 +33,8 @@ bool FindLipPair(const std::vector<float>& points, const std::vector<double>& op
 
 /// The mouth corners: the points that `spread` (3 per point, e.g. a smile's or a stretch's
 /// deltas) moves most sideways, one on each side (+X first). False when nothing moves sideways.
-bool FindMouthCorners(
-  const std::vector<float>& points, const std::vector<double>& spread, std::array<size_t, 2>& corners);
+bool FindMouthCorners(const std::vector<float>& points, const std::vector<double>& spread,
+  std::array<size_t, 2>& corners);
 
 /// A point of the part blended with relative weights: points[p] + sum_t w[t] deltas[t][p]
 /// (deltas[t] may be nullptr for a target that does not move the part).

@@ -266,8 +266,8 @@ ObjMesh ReadObj(const std::string& path)
   return ParseObj(in, path);
 }
 
-MorphMesh ReadObjSet(const std::string& neutralPath, const std::vector<std::string>& shapePaths,
-  double sparseCoverage)
+MorphMesh ReadObjSet(
+  const std::string& neutralPath, const std::vector<std::string>& shapePaths, double sparseCoverage)
 {
   ObjMesh neutral = ReadObj(neutralPath);
   MorphMesh set(neutral.GetNumberOfPoints());

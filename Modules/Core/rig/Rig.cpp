@@ -40,7 +40,8 @@ Json ParseRejectingDuplicateKeys(const std::string& text, const std::string& sou
   std::vector<std::set<std::string>> keysPerObject;
   std::vector<std::string> path;
   std::string duplicate;
-  auto callback = [&](int /*depth*/, Json::parse_event_t event, Json& parsed) {
+  auto callback = [&](int /*depth*/, Json::parse_event_t event, Json& parsed)
+  {
     switch (event)
     {
       case Json::parse_event_t::object_start:
@@ -55,8 +56,7 @@ Json ParseRejectingDuplicateKeys(const std::string& text, const std::string& sou
       case Json::parse_event_t::key:
       {
         const std::string key = parsed.get<std::string>();
-        if (!keysPerObject.empty() && !keysPerObject.back().insert(key).second &&
-          duplicate.empty())
+        if (!keysPerObject.empty() && !keysPerObject.back().insert(key).second && duplicate.empty())
         {
           duplicate = key;
         }
@@ -79,14 +79,17 @@ Json ParseRejectingDuplicateKeys(const std::string& text, const std::string& sou
   }
   if (!duplicate.empty())
   {
-    Fail(source, "key " + Quote(duplicate) + " appears twice in one object (each shape, target "
-                 "and field must be defined once)");
+    Fail(source,
+      "key " + Quote(duplicate) +
+        " appears twice in one object (each shape, target "
+        "and field must be defined once)");
   }
   return json;
 }
 
 /// A direction [x, y, z] of the eyes section.
-std::array<double, 3> ParseDirection(const Json& value, const std::string& source, const std::string& where)
+std::array<double, 3> ParseDirection(
+  const Json& value, const std::string& source, const std::string& where)
 {
   if (!value.is_array() || value.size() != 3 || !value[0].is_number() || !value[1].is_number() ||
     !value[2].is_number())
@@ -109,7 +112,8 @@ EyeRig ParseEyes(const Json& eyes, const std::string& src)
     if (item.key() != "parts" && item.key() != "forward" && item.key() != "up" &&
       item.key() != "limits")
     {
-      Fail(src, "eyes: unknown field " + Quote(item.key()) + " (known: parts, forward, up, limits)");
+      Fail(
+        src, "eyes: unknown field " + Quote(item.key()) + " (known: parts, forward, up, limits)");
     }
   }
   EyeRig rig;
@@ -185,7 +189,9 @@ EyeRig ParseEyes(const Json& eyes, const std::string& src)
             if (item.key() != "name" && item.key() != "side" && item.key() != "forward" &&
               item.key() != "up")
             {
-              Fail(src, where + ": unknown field " + Quote(item.key()) + " (known: name, side, forward, up)");
+              Fail(src,
+                where + ": unknown field " + Quote(item.key()) +
+                  " (known: name, side, forward, up)");
             }
           }
           if (!entry.contains("name") || !entry["name"].is_string())
@@ -196,7 +202,8 @@ EyeRig ParseEyes(const Json& eyes, const std::string& src)
           eye.Side = EyeRig::SideFromName(eye.Name);
           if (entry.contains("side"))
           {
-            const std::string side = entry["side"].is_string() ? entry["side"].get<std::string>() : "";
+            const std::string side =
+              entry["side"].is_string() ? entry["side"].get<std::string>() : "";
             if (side == "left")
             {
               eye.Side = EyeSide::Left;
@@ -259,7 +266,8 @@ Rig Rig::LoadString(const std::string& text, const std::string& sourceName)
   {
     if (!knownFields.count(item.key()))
     {
-      Fail(src, "unknown field " + Quote(item.key()) +
+      Fail(src,
+        "unknown field " + Quote(item.key()) +
           " (known: name, description, targets, shapes, sets, notes, eyes)");
     }
   }
@@ -324,7 +332,8 @@ Rig Rig::LoadString(const std::string& text, const std::string& sourceName)
     }
     if (!shape.value().is_object())
     {
-      Fail(src, "shape " + Quote(shapeName) +
+      Fail(src,
+        "shape " + Quote(shapeName) +
           " must be an object of target -> coefficient, or the name of another shape");
     }
     std::vector<RigTerm> terms;
@@ -337,18 +346,21 @@ Rig Rig::LoadString(const std::string& text, const std::string& sourceName)
       }
       if (!term.value().is_number())
       {
-        Fail(src, "shape " + Quote(shapeName) + ", target " + Quote(target) +
+        Fail(src,
+          "shape " + Quote(shapeName) + ", target " + Quote(target) +
             ": the coefficient must be a number");
       }
       const double coefficient = term.value().get<double>();
       if (!std::isfinite(coefficient))
       {
-        Fail(src, "shape " + Quote(shapeName) + ", target " + Quote(target) +
+        Fail(src,
+          "shape " + Quote(shapeName) + ", target " + Quote(target) +
             ": the coefficient is not finite");
       }
       if (!declared.empty() && !declared.count(target))
       {
-        Fail(src, "shape " + Quote(shapeName) + " uses target " + Quote(target) +
+        Fail(src,
+          "shape " + Quote(shapeName) + " uses target " + Quote(target) +
             ", which is not in the rig's 'targets' list");
       }
       terms.push_back({ target, coefficient });
@@ -367,12 +379,14 @@ Rig Rig::LoadString(const std::string& text, const std::string& sourceName)
     const int original = rig.FindShape(alias);
     if (original < 0)
     {
-      Fail(src, "shape " + Quote(rig.ShapeNames[s]) + " is an alias of " + Quote(alias) +
+      Fail(src,
+        "shape " + Quote(rig.ShapeNames[s]) + " is an alias of " + Quote(alias) +
           ", which the rig does not define");
     }
     if (!rig.Aliases[static_cast<size_t>(original)].empty())
     {
-      Fail(src, "shape " + Quote(rig.ShapeNames[s]) + " is an alias of " + Quote(alias) +
+      Fail(src,
+        "shape " + Quote(rig.ShapeNames[s]) + " is an alias of " + Quote(alias) +
           ", which is itself an alias (name the original shape instead)");
     }
     rig.Terms[s] = rig.Terms[static_cast<size_t>(original)];
@@ -402,7 +416,8 @@ Rig Rig::LoadString(const std::string& text, const std::string& sourceName)
         const std::string name = member.get<std::string>();
         if (rig.FindShape(name) < 0)
         {
-          Fail(src, "set " + Quote(set.key()) + " names shape " + Quote(name) +
+          Fail(src,
+            "set " + Quote(set.key()) + " names shape " + Quote(name) +
               ", which the rig does not define");
         }
         if (!seen.insert(name).second)
@@ -515,7 +530,8 @@ void Rig::Bind(const MorphMesh& model)
   const auto& names = model.GetTargetNames();
   if (names.empty())
   {
-    throw InputError("rig '" + this->Name + "': the morph model has no targets, not even a neutral");
+    throw InputError(
+      "rig '" + this->Name + "': the morph model has no targets, not even a neutral");
   }
   this->Bind(std::vector<std::string>(names.begin() + 1, names.end()));
 }
@@ -676,7 +692,8 @@ MorphMesh Rig::BakeModel(const MorphMesh& model, const std::vector<std::string>&
   for (size_t a = 0; a < model.GetNumberOfAttributes(); ++a)
   {
     std::visit(
-      [&](const auto& attribute) {
+      [&](const auto& attribute)
+      {
         using T = typename std::decay_t<decltype(attribute.GetNeutral())>::value_type;
         const size_t numValues = numPoints * static_cast<size_t>(attribute.GetNumberOfComponents());
         // Dense copies of the targets a requested shape uses; each is read once per shape.

@@ -96,7 +96,8 @@ public:
   /// order. No clamping: the baked shape at weight 1 equals Expand at weight 1 as long as
   /// no coefficient exceeds [0, 1].
   template <typename T>
-  std::vector<std::vector<T>> Bake(const std::vector<const T*>& targetDeltas, size_t numValues) const;
+  std::vector<std::vector<T>> Bake(
+    const std::vector<const T*>& targetDeltas, size_t numValues) const;
 
   /// Bakes every attribute of a model (positions, normals, ...) into a new model whose
   /// targets are "Neutral" followed by `shapeNames` (all shapes when empty). Binds the rig
@@ -123,7 +124,7 @@ private:
   // Bound form: a CSR matrix, row per shape, columns = indices into BoundTargetNames.
   bool Bound = false;
   std::vector<std::string> BoundTargetNames;
-  std::vector<size_t> RowStart;  // GetNumberOfShapes() + 1 entries
+  std::vector<size_t> RowStart; // GetNumberOfShapes() + 1 entries
   std::vector<size_t> Columns;
   std::vector<double> Values;
 };

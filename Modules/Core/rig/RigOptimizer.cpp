@@ -30,7 +30,8 @@ NamedTargetDistances ComputeShapeDistances(const Rig& rig, const MorphMesh& part
   result.DistMorph.assign(numShapes + 1, 0.0);
   result.MaxDisplacement.assign(numShapes + 1, 0.0);
   std::visit(
-    [&](const auto& attribute) {
+    [&](const auto& attribute)
+    {
       using T = typename std::decay_t<decltype(attribute.GetNeutral())>::value_type;
       const size_t numPoints = part.GetNumberOfPoints();
       const size_t numValues = numPoints * 3;

@@ -7,26 +7,28 @@
 
 #include <glm/gtc/quaternion.hpp>
 
-#include <cctype>
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 
 namespace morphnode
 {
 bool NamesJawOpenTarget(const std::vector<std::string>& targetNames)
 {
-  return std::any_of(targetNames.begin(), targetNames.end(), [](const std::string& name) {
-    std::string n = text::ToLower(name);
-    n.erase(std::remove(n.begin(), n.end(), '_'), n.end());
-    return n == "jawopen";
-  });
+  return std::any_of(targetNames.begin(), targetNames.end(),
+    [](const std::string& name)
+    {
+      std::string n = text::ToLower(name);
+      n.erase(std::remove(n.begin(), n.end(), '_'), n.end());
+      return n == "jawopen";
+    });
 }
 
 std::string CanonicalBoneName(const std::string& name)
 {
   std::string lower = text::ToLower(name);
-  static const char* const prefixes[] = { "mixamorig:", "mixamorig_", "mixamorig", "cc_base_", "j_bip_c_",
-    "j_bip_", "j_adj_", "bip01 ", "bip01_", "def-", "org-", "armature|", "armature_" };
+  static const char* const prefixes[] = { "mixamorig:", "mixamorig_", "mixamorig", "cc_base_",
+    "j_bip_c_", "j_bip_", "j_adj_", "bip01 ", "bip01_", "def-", "org-", "armature|", "armature_" };
   for (bool again = true; again;)
   {
     again = false;
@@ -54,13 +56,15 @@ std::string CanonicalBoneName(const std::string& name)
 std::string AvatarBoneRoles::Describe(const Skeleton& skeleton) const
 {
   std::string out;
-  auto add = [&](const char* role, int joint) {
+  auto add = [&](const char* role, int joint)
+  {
     if (!out.empty())
     {
       out += ", ";
     }
     out += std::string(role) + " " +
-      (joint >= 0 ? text::Quote(skeleton.GetJoint(static_cast<size_t>(joint)).Name) : std::string("none"));
+      (joint >= 0 ? text::Quote(skeleton.GetJoint(static_cast<size_t>(joint)).Name)
+                  : std::string("none"));
   };
   add("head", this->Head);
   add("neck", this->Neck);
@@ -105,7 +109,8 @@ AvatarBoneRoles FindAvatarBones(const Skeleton& skeleton)
 {
   AvatarBoneRoles roles;
   const size_t n = skeleton.GetNumberOfJoints();
-  auto find = [&](std::initializer_list<const char*> names) {
+  auto find = [&](std::initializer_list<const char*> names)
+  {
     for (const char* want : names)
     {
       for (size_t j = 0; j < n; ++j)
@@ -121,10 +126,13 @@ AvatarBoneRoles FindAvatarBones(const Skeleton& skeleton)
   roles.Head = find({ "head" });
   roles.Neck = find({ "neck", "necktwist01", "neck1", "neck01" });
   roles.Jaw = find({ "jaw", "jawroot", "lowerjaw", "jawbone" });
-  roles.LeftUpperArm = find({ "leftarm", "leftupperarm", "lupperarm", "upperarml", "luparm", "larm" });
+  roles.LeftUpperArm =
+    find({ "leftarm", "leftupperarm", "lupperarm", "upperarml", "luparm", "larm" });
   roles.LeftForeArm = find({ "leftforearm", "leftlowerarm", "lforearm", "forearml", "llowerarm" });
-  roles.RightUpperArm = find({ "rightarm", "rightupperarm", "rupperarm", "upperarmr", "ruparm", "rarm" });
-  roles.RightForeArm = find({ "rightforearm", "rightlowerarm", "rforearm", "forearmr", "rlowerarm" });
+  roles.RightUpperArm =
+    find({ "rightarm", "rightupperarm", "rupperarm", "upperarmr", "ruparm", "rarm" });
+  roles.RightForeArm =
+    find({ "rightforearm", "rightlowerarm", "rforearm", "forearmr", "rlowerarm" });
   for (size_t j = 0; j < n; ++j)
   {
     const std::string& name = skeleton.GetJoint(j).Name;
@@ -138,10 +146,13 @@ AvatarBoneRoles FindAvatarBones(const Skeleton& skeleton)
       continue;
     }
     EyeSide side = EyeRig::SideFromName(name);
-    if (side == EyeSide::Unknown && canonical.size() > 1 && canonical.find("eye") != std::string::npos)
+    if (side == EyeSide::Unknown && canonical.size() > 1 &&
+      canonical.find("eye") != std::string::npos)
     {
       // CC_Base_L_Eye, Bip01 LEye: a side letter the prefixes hid from SideFromName.
-      side = canonical[0] == 'l' ? EyeSide::Left : canonical[0] == 'r' ? EyeSide::Right : EyeSide::Unknown;
+      side = canonical[0] == 'l' ? EyeSide::Left
+        : canonical[0] == 'r'    ? EyeSide::Right
+                                 : EyeSide::Unknown;
     }
     if (side == EyeSide::Left && roles.LeftEye < 0)
     {
@@ -162,15 +173,23 @@ AvatarBoneRoles FindAvatarBones(const Skeleton& skeleton)
     {
       continue;
     }
-    const bool upper = canonical.find("upper") != std::string::npos || canonical.find("top") != std::string::npos;
-    const bool lower = canonical.find("lower") != std::string::npos || canonical.find("bottom") != std::string::npos;
+    const bool upper =
+      canonical.find("upper") != std::string::npos || canonical.find("top") != std::string::npos;
+    const bool lower =
+      canonical.find("lower") != std::string::npos || canonical.find("bottom") != std::string::npos;
     EyeSide side = EyeRig::SideFromName(name);
     if (side == EyeSide::Unknown && !canonical.empty())
     {
-      side = canonical[0] == 'l' ? EyeSide::Left : canonical[0] == 'r' ? EyeSide::Right : EyeSide::Unknown;
+      side = canonical[0] == 'l' ? EyeSide::Left
+        : canonical[0] == 'r'    ? EyeSide::Right
+                                 : EyeSide::Unknown;
     }
-    int* role = side == EyeSide::Left ? (upper ? &roles.LeftUpperLid : lower ? &roles.LeftLowerLid : nullptr)
-      : side == EyeSide::Right        ? (upper ? &roles.RightUpperLid : lower ? &roles.RightLowerLid : nullptr)
+    int* role = side == EyeSide::Left ? (upper      ? &roles.LeftUpperLid
+                                            : lower ? &roles.LeftLowerLid
+                                                    : nullptr)
+      : side == EyeSide::Right        ? (upper      ? &roles.RightUpperLid
+                                            : lower ? &roles.RightLowerLid
+                                                    : nullptr)
                                       : nullptr;
     if (role && *role < 0)
     {
@@ -183,17 +202,20 @@ AvatarBoneRoles FindAvatarBones(const Skeleton& skeleton)
 glm::dquat HeadRotation(double yaw, double pitch, double roll)
 {
   const double d = glm::pi<double>() / 180.0;
-  return glm::angleAxis(yaw * d, glm::dvec3(0, 1, 0)) * glm::angleAxis(-pitch * d, glm::dvec3(1, 0, 0)) *
+  return glm::angleAxis(yaw * d, glm::dvec3(0, 1, 0)) *
+    glm::angleAxis(-pitch * d, glm::dvec3(1, 0, 0)) *
     glm::angleAxis(-roll * d, glm::dvec3(0, 0, 1));
 }
 
-AvatarBoneRoles FindAvatarBones(const Skeleton& skeleton, const std::map<std::string, std::string>& humanoid)
+AvatarBoneRoles FindAvatarBones(
+  const Skeleton& skeleton, const std::map<std::string, std::string>& humanoid)
 {
   AvatarBoneRoles roles = FindAvatarBones(skeleton);
-  for (auto [bone, role] : { std::pair<const char*, int*>{ "head", &roles.Head }, { "neck", &roles.Neck },
-         { "leftEye", &roles.LeftEye }, { "rightEye", &roles.RightEye }, { "jaw", &roles.Jaw },
-         { "leftUpperArm", &roles.LeftUpperArm }, { "leftLowerArm", &roles.LeftForeArm },
-         { "rightUpperArm", &roles.RightUpperArm }, { "rightLowerArm", &roles.RightForeArm } })
+  for (auto [bone, role] :
+    { std::pair<const char*, int*>{ "head", &roles.Head }, { "neck", &roles.Neck },
+      { "leftEye", &roles.LeftEye }, { "rightEye", &roles.RightEye }, { "jaw", &roles.Jaw },
+      { "leftUpperArm", &roles.LeftUpperArm }, { "leftLowerArm", &roles.LeftForeArm },
+      { "rightUpperArm", &roles.RightUpperArm }, { "rightLowerArm", &roles.RightForeArm } })
   {
     const auto it = humanoid.find(bone);
     const int joint = it == humanoid.end() ? -1 : skeleton.FindJoint(it->second);
@@ -211,21 +233,23 @@ namespace
 /// direction (the left eye, at +X, looks outward at positive yaw), pitch down or up.
 GazeAngles MapEyeAngles(const GazeAngles& in, EyeSide side, const EyeRangeMaps& m)
 {
-  auto map = [](double v, double max, double scale) {
-    return !(max > 0.0) ? 0.0 : (v < 0 ? -1.0 : 1.0) * std::min(std::abs(v), max) / max * scale;
-  };
-  const bool outward = side == EyeSide::Left ? in.Yaw > 0.0 : side == EyeSide::Right ? in.Yaw < 0.0 : true;
+  auto map = [](double v, double max, double scale)
+  { return !(max > 0.0) ? 0.0 : (v < 0 ? -1.0 : 1.0) * std::min(std::abs(v), max) / max * scale; };
+  const bool outward = side == EyeSide::Left ? in.Yaw > 0.0
+    : side == EyeSide::Right                 ? in.Yaw < 0.0
+                                             : true;
   GazeAngles out;
   out.Yaw = outward ? map(in.Yaw, m.OuterMax, m.OuterScale) : map(in.Yaw, m.InnerMax, m.InnerScale);
-  out.Pitch = in.Pitch > 0.0 ? map(in.Pitch, m.UpMax, m.UpScale) : map(in.Pitch, m.DownMax, m.DownScale);
+  out.Pitch =
+    in.Pitch > 0.0 ? map(in.Pitch, m.UpMax, m.UpScale) : map(in.Pitch, m.DownMax, m.DownScale);
   return out;
 }
 } // namespace
 
 void PoseAvatarBones(SkeletonPose& pose, const AvatarBoneRoles& roles, const AvatarBonePose& a)
 {
-  for (double v : { a.HeadYaw, a.HeadPitch, a.HeadRoll, a.EyeYaw, a.EyePitch, a.Vergence, a.NeckShare, a.JawOpen,
-         a.MaxJawAngle, a.LidFollow })
+  for (double v : { a.HeadYaw, a.HeadPitch, a.HeadRoll, a.EyeYaw, a.EyePitch, a.Vergence,
+         a.NeckShare, a.JawOpen, a.MaxJawAngle, a.LidFollow })
   {
     if (!std::isfinite(v))
     {
@@ -241,7 +265,8 @@ void PoseAvatarBones(SkeletonPose& pose, const AvatarBoneRoles& roles, const Ava
   const glm::dquat head = HeadRotation(a.HeadYaw, a.HeadPitch, a.HeadRoll);
   const bool headTurns = a.HeadYaw != 0.0 || a.HeadPitch != 0.0 || a.HeadRoll != 0.0;
   const glm::dquat identity(1.0, 0.0, 0.0, 0.0);
-  double neckShare = roles.Neck >= 0 && roles.Head >= 0 ? a.NeckShare : (roles.Neck >= 0 ? 1.0 : 0.0);
+  double neckShare =
+    roles.Neck >= 0 && roles.Head >= 0 ? a.NeckShare : (roles.Neck >= 0 ? 1.0 : 0.0);
   if (roles.Neck >= 0 && neckShare > 0.0 && headTurns)
   {
     pose.TurnJoint(roles.Neck, inWorld(glm::slerp(identity, head, neckShare)));
@@ -260,7 +285,8 @@ void PoseAvatarBones(SkeletonPose& pose, const AvatarBoneRoles& roles, const Ava
         continue;
       }
       const auto world = pose.World();
-      const glm::dvec3 from = glm::dvec3(world[static_cast<size_t>(fore)][3]) - glm::dvec3(world[static_cast<size_t>(upper)][3]);
+      const glm::dvec3 from = glm::dvec3(world[static_cast<size_t>(fore)][3]) -
+        glm::dvec3(world[static_cast<size_t>(upper)][3]);
       const glm::dvec3 down = -a.FaceFrame[1];
       const glm::dvec3 side = from - glm::dot(from, down) * down; // out to the side (and forward)
       if (glm::length(from) <= 0.0 || glm::length(side) <= 1e-9 * glm::length(from))
@@ -273,7 +299,8 @@ void PoseAvatarBones(SkeletonPose& pose, const AvatarBoneRoles& roles, const Ava
       const glm::dvec3 axis = glm::cross(f, to);
       if (glm::length(axis) > 1e-12)
       {
-        pose.TurnJoint(upper, glm::angleAxis(std::acos(glm::clamp(glm::dot(f, to), -1.0, 1.0)), glm::normalize(axis)));
+        pose.TurnJoint(upper,
+          glm::angleAxis(std::acos(glm::clamp(glm::dot(f, to), -1.0, 1.0)), glm::normalize(axis)));
       }
     }
   }
@@ -289,7 +316,8 @@ void PoseAvatarBones(SkeletonPose& pose, const AvatarBoneRoles& roles, const Ava
     EyeLimits open;
     open.MaxYaw = open.MaxUp = open.MaxDown = 90.0;
     const GazeAngles angles = a.RangeMaps.Enabled
-      ? MapEyeAngles(EyeAngles(GazeAngles{ a.EyeYaw, a.EyePitch }, a.Vergence, side, open), side, a.RangeMaps)
+      ? MapEyeAngles(
+          EyeAngles(GazeAngles{ a.EyeYaw, a.EyePitch }, a.Vergence, side, open), side, a.RangeMaps)
       : EyeAngles(GazeAngles{ a.EyeYaw, a.EyePitch }, a.Vergence, side, a.Limits);
     if (angles.Yaw == 0.0 && angles.Pitch == 0.0)
     {
@@ -300,10 +328,12 @@ void PoseAvatarBones(SkeletonPose& pose, const AvatarBoneRoles& roles, const Ava
     // The lids of this eye follow its pitch.
     const int upper = side == EyeSide::Left ? roles.LeftUpperLid : roles.RightUpperLid;
     const int lower = side == EyeSide::Left ? roles.LeftLowerLid : roles.RightLowerLid;
-    for (auto [lid, share] : { std::pair<int, double>{ upper, a.LidFollow }, { lower, 0.5 * a.LidFollow } })
+    for (auto [lid, share] :
+      { std::pair<int, double>{ upper, a.LidFollow }, { lower, 0.5 * a.LidFollow } })
     {
       // (a lid below the eye joint already turns with it)
-      if (lid >= 0 && share != 0.0 && angles.Pitch != 0.0 && !pose.GetSkeleton().IsAncestor(joint, lid))
+      if (lid >= 0 && share != 0.0 && angles.Pitch != 0.0 &&
+        !pose.GetSkeleton().IsAncestor(joint, lid))
       {
         const glm::dquat follow = HeadRotation(0.0, share * angles.Pitch, 0.0);
         pose.TurnJoint(lid, inWorld(turnedFrame * follow * glm::inverse(turnedFrame)));

@@ -39,7 +39,8 @@ struct AvatarBoneRoles
   int LeftEye = -1;
   int RightEye = -1;
   int Jaw = -1;
-  int LeftUpperArm = -1, LeftForeArm = -1;   ///< Mixamo LeftArm/LeftForeArm, VRM leftUpperArm/leftLowerArm, ...
+  int LeftUpperArm = -1,
+      LeftForeArm = -1; ///< Mixamo LeftArm/LeftForeArm, VRM leftUpperArm/leftLowerArm, ...
   int RightUpperArm = -1, RightForeArm = -1;
   /// Eyelid bones where a rig has them (CC_Base_L_UpperLid?, LeftUpperEyelid, upperlid.L,
   /// VRM has none): they follow the eyes' pitch (AvatarBonePose::LidFollow).
@@ -69,7 +70,8 @@ std::vector<size_t> PointsUnderJoint(
 /// -> node name, gltf/GltfVrm.h): its head, neck, leftEye, rightEye, jaw, leftUpperArm,
 /// leftLowerArm, rightUpperArm and rightLowerArm win over the names' guess where the
 /// skeleton has that node.
-AvatarBoneRoles FindAvatarBones(const Skeleton& skeleton, const std::map<std::string, std::string>& humanoid);
+AvatarBoneRoles FindAvatarBones(
+  const Skeleton& skeleton, const std::map<std::string, std::string>& humanoid);
 
 /// VRM's look-at range maps for eye bones: an input angle up to the map's InputMax degrees
 /// turns the eye linearly up to its OutputScale degrees (inner: towards the nose, outer:
@@ -116,7 +118,8 @@ glm::dquat HeadRotation(double yaw, double pitch, double roll);
 
 /// Turns the head, neck and eye joints of `pose` (from its current local transforms,
 /// normally rest) by `angles`. InputError for non-finite angles or a share outside [0, 1].
-void PoseAvatarBones(SkeletonPose& pose, const AvatarBoneRoles& roles, const AvatarBonePose& angles);
+void PoseAvatarBones(
+  SkeletonPose& pose, const AvatarBoneRoles& roles, const AvatarBonePose& angles);
 
 /// True when the eye joints turn a whole skinned part: every point's largest weight is on
 /// an eye joint or a joint below it (an eyeball; not the head, whose lids follow the head

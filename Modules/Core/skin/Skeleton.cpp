@@ -140,8 +140,9 @@ std::vector<glm::dmat4> Skeleton::World(const std::vector<glm::dmat4>& locals) c
   for (int i : this->Order)
   {
     const int p = this->Joints[static_cast<size_t>(i)].Parent;
-    world[static_cast<size_t>(i)] =
-      p < 0 ? locals[static_cast<size_t>(i)] : world[static_cast<size_t>(p)] * locals[static_cast<size_t>(i)];
+    world[static_cast<size_t>(i)] = p < 0
+      ? locals[static_cast<size_t>(i)]
+      : world[static_cast<size_t>(p)] * locals[static_cast<size_t>(i)];
   }
   return world;
 }
@@ -196,11 +197,12 @@ void SkeletonPose::TurnJoint(int joint, const glm::dquat& rotation)
     return; // no turn: the pose stays exactly as it is
   }
   const int parent = this->Bones->GetJoint(j).Parent;
-  const glm::dmat4 parentWorld = parent < 0 ? glm::dmat4(1.0) : this->Bones->WorldOf(this->Locals, parent);
+  const glm::dmat4 parentWorld =
+    parent < 0 ? glm::dmat4(1.0) : this->Bones->WorldOf(this->Locals, parent);
   const glm::dmat4 world = parentWorld * this->Locals[j];
   const glm::dvec3 pivot(world[3]);
-  const glm::dmat4 turn = glm::translate(glm::dmat4(1.0), pivot) * glm::mat4_cast(glm::normalize(rotation)) *
-    glm::translate(glm::dmat4(1.0), -pivot);
+  const glm::dmat4 turn = glm::translate(glm::dmat4(1.0), pivot) *
+    glm::mat4_cast(glm::normalize(rotation)) * glm::translate(glm::dmat4(1.0), -pivot);
   this->Locals[j] = glm::inverse(parentWorld) * turn * world;
 }
 } // namespace morphnode

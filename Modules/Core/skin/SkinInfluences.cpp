@@ -9,7 +9,8 @@
 
 namespace morphnode
 {
-void SkinInfluences::AddSet(const std::vector<float>& joints, const std::vector<float>& weights, size_t points)
+void SkinInfluences::AddSet(
+  const std::vector<float>& joints, const std::vector<float>& weights, size_t points)
 {
   if (joints.size() != 4 * points || weights.size() != 4 * points)
   {
@@ -37,8 +38,8 @@ void SkinInfluences::AddSet(const std::vector<float>& joints, const std::vector<
       // not whole cannot come from a valid accessor.
       if (!(v >= 0.0f && v <= 65535.0f) || v != std::floor(v))
       {
-        throw InputError("skin: point " + std::to_string(i) + " has joint index " + std::to_string(v) +
-          ", which is not an unsigned 16-bit integer");
+        throw InputError("skin: point " + std::to_string(i) + " has joint index " +
+          std::to_string(v) + ", which is not an unsigned 16-bit integer");
       }
       j[i * per + old + k] = static_cast<uint16_t>(v);
       w[i * per + old + k] = weights[4 * i + k];
@@ -60,8 +61,8 @@ void SkinInfluences::Normalize(size_t numJoints, const std::string& what)
       const float w = this->Weights[i * this->PerPoint + k];
       if (!std::isfinite(w) || w < 0.0f)
       {
-        throw InputError(what + ": point " + std::to_string(i) + " has weight " + std::to_string(w) +
-          " (weights must be finite and not negative)");
+        throw InputError(what + ": point " + std::to_string(i) + " has weight " +
+          std::to_string(w) + " (weights must be finite and not negative)");
       }
       if (w > 0.0f && this->Joints[i * this->PerPoint + k] >= numJoints)
       {
@@ -73,7 +74,8 @@ void SkinInfluences::Normalize(size_t numJoints, const std::string& what)
     }
     if (!(sum > 0.0))
     {
-      throw InputError(what + ": point " + std::to_string(i) + " has no weight (all its weights are 0)");
+      throw InputError(
+        what + ": point " + std::to_string(i) + " has no weight (all its weights are 0)");
     }
     for (size_t k = 0; k < this->PerPoint; ++k)
     {
@@ -103,7 +105,8 @@ SkinInfluences SkinInfluences::Gather(const std::vector<uint32_t>& ids) const
     const auto begin = static_cast<std::ptrdiff_t>(id * this->PerPoint);
     const auto end = begin + static_cast<std::ptrdiff_t>(this->PerPoint);
     out.Joints.insert(out.Joints.end(), this->Joints.begin() + begin, this->Joints.begin() + end);
-    out.Weights.insert(out.Weights.end(), this->Weights.begin() + begin, this->Weights.begin() + end);
+    out.Weights.insert(
+      out.Weights.end(), this->Weights.begin() + begin, this->Weights.begin() + end);
   }
   return out;
 }

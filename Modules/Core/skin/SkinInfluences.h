@@ -21,7 +21,10 @@ struct SkinInfluences
   std::vector<uint16_t> Joints;
   std::vector<float> Weights;
 
-  size_t GetNumberOfPoints() const { return this->PerPoint ? this->Weights.size() / this->PerPoint : 0; }
+  size_t GetNumberOfPoints() const
+  {
+    return this->PerPoint ? this->Weights.size() / this->PerPoint : 0;
+  }
   bool Empty() const { return this->PerPoint == 0; }
 
   /// Appends one set of 4 influences per point (joints and weights, 4 values per point for

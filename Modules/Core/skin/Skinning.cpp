@@ -82,15 +82,15 @@ void SkinJoints::Validate(const Skeleton& skeleton, const std::string& what) con
   }
   if (this->InverseBind.size() != this->Joints.size())
   {
-    throw InputError(what + ": " + std::to_string(this->InverseBind.size()) + " inverse bind matrices for " +
-      std::to_string(this->Joints.size()) + " joints");
+    throw InputError(what + ": " + std::to_string(this->InverseBind.size()) +
+      " inverse bind matrices for " + std::to_string(this->Joints.size()) + " joints");
   }
   for (size_t k = 0; k < this->Joints.size(); ++k)
   {
     if (this->Joints[k] < 0 || static_cast<size_t>(this->Joints[k]) >= skeleton.GetNumberOfJoints())
     {
-      throw InputError(what + ": joint " + std::to_string(k) + " is node " + std::to_string(this->Joints[k]) +
-        ", which does not exist");
+      throw InputError(what + ": joint " + std::to_string(k) + " is node " +
+        std::to_string(this->Joints[k]) + ", which does not exist");
     }
     const glm::dmat4& m = this->InverseBind[k];
     const std::string jk = what + ": the inverse bind matrix of joint " + std::to_string(k) + " (" +
@@ -121,7 +121,8 @@ std::vector<glm::dmat4> SkinJoints::Matrices(const std::vector<glm::dmat4>& worl
   return out;
 }
 
-glm::dmat4 BlendedMatrix(const SkinInfluences& influences, const std::vector<glm::dmat4>& matrices, size_t point)
+glm::dmat4 BlendedMatrix(
+  const SkinInfluences& influences, const std::vector<glm::dmat4>& matrices, size_t point)
 {
   glm::dmat4 b(0.0);
   const size_t per = influences.PerPoint;
@@ -137,8 +138,8 @@ glm::dmat4 BlendedMatrix(const SkinInfluences& influences, const std::vector<glm
 }
 
 template <typename T>
-void SkinPoints(const SkinInfluences& influences, const std::vector<glm::dmat4>& matrices, const T* points,
-  const T* normals, T* outPoints, T* outNormals, size_t begin, size_t end)
+void SkinPoints(const SkinInfluences& influences, const std::vector<glm::dmat4>& matrices,
+  const T* points, const T* normals, T* outPoints, T* outNormals, size_t begin, size_t end)
 {
   for (size_t i = begin; i < end; ++i)
   {
@@ -156,12 +157,13 @@ void SkinPoints(const SkinInfluences& influences, const std::vector<glm::dmat4>&
   }
 }
 
-template void SkinPoints<float>(const SkinInfluences&, const std::vector<glm::dmat4>&, const float*, const float*,
-  float*, float*, size_t, size_t);
-template void SkinPoints<double>(const SkinInfluences&, const std::vector<glm::dmat4>&, const double*,
-  const double*, double*, double*, size_t, size_t);
+template void SkinPoints<float>(const SkinInfluences&, const std::vector<glm::dmat4>&, const float*,
+  const float*, float*, float*, size_t, size_t);
+template void SkinPoints<double>(const SkinInfluences&, const std::vector<glm::dmat4>&,
+  const double*, const double*, double*, double*, size_t, size_t);
 
-RestSkin::RestSkin(SkinInfluences influences, const std::vector<glm::dmat4>& restMatrices, const std::string& what)
+RestSkin::RestSkin(
+  SkinInfluences influences, const std::vector<glm::dmat4>& restMatrices, const std::string& what)
   : Influences(std::move(influences))
   , Rest(restMatrices)
   , Pose(restMatrices)
@@ -179,9 +181,9 @@ RestSkin::RestSkin(SkinInfluences influences, const std::vector<glm::dmat4>& res
     }
     if (this->Influences.Weights[i] != 0.0f && this->Influences.Joints[i] >= restMatrices.size())
     {
-      throw InputError(what + ": point " + std::to_string(i / this->Influences.PerPoint) + " is bound to joint " +
-        std::to_string(this->Influences.Joints[i]) + ", but the skin has only " +
-        std::to_string(restMatrices.size()) + " joints");
+      throw InputError(what + ": point " + std::to_string(i / this->Influences.PerPoint) +
+        " is bound to joint " + std::to_string(this->Influences.Joints[i]) +
+        ", but the skin has only " + std::to_string(restMatrices.size()) + " joints");
     }
   }
   for (const auto& m : this->Rest)
@@ -210,7 +212,8 @@ RestSkin::RestSkin(SkinInfluences influences, const std::vector<glm::dmat4>& res
       {
         first = j;
       }
-      else if (!NearlyEqual(this->Rest[static_cast<size_t>(j)], this->Rest[static_cast<size_t>(first)]))
+      else if (!NearlyEqual(
+                 this->Rest[static_cast<size_t>(j)], this->Rest[static_cast<size_t>(first)]))
       {
         this->SharedRest[i] = 0;
       }
@@ -287,7 +290,8 @@ bool RestSkin::Moves(size_t point) const
   const size_t per = this->Influences.PerPoint;
   for (size_t k = 0; k < per; ++k)
   {
-    if (this->Influences.Weights[point * per + k] != 0.0f && this->Moved[this->Influences.Joints[point * per + k]])
+    if (this->Influences.Weights[point * per + k] != 0.0f &&
+      this->Moved[this->Influences.Joints[point * per + k]])
     {
       return true;
     }
@@ -310,8 +314,8 @@ bool RestSkin::Changed(size_t point) const
 }
 
 template <typename T>
-void RestSkin::ApplyPoint(const T* points, const T* normals, T* outPoints, T* outNormals, size_t i, bool moves,
-  int single, int count) const
+void RestSkin::ApplyPoint(const T* points, const T* normals, T* outPoints, T* outNormals, size_t i,
+  bool moves, int single, int count) const
 {
   const size_t per = this->Influences.PerPoint;
   const uint16_t* joints = this->Influences.Joints.data();
@@ -370,7 +374,8 @@ void RestSkin::ApplyPoint(const T* points, const T* normals, T* outPoints, T* ou
     outPoints[3 * i + 2] = static_cast<T>(a[2] * x + a[5] * y + a[8] * z + a[11]);
     if (normals && outNormals)
     {
-      const float nx = static_cast<float>(normals[3 * i]), ny = static_cast<float>(normals[3 * i + 1]),
+      const float nx = static_cast<float>(normals[3 * i]),
+                  ny = static_cast<float>(normals[3 * i + 1]),
                   nz = static_cast<float>(normals[3 * i + 2]);
       if (count == 1 && this->Rigid[static_cast<size_t>(single)])
       {
@@ -383,9 +388,12 @@ void RestSkin::ApplyPoint(const T* points, const T* normals, T* outPoints, T* ou
       // The cofactor matrix of the linear part: the inverse transpose up to det, whose sign
       // is kept; renormalized.
       // Columns of the cofactor matrix: cross(col1, col2), cross(col2, col0), cross(col0, col1).
-      const float c0[3] = { a[4] * a[8] - a[5] * a[7], a[5] * a[6] - a[3] * a[8], a[3] * a[7] - a[4] * a[6] };
-      const float c1[3] = { a[7] * a[2] - a[8] * a[1], a[8] * a[0] - a[6] * a[2], a[6] * a[1] - a[7] * a[0] };
-      const float c2[3] = { a[1] * a[5] - a[2] * a[4], a[2] * a[3] - a[0] * a[5], a[0] * a[4] - a[1] * a[3] };
+      const float c0[3] = { a[4] * a[8] - a[5] * a[7], a[5] * a[6] - a[3] * a[8],
+        a[3] * a[7] - a[4] * a[6] };
+      const float c1[3] = { a[7] * a[2] - a[8] * a[1], a[8] * a[0] - a[6] * a[2],
+        a[6] * a[1] - a[7] * a[0] };
+      const float c2[3] = { a[1] * a[5] - a[2] * a[4], a[2] * a[3] - a[0] * a[5],
+        a[0] * a[4] - a[1] * a[3] };
       const float det = a[0] * c0[0] + a[1] * c0[1] + a[2] * c0[2];
       float m[3] = { c0[0] * nx + c1[0] * ny + c2[0] * nz, c0[1] * nx + c1[1] * ny + c2[1] * nz,
         c0[2] * nx + c1[2] * ny + c2[2] * nz };
@@ -399,7 +407,8 @@ void RestSkin::ApplyPoint(const T* points, const T* normals, T* outPoints, T* ou
     return;
   }
   const double* r = &this->RestInverse[12 * i];
-  const glm::dmat4 inv(r[0], r[1], r[2], 0.0, r[3], r[4], r[5], 0.0, r[6], r[7], r[8], 0.0, r[9], r[10], r[11], 1.0);
+  const glm::dmat4 inv(
+    r[0], r[1], r[2], 0.0, r[3], r[4], r[5], 0.0, r[6], r[7], r[8], 0.0, r[9], r[10], r[11], 1.0);
   const glm::dmat4 a = BlendedMatrix(this->Influences, this->Pose, i) * inv;
   const glm::dvec3 p(points[3 * i], points[3 * i + 1], points[3 * i + 2]);
   const glm::dvec3 q = glm::dvec3(a * glm::dvec4(p, 1.0));
@@ -414,7 +423,8 @@ void RestSkin::ApplyPoint(const T* points, const T* normals, T* outPoints, T* ou
 }
 
 template <typename T>
-void RestSkin::Apply(const T* points, const T* normals, T* outPoints, T* outNormals, size_t begin, size_t end) const
+void RestSkin::Apply(
+  const T* points, const T* normals, T* outPoints, T* outNormals, size_t begin, size_t end) const
 {
   const size_t per = this->Influences.PerPoint;
   const uint16_t* joints = this->Influences.Joints.data();
@@ -440,12 +450,14 @@ void RestSkin::Apply(const T* points, const T* normals, T* outPoints, T* outNorm
   }
 }
 
-template void RestSkin::Apply<float>(const float*, const float*, float*, float*, size_t, size_t) const;
-template void RestSkin::Apply<double>(const double*, const double*, double*, double*, size_t, size_t) const;
+template void RestSkin::Apply<float>(
+  const float*, const float*, float*, float*, size_t, size_t) const;
+template void RestSkin::Apply<double>(
+  const double*, const double*, double*, double*, size_t, size_t) const;
 
 template <typename T>
-size_t RestSkin::ApplyChanged(const T* points, const T* normals, T* lastPoints, T* lastNormals, T* outPoints,
-  T* outNormals, size_t begin, size_t end, bool all) const
+size_t RestSkin::ApplyChanged(const T* points, const T* normals, T* lastPoints, T* lastNormals,
+  T* outPoints, T* outNormals, size_t begin, size_t end, bool all) const
 {
   const bool withNormals = normals && outNormals && lastNormals;
   const size_t per = this->Influences.PerPoint;
@@ -457,8 +469,8 @@ size_t RestSkin::ApplyChanged(const T* points, const T* normals, T* lastPoints, 
   for (size_t i = begin; i < end; ++i)
   {
     // Exact comparison of the input with the previous frame's (a changed point is stored).
-    bool dirty = all || points[3 * i] != lastPoints[3 * i] || points[3 * i + 1] != lastPoints[3 * i + 1] ||
-      points[3 * i + 2] != lastPoints[3 * i + 2] ||
+    bool dirty = all || points[3 * i] != lastPoints[3 * i] ||
+      points[3 * i + 1] != lastPoints[3 * i + 1] || points[3 * i + 2] != lastPoints[3 * i + 2] ||
       (withNormals &&
         (normals[3 * i] != lastNormals[3 * i] || normals[3 * i + 1] != lastNormals[3 * i + 1] ||
           normals[3 * i + 2] != lastNormals[3 * i + 2]));
@@ -490,8 +502,8 @@ size_t RestSkin::ApplyChanged(const T* points, const T* normals, T* lastPoints, 
     }
     if (dirty)
     {
-      this->ApplyPoint(points, withNormals ? normals : nullptr, outPoints, withNormals ? outNormals : nullptr, i,
-        moves, single, n);
+      this->ApplyPoint(points, withNormals ? normals : nullptr, outPoints,
+        withNormals ? outNormals : nullptr, i, moves, single, n);
       ++count;
     }
   }

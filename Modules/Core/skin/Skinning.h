@@ -43,15 +43,16 @@ struct SkinJoints
 };
 
 /// B_v = sum_k w_k J_k of one point.
-glm::dmat4 BlendedMatrix(const SkinInfluences& influences, const std::vector<glm::dmat4>& matrices, size_t point);
+glm::dmat4 BlendedMatrix(
+  const SkinInfluences& influences, const std::vector<glm::dmat4>& matrices, size_t point);
 
 /// Skins `n` points (and normals, when both normal pointers are given) from bind space:
 /// out = B_v p, normals by B_v's inverse transpose, renormalized. Points [begin, end).
 /// `matrices` come from SkinJoints::Matrices; influences must be normalized (checked by
 /// SkinInfluences::Normalize).
 template <typename T>
-void SkinPoints(const SkinInfluences& influences, const std::vector<glm::dmat4>& matrices, const T* points,
-  const T* normals, T* outPoints, T* outNormals, size_t begin, size_t end);
+void SkinPoints(const SkinInfluences& influences, const std::vector<glm::dmat4>& matrices,
+  const T* points, const T* normals, T* outPoints, T* outNormals, size_t begin, size_t end);
 
 /// Re-skins geometry that is in its rest pose: for each point A_v = B_v(pose) B_v(rest)^-1
 /// (B_v(rest)^-1 computed once), applied to its (morphed) point and, by the inverse
@@ -66,7 +67,8 @@ public:
   RestSkin() = default;
   /// Throws InputError when a point's rest transform is singular (it could not have been
   /// shown) or not finite.
-  RestSkin(SkinInfluences influences, const std::vector<glm::dmat4>& restMatrices, const std::string& what);
+  RestSkin(SkinInfluences influences, const std::vector<glm::dmat4>& restMatrices,
+    const std::string& what);
 
   size_t GetNumberOfPoints() const { return this->Influences.GetNumberOfPoints(); }
   size_t GetNumberOfJoints() const { return this->Rest.size(); }
@@ -91,31 +93,33 @@ public:
   /// its input and its joints' matrices. In and out must be different arrays. Returns the
   /// number of points re-skinned.
   template <typename T>
-  size_t ApplyChanged(const T* points, const T* normals, T* lastPoints, T* lastNormals, T* outPoints,
-    T* outNormals, size_t begin, size_t end, bool all) const;
+  size_t ApplyChanged(const T* points, const T* normals, T* lastPoints, T* lastNormals,
+    T* outPoints, T* outNormals, size_t begin, size_t end, bool all) const;
 
   /// Re-skins points [begin, end) for the pose of the last SetPose. `normals`/`outNormals`
   /// may be null. In and out may be the same arrays.
   template <typename T>
-  void Apply(const T* points, const T* normals, T* outPoints, T* outNormals, size_t begin, size_t end) const;
+  void Apply(
+    const T* points, const T* normals, T* outPoints, T* outNormals, size_t begin, size_t end) const;
 
 private:
   void SetDelta(size_t joint, const glm::dmat4& matrix); ///< Delta and Rigid of a joint
   /// Re-skins point i (its influences scanned: moves, the last joint, their count).
   template <typename T>
-  void ApplyPoint(const T* points, const T* normals, T* outPoints, T* outNormals, size_t i, bool moves, int single,
-    int count) const;
+  void ApplyPoint(const T* points, const T* normals, T* outPoints, T* outNormals, size_t i,
+    bool moves, int single, int count) const;
 
   SkinInfluences Influences;
   std::vector<glm::dmat4> Rest;
   std::vector<glm::dmat4> RestJointInverse; ///< per joint: J(rest)^-1, formed once
-  std::vector<double> RestInverse; ///< 12 per point: the 3x4 of B_v(rest)^-1, column-major
-  std::vector<char> SharedRest;    ///< per point: its joints share one rest matrix
-  std::vector<float> Delta;        ///< 12 per joint: J(pose) J(rest)^-1, column-major 3x4
+  std::vector<double> RestInverse;          ///< 12 per point: the 3x4 of B_v(rest)^-1, column-major
+  std::vector<char> SharedRest;             ///< per point: its joints share one rest matrix
+  std::vector<float> Delta;                 ///< 12 per joint: J(pose) J(rest)^-1, column-major 3x4
   std::vector<glm::dmat4> Pose;
-  std::vector<char> Moved; ///< per joint
+  std::vector<char> Moved;        ///< per joint
   std::vector<char> JointChanged; ///< per joint: its matrix differs from the previous SetPose's
-  std::vector<char> Rigid; ///< per joint: its Delta is a rotation and translation (normals need no renormalizing)
-  std::vector<char> Used;  ///< per joint: some point has a weight on it
+  std::vector<char>
+    Rigid; ///< per joint: its Delta is a rotation and translation (normals need no renormalizing)
+  std::vector<char> Used; ///< per joint: some point has a weight on it
 };
 } // namespace morphnode

@@ -27,8 +27,8 @@ enum class ArticulationPlace
   Uvular,
   Pharyngeal,
   Glottal,
-  LabialVelar,   ///< w, ʍ
-  LabialPalatal  ///< ɥ
+  LabialVelar,  ///< w, ʍ
+  LabialPalatal ///< ɥ
 };
 
 enum class ArticulationManner

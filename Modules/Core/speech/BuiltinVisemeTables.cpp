@@ -18,22 +18,28 @@ struct BuiltinTable
 // The files of speech/data, each a raw string literal made by morphnode_embed_json
 // (Modules/Core/CMakeLists.txt; the list in speech/CMakeLists.txt).
 const BuiltinTable Tables[] = {
-  { "german16_de",
+  {
+    "german16_de",
 #include "visemes_german16_de.json.inc"
   },
-  { "german16_en",
+  {
+    "german16_en",
 #include "visemes_german16_en.json.inc"
   },
-  { "oculus15_de",
+  {
+    "oculus15_de",
 #include "visemes_oculus15_de.json.inc"
   },
-  { "oculus15_en",
+  {
+    "oculus15_en",
 #include "visemes_oculus15_en.json.inc"
   },
-  { "paper6_de",
+  {
+    "paper6_de",
 #include "visemes_paper6_de.json.inc"
   },
-  { "paper6_en",
+  {
+    "paper6_en",
 #include "visemes_paper6_en.json.inc"
   },
 };

@@ -21,7 +21,8 @@ constexpr double RestHalfWidth = 0.1;
 
 void CheckOptions(const CoarticulationOptions& o)
 {
-  auto check = [](bool ok, const char* what) {
+  auto check = [](bool ok, const char* what)
+  {
     if (!ok)
     {
       throw InputError(std::string("coarticulation: ") + what);
@@ -32,7 +33,8 @@ void CheckOptions(const CoarticulationOptions& o)
   check(std::isfinite(o.Lead) && std::fabs(o.Lead) <= 1.0, "the lead must be within +-1 s");
   check(std::isfinite(o.ThetaBefore) && o.ThetaBefore > 0.0, "ThetaBefore must be > 0");
   check(std::isfinite(o.ThetaAfter) && o.ThetaAfter > 0.0, "ThetaAfter must be > 0");
-  check(std::isfinite(o.Power) && o.Power >= 0.25 && o.Power <= 4.0, "the power c must be in [0.25, 4]");
+  check(std::isfinite(o.Power) && o.Power >= 0.25 && o.Power <= 4.0,
+    "the power c must be in [0.25, 4]");
   check(std::isfinite(o.MinimumHalfWidth) && o.MinimumHalfWidth > 0.0 && o.MinimumHalfWidth <= 1.0,
     "the minimum half width must be in (0, 1] s");
   check(std::isfinite(o.ClosureHold) && o.ClosureHold >= 0.0 && o.ClosureHold <= 1.0,
@@ -44,11 +46,11 @@ struct Kernel
 {
   int Viseme;
   double Centre;
-  double HalfWidth;  // h
-  double Magnitude;  // a_s
-  double Reach[2];   // seconds before / after the centre with non-negligible dominance
+  double HalfWidth; // h
+  double Magnitude; // a_s
+  double Reach[2];  // seconds before / after the centre with non-negligible dominance
   bool Closure;
-  double Hold;       // closure: half-width of full closure
+  double Hold; // closure: half-width of full closure
 };
 
 /// exp(-theta * (distance / h)^c).
@@ -62,7 +64,8 @@ std::vector<VisemeSegment> PhonemesToVisemeSegments(
   const std::vector<TimedPhoneme>& phonemes, const VisemeMap& map, const WarningHandler& warn)
 {
   std::set<std::string> warned; // one warning per unknown phoneme, not per occurrence
-  const WarningHandler once = [&](const std::string& message) {
+  const WarningHandler once = [&](const std::string& message)
+  {
     if (warn && warned.insert(message).second)
     {
       warn(message);
@@ -119,9 +122,12 @@ WeightTrack Coarticulate(const std::vector<VisemeSegment>& segments, const Visem
     k.Magnitude = map.GetDominance(s.Viseme);
     k.Closure = s.Closure;
     // At least half a frame (plus rounding), so some frame always lands inside the hold.
-    k.Hold = s.Closure ? std::max(0.5 * options.ClosureHold * s.Duration, 0.5 * frameTime + 1e-9) : 0.0;
-    k.Reach[0] = k.Hold + k.HalfWidth * std::pow(DominanceCutoff / options.ThetaBefore, 1.0 / options.Power);
-    k.Reach[1] = k.Hold + k.HalfWidth * std::pow(DominanceCutoff / options.ThetaAfter, 1.0 / options.Power);
+    k.Hold =
+      s.Closure ? std::max(0.5 * options.ClosureHold * s.Duration, 0.5 * frameTime + 1e-9) : 0.0;
+    k.Reach[0] =
+      k.Hold + k.HalfWidth * std::pow(DominanceCutoff / options.ThetaBefore, 1.0 / options.Power);
+    k.Reach[1] =
+      k.Hold + k.HalfWidth * std::pow(DominanceCutoff / options.ThetaAfter, 1.0 / options.Power);
     kernels.push_back(k);
   }
   // The face rests before and after the segments: without these, the long tail of a long
@@ -134,7 +140,10 @@ WeightTrack Coarticulate(const std::vector<VisemeSegment>& segments, const Visem
     for (size_t i = 0; i < segments.size(); ++i)
     {
       first = segments[i].Start < segments[first].Start ? i : first;
-      last = segments[i].Start + segments[i].Duration > segments[last].Start + segments[last].Duration ? i : last;
+      last =
+        segments[i].Start + segments[i].Duration > segments[last].Start + segments[last].Duration
+        ? i
+        : last;
     }
     const double firstHalf = std::max(RestHalfWidth, kernels[first].HalfWidth);
     const double lastHalf = std::max(RestHalfWidth, kernels[last].HalfWidth);
@@ -155,9 +164,9 @@ WeightTrack Coarticulate(const std::vector<VisemeSegment>& segments, const Visem
   {
     byEntry[i] = i;
   }
-  std::sort(byEntry.begin(), byEntry.end(), [&](size_t a, size_t b) {
-    return kernels[a].Centre - kernels[a].Reach[0] < kernels[b].Centre - kernels[b].Reach[0];
-  });
+  std::sort(byEntry.begin(), byEntry.end(),
+    [&](size_t a, size_t b)
+    { return kernels[a].Centre - kernels[a].Reach[0] < kernels[b].Centre - kernels[b].Reach[0]; });
 
   WeightTrack track(map.GetVisemes(), options.FrameRate);
   const size_t frames = static_cast<size_t>(std::ceil(duration * options.FrameRate - 1e-9)) + 1;
@@ -215,7 +224,8 @@ WeightTrack Coarticulate(const std::vector<VisemeSegment>& segments, const Visem
         closing.push_back(v);
       }
     }
-    std::sort(closing.begin(), closing.end(), [&](int a, int b) { return closure[a] < closure[b]; });
+    std::sort(
+      closing.begin(), closing.end(), [&](int a, int b) { return closure[a] < closure[b]; });
     for (int v : closing)
     {
       const double rest = 1.0 - weights[v];

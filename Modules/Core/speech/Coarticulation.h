@@ -18,9 +18,9 @@
 /// at time t shows F(t + Lead).
 
 #include "speech/SpeechTypes.h"
-#include "track/WeightTrack.h"
 #include "speech/VisemeMap.h"
 #include "speech/Warning.h"
+#include "track/WeightTrack.h"
 
 #include <vector>
 
@@ -32,9 +32,9 @@ struct CoarticulationOptions
   /// Seconds the mouth runs ahead of the audio. Viewers accept picture ahead of sound up to
   /// ~125 ms but notice sound ahead from ~45 ms; 50 ms sits safely inside.
   double Lead = 0.05;
-  double ThetaBefore = 1.4; ///< decay before the centre, per half-width^c (anticipation)
-  double ThetaAfter = 2.0;  ///< decay after the centre (carry-over)
-  double Power = 1.0;       ///< c
+  double ThetaBefore = 1.4;       ///< decay before the centre, per half-width^c (anticipation)
+  double ThetaAfter = 2.0;        ///< decay after the centre (carry-over)
+  double Power = 1.0;             ///< c
   double MinimumHalfWidth = 0.02; ///< seconds; keeps very short segments from spiking
   /// Fraction of a closure segment's duration held at full closure, centred on it; at
   /// least one frame, so a sampled track always shows the closure.
@@ -51,8 +51,8 @@ struct VisemeSegment
 };
 
 /// Maps phonemes to segments (unknown phonemes warn, see VisemeMap::MapPhoneme).
-std::vector<VisemeSegment> PhonemesToVisemeSegments(const std::vector<TimedPhoneme>& phonemes,
-  const VisemeMap& map, const WarningHandler& warn = {});
+std::vector<VisemeSegment> PhonemesToVisemeSegments(
+  const std::vector<TimedPhoneme>& phonemes, const VisemeMap& map, const WarningHandler& warn = {});
 
 /// The viseme track over [0, duration] (ceil(duration * FrameRate) + 1 frames), one channel
 /// per viseme of `map`. InputError for bad options (frame rate <= 0, thetas <= 0, ...).

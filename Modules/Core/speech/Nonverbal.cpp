@@ -83,7 +83,8 @@ std::vector<NonverbalCue> DeriveNonverbalCues(
         accents.emplace_back(pitch[i] / meanPitch, i);
       }
     }
-    std::sort(accents.begin(), accents.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+    std::sort(accents.begin(), accents.end(),
+      [](const auto& a, const auto& b) { return a.first > b.first; });
     std::vector<double> taken;
     for (const auto& [ratio, i] : accents)
     {
@@ -101,7 +102,8 @@ std::vector<NonverbalCue> DeriveNonverbalCues(
   }
 
   // Pauses and sentence ends. `lastSpoken` is the last non-pause phoneme so far.
-  auto sentenceEnd = [&](size_t lastSpoken, double intensity) {
+  auto sentenceEnd = [&](size_t lastSpoken, double intensity)
+  {
     // The last voiced phoneme of the sentence tells a question (rising pitch) apart.
     double finalPitch = 0.0;
     for (size_t j = lastSpoken + 1; j-- > 0 && !IsPausePhoneme(phonemes[j].Sampa);)
@@ -115,8 +117,8 @@ std::vector<NonverbalCue> DeriveNonverbalCues(
     const TimedPhoneme& last = phonemes[lastSpoken];
     if (meanPitch > 0.0 && finalPitch >= options.QuestionRise * meanPitch)
     {
-      cues.push_back(MakeCue(NonverbalCue::Kind::BrowRaise, last.Start - options.BrowLead,
-        options.BrowDuration, 0.6));
+      cues.push_back(MakeCue(
+        NonverbalCue::Kind::BrowRaise, last.Start - options.BrowLead, options.BrowDuration, 0.6));
     }
     else
     {
@@ -148,7 +150,8 @@ std::vector<NonverbalCue> DeriveNonverbalCues(
     }
     if (length >= options.RelaxPause)
     {
-      cues.push_back(MakeCue(NonverbalCue::Kind::Relax, start, length, length / (2.0 * options.BlinkPause)));
+      cues.push_back(
+        MakeCue(NonverbalCue::Kind::Relax, start, length, length / (2.0 * options.BlinkPause)));
     }
     if (length >= options.BlinkPause)
     {

@@ -22,17 +22,17 @@ namespace morphnode
 {
 struct NonverbalOptions
 {
-  double AccentRatio = 1.12;          ///< peak pitch / mean pitch for an accent
-  double AccentNeighbourhood = 0.25;  ///< seconds either side a peak must dominate
-  double AccentMinimumSpacing = 0.8;  ///< seconds between brow raises
-  double BrowLead = 0.1;              ///< brows start this much before the accent
-  double BrowDuration = 0.5;          ///< seconds
-  double RelaxPause = 0.15;           ///< seconds of pause that relax the face
-  double BlinkPause = 0.25;           ///< seconds of pause that invite a blink
-  double BlinkDuration = 0.25;        ///< seconds
-  double SentencePause = 0.25;        ///< seconds of pause that end a sentence
-  double NodDuration = 0.6;           ///< seconds
-  double QuestionRise = 1.1;          ///< final pitch / mean pitch that marks a question
+  double AccentRatio = 1.12;         ///< peak pitch / mean pitch for an accent
+  double AccentNeighbourhood = 0.25; ///< seconds either side a peak must dominate
+  double AccentMinimumSpacing = 0.8; ///< seconds between brow raises
+  double BrowLead = 0.1;             ///< brows start this much before the accent
+  double BrowDuration = 0.5;         ///< seconds
+  double RelaxPause = 0.15;          ///< seconds of pause that relax the face
+  double BlinkPause = 0.25;          ///< seconds of pause that invite a blink
+  double BlinkDuration = 0.25;       ///< seconds
+  double SentencePause = 0.25;       ///< seconds of pause that end a sentence
+  double NodDuration = 0.6;          ///< seconds
+  double QuestionRise = 1.1;         ///< final pitch / mean pitch that marks a question
 };
 
 /// Cues sorted by start; all starts >= 0 and intensities in [0, 1]. Phonemes without pitch

@@ -50,7 +50,8 @@ void ParseCommand(std::string_view body, size_t line, double& timeRatio, double&
   if (!ParseNumber(std::string_view(compact).substr(eq + 1), value) || !(value > 0.0) ||
     value > 1000.0)
   {
-    Fail(line, "command " + key + " needs a ratio in (0, 1000], got " + Quote(compact.substr(eq + 1)));
+    Fail(
+      line, "command " + key + " needs a ratio in (0, 1000], got " + Quote(compact.substr(eq + 1)));
   }
   (key == "T" ? timeRatio : frequencyRatio) = value;
 }
@@ -160,7 +161,8 @@ void CheckWritable(const TimedPhoneme& p, size_t index)
   if (p.Sampa.empty() || p.Sampa[0] == ';' || p.Sampa[0] == '#' ||
     p.Sampa.find_first_of(" \t\r\n;") != std::string::npos)
   {
-    throw InputError(where + Quote(p.Sampa) + ": a name must be non-empty, without blanks or ';' and not start with '#'");
+    throw InputError(where + Quote(p.Sampa) +
+      ": a name must be non-empty, without blanks or ';' and not start with '#'");
   }
   if (!std::isfinite(p.Start) || !std::isfinite(p.Duration) || p.Start < 0.0 || p.Duration < 0.0)
   {
@@ -170,7 +172,8 @@ void CheckWritable(const TimedPhoneme& p, size_t index)
   {
     if (!(position >= 0.0 && position <= 1.0) || !(pitch > 0.0) || !std::isfinite(pitch))
     {
-      throw InputError(where + Quote(p.Sampa) + ": pitch targets need a position in [0, 1] and a pitch > 0");
+      throw InputError(
+        where + Quote(p.Sampa) + ": pitch targets need a position in [0, 1] and a pitch > 0");
     }
   }
 }

@@ -15,24 +15,23 @@ namespace
 {
 const std::unordered_map<std::string, std::string>& ArpabetTable()
 {
-  static const std::unordered_map<std::string, std::string> table = { { "AA", "A:" },
-    { "AE", "{" }, { "AH", "V" }, { "AO", "O:" }, { "AW", "aU" }, { "AX", "@" }, { "AXR", "@" },
-    { "AY", "aI" }, { "EH", "e" }, { "ER", "3:" }, { "EY", "eI" }, { "IH", "I" }, { "IX", "I" },
-    { "IY", "i:" }, { "OW", "@U" }, { "OY", "OI" }, { "UH", "U" }, { "UW", "u:" }, { "UX", "u:" },
-    { "B", "b" }, { "CH", "tS" }, { "D", "d" }, { "DH", "D" }, { "DX", "d" }, { "EL", "5" },
-    { "EM", "m" }, { "EN", "n" }, { "F", "f" }, { "G", "g" }, { "HH", "h" }, { "H", "h" },
-    { "JH", "dZ" }, { "K", "k" }, { "L", "l" }, { "M", "m" }, { "N", "n" }, { "NG", "N" },
-    { "NX", "n" }, { "P", "p" }, { "Q", "?" }, { "R", "r" }, { "S", "s" }, { "SH", "S" },
-    { "T", "t" }, { "TH", "T" }, { "V", "v" }, { "W", "w" }, { "WH", "w" }, { "Y", "j" },
-    { "Z", "z" }, { "ZH", "Z" } };
+  static const std::unordered_map<std::string, std::string> table = { { "AA", "A:" }, { "AE", "{" },
+    { "AH", "V" }, { "AO", "O:" }, { "AW", "aU" }, { "AX", "@" }, { "AXR", "@" }, { "AY", "aI" },
+    { "EH", "e" }, { "ER", "3:" }, { "EY", "eI" }, { "IH", "I" }, { "IX", "I" }, { "IY", "i:" },
+    { "OW", "@U" }, { "OY", "OI" }, { "UH", "U" }, { "UW", "u:" }, { "UX", "u:" }, { "B", "b" },
+    { "CH", "tS" }, { "D", "d" }, { "DH", "D" }, { "DX", "d" }, { "EL", "5" }, { "EM", "m" },
+    { "EN", "n" }, { "F", "f" }, { "G", "g" }, { "HH", "h" }, { "H", "h" }, { "JH", "dZ" },
+    { "K", "k" }, { "L", "l" }, { "M", "m" }, { "N", "n" }, { "NG", "N" }, { "NX", "n" },
+    { "P", "p" }, { "Q", "?" }, { "R", "r" }, { "S", "s" }, { "SH", "S" }, { "T", "t" },
+    { "TH", "T" }, { "V", "v" }, { "W", "w" }, { "WH", "w" }, { "Y", "j" }, { "Z", "z" },
+    { "ZH", "Z" } };
   return table;
 }
 
 /// IPA code point -> X-SAMPA. Modifiers that change no viseme map to "".
 const std::unordered_map<char32_t, std::string>& IpaTable()
 {
-  static const std::unordered_map<char32_t, std::string> table = {
-    // vowels
+  static const std::unordered_map<char32_t, std::string> table = { // vowels
     { U'i', "i" }, { U'y', "y" }, { U'ɨ', "1" }, { U'ʉ', "}" }, { U'ɯ', "M" }, { U'u', "u" },
     { U'ɪ', "I" }, { U'ʏ', "Y" }, { U'ʊ', "U" }, { U'e', "e" }, { U'ø', "2" }, { U'ɘ', "@\\" },
     { U'ɵ', "8" }, { U'ɤ', "7" }, { U'o', "o" }, { U'ə', "@" }, { U'ɛ', "E" }, { U'œ', "9" },
@@ -56,7 +55,8 @@ const std::unordered_map<char32_t, std::string>& IpaTable()
     { U'ˤ', "" }, { U'ˈ', "" }, { U'ˌ', "" }, { U'.', "" }, { 0x0329, "" } /* syllabic */,
     { 0x032F, "" } /* non-syllabic */, { 0x0361, "" } /* tie above */, { 0x035C, "" },
     { 0x032A, "" } /* dental */, { 0x0303, "~" } /* nasal */, { 0x0325, "" }, { 0x031A, "" },
-    { 0x0306, "" }, { 0x0308, "" }, { 0x031E, "" }, { 0x031D, "" }, { 0x0320, "" }, { 0x031F, "" } };
+    { 0x0306, "" }, { 0x0308, "" }, { 0x031E, "" }, { 0x031D, "" }, { 0x0320, "" }, { 0x031F, "" }
+  };
   return table;
 }
 
@@ -121,7 +121,8 @@ const char* PhoneAlphabetName(PhoneAlphabet alphabet)
 PhoneAlphabet ParsePhoneAlphabet(const std::string& name)
 {
   const std::string n = text::ToLower(name);
-  for (PhoneAlphabet a : { PhoneAlphabet::Auto, PhoneAlphabet::Sampa, PhoneAlphabet::Arpabet, PhoneAlphabet::Ipa })
+  for (PhoneAlphabet a :
+    { PhoneAlphabet::Auto, PhoneAlphabet::Sampa, PhoneAlphabet::Arpabet, PhoneAlphabet::Ipa })
   {
     if (n == PhoneAlphabetName(a))
     {
@@ -238,8 +239,8 @@ PhoneAlphabet GuessPhoneAlphabet(const std::vector<std::string>& labels)
   return allArpabet && arpabetEvidence ? PhoneAlphabet::Arpabet : PhoneAlphabet::Sampa;
 }
 
-std::string PhoneLabelToSampa(const std::string& label, PhoneAlphabet alphabet,
-  const std::string& language)
+std::string PhoneLabelToSampa(
+  const std::string& label, PhoneAlphabet alphabet, const std::string& language)
 {
   switch (alphabet)
   {

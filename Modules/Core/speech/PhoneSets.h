@@ -43,6 +43,6 @@ std::string IpaToSampa(const std::string& label, const std::string& language);
 PhoneAlphabet GuessPhoneAlphabet(const std::vector<std::string>& labels);
 
 /// One label to SAMPA in the given alphabet (Auto is treated as Sampa).
-std::string PhoneLabelToSampa(const std::string& label, PhoneAlphabet alphabet,
-  const std::string& language);
+std::string PhoneLabelToSampa(
+  const std::string& label, PhoneAlphabet alphabet, const std::string& language);
 } // namespace morphnode

@@ -60,9 +60,8 @@ std::vector<MouthCue> ReadRhubarbTsv(std::istream& in, double endTime)
   std::vector<MouthCue> cues;
   std::string text;
   size_t lineNumber = 0;
-  auto fail = [&](const std::string& what) {
-    throw InputError("rhubarb tsv line " + std::to_string(lineNumber) + ": " + what);
-  };
+  auto fail = [&](const std::string& what)
+  { throw InputError("rhubarb tsv line " + std::to_string(lineNumber) + ": " + what); };
   while (std::getline(in, text))
   {
     ++lineNumber;
@@ -139,7 +138,8 @@ void WriteRhubarbTsv(std::ostream& out, const std::vector<MouthCue>& cues)
     }
     out << FormatNumber(cues[i].Start) << '\t' << cues[i].Shape << '\n';
   }
-  if (!cues.empty() && cues.back().Shape != 'X' && cues.back().End > cues.back().Start + TimeTolerance)
+  if (!cues.empty() && cues.back().Shape != 'X' &&
+    cues.back().End > cues.back().Start + TimeTolerance)
   {
     out << FormatNumber(cues.back().End) << "\tX\n";
   }
@@ -155,7 +155,8 @@ std::vector<MouthCue> ReadRhubarbJson(std::istream& in)
   }
   catch (const json::exception& e)
   {
-    throw InputError(std::string("rhubarb json: not valid JSON (") + text::LibraryMessage(e.what()) + ")");
+    throw InputError(
+      std::string("rhubarb json: not valid JSON (") + text::LibraryMessage(e.what()) + ")");
   }
   if (!root.is_object())
   {
@@ -175,9 +176,11 @@ std::vector<MouthCue> ReadRhubarbJson(std::istream& in)
     {
       throw InputError(where + "must be an object");
     }
-    auto number = [&](const char* key) {
+    auto number = [&](const char* key)
+    {
       const auto it = item.find(key);
-      if (it == item.end() || !it->is_number() || !std::isfinite(it->get<double>()) || it->get<double>() < 0.0)
+      if (it == item.end() || !it->is_number() || !std::isfinite(it->get<double>()) ||
+        it->get<double>() < 0.0)
       {
         throw InputError(where + "'" + key + "' must be a time in seconds >= 0");
       }
@@ -187,7 +190,8 @@ std::vector<MouthCue> ReadRhubarbJson(std::istream& in)
     cue.Start = number("start");
     cue.End = number("end");
     const auto value = item.find("value");
-    if (value == item.end() || !value->is_string() || value->get_ref<const std::string&>().size() != 1 ||
+    if (value == item.end() || !value->is_string() ||
+      value->get_ref<const std::string&>().size() != 1 ||
       !IsRhubarbShape(value->get_ref<const std::string&>()[0]))
     {
       throw InputError(where + "'value' must be one of A-H or X");
@@ -223,8 +227,8 @@ struct XmlCues
   {
     if (this->Error.empty())
     {
-      this->Error = "rhubarb xml line " + std::to_string(XML_GetCurrentLineNumber(this->Parser)) +
-        ": " + what;
+      this->Error =
+        "rhubarb xml line " + std::to_string(XML_GetCurrentLineNumber(this->Parser)) + ": " + what;
       XML_StopParser(this->Parser, XML_FALSE);
     }
   }
@@ -316,7 +320,8 @@ std::vector<MouthCue> ReadRhubarbXml(std::istream& in)
   // expat >= 2.4 (Debian 12: 2.5) limits entity amplification ("billion laughs") itself.
   const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   XmlCues x;
-  std::unique_ptr<XML_ParserStruct, decltype(&XML_ParserFree)> parser(XML_ParserCreate("UTF-8"), &XML_ParserFree);
+  std::unique_ptr<XML_ParserStruct, decltype(&XML_ParserFree)> parser(
+    XML_ParserCreate("UTF-8"), &XML_ParserFree);
   if (!parser)
   {
     throw InputError("rhubarb xml: cannot create the XML parser");
@@ -343,18 +348,20 @@ std::vector<MouthCue> ReadRhubarbXml(std::istream& in)
   return x.Cues;
 }
 
-void WriteRhubarbJson(
-  std::ostream& out, const std::vector<MouthCue>& cues, const std::string& soundFile, double duration)
+void WriteRhubarbJson(std::ostream& out, const std::vector<MouthCue>& cues,
+  const std::string& soundFile, double duration)
 {
   CheckCues(cues);
   using nlohmann::ordered_json;
   ordered_json root;
   root["metadata"]["soundFile"] = soundFile;
-  root["metadata"]["duration"] = duration >= 0.0 ? duration : (cues.empty() ? 0.0 : cues.back().End);
+  root["metadata"]["duration"] =
+    duration >= 0.0 ? duration : (cues.empty() ? 0.0 : cues.back().End);
   root["mouthCues"] = ordered_json::array();
   for (const MouthCue& c : cues)
   {
-    root["mouthCues"].push_back({ { "start", c.Start }, { "end", c.End }, { "value", std::string(1, c.Shape) } });
+    root["mouthCues"].push_back(
+      { { "start", c.Start }, { "end", c.End }, { "value", std::string(1, c.Shape) } });
   }
   out << root.dump(2) << '\n';
 }
@@ -395,7 +402,8 @@ std::vector<MouthCue> VisemeTrackToMouthCues(
     size_t best = shapeOf.size();
     for (size_t c = 0; c < shapeOf.size(); ++c)
     {
-      if (shapeOf[c] && (best == shapeOf.size() || visemes.GetValue(f, c) > visemes.GetValue(f, best)))
+      if (shapeOf[c] &&
+        (best == shapeOf.size() || visemes.GetValue(f, c) > visemes.GetValue(f, best)))
       {
         best = c;
       }
@@ -441,7 +449,8 @@ std::vector<MouthCue> VisemeTrackToMouthCues(
   return cues;
 }
 
-std::vector<VisemeSegment> MouthCuesToVisemeSegments(const std::vector<MouthCue>& cues, const VisemeMap& map)
+std::vector<VisemeSegment> MouthCuesToVisemeSegments(
+  const std::vector<MouthCue>& cues, const VisemeMap& map)
 {
   CheckCues(cues);
   std::vector<VisemeSegment> segments;

@@ -8,10 +8,10 @@
 /// JSON: `{"metadata":{"soundFile":..,"duration":..},"mouthCues":[{"start":..,"end":..,
 /// "value":"A"}]}`. The viseme <-> shape table lives in each viseme table (VisemeMap).
 
-#include "speech/SpeechTypes.h"
-#include "track/WeightTrack.h"
 #include "speech/Coarticulation.h"
+#include "speech/SpeechTypes.h"
 #include "speech/VisemeMap.h"
+#include "track/WeightTrack.h"
 
 #include <iosfwd>
 #include <string>

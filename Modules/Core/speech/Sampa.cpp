@@ -17,9 +17,9 @@ namespace
 const std::set<std::string>& GermanInventory()
 {
   static const std::set<std::string> inventory = { "p", "b", "t", "d", "k", "g", "?", "pf", "ts",
-    "tS", "dZ", "f", "v", "s", "z", "S", "Z", "C", "j", "x", "h", "m", "n", "N", "l", "R", "r",
-    "I", "E", "a", "O", "U", "Y", "9", "i:", "e:", "E:", "a:", "o:", "u:", "y:", "2:", "aI", "aU",
-    "OY", "@", "6", "_" };
+    "tS", "dZ", "f", "v", "s", "z", "S", "Z", "C", "j", "x", "h", "m", "n", "N", "l", "R", "r", "I",
+    "E", "a", "O", "U", "Y", "9", "i:", "e:", "E:", "a:", "o:", "u:", "y:", "2:", "aI", "aU", "OY",
+    "@", "6", "_" };
   return inventory;
 }
 
@@ -27,41 +27,43 @@ const std::set<std::string>& EnglishInventory()
 {
   static const std::set<std::string> inventory = { "p", "b", "t", "d", "k", "g", "?", "tS", "dZ",
     "f", "v", "T", "D", "s", "z", "S", "Z", "h", "m", "n", "N", "r", "l", "5", "w", "j", "I", "e",
-    "{", "Q", "V", "U", "@", "i:", "eI", "aI", "OI", "u:", "@U", "aU", "I@", "e@", "U@", "A:",
-    "O:", "3:", "_" };
+    "{", "Q", "V", "U", "@", "i:", "eI", "aI", "OI", "u:", "@U", "aU", "I@", "e@", "U@",
+    "A:", "O:", "3:", "_" };
   return inventory;
 }
 
 const std::set<std::string>& Vowels()
 {
-  static const std::set<std::string> vowels = { "I", "E", "a", "O", "U", "Y", "9", "i:", "e:",
-    "E:", "a:", "o:", "u:", "y:", "2:", "aI", "aU", "OY", "@", "6", "e", "{", "Q", "V", "eI",
-    "OI", "@U", "I@", "e@", "U@", "A:", "O:", "3:" };
+  static const std::set<std::string> vowels = { "I", "E", "a", "O", "U", "Y", "9",
+    "i:", "e:", "E:", "a:", "o:", "u:", "y:", "2:", "aI", "aU", "OY", "@", "6", "e", "{", "Q", "V",
+    "eI", "OI", "@U", "I@", "e@", "U@", "A:", "O:", "3:" };
   return vowels;
 }
 
 // eSpeak NG mnemonics that differ from SAMPA (checked against eSpeak NG 1.51 output).
 const std::unordered_map<std::string, std::string>& GermanTable()
 {
-  static const std::unordered_map<std::string, std::string> table = { { "3", "6" },
-    { "r", "R" }, { "A:", "a:" }, { "A", "a" }, { "OI", "OY" }, { "y", "Y" }, { "W", "9" },
-    { "Y:", "2:" }, { "pF", "pf" }, { "i", "i:" }, { "e", "e:" }, { "o", "o:" }, { "u", "u:" }, { "eI", "e:" }, { "UR", "U" } };
+  static const std::unordered_map<std::string, std::string> table = { { "3", "6" }, { "r", "R" },
+    { "A:", "a:" }, { "A", "a" }, { "OI", "OY" }, { "y", "Y" }, { "W", "9" }, { "Y:", "2:" },
+    { "pF", "pf" }, { "i", "i:" }, { "e", "e:" }, { "o", "o:" }, { "u", "u:" }, { "eI", "e:" },
+    { "UR", "U" } };
   return table;
 }
 
 const std::unordered_map<std::string, std::string>& EnglishTable()
 {
-  static const std::unordered_map<std::string, std::string> table = { { "oU", "@U" },
-    { "a", "{" }, { "0", "Q" }, { "E", "e" }, { "O", "O:" }, { "@L", "5" }, { "3", "@" },
-    { "a#", "@" }, { "i", "i:" }, { "A@", "A:" }, { "aa", "A:" }, { "A", "A:" }, { "i@", "I@" },
-    { "i@3", "I@" }, { "IR", "I@" }, { "O@", "O:" }, { "o@", "O:" }, { "aI@", "aI" },
-    { "aU@", "aU" }, { "x", "k" } };
+  static const std::unordered_map<std::string, std::string> table = { { "oU", "@U" }, { "a", "{" },
+    { "0", "Q" }, { "E", "e" }, { "O", "O:" }, { "@L", "5" }, { "3", "@" }, { "a#", "@" },
+    { "i", "i:" }, { "A@", "A:" }, { "aa", "A:" }, { "A", "A:" }, { "i@", "I@" }, { "i@3", "I@" },
+    { "IR", "I@" }, { "O@", "O:" }, { "o@", "O:" }, { "aI@", "aI" }, { "aU@", "aU" },
+    { "x", "k" } };
   return table;
 }
 
 bool IsVariantMark(char c)
 {
-  return c == '#' || c == '/' || c == '-' || c == ';' || c == '~' || std::isdigit(static_cast<unsigned char>(c));
+  return c == '#' || c == '/' || c == '-' || c == ';' || c == '~' ||
+    std::isdigit(static_cast<unsigned char>(c));
 }
 
 /// Table then inventory; empty when neither knows the name.
@@ -151,7 +153,8 @@ namespace
 /// empty pauses dropped, adjacent pauses merged. A name `convert` returns empty joins the
 /// previous phoneme (a modifier eSpeak reported on its own, such as a palatalization mark).
 template <typename Convert>
-std::vector<TimedPhoneme> NormalizeEvents(const std::vector<TimedPhoneme>& events, Convert&& convert)
+std::vector<TimedPhoneme> NormalizeEvents(
+  const std::vector<TimedPhoneme>& events, Convert&& convert)
 {
   std::vector<TimedPhoneme> result;
   result.reserve(events.size());
@@ -162,7 +165,8 @@ std::vector<TimedPhoneme> NormalizeEvents(const std::vector<TimedPhoneme>& event
       // A language switch such as "(en)", not a sound: the previous phoneme lasts on.
       if (!result.empty())
       {
-        result.back().Duration = std::max(result.back().Duration, e.Start + e.Duration - result.back().Start);
+        result.back().Duration =
+          std::max(result.back().Duration, e.Start + e.Duration - result.back().Start);
       }
       continue;
     }
@@ -172,7 +176,8 @@ std::vector<TimedPhoneme> NormalizeEvents(const std::vector<TimedPhoneme>& event
     {
       if (!result.empty())
       {
-        result.back().Duration = std::max(result.back().Duration, e.Start + e.Duration - result.back().Start);
+        result.back().Duration =
+          std::max(result.back().Duration, e.Start + e.Duration - result.back().Start);
       }
       continue;
     }
@@ -205,8 +210,8 @@ std::vector<std::string> EspeakLanguageSwitches(
       continue;
     }
     const std::string language = text::ToLower(e.Sampa.substr(1, e.Sampa.size() - 2));
-    const bool same = own == language || own.rfind(language + "-", 0) == 0 ||
-      language.rfind(own + "-", 0) == 0;
+    const bool same =
+      own == language || own.rfind(language + "-", 0) == 0 || language.rfind(own + "-", 0) == 0;
     if (!same && std::find(switches.begin(), switches.end(), language) == switches.end())
     {
       switches.push_back(language);
@@ -239,17 +244,20 @@ std::string EspeakMnemonicToXSampa(const std::string& name, const std::string& v
   {
     const char c = name[i];
     // eSpeak's variant and syllable marks; a palatalization mark inside (tS;h) too.
-    if (c != '-' && c != '!' && c != '/' && c != '<' && c != '>' && !(c == ';' && i + 1 < name.size()))
+    if (c != '-' && c != '!' && c != '/' && c != '<' && c != '>' &&
+      !(c == ';' && i + 1 < name.size()))
     {
       m += c;
     }
   }
-  while (m.size() > 1 && (std::isdigit(static_cast<unsigned char>(m.back())) || m.back() == '#' ||
-                           m.back() == '+' || m.back() == '_'))
+  while (m.size() > 1 &&
+    (std::isdigit(static_cast<unsigned char>(m.back())) || m.back() == '#' || m.back() == '+' ||
+      m.back() == '_'))
   {
     m.pop_back(); // variant marks (O+ in Vietnamese, n_ in Russian, d_ ...)
   }
-  if (m.size() == 2 && m[0] == 'h' && std::string("ptkbdgszmnlrwjSZ").find(m[1]) != std::string::npos)
+  if (m.size() == 2 && m[0] == 'h' &&
+    std::string("ptkbdgszmnlrwjSZ").find(m[1]) != std::string::npos)
   {
     m.erase(0, 1); // a voiceless or pre-aspirated consonant written with h first (Burmese hs, ht)
   }
@@ -261,7 +269,8 @@ std::string EspeakMnemonicToXSampa(const std::string& name, const std::string& v
   {
     m.pop_back(); // breathy-voiced or aspirated stop written with H (Hindi, Arabic dH, gH)
   }
-  if (m.size() > 1 && m[0] == '?' && std::string("aeiouyAEIOUY@&0369V{").find(m[1]) != std::string::npos)
+  if (m.size() > 1 && m[0] == '?' &&
+    std::string("aeiouyAEIOUY@&0369V{").find(m[1]) != std::string::npos)
   {
     m.erase(0, 1); // a vowel with a glottal onset (Danish stød)
   }
@@ -297,8 +306,9 @@ std::string EspeakMnemonicToXSampa(const std::string& name, const std::string& v
   // Where eSpeak's own IPA output (espeakINITIALIZE_PHONEME_IPA, eSpeak NG 1.51) reads a
   // mnemonic otherwise than Kirshenbaum: "y" is the unrounded ɨ in these languages.
   const std::string language = text::ToLower(voice.substr(0, voice.find_first_of("+-")));
-  if ((m == "y" || m == "y:") && (language == "am" || language == "ml" || language == "pl" ||
-                                   (language == "pt" && text::ToLower(voice).rfind("pt-br", 0) != 0)))
+  if ((m == "y" || m == "y:") &&
+    (language == "am" || language == "ml" || language == "pl" ||
+      (language == "pt" && text::ToLower(voice).rfind("pt-br", 0) != 0)))
   {
     return "1" + m.substr(1);
   }
@@ -316,41 +326,82 @@ std::string EspeakMnemonicToXSampa(const std::string& name, const std::string& v
     }
     switch (c)
     {
-      case '&': out += "{"; break;
-      case '0': out += "Q"; break;
-      case 'Q': out += "G"; break;
-      case 'G': out += "G\\"; break;
-      case 'L': out += "5"; break;
-      case 'M': out += "F"; break;
-      case 'W': out += "9"; break;
-      case 'R': out += "r"; break; // eSpeak's R is mostly a trill (rr), its IPA says r
-      case 'Y': out += "2"; break;
-      case 'H': out += "X\\"; break;
-      case 'P': out += "p\\"; break;
-      case 'J': out += "J\\"; break;
-      case '*': out += "4"; break;
-      case ';': case '[': case '^': case '.': case '#': case '\'': case ',': break;
-      default: out += c; break;
+      case '&':
+        out += "{";
+        break;
+      case '0':
+        out += "Q";
+        break;
+      case 'Q':
+        out += "G";
+        break;
+      case 'G':
+        out += "G\\";
+        break;
+      case 'L':
+        out += "5";
+        break;
+      case 'M':
+        out += "F";
+        break;
+      case 'W':
+        out += "9";
+        break;
+      case 'R':
+        out += "r";
+        break; // eSpeak's R is mostly a trill (rr), its IPA says r
+      case 'Y':
+        out += "2";
+        break;
+      case 'H':
+        out += "X\\";
+        break;
+      case 'P':
+        out += "p\\";
+        break;
+      case 'J':
+        out += "J\\";
+        break;
+      case '*':
+        out += "4";
+        break;
+      case ';':
+      case '[':
+      case '^':
+      case '.':
+      case '#':
+      case '\'':
+      case ',':
+        break;
+      default:
+        out += c;
+        break;
     }
   }
   // Only marks left (a lone length or nasal mark): nothing of its own.
-  const bool hasLetter = std::any_of(out.begin(), out.end(), [](char c)
-    { return std::isalnum(static_cast<unsigned char>(c)) || c == '@' || c == '{' || c == '?' || c == '&'; });
+  const bool hasLetter = std::any_of(out.begin(), out.end(),
+    [](char c)
+    {
+      return std::isalnum(static_cast<unsigned char>(c)) || c == '@' || c == '{' || c == '?' ||
+        c == '&';
+    });
   return hasLetter ? out : std::string("_");
 }
 
 bool HasSampaTables(const std::string& voice)
 {
   const std::string prefix = text::ToLower(voice.substr(0, 2));
-  return (prefix == "de" || prefix == "en") && (voice.size() == 2 || voice[2] == '-' || voice[2] == '+' || voice[2] == '_');
+  return (prefix == "de" || prefix == "en") &&
+    (voice.size() == 2 || voice[2] == '-' || voice[2] == '+' || voice[2] == '_');
 }
 
 std::string NormalizeIpaPhoneme(const std::string& ipaName, const std::string& voice)
 {
   // eSpeak marks variants with ASCII after the IPA ("ə-"); stress marks carry no shape.
   std::string name = ipaName;
-  while (!name.empty() && (name.back() == '-' || name.back() == '#' || name.back() == '/' ||
-                            std::isdigit(static_cast<unsigned char>(name.back()))))
+  while (!name.empty() &&
+    (name.back() == '-' || name.back() == '#' || name.back() == '/' ||
+      std::isdigit(static_cast<unsigned char>(name.back()))))
   {
     name.pop_back();
   }
@@ -381,7 +432,7 @@ std::vector<TimedPhoneme> NormalizeVoicePhonemes(
 std::vector<TimedPhoneme> NormalizeIpaPhonemes(
   const std::vector<TimedPhoneme>& ipaPhonemes, const std::string& voice)
 {
-  return NormalizeEvents(ipaPhonemes,
-    [&voice](const std::string& name) { return NormalizeIpaPhoneme(name, voice); });
+  return NormalizeEvents(
+    ipaPhonemes, [&voice](const std::string& name) { return NormalizeIpaPhoneme(name, voice); });
 }
 } // namespace morphnode

@@ -46,7 +46,8 @@ bool HasSampaTables(const std::string& voice);
 /// variant marks); where eSpeak's own IPA reads a mnemonic otherwise for a language (Polish
 /// "y" is ɨ), the voice decides. Pauses give `_`. Checked against eSpeak's IPA events for
 /// every voice: the same viseme for 95 % of the phonemes (docs/speech.md).
-std::string EspeakMnemonicToXSampa(const std::string& name, const std::string& voice = std::string());
+std::string EspeakMnemonicToXSampa(
+  const std::string& name, const std::string& voice = std::string());
 
 /// One IPA name of eSpeak's IPA events -> X-SAMPA (IpaToSampa): an empty name is a pause
 /// `_`, eSpeak's ASCII variant marks are dropped; a lone modifier (ʲ, ː) gives "" (it joins

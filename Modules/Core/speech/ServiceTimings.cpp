@@ -55,8 +55,8 @@ double Seconds(const json& value, double scale, const std::string& where)
 
 std::string AzureVisemeToSampa(int visemeId)
 {
-  static const char* const table[22] = { "_", "{", "A:", "O:", "e", "3:", "i:", "u:", "@U",
-    "aU", "OI", "aI", "h", "r", "l", "s", "S", "T", "f", "t", "k", "p" };
+  static const char* const table[22] = { "_", "{", "A:", "O:", "e", "3:", "i:", "u:", "@U", "aU",
+    "OI", "aI", "h", "r", "l", "s", "S", "T", "f", "t", "k", "p" };
   return visemeId >= 0 && visemeId < 22 ? table[visemeId] : std::string();
 }
 
@@ -90,7 +90,8 @@ std::vector<TimedPhoneme> ParseAzureVisemes(const std::string& text, double last
     const std::string sampa = AzureVisemeToSampa(id->get<int>());
     if (sampa.empty())
     {
-      throw InputError(where + "viseme ID " + std::to_string(id->get<long long>()) + " is not in 0..21");
+      throw InputError(
+        where + "viseme ID " + std::to_string(id->get<long long>()) + " is not in 0..21");
     }
     double start = 0.0;
     if (const json* ticks = Member(event, "AudioOffset"))
@@ -143,7 +144,8 @@ std::vector<AlignedWord> ParseCharacterAlignment(const std::string& text)
       break;
     }
   }
-  auto array = [&](const char* key) -> const json& {
+  auto array = [&](const char* key) -> const json&
+  {
     const auto it = alignment->find(key);
     if (it == alignment->end() || !it->is_array())
     {
@@ -177,9 +179,9 @@ std::vector<AlignedWord> ParseCharacterAlignment(const std::string& text)
       throw InputError(where + "times must not decrease");
     }
     previous = start;
-    const bool space = c.empty() || std::all_of(c.begin(), c.end(), [](char ch) {
-      return std::isspace(static_cast<unsigned char>(ch)) != 0;
-    });
+    const bool space = c.empty() ||
+      std::all_of(c.begin(), c.end(),
+        [](char ch) { return std::isspace(static_cast<unsigned char>(ch)) != 0; });
     if (space)
     {
       inWord = false;
@@ -200,8 +202,8 @@ std::vector<AlignedWord> ParseCharacterAlignment(const std::string& text)
   return words;
 }
 
-std::vector<TimedPhoneme> PhonemesOfAlignedWords(const std::vector<AlignedWord>& words,
-  const std::string& voice)
+std::vector<TimedPhoneme> PhonemesOfAlignedWords(
+  const std::vector<AlignedWord>& words, const std::string& voice)
 {
   if (!SpeechSynthesizer::IsAvailable())
   {
@@ -230,7 +232,8 @@ std::vector<TimedPhoneme> PhonemesOfAlignedWords(const std::vector<AlignedWord>&
     double t = word.Start;
     for (const TimedPhoneme& p : own)
     {
-      const double d = total > 0.0 ? span * p.Duration / total : span / static_cast<double>(own.size());
+      const double d =
+        total > 0.0 ? span * p.Duration / total : span / static_cast<double>(own.size());
       phonemes.push_back({ p.Sampa, t, d, {} });
       t += d;
     }

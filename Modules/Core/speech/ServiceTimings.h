@@ -49,6 +49,6 @@ std::vector<AlignedWord> ParseCharacterAlignment(const std::string& json);
 /// Timed SAMPA phonemes of aligned words: each word read by eSpeak NG in `voice` and its
 /// phonemes fitted into the word's time; gaps between words become pauses. InputError when
 /// eSpeak NG is not available or the voice is unknown.
-std::vector<TimedPhoneme> PhonemesOfAlignedWords(const std::vector<AlignedWord>& words,
-  const std::string& voice);
+std::vector<TimedPhoneme> PhonemesOfAlignedWords(
+  const std::vector<AlignedWord>& words, const std::string& voice);
 } // namespace morphnode

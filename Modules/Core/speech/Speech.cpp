@@ -33,7 +33,8 @@ Utterance BuildUtterance(std::vector<TimedPhoneme> phonemes, std::vector<int16_t
   const double lead = options.Coarticulation.Lead;
   auto firstSpoken = std::find_if(phonemes.begin(), phonemes.end(),
     [](const TimedPhoneme& p) { return !IsPausePhoneme(p.Sampa); });
-  if (firstSpoken != phonemes.end() && std::isfinite(firstSpoken->Start) && lead > firstSpoken->Start)
+  if (firstSpoken != phonemes.end() && std::isfinite(firstSpoken->Start) &&
+    lead > firstSpoken->Start)
   {
     const double padSamples = std::ceil((lead - firstSpoken->Start) * sampleRate);
     const double pad = padSamples / sampleRate;
@@ -79,7 +80,8 @@ Utterance SpeakText(const std::string& text, const SpeechOptions& options)
   synthesizer.SetDataPath(options.DataPath);
   synthesizer.SetEstimatePitch(options.EstimatePitch);
   SynthesisResult result = synthesizer.Synthesize(text);
-  const std::vector<std::string> switches = EspeakLanguageSwitches(result.EspeakPhonemes, options.Voice);
+  const std::vector<std::string> switches =
+    EspeakLanguageSwitches(result.EspeakPhonemes, options.Voice);
   if (!switches.empty() && options.Warn)
   {
     // Once per text: where the voice has no rules, eSpeak NG reads in another language.
@@ -88,8 +90,9 @@ Utterance SpeakText(const std::string& text, const SpeechOptions& options)
     {
       languages += (languages.empty() ? "" : ", ") + text::Quote(l);
     }
-    options.Warn("eSpeak NG has no rules for part of this text in voice " + text::Quote(options.Voice) +
-      " and reads it as " + languages + " (e.g. tone numbers or characters the voice does not know): "
+    options.Warn("eSpeak NG has no rules for part of this text in voice " +
+      text::Quote(options.Voice) + " and reads it as " + languages +
+      " (e.g. tone numbers or characters the voice does not know): "
       "sound and mouth follow that reading");
   }
   return BuildUtterance(std::move(result.Phonemes), std::move(result.Audio), result.SampleRate,
@@ -119,7 +122,8 @@ Utterance UtteranceFromMouthCues(const std::vector<MouthCue>& cues, const Speech
   const VisemeMap map = SelectVisemeMap(options);
   Utterance u;
   u.Duration = cues.empty() ? 0.0 : cues.back().End;
-  u.Visemes = Coarticulate(MouthCuesToVisemeSegments(cues, map), map, u.Duration, options.Coarticulation);
+  u.Visemes =
+    Coarticulate(MouthCuesToVisemeSegments(cues, map), map, u.Duration, options.Coarticulation);
   return u;
 }
 } // namespace morphnode

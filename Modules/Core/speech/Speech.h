@@ -4,11 +4,11 @@
 /// @brief Text (or phonemes, or Rhubarb cues) to an Utterance in one call: synthesize with
 /// eSpeak NG, normalize to SAMPA, map to visemes, coarticulate, derive nonverbal cues.
 
-#include "speech/SpeechTypes.h"
 #include "speech/Coarticulation.h"
 #include "speech/Nonverbal.h"
 #include "speech/Rhubarb.h"
 #include "speech/SpeechSynthesizer.h"
+#include "speech/SpeechTypes.h"
 #include "speech/VisemeMap.h"
 #include "speech/Warning.h"
 
@@ -19,9 +19,9 @@ namespace morphnode
 {
 struct SpeechOptions
 {
-  std::string Voice = "en";                    ///< eSpeak voice
-  int Rate = SpeechSynthesizer::DefaultRate;   ///< words per minute, clamped to <= 450
-  std::string DataPath;                        ///< espeak-ng-data folder; empty: default
+  std::string Voice = "en";                  ///< eSpeak voice
+  int Rate = SpeechSynthesizer::DefaultRate; ///< words per minute, clamped to <= 450
+  std::string DataPath;                      ///< espeak-ng-data folder; empty: default
   /// Language of the SAMPA normalization and viseme table; empty: from Voice.
   std::string Language;
   VisemeSet Visemes = VisemeSet::Oculus15;
@@ -48,7 +48,8 @@ Utterance SpeakText(const std::string& text, const SpeechOptions& options = {});
 
 /// SAMPA phonemes (e.g. ParsePho's) -> utterance without audio (BuildUtterance at 22050 Hz).
 /// InputError when there are none.
-Utterance UtteranceFromPhonemes(std::vector<TimedPhoneme> phonemes, const SpeechOptions& options = {});
+Utterance UtteranceFromPhonemes(
+  std::vector<TimedPhoneme> phonemes, const SpeechOptions& options = {});
 
 /// A .pho file -> utterance without audio (UtteranceFromPhonemes).
 Utterance LoadPhoUtterance(const std::string& path, const SpeechOptions& options = {});
@@ -56,5 +57,6 @@ Utterance LoadPhoUtterance(const std::string& path, const SpeechOptions& options
 /// Rhubarb cues -> utterance without audio: Phonemes empty, Visemes blended from the cues,
 /// no nonverbal cues (shapes carry no pitch or pauses worth reading). InputError when there
 /// are no cues.
-Utterance UtteranceFromMouthCues(const std::vector<MouthCue>& cues, const SpeechOptions& options = {});
+Utterance UtteranceFromMouthCues(
+  const std::vector<MouthCue>& cues, const SpeechOptions& options = {});
 } // namespace morphnode

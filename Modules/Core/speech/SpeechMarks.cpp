@@ -22,11 +22,10 @@ std::string PollyVisemeToSampa(const std::string& viseme)
   // add, each named by X-SAMPA for its phones: B = B (Spanish, Catalan: the bilabial
   // fricative of "bebe"), J = j\ L (Spanish: the palatals of "sayo", "llave"), which the
   // viseme tables place by articulation.
-  static const std::unordered_map<std::string, std::string> table = { { "p", "p" },
-    { "t", "t" }, { "S", "S" }, { "T", "T" }, { "f", "f" }, { "k", "k" }, { "i", "i:" },
-    { "r", "r" }, { "s", "s" }, { "u", "u:" }, { "@", "@" }, { "a", "A:" }, { "e", "e" },
-    { "E", "{" }, { "o", "@U" }, { "O", "O:" }, { "sil", "_" }, { "l", "l" }, { "B", "B" },
-    { "J", "j\\" } };
+  static const std::unordered_map<std::string, std::string> table = { { "p", "p" }, { "t", "t" },
+    { "S", "S" }, { "T", "T" }, { "f", "f" }, { "k", "k" }, { "i", "i:" }, { "r", "r" },
+    { "s", "s" }, { "u", "u:" }, { "@", "@" }, { "a", "A:" }, { "e", "e" }, { "E", "{" },
+    { "o", "@U" }, { "O", "O:" }, { "sil", "_" }, { "l", "l" }, { "B", "B" }, { "J", "j\\" } };
   const auto it = table.find(viseme);
   return it == table.end() ? std::string() : it->second;
 }
@@ -64,7 +63,8 @@ SpeechMarks ReadSpeechMarks(std::istream& in, const SpeechMarkOptions& options)
       throw InputError(where + "not a JSON object");
     }
     const auto time = j.find("time");
-    if (time == j.end() || !time->is_number() || !std::isfinite(time->get<double>()) || time->get<double>() < 0)
+    if (time == j.end() || !time->is_number() || !std::isfinite(time->get<double>()) ||
+      time->get<double>() < 0)
     {
       throw InputError(where + "needs \"time\" in milliseconds, >= 0");
     }
@@ -83,7 +83,8 @@ SpeechMarks ReadSpeechMarks(std::istream& in, const SpeechMarkOptions& options)
       throw InputError(where + "needs a \"type\" (word, viseme, phoneme, sentence, ssml)");
     }
     const std::string kind = type->get<std::string>();
-    const std::string v = (value != j.end() && value->is_string()) ? value->get<std::string>() : std::string();
+    const std::string v =
+      (value != j.end() && value->is_string()) ? value->get<std::string>() : std::string();
     if (kind == "viseme")
     {
       const std::string sampa = PollyVisemeToSampa(v);
@@ -129,7 +130,8 @@ SpeechMarks ReadSpeechMarks(std::istream& in, const SpeechMarkOptions& options)
     TimedPhoneme p;
     p.Sampa = e.IsPhoneme ? PhoneLabelToSampa(e.Label, alphabet, options.Language) : e.Sampa;
     p.Start = e.Time;
-    p.Duration = (i + 1 < events.size() ? events[i + 1].Time : e.Time + options.LastDuration) - e.Time;
+    p.Duration =
+      (i + 1 < events.size() ? events[i + 1].Time : e.Time + options.LastDuration) - e.Time;
     if (p.Duration <= 0.0)
     {
       continue; // two events at the same time: the later one wins
@@ -156,7 +158,8 @@ SpeechMarks ReadSpeechMarks(std::istream& in, const SpeechMarkOptions& options)
       marks.Phonemes.insert(marks.Phonemes.begin(), pause);
     }
   }
-  marks.Duration = marks.Phonemes.empty() ? 0.0 : marks.Phonemes.back().Start + marks.Phonemes.back().Duration;
+  marks.Duration =
+    marks.Phonemes.empty() ? 0.0 : marks.Phonemes.back().Start + marks.Phonemes.back().Duration;
   return marks;
 }
 

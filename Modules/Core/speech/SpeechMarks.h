@@ -35,7 +35,7 @@ struct SpeechMarks
 
 struct SpeechMarkOptions
 {
-  double LastDuration = 0.15; ///< seconds given to the last viseme or phoneme
+  double LastDuration = 0.15;                   ///< seconds given to the last viseme or phoneme
   PhoneAlphabet Alphabet = PhoneAlphabet::Auto; ///< of `phoneme` events
   std::string Language = "en";
 };

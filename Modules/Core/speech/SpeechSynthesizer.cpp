@@ -65,7 +65,8 @@ bool HasPhonemeData(const std::string& folder)
 {
   std::error_code ignored;
   return std::filesystem::is_regular_file(std::filesystem::path(folder) / "phondata", ignored) ||
-    std::filesystem::is_regular_file(std::filesystem::path(folder) / "espeak-ng-data" / "phondata", ignored);
+    std::filesystem::is_regular_file(
+      std::filesystem::path(folder) / "espeak-ng-data" / "phondata", ignored);
 }
 
 [[noreturn]] void FailInitialization(const std::string& why)
@@ -114,14 +115,15 @@ void EnsureEngine(const std::string& dataPath)
       "'; it cannot switch to '" + dataPath + "' in the same process (use one data path)");
   }
   // DONT_EXIT: without it eSpeak calls exit() when its data is missing.
-  const int rate = espeak_Initialize(AUDIO_OUTPUT_SYNCHRONOUS, 0,
-    dataPath.empty() ? nullptr : dataPath.c_str(),
-    espeakINITIALIZE_PHONEME_EVENTS | espeakINITIALIZE_DONT_EXIT);
+  const int rate =
+    espeak_Initialize(AUDIO_OUTPUT_SYNCHRONOUS, 0, dataPath.empty() ? nullptr : dataPath.c_str(),
+      espeakINITIALIZE_PHONEME_EVENTS | espeakINITIALIZE_DONT_EXIT);
   const char* usedPath = nullptr;
   espeak_Info(&usedPath);
   if (rate <= 0 || !usedPath || !HasPhonemeData(usedPath))
   {
-    FailInitialization("no usable phoneme data in '" + std::string(usedPath ? usedPath : "?") + "'");
+    FailInitialization(
+      "no usable phoneme data in '" + std::string(usedPath ? usedPath : "?") + "'");
   }
   espeak_SetSynthCallback(SynthCallback);
   EngineSampleRate = rate;
@@ -265,8 +267,8 @@ SynthesisResult SpeechSynthesizer::Synthesize(const std::string& text) const
     espeak_SetParameter(espeakRATE, this->Rate, 0);
     espeak_SetParameter(espeakPITCH, this->Pitch, 0);
     ActiveCollector = &collector;
-    const espeak_ERROR status = espeak_Synth(text.c_str(), text.size() + 1, 0, POS_CHARACTER, 0,
-      espeakCHARS_UTF8, nullptr, nullptr);
+    const espeak_ERROR status = espeak_Synth(
+      text.c_str(), text.size() + 1, 0, POS_CHARACTER, 0, espeakCHARS_UTF8, nullptr, nullptr);
     // AUDIO_OUTPUT_SYNCHRONOUS: espeak_Synth returns when the text is done; there is
     // nothing to wait for with espeak_Synchronize.
     ActiveCollector = nullptr;
@@ -288,8 +290,8 @@ SynthesisResult SpeechSynthesizer::Synthesize(const std::string& text) const
 #endif
   result.Duration = static_cast<double>(result.Audio.size()) / result.SampleRate;
 
-  std::stable_sort(events.begin(), events.end(),
-    [](const auto& a, const auto& b) { return a.second < b.second; });
+  std::stable_sort(
+    events.begin(), events.end(), [](const auto& a, const auto& b) { return a.second < b.second; });
   for (size_t i = 0; i < events.size(); ++i)
   {
     TimedPhoneme p;
@@ -328,8 +330,8 @@ SynthesisResult SpeechSynthesizer::Synthesize(const std::string& text) const
   return result;
 }
 
-double EstimatePitchHz(const int16_t* samples, size_t begin, size_t end, int sampleRate,
-  double voicingThreshold)
+double EstimatePitchHz(
+  const int16_t* samples, size_t begin, size_t end, int sampleRate, double voicingThreshold)
 {
   if (!samples || sampleRate <= 0 || end <= begin)
   {
@@ -388,8 +390,8 @@ double EstimatePitchHz(const int16_t* samples, size_t begin, size_t end, int sam
   return 0.0;
 }
 
-void AttachPitch(std::vector<TimedPhoneme>& phonemes, const std::vector<int16_t>& audio,
-  int sampleRate)
+void AttachPitch(
+  std::vector<TimedPhoneme>& phonemes, const std::vector<int16_t>& audio, int sampleRate)
 {
   if (audio.empty() || sampleRate <= 0)
   {

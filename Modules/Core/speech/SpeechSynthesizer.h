@@ -35,7 +35,7 @@ struct SynthesisResult
   std::vector<TimedPhoneme> Phonemes;
   std::vector<int16_t> Audio; ///< mono, 16 bit
   int SampleRate = 22050;
-  double Duration = 0.0; ///< seconds of audio
+  double Duration = 0.0;              ///< seconds of audio
   std::vector<SynthesizedWord> Words; ///< eSpeak's word events, in order
 };
 
@@ -89,11 +89,11 @@ private:
 /// the stretch is unvoiced (peak correlation below `voicingThreshold`) or too short. 0.45
 /// keeps eSpeak's r-coloured vowels, whose jitter lowers the correlation, and still rejects
 /// noise.
-double EstimatePitchHz(const int16_t* samples, size_t begin, size_t end, int sampleRate,
-  double voicingThreshold = 0.45);
+double EstimatePitchHz(
+  const int16_t* samples, size_t begin, size_t end, int sampleRate, double voicingThreshold = 0.45);
 
 /// Sets one pitch target (position 0.5) on every non-pause phoneme that is voiced at its
 /// centre (a 42 ms window); other phonemes get an empty pitch list.
-void AttachPitch(std::vector<TimedPhoneme>& phonemes, const std::vector<int16_t>& audio,
-  int sampleRate);
+void AttachPitch(
+  std::vector<TimedPhoneme>& phonemes, const std::vector<int16_t>& audio, int sampleRate);
 } // namespace morphnode

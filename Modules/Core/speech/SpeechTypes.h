@@ -34,8 +34,8 @@ struct NonverbalCue
     Relax      ///< a pause relaxes the face
   };
   Kind Type = Kind::Relax;
-  double Start = 0.0;    ///< seconds
-  double Duration = 0.0; ///< seconds
+  double Start = 0.0;     ///< seconds
+  double Duration = 0.0;  ///< seconds
   double Intensity = 1.0; ///< [0, 1]
 };
 

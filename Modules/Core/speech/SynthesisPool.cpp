@@ -186,8 +186,10 @@ void SynthesisPool::Run()
         {
           char text[160];
           std::snprintf(text, sizeof(text),
-            "the text waited %.1f s for speech synthesis (longest wait %.1f s): the server is busy, "
-            "it was not spoken", waited, this->Settings.MaxWaitSeconds);
+            "the text waited %.1f s for speech synthesis (longest wait %.1f s): the server is "
+            "busy, "
+            "it was not spoken",
+            waited, this->Settings.MaxWaitSeconds);
           job->Status = SynthesisJob::State::Expired;
           job->Error = text;
           job->Work = nullptr;

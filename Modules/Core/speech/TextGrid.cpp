@@ -39,7 +39,8 @@ std::string ToUtf8(const std::string& bytes)
   units.reserve(bytes.size() / 2);
   for (size_t i = 2; i + 1 < bytes.size(); i += 2)
   {
-    units.push_back(static_cast<char16_t>(le ? (b(i) | (b(i + 1) << 8)) : ((b(i) << 8) | b(i + 1))));
+    units.push_back(
+      static_cast<char16_t>(le ? (b(i) | (b(i + 1) << 8)) : ((b(i) << 8) | b(i + 1))));
   }
   try
   {
@@ -67,7 +68,8 @@ public:
     const Token t = this->Next(what);
     if (!t.IsString)
     {
-      Fail("expected a quoted text for " + std::string(what) + ", found " + text::Quote(t.Value) + this->Where());
+      Fail("expected a quoted text for " + std::string(what) + ", found " + text::Quote(t.Value) +
+        this->Where());
     }
     return t.Value;
   }
@@ -78,7 +80,8 @@ public:
     double v = 0.0;
     if (t.IsString || !text::ParseNumber(t.Value, v))
     {
-      Fail("expected a number for " + std::string(what) + ", found " + text::Quote(t.Value) + this->Where());
+      Fail("expected a number for " + std::string(what) + ", found " + text::Quote(t.Value) +
+        this->Where());
     }
     return v;
   }
@@ -88,7 +91,8 @@ public:
     const double v = this->Number(what);
     if (v < 0 || v != std::floor(v) || v > static_cast<double>(limit))
     {
-      Fail(std::string(what) + " is not a plausible count (" + text::FormatNumber(v) + ")" + this->Where());
+      Fail(std::string(what) + " is not a plausible count (" + text::FormatNumber(v) + ")" +
+        this->Where());
     }
     return static_cast<size_t>(v);
   }
@@ -288,7 +292,8 @@ TextGrid ParseTextGrid(const std::string& bytes)
     for (size_t i = 0; i < count; ++i)
     {
       TextGridInterval item;
-      const std::string itemWhere = where + " (" + text::Quote(tier.Name) + ") item " + std::to_string(i + 1);
+      const std::string itemWhere =
+        where + " (" + text::Quote(tier.Name) + ") item " + std::to_string(i + 1);
       item.Start = tokens.Number("a time");
       item.End = tier.IsInterval ? tokens.Number("an interval end") : item.Start;
       item.Text = tokens.String("a label");
@@ -298,7 +303,8 @@ TextGrid ParseTextGrid(const std::string& bytes)
           text::FormatNumber(item.Start) + ")");
       }
       const double slack = 1e-9 * std::max(1.0, std::abs(item.Start));
-      if (item.Start < previousEnd - slack || (!tier.IsInterval && item.Start <= previousEnd && i > 0))
+      if (item.Start < previousEnd - slack ||
+        (!tier.IsInterval && item.Start <= previousEnd && i > 0))
       {
         Fail(itemWhere + " starts at " + text::FormatNumber(item.Start) +
           ", before the previous one ends: times out of order or overlapping");
@@ -326,7 +332,8 @@ TextGrid ReadTextGridFile(const std::string& path)
   }
 }
 
-std::vector<TimedPhoneme> TextGridPhonemes(const TextGrid& grid, const TextGridPhoneOptions& options)
+std::vector<TimedPhoneme> TextGridPhonemes(
+  const TextGrid& grid, const TextGridPhoneOptions& options)
 {
   const TextGridTier* tier = nullptr;
   if (!options.TierName.empty())
@@ -335,7 +342,8 @@ std::vector<TimedPhoneme> TextGridPhonemes(const TextGrid& grid, const TextGridP
   }
   else
   {
-    for (const char* name : { "phones", "phone", "phonemes", "phoneme", "segments", "MAU", "PhoneTier" })
+    for (const char* name :
+      { "phones", "phone", "phonemes", "phoneme", "segments", "MAU", "PhoneTier" })
     {
       const TextGridTier* candidate = grid.FindTier(name);
       if (candidate && candidate->IsInterval)
@@ -350,7 +358,8 @@ std::vector<TimedPhoneme> TextGridPhonemes(const TextGrid& grid, const TextGridP
     std::string names;
     for (const TextGridTier& t : grid.Tiers)
     {
-      names += (names.empty() ? "" : ", ") + text::Quote(t.Name) + (t.IsInterval ? "" : " (points)");
+      names +=
+        (names.empty() ? "" : ", ") + text::Quote(t.Name) + (t.IsInterval ? "" : " (points)");
     }
     const std::string wanted = options.TierName.empty()
       ? std::string("no phone tier (looked for phones, phone, phonemes, segments, MAU)")
@@ -384,7 +393,8 @@ std::vector<TimedPhoneme> TextGridPhonemes(const TextGrid& grid, const TextGridP
     p.Duration = end - start;
     phonemes.push_back(std::move(p));
   };
-  double cursor = std::min(grid.Start, tier->Items.empty() ? grid.Start : tier->Items.front().Start);
+  double cursor =
+    std::min(grid.Start, tier->Items.empty() ? grid.Start : tier->Items.front().Start);
   for (const TextGridInterval& item : tier->Items)
   {
     add("_", cursor, item.Start);
@@ -392,8 +402,9 @@ std::vector<TimedPhoneme> TextGridPhonemes(const TextGrid& grid, const TextGridP
     cursor = std::max(cursor, item.End);
   }
   add("_", cursor, grid.End);
-  if (phonemes.empty() || std::all_of(phonemes.begin(), phonemes.end(),
-        [](const TimedPhoneme& p) { return p.Sampa == "_"; }))
+  if (phonemes.empty() ||
+    std::all_of(
+      phonemes.begin(), phonemes.end(), [](const TimedPhoneme& p) { return p.Sampa == "_"; }))
   {
     Fail("the phone tier " + text::Quote(tier->Name) + " holds no phones");
   }

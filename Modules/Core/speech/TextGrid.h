@@ -56,5 +56,6 @@ struct TextGridPhoneOptions
 /// The phone tier as SAMPA phonemes (silence labels -> `_`, gaps filled with `_`, a
 /// leading `_` from the grid start). InputError naming the tiers the file has when there is
 /// no phone tier (or the named tier is missing or a point tier).
-std::vector<TimedPhoneme> TextGridPhonemes(const TextGrid& grid, const TextGridPhoneOptions& options = {});
+std::vector<TimedPhoneme> TextGridPhonemes(
+  const TextGrid& grid, const TextGridPhoneOptions& options = {});
 } // namespace morphnode

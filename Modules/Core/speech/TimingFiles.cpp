@@ -131,7 +131,8 @@ TimingFormat GuessTimingFormat(const std::string& path, const std::string& bytes
       ascii += c;
     }
   }
-  if (ascii.find("ooTextFile") != std::string::npos || ascii.find("ooBinaryFile") != std::string::npos)
+  if (ascii.find("ooTextFile") != std::string::npos ||
+    ascii.find("ooBinaryFile") != std::string::npos)
   {
     return TimingFormat::TextGrid;
   }
@@ -171,12 +172,13 @@ TimingFormat GuessTimingFormat(const std::string& path, const std::string& bytes
   {
     return TimingFormat::Pho;
   }
-  throw InputError("'" + path + "': cannot tell the timing format (use the extension .pho, "
+  throw InputError("'" + path +
+    "': cannot tell the timing format (use the extension .pho, "
     ".tsv, .json, .xml, .TextGrid or .marks, or name the format: --timings-format)");
 }
 
-std::vector<TimedPhoneme> LoadTimedPhonemes(const std::string& path, const std::string& language,
-  const TimingFileOptions& options)
+std::vector<TimedPhoneme> LoadTimedPhonemes(
+  const std::string& path, const std::string& language, const TimingFileOptions& options)
 {
   const std::string bytes = text::ReadFile(path, "timing file");
   try
@@ -192,8 +194,8 @@ std::vector<TimedPhoneme> LoadTimedPhonemes(const std::string& path, const std::
   }
 }
 
-Utterance LoadTimingFile(const std::string& path, const SpeechOptions& speech,
-  const TimingFileOptions& options)
+Utterance LoadTimingFile(
+  const std::string& path, const SpeechOptions& speech, const TimingFileOptions& options)
 {
   const std::string bytes = text::ReadFile(path, "timing file");
   try
@@ -204,8 +206,8 @@ Utterance LoadTimingFile(const std::string& path, const SpeechOptions& speech,
     {
       std::istringstream in(bytes);
       const std::vector<MouthCue> cues = format == TimingFormat::RhubarbTsv ? ReadRhubarbTsv(in)
-        : format == TimingFormat::RhubarbJson                             ? ReadRhubarbJson(in)
-                                                                          : ReadRhubarbXml(in);
+        : format == TimingFormat::RhubarbJson                               ? ReadRhubarbJson(in)
+                                                                            : ReadRhubarbXml(in);
       return UtteranceFromMouthCues(cues, speech);
     }
     return UtteranceFromPhonemes(PhonemesFrom(format, bytes, LanguageOf(speech), options), speech);

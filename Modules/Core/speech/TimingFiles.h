@@ -14,13 +14,13 @@ namespace morphnode
 {
 enum class TimingFormat
 {
-  Auto,        ///< from the extension, then the content
-  Pho,         ///< .pho
-  RhubarbTsv,  ///< .tsv, .txt of `start<TAB>shape`
-  RhubarbJson, ///< .json with "mouthCues"
-  RhubarbXml,  ///< .xml with <rhubarbResult>
-  TextGrid,    ///< .TextGrid
-  SpeechMarks, ///< .marks, .jsonl, .json of one object per line with "time" and "type"
+  Auto,              ///< from the extension, then the content
+  Pho,               ///< .pho
+  RhubarbTsv,        ///< .tsv, .txt of `start<TAB>shape`
+  RhubarbJson,       ///< .json with "mouthCues"
+  RhubarbXml,        ///< .xml with <rhubarbResult>
+  TextGrid,          ///< .TextGrid
+  SpeechMarks,       ///< .marks, .jsonl, .json of one object per line with "time" and "type"
   AzureVisemes,      ///< JSON of Azure/SAPI viseme IDs with audio offsets (ServiceTimings.h)
   CharacterAlignment ///< JSON of ElevenLabs-style character alignments (ServiceTimings.h)
 };
@@ -39,18 +39,18 @@ TimingFormat GuessTimingFormat(const std::string& path, const std::string& bytes
 struct TimingFileOptions
 {
   TimingFormat Format = TimingFormat::Auto;
-  std::string TierName; ///< TextGrid: the phone tier (empty: found by name)
+  std::string TierName;                         ///< TextGrid: the phone tier (empty: found by name)
   PhoneAlphabet Alphabet = PhoneAlphabet::Auto; ///< TextGrid and phoneme speech marks
 };
 
 /// Reads any of the formats and builds the utterance (no audio): phonemes through the
 /// viseme table and coarticulation of `speech`, Rhubarb cues through the table's shapes.
 /// InputError naming the file for every problem of the readers.
-Utterance LoadTimingFile(const std::string& path, const SpeechOptions& speech = {},
-  const TimingFileOptions& options = {});
+Utterance LoadTimingFile(
+  const std::string& path, const SpeechOptions& speech = {}, const TimingFileOptions& options = {});
 
 /// The timed SAMPA phonemes of a .pho, TextGrid or speech-marks file (InputError for Rhubarb
 /// files, which hold mouth shapes, not phonemes).
-std::vector<TimedPhoneme> LoadTimedPhonemes(const std::string& path, const std::string& language,
-  const TimingFileOptions& options = {});
+std::vector<TimedPhoneme> LoadTimedPhonemes(
+  const std::string& path, const std::string& language, const TimingFileOptions& options = {});
 } // namespace morphnode

@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "speech/VisemeMap.h"
 
-#include "speech/BuiltinVisemeTables.h"
 #include "base/Error.h"
 #include "base/LibraryMessage.h"
 #include "base/Text.h"
+#include "speech/BuiltinVisemeTables.h"
 #include "speech/Rhubarb.h"
 #include "speech/Sampa.h"
 
@@ -71,9 +71,8 @@ VisemeMap VisemeMap::Builtin(VisemeSet set, const std::string& language)
         const Articulation& articulation = a; // clang 14 cannot capture a structured binding
         const int viseme = map.FindViseme(de.Visemes[static_cast<size_t>(v)]);
         const bool known = std::any_of(map.Described.begin(), map.Described.end(),
-          [&articulation](const std::pair<Articulation, int>& d) {
-            return ArticulationDistance(d.first, articulation) == 0.0;
-          });
+          [&articulation](const std::pair<Articulation, int>& d)
+          { return ArticulationDistance(d.first, articulation) == 0.0; });
         if (viseme >= 0 && !known)
         {
           map.Described.emplace_back(a, viseme);
@@ -164,11 +163,13 @@ VisemeMap VisemeMap::FromJson(const std::string& text, const std::string& origin
     }
     map.Visemes.push_back(v.get<std::string>());
   }
-  auto indexOf = [&](const std::string& name, const std::string& what) {
+  auto indexOf = [&](const std::string& name, const std::string& what)
+  {
     const int index = map.FindViseme(name);
     if (index < 0)
     {
-      throw InputError(origin + ": " + what + " names viseme '" + name + "', which is not in 'visemes'");
+      throw InputError(
+        origin + ": " + what + " names viseme '" + name + "', which is not in 'visemes'");
     }
     return index;
   };
@@ -262,10 +263,12 @@ VisemeMap VisemeMap::FromJson(const std::string& text, const std::string& origin
     }
     for (auto it = fromShape->begin(); it != fromShape->end(); ++it)
     {
-      const char shape = ParseShape(json(it.key()), origin, "rhubarb.fromShape key '" + it.key() + "'");
+      const char shape =
+        ParseShape(json(it.key()), origin, "rhubarb.fromShape key '" + it.key() + "'");
       if (!it.value().is_string())
       {
-        throw InputError(origin + ": rhubarb.fromShape of '" + it.key() + "' must be a viseme name");
+        throw InputError(
+          origin + ": rhubarb.fromShape of '" + it.key() + "' must be a viseme name");
       }
       map.FromShape[shape] = indexOf(it.value().get<std::string>(), "'rhubarb.fromShape'");
     }
@@ -311,8 +314,9 @@ int VisemeMap::MapByArticulation(const std::string& segment) const
 
 std::string VisemeMap::WarnUnknown(const std::string& sampa) const
 {
-  return "unknown phoneme '" + sampa + "'" + (this->Voice.empty() ? "" : " (voice " + this->Voice + ")") +
-    " in viseme table " + this->SetName + (this->Language.empty() ? "" : "/" + this->Language) +
+  return "unknown phoneme '" + sampa + "'" +
+    (this->Voice.empty() ? "" : " (voice " + this->Voice + ")") + " in viseme table " +
+    this->SetName + (this->Language.empty() ? "" : "/" + this->Language) +
     ": shown as fallback viseme '" + this->GetFallback() + "'";
 }
 
@@ -343,7 +347,8 @@ int VisemeMap::MapPhoneme(const std::string& sampa, const WarningHandler& warn) 
   return this->FallbackIndex;
 }
 
-std::vector<VisemePart> VisemeMap::MapPhonemeParts(const std::string& sampa, const WarningHandler& warn) const
+std::vector<VisemePart> VisemeMap::MapPhonemeParts(
+  const std::string& sampa, const WarningHandler& warn) const
 {
   if (IsPausePhoneme(sampa))
   {
@@ -366,7 +371,8 @@ std::vector<VisemePart> VisemeMap::MapPhonemeParts(const std::string& sampa, con
       }
       VisemePart part;
       part.Viseme = viseme;
-      part.Fraction = pf ? (k == 0 ? 0.4 : 0.6) : (parts.size() == 2 ? fractions2[k] : fractions3[k]);
+      part.Fraction =
+        pf ? (k == 0 ? 0.4 : 0.6) : (parts.size() == 2 ? fractions2[k] : fractions3[k]);
       part.Closure = this->IsClosurePhoneme(parts[k]);
       // Equal neighbours are one part (a diphthong whose vowels share a viseme).
       if (!out.empty() && out.back().Viseme == part.Viseme && out.back().Closure == part.Closure)
@@ -391,8 +397,9 @@ bool VisemeMap::IsKnownPhoneme(const std::string& sampa) const
     return true;
   }
   const std::vector<std::string> parts = SplitPhone(sampa);
-  return !parts.empty() && std::all_of(parts.begin(), parts.end(),
-    [this](const std::string& p) { return this->MapByArticulation(p) >= 0; });
+  return !parts.empty() &&
+    std::all_of(parts.begin(), parts.end(),
+      [this](const std::string& p) { return this->MapByArticulation(p) >= 0; });
 }
 
 bool VisemeMap::IsClosurePhoneme(const std::string& sampa) const

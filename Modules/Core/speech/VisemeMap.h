@@ -78,7 +78,8 @@ public:
   /// The visemes a phoneme shows in turn: one for most, two or three for diphthongs and
   /// triphthongs (0.6 + 0.4 or 0.4 + 0.3 + 0.3 of the duration, the nucleus first) and the
   /// German affricate pf (closure 0.4, then FF). Warns as MapPhoneme.
-  std::vector<VisemePart> MapPhonemeParts(const std::string& sampa, const WarningHandler& warn = {}) const;
+  std::vector<VisemePart> MapPhonemeParts(
+    const std::string& sampa, const WarningHandler& warn = {}) const;
   /// True when `sampa` is a table phoneme or a phone whose articulation is known.
   bool IsKnownPhoneme(const std::string& sampa) const;
   /// The language or voice the table was chosen for (Builtin), named in warnings.

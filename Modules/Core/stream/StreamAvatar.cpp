@@ -33,7 +33,8 @@ int Find(const std::vector<std::string>& names, const std::string& name)
 
 std::array<double, 4> ToQuaternion(const std::array<double, 9>& r)
 {
-  const std::array<double, 16> m{ { r[0], r[1], r[2], 0, r[3], r[4], r[5], 0, r[6], r[7], r[8], 0, 0, 0, 0, 1 } };
+  const std::array<double, 16> m{ { r[0], r[1], r[2], 0, r[3], r[4], r[5], 0, r[6], r[7], r[8], 0,
+    0, 0, 0, 1 } };
   return GltfQuaternionFromRowMajor(m);
 }
 
@@ -45,13 +46,15 @@ std::array<double, 4> ToQuaternion(const std::array<double, 9>& r)
 GltfPart ReducePart(const GltfPart& part, int level, double& error)
 {
   LadderSettings settings;
-  settings.TriangleFractions.resize(std::min(settings.TriangleFractions.size(), static_cast<size_t>(level)));
+  settings.TriangleFractions.resize(
+    std::min(settings.TriangleFractions.size(), static_cast<size_t>(level)));
   const MorphLadder ladder = BuildMorphLadder(GltfPartToMorphMesh(part), settings);
   const LadderLevel& l = ladder.Levels.back();
   error = l.Error99;
   GltfPart out = part;
   const size_t n = l.NumberOfPoints;
-  const auto copy = [&](const std::vector<float>& from, std::vector<float>& to, size_t width) {
+  const auto copy = [&](const std::vector<float>& from, std::vector<float>& to, size_t width)
+  {
     if (from.empty())
     {
       return;
@@ -61,7 +64,8 @@ GltfPart ReducePart(const GltfPart& part, int level, double& error)
     {
       const size_t o = ladder.OriginalPointIds[i];
       std::copy(from.begin() + static_cast<std::ptrdiff_t>(o * width),
-        from.begin() + static_cast<std::ptrdiff_t>((o + 1) * width), to.begin() + static_cast<std::ptrdiff_t>(i * width));
+        from.begin() + static_cast<std::ptrdiff_t>((o + 1) * width),
+        to.begin() + static_cast<std::ptrdiff_t>(i * width));
     }
   };
   copy(part.Positions, out.Positions, 3);
@@ -104,24 +108,28 @@ StreamAvatarOptions DeviceAvatarOptions(const DeviceProfile& profile, double fac
   return o;
 }
 
-StreamAvatar::StreamAvatar(const GltfScene& face, const std::vector<std::string>& channels, const Rig* rig,
-  bool quantizeDeltas)
-  : StreamAvatar(face, channels, rig, [quantizeDeltas] {
-    StreamAvatarOptions o;
-    o.QuantizeDeltas = quantizeDeltas;
-    return o;
-  }())
+StreamAvatar::StreamAvatar(const GltfScene& face, const std::vector<std::string>& channels,
+  const Rig* rig, bool quantizeDeltas)
+  : StreamAvatar(face, channels, rig,
+      [quantizeDeltas]
+      {
+        StreamAvatarOptions o;
+        o.QuantizeDeltas = quantizeDeltas;
+        return o;
+      }())
 {
 }
 
-StreamAvatar::StreamAvatar(const GltfScene& face, const std::vector<std::string>& channels, const Rig* rig,
-  const StreamAvatarOptions& options)
+StreamAvatar::StreamAvatar(const GltfScene& face, const std::vector<std::string>& channels,
+  const Rig* rig, const StreamAvatarOptions& options)
   : NumberOfChannels(channels.size())
 {
   if (!(options.TargetPixelBound >= 0.0 && std::isfinite(options.TargetPixelBound)) ||
-    !(options.FacePixels > 0.0 && std::isfinite(options.FacePixels)) || options.Level < 0 || options.Level > 8)
+    !(options.FacePixels > 0.0 && std::isfinite(options.FacePixels)) || options.Level < 0 ||
+    options.Level > 8)
   {
-    throw InputError("stream avatar options: a pixel bound >= 0, a face height > 0 pixels and a level in [0, 8]");
+    throw InputError(
+      "stream avatar options: a pixel bound >= 0, a face height > 0 pixels and a level in [0, 8]");
   }
   // The face's targets, in order of first appearance over the parts.
   std::vector<std::string> faceTargets;
@@ -191,7 +199,8 @@ StreamAvatar::StreamAvatar(const GltfScene& face, const std::vector<std::string>
         double& m = motion[t.Name];
         for (size_t p = 0; p + 2 < t.PositionDeltas.size(); p += 3)
         {
-          const double dx = t.PositionDeltas[p], dy = t.PositionDeltas[p + 1], dz = t.PositionDeltas[p + 2];
+          const double dx = t.PositionDeltas[p], dy = t.PositionDeltas[p + 1],
+                       dz = t.PositionDeltas[p + 2];
           m = std::max(m, std::sqrt(dx * dx + dy * dy + dz * dz));
         }
       }
@@ -216,7 +225,8 @@ StreamAvatar::StreamAvatar(const GltfScene& face, const std::vector<std::string>
   }
   if (this->Targets.empty())
   {
-    throw InputError("the behaviour drives none of the face's " + std::to_string(faceTargets.size()) +
+    throw InputError("the behaviour drives none of the face's " +
+      std::to_string(faceTargets.size()) +
       " targets: name them like the behaviour's channels, or give a rig");
   }
   if (this->Targets.size() > MaxTargets)
@@ -341,7 +351,9 @@ StreamAvatar::StreamAvatar(const GltfScene& face, const std::vector<std::string>
   for (const GltfPart& part : reduced.Parts)
   {
     const std::string nodeName =
-      part.Node >= 0 && static_cast<size_t>(part.Node) < reduced.Nodes.size() ? reduced.Nodes[part.Node].Name : "";
+      part.Node >= 0 && static_cast<size_t>(part.Node) < reduced.Nodes.size()
+      ? reduced.Nodes[part.Node].Name
+      : "";
     EyeSpec spec;
     if (nodeName.empty() || eyeNodes.count(part.Node) || !eyes.FindEye(nodeName, part.Name, spec) ||
       this->RotationNames.size() >= MaxRotations)
@@ -359,7 +371,8 @@ StreamAvatar::StreamAvatar(const GltfScene& face, const std::vector<std::string>
     std::array<double, 9> axes{};
     for (int c = 0; c < 3; ++c)
     {
-      const double length = std::sqrt(m[4 * c] * m[4 * c] + m[4 * c + 1] * m[4 * c + 1] + m[4 * c + 2] * m[4 * c + 2]);
+      const double length =
+        std::sqrt(m[4 * c] * m[4 * c] + m[4 * c + 1] * m[4 * c + 1] + m[4 * c + 2] * m[4 * c + 2]);
       for (int r = 0; r < 3; ++r)
       {
         axes[3 * c + r] = length > 0.0 ? m[4 * c + r] / length : (r == c ? 1.0 : 0.0);
@@ -375,7 +388,8 @@ StreamAvatar::StreamAvatar(const GltfScene& face, const std::vector<std::string>
   }
   GltfWriteOptions write;
   write.Binary = true;
-  write.QuantizeTargets = options.QuantizeDeltas; // sparse deltas as normalized shorts (KHR_mesh_quantization)
+  write.QuantizeTargets =
+    options.QuantizeDeltas; // sparse deltas as normalized shorts (KHR_mesh_quantization)
   this->File = WriteGltfSceneToMemory(reduced, &rest, write);
 }
 
@@ -412,11 +426,13 @@ void StreamAvatar::Map(const double* channels, std::vector<double>& targetWeight
       const int s = this->ChannelTarget[c];
       if (s >= 0)
       {
-        targetWeights[static_cast<size_t>(s)] = std::isfinite(channels[c]) ? std::clamp(channels[c], 0.0, 1.0) : 0.0;
+        targetWeights[static_cast<size_t>(s)] =
+          std::isfinite(channels[c]) ? std::clamp(channels[c], 0.0, 1.0) : 0.0;
       }
     }
   }
-  auto channel = [channels](int c) { return c >= 0 && std::isfinite(channels[c]) ? channels[c] : 0.0; };
+  auto channel = [channels](int c)
+  { return c >= 0 && std::isfinite(channels[c]) ? channels[c] : 0.0; };
   rotations.resize(this->RotationNames.size());
   HeadAngles head;
   head.Yaw = channel(this->HeadYaw);
@@ -430,7 +446,8 @@ void StreamAvatar::Map(const double* channels, std::vector<double>& targetWeight
   {
     const Eye& eye = this->Eyes[e];
     const GazeAngles turned = EyeAngles(gaze, 0.0, eye.Spec.Side, this->Limits);
-    rotations[e + 1] = ToQuaternion(EyeRotationMatrix(turned, eye.Axes, eye.Spec.Forward, eye.Spec.Up));
+    rotations[e + 1] =
+      ToQuaternion(EyeRotationMatrix(turned, eye.Axes, eye.Spec.Forward, eye.Spec.Up));
   }
 }
 } // namespace stream

@@ -68,8 +68,8 @@ public:
   /// file's sparse target deltas as normalized 16-bit integers (KHR_mesh_quantization,
   /// GltfWriteOptions::QuantizeTargets), which three.js reads; MorphNode's own loader does
   /// not take that extension yet, so tools that read the file back ask for floats.
-  StreamAvatar(const GltfScene& face, const std::vector<std::string>& channels, const Rig* rig = nullptr,
-    bool quantizeDeltas = true);
+  StreamAvatar(const GltfScene& face, const std::vector<std::string>& channels,
+    const Rig* rig = nullptr, bool quantizeDeltas = true);
   /// The same, prepared as `options` ask (e.g. for a device).
   StreamAvatar(const GltfScene& face, const std::vector<std::string>& channels, const Rig* rig,
     const StreamAvatarOptions& options);

@@ -55,7 +55,8 @@ public:
   uint16_t U16(const char* what)
   {
     this->Need(2, what);
-    const uint16_t v = static_cast<uint16_t>(this->Data[this->Pos] | (this->Data[this->Pos + 1] << 8));
+    const uint16_t v =
+      static_cast<uint16_t>(this->Data[this->Pos] | (this->Data[this->Pos + 1] << 8));
     this->Pos += 2;
     return v;
   }
@@ -152,7 +153,8 @@ StreamHeader ParseHeader(std::string_view text)
   {
     throw StreamError("the header is not a JSON object");
   }
-  auto field = [&](const char* name) -> const json& {
+  auto field = [&](const char* name) -> const json&
+  {
     auto it = j.find(name);
     if (it == j.end())
     {
@@ -406,7 +408,8 @@ dialog::ParsedLine ParseClientMessage(std::string_view message)
   {
     dialog::ParsedLine refused;
     refused.Error = dialog::MakeError(dialog::reason::Rejected,
-      "a stream client cannot quit the server; close the connection to end the session", p.Cmd.Id, "quit");
+      "a stream client cannot quit the server; close the connection to end the session", p.Cmd.Id,
+      "quit");
     return refused;
   }
   if (p.Ok() && !p.Cmd.Session.empty())

@@ -81,13 +81,13 @@ AudioCodec ParseAudioCodec(std::string_view name);
 struct StreamHeader
 {
   int Protocol = ProtocolVersion;
-  std::string Session;               ///< the session's id (for logs)
-  double FrameRate = 30.0;           ///< frames per second (> 0)
-  int SampleRate = 24000;            ///< the audio clock (Hz); frames are stamped on it
+  std::string Session;     ///< the session's id (for logs)
+  double FrameRate = 30.0; ///< frames per second (> 0)
+  int SampleRate = 24000;  ///< the audio clock (Hz); frames are stamped on it
   AudioCodec Codec = AudioCodec::Pcm16;
-  std::vector<std::string> Targets;  ///< frame target index -> name (the avatar's targets)
+  std::vector<std::string> Targets;   ///< frame target index -> name (the avatar's targets)
   std::vector<std::string> Rotations; ///< rotation index -> node name (e.g. HeadRotation)
-  std::string Avatar;                ///< where the avatar file is (a path on the server)
+  std::string Avatar;                 ///< where the avatar file is (a path on the server)
 };
 /// {"type":"header","protocol":1,...}. StreamError when the header breaks a limit.
 std::string FormatHeader(const StreamHeader& header);
@@ -115,8 +115,8 @@ size_t EncodedFrameSize(size_t targets, size_t rotations);
 struct AudioChunk
 {
   AudioCodec Codec = AudioCodec::Pcm16;
-  uint32_t Sample = 0;     ///< the index of its first sample on the audio clock
-  uint16_t Frames = 0;     ///< samples it holds (after decoding, for Opus)
+  uint32_t Sample = 0;          ///< the index of its first sample on the audio clock
+  uint16_t Frames = 0;          ///< samples it holds (after decoding, for Opus)
   std::vector<uint8_t> Payload; ///< PCM: 2 * Frames bytes; Opus: one packet
 };
 /// type, u8 codec, u32 sample, u16 frames, payload.
@@ -132,7 +132,8 @@ std::vector<uint8_t> EncodeStop(const StopMessage& stop);
 using ServerMessage = std::variant<Frame, AudioChunk, StopMessage>;
 /// A binary server message back. `header` bounds the target and rotation indices (null:
 /// not checked). StreamError for anything malformed (also trailing bytes).
-ServerMessage DecodeServerMessage(const uint8_t* data, size_t size, const StreamHeader* header = nullptr);
+ServerMessage DecodeServerMessage(
+  const uint8_t* data, size_t size, const StreamHeader* header = nullptr);
 
 // ---- quantization ------------------------------------------------------------------------
 /// round(clamp(w, 0, 1) * 255); NaN gives 0.

@@ -42,7 +42,8 @@ constexpr size_t MaxFolderFileBytes = 16 * 1024 * 1024;
 
 std::string ContentTypeOf(const std::string& path)
 {
-  auto ends = [&](const char* e) {
+  auto ends = [&](const char* e)
+  {
     const std::string s(e);
     return path.size() >= s.size() && path.compare(path.size() - s.size(), s.size(), s) == 0;
   };
@@ -83,7 +84,8 @@ std::string SafeRelativePath(const std::string& rest)
   }
   for (char c : rest)
   {
-    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '_' || c == '-' || c == '/'))
+    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '_' || c == '-' ||
+          c == '/'))
     {
       return std::string();
     }
@@ -177,8 +179,8 @@ struct StreamServer::Impl
 class WsSession : public std::enable_shared_from_this<WsSession>
 {
 public:
-  WsSession(StreamServer::Impl& server, beast::tcp_stream&& stream, std::unique_ptr<StreamSession> session,
-    std::string id)
+  WsSession(StreamServer::Impl& server, beast::tcp_stream&& stream,
+    std::unique_ptr<StreamSession> session, std::string id)
     : Server(server)
     , Ws(std::move(stream))
     , Timer(Ws.get_executor())
@@ -192,8 +194,8 @@ public:
     this->Ws.set_option(websocket::stream_base::timeout::suggested(beast::role_type::server));
     this->Ws.read_message_max(this->Server.S.MaxMessageBytes);
     this->Ws.auto_fragment(false);
-    this->Ws.async_accept(request,
-      beast::bind_front_handler(&WsSession::OnAccept, this->shared_from_this()));
+    this->Ws.async_accept(
+      request, beast::bind_front_handler(&WsSession::OnAccept, this->shared_from_this()));
   }
 
   /// The client id of the page's own commands (DialogServer's clients are >= 0).
@@ -204,20 +206,22 @@ public:
   void Post(const dialog::Command& command, int client = PageClient)
   {
     const auto arrived = SteadyClock::now();
-    net::post(this->Ws.get_executor(), [self = this->shared_from_this(), command, client, arrived]() {
-      if (!self->Closed && self->Dialog)
+    net::post(this->Ws.get_executor(),
+      [self = this->shared_from_this(), command, client, arrived]()
       {
-        self->Dialog->Execute(client, command, self->Now(), arrived);
-        self->Flush();
-      }
-      else if (client != PageClient && self->Server.S.CommandEvents)
-      {
-        dialog::Event e = dialog::MakeError(dialog::reason::Rejected, "the session has ended", command.Id,
-          dialog::CommandName(command.Body));
-        e.Session = self->Id;
-        self->Server.S.CommandEvents(client, e);
-      }
-    });
+        if (!self->Closed && self->Dialog)
+        {
+          self->Dialog->Execute(client, command, self->Now(), arrived);
+          self->Flush();
+        }
+        else if (client != PageClient && self->Server.S.CommandEvents)
+        {
+          dialog::Event e = dialog::MakeError(dialog::reason::Rejected, "the session has ended",
+            command.Id, dialog::CommandName(command.Body));
+          e.Session = self->Id;
+          self->Server.S.CommandEvents(client, e);
+        }
+      });
   }
 
   const std::string& GetId() const { return this->Id; }
@@ -228,7 +232,10 @@ public:
   }
 
 private:
-  double Now() const { return std::chrono::duration<double>(SteadyClock::now() - this->Start).count(); }
+  double Now() const
+  {
+    return std::chrono::duration<double>(SteadyClock::now() - this->Start).count();
+  }
 
   void OnAccept(beast::error_code ec)
   {
@@ -241,7 +248,8 @@ private:
     this->Tokens = this->Server.S.MaxCommandsPerSecond;
     this->LastCommand = 0.0;
     this->Dialog = std::make_unique<dialog::DialogSession>(
-      [this](dialog::DialogSession::ClientId client, const dialog::Event& e) {
+      [this](dialog::DialogSession::ClientId client, const dialog::Event& e)
+      {
         if (client != PageClient)
         {
           // A command socket's command: its events go back there, named by session.
@@ -265,15 +273,18 @@ private:
         this->Queue(true, std::move(line));
       },
       *this->Session);
-    this->Queue(true, this->Session->Header(this->Id,
-      this->Session->GetAvatarUrl().empty() ? this->Server.S.AvatarPath : this->Session->GetAvatarUrl()));
+    this->Queue(true,
+      this->Session->Header(this->Id,
+        this->Session->GetAvatarUrl().empty() ? this->Server.S.AvatarPath
+                                              : this->Session->GetAvatarUrl()));
     this->Tick();
     this->Read();
   }
 
   void Read()
   {
-    this->Ws.async_read(this->Input, beast::bind_front_handler(&WsSession::OnRead, this->shared_from_this()));
+    this->Ws.async_read(
+      this->Input, beast::bind_front_handler(&WsSession::OnRead, this->shared_from_this()));
   }
 
   void OnRead(beast::error_code ec, size_t)
@@ -290,7 +301,8 @@ private:
     const double now = this->Now();
     if (!this->Ws.got_text())
     {
-      this->Reject(dialog::MakeError(dialog::reason::Malformed, "commands are text messages (JSON)"));
+      this->Reject(
+        dialog::MakeError(dialog::reason::Malformed, "commands are text messages (JSON)"));
     }
     else if (!this->Allow(now))
     {
@@ -367,14 +379,16 @@ private:
       {
         // A say whose speech could not be made (the pool was busy or synthesis failed):
         // its page hears why, the say ends; the session goes on.
-        this->Dialog->Fail(e.Id, e.Busy ? dialog::reason::Overloaded : dialog::reason::Rejected, e.Message, shown);
+        this->Dialog->Fail(
+          e.Id, e.Busy ? dialog::reason::Overloaded : dialog::reason::Rejected, e.Message, shown);
       }
       this->Dialog->Advance(shown);
     }
     catch (const std::exception& e)
     {
       // A fault in one session (it should not happen) ends that session only.
-      this->Reject(dialog::MakeError(dialog::reason::Rejected, std::string("the session failed: ") + e.what()));
+      this->Reject(dialog::MakeError(
+        dialog::reason::Rejected, std::string("the session failed: ") + e.what()));
       this->Flush();
       this->Shutdown();
       return;
@@ -383,13 +397,16 @@ private:
     this->Flush();
     ++this->NextFrame;
     this->Timer.expires_at(this->Start +
-      std::chrono::duration_cast<SteadyClock::duration>(std::chrono::duration<double>(this->NextFrame * frame)));
-    this->Timer.async_wait([self = this->shared_from_this()](beast::error_code ec) {
-      if (!ec)
+      std::chrono::duration_cast<SteadyClock::duration>(
+        std::chrono::duration<double>(this->NextFrame * frame)));
+    this->Timer.async_wait(
+      [self = this->shared_from_this()](beast::error_code ec)
       {
-        self->Tick();
-      }
-    });
+        if (!ec)
+        {
+          self->Tick();
+        }
+      });
   }
 
   /// The session's binary messages into the write queue.
@@ -531,7 +548,8 @@ private:
       const size_t sessions = this->Server.CountSessions();
       std::ostringstream j;
       j << "{\"sessions\":" << sessions << ",\"started\":" << this->Server.SessionsStarted
-        << ",\"refused\":" << this->Server.SessionsRefused << ",\"clientErrors\":" << this->Server.ClientErrors
+        << ",\"refused\":" << this->Server.SessionsRefused
+        << ",\"clientErrors\":" << this->Server.ClientErrors
         << ",\"frames\":" << this->Server.FramesSent << ",\"late\":" << this->Server.FramesLate
         << ",\"bytes\":" << this->Server.BytesSent << "}\n";
       return this->Respond(request, http::status::ok, "application/json", j.str());
@@ -568,11 +586,12 @@ private:
     this->Respond(request, http::status::not_found, "text/plain", "not found\n");
   }
 
-  void Upgrade(http::request<http::empty_body> request, const std::string& path, const std::string& query,
-    const std::string& host)
+  void Upgrade(http::request<http::empty_body> request, const std::string& path,
+    const std::string& query, const std::string& host)
   {
     const StreamServerSettings& s = this->Server.S;
-    const auto refuse = [&](http::status status, const std::string& why) {
+    const auto refuse = [&](http::status status, const std::string& why)
+    {
       ++this->Server.SessionsRefused;
       this->Respond(request, status, "text/plain", why + "\n");
     };
@@ -616,7 +635,8 @@ private:
       if (device != params.end())
       {
         if (device->second.empty() || device->second.size() > 16 ||
-          !std::all_of(device->second.begin(), device->second.end(), [](char c) { return std::isalpha(static_cast<unsigned char>(c)); }))
+          !std::all_of(device->second.begin(), device->second.end(),
+            [](char c) { return std::isalpha(static_cast<unsigned char>(c)); }))
         {
           throw InputError("bad device");
         }
@@ -638,7 +658,8 @@ private:
     }
     this->Stream.expires_never();
     const std::string id = "s" + std::to_string(this->Server.NextSession++);
-    auto ws = std::make_shared<WsSession>(this->Server, std::move(this->Stream), std::move(session), id);
+    auto ws =
+      std::make_shared<WsSession>(this->Server, std::move(this->Stream), std::move(session), id);
     {
       std::lock_guard<std::mutex> lock(this->Server.Mutex);
       this->Server.Sessions.push_back(ws);
@@ -647,8 +668,8 @@ private:
     ws->Run(std::move(request));
   }
 
-  void Respond(const http::request<http::empty_body>& request, http::status status, const std::string& type,
-    const std::string& body)
+  void Respond(const http::request<http::empty_body>& request, http::status status,
+    const std::string& type, const std::string& body)
   {
     auto response = std::make_shared<http::response<http::string_body>>(status, request.version());
     response->set(http::field::server, "MorphNode");
@@ -662,7 +683,8 @@ private:
     }
     response->prepare_payload();
     http::async_write(this->Stream, *response,
-      [self = this->shared_from_this(), response](beast::error_code ec, size_t) {
+      [self = this->shared_from_this(), response](beast::error_code ec, size_t)
+      {
         if (!ec && response->keep_alive())
         {
           self->Read();
@@ -681,17 +703,19 @@ private:
 
 void StreamServer::Impl::Accept()
 {
-  this->Acceptor->async_accept(net::make_strand(this->Io), [this](beast::error_code ec, tcp::socket socket) {
-    if (ec == net::error::operation_aborted || !this->Acceptor->is_open())
+  this->Acceptor->async_accept(net::make_strand(this->Io),
+    [this](beast::error_code ec, tcp::socket socket)
     {
-      return;
-    }
-    if (!ec)
-    {
-      std::make_shared<HttpConnection>(*this, std::move(socket))->Read();
-    }
-    this->Accept();
-  });
+      if (ec == net::error::operation_aborted || !this->Acceptor->is_open())
+      {
+        return;
+      }
+      if (!ec)
+      {
+        std::make_shared<HttpConnection>(*this, std::move(socket))->Read();
+      }
+      this->Accept();
+    });
 }
 
 size_t StreamServer::Impl::CountSessions()
@@ -741,15 +765,16 @@ std::string StreamServer::Start()
       host = host.substr(1, host.size() - 2);
     }
   }
-  if (port.empty() || port.size() > 5 || port.find_first_not_of("0123456789") != std::string::npos ||
-    std::stoi(port) > 65535)
+  if (port.empty() || port.size() > 5 ||
+    port.find_first_not_of("0123456789") != std::string::npos || std::stoi(port) > 65535)
   {
     throw InputError("bad --serve address '" + p.S.Address + "' (HOST:PORT or PORT)");
   }
   const bool loopback = dialog::DialogServer::IsLoopbackHost(host);
   if (!loopback && !p.S.AllowRemote)
   {
-    throw InputError("'" + host + "' is not a loopback address: serving other machines needs --serve-remote");
+    throw InputError(
+      "'" + host + "' is not a loopback address: serving other machines needs --serve-remote");
   }
   if (!loopback && p.S.Token.empty())
   {
@@ -767,7 +792,8 @@ std::string StreamServer::Start()
     p.Acceptor->listen(net::socket_base::max_listen_connections);
     const tcp::endpoint bound = p.Acceptor->local_endpoint();
     const std::string address = bound.address().to_string();
-    p.Bound = (bound.address().is_v6() ? "[" + address + "]" : address) + ":" + std::to_string(bound.port());
+    p.Bound = (bound.address().is_v6() ? "[" + address + "]" : address) + ":" +
+      std::to_string(bound.port());
   }
   catch (const boost::system::system_error& e)
   {
@@ -789,10 +815,12 @@ void StreamServer::Stop()
   {
     return;
   }
-  net::post(p.Io, [&p]() {
-    beast::error_code ignored;
-    p.Acceptor->close(ignored);
-  });
+  net::post(p.Io,
+    [&p]()
+    {
+      beast::error_code ignored;
+      p.Acceptor->close(ignored);
+    });
   {
     std::lock_guard<std::mutex> lock(p.Mutex);
     for (auto& w : p.Sessions)

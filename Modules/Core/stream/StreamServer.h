@@ -96,9 +96,9 @@ struct StreamServerStats
   size_t Sessions = 0;        ///< open now
   size_t SessionsStarted = 0; ///< since Start
   size_t SessionsRefused = 0;
-  size_t ClientErrors = 0;    ///< error events sent for bad client input
+  size_t ClientErrors = 0; ///< error events sent for bad client input
   uint64_t FramesSent = 0;
-  uint64_t FramesLate = 0;    ///< ticks that ran more than one frame late
+  uint64_t FramesLate = 0; ///< ticks that ran more than one frame late
   uint64_t BytesSent = 0;
 };
 

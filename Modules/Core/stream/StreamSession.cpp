@@ -51,13 +51,15 @@ bool HasOpus()
 #endif
 }
 
-StreamSession::StreamSession(const StreamAvatar& avatar, const std::vector<std::string>& visemeChannels,
-  LiveBehavior::Synthesizer synthesizer, const StreamSettings& settings)
+StreamSession::StreamSession(const StreamAvatar& avatar,
+  const std::vector<std::string>& visemeChannels, LiveBehavior::Synthesizer synthesizer,
+  const StreamSettings& settings)
   : Avatar(avatar)
   , Settings(settings)
   , Synthesize(std::move(synthesizer))
 {
-  if (!(std::isfinite(settings.FrameRate) && settings.FrameRate > 0.0 && settings.FrameRate <= 240.0))
+  if (!(std::isfinite(settings.FrameRate) && settings.FrameRate > 0.0 &&
+        settings.FrameRate <= 240.0))
   {
     throw InputError("the stream's frame rate must be in (0, 240]");
   }
@@ -161,7 +163,8 @@ void StreamSession::Tick(double t)
   this->SentRotations.resize(this->Rotations.size());
   // The deadband in quantized units: a turn by angle a changes a component by at most
   // sin(a / 2) ~ a / 2.
-  const double deadband = this->Settings.RotationDeadband * 3.14159265358979323846 / 360.0 * RotationScale;
+  const double deadband =
+    this->Settings.RotationDeadband * 3.14159265358979323846 / 360.0 * RotationScale;
   for (size_t r = 0; r < this->Rotations.size(); ++r)
   {
     const auto q = QuantizeRotation(this->Rotations[r]);
@@ -222,12 +225,14 @@ void StreamSession::QueueAudio(const LiveBehavior::AudioSegment& segment)
   std::vector<int16_t> pcm(out.Samples.size());
   for (size_t i = 0; i < pcm.size(); ++i)
   {
-    pcm[i] = static_cast<int16_t>(std::lround(std::clamp(out.Samples[i], -1.0f, 32767.0f / 32768.0f) * 32768.0f));
+    pcm[i] = static_cast<int16_t>(
+      std::lround(std::clamp(out.Samples[i], -1.0f, 32767.0f / 32768.0f) * 32768.0f));
   }
   const uint32_t first = this->SampleOf(segment.Start);
   const size_t chunk = this->Settings.Codec == AudioCodec::Opus
     ? static_cast<size_t>(this->Settings.SampleRate / 50)
-    : static_cast<size_t>(this->Settings.SampleRate) * static_cast<size_t>(this->Settings.PcmChunkMs) / 1000;
+    : static_cast<size_t>(this->Settings.SampleRate) *
+      static_cast<size_t>(this->Settings.PcmChunkMs) / 1000;
   for (size_t begin = 0; begin < pcm.size(); begin += chunk)
   {
     const size_t n = std::min(chunk, pcm.size() - begin);
@@ -252,7 +257,8 @@ void StreamSession::QueueAudio(const LiveBehavior::AudioSegment& segment)
       std::copy(pcm.begin() + static_cast<std::ptrdiff_t>(begin),
         pcm.begin() + static_cast<std::ptrdiff_t>(begin + n), frame.begin());
       unsigned char packet[1500];
-      const int bytes = opus_encode(this->Opus->Encoder, frame.data(), static_cast<int>(chunk), packet, sizeof(packet));
+      const int bytes = opus_encode(
+        this->Opus->Encoder, frame.data(), static_cast<int>(chunk), packet, sizeof(packet));
       if (bytes < 0)
       {
         continue; // a packet lost: the client hears a gap, the session goes on
@@ -296,7 +302,8 @@ dialog::Schedule StreamSession::Say(const dialog::SayCommand& c, double now)
   const auto started = std::chrono::steady_clock::now();
   const LiveBehavior::Timing timing = voice ? this->Live->Say(c.Text, now + this->SayLead, voice)
                                             : this->Live->Say(c.Text, now + this->SayLead);
-  const double took = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  const double took =
+    std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   // A running estimate that follows a slower machine at once and a faster one slowly.
   this->SayLead = took > this->SayLead ? std::min(took, 1.0) : 0.8 * this->SayLead + 0.2 * took;
   dialog::Schedule s(timing.Start, timing.End);

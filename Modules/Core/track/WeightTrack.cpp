@@ -90,7 +90,8 @@ void WeightTrack::WriteCsv(std::ostream& out) const
 
 WeightTrack WeightTrack::ReadCsv(std::istream& in)
 {
-  auto split = [](const std::string& line) {
+  auto split = [](const std::string& line)
+  {
     std::vector<std::string> cells;
     std::stringstream ss(line);
     std::string cell;

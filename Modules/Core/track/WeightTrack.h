@@ -31,7 +31,10 @@ public:
   /// Appends one frame (GetNumberOfChannels() values).
   void AppendFrame(const double* values);
   void AppendFrame(const std::vector<double>& values);
-  const double* GetFrame(size_t frame) const { return this->Values.data() + frame * this->Channels.size(); }
+  const double* GetFrame(size_t frame) const
+  {
+    return this->Values.data() + frame * this->Channels.size();
+  }
   double GetValue(size_t frame, size_t channel) const
   {
     return this->Values[frame * this->Channels.size() + channel];

@@ -90,7 +90,7 @@ struct Seam
 
 struct SourceFeatures
 {
-  std::vector<Seam> Seams; // [0] the mouth, then lids
+  std::vector<Seam> Seams;    // [0] the mouth, then lids
   std::vector<int> SeamLabel; // the label s of each seam
   std::vector<std::pair<std::string, uint32_t>> Landmarks;
   std::vector<bool> FaceRegion;
@@ -112,7 +112,8 @@ int FindName(const std::vector<std::string>& names, const std::string& name)
 
 /// The loop's two arcs between its corners (its two points furthest apart): true for the
 /// points of the first arc (corners included). Also gives the width (the corners' distance).
-std::vector<bool> SplitLoop(const std::vector<glm::dvec3>& pts, const std::vector<uint32_t>& loop, double& width)
+std::vector<bool> SplitLoop(
+  const std::vector<glm::dvec3>& pts, const std::vector<uint32_t>& loop, double& width)
 {
   size_t a = 0, b = 0;
   width = 0;
@@ -219,7 +220,8 @@ SourceFeatures AnalyzeSource(const TransferSource& source, const TransferOptions
   }
 
   // Landmarks.
-  auto argmaxMotion = [&](int t) {
+  auto argmaxMotion = [&](int t)
+  {
     uint32_t best = 0;
     double bm = -1;
     for (size_t i = 0; i < n; ++i)
@@ -379,8 +381,9 @@ SourceFeatures AnalyzeSource(const TransferSource& source, const TransferOptions
 }
 
 /// Geodesic (edge path) distance from the seeds, up to `radius` (infinity beyond).
-std::vector<double> EdgeDistance(const std::vector<glm::dvec3>& pts, const std::vector<uint32_t>& offsets,
-  const std::vector<uint32_t>& neighbours, const std::vector<uint32_t>& seeds, double radius)
+std::vector<double> EdgeDistance(const std::vector<glm::dvec3>& pts,
+  const std::vector<uint32_t>& offsets, const std::vector<uint32_t>& neighbours,
+  const std::vector<uint32_t>& seeds, double radius)
 {
   std::vector<double> dist(pts.size(), std::numeric_limits<double>::infinity());
   using Item = std::pair<double, uint32_t>;
@@ -415,7 +418,8 @@ std::vector<double> EdgeDistance(const std::vector<glm::dvec3>& pts, const std::
 /// far, and the point stays unlabelled).
 void LabelSides(const std::vector<glm::dvec3>& pts, const std::vector<uint32_t>& offsets,
   const std::vector<uint32_t>& neighbours, const std::vector<uint32_t>& loop,
-  const std::vector<TransferSide>& loopSide, double radius, double width, std::vector<TransferSide>& labels)
+  const std::vector<TransferSide>& loopSide, double radius, double width,
+  std::vector<TransferSide>& labels)
 {
   std::vector<uint32_t> upper, lower;
   TransferSide label = 0;
@@ -435,7 +439,8 @@ void LabelSides(const std::vector<glm::dvec3>& pts, const std::vector<uint32_t>&
 }
 
 std::vector<glm::dvec3> Interpolate(const std::vector<glm::dvec3>& values,
-  const std::vector<uint32_t>& tris, const std::vector<int>& hit, const std::vector<glm::dvec3>& bary)
+  const std::vector<uint32_t>& tris, const std::vector<int>& hit,
+  const std::vector<glm::dvec3>& bary)
 {
   std::vector<glm::dvec3> out(hit.size(), glm::dvec3(0.0));
   for (size_t i = 0; i < hit.size(); ++i)
@@ -459,12 +464,13 @@ std::vector<float> ToFloats(const std::vector<glm::dvec3>& v)
 
 const std::vector<std::string>& TransferLandmarkNames()
 {
-  static const std::vector<std::string> names{ "eye_L", "eye_R", "mouthCorner_L",
-    "mouthCorner_R", "upperLip", "lowerLip", "chin", "noseTip" };
+  static const std::vector<std::string> names{ "eye_L", "eye_R", "mouthCorner_L", "mouthCorner_R",
+    "upperLip", "lowerLip", "chin", "noseTip" };
   return names;
 }
 
-std::vector<TransferLandmark> ParseTransferLandmarks(const std::string& text, const std::string& sourceName)
+std::vector<TransferLandmark> ParseTransferLandmarks(
+  const std::string& text, const std::string& sourceName)
 {
   std::vector<TransferLandmark> result;
   size_t lineNumber = 0;
@@ -531,7 +537,8 @@ TransferSource MakeTransferSource(const MorphMesh& mesh)
   s.Surface.Triangles = mesh.GetTriangles();
   s.TargetNames.assign(mesh.GetTargetNames().begin() + 1, mesh.GetTargetNames().end());
   std::visit(
-    [&](const auto& attribute) {
+    [&](const auto& attribute)
+    {
       using T = std::decay_t<decltype(attribute.GetNeutral()[0])>;
       if (attribute.GetNumberOfComponents() != 3)
         throw InputError("source: positions do not have 3 components");
@@ -568,7 +575,8 @@ TransferResult TransferTargets(
   const size_t ns = source.Surface.GetNumberOfPoints();
   const size_t nt = target.GetNumberOfPoints();
   const SourceFeatures features = AnalyzeSource(source, options);
-  auto landmarkPoint = [&](const std::string& name) -> int {
+  auto landmarkPoint = [&](const std::string& name) -> int
+  {
     for (const auto& [n, v] : features.Landmarks)
       if (n == name)
         return int(v);
@@ -584,7 +592,8 @@ TransferResult TransferTargets(
   const TriangleGrid targetGrid(target);
   const std::vector<bool> targetBoundary = ComputeBoundaryPoints(target);
   const std::vector<glm::dvec3> targetTriNormals = ComputeTriangleNormals(target);
-  auto onBoundary = [&](const SurfaceHit& h) {
+  auto onBoundary = [&](const SurfaceHit& h)
+  {
     // A hit on a border edge or corner of the target (not inside a triangle).
     const uint32_t* t = &target.Triangles[3 * size_t(h.Triangle)];
     int inside = 0;
@@ -625,7 +634,8 @@ TransferResult TransferTargets(
       icpIds.push_back(faceIds[i]);
   }
   std::vector<std::pair<glm::dvec3, glm::dvec3>> landmarkPairs;
-  auto icp = [&](Similarity s, int iterations, bool withScale, double& residual) {
+  auto icp = [&](Similarity s, int iterations, bool withScale, double& residual)
+  {
     // The search radius stays that of the start: a shrinking face must not see less.
     const double radius = 0.5 * s.Scale * sourceEyeDistance;
     const double startScale = s.Scale;
@@ -670,8 +680,8 @@ TransferResult TransferTargets(
       for (uint32_t q : targetSample)
       {
         const glm::dvec3 local = glm::transpose(s.R) * (target.Points[q] - s.T) / s.Scale;
-        const SurfaceHit h = sourceGrid.Closest(local, radius / s.Scale,
-          [&](uint32_t t) { return faceTriangle[t]; });
+        const SurfaceHit h =
+          sourceGrid.Closest(local, radius / s.Scale, [&](uint32_t t) { return faceTriangle[t]; });
         if (h.Triangle < 0 || h.Distance * s.Scale > cut)
           continue;
         const uint32_t* st = &source.Surface.Triangles[3 * size_t(h.Triangle)];
@@ -759,7 +769,8 @@ TransferResult TransferTargets(
   {
     for (const auto& l : options.TargetLandmarks)
       if (landmarkPoint(l.Name) >= 0)
-        landmarkPairs.emplace_back(source.Surface.Points[size_t(landmarkPoint(l.Name))], l.Position);
+        landmarkPairs.emplace_back(
+          source.Surface.Points[size_t(landmarkPoint(l.Name))], l.Position);
   }
   if (!options.TargetLandmarks.empty())
   {
@@ -773,7 +784,8 @@ TransferResult TransferTargets(
       to.push_back(l.Position);
     }
     if (from.size() < 3)
-      throw InputError("landmarks: at least 3 are needed, " + std::to_string(from.size()) + " given");
+      throw InputError(
+        "landmarks: at least 3 are needed, " + std::to_string(from.size()) + " given");
     align = FitSimilarity(from, to, true);
     if (!(align.Scale > 0) || !std::isfinite(align.Scale))
       throw InputError("landmarks: they do not determine a similarity (collinear?)");
@@ -781,8 +793,9 @@ TransferResult TransferTargets(
   else
   {
     // Principal axes of source and target (all points), the four proper sign choices.
-    auto moments = [](const std::vector<glm::dvec3>& p, glm::dvec3& mean, Eigen::Matrix3d& axes,
-                     double& spread) {
+    auto moments =
+      [](const std::vector<glm::dvec3>& p, glm::dvec3& mean, Eigen::Matrix3d& axes, double& spread)
+    {
       mean = glm::dvec3(0.0);
       for (const auto& q : p)
         mean += q;
@@ -808,7 +821,8 @@ TransferResult TransferTargets(
     // All 24 proper ways to map the source's axes onto the target's (the spreads of a
     // face's axes can be close, so their order is not trusted), each refined by a few ICP
     // steps over a thinned face; the best fit wins.
-    const int perms[6][3] = { { 0, 1, 2 }, { 0, 2, 1 }, { 1, 0, 2 }, { 1, 2, 0 }, { 2, 0, 1 }, { 2, 1, 0 } };
+    const int perms[6][3] = { { 0, 1, 2 }, { 0, 2, 1 }, { 1, 0, 2 }, { 1, 2, 0 }, { 2, 0, 1 },
+      { 2, 1, 0 } };
     const std::vector<uint32_t> allIds = icpIds, allSample = targetSample;
     icpIds.clear();
     targetSample.clear();
@@ -863,7 +877,8 @@ TransferResult TransferTargets(
     for (size_t i = 0; i < ns; ++i)
       alignedDeltas[k][i] = align.Scale * (align.R * source.Deltas[k][i]);
   }
-  auto faceResidual = [&](const std::vector<glm::dvec3>& x, double& mean) {
+  auto faceResidual = [&](const std::vector<glm::dvec3>& x, double& mean)
+  {
     std::vector<double> d;
     const double cap = eyeDistance;
     for (uint32_t v : faceIds)
@@ -914,7 +929,8 @@ TransferResult TransferTargets(
       const double beta = stage < 2 ? 1.0 : 0.0;
       for (int it = 0; it < options.IterationsPerStage; ++it)
       {
-        const std::vector<glm::dvec3> normals = ComputeVertexNormals(TransferSurface{ x, source.Surface.Triangles });
+        const std::vector<glm::dvec3> normals =
+          ComputeVertexNormals(TransferSurface{ x, source.Surface.Triangles });
         Eigen::VectorXd w = Eigen::VectorXd::Constant(long(ns), 1e-8);
         Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(long(ns), 3);
         std::vector<double> dist;
@@ -1020,7 +1036,8 @@ TransferResult TransferTargets(
     if (solver.info() != Eigen::Success)
       throw InputError("deformation transfer: the system could not be factored");
     // The frame of a triangle after Sumner and Popovic: two edges and the scaled normal.
-    auto frame = [](const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
+    auto frame = [](const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c)
+    {
       const glm::dvec3 e1 = b - a, e2 = c - a;
       const glm::dvec3 n = glm::cross(e1, e2);
       const double l = std::sqrt(glm::length(n));
@@ -1029,7 +1046,8 @@ TransferResult TransferTargets(
     std::vector<glm::dmat3> inverse(nTri, glm::dmat3(0.0));
     for (size_t t = 0; t < nTri; ++t)
     {
-      const glm::dmat3 v = frame(aligned[tris[3 * t]], aligned[tris[3 * t + 1]], aligned[tris[3 * t + 2]]);
+      const glm::dmat3 v =
+        frame(aligned[tris[3 * t]], aligned[tris[3 * t + 1]], aligned[tris[3 * t + 2]]);
       if (std::abs(glm::determinant(v)) > 0)
         inverse[t] = glm::inverse(v);
     }
@@ -1055,7 +1073,9 @@ TransferResult TransferTargets(
         if (area[t] > 0 && inverse[t] != glm::dmat3(0.0))
         {
           const uint32_t* v = &tris[3 * t];
-          const glm::dmat3 q = frame(aligned[v[0]] + d[v[0]], aligned[v[1]] + d[v[1]], aligned[v[2]] + d[v[2]]) * inverse[t];
+          const glm::dmat3 q =
+            frame(aligned[v[0]] + d[v[0]], aligned[v[1]] + d[v[1]], aligned[v[2]] + d[v[2]]) *
+            inverse[t];
           j = q * projector[t]; // columns: spatial direction; rows: coordinate
         }
         for (int c = 0; c < 3; ++c)
@@ -1068,7 +1088,8 @@ TransferResult TransferTargets(
       const Eigen::MatrixXd rhs = GtA * b + anchor;
       const Eigen::MatrixXd solved = solver.solve(rhs);
       for (size_t i = 0; i < ns; ++i)
-        dtDeltas[k][i] = glm::dvec3(solved(long(i), 0), solved(long(i), 1), solved(long(i), 2)) - x[i];
+        dtDeltas[k][i] =
+          glm::dvec3(solved(long(i), 0), solved(long(i), 1), solved(long(i), 2)) - x[i];
     }
   }
   result.TransferSeconds = Since(t0);
@@ -1102,7 +1123,8 @@ TransferResult TransferTargets(
           continue;
         // Symmetric mean distance between the loops' points.
         auto meanNearest = [&](const std::vector<uint32_t>& a, const std::vector<glm::dvec3>& pa,
-                             const std::vector<uint32_t>& b, const std::vector<glm::dvec3>& pb) {
+                             const std::vector<uint32_t>& b, const std::vector<glm::dvec3>& pb)
+        {
           double sum = 0;
           for (uint32_t i : a)
           {
@@ -1113,8 +1135,9 @@ TransferResult TransferTargets(
           }
           return sum / double(a.size());
         };
-        const double d = 0.5 * (meanNearest(targetLoops[l], target.Points, seam.Loop, x) +
-                                 meanNearest(seam.Loop, x, targetLoops[l], target.Points));
+        const double d = 0.5 *
+          (meanNearest(targetLoops[l], target.Points, seam.Loop, x) +
+            meanNearest(seam.Loop, x, targetLoops[l], target.Points));
         if (d < bestDistance)
         {
           bestDistance = d;
@@ -1129,10 +1152,11 @@ TransferResult TransferTargets(
           ? "the nearest opening is " + FormatNumber(bestDistance) + " away on average"
           : "it has no openings";
         if (s == 0 && options.RequireMouthOpening)
-          throw InputError("target: closed mouth: no opening of the lips near the source's mouth (" +
-            distance + "); cut the lips apart along the mouth line, so that the mouth can open");
-        result.Warnings.push_back("target: no " + what + " opening found (" + distance +
-          "): its sides are not kept apart");
+          throw InputError(
+            "target: closed mouth: no opening of the lips near the source's mouth (" + distance +
+            "); cut the lips apart along the mouth line, so that the mouth can open");
+        result.Warnings.push_back(
+          "target: no " + what + " opening found (" + distance + "): its sides are not kept apart");
         continue;
       }
       used.insert(best);
@@ -1199,7 +1223,8 @@ TransferResult TransferTargets(
     {
       const TransferSide side = targetSide[i];
       // A side lands on no triangle that touches the other side.
-      auto sideOk = [&](uint32_t t) {
+      auto sideOk = [&](uint32_t t)
+      {
         if (side == 0)
           return true;
         for (int k = 0; k < 3; ++k)
@@ -1216,11 +1241,12 @@ TransferResult TransferTargets(
       {
         // On the other side: the closest point on its own side, unless that is clearly
         // further (then the labels are off, e.g. beyond a corner).
-        SurfaceHit own = grid.Closest(target.Points[i], searchRadius,
-          [&](uint32_t t) { return sideOk(t) && facing(t); });
+        SurfaceHit own = grid.Closest(
+          target.Points[i], searchRadius, [&](uint32_t t) { return sideOk(t) && facing(t); });
         if (own.Triangle < 0)
           own = grid.Closest(target.Points[i], searchRadius, sideOk);
-        if (own.Triangle >= 0 && own.Distance <= h.Distance + 0.05 * sideWidth[size_t(std::abs(side) - 1)])
+        if (own.Triangle >= 0 &&
+          own.Distance <= h.Distance + 0.05 * sideWidth[size_t(std::abs(side) - 1)])
           h = own;
       }
       if (h.Triangle < 0)
@@ -1247,7 +1273,8 @@ TransferResult TransferTargets(
       {
         ++sizes[size_t(tComponent[i])];
         if (result.HitTriangle[i] >= 0)
-          ++votes[size_t(tComponent[i])][features.Component[tris[3 * size_t(result.HitTriangle[i])]]];
+          ++votes[size_t(tComponent[i])]
+                 [features.Component[tris[3 * size_t(result.HitTriangle[i])]]];
       }
       for (int c = 0; c < ntc; ++c)
         for (const auto& [sc, count] : votes[size_t(c)])
@@ -1256,7 +1283,8 @@ TransferResult TransferTargets(
       for (size_t i = 0; i < nt; ++i)
         result.Rigid[i] = rigidSource[size_t(tComponent[i])] >= 0;
     }
-    auto finish = [&](const std::vector<std::vector<glm::dvec3>>& perSource, bool nearest) {
+    auto finish = [&](const std::vector<std::vector<glm::dvec3>>& perSource, bool nearest)
+    {
       std::vector<std::vector<float>> out;
       for (size_t k = 0; k < perSource.size(); ++k)
       {

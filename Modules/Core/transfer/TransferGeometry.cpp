@@ -99,7 +99,8 @@ TriangleGrid::TriangleGrid(const TransferSurface& surface)
     this->Dims[k] = std::max(1, int(std::floor(extent[k] / cell)) + 1);
   }
   const size_t numCells = size_t(this->Dims[0]) * this->Dims[1] * this->Dims[2];
-  auto cellRange = [&](uint32_t t, int lo3[3], int hi3[3]) {
+  auto cellRange = [&](uint32_t t, int lo3[3], int hi3[3])
+  {
     glm::dvec3 a = surface.Points[surface.Triangles[3 * t]];
     glm::dvec3 mn = a, mx = a;
     for (int v = 1; v < 3; ++v)
@@ -117,8 +118,10 @@ TriangleGrid::TriangleGrid(const TransferSurface& surface)
   this->Spheres.resize(nt);
   for (size_t t = 0; t < nt; ++t)
   {
-    const glm::dvec3 c = (surface.Points[surface.Triangles[3 * t]] + surface.Points[surface.Triangles[3 * t + 1]] +
-                           surface.Points[surface.Triangles[3 * t + 2]]) / 3.0;
+    const glm::dvec3 c =
+      (surface.Points[surface.Triangles[3 * t]] + surface.Points[surface.Triangles[3 * t + 1]] +
+        surface.Points[surface.Triangles[3 * t + 2]]) /
+      3.0;
     double r = 0;
     for (int k = 0; k < 3; ++k)
       r = std::max(r, glm::length(surface.Points[surface.Triangles[3 * t + size_t(k)]] - c));
@@ -226,7 +229,8 @@ std::vector<glm::dvec3> ComputeTriangleNormals(const TransferSurface& s)
   for (size_t t = 0; t < n.size(); ++t)
   {
     const auto& a = s.Points[s.Triangles[3 * t]];
-    const glm::dvec3 c = glm::cross(s.Points[s.Triangles[3 * t + 1]] - a, s.Points[s.Triangles[3 * t + 2]] - a);
+    const glm::dvec3 c =
+      glm::cross(s.Points[s.Triangles[3 * t + 1]] - a, s.Points[s.Triangles[3 * t + 2]] - a);
     const double l = glm::length(c);
     if (l > 0)
       n[t] = c / l;
@@ -240,7 +244,8 @@ std::vector<glm::dvec3> ComputeVertexNormals(const TransferSurface& s)
   for (size_t t = 0; t < s.GetNumberOfTriangles(); ++t)
   {
     const uint32_t* v = &s.Triangles[3 * t];
-    const glm::dvec3 c = glm::cross(s.Points[v[1]] - s.Points[v[0]], s.Points[v[2]] - s.Points[v[0]]);
+    const glm::dvec3 c =
+      glm::cross(s.Points[v[1]] - s.Points[v[0]], s.Points[v[2]] - s.Points[v[0]]);
     for (int k = 0; k < 3; ++k)
       n[v[k]] += c;
   }
@@ -258,7 +263,8 @@ double MeanEdgeLength(const TransferSurface& s)
   const size_t nt = s.GetNumberOfTriangles();
   for (size_t t = 0; t < nt; ++t)
     for (int k = 0; k < 3; ++k)
-      sum += glm::length(s.Points[s.Triangles[3 * t + k]] - s.Points[s.Triangles[3 * t + (k + 1) % 3]]);
+      sum +=
+        glm::length(s.Points[s.Triangles[3 * t + k]] - s.Points[s.Triangles[3 * t + (k + 1) % 3]]);
   return nt ? sum / (3.0 * nt) : 0.0;
 }
 
@@ -377,7 +383,8 @@ int ComputeComponents(const TransferSurface& s, std::vector<int>& component)
   const size_t n = s.GetNumberOfPoints();
   std::vector<uint32_t> parent(n);
   std::iota(parent.begin(), parent.end(), 0u);
-  std::function<uint32_t(uint32_t)> find = [&](uint32_t x) {
+  std::function<uint32_t(uint32_t)> find = [&](uint32_t x)
+  {
     while (parent[x] != x)
     {
       parent[x] = parent[parent[x]];

@@ -12,7 +12,8 @@ TransferSource MakeTransferSource(const GltfScene& scene)
   TransferSource source;
   for (const auto& part : scene.Parts)
     for (const auto& t : part.Targets)
-      if (std::find(source.TargetNames.begin(), source.TargetNames.end(), t.Name) == source.TargetNames.end())
+      if (std::find(source.TargetNames.begin(), source.TargetNames.end(), t.Name) ==
+        source.TargetNames.end())
         source.TargetNames.push_back(t.Name);
   if (source.TargetNames.empty())
     throw InputError("source: no part of the scene has morph targets");
@@ -24,7 +25,8 @@ TransferSource MakeTransferSource(const GltfScene& scene)
     const uint32_t base = uint32_t(source.Surface.Points.size());
     const size_t n = part.GetNumberOfPoints();
     for (size_t i = 0; i < n; ++i)
-      source.Surface.Points.emplace_back(part.Positions[3 * i], part.Positions[3 * i + 1], part.Positions[3 * i + 2]);
+      source.Surface.Points.emplace_back(
+        part.Positions[3 * i], part.Positions[3 * i + 1], part.Positions[3 * i + 2]);
     for (uint32_t v : part.Triangles)
       source.Surface.Triangles.push_back(base + v);
     for (size_t k = 0; k < source.TargetNames.size(); ++k)
@@ -34,7 +36,8 @@ TransferSource MakeTransferSource(const GltfScene& scene)
       for (const auto& t : part.Targets)
         if (t.Name == source.TargetNames[k])
           for (size_t i = 0; i < n; ++i)
-            d[base + i] = { t.PositionDeltas[3 * i], t.PositionDeltas[3 * i + 1], t.PositionDeltas[3 * i + 2] };
+            d[base + i] = { t.PositionDeltas[3 * i], t.PositionDeltas[3 * i + 1],
+              t.PositionDeltas[3 * i + 2] };
     }
   }
   return source;
@@ -49,7 +52,8 @@ TransferSurface MergeParts(const GltfScene& target, std::vector<size_t>& partOff
     partOffsets.push_back(s.Points.size());
     const uint32_t base = uint32_t(s.Points.size());
     for (size_t i = 0; i < part.GetNumberOfPoints(); ++i)
-      s.Points.emplace_back(part.Positions[3 * i], part.Positions[3 * i + 1], part.Positions[3 * i + 2]);
+      s.Points.emplace_back(
+        part.Positions[3 * i], part.Positions[3 * i + 1], part.Positions[3 * i + 2]);
     for (uint32_t v : part.Triangles)
       s.Triangles.push_back(base + v);
   }
@@ -57,7 +61,8 @@ TransferSurface MergeParts(const GltfScene& target, std::vector<size_t>& partOff
   return s;
 }
 
-TransferResult TransferOntoScene(const TransferSource& source, GltfScene& target, const TransferOptions& options)
+TransferResult TransferOntoScene(
+  const TransferSource& source, GltfScene& target, const TransferOptions& options)
 {
   std::vector<size_t> offsets;
   const TransferSurface surface = MergeParts(target, offsets);

@@ -266,19 +266,24 @@ void vtkMorphAvatarPipeline::SetHeadPoseFromWeights(
   angles.Roll = Channel(weights, "HeadRoll");
   // A non-finite angle turns the head to 0 in that frame instead of failing it.
   transform->SetMatrix(
-    morphnode::HeadPoseMatrix(morphnode::FiniteHeadAngles(angles), { pivot[0], pivot[1], pivot[2] }).data());
+    morphnode::HeadPoseMatrix(morphnode::FiniteHeadAngles(angles), { pivot[0], pivot[1], pivot[2] })
+      .data());
 }
 
 //------------------------------------------------------------------------------
 void vtkMorphAvatarPipeline::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
-  os << indent << "FileName: " << (this->Reader->GetFileName() ? this->Reader->GetFileName() : "(none)") << "\n";
-  os << indent << "RigFileName: " << (this->RigFileName.empty() ? "(none)" : this->RigFileName) << "\n";
+  os << indent
+     << "FileName: " << (this->Reader->GetFileName() ? this->Reader->GetFileName() : "(none)")
+     << "\n";
+  os << indent << "RigFileName: " << (this->RigFileName.empty() ? "(none)" : this->RigFileName)
+     << "\n";
   os << indent << "WeightsConnection: " << this->Weights.GetPointer() << "\n";
   os << indent << "RigMapsWeights: " << this->RigMapsWeights << "\n";
   os << indent << "UseFaceAnimation: " << this->UseFaceAnimation << "\n";
-  os << indent << "HeadPivot: (" << this->Pivot[0] << ", " << this->Pivot[1] << ", " << this->Pivot[2] << ")\n";
+  os << indent << "HeadPivot: (" << this->Pivot[0] << ", " << this->Pivot[1] << ", "
+     << this->Pivot[2] << ")\n";
   os << indent << "Reader: " << this->Reader.GetPointer() << "\n";
   os << indent << "Rig: " << this->Rig.GetPointer() << "\n";
   os << indent << "Morph: " << this->Morph.GetPointer() << "\n";

@@ -40,9 +40,9 @@
 #define vtkMorphAvatarPipeline_h
 
 #include "vtkMorphNodeAvatarModule.h" // For export macro
-#include "vtkNew.h"             // For vtkNew
+#include "vtkNew.h"                   // For vtkNew
 #include "vtkObject.h"
-#include "vtkSmartPointer.h"    // For vtkSmartPointer
+#include "vtkSmartPointer.h" // For vtkSmartPointer
 
 #include <string> // For std::string
 
@@ -153,7 +153,8 @@ public:
    * missing channel or table reads 0, a non-finite angle turns to 0) about `pivot`, in the
    * one convention of behavior/HeadPose.h.
    */
-  static void SetHeadPoseFromWeights(vtkTransform* transform, vtkTable* weights, const double pivot[3]);
+  static void SetHeadPoseFromWeights(
+    vtkTransform* transform, vtkTable* weights, const double pivot[3]);
 
 protected:
   vtkMorphAvatarPipeline();

@@ -57,7 +57,8 @@ struct SpeechSettings
     options.VisemeTablePath = this->VisemeTable;
     // Problems that are no errors (unknown phonemes) become VTK warnings.
     vtkBehaviorTimeSource* owner = this->Owner;
-    options.Warn = [owner](const std::string& message) {
+    options.Warn = [owner](const std::string& message)
+    {
       if (owner)
       {
         vtkWarningWithObjectMacro(owner, << message);
@@ -122,7 +123,8 @@ std::string Str(const char* s)
   do                                                                                               \
   {                                                                                                \
     std::string message_;                                                                          \
-    if (!Guarded(this, [&]() { call; }, message_))                                                 \
+    if (!Guarded(                                                                                  \
+          this, [&]() { call; }, message_))                                                        \
     {                                                                                              \
       vtkErrorMacro(<< (what) << ": " << message_);                                                \
       return false;                                                                                \
@@ -143,8 +145,8 @@ vtkBehaviorTimeSource::vtkBehaviorTimeSource()
   speech->Owner = this;
   this->Internals->Controller.SetSynthesizer(
     [speech](const std::string& text) { return morphnode::SpeakText(text, speech->Options()); });
-  this->Internals->Controller.SetPhonemeFileLoader(
-    [speech](const std::string& path) { return morphnode::LoadTimingFile(path, speech->Options()); });
+  this->Internals->Controller.SetPhonemeFileLoader([speech](const std::string& path)
+    { return morphnode::LoadTimingFile(path, speech->Options()); });
 }
 
 //------------------------------------------------------------------------------
@@ -189,7 +191,8 @@ void vtkBehaviorTimeSource::SetFrameRate(double fps)
     return;
   }
   std::string message;
-  if (!Guarded(this, [&]() { this->Internals->Controller.SetFrameRate(fps); }, message))
+  if (!Guarded(
+        this, [&]() { this->Internals->Controller.SetFrameRate(fps); }, message))
   {
     vtkErrorMacro(<< "SetFrameRate: " << message);
     return;
@@ -210,7 +213,8 @@ void vtkBehaviorTimeSource::SetDuration(double seconds)
     return;
   }
   std::string message;
-  if (!Guarded(this, [&]() { this->Internals->Controller.SetDuration(seconds); }, message))
+  if (!Guarded(
+        this, [&]() { this->Internals->Controller.SetDuration(seconds); }, message))
   {
     vtkErrorMacro(<< "SetDuration: " << message);
     return;
@@ -271,7 +275,8 @@ void vtkBehaviorTimeSource::SetVisemeSet(int set)
 {
   if (set < OCULUS15 || set > PAPER6)
   {
-    vtkErrorMacro(<< "SetVisemeSet: " << set << " is no viseme set (OCULUS15 = 0, GERMAN16 = 1, PAPER6 = 2)");
+    vtkErrorMacro(<< "SetVisemeSet: " << set
+                  << " is no viseme set (OCULUS15 = 0, GERMAN16 = 1, PAPER6 = 2)");
     return;
   }
   if (set != this->Internals->Speech->VisemeSet)
@@ -290,7 +295,8 @@ bool vtkBehaviorTimeSource::SetVisemeSetFromString(const char* name)
 {
   morphnode::VisemeSet set = morphnode::VisemeSet::Paper6;
   std::string message;
-  if (!Guarded(this, [&]() { set = morphnode::ParseVisemeSet(Str(name)); }, message))
+  if (!Guarded(
+        this, [&]() { set = morphnode::ParseVisemeSet(Str(name)); }, message))
   {
     vtkErrorMacro(<< "SetVisemeSetFromString: " << message);
     return false;
@@ -301,7 +307,8 @@ bool vtkBehaviorTimeSource::SetVisemeSetFromString(const char* name)
 
 const char* vtkBehaviorTimeSource::GetVisemeSetAsString()
 {
-  return morphnode::VisemeSetName(static_cast<morphnode::VisemeSet>(this->Internals->Speech->VisemeSet));
+  return morphnode::VisemeSetName(
+    static_cast<morphnode::VisemeSet>(this->Internals->Speech->VisemeSet));
 }
 
 //------------------------------------------------------------------------------
@@ -313,7 +320,9 @@ bool vtkBehaviorTimeSource::SetVisemeTableFileName(const char* path)
     return true;
   }
   std::string message;
-  if (!p.empty() && !Guarded(this, [&]() { morphnode::VisemeMap::Load(p); }, message))
+  if (!p.empty() &&
+    !Guarded(
+      this, [&]() { morphnode::VisemeMap::Load(p); }, message))
   {
     vtkErrorMacro(<< "SetVisemeTableFileName: " << message);
     return false;
@@ -350,7 +359,8 @@ bool vtkBehaviorTimeSource::SetBehaviorParameter(const char* name, double value)
 {
   morphnode::BehaviorParameters parameters = this->Internals->Controller.GetParameters();
   std::string message;
-  if (!Guarded(this, [&]() { morphnode::SetBehaviorParameter(parameters, Str(name), value); }, message))
+  if (!Guarded(
+        this, [&]() { morphnode::SetBehaviorParameter(parameters, Str(name), value); }, message))
   {
     vtkErrorMacro(<< "SetBehaviorParameter: " << message);
     return false;
@@ -362,8 +372,13 @@ double vtkBehaviorTimeSource::GetBehaviorParameter(const char* name)
 {
   double value = std::numeric_limits<double>::quiet_NaN();
   std::string message;
-  if (!Guarded(this,
-        [&]() { value = morphnode::GetBehaviorParameter(this->Internals->Controller.GetParameters(), Str(name)); },
+  if (!Guarded(
+        this,
+        [&]()
+        {
+          value =
+            morphnode::GetBehaviorParameter(this->Internals->Controller.GetParameters(), Str(name));
+        },
         message))
   {
     vtkErrorMacro(<< "GetBehaviorParameter: " << message);
@@ -379,7 +394,8 @@ bool vtkBehaviorTimeSource::SetBehaviorParameters(const morphnode::BehaviorParam
   {
     // Compared bit for bit as the setters compare (NaN is rejected by the range checks).
     same = same &&
-      morphnode::GetBehaviorParameter(current, name) == morphnode::GetBehaviorParameter(parameters, name);
+      morphnode::GetBehaviorParameter(current, name) ==
+        morphnode::GetBehaviorParameter(parameters, name);
   }
   if (same)
   {
@@ -406,14 +422,16 @@ bool vtkBehaviorTimeSource::Say(const char* text, double start)
 
 bool vtkBehaviorTimeSource::SpeakPhonemeFile(const char* path, double start)
 {
-  MORPHNODE_COMMAND("SpeakPhonemeFile", this->Internals->Controller.SpeakPhonemeFile(Str(path), start));
+  MORPHNODE_COMMAND(
+    "SpeakPhonemeFile", this->Internals->Controller.SpeakPhonemeFile(Str(path), start));
 }
 
 bool vtkBehaviorTimeSource::SpeakPhonemes(const char* pho, double start)
 {
   MORPHNODE_COMMAND("SpeakPhonemes",
     this->Internals->Controller.Speak(
-      morphnode::UtteranceFromPhonemes(morphnode::ParsePho(Str(pho)), this->Internals->Speech->Options()),
+      morphnode::UtteranceFromPhonemes(
+        morphnode::ParsePho(Str(pho)), this->Internals->Speech->Options()),
       start));
 }
 
@@ -421,7 +439,8 @@ bool vtkBehaviorTimeSource::SpeakRhubarbFile(const char* path, double start)
 {
   MORPHNODE_COMMAND("SpeakRhubarbFile",
     this->Internals->Controller.Speak(
-      morphnode::UtteranceFromMouthCues(morphnode::ReadRhubarbFile(Str(path)), this->Internals->Speech->Options()),
+      morphnode::UtteranceFromMouthCues(
+        morphnode::ReadRhubarbFile(Str(path)), this->Internals->Speech->Options()),
       start));
 }
 
@@ -429,7 +448,8 @@ bool vtkBehaviorTimeSource::SpeakRhubarbCues(const char* cues, double start)
 {
   MORPHNODE_COMMAND("SpeakRhubarbCues",
     this->Internals->Controller.Speak(
-      morphnode::UtteranceFromMouthCues(morphnode::ParseRhubarb(Str(cues)), this->Internals->Speech->Options()),
+      morphnode::UtteranceFromMouthCues(
+        morphnode::ParseRhubarb(Str(cues)), this->Internals->Speech->Options()),
       start));
 }
 
@@ -437,7 +457,8 @@ bool vtkBehaviorTimeSource::SetTimingFormat(const char* name)
 {
   try
   {
-    this->Internals->Timing.Format = morphnode::ParseTimingFormat(Str(name).empty() ? "auto" : Str(name));
+    this->Internals->Timing.Format =
+      morphnode::ParseTimingFormat(Str(name).empty() ? "auto" : Str(name));
   }
   catch (const std::exception& e)
   {
@@ -456,7 +477,8 @@ bool vtkBehaviorTimeSource::SpeakTimingFile(const char* path, double start)
 {
   MORPHNODE_COMMAND("SpeakTimingFile",
     this->Internals->Controller.Speak(
-      morphnode::LoadTimingFile(Str(path), this->Internals->Speech->Options(), this->Internals->Timing),
+      morphnode::LoadTimingFile(
+        Str(path), this->Internals->Speech->Options(), this->Internals->Timing),
       start));
 }
 
@@ -469,7 +491,8 @@ bool vtkBehaviorTimeSource::SpeakAudioFile(const char* path, const char* transcr
       morphnode::SpeakAudioFile(Str(path), this->Internals->Speech->Options(), recording), start));
 }
 
-bool vtkBehaviorTimeSource::SpeakAudioFileWithTimings(const char* path, const char* timingFile, double start)
+bool vtkBehaviorTimeSource::SpeakAudioFileWithTimings(
+  const char* path, const char* timingFile, double start)
 {
   morphnode::RecordingOptions recording;
   recording.TimingFile = Str(timingFile);
@@ -490,7 +513,8 @@ bool vtkBehaviorTimeSource::Speak(const morphnode::Utterance& utterance, double 
   MORPHNODE_COMMAND("Speak", this->Internals->Controller.Speak(utterance, start));
 }
 
-bool vtkBehaviorTimeSource::Gesture(const char* name, double start, double duration, double intensity)
+bool vtkBehaviorTimeSource::Gesture(
+  const char* name, double start, double duration, double intensity)
 {
   MORPHNODE_COMMAND(
     "Gesture", this->Internals->Controller.Gesture(Str(name), start, duration, intensity));
@@ -498,7 +522,8 @@ bool vtkBehaviorTimeSource::Gesture(const char* name, double start, double durat
 
 bool vtkBehaviorTimeSource::SetMood(const char* name, double intensity, double start, double fade)
 {
-  MORPHNODE_COMMAND("SetMood", this->Internals->Controller.SetMood(Str(name), intensity, start, fade));
+  MORPHNODE_COMMAND(
+    "SetMood", this->Internals->Controller.SetMood(Str(name), intensity, start, fade));
 }
 
 bool vtkBehaviorTimeSource::LookAt(double yaw, double pitch, double start, double duration)
@@ -564,8 +589,10 @@ bool vtkBehaviorTimeSource::EnsurePrepared()
     this->Internals->ScriptError.clear();
     controller.ClearCommands();
     std::string message;
-    const bool ok = Guarded(this,
-      [&]() {
+    const bool ok = Guarded(
+      this,
+      [&]()
+      {
         if (!this->Internals->ScriptFileName.empty())
         {
           controller.LoadScript(this->Internals->ScriptFileName);
@@ -594,7 +621,8 @@ bool vtkBehaviorTimeSource::EnsurePrepared()
   }
   this->Internals->Track = nullptr;
   std::string message;
-  if (!Guarded(this, [&]() { controller.Prepare(); }, message))
+  if (!Guarded(
+        this, [&]() { controller.Prepare(); }, message))
   {
     vtkErrorMacro(<< "cannot prepare the behaviour: " << message);
     return false;
@@ -604,8 +632,9 @@ bool vtkBehaviorTimeSource::EnsurePrepared()
 
 int vtkBehaviorTimeSource::GetNumberOfChannels()
 {
-  return this->EnsurePrepared() ? static_cast<int>(this->Internals->Controller.GetNumberOfChannels())
-                                : 0;
+  return this->EnsurePrepared()
+    ? static_cast<int>(this->Internals->Controller.GetNumberOfChannels())
+    : 0;
 }
 
 const char* vtkBehaviorTimeSource::GetChannelName(int index)
@@ -698,7 +727,9 @@ bool vtkBehaviorTimeSource::WriteAudio(const char* path)
     return false;
   }
   std::string message;
-  if (!Guarded(this, [&]() { morphnode::WriteBehaviorAudio(Str(path), this->Internals->Controller); }, message))
+  if (!Guarded(
+        this, [&]() { morphnode::WriteBehaviorAudio(Str(path), this->Internals->Controller); },
+        message))
   {
     vtkErrorMacro(<< "WriteAudio: " << message);
     return false;
@@ -759,7 +790,8 @@ int vtkBehaviorTimeSource::RequestData(
   const double t = vtkMorphTrackSource::RequestedTime(outputVector);
   std::vector<double> row(names.size());
   std::string message;
-  if (!Guarded(this, [&]() { controller.Sample(t, row.data()); }, message))
+  if (!Guarded(
+        this, [&]() { controller.Sample(t, row.data()); }, message))
   {
     vtkErrorMacro(<< "cannot sample the behaviour at t = " << t << ": " << message);
     return 0;
@@ -784,7 +816,8 @@ int vtkBehaviorTimeSource::RequestData(
   if (!this->Internals->Track)
   {
     morphnode::WeightTrack sampled;
-    if (!Guarded(this, [&]() { sampled = controller.SampleTrack(); }, message))
+    if (!Guarded(
+          this, [&]() { sampled = controller.SampleTrack(); }, message))
     {
       vtkErrorMacro(<< "cannot build the track: " << message);
       frame->Initialize();
@@ -830,10 +863,12 @@ void vtkBehaviorTimeSource::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "SpeechRate: " << this->Internals->Speech->Rate << "\n";
   os << indent << "VisemeSet: " << this->GetVisemeSetAsString() << "\n";
   os << indent << "ScriptFileName: "
-     << (this->Internals->ScriptFileName.empty() ? "(none)" : this->Internals->ScriptFileName) << "\n";
+     << (this->Internals->ScriptFileName.empty() ? "(none)" : this->Internals->ScriptFileName)
+     << "\n";
   os << indent << "Script: " << this->Internals->Script.size() << " characters\n";
   os << indent << "VisemeTableFileName: "
-     << (this->Internals->Speech->VisemeTable.empty() ? "(none)" : this->Internals->Speech->VisemeTable)
+     << (this->Internals->Speech->VisemeTable.empty() ? "(none)"
+                                                      : this->Internals->Speech->VisemeTable)
      << "\n";
   os << indent << "BehaviorParameters:";
   const morphnode::BehaviorParameters defaults;

@@ -156,8 +156,8 @@ public:
 
   ///@{
   /**
-   * A viseme table file (docs/speech.md, e.g. one of Modules/Core/speech/data/visemes_*.json adapted to
-   * a face) used by the speech commands instead of the built-in table of VisemeSet;
+   * A viseme table file (docs/speech.md, e.g. one of Modules/Core/speech/data/visemes_*.json
+   * adapted to a face) used by the speech commands instead of the built-in table of VisemeSet;
    * nullptr or "" (default) = the built-in one. The file is checked when set: one that
    * cannot be read is an error, returns false and keeps the previous table.
    */

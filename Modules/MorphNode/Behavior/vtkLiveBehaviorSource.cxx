@@ -38,11 +38,13 @@ struct vtkLiveBehaviorSource::vtkInternals
   {
     // Warnings of the synthesis (unknown phonemes) go to this source; the synthesizer is
     // the behaviour's, which the source owns, so `self` outlives it.
-    this->Speech.Warn = [self](const std::string& message) { vtkWarningWithObjectMacro(self, << message); };
+    this->Speech.Warn = [self](const std::string& message)
+    { vtkWarningWithObjectMacro(self, << message); };
     auto live = std::make_unique<morphnode::LiveBehavior>(
       morphnode::SelectVisemeMap(this->Speech).GetVisemes(), this->Parameters, this->Seed);
     const morphnode::SpeechOptions speech = this->Speech;
-    live->SetSynthesizer([speech](const std::string& text) { return morphnode::SpeakText(text, speech); });
+    live->SetSynthesizer(
+      [speech](const std::string& text) { return morphnode::SpeakText(text, speech); });
     this->Live = std::move(live);
     this->Offset = 0.0;
   }
@@ -138,10 +140,12 @@ bool vtkLiveBehaviorSource::SetVisemeSetFromString(const char* name)
 {
   vtkInternals& in = *this->Internals;
   const morphnode::VisemeSet old = in.Speech.Visemes;
-  const bool ok = Guarded(this, "SetVisemeSetFromString", [&]() {
-    in.Speech.Visemes = morphnode::ParseVisemeSet(name ? name : "");
-    in.Start(this);
-  });
+  const bool ok = Guarded(this, "SetVisemeSetFromString",
+    [&]()
+    {
+      in.Speech.Visemes = morphnode::ParseVisemeSet(name ? name : "");
+      in.Start(this);
+    });
   if (!ok)
   {
     in.Speech.Visemes = old;
@@ -165,37 +169,40 @@ int vtkLiveBehaviorSource::GetNumberOfChannels()
 const char* vtkLiveBehaviorSource::GetChannelName(int index)
 {
   const auto& names = this->Internals->Live->GetChannelNames();
-  return index >= 0 && static_cast<size_t>(index) < names.size() ? names[static_cast<size_t>(index)].c_str()
-                                                                  : nullptr;
+  return index >= 0 && static_cast<size_t>(index) < names.size()
+    ? names[static_cast<size_t>(index)].c_str()
+    : nullptr;
 }
 
 //------------------------------------------------------------------------------
 bool vtkLiveBehaviorSource::Say(const char* text, double now)
 {
-  const bool ok = Guarded(this, "Say", [&]() { this->Internals->Live->Say(text ? text : "", now); });
+  const bool ok =
+    Guarded(this, "Say", [&]() { this->Internals->Live->Say(text ? text : "", now); });
   this->Modified();
   return ok;
 }
 
 bool vtkLiveBehaviorSource::Gesture(const char* name, double now, double intensity, double duration)
 {
-  const bool ok = Guarded(
-    this, "Gesture", [&]() { this->Internals->Live->Gesture(name ? name : "", now, intensity, duration); });
+  const bool ok = Guarded(this, "Gesture",
+    [&]() { this->Internals->Live->Gesture(name ? name : "", now, intensity, duration); });
   this->Modified();
   return ok;
 }
 
 bool vtkLiveBehaviorSource::SetMood(const char* name, double intensity, double now)
 {
-  const bool ok =
-    Guarded(this, "SetMood", [&]() { this->Internals->Live->SetMood(name ? name : "", intensity, now); });
+  const bool ok = Guarded(
+    this, "SetMood", [&]() { this->Internals->Live->SetMood(name ? name : "", intensity, now); });
   this->Modified();
   return ok;
 }
 
 bool vtkLiveBehaviorSource::LookAt(double yaw, double pitch, double now, double duration)
 {
-  const bool ok = Guarded(this, "LookAt", [&]() { this->Internals->Live->LookAt(yaw, pitch, now, duration); });
+  const bool ok =
+    Guarded(this, "LookAt", [&]() { this->Internals->Live->LookAt(yaw, pitch, now, duration); });
   this->Modified();
   return ok;
 }
@@ -272,8 +279,8 @@ void vtkLiveBehaviorSource::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Voice: " << in.Speech.Voice << "\n";
   os << indent << "SpeechRate: " << in.Speech.Rate << "\n";
   os << indent << "VisemeSet: " << morphnode::VisemeSetName(in.Speech.Visemes) << "\n";
-  os << indent << "VisemeTable: " << (in.Speech.VisemeTablePath.empty() ? "(built-in)" : in.Speech.VisemeTablePath)
-     << "\n";
+  os << indent << "VisemeTable: "
+     << (in.Speech.VisemeTablePath.empty() ? "(built-in)" : in.Speech.VisemeTablePath) << "\n";
   os << indent << "NumberOfChannels: " << in.Live->GetNumberOfChannels() << "\n";
   os << indent << "LastSampleTime: " << in.Live->GetLastSampleTime() << "\n";
   os << indent << "TimeOffset: " << in.Offset << "\n";

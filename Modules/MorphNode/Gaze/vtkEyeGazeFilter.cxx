@@ -39,7 +39,8 @@ namespace
 {
 /// A new array of `in`'s type and name holding `in`'s 3-vectors turned (points when
 /// `points`, else directions).
-vtkSmartPointer<vtkDataArray> Turned(vtkDataArray* in, const morphnode::RigidTurn& turn, bool points)
+vtkSmartPointer<vtkDataArray> Turned(
+  vtkDataArray* in, const morphnode::RigidTurn& turn, bool points)
 {
   vtkSmartPointer<vtkDataArray> out;
   out.TakeReference(in->NewInstance());
@@ -92,7 +93,8 @@ public:
         return rig.GetEyes();
       }
     }
-    const std::array<double, 3> forward{ { self->EyeForward[0], self->EyeForward[1], self->EyeForward[2] } };
+    const std::array<double, 3> forward{ { self->EyeForward[0], self->EyeForward[1],
+      self->EyeForward[2] } };
     const std::array<double, 3> up{ { self->EyeUp[0], self->EyeUp[1], self->EyeUp[2] } };
     morphnode::EyeLimits limits;
     limits.MaxYaw = self->MaxEyeYaw;
@@ -121,7 +123,8 @@ public:
     const std::string name = partName.empty() ? nodeName : partName;
     std::array<double, 3> origin{ { 0, 0, 0 } };
     std::array<double, 9> axes{ { 1, 0, 0, 0, 1, 0, 0, 0, 1 } };
-    const morphnode::GazeAngles angles = morphnode::EyeAngles(gaze, vergence, eye.Side, rig.GetLimits());
+    const morphnode::GazeAngles angles =
+      morphnode::EyeAngles(gaze, vergence, eye.Side, rig.GetLimits());
     morphnode::RigidTurn turn;
     try
     {
@@ -144,8 +147,9 @@ public:
     }
     for (int which = 0; which < 2; ++which)
     {
-      vtkDataSetAttributes* in = which == 0 ? static_cast<vtkDataSetAttributes*>(leaf->GetPointData())
-                                            : static_cast<vtkDataSetAttributes*>(leaf->GetCellData());
+      vtkDataSetAttributes* in = which == 0
+        ? static_cast<vtkDataSetAttributes*>(leaf->GetPointData())
+        : static_cast<vtkDataSetAttributes*>(leaf->GetCellData());
       vtkDataSetAttributes* o = which == 0 ? static_cast<vtkDataSetAttributes*>(out->GetPointData())
                                            : static_cast<vtkDataSetAttributes*>(out->GetCellData());
       vtkDataArray* normals = in->GetNormals();
@@ -277,8 +281,10 @@ int vtkEyeGazeFilter::RequestData(
         {
           continue;
         }
-        const bool named = node.HasMetaData() && node.GetMetaData()->Has(vtkCompositeDataSet::NAME());
-        const std::string blockName = named ? node.GetMetaData()->Get(vtkCompositeDataSet::NAME()) : "";
+        const bool named =
+          node.HasMetaData() && node.GetMetaData()->Has(vtkCompositeDataSet::NAME());
+        const std::string blockName =
+          named ? node.GetMetaData()->Get(vtkCompositeDataSet::NAME()) : "";
         if (auto turned = this->Internals->Turn(leaf, blockName, rig, gaze, this->Vergence))
         {
           node = turned;
@@ -336,7 +342,8 @@ void vtkEyeGazeFilter::PrintSelf(ostream& os, vtkIndent indent)
   {
     os << " '" << name << "'";
   }
-  os << (this->Internals->EyeNames.empty() ? " (none: the rig's or the default convention)\n" : "\n");
+  os << (this->Internals->EyeNames.empty() ? " (none: the rig's or the default convention)\n"
+                                           : "\n");
   os << indent << "RigFileName: " << (this->RigFileName ? this->RigFileName : "(none)") << "\n";
   this->Internals->RigCache.Print(os, indent);
   os << indent << "NumberOfEyeParts: " << this->NumberOfEyeParts << "\n";

@@ -48,7 +48,8 @@
  * size, degenerate directions, a rig file that does not read, a gaze table without the
  * columns or rows.
  *
- * @sa vtkMorphTrackFilter vtkMorphTargetReader vtkMorphNodeFilter vtkBehaviorTimeSource morphnode::EyeRig
+ * @sa vtkMorphTrackFilter vtkMorphTargetReader vtkMorphNodeFilter vtkBehaviorTimeSource
+ * morphnode::EyeRig
  */
 
 #ifndef vtkEyeGazeFilter_h

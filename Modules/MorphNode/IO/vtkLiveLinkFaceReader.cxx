@@ -42,14 +42,17 @@ struct vtkLiveLinkFaceReader::vtkInternals
 
   /// The face's target names (relative, no neutral): the connected face's, else
   /// SetTargetNames()'s, else none. False (an error reported) for a face without TargetNames.
-  bool FaceTargets(vtkLiveLinkFaceReader* self, vtkInformationVector** inputVector, std::vector<std::string>& targets)
+  bool FaceTargets(vtkLiveLinkFaceReader* self, vtkInformationVector** inputVector,
+    std::vector<std::string>& targets)
   {
     if (self->GetNumberOfInputConnections(0) > 0)
     {
-      if (!vtkMorphTargetArrays::GetFaceTargetNames(vtkDataObject::GetData(inputVector[0], 0), targets))
+      if (!vtkMorphTargetArrays::GetFaceTargetNames(
+            vtkDataObject::GetData(inputVector[0], 0), targets))
       {
         vtkErrorWithObjectMacro(self, << "the face on input port 0 has no field data '"
-                                      << vtkMorphTargetArrays::TargetNamesArray << "' (neutral first)");
+                                      << vtkMorphTargetArrays::TargetNamesArray
+                                      << "' (neutral first)");
         return false;
       }
     }
@@ -139,7 +142,9 @@ int vtkLiveLinkFaceReader::GetNumberOfChannels()
 const char* vtkLiveLinkFaceReader::GetChannelName(int index)
 {
   const auto& names = this->Internals->Channels;
-  return index >= 0 && static_cast<size_t>(index) < names.size() ? names[static_cast<size_t>(index)].c_str() : nullptr;
+  return index >= 0 && static_cast<size_t>(index) < names.size()
+    ? names[static_cast<size_t>(index)].c_str()
+    : nullptr;
 }
 
 int vtkLiveLinkFaceReader::GetNumberOfUnmappedNames()
@@ -150,7 +155,9 @@ int vtkLiveLinkFaceReader::GetNumberOfUnmappedNames()
 const char* vtkLiveLinkFaceReader::GetUnmappedName(int index)
 {
   const auto& names = this->Internals->Unmapped;
-  return index >= 0 && static_cast<size_t>(index) < names.size() ? names[static_cast<size_t>(index)].c_str() : nullptr;
+  return index >= 0 && static_cast<size_t>(index) < names.size()
+    ? names[static_cast<size_t>(index)].c_str()
+    : nullptr;
 }
 
 const char* vtkLiveLinkFaceReader::GetMappingReport()
@@ -203,8 +210,8 @@ int vtkLiveLinkFaceReader::RequestInformation(
     return 0;
   }
   const auto& times = this->Internals->Capture.Times;
-  vtkMorphTrackSource::SetTimeInformation(
-    outputVector, times.data(), static_cast<int>(times.size()), this->Internals->Capture.GetDuration());
+  vtkMorphTrackSource::SetTimeInformation(outputVector, times.data(),
+    static_cast<int>(times.size()), this->Internals->Capture.GetDuration());
   return 1;
 }
 

@@ -41,7 +41,8 @@
  * and both outputs are empty. The file is read again after any change of the reader
  * (a setting, Modified()), not for each time step.
  *
- * @sa vtkMorphTrackSource vtkMorphNodeFilter vtkBehaviorTimeSource vtkMorphRigFilter morphnode::ReadLiveLinkCsv
+ * @sa vtkMorphTrackSource vtkMorphNodeFilter vtkBehaviorTimeSource vtkMorphRigFilter
+ * morphnode::ReadLiveLinkCsv
  */
 
 #ifndef vtkLiveLinkFaceReader_h

@@ -51,7 +51,8 @@ std::vector<float> ToFloats(vtkDataArray* a)
 }
 
 /// One leaf as a glTF part (world space) and its node name.
-morphnode::GltfPart ToPart(vtkPolyData* poly, const std::string& fallbackName, std::string& nodeName)
+morphnode::GltfPart ToPart(
+  vtkPolyData* poly, const std::string& fallbackName, std::string& nodeName)
 {
   morphnode::GltfPart part;
   vtkFieldData* fd = poly->GetFieldData();
@@ -85,7 +86,8 @@ morphnode::GltfPart ToPart(vtkPolyData* poly, const std::string& fallbackName, s
     const int nc = colors->GetNumberOfComponents();
     if ((nc != 3 && nc != 4) || colors->GetNumberOfTuples() != n)
     {
-      throw morphnode::InputError("part '" + part.Name + "': COLOR_0 must be RGB or RGBA per point");
+      throw morphnode::InputError(
+        "part '" + part.Name + "': COLOR_0 must be RGB or RGBA per point");
     }
     const double scale = colors->GetDataType() == VTK_UNSIGNED_CHAR ? 1.0 / 255.0
       : colors->GetDataType() == VTK_UNSIGNED_SHORT                 ? 1.0 / 65535.0
@@ -95,7 +97,8 @@ morphnode::GltfPart ToPart(vtkPolyData* poly, const std::string& fallbackName, s
     {
       for (int c = 0; c < 4; ++c)
       {
-        part.Colors[4 * i + c] = c < nc ? static_cast<float>(colors->GetComponent(i, c) * scale) : 1.0f;
+        part.Colors[4 * i + c] =
+          c < nc ? static_cast<float>(colors->GetComponent(i, c) * scale) : 1.0f;
       }
     }
   }
@@ -187,7 +190,8 @@ std::vector<vtkPolyData*> Leaves(vtkDataObject* input)
       auto* leaf = vtkPolyData::SafeDownCast(node);
       if (!leaf)
       {
-        throw morphnode::InputError(std::string("a leaf is a ") + node->GetClassName() + ", not a vtkPolyData");
+        throw morphnode::InputError(
+          std::string("a leaf is a ") + node->GetClassName() + ", not a vtkPolyData");
       }
       if (leaf->GetNumberOfPoints() > 0)
       {
@@ -197,7 +201,8 @@ std::vector<vtkPolyData*> Leaves(vtkDataObject* input)
   }
   else
   {
-    throw morphnode::InputError(std::string("the input is a ") + (input ? input->GetClassName() : "null object") +
+    throw morphnode::InputError(std::string("the input is a ") +
+      (input ? input->GetClassName() : "null object") +
       ", not a vtkPolyData or a composite data set of them");
   }
   if (leaves.empty())
@@ -215,8 +220,9 @@ std::vector<vtkPolyData*> Leaves(vtkDataObject* input)
 /// primitive of a mesh). `frames`: each node's centre and axes (the leaves' NodeOrigin and
 /// NodeAxes; a joint's from its rest transform); `bounds`: of every leaf; `humanoid` and
 /// `rangeMaps`: a VRM avatar's bones and look-at (vtkMorphSkinArrays.h).
-morphnode::GltfScene ToScene(const std::vector<vtkPolyData*>& leaves, std::vector<morphnode::GltfNodeFrame>& frames,
-  double bounds[6], std::map<std::string, std::string>& humanoid, morphnode::EyeRangeMaps& rangeMaps)
+morphnode::GltfScene ToScene(const std::vector<vtkPolyData*>& leaves,
+  std::vector<morphnode::GltfNodeFrame>& frames, double bounds[6],
+  std::map<std::string, std::string>& humanoid, morphnode::EyeRangeMaps& rangeMaps)
 {
   namespace skin = vtkMorphSkinArrays;
   morphnode::GltfScene scene;
@@ -241,7 +247,8 @@ morphnode::GltfScene ToScene(const std::vector<vtkPolyData*>& leaves, std::vecto
   for (const auto& node : scene.Nodes)
   {
     const morphnode::GltfMatrix& w = node.World;
-    frames.push_back({ { { w[12], w[13], w[14] } }, { { w[0], w[1], w[2], w[4], w[5], w[6], w[8], w[9], w[10] } } });
+    frames.push_back({ { { w[12], w[13], w[14] } },
+      { { w[0], w[1], w[2], w[4], w[5], w[6], w[8], w[9], w[10] } } });
   }
   std::vector<morphnode::GltfMatrix> worlds;
   for (const auto& node : scene.Nodes)
@@ -278,11 +285,13 @@ morphnode::GltfScene ToScene(const std::vector<vtkPolyData*>& leaves, std::vecto
       bool same = s.Bones.GetNumberOfJoints() == joints;
       for (size_t j = 0; same && j < joints; ++j)
       {
-        same = s.Bones.GetJoint(j).Name == scene.Nodes[j].Name && s.Bones.GetJoint(j).Parent == scene.Nodes[j].Parent;
+        same = s.Bones.GetJoint(j).Name == scene.Nodes[j].Name &&
+          s.Bones.GetJoint(j).Parent == scene.Nodes[j].Parent;
       }
       if (!same)
       {
-        throw morphnode::InputError("part '" + part.Name + "' is skinned to another skeleton than the first skinned part");
+        throw morphnode::InputError(
+          "part '" + part.Name + "' is skinned to another skeleton than the first skinned part");
       }
       morphnode::GltfSkin gskin;
       gskin.Joints = s.Joints.Joints;
@@ -293,7 +302,8 @@ morphnode::GltfScene ToScene(const std::vector<vtkPolyData*>& leaves, std::vecto
       int index = -1;
       for (size_t k = 0; k < scene.Skins.size(); ++k)
       {
-        if (scene.Skins[k].Joints == gskin.Joints && scene.Skins[k].InverseBind == gskin.InverseBind)
+        if (scene.Skins[k].Joints == gskin.Joints &&
+          scene.Skins[k].InverseBind == gskin.InverseBind)
         {
           index = static_cast<int>(k);
         }
@@ -347,7 +357,8 @@ morphnode::GltfScene ToScene(const std::vector<vtkPolyData*>& leaves, std::vecto
 /// MaterialIndex and MaterialSource field data): the source scene's own, written back whole
 /// by the core writer. Parts from several files, or a source that no longer loads, keep the
 /// base colour materials made from their field data.
-void AddSourceMaterials(morphnode::GltfScene& scene, const std::vector<vtkPolyData*>& leaves, vtkObject* self)
+void AddSourceMaterials(
+  morphnode::GltfScene& scene, const std::vector<vtkPolyData*>& leaves, vtkObject* self)
 {
   std::string source;
   bool one = true;
@@ -382,8 +393,8 @@ void AddSourceMaterials(morphnode::GltfScene& scene, const std::vector<vtkPolyDa
   }
   catch (const std::exception& e)
   {
-    vtkWarningWithObjectMacro(self, << "the materials of " << source << " are not written (" << e.what()
-                                    << "); base colours only");
+    vtkWarningWithObjectMacro(self, << "the materials of " << source << " are not written ("
+                                    << e.what() << "); base colours only");
     scene.Materials.clear();
     scene.Images.clear();
   }
@@ -396,7 +407,8 @@ morphnode::GltfPerformanceTable ToTable(vtkTable* table, const char* timeName)
   t.Times = Column(table, timeName);
   if (t.Times.empty())
   {
-    throw morphnode::InputError(std::string("the performance has no numeric time column '") + timeName + "'");
+    throw morphnode::InputError(
+      std::string("the performance has no numeric time column '") + timeName + "'");
   }
   for (vtkIdType c = 0; c < table->GetNumberOfColumns(); ++c)
   {
@@ -478,7 +490,8 @@ void vtkMorphGltfWriter::WriteData()
     const std::vector<vtkPolyData*> leaves = Leaves(this->GetInput(0));
     morphnode::GltfPerformanceSettings settings;
     double bounds[6];
-    morphnode::GltfScene scene = ToScene(leaves, settings.NodeFrames, bounds, settings.Humanoid, settings.RangeMaps);
+    morphnode::GltfScene scene =
+      ToScene(leaves, settings.NodeFrames, bounds, settings.Humanoid, settings.RangeMaps);
     AddSourceMaterials(scene, leaves, this);
     this->NumberOfParts = static_cast<int>(scene.Parts.size());
 
@@ -488,8 +501,8 @@ void vtkMorphGltfWriter::WriteData()
     {
       performance = ToTable(table, this->TimeArrayName ? this->TimeArrayName : "Time");
     }
-    settings.Interpolation =
-      this->Interpolation == STEP ? morphnode::GltfInterpolation::Step : morphnode::GltfInterpolation::Linear;
+    settings.Interpolation = this->Interpolation == STEP ? morphnode::GltfInterpolation::Step
+                                                         : morphnode::GltfInterpolation::Linear;
     settings.ApplyOptimizer = this->ApplyOptimizer;
     settings.OptimizerPreset = this->OptimizerPreset;
     settings.Threshold = this->Threshold;
@@ -534,7 +547,8 @@ void vtkMorphGltfWriter::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "FileName: " << (this->FileName ? this->FileName : "(none)") << "\n";
-  os << indent << "TimeArrayName: " << (this->TimeArrayName ? this->TimeArrayName : "(none)") << "\n";
+  os << indent << "TimeArrayName: " << (this->TimeArrayName ? this->TimeArrayName : "(none)")
+     << "\n";
   os << indent << "Interpolation: " << (this->Interpolation == STEP ? "STEP" : "LINEAR") << "\n";
   os << indent << "ApplyOptimizer: " << this->ApplyOptimizer << "\n";
   os << indent << "OptimizerPreset: " << this->OptimizerPreset << "\n";

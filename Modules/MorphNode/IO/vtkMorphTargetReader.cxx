@@ -9,8 +9,8 @@
 #include "base/Text.h"
 #include "gltf/GltfAnimation.h"
 #include "gltf/GltfPose.h"
-#include "gltf/GltfVrm.h"
 #include "gltf/GltfScene.h"
+#include "gltf/GltfVrm.h"
 #include "morph/MorphMesh.h"
 #include "morph/Normals.h"
 #include "rig/ObjSet.h"
@@ -49,7 +49,8 @@ using arrays::Kind;
 
 bool IsGltf(const std::string& fileName)
 {
-  return morphnode::text::HasExtension(fileName, ".glb") || morphnode::text::HasExtension(fileName, ".gltf");
+  return morphnode::text::HasExtension(fileName, ".glb") ||
+    morphnode::text::HasExtension(fileName, ".gltf");
 }
 
 vtkSmartPointer<vtkDataArray> MakeVectors(const std::string& name, const std::vector<float>& values)
@@ -71,10 +72,12 @@ vtkSmartPointer<vtkPolyData> PartToPolyData(const morphnode::GltfPart& part)
 
   vtkNew<vtkCellArray> polys;
   const size_t numTriangles = part.GetNumberOfTriangles();
-  polys->AllocateExact(static_cast<vtkIdType>(numTriangles), 3 * static_cast<vtkIdType>(numTriangles));
+  polys->AllocateExact(
+    static_cast<vtkIdType>(numTriangles), 3 * static_cast<vtkIdType>(numTriangles));
   for (size_t t = 0; t < numTriangles; ++t)
   {
-    const vtkIdType ids[3] = { part.Triangles[3 * t], part.Triangles[3 * t + 1], part.Triangles[3 * t + 2] };
+    const vtkIdType ids[3] = { part.Triangles[3 * t], part.Triangles[3 * t + 1],
+      part.Triangles[3 * t + 2] };
     polys->InsertNextCell(3, ids);
   }
   output->SetPolys(polys);
@@ -110,8 +113,8 @@ vtkSmartPointer<vtkPolyData> PartToPolyData(const morphnode::GltfPart& part)
 }
 
 /// Scale, normals (computed by the policy), and field data `TargetNames`.
-void FinishMesh(vtkPolyData* output, const std::vector<std::string>& targetNames, double scale,
-  int normalsMode)
+void FinishMesh(
+  vtkPolyData* output, const std::vector<std::string>& targetNames, double scale, int normalsMode)
 {
   const size_t numPoints = static_cast<size_t>(output->GetNumberOfPoints());
   const size_t numTargets = targetNames.size() - 1;
@@ -120,7 +123,8 @@ void FinishMesh(vtkPolyData* output, const std::vector<std::string>& targetNames
   if (scale != 1.0)
   {
     // New arrays: the geometry's may be shared.
-    auto scaled = [&](vtkDataArray* array) {
+    auto scaled = [&](vtkDataArray* array)
+    {
       std::vector<double> values = arrays::ToVector<double>(array);
       for (double& v : values)
       {
@@ -152,8 +156,8 @@ void FinishMesh(vtkPolyData* output, const std::vector<std::string>& targetNames
   {
     const std::vector<uint32_t> triangles = arrays::GetTriangles(output, true);
     const std::vector<float> base = arrays::ToVector<float>(output->GetPoints()->GetData());
-    const std::vector<float> normals =
-      morphnode::ComputeVertexNormals(base.data(), numPoints, triangles.data(), triangles.size() / 3);
+    const std::vector<float> normals = morphnode::ComputeVertexNormals(
+      base.data(), numPoints, triangles.data(), triangles.size() / 3);
     if (baseNormals && baseNormals->GetName())
     {
       pd->RemoveArray(baseNormals->GetName());
@@ -166,8 +170,8 @@ void FinishMesh(vtkPolyData* output, const std::vector<std::string>& targetNames
         arrays::GetDeltas(pd, k, Kind::Position, output->GetNumberOfPoints()));
       pd->RemoveArray(name.c_str());
       pd->AddArray(MakeVectors(name,
-        morphnode::ComputeNormalDeltas(base.data(), delta.data(), normals, numPoints,
-          triangles.data(), triangles.size() / 3)));
+        morphnode::ComputeNormalDeltas(
+          base.data(), delta.data(), normals, numPoints, triangles.data(), triangles.size() / 3)));
     }
   }
   else if (baseNormals && !pd->GetNormals())
@@ -190,7 +194,8 @@ std::vector<std::string> TargetNamesOf(const morphnode::GltfPart& part)
 }
 
 /// The node tree of the scene as a data assembly, each part's index on its node.
-vtkSmartPointer<vtkDataAssembly> MakeAssembly(const morphnode::GltfScene& scene, const std::string& fileName)
+vtkSmartPointer<vtkDataAssembly> MakeAssembly(
+  const morphnode::GltfScene& scene, const std::string& fileName)
 {
   auto assembly = vtkSmartPointer<vtkDataAssembly>::New();
   std::string root = scene.SceneName;
@@ -198,7 +203,8 @@ vtkSmartPointer<vtkDataAssembly> MakeAssembly(const morphnode::GltfScene& scene,
   {
     root = std::filesystem::path(fileName).stem().string();
   }
-  assembly->SetRootNodeName(vtkDataAssembly::MakeValidNodeName(root.empty() ? "Scene" : root.c_str()).c_str());
+  assembly->SetRootNodeName(
+    vtkDataAssembly::MakeValidNodeName(root.empty() ? "Scene" : root.c_str()).c_str());
   std::vector<std::vector<unsigned int>> partsOfNode(scene.Nodes.size());
   for (size_t p = 0; p < scene.Parts.size(); ++p)
   {
@@ -219,7 +225,8 @@ vtkSmartPointer<vtkDataAssembly> MakeAssembly(const morphnode::GltfScene& scene,
     stack.pop_back();
     const morphnode::GltfNode& gltfNode = scene.Nodes[static_cast<size_t>(node)];
     const int id = assembly->AddNode(
-      vtkDataAssembly::MakeValidNodeName(morphnode::GltfNodeName(scene, node).c_str()).c_str(), parent);
+      vtkDataAssembly::MakeValidNodeName(morphnode::GltfNodeName(scene, node).c_str()).c_str(),
+      parent);
     for (unsigned int p : partsOfNode[static_cast<size_t>(node)])
     {
       assembly->AddDataSetIndex(id, p);
@@ -244,8 +251,9 @@ void AddColumn(vtkTable* table, const std::string& name, const double* values, i
 
 /// A posed part in the convention with the part's field data (vtkMorphPartData.h): its
 /// weights, and for a part of a whole scene its world frame and skin.
-vtkSmartPointer<vtkPolyData> PartOutput(const morphnode::GltfScene& scene, const morphnode::GltfPose& pose,
-  const morphnode::GltfPart& part, bool whole, double scale, int normalsMode, const morphnode::GltfVrm& vrm)
+vtkSmartPointer<vtkPolyData> PartOutput(const morphnode::GltfScene& scene,
+  const morphnode::GltfPose& pose, const morphnode::GltfPart& part, bool whole, double scale,
+  int normalsMode, const morphnode::GltfVrm& vrm)
 {
   auto poly = PartToPolyData(part);
   FinishMesh(poly, TargetNamesOf(part), scale, normalsMode);
@@ -270,8 +278,9 @@ vtkSmartPointer<vtkPolyData> PartOutput(const morphnode::GltfScene& scene, const
 
 /// Port 1: one row of weights by target name, the animated nodes' TRS (`<node>.translation`
 /// scaled, `.rotation`, `.scale`), field data Time and AnimationName.
-void FillWeights(vtkTable* table, const morphnode::GltfScene& scene, const morphnode::GltfPose& pose,
-  const std::vector<std::string>& names, const std::vector<double>& values, double scale)
+void FillWeights(vtkTable* table, const morphnode::GltfScene& scene,
+  const morphnode::GltfPose& pose, const std::vector<std::string>& names,
+  const std::vector<double>& values, double scale)
 {
   for (size_t k = 0; k < names.size(); ++k)
   {
@@ -283,7 +292,8 @@ void FillWeights(vtkTable* table, const morphnode::GltfScene& scene, const morph
     const std::string name = morphnode::GltfNodeName(scene, n);
     if (node.TranslationAnimated)
     {
-      const double t[3] = { scale * node.Translation[0], scale * node.Translation[1], scale * node.Translation[2] };
+      const double t[3] = { scale * node.Translation[0], scale * node.Translation[1],
+        scale * node.Translation[2] };
       AddColumn(table, name + ".translation", t, 3);
     }
     if (node.RotationAnimated)
@@ -298,7 +308,8 @@ void FillWeights(vtkTable* table, const morphnode::GltfScene& scene, const morph
   partdata::SetNumbers(table->GetFieldData(), "Time", &pose.Time, 1);
   const int animation = pose.Options.Animation;
   partdata::SetString(table->GetFieldData(), "AnimationName",
-    animation >= 0 ? morphnode::GltfAnimationName(scene, static_cast<size_t>(animation)) : std::string());
+    animation >= 0 ? morphnode::GltfAnimationName(scene, static_cast<size_t>(animation))
+                   : std::string());
 }
 } // namespace
 
@@ -353,8 +364,8 @@ std::shared_ptr<const morphnode::GltfScene> vtkMorphTargetReader::LoadScene(bool
   const std::uintmax_t size = ec ? 0 : fs::file_size(this->FileName, ec);
   SceneCache* cache = this->Cache.get();
   if (!ec && cache && cache->Scene && cache->FileName == this->FileName &&
-    cache->ApplyTransforms == applyTransforms && cache->WriteTime == writeTime && cache->Size == size &&
-    cache->ReaderTime == this->GetMTime())
+    cache->ApplyTransforms == applyTransforms && cache->WriteTime == writeTime &&
+    cache->Size == size && cache->ReaderTime == this->GetMTime())
   {
     return cache->Scene;
   }
@@ -366,7 +377,8 @@ std::shared_ptr<const morphnode::GltfScene> vtkMorphTargetReader::LoadScene(bool
   // the scene (a GLB of 1,000 instances took 9 GB for one frame against a 2 GiB core
   // limit, issue 29), so the core scene gets a quarter of the budget (docs/limits.md).
   options.MaxDecodedBytes = morphnode::GltfLoadOptions().MaxDecodedBytes / 4;
-  auto scene = std::make_shared<const morphnode::GltfScene>(morphnode::LoadGltfScene(this->FileName, options));
+  auto scene =
+    std::make_shared<const morphnode::GltfScene>(morphnode::LoadGltfScene(this->FileName, options));
   if (!ec)
   {
     this->Cache = std::make_unique<SceneCache>();
@@ -393,7 +405,8 @@ int vtkMorphTargetReader::ResolveAnimation(const morphnode::GltfScene& scene) co
       }
     }
     std::ostringstream msg;
-    msg << "'" << this->FileName << "' has no animation named '" << this->AnimationName << "'; animations:";
+    msg << "'" << this->FileName << "' has no animation named '" << this->AnimationName
+        << "'; animations:";
     for (size_t a = 0; a < scene.Animations.size(); ++a)
     {
       msg << " " << morphnode::GltfAnimationName(scene, a);
@@ -404,10 +417,12 @@ int vtkMorphTargetReader::ResolveAnimation(const morphnode::GltfScene& scene) co
     }
     throw InputError(msg.str());
   }
-  if (this->AnimationIndex >= 0 && static_cast<size_t>(this->AnimationIndex) >= scene.Animations.size())
+  if (this->AnimationIndex >= 0 &&
+    static_cast<size_t>(this->AnimationIndex) >= scene.Animations.size())
   {
-    throw InputError("animation index " + std::to_string(this->AnimationIndex) + " out of range: '" +
-      this->FileName + "' has " + std::to_string(scene.Animations.size()) + " animations");
+    throw InputError("animation index " + std::to_string(this->AnimationIndex) +
+      " out of range: '" + this->FileName + "' has " + std::to_string(scene.Animations.size()) +
+      " animations");
   }
   return this->AnimationIndex;
 }
@@ -493,7 +508,8 @@ int vtkMorphTargetReader::RequestInformation(
     }
     else
     {
-      outInfo->Set(vtkStreamingDemandDrivenPipeline::TIME_STEPS(), steps.data(), static_cast<int>(steps.size()));
+      outInfo->Set(vtkStreamingDemandDrivenPipeline::TIME_STEPS(), steps.data(),
+        static_cast<int>(steps.size()));
       outInfo->Set(vtkStreamingDemandDrivenPipeline::TIME_RANGE(), this->AnimationRange, 2);
     }
   }
@@ -578,8 +594,9 @@ int vtkMorphTargetReader::RequestData(
     }
     else
     {
-      throw InputError("'" + this->FileName + "': expected a .glb or .gltf file, an OBJ set's "
-                                              "folder or its neutral .obj");
+      throw InputError("'" + this->FileName +
+        "': expected a .glb or .gltf file, an OBJ set's "
+        "folder or its neutral .obj");
     }
     this->UpdateProgress(1.0);
     return 1;
@@ -646,21 +663,24 @@ void vtkMorphTargetReader::ReadGltf(
     morphnode::GltfVrm vrm;
     try
     {
-      if (std::any_of(scene.Parts.begin(), scene.Parts.end(), [](const morphnode::GltfPart& q) { return q.Skin >= 0; }))
+      if (std::any_of(scene.Parts.begin(), scene.Parts.end(),
+            [](const morphnode::GltfPart& q) { return q.Skin >= 0; }))
       {
         vrm = morphnode::ReadGltfVrm(this->FileName);
       }
     }
     catch (const std::exception& e)
     {
-      vtkWarningMacro(<< "the VRM description of " << this->FileName << " is not used: " << e.what());
+      vtkWarningMacro(<< "the VRM description of " << this->FileName
+                      << " is not used: " << e.what());
     }
     for (size_t p = 0; p < scene.Parts.size(); ++p)
     {
       const morphnode::GltfPart part = morphnode::PoseGltfPart(scene, pose, scene.Parts[p]);
       collection->SetPartition(static_cast<unsigned int>(p), 0,
         PartOutput(scene, pose, part, true, this->Scale, this->NormalsMode, vrm));
-      collection->GetMetaData(static_cast<unsigned int>(p))->Set(vtkCompositeDataSet::NAME(), part.Name.c_str());
+      collection->GetMetaData(static_cast<unsigned int>(p))
+        ->Set(vtkCompositeDataSet::NAME(), part.Name.c_str());
       this->PartNames.push_back(part.Name);
       this->UpdateProgress(0.5 + 0.5 * double(p + 1) / double(scene.Parts.size()));
     }
@@ -676,7 +696,8 @@ void vtkMorphTargetReader::ReadGltf(
     }
     collection->SetDataAssembly(MakeAssembly(scene, this->FileName));
     arrays::SetTargetNames(collection->GetFieldData(), this->TargetNames);
-    const morphnode::GltfNamedWeights named = morphnode::GltfWeightsByTargetName(scene, pose.Sample);
+    const morphnode::GltfNamedWeights named =
+      morphnode::GltfWeightsByTargetName(scene, pose.Sample);
     weightNames = named.Names;
     weightValues = named.Values;
   }
@@ -688,8 +709,10 @@ void vtkMorphTargetReader::ReadGltf(
       throw InputError("internal: the output is not a vtkPolyData");
     }
     const morphnode::GltfPart part = morphnode::PoseGltfPart(scene, pose,
-      morphnode::FindGltfPart(scene, this->MeshName, this->MeshIndex, this->PrimitiveIndex, this->FileName));
-    poly->ShallowCopy(PartOutput(scene, pose, part, false, this->Scale, this->NormalsMode, morphnode::GltfVrm{}));
+      morphnode::FindGltfPart(
+        scene, this->MeshName, this->MeshIndex, this->PrimitiveIndex, this->FileName));
+    poly->ShallowCopy(
+      PartOutput(scene, pose, part, false, this->Scale, this->NormalsMode, morphnode::GltfVrm{}));
     this->TargetNames = TargetNamesOf(part);
     this->PartNames.push_back(part.Name);
     const std::vector<double>& w = pose.Sample.Nodes[static_cast<size_t>(part.Node)].Weights;
@@ -720,7 +743,8 @@ void vtkMorphTargetReader::ReadObjSet(vtkPolyData* output)
   }
   else if (neutral.empty())
   {
-    neutral = fs::exists(folder / "generic_neutral_mesh.obj") ? "generic_neutral_mesh.obj" : "neutral.obj";
+    neutral =
+      fs::exists(folder / "generic_neutral_mesh.obj") ? "generic_neutral_mesh.obj" : "neutral.obj";
   }
   const morphnode::MorphMesh set = morphnode::ReadObjSetDirectory(folder.string(), neutral);
   output->ShallowCopy(arrays::ToPolyData(set));

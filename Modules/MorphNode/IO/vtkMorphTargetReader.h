@@ -165,9 +165,9 @@ public:
   /// Normals policy.
   enum NormalsModes
   {
-    NORMALS_FROM_FILE = 0,   ///< never compute
+    NORMALS_FROM_FILE = 0,    ///< never compute
     NORMALS_WHEN_MISSING = 1, ///< compute all when the base or any target lacks them (default)
-    NORMALS_ALWAYS = 2       ///< always compute from the geometry
+    NORMALS_ALWAYS = 2        ///< always compute from the geometry
   };
   vtkSetClampMacro(NormalsMode, int, NORMALS_FROM_FILE, NORMALS_ALWAYS);
   vtkGetMacro(NormalsMode, int);

@@ -32,7 +32,8 @@ bool Reducible(vtkPointSet* part)
 {
   auto* poly = vtkPolyData::SafeDownCast(part);
   return poly && poly->GetNumberOfStrips() == 0 && poly->GetNumberOfLines() == 0 &&
-    poly->GetNumberOfVerts() == 0 && poly->GetNumberOfPolys() >= static_cast<vtkIdType>(MinimumTriangles) &&
+    poly->GetNumberOfVerts() == 0 &&
+    poly->GetNumberOfPolys() >= static_cast<vtkIdType>(MinimumTriangles) &&
     poly->GetPolys()->IsHomogeneous() == 3;
 }
 
@@ -72,7 +73,8 @@ std::vector<std::vector<glm::dmat4>> AvatarSkinPoses(const vtkMorphSkinArrays::S
 
 /// Blends attribute `a` of the part at the shown level into `array` (n tuples).
 template <typename T>
-void BlendInto(const morphnode::ScalableScene& scene, size_t part, size_t a, vtkDataArray* array, size_t n)
+void BlendInto(
+  const morphnode::ScalableScene& scene, size_t part, size_t a, vtkDataArray* array, size_t n)
 {
   const int nc = array->GetNumberOfComponents();
   if (array->GetDataType() == (std::is_same_v<T, float> ? VTK_FLOAT : VTK_DOUBLE))
@@ -86,14 +88,15 @@ void BlendInto(const morphnode::ScalableScene& scene, size_t part, size_t a, vtk
   {
     for (int c = 0; c < nc; ++c)
     {
-      array->SetComponent(static_cast<vtkIdType>(p), c, values[p * static_cast<size_t>(nc) + static_cast<size_t>(c)]);
+      array->SetComponent(
+        static_cast<vtkIdType>(p), c, values[p * static_cast<size_t>(nc) + static_cast<size_t>(c)]);
     }
   }
 }
 } // namespace
 
-std::shared_ptr<const morphnode::MorphLadder> BuildLadder(const morphnode::MorphMesh& model, vtkPointSet* part,
-  const morphnode::LadderSettings& settings, const std::string& what)
+std::shared_ptr<const morphnode::MorphLadder> BuildLadder(const morphnode::MorphMesh& model,
+  vtkPointSet* part, const morphnode::LadderSettings& settings, const std::string& what)
 {
   try
   {
@@ -103,8 +106,9 @@ std::shared_ptr<const morphnode::MorphLadder> BuildLadder(const morphnode::Morph
     }
     const bool reduce = Reducible(part);
     morphnode::MorphMesh mesh = model;
-    mesh.SetTriangles(reduce ? vtkMorphTargetArrays::GetTriangles(vtkPolyData::SafeDownCast(part), false)
-                             : std::vector<uint32_t>());
+    mesh.SetTriangles(reduce
+        ? vtkMorphTargetArrays::GetTriangles(vtkPolyData::SafeDownCast(part), false)
+        : std::vector<uint32_t>());
     morphnode::SkinInfluences influences;
     morphnode::LadderSettings s = settings;
     if (vtkMorphSkinArrays::IsSkinned(part))
@@ -120,7 +124,8 @@ std::shared_ptr<const morphnode::MorphLadder> BuildLadder(const morphnode::Morph
     {
       s.TriangleFractions.clear(); // kept whole, in the input's numbering
     }
-    return std::make_shared<const morphnode::MorphLadder>(morphnode::BuildMorphLadder(mesh, influences, s));
+    return std::make_shared<const morphnode::MorphLadder>(
+      morphnode::BuildMorphLadder(mesh, influences, s));
   }
   catch (const morphnode::InputError& e)
   {
@@ -147,7 +152,8 @@ void Assembler::Reset()
   this->Previous.clear();
 }
 
-void Assembler::Assemble(const morphnode::ScalableScene& scene, size_t part, vtkPointSet* input, vtkPolyData* output)
+void Assembler::Assemble(
+  const morphnode::ScalableScene& scene, size_t part, vtkPointSet* input, vtkPolyData* output)
 {
   const morphnode::MorphLadder& ladder = scene.GetLadder(part);
   const morphnode::SceneFrame& frame = scene.GetFrame();
@@ -182,7 +188,8 @@ void Assembler::Assemble(const morphnode::ScalableScene& scene, size_t part, vtk
     for (int a = 0; a < made.Gathered->GetNumberOfArrays(); ++a)
     {
       vtkAbstractArray* target = made.Gathered->GetAbstractArray(a);
-      if (vtkAbstractArray* source = target->GetName() ? inPD->GetAbstractArray(target->GetName()) : nullptr)
+      if (vtkAbstractArray* source =
+            target->GetName() ? inPD->GetAbstractArray(target->GetName()) : nullptr)
       {
         source->GetTuples(from, target);
       }
@@ -200,7 +207,8 @@ void Assembler::Assemble(const morphnode::ScalableScene& scene, size_t part, vtk
     {
       const std::vector<uint32_t>& triangles = ladder.Levels[static_cast<size_t>(level)].Triangles;
       made.Polys = vtkSmartPointer<vtkCellArray>::New();
-      made.Polys->AllocateExact(static_cast<vtkIdType>(triangles.size() / 3), static_cast<vtkIdType>(triangles.size()));
+      made.Polys->AllocateExact(
+        static_cast<vtkIdType>(triangles.size() / 3), static_cast<vtkIdType>(triangles.size()));
       for (size_t t = 0; t + 2 < triangles.size(); t += 3)
       {
         const vtkIdType tri[3] = { triangles[t], triangles[t + 1], triangles[t + 2] };
@@ -223,8 +231,8 @@ void Assembler::Assemble(const morphnode::ScalableScene& scene, size_t part, vtk
     last.Points = vtkSmartPointer<vtkPoints>::New();
     last.Points->SetDataTypeToFloat();
     last.Points->SetNumberOfPoints(vn);
-    std::copy_n(
-      scene.GetPositions(part).data(), 3 * n, static_cast<float*>(last.Points->GetData()->GetVoidPointer(0)));
+    std::copy_n(scene.GetPositions(part).data(), 3 * n,
+      static_cast<float*>(last.Points->GetData()->GetVoidPointer(0)));
   }
   output->SetPoints(last.Points);
   if (made.Polys)
@@ -260,7 +268,8 @@ void Assembler::Assemble(const morphnode::ScalableScene& scene, size_t part, vtk
       continue;
     }
     const morphnode::AnyMorphAttribute& attribute = ladder.Mesh.GetAttribute(a);
-    const std::string& name = std::visit([](const auto& v) -> const std::string& { return v.GetName(); }, attribute);
+    const std::string& name =
+      std::visit([](const auto& v) -> const std::string& { return v.GetName(); }, attribute);
     vtkDataArray* gathered = outPD->GetArray(name.c_str());
     if (!gathered)
     {
@@ -284,7 +293,8 @@ void Assembler::Assemble(const morphnode::ScalableScene& scene, size_t part, vtk
 
   output->GetFieldData()->PassData(input->GetFieldData());
   const morphnode::ControllerDecision& d = frame.Decision;
-  const bool slides = d.MorphTowards >= 0 && level == d.Level && static_cast<size_t>(level) + 1 < ladder.Levels.size();
+  const bool slides = d.MorphTowards >= 0 && level == d.Level &&
+    static_cast<size_t>(level) + 1 < ladder.Levels.size();
   vtkNew<vtkDoubleArray> lod;
   lod->SetName(LevelOfDetailArray);
   lod->SetNumberOfComponents(5);
@@ -293,8 +303,9 @@ void Assembler::Assemble(const morphnode::ScalableScene& scene, size_t part, vtk
   lod->SetComponentName(2, "Alpha");
   lod->SetComponentName(3, "ActiveTargets");
   lod->SetComponentName(4, "Points");
-  const double tuple[5] = { static_cast<double>(level), slides ? static_cast<double>(d.MorphTowards) : -1.0,
-    slides ? d.Alpha : 0.0, static_cast<double>(d.ActiveTargets), static_cast<double>(frame.NumberOfPoints) };
+  const double tuple[5] = { static_cast<double>(level),
+    slides ? static_cast<double>(d.MorphTowards) : -1.0, slides ? d.Alpha : 0.0,
+    static_cast<double>(d.ActiveTargets), static_cast<double>(frame.NumberOfPoints) };
   lod->InsertNextTuple(tuple);
   output->GetFieldData()->AddArray(lod);
 }
@@ -312,7 +323,8 @@ void SceneLevels::Clear()
 }
 
 void SceneLevels::SetParts(const std::vector<const morphnode::MorphMesh*>& models,
-  const std::vector<vtkPointSet*>& parts, const std::vector<std::string>& names, uint64_t generation)
+  const std::vector<vtkPointSet*>& parts, const std::vector<std::string>& names,
+  uint64_t generation)
 {
   if (generation == this->Generation && !this->Inputs.empty())
   {
@@ -320,14 +332,15 @@ void SceneLevels::SetParts(const std::vector<const morphnode::MorphMesh*>& model
   }
   this->Clear();
   morphnode::ScalableScene::Ladders ladders;
-  if (models.size() != parts.size() || std::find(models.begin(), models.end(), nullptr) != models.end())
+  if (models.size() != parts.size() ||
+    std::find(models.begin(), models.end(), nullptr) != models.end())
   {
     throw morphnode::InputError("mesh levels: a part without its model");
   }
   for (size_t p = 0; p < parts.size(); ++p)
   {
-    ladders.push_back(
-      BuildLadder(*models[p], parts[p], morphnode::LadderSettings(), p < names.size() ? names[p] : "a part"));
+    ladders.push_back(BuildLadder(
+      *models[p], parts[p], morphnode::LadderSettings(), p < names.size() ? names[p] : "a part"));
   }
   this->Scene.SetParts(ladders, morphnode::ScalableScene::Calibrate(ladders));
   this->Inputs = parts;
@@ -335,16 +348,18 @@ void SceneLevels::SetParts(const std::vector<const morphnode::MorphMesh*>& model
 }
 
 const morphnode::SceneFrame& SceneLevels::Update(const std::vector<std::string>& names,
-  const std::vector<double>& weights, const morphnode::ControllerSettings& settings, double pixelsPerUnit)
+  const std::vector<double>& weights, const morphnode::ControllerSettings& settings,
+  double pixelsPerUnit)
 {
   if (this->Inputs.empty())
   {
     throw morphnode::InputError("mesh levels: no parts");
   }
   const morphnode::ControllerSettings& was = this->Scene.GetSettings();
-  if (!this->Configured || was.FrameBudget != settings.FrameBudget || was.PixelBound != settings.PixelBound ||
-    was.FinestLevel != settings.FinestLevel || was.MaxGeomorphPixels != settings.MaxGeomorphPixels ||
-    was.Thresholds != settings.Thresholds || was.TargetPixelBound != settings.TargetPixelBound)
+  if (!this->Configured || was.FrameBudget != settings.FrameBudget ||
+    was.PixelBound != settings.PixelBound || was.FinestLevel != settings.FinestLevel ||
+    was.MaxGeomorphPixels != settings.MaxGeomorphPixels || was.Thresholds != settings.Thresholds ||
+    was.TargetPixelBound != settings.TargetPixelBound)
   {
     this->Scene.SetSettings(settings);
     this->Configured = true;

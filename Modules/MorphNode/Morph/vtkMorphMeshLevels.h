@@ -34,8 +34,8 @@
 
 #include "vtkSmartPointer.h"
 
-#include <memory>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -62,8 +62,8 @@ constexpr size_t MinimumTriangles = 100;
 /// not a vtkPolyData of triangles only (lines, quads, strips, points), or has fewer than
 /// MinimumTriangles, is kept whole: a one-level ladder in the input's numbering. `what`
 /// names the part in messages.
-std::shared_ptr<const morphnode::MorphLadder> BuildLadder(const morphnode::MorphMesh& model, vtkPointSet* part,
-  const morphnode::LadderSettings& settings, const std::string& what);
+std::shared_ptr<const morphnode::MorphLadder> BuildLadder(const morphnode::MorphMesh& model,
+  vtkPointSet* part, const morphnode::LadderSettings& settings, const std::string& what);
 /// The same with the part's model read from its target arrays (vtkMorphTargetArrays::ToMorphMesh,
 /// normals included).
 std::shared_ptr<const morphnode::MorphLadder> BuildLadder(
@@ -81,7 +81,8 @@ public:
   void Reset();
   /// The level the scene's last frame shows of part `part` (whose input is `input`, the
   /// data set its ladder was built from), in the convention above.
-  void Assemble(const morphnode::ScalableScene& scene, size_t part, vtkPointSet* input, vtkPolyData* output);
+  void Assemble(
+    const morphnode::ScalableScene& scene, size_t part, vtkPointSet* input, vtkPolyData* output);
 
 private:
   struct Level
@@ -112,13 +113,15 @@ public:
   /// The parts of model `generation` (their models, their data sets and names, in the
   /// scene's order): the ladders are built again and their blend timed when the generation
   /// differs from the last one's.
-  void SetParts(const std::vector<const morphnode::MorphMesh*>& models, const std::vector<vtkPointSet*>& parts,
-    const std::vector<std::string>& names, uint64_t generation);
+  void SetParts(const std::vector<const morphnode::MorphMesh*>& models,
+    const std::vector<vtkPointSet*>& parts, const std::vector<std::string>& names,
+    uint64_t generation);
   /// One execution: the effective weights over the model's targets `names` (neutral
   /// first), passed to the scene by name; `settings` (the controller is made again only
   /// when they change); the pixels per model unit (0: time alone).
-  const morphnode::SceneFrame& Update(const std::vector<std::string>& names, const std::vector<double>& weights,
-    const morphnode::ControllerSettings& settings, double pixelsPerUnit);
+  const morphnode::SceneFrame& Update(const std::vector<std::string>& names,
+    const std::vector<double>& weights, const morphnode::ControllerSettings& settings,
+    double pixelsPerUnit);
   /// Part `part`'s shown level as VTK data.
   void Assemble(size_t part, vtkPolyData* output);
   const morphnode::ScalableScene& GetScene() const { return this->Scene; }

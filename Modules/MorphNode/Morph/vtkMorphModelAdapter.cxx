@@ -9,6 +9,7 @@
 #include "vtkCompositeDataSet.h"
 #include "vtkCompositeDataSetRange.h"
 #include "vtkDataArray.h"
+#include "vtkDataSetAttributes.h"
 #include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
 #include "vtkFloatArray.h"
@@ -17,7 +18,6 @@
 #include "vtkMultiProcessStream.h"
 #include "vtkPartitionedDataSet.h"
 #include "vtkPartitionedDataSetCollection.h"
-#include "vtkDataSetAttributes.h"
 #include "vtkPointData.h"
 #include "vtkPointSet.h"
 #include "vtkPoints.h"
@@ -55,7 +55,6 @@ std::string LeafName(vtkInformation* meta, unsigned int flatIndex)
   return "#" + std::to_string(flatIndex);
 }
 
-
 /// Adds an attribute from the neutral's array and every other input's array of that name
 /// (absolute targets).
 template <typename GetTarget>
@@ -81,8 +80,8 @@ AttributeRole RoleOf(vtkPointSet* neutral, vtkDataArray* array)
   return IsIntegerType(array->GetDataType()) ? AttributeRole::Color : AttributeRole::Generic;
 }
 
-std::vector<std::string> NamesFrom(vtkPointSet* neutral, const std::vector<vtkPointSet*>& all,
-  size_t numTargets)
+std::vector<std::string> NamesFrom(
+  vtkPointSet* neutral, const std::vector<vtkPointSet*>& all, size_t numTargets)
 {
   if (neutral->GetFieldData()->GetAbstractArray(TargetNamesArray))
   {
@@ -91,8 +90,8 @@ std::vector<std::string> NamesFrom(vtkPointSet* neutral, const std::vector<vtkPo
   std::vector<std::string> result = morphnode::DefaultTargetNames(numTargets);
   for (size_t i = 0; i < all.size() && i < numTargets; ++i)
   {
-    auto* name = vtkStringArray::SafeDownCast(
-      all[i]->GetFieldData()->GetAbstractArray(TargetNameArray));
+    auto* name =
+      vtkStringArray::SafeDownCast(all[i]->GetFieldData()->GetAbstractArray(TargetNameArray));
     if (name && name->GetNumberOfValues() > 0 && !name->GetValue(0).empty())
     {
       result[i] = name->GetValue(0);
@@ -178,8 +177,9 @@ BuiltModel BuildFromAbsoluteTargets(const std::vector<vtkPointSet*>& inputs, dou
   }
   if (HasRelativeTargets(neutral) && inputs.size() > 1)
   {
-    throw InputError("the neutral carries target<k>_position arrays but more targets are connected; "
-                     "use one form of targets only");
+    throw InputError(
+      "the neutral carries target<k>_position arrays but more targets are connected; "
+      "use one form of targets only");
   }
 
   const size_t n = inputs.size();
@@ -232,8 +232,8 @@ BuiltModel BuildFromRelativeTargets(vtkPointSet* input, double sparseCoverage)
   built.Bindings.push_back({ "", input->GetPoints()->GetData(), false });
   if (read.Normals)
   {
-    built.Bindings.push_back({ read.Normals->GetName() ? read.Normals->GetName() : "",
-      read.Normals, true });
+    built.Bindings.push_back(
+      { read.Normals->GetName() ? read.Normals->GetName() : "", read.Normals, true });
   }
   PlanPointArrays(input->GetPointData(), built);
   return built;
@@ -257,8 +257,9 @@ std::vector<vtkPointSet*> AbsoluteShapes(vtkDataObject* input)
 
 BuiltModel BuildModel(const std::vector<vtkPointSet*>& inputs, double sparseCoverage)
 {
-  return inputs.size() == 1 && HasRelativeTargets(inputs[0]) ? BuildFromRelativeTargets(inputs[0], sparseCoverage)
-                                                             : BuildFromAbsoluteTargets(inputs, sparseCoverage);
+  return inputs.size() == 1 && HasRelativeTargets(inputs[0])
+    ? BuildFromRelativeTargets(inputs[0], sparseCoverage)
+    : BuildFromAbsoluteTargets(inputs, sparseCoverage);
 }
 
 std::vector<double> WeightsFromTable(
@@ -303,7 +304,8 @@ vtkSmartPointer<vtkStringArray> MakeNamesArray(
   return arrays::MakeNamesArray(arrayName, names);
 }
 
-vtkSmartPointer<vtkDataArray> MakeDoubleArray(const char* arrayName, const std::vector<double>& values)
+vtkSmartPointer<vtkDataArray> MakeDoubleArray(
+  const char* arrayName, const std::vector<double>& values)
 {
   auto array = vtkSmartPointer<vtkDoubleArray>::New();
   array->SetName(arrayName);
@@ -312,8 +314,8 @@ vtkSmartPointer<vtkDataArray> MakeDoubleArray(const char* arrayName, const std::
   return array;
 }
 
-vtkDataArray* ReuseOrNew(vtkSmartPointer<vtkDataArray>& slot, vtkDataArray* prototype,
-  vtkIdType numTuples, int holders)
+vtkDataArray* ReuseOrNew(
+  vtkSmartPointer<vtkDataArray>& slot, vtkDataArray* prototype, vtkIdType numTuples, int holders)
 {
   const bool reusable = slot && slot->GetReferenceCount() == holders &&
     slot->GetDataType() == prototype->GetDataType() &&
@@ -329,8 +331,8 @@ vtkDataArray* ReuseOrNew(vtkSmartPointer<vtkDataArray>& slot, vtkDataArray* prot
   return slot;
 }
 
-void AssemblePointData(vtkPointData* neutral, const BuiltModel& built,
-  const BlendOutputs& outputs, vtkPointData* out)
+void AssemblePointData(
+  vtkPointData* neutral, const BuiltModel& built, const BlendOutputs& outputs, vtkPointData* out)
 {
   for (const OutputArraySource& source : built.PointArrays)
   {
@@ -361,7 +363,8 @@ std::vector<uint8_t> DuplicateFlags(vtkPointSet* input)
   flags.resize(static_cast<size_t>(input->GetNumberOfPoints()));
   for (vtkIdType i = 0; i < input->GetNumberOfPoints(); ++i)
   {
-    flags[static_cast<size_t>(i)] = (ghosts->GetValue(i) & vtkDataSetAttributes::DUPLICATEPOINT) ? 1 : 0;
+    flags[static_cast<size_t>(i)] =
+      (ghosts->GetValue(i) & vtkDataSetAttributes::DUPLICATEPOINT) ? 1 : 0;
     any = any || flags[static_cast<size_t>(i)];
   }
   if (!any)
@@ -371,7 +374,6 @@ std::vector<uint8_t> DuplicateFlags(vtkPointSet* input)
   return flags;
 }
 
-
 std::vector<std::string> LeafNames(vtkCompositeDataSet* composite, size_t count)
 {
   std::vector<std::string> names;
@@ -379,7 +381,8 @@ std::vector<std::string> LeafNames(vtkCompositeDataSet* composite, size_t count)
   for (unsigned int d = 0; collection && d < collection->GetNumberOfPartitionedDataSets(); ++d)
   {
     vtkPartitionedDataSet* parts = collection->GetPartitionedDataSet(d);
-    const char* name = collection->HasMetaData(d) && collection->GetMetaData(d)->Has(vtkCompositeDataSet::NAME())
+    const char* name =
+      collection->HasMetaData(d) && collection->GetMetaData(d)->Has(vtkCompositeDataSet::NAME())
       ? collection->GetMetaData(d)->Get(vtkCompositeDataSet::NAME())
       : nullptr;
     const unsigned int count = parts ? parts->GetNumberOfPartitions() : 0;
@@ -396,13 +399,13 @@ std::vector<std::string> LeafNames(vtkCompositeDataSet* composite, size_t count)
   {
     for (auto node : vtk::Range(composite, vtk::CompositeDataSetOptions::SkipEmptyNodes))
     {
-      names.push_back(LeafName(node.HasMetaData() ? node.GetMetaData() : nullptr, node.GetFlatIndex()));
+      names.push_back(
+        LeafName(node.HasMetaData() ? node.GetMetaData() : nullptr, node.GetFlatIndex()));
     }
   }
   names.resize(std::max(names.size(), count + 1), "?");
   return names;
 }
-
 
 morphnode::NamedTargetDistances GatherModel(vtkMultiProcessController* controller,
   const morphnode::NamedTargetDistances* piece, const std::string& error)

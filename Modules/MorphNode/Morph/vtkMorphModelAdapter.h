@@ -51,7 +51,7 @@ constexpr const char* DistancePrefix = "Distance_";
 /// A blended attribute and where it lives in VTK.
 struct AttributeBinding
 {
-  std::string ArrayName; ///< empty for the points
+  std::string ArrayName;                   ///< empty for the points
   vtkSmartPointer<vtkDataArray> Prototype; ///< type and layout of the output array
   bool IsNormals = false;
 };
@@ -114,18 +114,19 @@ std::vector<double> WeightsFromTable(
 vtkSmartPointer<vtkStringArray> MakeNamesArray(
   const char* arrayName, const std::vector<std::string>& names);
 /// A one-tuple-per-value vtkDoubleArray.
-vtkSmartPointer<vtkDataArray> MakeDoubleArray(const char* arrayName, const std::vector<double>& values);
+vtkSmartPointer<vtkDataArray> MakeDoubleArray(
+  const char* arrayName, const std::vector<double>& values);
 
 /// `slot` when it has the layout of `prototype` (type, components, `numTuples`) and
 /// `holders` references are all it has (nobody outside the cache holds it), else a new
 /// array of that layout in `slot` (see BlendOutputs).
-vtkDataArray* ReuseOrNew(vtkSmartPointer<vtkDataArray>& slot, vtkDataArray* prototype,
-  vtkIdType numTuples, int holders);
+vtkDataArray* ReuseOrNew(
+  vtkSmartPointer<vtkDataArray>& slot, vtkDataArray* prototype, vtkIdType numTuples, int holders);
 
 /// Fills `out` with the output's point arrays: the neutral's, each blended one in place of
 /// the array it replaces (same attribute role), target arrays left out.
-void AssemblePointData(vtkPointData* neutral, const BuiltModel& built,
-  const BlendOutputs& outputs, vtkPointData* out);
+void AssemblePointData(
+  vtkPointData* neutral, const BuiltModel& built, const BlendOutputs& outputs, vtkPointData* out);
 
 /// Points flagged as duplicates of another piece's (vtkGhostType, DUPLICATEPOINT): left out
 /// of the model's sums (morphnode::MorphScene::SetParts). Empty when the data set flags none.

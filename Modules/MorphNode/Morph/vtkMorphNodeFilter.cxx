@@ -32,12 +32,12 @@
 #include "vtkTable.h"
 
 #include <algorithm>
-#include <map>
 #include <array>
 #include <chrono>
 #include <cstdint>
 #include <cstring>
 #include <functional>
+#include <map>
 #include <memory>
 #include <string>
 #include <utility>
@@ -54,12 +54,14 @@ static_assert(vtkMorphNodeFilter::MAXIMUM == static_cast<int>(morphnode::Redistr
     vtkMorphNodeFilter::REMAINING == static_cast<int>(morphnode::Redistribution::Remaining) &&
     vtkMorphNodeFilter::NEUTRAL == static_cast<int>(morphnode::Redistribution::Neutral),
   "vtkMorphNodeFilter::RedistributionStrategies must match morphnode::Redistribution");
-static_assert(vtkMorphNodeFilter::OPTIMIZER_NONE == static_cast<int>(morphnode::OptimizerPreset::None) &&
+static_assert(
+  vtkMorphNodeFilter::OPTIMIZER_NONE == static_cast<int>(morphnode::OptimizerPreset::None) &&
     vtkMorphNodeFilter::OPTIMIZER_FIXED_MAXIMUM ==
       static_cast<int>(morphnode::OptimizerPreset::FixedMaximum) &&
     vtkMorphNodeFilter::OPTIMIZER_FIXED_REMAINING ==
       static_cast<int>(morphnode::OptimizerPreset::FixedRemaining) &&
-    vtkMorphNodeFilter::OPTIMIZER_ADJUSTED == static_cast<int>(morphnode::OptimizerPreset::Adjusted) &&
+    vtkMorphNodeFilter::OPTIMIZER_ADJUSTED ==
+      static_cast<int>(morphnode::OptimizerPreset::Adjusted) &&
     vtkMorphNodeFilter::OPTIMIZER_ERROR_BOUNDED ==
       static_cast<int>(morphnode::OptimizerPreset::ErrorBounded) &&
     vtkMorphNodeFilter::OPTIMIZER_ERROR_BOUNDED + 1 == morphnode::NumberOfOptimizerPresets,
@@ -89,8 +91,8 @@ struct vtkMorphNodeFilter::vtkInternals
   morphnode::MorphScene Scene;
   vtkMorphNodeOutput Output;
   bool Composite = false;
-  bool HasScene = false; // the scene has parts (a process with an empty piece has none)
-  bool Ready = false;    // a model was built from the current inputs
+  bool HasScene = false;   // the scene has parts (a process with an empty piece has none)
+  bool Ready = false;      // a model was built from the current inputs
   uint64_t Generation = 0; // counts the models built
   std::vector<std::pair<vtkDataObject*, vtkMTimeType>> From, BuiltFrom;
   double BuiltSparseCoverage = -1.0;
@@ -169,8 +171,10 @@ struct vtkMorphNodeFilter::vtkInternals
       if (!points)
       {
         throw morphnode::InputError("part '" +
-          adapter::LeafNames(this->CompositeInput, this->LeafInputs.size())[this->LeafInputs.size()] +
-          "' of the composite input is a " + leaf->GetClassName() + "; the morph node blends point sets");
+          adapter::LeafNames(
+            this->CompositeInput, this->LeafInputs.size())[this->LeafInputs.size()] +
+          "' of the composite input is a " + leaf->GetClassName() +
+          "; the morph node blends point sets");
       }
       this->LeafInputs.push_back(points);
     }
@@ -192,7 +196,8 @@ struct vtkMorphNodeFilter::vtkInternals
     {
       this->From.emplace_back(input, input ? input->GetMTime() : 0);
     }
-    return this->Ready && this->From == this->BuiltFrom && this->Composite == (this->CompositeInput != nullptr) &&
+    return this->Ready && this->From == this->BuiltFrom &&
+      this->Composite == (this->CompositeInput != nullptr) &&
       this->BuiltSparseCoverage == self->SparseCoverage;
   }
 
@@ -201,7 +206,8 @@ struct vtkMorphNodeFilter::vtkInternals
   {
     std::vector<std::shared_ptr<const morphnode::MorphMesh>> meshes;
     std::vector<std::vector<uint8_t>> flags;
-    auto add = [&](vtkPointSet* input, const std::string& name, auto build) {
+    auto add = [&](vtkPointSet* input, const std::string& name, auto build)
+    {
       vtkMorphNodeOutput::Part part;
       part.Input = input;
       part.Name = name;
@@ -218,14 +224,18 @@ struct vtkMorphNodeFilter::vtkInternals
     using Build = std::function<adapter::BuiltModel()>;
     if (this->Composite)
     {
-      const std::vector<std::string> names = adapter::LeafNames(this->CompositeInput, this->LeafInputs.size());
+      const std::vector<std::string> names =
+        adapter::LeafNames(this->CompositeInput, this->LeafInputs.size());
       for (size_t i = 0; i < this->LeafInputs.size(); ++i)
       {
         vtkPointSet* leaf = this->LeafInputs[i];
         try
         {
-          add(leaf, names[i],
-            leaf->GetNumberOfPoints() == 0 ? Build() : [&] { return adapter::BuildModel({ leaf }, sparseCoverage); });
+          add(
+            leaf, names[i],
+            leaf->GetNumberOfPoints() == 0 ? Build()
+                                           : [&]
+              { return adapter::BuildModel({ leaf }, sparseCoverage); });
         }
         catch (const std::exception& e)
         {
@@ -245,7 +255,9 @@ struct vtkMorphNodeFilter::vtkInternals
     {
       vtkPointSet* neutral = this->Inputs[0];
       const bool emptyPiece = parallel && neutral && neutral->GetNumberOfPoints() == 0;
-      add(neutral, "", emptyPiece ? Build() : [&] { return adapter::BuildModel(this->Inputs, sparseCoverage); });
+      add(
+        neutral, "",
+        emptyPiece ? Build() : [&] { return adapter::BuildModel(this->Inputs, sparseCoverage); });
     }
     if (!meshes.empty())
     {
@@ -285,8 +297,8 @@ struct vtkMorphNodeFilter::vtkInternals
     if (parallel)
     {
       // The whole model's figures, the same on every process.
-      model = adapter::GatherModel(
-        controller, this->HasScene && error.empty() ? &this->Scene.GetPartsDistances() : nullptr, error);
+      model = adapter::GatherModel(controller,
+        this->HasScene && error.empty() ? &this->Scene.GetPartsDistances() : nullptr, error);
       if (this->HasScene)
       {
         this->Scene.SetModel(model);
@@ -303,7 +315,8 @@ struct vtkMorphNodeFilter::vtkInternals
     const std::vector<std::string>& names = parallel ? model.Names : this->Scene.GetTargetNames();
     this->Requests.SetTargets(names);
     this->Output.SetModel(names,
-      parallel ? morphnode::MakeTargetDistances(model).DistNorm : this->Scene.GetTargetDistances().DistNorm);
+      parallel ? morphnode::MakeTargetDistances(model).DistNorm
+               : this->Scene.GetTargetDistances().DistNorm);
   }
 
   /// Requested weights (neutral first): the table on port 1, else the assignments.
@@ -318,8 +331,8 @@ struct vtkMorphNodeFilter::vtkInternals
     this->Requested = adapter::WeightsFromTable(table, this->Requests, matched);
     if (matched == 0 && table->GetNumberOfColumns() > 0)
     {
-      vtkWarningWithObjectMacro(self, << "the weights table on port 1 names none of the " << this->Names().size()
-                                      << " targets; showing the neutral");
+      vtkWarningWithObjectMacro(self, << "the weights table on port 1 names none of the "
+                                      << this->Names().size() << " targets; showing the neutral");
     }
   }
 
@@ -330,7 +343,8 @@ struct vtkMorphNodeFilter::vtkInternals
     if (self->OptimizerPreset >= 0)
     {
       settings = morphnode::MakeOptimizerSettings(
-        static_cast<morphnode::OptimizerPreset>(self->OptimizerPreset), self->Threshold, self->MaxVertexError);
+        static_cast<morphnode::OptimizerPreset>(self->OptimizerPreset), self->Threshold,
+        self->MaxVertexError);
     }
     else
     {
@@ -363,7 +377,8 @@ struct vtkMorphNodeFilter::vtkInternals
     vtkMultiProcessController* controller = self->Controller;
     const std::array<double, 3> mine = this->Budget.GetMeasurement();
     std::array<double, 3> measured = mine;
-    if (IsParallel(controller) && !controller->AllReduce(mine.data(), measured.data(), 3, vtkCommunicator::MAX_OP))
+    if (IsParallel(controller) &&
+      !controller->AllReduce(mine.data(), measured.data(), 3, vtkCommunicator::MAX_OP))
     {
       throw morphnode::InputError("the processes could not exchange their morph times");
     }
@@ -373,7 +388,8 @@ struct vtkMorphNodeFilter::vtkInternals
         this->HasScene ? &this->Scene : nullptr, this->Names().size());
       std::vector<double> moved = piece;
       if (IsParallel(controller) &&
-        !controller->AllReduce(piece.data(), moved.data(), static_cast<vtkIdType>(moved.size()), vtkCommunicator::SUM_OP))
+        !controller->AllReduce(piece.data(), moved.data(), static_cast<vtkIdType>(moved.size()),
+          vtkCommunicator::SUM_OP))
       {
         throw morphnode::InputError("the processes could not exchange their moved points");
       }
@@ -428,12 +444,13 @@ struct vtkMorphNodeFilter::vtkInternals
     settings.PixelBound = self->PixelsPerUnit > 0.0 ? self->LevelPixelBound : 0.0;
     settings.FinestLevel = self->FinestLevel;
     settings.MaxGeomorphPixels = 1.0;
-    const morphnode::SceneFrame& frame =
-      this->Levels.Update(this->Names(), this->Scene.GetEffectiveWeights(), settings, self->PixelsPerUnit);
+    const morphnode::SceneFrame& frame = this->Levels.Update(
+      this->Names(), this->Scene.GetEffectiveWeights(), settings, self->PixelsPerUnit);
     self->Level = frame.Decision.Level;
     self->UpdateProgress(0.9);
 
-    auto level = [&](const vtkMorphNodeOutput::Part& part) -> vtkSmartPointer<vtkDataObject> {
+    auto level = [&](const vtkMorphNodeOutput::Part& part) -> vtkSmartPointer<vtkDataObject>
+    {
       if (part.ScenePart < 0)
       {
         return part.Input; // an empty leaf passes through
@@ -461,13 +478,15 @@ struct vtkMorphNodeFilter::vtkInternals
     auto* poly = vtkPolyData::SafeDownCast(output);
     if (!poly || this->Output.Parts.size() != 1)
     {
-      throw morphnode::InputError("MeshLevels: the input must be a vtkPolyData (or a composite of them)");
+      throw morphnode::InputError(
+        "MeshLevels: the input must be a vtkPolyData (or a composite of them)");
     }
     poly->ShallowCopy(level(this->Output.Parts[0]));
 #else
     (void)self;
     (void)output;
-    throw morphnode::InputError("MeshLevels: this build has no mesh levels (MORPHNODE_ENABLE_REDUCTION off)");
+    throw morphnode::InputError(
+      "MeshLevels: this build has no mesh levels (MORPHNODE_ENABLE_REDUCTION off)");
 #endif
   }
   // ---- End of mesh levels.
@@ -490,12 +509,14 @@ struct vtkMorphNodeFilter::vtkInternals
     }
     else
     {
-      vtkSMPTools::For(0, static_cast<vtkIdType>(numTasks), 1, [this, &where](vtkIdType begin, vtkIdType end) {
-        for (vtkIdType t = begin; t < end; ++t)
+      vtkSMPTools::For(0, static_cast<vtkIdType>(numTasks), 1,
+        [this, &where](vtkIdType begin, vtkIdType end)
         {
-          this->Scene.BlendTask(this->Plan, static_cast<size_t>(t), where);
-        }
-      });
+          for (vtkIdType t = begin; t < end; ++t)
+          {
+            this->Scene.BlendTask(this->Plan, static_cast<size_t>(t), where);
+          }
+        });
     }
     this->Output.Finish();
   }
@@ -551,7 +572,8 @@ void vtkMorphNodeFilter::SetDeviceProfile(const char* name)
     this->SetFinestLevel(profile.FinestLevel);
     delete[] this->DeviceProfile;
     this->DeviceProfile = new char[profile.Name.size() + 1];
-    std::copy(profile.Name.c_str(), profile.Name.c_str() + profile.Name.size() + 1, this->DeviceProfile);
+    std::copy(
+      profile.Name.c_str(), profile.Name.c_str() + profile.Name.size() + 1, this->DeviceProfile);
     this->Modified();
   }
   catch (const morphnode::InputError& e)
@@ -932,8 +954,8 @@ int vtkMorphNodeFilter::RequestData(
       this->UpdateProgress(0.9);
 
       // 4. The output: the input's structure with the blended arrays and field data.
-      internals.Output.Assemble(output, internals.CompositeInput, internals.HasScene ? &internals.Scene : nullptr,
-        this->GenerateDistanceArrays);
+      internals.Output.Assemble(output, internals.CompositeInput,
+        internals.HasScene ? &internals.Scene : nullptr, this->GenerateDistanceArrays);
     }
     vtkInformation* outInfo = outputVector->GetInformationObject(0);
     if (outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP()))
@@ -983,14 +1005,16 @@ void vtkMorphNodeFilter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "FrameBudget: " << this->FrameBudget << " ms\n";
   os << indent << "PixelsPerUnit: " << this->PixelsPerUnit << "\n";
   os << indent << "TargetPixelBound: " << this->TargetPixelBound << " px\n";
-  os << indent << "DeviceProfile: " << (this->DeviceProfile ? this->DeviceProfile : "(none)") << "\n";
+  os << indent << "DeviceProfile: " << (this->DeviceProfile ? this->DeviceProfile : "(none)")
+     << "\n";
   os << indent << "MeshLevels: " << (this->MeshLevels ? "On" : "Off") << "\n";
   os << indent << "LevelPixelBound: " << this->LevelPixelBound << " px\n";
   os << indent << "FinestLevel: " << this->FinestLevel << "\n";
   os << indent << "Level: " << this->Level << "\n";
   os << indent << "FrameBudgetThreshold: " << this->FrameBudgetThreshold << "\n";
   os << indent << "MorphTime: " << this->MorphTime << " ms\n";
-  os << indent << "GenerateDistanceArrays: " << (this->GenerateDistanceArrays ? "On" : "Off") << "\n";
+  os << indent << "GenerateDistanceArrays: " << (this->GenerateDistanceArrays ? "On" : "Off")
+     << "\n";
   os << indent << "SparseCoverage: " << this->SparseCoverage << "\n";
   os << indent << "NumberOfTargets: " << internals.Names().size() << "\n";
   os << indent << "NumberOfParts: " << internals.Output.Parts.size() << "\n";

@@ -36,8 +36,8 @@ const char* const OutputFieldArrays[] = { adapter::TargetNamesArray, adapter::Ef
 /// `holders` more references (the kept output leaves) hold it; `fresh` tells whether a new
 /// array was made.
 template <typename ArrayT, typename Range>
-vtkDataArray* Values(
-  vtkSmartPointer<vtkDataArray>& slot, const char* name, const Range& values, int holders, bool& fresh)
+vtkDataArray* Values(vtkSmartPointer<vtkDataArray>& slot, const char* name, const Range& values,
+  int holders, bool& fresh)
 {
   ArrayT* array = ArrayT::SafeDownCast(slot);
   fresh = !array || slot->GetReferenceCount() != 1 + holders;
@@ -66,7 +66,8 @@ vtkMorphNodeOutput::vtkMorphNodeOutput()
 }
 
 //------------------------------------------------------------------------------
-void vtkMorphNodeOutput::SetModel(const std::vector<std::string>& names, const std::vector<double>& distNorm)
+void vtkMorphNodeOutput::SetModel(
+  const std::vector<std::string>& names, const std::vector<double>& distNorm)
 {
   this->Names = names;
   this->DistNorm->SetNumberOfValues(static_cast<vtkIdType>(distNorm.size()));
@@ -87,7 +88,8 @@ void vtkMorphNodeOutput::PrepareArrays(Part& part)
   // The points' array is held by the vtkPoints and by `points` here.
   vtkSmartPointer<vtkDataArray> points = outputs.Points ? outputs.Points->GetData() : nullptr;
   const bool pointsFree = outputs.Points && outputs.Points->GetReferenceCount() == 1;
-  vtkDataArray* pointArray = adapter::ReuseOrNew(points, bindings[0].Prototype, numPoints, pointsFree ? 2 : 0);
+  vtkDataArray* pointArray =
+    adapter::ReuseOrNew(points, bindings[0].Prototype, numPoints, pointsFree ? 2 : 0);
   if (!pointsFree || outputs.Points->GetData() != pointArray)
   {
     outputs.Points = vtkSmartPointer<vtkPoints>::New();
@@ -99,8 +101,9 @@ void vtkMorphNodeOutput::PrepareArrays(Part& part)
   part.DoubleScratch.resize(numAttributes);
   for (size_t a = 0; a < numAttributes; ++a)
   {
-    vtkDataArray* out =
-      a == 0 ? pointArray : adapter::ReuseOrNew(outputs.Arrays[a - 1], bindings[a].Prototype, numPoints, 1);
+    vtkDataArray* out = a == 0
+      ? pointArray
+      : adapter::ReuseOrNew(outputs.Arrays[a - 1], bindings[a].Prototype, numPoints, 1);
     const size_t values = static_cast<size_t>(numPoints) * out->GetNumberOfComponents();
     if (std::holds_alternative<morphnode::MorphAttribute<float>>(mesh.GetAttribute(a)))
     {
@@ -175,7 +178,8 @@ void vtkMorphNodeOutput::Finish()
     const size_t numAttributes = part.Built->Model.GetNumberOfAttributes();
     for (size_t a = 0; a < numAttributes; ++a)
     {
-      vtkDataArray* out = a == 0 ? part.Outputs.Points->GetData() : part.Outputs.Arrays[a - 1].GetPointer();
+      vtkDataArray* out =
+        a == 0 ? part.Outputs.Points->GetData() : part.Outputs.Arrays[a - 1].GetPointer();
       if (!part.FloatScratch[a].empty())
       {
         vtkMorphTargetArrays::CopyToArray(part.FloatScratch[a].data(), out);
@@ -208,12 +212,14 @@ const std::vector<vtkSmartPointer<vtkDataArray>>& vtkMorphNodeOutput::DistanceAr
     part.Distances.push_back(adapter::MakeDoubleArray(adapter::AnimatedRegionArray, zeros));
     for (size_t i = 1; i < names.size(); ++i)
     {
-      part.Distances.push_back(adapter::MakeDoubleArray((adapter::DistancePrefix + names[i]).c_str(), zeros));
+      part.Distances.push_back(
+        adapter::MakeDoubleArray((adapter::DistancePrefix + names[i]).c_str(), zeros));
     }
     return part.Distances;
   }
   const morphnode::MorphMesh& model = part.Built->Model;
-  part.Distances.push_back(adapter::MakeDoubleArray(adapter::AnimatedRegionArray, model.ComputeAnimatedRegion()));
+  part.Distances.push_back(
+    adapter::MakeDoubleArray(adapter::AnimatedRegionArray, model.ComputeAnimatedRegion()));
   const std::vector<size_t>& targets = scene->GetPartTargets(static_cast<size_t>(part.ScenePart));
   std::vector<size_t> own(names.size(), 0); // the part's target of each scene target, 0: none
   for (size_t k = 1; k < targets.size(); ++k)
@@ -224,7 +230,8 @@ const std::vector<vtkSmartPointer<vtkDataArray>>& vtkMorphNodeOutput::DistanceAr
   {
     const std::string name = adapter::DistancePrefix + names[i];
     part.Distances.push_back(adapter::MakeDoubleArray(name.c_str(),
-      own[i] ? model.ComputePointDistances(own[i]) : std::vector<double>(model.GetNumberOfPoints(), 0.0)));
+      own[i] ? model.ComputePointDistances(own[i])
+             : std::vector<double>(model.GetNumberOfPoints(), 0.0)));
   }
   return part.Distances;
 }
@@ -240,13 +247,14 @@ std::vector<vtkDataArray*> vtkMorphNodeOutput::FieldArrays(
   const auto& effective = scene ? scene->GetEffectiveWeights() : none;
   std::vector<vtkDataArray*> arrays;
   bool made[3] = { false, false, false };
-  arrays.push_back(
-    Values<vtkDoubleArray>(this->EffectiveWeightsOut, adapter::EffectiveWeightsArray, effective, kept, made[0]));
+  arrays.push_back(Values<vtkDoubleArray>(
+    this->EffectiveWeightsOut, adapter::EffectiveWeightsArray, effective, kept, made[0]));
   const int active[] = { scene ? scene->GetActiveTargetCount() : 0 };
-  arrays.push_back(
-    Values<vtkIntArray>(this->ActiveTargetCountOut, adapter::ActiveTargetCountArray, active, kept, made[1]));
+  arrays.push_back(Values<vtkIntArray>(
+    this->ActiveTargetCountOut, adapter::ActiveTargetCountArray, active, kept, made[1]));
   const double bound[] = { scene ? scene->GetErrorBound() : 0.0 };
-  arrays.push_back(Values<vtkDoubleArray>(this->ErrorBoundOut, adapter::ErrorBoundArray, bound, kept, made[2]));
+  arrays.push_back(
+    Values<vtkDoubleArray>(this->ErrorBoundOut, adapter::ErrorBoundArray, bound, kept, made[2]));
   fresh = made[0] || made[1] || made[2];
   if (distances)
   {
@@ -267,8 +275,9 @@ void vtkMorphNodeOutput::AddFieldArrays(vtkFieldData* fd, const morphnode::Morph
 }
 
 //------------------------------------------------------------------------------
-void vtkMorphNodeOutput::AssemblePart(Part& part, vtkPointSet* output, const morphnode::MorphScene* scene,
-  bool distances, const std::vector<vtkDataArray*>& fieldArrays, bool kept)
+void vtkMorphNodeOutput::AssemblePart(Part& part, vtkPointSet* output,
+  const morphnode::MorphScene* scene, bool distances, const std::vector<vtkDataArray*>& fieldArrays,
+  bool kept)
 {
   vtkPointSet* neutral = part.Input;
   if (!kept)
@@ -357,38 +366,40 @@ void vtkMorphNodeOutput::AssemblePart(Part& part, vtkPointSet* output, const mor
 }
 
 //------------------------------------------------------------------------------
-void vtkMorphNodeOutput::Assemble(
-  vtkDataObject* output, vtkCompositeDataSet* input, const morphnode::MorphScene* scene, bool distances)
+void vtkMorphNodeOutput::Assemble(vtkDataObject* output, vtkCompositeDataSet* input,
+  const morphnode::MorphScene* scene, bool distances)
 {
   if (auto* composite = vtkCompositeDataSet::SafeDownCast(output); composite && input)
   {
     this->AssembleComposite(input, composite, scene, distances);
   }
-  else if (auto* points = vtkPointSet::SafeDownCast(output); points && !input && this->Parts.size() == 1)
+  else if (auto* points = vtkPointSet::SafeDownCast(output);
+           points && !input && this->Parts.size() == 1)
   {
     bool fresh = false;
-    this->AssemblePart(this->Parts[0], points, scene, distances, this->FieldArrays(scene, distances, 0, fresh), false);
+    this->AssemblePart(this->Parts[0], points, scene, distances,
+      this->FieldArrays(scene, distances, 0, fresh), false);
   }
   else
   {
-    throw morphnode::InputError(std::string("internal: an output of type ") + output->GetClassName() +
-      " for an input of " + std::to_string(this->Parts.size()) + " parts");
+    throw morphnode::InputError(std::string("internal: an output of type ") +
+      output->GetClassName() + " for an input of " + std::to_string(this->Parts.size()) + " parts");
   }
 }
 
 //------------------------------------------------------------------------------
-void vtkMorphNodeOutput::AssembleComposite(
-  vtkCompositeDataSet* input, vtkCompositeDataSet* output, const morphnode::MorphScene* scene, bool distances)
+void vtkMorphNodeOutput::AssembleComposite(vtkCompositeDataSet* input, vtkCompositeDataSet* output,
+  const morphnode::MorphScene* scene, bool distances)
 {
-  const int kept = static_cast<int>(
-    std::count_if(this->Parts.begin(), this->Parts.end(), [](const Part& p) { return p.LeafKept; }));
+  const int kept = static_cast<int>(std::count_if(
+    this->Parts.begin(), this->Parts.end(), [](const Part& p) { return p.LeafKept; }));
   bool fresh = false;
   const std::vector<vtkDataArray*> fieldArrays = this->FieldArrays(scene, distances, kept, fresh);
   const std::vector<vtkDataArray*> none;
   for (Part& part : this->Parts)
   {
-    this->AssemblePart(
-      part, part.OutputLeaf, scene, distances, part.LeafKept && !fresh ? none : fieldArrays, part.LeafKept);
+    this->AssemblePart(part, part.OutputLeaf, scene, distances,
+      part.LeafKept && !fresh ? none : fieldArrays, part.LeafKept);
   }
   this->PlaceLeaves(input, output);
 }

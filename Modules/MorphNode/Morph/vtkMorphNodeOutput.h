@@ -52,8 +52,9 @@ public:
   {
     vtkPointSet* Input = nullptr; ///< this execution's data set (the neutral in the Java3D form)
     std::string Name;             ///< a leaf's name, for messages
-    std::shared_ptr<const vtkMorphModelAdapter::BuiltModel> Built; ///< null: an empty leaf, passed through
-    int ScenePart = -1;           ///< its part in the scene, -1: none
+    std::shared_ptr<const vtkMorphModelAdapter::BuiltModel>
+      Built;            ///< null: an empty leaf, passed through
+    int ScenePart = -1; ///< its part in the scene, -1: none
     /// Output arrays kept across executions (vtkMorphModelAdapter::BlendOutputs).
     vtkMorphModelAdapter::BlendOutputs Outputs;
     /// Where the blend writes each attribute: the output array itself, or for arrays of
@@ -84,7 +85,10 @@ public:
   /// target moves (the others pass through).
   std::vector<size_t> Prepare(const morphnode::MorphScene& scene, bool composite);
   /// Where each scene part's blend writes (after Prepare), indexed by scene part.
-  const std::vector<const std::vector<morphnode::AttributeOutput>*>& GetWhere() const { return this->WhereByScenePart; }
+  const std::vector<const std::vector<morphnode::AttributeOutput>*>& GetWhere() const
+  {
+    return this->WhereByScenePart;
+  }
   /// After the blend: buffers copied into the arrays of other types, arrays Modified().
   void Finish();
 
@@ -93,8 +97,8 @@ public:
   /// `distances`, field data; for a composite `input`, one such data set per leaf in the
   /// input's structure. `scene` is null for a piece without one. Throws InputError for an
   /// output that does not fit the parts.
-  void Assemble(vtkDataObject* output, vtkCompositeDataSet* input, const morphnode::MorphScene* scene,
-    bool distances);
+  void Assemble(vtkDataObject* output, vtkCompositeDataSet* input,
+    const morphnode::MorphScene* scene, bool distances);
 
   /// The model's target names and this execution's field data (EffectiveWeights,
   /// ActiveTargetCount, ErrorBound), added to `fd`: for output data sets assembled
@@ -105,13 +109,16 @@ public:
   void PlaceLeaves(vtkCompositeDataSet* input, vtkCompositeDataSet* output);
 
 private:
-  const std::vector<vtkSmartPointer<vtkDataArray>>& DistanceArrays(Part& part, const morphnode::MorphScene* scene);
-  std::vector<vtkDataArray*> FieldArrays(const morphnode::MorphScene* scene, bool distances, int kept, bool& fresh);
-  void AssemblePart(Part& part, vtkPointSet* output, const morphnode::MorphScene* scene, bool distances,
-    const std::vector<vtkDataArray*>& fieldArrays, bool kept);
+  const std::vector<vtkSmartPointer<vtkDataArray>>& DistanceArrays(
+    Part& part, const morphnode::MorphScene* scene);
+  std::vector<vtkDataArray*> FieldArrays(
+    const morphnode::MorphScene* scene, bool distances, int kept, bool& fresh);
+  void AssemblePart(Part& part, vtkPointSet* output, const morphnode::MorphScene* scene,
+    bool distances, const std::vector<vtkDataArray*>& fieldArrays, bool kept);
   void AssembleComposite(vtkCompositeDataSet* input, vtkCompositeDataSet* output,
     const morphnode::MorphScene* scene, bool distances);
-  void AssembleCollection(vtkPartitionedDataSetCollection* input, vtkPartitionedDataSetCollection* output);
+  void AssembleCollection(
+    vtkPartitionedDataSetCollection* input, vtkPartitionedDataSetCollection* output);
   static void PrepareArrays(Part& part);
 
   std::vector<std::string> Names;

@@ -33,8 +33,8 @@ void SetImage(vtkFieldData* fd, const std::string& slot, const morphnode::GltfIm
   fd->AddArray(pixels);
   const double size[2] = { double(image.Width), double(image.Height) };
   SetNumbers(fd, ImageSizeArray(slot).c_str(), size, 2);
-  const double s[4] = { double(sampler.MagFilter), double(sampler.MinFilter),
-    double(sampler.WrapS), double(sampler.WrapT) };
+  const double s[4] = { double(sampler.MagFilter), double(sampler.MinFilter), double(sampler.WrapS),
+    double(sampler.WrapT) };
   SetNumbers(fd, SamplerArray(slot).c_str(), s, 4);
 }
 
@@ -201,8 +201,8 @@ PartFields FromGltfPart(
     std::array<double, 9> axes{};
     for (int c = 0; c < 3; ++c)
     {
-      const double length = std::sqrt(
-        m[4 * c] * m[4 * c] + m[4 * c + 1] * m[4 * c + 1] + m[4 * c + 2] * m[4 * c + 2]);
+      const double length =
+        std::sqrt(m[4 * c] * m[4 * c] + m[4 * c + 1] * m[4 * c + 1] + m[4 * c + 2] * m[4 * c + 2]);
       for (int r = 0; r < 3; ++r)
       {
         axes[3 * c + r] = length > 0.0 ? m[4 * c + r] / length : (r == c ? 1.0 : 0.0);

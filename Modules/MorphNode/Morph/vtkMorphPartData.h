@@ -131,8 +131,8 @@ void SetPartFields(vtkFieldData* fd, const PartFields& fields);
 
 /// A glTF part's fields: names (the node's, or `node<n>`), material name and base colour;
 /// with `world`, NodeOrigin (times `scale`) and NodeAxes (unit columns) of part.World.
-PartFields FromGltfPart(const morphnode::GltfScene& scene, const morphnode::GltfPart& part,
-  bool world, double scale);
+PartFields FromGltfPart(
+  const morphnode::GltfScene& scene, const morphnode::GltfPart& part, bool world, double scale);
 /// The part's material (when it has one) as field data and TCoords: index and source file,
 /// factors, alpha, and the textures' images that use the base colour's texture coordinates
 /// (see the file comment).

@@ -22,7 +22,8 @@ namespace vtkMorphSkinArrays
 {
 namespace
 {
-void AddMatrices(vtkFieldData* fd, const char* name, const std::vector<morphnode::GltfMatrix>& matrices, double scale)
+void AddMatrices(vtkFieldData* fd, const char* name,
+  const std::vector<morphnode::GltfMatrix>& matrices, double scale)
 {
   vtkNew<vtkDoubleArray> array;
   array->SetName(name);
@@ -32,13 +33,16 @@ void AddMatrices(vtkFieldData* fd, const char* name, const std::vector<morphnode
   {
     for (int k = 0; k < 16; ++k)
     {
-      array->SetTypedComponent(static_cast<vtkIdType>(i), k, k >= 12 && k < 15 ? scale * matrices[i][static_cast<size_t>(k)] : matrices[i][static_cast<size_t>(k)]);
+      array->SetTypedComponent(static_cast<vtkIdType>(i), k,
+        k >= 12 && k < 15 ? scale * matrices[i][static_cast<size_t>(k)]
+                          : matrices[i][static_cast<size_t>(k)]);
     }
   }
   fd->AddArray(array);
 }
 
-std::vector<glm::dmat4> MatricesOf(vtkFieldData* fd, const char* name, vtkIdType count, const std::string& what)
+std::vector<glm::dmat4> MatricesOf(
+  vtkFieldData* fd, const char* name, vtkIdType count, const std::string& what)
 {
   vtkDataArray* array = fd->GetArray(name);
   if (!array || array->GetNumberOfComponents() != 16 || array->GetNumberOfTuples() != count)
@@ -131,8 +135,8 @@ void AddVrm(vtkPolyData* poly, const morphnode::GltfVrm& vrm)
   {
     vtkNew<vtkDoubleArray> maps;
     maps->SetName(LookAtRangeMapsArray);
-    for (const morphnode::GltfVrmRangeMap* m : { &vrm.HorizontalInner, &vrm.HorizontalOuter, &vrm.VerticalDown,
-           &vrm.VerticalUp })
+    for (const morphnode::GltfVrmRangeMap* m :
+      { &vrm.HorizontalInner, &vrm.HorizontalOuter, &vrm.VerticalDown, &vrm.VerticalUp })
     {
       maps->InsertNextValue(m->InputMax);
       maps->InsertNextValue(m->OutputScale);
@@ -153,9 +157,11 @@ Skin GetSkin(vtkDataSet* data, const std::string& what)
   auto* weights = vtkFloatArray::SafeDownCast(pd->GetArray(WeightsArray));
   const vtkIdType n = data->GetNumberOfPoints();
   if (!joints || !weights || joints->GetNumberOfComponents() != weights->GetNumberOfComponents() ||
-    joints->GetNumberOfComponents() < 1 || joints->GetNumberOfTuples() != n || weights->GetNumberOfTuples() != n)
+    joints->GetNumberOfComponents() < 1 || joints->GetNumberOfTuples() != n ||
+    weights->GetNumberOfTuples() != n)
   {
-    throw morphnode::InputError(what + ": point data SkinJoints (unsigned short) and SkinWeights (float) must have " +
+    throw morphnode::InputError(what +
+      ": point data SkinJoints (unsigned short) and SkinWeights (float) must have " +
       "the same components and one tuple per point");
   }
   vtkFieldData* fd = data->GetFieldData();
@@ -165,8 +171,9 @@ Skin GetSkin(vtkDataSet* data, const std::string& what)
   if (!indices || !names || !parents || indices->GetNumberOfTuples() < 1 ||
     parents->GetNumberOfValues() != names->GetNumberOfValues())
   {
-    throw morphnode::InputError(what + ": field data SkinJointIndices, SkeletonNames and SkeletonParents are missing "
-                                       "or differ in size");
+    throw morphnode::InputError(what +
+      ": field data SkinJointIndices, SkeletonNames and SkeletonParents are missing "
+      "or differ in size");
   }
   Skin skin;
   const vtkIdType numNodes = names->GetNumberOfValues();
@@ -188,8 +195,10 @@ Skin GetSkin(vtkDataSet* data, const std::string& what)
   skin.Joints.InverseBind = MatricesOf(fd, InverseBindArray, indices->GetNumberOfTuples(), what);
   skin.Joints.Validate(skin.Bones, what);
   skin.Influences.PerPoint = static_cast<size_t>(joints->GetNumberOfComponents());
-  skin.Influences.Joints.assign(joints->GetPointer(0), joints->GetPointer(0) + joints->GetNumberOfValues());
-  skin.Influences.Weights.assign(weights->GetPointer(0), weights->GetPointer(0) + weights->GetNumberOfValues());
+  skin.Influences.Joints.assign(
+    joints->GetPointer(0), joints->GetPointer(0) + joints->GetNumberOfValues());
+  skin.Influences.Weights.assign(
+    weights->GetPointer(0), weights->GetPointer(0) + weights->GetNumberOfValues());
   skin.Influences.Normalize(skin.Joints.Joints.size(), what);
   if (auto* bones = vtkStringArray::SafeDownCast(fd->GetAbstractArray(HumanoidBonesArray)))
   {
@@ -209,7 +218,8 @@ Skin GetSkin(vtkDataSet* data, const std::string& what)
     double v[8];
     for (int k = 0; k < 8; ++k)
     {
-      v[k] = maps->GetComponent(k / maps->GetNumberOfComponents(), k % maps->GetNumberOfComponents());
+      v[k] =
+        maps->GetComponent(k / maps->GetNumberOfComponents(), k % maps->GetNumberOfComponents());
       if (!std::isfinite(v[k]) || v[k] < 0.0)
       {
         throw morphnode::InputError(what + ": LookAtRangeMaps must be 8 finite values >= 0");

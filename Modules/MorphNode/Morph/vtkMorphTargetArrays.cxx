@@ -84,16 +84,18 @@ struct CopyToArrayWorker
   {
     using V = vtk::GetAPIType<ArrayT>;
     auto values = vtk::DataArrayValueRange(array);
-    std::transform(this->Values, this->Values + values.size(), values.begin(), [](const T v) {
-      if constexpr (std::is_integral_v<V>)
+    std::transform(this->Values, this->Values + values.size(), values.begin(),
+      [](const T v)
       {
-        return static_cast<V>(std::round(static_cast<double>(v)));
-      }
-      else
-      {
-        return static_cast<V>(v);
-      }
-    });
+        if constexpr (std::is_integral_v<V>)
+        {
+          return static_cast<V>(std::round(static_cast<double>(v)));
+        }
+        else
+        {
+          return static_cast<V>(v);
+        }
+      });
   }
 };
 
@@ -123,8 +125,8 @@ vtkDataArray* NormalsOf(vtkPointSet* input)
 /// The dense deltas of every target of an attribute, one array each, of `vtkType` (-1: the
 /// attribute's own type).
 template <typename T>
-void AddDeltaArrays(const morphnode::MorphAttribute<T>& attribute, Kind kind, int vtkType,
-  vtkPointData* pd)
+void AddDeltaArrays(
+  const morphnode::MorphAttribute<T>& attribute, Kind kind, int vtkType, vtkPointData* pd)
 {
   const size_t numPoints = attribute.GetNumberOfPoints();
   const int c = attribute.GetNumberOfComponents();
@@ -140,10 +142,12 @@ void AddDeltaArrays(const morphnode::MorphAttribute<T>& attribute, Kind kind, in
 }
 
 /// A new array holding an attribute's neutral values in the attribute's type.
-vtkSmartPointer<vtkDataArray> NeutralArray(const morphnode::AnyMorphAttribute& any, const char* name)
+vtkSmartPointer<vtkDataArray> NeutralArray(
+  const morphnode::AnyMorphAttribute& any, const char* name)
 {
   return std::visit(
-    [&](const auto& attribute) {
+    [&](const auto& attribute)
+    {
       using T = typename std::decay_t<decltype(attribute.GetNeutral())>::value_type;
       return NewArray(std::is_same_v<T, float> ? VTK_FLOAT : VTK_DOUBLE, name,
         attribute.GetNumberOfComponents(), static_cast<vtkIdType>(attribute.GetNumberOfPoints()),
@@ -260,7 +264,8 @@ bool GetFaceTargetNames(vtkDataObject* face, std::vector<std::string>& targets)
 {
   targets.clear();
   bool found = false;
-  auto add = [&](vtkDataObject* leaf) {
+  auto add = [&](vtkDataObject* leaf)
+  {
     auto* names = leaf && leaf->GetFieldData()
       ? vtkStringArray::SafeDownCast(leaf->GetFieldData()->GetAbstractArray(TargetNamesArray))
       : nullptr;
@@ -305,7 +310,8 @@ size_t CountFaceTargets(vtkDataObject* face)
       try
       {
         const size_t n = leaf ? CountTargets(leaf->GetPointData(), leaf->GetNumberOfPoints()) : 0;
-        const std::vector<std::string> names = GetTargetNames(leaf ? leaf->GetFieldData() : nullptr, n + 1);
+        const std::vector<std::string> names =
+          GetTargetNames(leaf ? leaf->GetFieldData() : nullptr, n + 1);
         targets.insert(names.begin() + 1, names.end());
       }
       catch (const std::exception&)
@@ -430,7 +436,8 @@ void AddAttribute(morphnode::MorphMesh& mesh, const std::string& name, Attribute
 {
   const vtkIdType numPoints = static_cast<vtkIdType>(mesh.GetNumberOfPoints());
   const int c = neutral ? neutral->GetNumberOfComponents() : 0;
-  auto check = [&](vtkDataArray* array, size_t target) {
+  auto check = [&](vtkDataArray* array, size_t target)
+  {
     if (!array || array->GetNumberOfComponents() != c || array->GetNumberOfTuples() != numPoints)
     {
       std::ostringstream msg;
@@ -461,7 +468,8 @@ void AddAttribute(morphnode::MorphMesh& mesh, const std::string& name, Attribute
   {
     check(targets[i], i + 1);
   }
-  auto fill = [&](auto& attribute) {
+  auto fill = [&](auto& attribute)
+  {
     using T = typename std::decay_t<decltype(attribute.GetNeutral())>::value_type;
     attribute.SetNeutral(ToVector<T>(neutral).data());
     if (IsIntegerType(neutral->GetDataType()))
@@ -544,7 +552,8 @@ MeshFromVTK ToMorphMesh(vtkPointSet* input, const ReadOptions& options)
   mesh.SetTargetNames(GetTargetNames(input->GetFieldData(), numDeltas + 1));
   CheckUniqueNames(mesh.GetTargetNames());
 
-  auto deltas = [&](Kind kind) {
+  auto deltas = [&](Kind kind)
+  {
     std::vector<vtkDataArray*> arrays;
     for (size_t k = 0; k < numDeltas; ++k)
     {
@@ -561,8 +570,8 @@ MeshFromVTK ToMorphMesh(vtkPointSet* input, const ReadOptions& options)
     const std::vector<vtkDataArray*> normalDeltas = deltas(Kind::Normal);
     if (std::find(normalDeltas.begin(), normalDeltas.end(), nullptr) == normalDeltas.end())
     {
-      AddAttribute(mesh, normals->GetName() ? normals->GetName() : "Normals",
-        AttributeRole::Normal, normals, normalDeltas, true, options.SparseCoverage);
+      AddAttribute(mesh, normals->GetName() ? normals->GetName() : "Normals", AttributeRole::Normal,
+        normals, normalDeltas, true, options.SparseCoverage);
       result.Normals = normals;
     }
   }
@@ -600,7 +609,8 @@ void AddTargetArrays(
   for (size_t a = 0; a < mesh.GetNumberOfAttributes(); ++a)
   {
     std::visit(
-      [&](const auto& attribute) {
+      [&](const auto& attribute)
+      {
         if (attribute.GetRole() == AttributeRole::Position && !position)
         {
           AddDeltaArrays(attribute, Kind::Position, positionType, pd);
@@ -633,8 +643,8 @@ vtkSmartPointer<vtkPolyData> ToPolyData(const morphnode::MorphMesh& mesh)
 
   const std::vector<uint32_t>& triangles = mesh.GetTriangles();
   vtkNew<vtkCellArray> polys;
-  polys->AllocateExact(static_cast<vtkIdType>(mesh.GetNumberOfTriangles()),
-    static_cast<vtkIdType>(triangles.size()));
+  polys->AllocateExact(
+    static_cast<vtkIdType>(mesh.GetNumberOfTriangles()), static_cast<vtkIdType>(triangles.size()));
   for (size_t t = 0; t < mesh.GetNumberOfTriangles(); ++t)
   {
     const vtkIdType ids[3] = { triangles[3 * t], triangles[3 * t + 1], triangles[3 * t + 2] };
@@ -660,13 +670,15 @@ vtkSmartPointer<vtkPolyData> ToPolyData(const morphnode::MorphMesh& mesh)
       continue;
     }
     std::visit(
-      [&](const auto& attribute) {
+      [&](const auto& attribute)
+      {
         for (size_t k = 1; k < attribute.GetNumberOfTargets(); ++k)
         {
           if (attribute.GetTarget(k).GetNumberOfMovedPoints() > 0)
           {
             throw InputError("attribute '" + name + "' is morphed by target '" +
-              mesh.GetTargetNames()[k] + "'; the target<k>_* arrays hold only positions and normals");
+              mesh.GetTargetNames()[k] +
+              "'; the target<k>_* arrays hold only positions and normals");
           }
         }
       },
@@ -706,7 +718,8 @@ void ExtractPointSubset(vtkPolyData* input, const std::vector<uint32_t>& ids, vt
     input->GetPoints()->GetData()->GetTuples(from, outPoints->GetData());
   }
   vtkNew<vtkCellArray> polys;
-  polys->AllocateExact(static_cast<vtkIdType>(triangles.size() / 3), static_cast<vtkIdType>(triangles.size()));
+  polys->AllocateExact(
+    static_cast<vtkIdType>(triangles.size() / 3), static_cast<vtkIdType>(triangles.size()));
   for (size_t t = 0; t + 2 < triangles.size(); t += 3)
   {
     const vtkIdType tri[3] = { triangles[t], triangles[t + 1], triangles[t + 2] };

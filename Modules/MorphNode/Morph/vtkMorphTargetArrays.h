@@ -161,8 +161,8 @@ MeshFromVTK ToMorphMesh(vtkPointSet* input, const ReadOptions& options);
 /// its Normal attribute (the first of each role), arrays of `positionType` / `normalType`
 /// (VTK_FLOAT, VTK_DOUBLE, ...; -1: the attribute's own type), replacing arrays of those
 /// names.
-void AddTargetArrays(const morphnode::MorphMesh& mesh, vtkPointData* pd, int positionType = -1,
-  int normalType = -1);
+void AddTargetArrays(
+  const morphnode::MorphMesh& mesh, vtkPointData* pd, int positionType = -1, int normalType = -1);
 
 /// `output` becomes a subset of `input`'s points: the first `numPoints` of `ids` (input point
 /// ids), every point array gathered with them (vtkAbstractArray::GetTuples) plus

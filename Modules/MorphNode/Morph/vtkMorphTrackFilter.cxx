@@ -3,8 +3,8 @@
 
 #include "vtkAlgorithmOutput.h"
 #include "vtkDataObject.h"
-#include "vtkInformationDoubleVectorKey.h"
 #include "vtkInformation.h"
+#include "vtkInformationDoubleVectorKey.h"
 #include "vtkInformationVector.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
 
@@ -44,8 +44,8 @@ int vtkMorphTrackFilter::RequestInformation(
   // The track animates the head: its time steps win (the executive copies port 0's only).
   vtkInformation* outInfo = outputVector->GetInformationObject(0);
   vtkInformation* trackInfo = inputVector[1]->GetInformationObject(0);
-  for (vtkInformationDoubleVectorKey* key :
-    { vtkStreamingDemandDrivenPipeline::TIME_STEPS(), vtkStreamingDemandDrivenPipeline::TIME_RANGE() })
+  for (vtkInformationDoubleVectorKey* key : { vtkStreamingDemandDrivenPipeline::TIME_STEPS(),
+         vtkStreamingDemandDrivenPipeline::TIME_RANGE() })
   {
     if (trackInfo && trackInfo->Has(key))
     {

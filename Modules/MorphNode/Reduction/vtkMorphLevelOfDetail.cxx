@@ -75,7 +75,8 @@ void vtkMorphLevelOfDetail::ResetWeights()
 double vtkMorphLevelOfDetail::GetWeight(int target) const
 {
   const auto& w = this->Internals->Weights;
-  return target >= 1 && static_cast<size_t>(target) < w.size() ? w[static_cast<size_t>(target)] : 0.0;
+  return target >= 1 && static_cast<size_t>(target) < w.size() ? w[static_cast<size_t>(target)]
+                                                               : 0.0;
 }
 
 void vtkMorphLevelOfDetail::SetDeviceProfile(const char* name)
@@ -136,7 +137,8 @@ int vtkMorphLevelOfDetail::RequestData(
       in.Ladder.reset();
       in.SceneHasLadder = false;
       in.Output.Reset();
-      auto ladder = vtkMorphMeshLevels::BuildLadder(input, morphnode::LadderSettings(), "the input");
+      auto ladder =
+        vtkMorphMeshLevels::BuildLadder(input, morphnode::LadderSettings(), "the input");
       in.Costs = morphnode::ScalableScene::Calibrate({ ladder });
       in.Ladder = ladder;
       in.Input = input;

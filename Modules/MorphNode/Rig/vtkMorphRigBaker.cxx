@@ -142,7 +142,8 @@ int vtkMorphRigBaker::RequestData(
     // The baked targets replace the face's, in the types of the face's target arrays.
     vtkPointData* inPD = input->GetPointData();
     const vtkIdType numPoints = input->GetNumberOfPoints();
-    auto typeOf = [&](arrays::Kind kind) {
+    auto typeOf = [&](arrays::Kind kind)
+    {
       vtkDataArray* first = arrays::GetDeltas(inPD, 0, kind, numPoints);
       return first ? first->GetDataType() : -1;
     };

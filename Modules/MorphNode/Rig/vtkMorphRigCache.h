@@ -50,8 +50,8 @@ public:
     os << indent << "Rig: ";
     if (this->Rig)
     {
-      os << this->Rig->GetName() << ", " << this->Rig->GetNumberOfShapes()
-         << " shapes (read from " << this->FileName << ")\n";
+      os << this->Rig->GetName() << ", " << this->Rig->GetNumberOfShapes() << " shapes (read from "
+         << this->FileName << ")\n";
     }
     else
     {

@@ -50,7 +50,8 @@ namespace
 morphnode::TargetDistances MeasureShapes(const morphnode::Rig& rig, vtkDataObject* face)
 {
   std::vector<morphnode::NamedTargetDistances> pieces;
-  auto add = [&](vtkDataObject* leaf) {
+  auto add = [&](vtkDataObject* leaf)
+  {
     auto* points = vtkPointSet::SafeDownCast(leaf);
     if (!points || !vtkMorphTargetArrays::HasTargets(points))
     {
@@ -80,7 +81,6 @@ morphnode::TargetDistances MeasureShapes(const morphnode::Rig& rig, vtkDataObjec
   return morphnode::MakeTargetDistances(morphnode::CombineTargetDistances(pieces));
 }
 } // namespace
-
 
 //------------------------------------------------------------------------------
 vtkMorphRigFilter::vtkMorphRigFilter()
@@ -353,7 +353,8 @@ void vtkMorphRigFilter::PrintSelf(ostream& os, vtkIndent indent)
      << "\n";
   os << indent << "PassOtherColumns: " << (this->PassOtherColumns ? "On" : "Off") << "\n";
   os << indent << "OptimizerPreset: "
-     << morphnode::OptimizerPresetName(static_cast<morphnode::OptimizerPreset>(this->OptimizerPreset))
+     << morphnode::OptimizerPresetName(
+          static_cast<morphnode::OptimizerPreset>(this->OptimizerPreset))
      << "\n";
   os << indent << "Threshold: " << this->Threshold << "\n";
   os << indent << "MaxVertexError: " << this->MaxVertexError << "\n";

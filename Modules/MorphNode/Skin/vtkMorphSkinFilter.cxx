@@ -40,14 +40,16 @@ namespace
 /// Re-skins what changed since the previous frame (RestSkin::ApplyChanged) into the kept
 /// output arrays.
 template <typename T>
-vtkIdType Reskin(const morphnode::RestSkin& skin, const T* points, const T* normals, T* lastPoints, T* lastNormals,
-  T* outPoints, T* outNormals, size_t n, bool all)
+vtkIdType Reskin(const morphnode::RestSkin& skin, const T* points, const T* normals, T* lastPoints,
+  T* lastNormals, T* outPoints, T* outNormals, size_t n, bool all)
 {
   std::atomic<vtkIdType> count(0);
-  vtkSMPTools::For(0, static_cast<vtkIdType>(n), 4096, [&](vtkIdType begin, vtkIdType end) {
-    count += static_cast<vtkIdType>(skin.ApplyChanged<T>(points, normals, lastPoints, lastNormals, outPoints,
-      outNormals, static_cast<size_t>(begin), static_cast<size_t>(end), all));
-  });
+  vtkSMPTools::For(0, static_cast<vtkIdType>(n), 4096,
+    [&](vtkIdType begin, vtkIdType end)
+    {
+      count += static_cast<vtkIdType>(skin.ApplyChanged<T>(points, normals, lastPoints, lastNormals,
+        outPoints, outNormals, static_cast<size_t>(begin), static_cast<size_t>(end), all));
+    });
   return count;
 }
 
@@ -124,8 +126,8 @@ public:
     entry.Skin = vtkMorphSkinArrays::GetSkin(leaf, what);
     entry.RestMatrices = entry.Skin.RestMatrices();
     entry.Roles = morphnode::FindAvatarBones(entry.Skin.Bones, entry.Skin.Humanoid);
-    entry.EyePart =
-      morphnode::TurnedByEyeJoints(entry.Skin.Influences, entry.Skin.Joints.Joints, entry.Skin.Bones, entry.Roles);
+    entry.EyePart = morphnode::TurnedByEyeJoints(
+      entry.Skin.Influences, entry.Skin.Joints.Joints, entry.Skin.Bones, entry.Roles);
     entry.Rest = morphnode::RestSkin(entry.Skin.Influences, entry.RestMatrices, what);
     return this->Cache[weights] = std::move(entry);
   }
@@ -133,8 +135,9 @@ public:
   /// The leaf re-skinned at the pose `angles` asks (a new data set sharing all but points and
   /// normals), nullptr when it is not skinned or stays at rest; updates the filter's report
   /// (skinned parts, eye and head bones, head bounds, bones).
-  vtkSmartPointer<vtkPointSet> Repose(vtkMorphSkinFilter* self, vtkPointSet* leaf, const std::string& what,
-    const morphnode::AvatarBonePose& angles, bool jawAllowed, const std::string& partName)
+  vtkSmartPointer<vtkPointSet> Repose(vtkMorphSkinFilter* self, vtkPointSet* leaf,
+    const std::string& what, const morphnode::AvatarBonePose& angles, bool jawAllowed,
+    const std::string& partName)
   {
     if (!vtkMorphSkinArrays::IsSkinned(leaf))
     {
@@ -146,7 +149,8 @@ public:
     if (entry.EyePart)
     {
       const std::string name = vtkMorphPartData::GetPartName(leaf->GetFieldData(), partName);
-      if (!name.empty() && std::find(self->EyeParts.begin(), self->EyeParts.end(), name) == self->EyeParts.end())
+      if (!name.empty() &&
+        std::find(self->EyeParts.begin(), self->EyeParts.end(), name) == self->EyeParts.end())
       {
         self->EyeParts.push_back(name);
       }
@@ -155,7 +159,8 @@ public:
     if (!entry.HeadKnown && roles.Head >= 0)
     {
       // The points whose largest weight is on the head or below it, at rest.
-      for (size_t i : morphnode::PointsUnderJoint(entry.Skin.Bones, entry.Skin.Joints, entry.Skin.Influences, roles.Head))
+      for (size_t i : morphnode::PointsUnderJoint(
+             entry.Skin.Bones, entry.Skin.Joints, entry.Skin.Influences, roles.Head))
       {
         if (static_cast<vtkIdType>(i) < leaf->GetNumberOfPoints())
         {
@@ -200,15 +205,16 @@ public:
     out->ShallowCopy(leaf);
     vtkDataArray* points = leaf->GetPoints()->GetData();
     vtkDataArray* normals = leaf->GetPointData()->GetNormals();
-    if (normals && (normals->GetNumberOfComponents() != 3 || normals->GetDataType() != points->GetDataType()))
+    if (normals &&
+      (normals->GetNumberOfComponents() != 3 || normals->GetDataType() != points->GetDataType()))
     {
       normals = nullptr;
     }
     const size_t n = static_cast<size_t>(leaf->GetNumberOfPoints());
     if (entry.Rest.GetNumberOfPoints() != n)
     {
-      throw morphnode::InputError(what + ": the skin has " + std::to_string(entry.Rest.GetNumberOfPoints()) +
-        " points, the part " + std::to_string(n));
+      throw morphnode::InputError(what + ": the skin has " +
+        std::to_string(entry.Rest.GetNumberOfPoints()) + " points, the part " + std::to_string(n));
     }
     if (!vtkFloatArray::FastDownCast(points) && !vtkDoubleArray::FastDownCast(points))
     {
@@ -217,7 +223,8 @@ public:
     // The kept arrays, written again in place where points changed, when only this entry
     // holds them (and the entry serves one leaf this execution); else new ones, all
     // re-skinned.
-    auto kept = [&](vtkSmartPointer<vtkDataArray>& a, vtkDataArray* like) {
+    auto kept = [&](vtkSmartPointer<vtkDataArray>& a, vtkDataArray* like)
+    {
       return a && a->GetReferenceCount() == 1 && a->GetDataType() == like->GetDataType() &&
         a->GetNumberOfTuples() == like->GetNumberOfTuples();
     };
@@ -234,15 +241,17 @@ public:
     }
     if (vtkFloatArray::FastDownCast(points))
     {
-      self->NumberOfReskinnedPoints += Reskin<float>(entry.Rest, Pointer<vtkFloatArray>(points), Pointer<vtkFloatArray>(normals),
-        Pointer<vtkFloatArray>(entry.LastPoints), Pointer<vtkFloatArray>(entry.LastNormals),
-        Pointer<vtkFloatArray>(entry.OutPoints), Pointer<vtkFloatArray>(entry.OutNormals), n, all);
+      self->NumberOfReskinnedPoints += Reskin<float>(entry.Rest, Pointer<vtkFloatArray>(points),
+        Pointer<vtkFloatArray>(normals), Pointer<vtkFloatArray>(entry.LastPoints),
+        Pointer<vtkFloatArray>(entry.LastNormals), Pointer<vtkFloatArray>(entry.OutPoints),
+        Pointer<vtkFloatArray>(entry.OutNormals), n, all);
     }
     else
     {
-      self->NumberOfReskinnedPoints += Reskin<double>(entry.Rest, Pointer<vtkDoubleArray>(points), Pointer<vtkDoubleArray>(normals),
-        Pointer<vtkDoubleArray>(entry.LastPoints), Pointer<vtkDoubleArray>(entry.LastNormals),
-        Pointer<vtkDoubleArray>(entry.OutPoints), Pointer<vtkDoubleArray>(entry.OutNormals), n, all);
+      self->NumberOfReskinnedPoints += Reskin<double>(entry.Rest, Pointer<vtkDoubleArray>(points),
+        Pointer<vtkDoubleArray>(normals), Pointer<vtkDoubleArray>(entry.LastPoints),
+        Pointer<vtkDoubleArray>(entry.LastNormals), Pointer<vtkDoubleArray>(entry.OutPoints),
+        Pointer<vtkDoubleArray>(entry.OutNormals), n, all);
     }
     entry.Valid = true;
     // Written through raw pointers: renderers upload again on MTime.
@@ -264,8 +273,8 @@ public:
     field->ShallowCopy(leaf->GetFieldData());
     vtkNew<vtkDoubleArray> used;
     used->SetName("SkinPose");
-    for (double v : { angles.HeadYaw, angles.HeadPitch, angles.HeadRoll, angles.EyeYaw, angles.EyePitch,
-           roles.Jaw >= 0 ? angles.JawOpen : 0.0 })
+    for (double v : { angles.HeadYaw, angles.HeadPitch, angles.HeadRoll, angles.EyeYaw,
+           angles.EyePitch, roles.Jaw >= 0 ? angles.JawOpen : 0.0 })
     {
       used->InsertNextValue(v);
     }
@@ -328,8 +337,9 @@ int vtkMorphSkinFilter::RequestData(
         throw morphnode::InputError("the pose table has no rows");
       }
       for (auto [name, value] : { std::pair<const char*, double*>{ "HeadYaw", &angles.HeadYaw },
-             { "HeadPitch", &angles.HeadPitch }, { "HeadRoll", &angles.HeadRoll }, { "EyeYaw", &angles.EyeYaw },
-             { "EyePitch", &angles.EyePitch }, { "jawOpen", &angles.JawOpen } })
+             { "HeadPitch", &angles.HeadPitch }, { "HeadRoll", &angles.HeadRoll },
+             { "EyeYaw", &angles.EyeYaw }, { "EyePitch", &angles.EyePitch },
+             { "jawOpen", &angles.JawOpen } })
       {
         if (auto* column = vtkDataArray::SafeDownCast(table->GetColumnByName(name)))
         {
@@ -360,9 +370,8 @@ int vtkMorphSkinFilter::RequestData(
     const bool jawAllowed = this->TurnJaw == JAW_ON || (this->TurnJaw == JAW_AUTO && !jawTarget);
 
     // One pose per skeleton; parts of one avatar share it (computed for the first part).
-    auto reskin = [&](vtkPointSet* leaf, const std::string& what, const std::string& partName) {
-      return this->Internals->Repose(this, leaf, what, angles, jawAllowed, partName);
-    };
+    auto reskin = [&](vtkPointSet* leaf, const std::string& what, const std::string& partName)
+    { return this->Internals->Repose(this, leaf, what, angles, jawAllowed, partName); };
 
     if (auto* composite = vtkCompositeDataSet::SafeDownCast(input))
     {
@@ -375,9 +384,12 @@ int vtkMorphSkinFilter::RequestData(
         {
           continue;
         }
-        const bool named = node.HasMetaData() && node.GetMetaData()->Has(vtkCompositeDataSet::NAME());
-        const std::string partName = named ? node.GetMetaData()->Get(vtkCompositeDataSet::NAME()) : "";
-        const std::string name = named ? "part '" + partName + "'" : "part " + std::to_string(node.GetFlatIndex());
+        const bool named =
+          node.HasMetaData() && node.GetMetaData()->Has(vtkCompositeDataSet::NAME());
+        const std::string partName =
+          named ? node.GetMetaData()->Get(vtkCompositeDataSet::NAME()) : "";
+        const std::string name =
+          named ? "part '" + partName + "'" : "part " + std::to_string(node.GetFlatIndex());
         if (auto posed = reskin(leaf, name, partName))
         {
           node = posed;
@@ -410,8 +422,9 @@ int vtkMorphSkinFilter::RequestData(
 //------------------------------------------------------------------------------
 const char* vtkMorphSkinFilter::GetEyePart(int i)
 {
-  return i >= 0 && i < static_cast<int>(this->EyeParts.size()) ? this->EyeParts[static_cast<size_t>(i)].c_str()
-                                                                 : nullptr;
+  return i >= 0 && i < static_cast<int>(this->EyeParts.size())
+    ? this->EyeParts[static_cast<size_t>(i)].c_str()
+    : nullptr;
 }
 //------------------------------------------------------------------------------
 bool vtkMorphSkinFilter::GetHeadBounds(double bounds[6])

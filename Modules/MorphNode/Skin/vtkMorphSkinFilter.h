@@ -32,12 +32,14 @@
  * present, first row) replace the properties, and its time steps are the output's.
  *
  * Every re-skinned part gets field data `SkinPose` (HeadYaw, HeadPitch, HeadRoll, EyeYaw,
- * EyePitch and JawOpen as used; JawOpen 0 when the jaw joint stays). GetBones() reports the bones found.
+ * EyePitch and JawOpen as used; JawOpen 0 when the jaw joint stays). GetBones() reports the bones
+ * found.
  *
  * Errors (vtkErrorMacro, RequestData returns 0, empty output): non-finite angles, a damaged
  * skin convention (sizes, joint indices, singular or non-finite matrices).
  *
- * @sa vtkMorphTrackFilter vtkMorphTargetReader vtkMorphNodeFilter vtkEyeGazeFilter morphnode::RestSkin
+ * @sa vtkMorphTrackFilter vtkMorphTargetReader vtkMorphNodeFilter vtkEyeGazeFilter
+ * morphnode::RestSkin
  */
 
 #ifndef vtkMorphSkinFilter_h

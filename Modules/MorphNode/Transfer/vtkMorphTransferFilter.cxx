@@ -109,9 +109,11 @@ int vtkMorphTransferFilter::RequestData(
     for (size_t k = 0; k < r.Deltas.size(); ++k)
     {
       const std::string name = "target" + std::to_string(k) + "_position";
-      pd->AddArray(vtkMorphTargetArrays::NewArray(VTK_FLOAT, name.c_str(), 3, n, r.Deltas[k].data()));
+      pd->AddArray(
+        vtkMorphTargetArrays::NewArray(VTK_FLOAT, name.c_str(), 3, n, r.Deltas[k].data()));
     }
-    pd->AddArray(vtkMorphTargetArrays::NewArray(VTK_FLOAT, "TransferConfidence", 1, n, r.Confidence.data()));
+    pd->AddArray(
+      vtkMorphTargetArrays::NewArray(VTK_FLOAT, "TransferConfidence", 1, n, r.Confidence.data()));
     vtkNew<vtkSignedCharArray> side;
     side->SetName("TransferSide");
     side->SetNumberOfTuples(n);

@@ -41,7 +41,8 @@ AudioBuffer Tone(double hz, int rate, double seconds, double amplitude = 0.3)
   }
 
 /// Boundary errors of phonemes matched in order by name (the first phoneme excluded).
-std::vector<double> BoundaryErrors(const std::vector<TimedPhoneme>& truth, const std::vector<TimedPhoneme>& test)
+std::vector<double> BoundaryErrors(
+  const std::vector<TimedPhoneme>& truth, const std::vector<TimedPhoneme>& test)
 {
   std::vector<double> errors;
   size_t j = 0;
@@ -76,18 +77,21 @@ size_t Covering(const std::vector<TimedPhoneme>& p, double t)
   return k;
 }
 
-double Agreement(const std::vector<TimedPhoneme>& truth, const std::vector<TimedPhoneme>& test, double duration)
+double Agreement(
+  const std::vector<TimedPhoneme>& truth, const std::vector<TimedPhoneme>& test, double duration)
 {
   const VisemeMap map = VisemeMap::Builtin(VisemeSet::Oculus15, "en");
   size_t same = 0, total = 0;
   for (double t = 0.005; t < duration; t += 0.01, ++total)
   {
-    same += map.MapPhoneme(truth[Covering(truth, t)].Sampa) == map.MapPhoneme(test[Covering(test, t)].Sampa);
+    same += map.MapPhoneme(truth[Covering(truth, t)].Sampa) ==
+      map.MapPhoneme(test[Covering(test, t)].Sampa);
   }
   return static_cast<double>(same) / total;
 }
 
-const char* Sentence = "My mother bought five fresh apples, and we ate them all in the warm kitchen.";
+const char* Sentence =
+  "My mother bought five fresh apples, and we ate them all in the warm kitchen.";
 
 /// A "recording": another eSpeak voice, slower, higher, at 44.1 kHz stereo with some noise.
 struct Recording
@@ -149,7 +153,9 @@ TEST(Dtw, RecoversAKnownWarpAtEveryScale)
   a.Dimension = b.Dimension = 2;
   a.Rows = 400;
   b.Rows = 600;
-  auto shape = [](double x) { return std::vector<float>{ float(std::sin(x / 17.0)), float(std::cos(x / 5.0)) }; };
+  auto shape = [](double x) {
+    return std::vector<float>{ float(std::sin(x / 17.0)), float(std::cos(x / 5.0)) };
+  };
   for (size_t i = 0; i < a.Rows; ++i)
   {
     const auto v = shape(static_cast<double>(i));
@@ -172,7 +178,8 @@ TEST(Dtw, RecoversAKnownWarpAtEveryScale)
     {
       EXPECT_GE(r.Path[k].first, r.Path[k - 1].first);
       EXPECT_GE(r.Path[k].second, r.Path[k - 1].second);
-      worst = std::max(worst, std::abs(static_cast<double>(r.Path[k].second) / 1.5 - r.Path[k].first));
+      worst =
+        std::max(worst, std::abs(static_cast<double>(r.Path[k].second) / 1.5 - r.Path[k].first));
     }
     EXPECT_LT(worst, 3.0) << "cells " << maximumCells;
     if (maximumCells < 1000000)
@@ -244,7 +251,8 @@ TEST(TranscriptAlignment, AnotherVoiceAndRateIsTimedWithinTwentyMilliseconds)
     EXPECT_GE(a.Words[k].Start, k > 0 ? a.Words[k - 1].Start : 0.0);
   }
   // The word "five" starts where the truth's /f aI v/ does.
-  const auto five = std::find_if(a.Words.begin(), a.Words.end(), [](const SynthesizedWord& w) { return w.Text == "five"; });
+  const auto five = std::find_if(
+    a.Words.begin(), a.Words.end(), [](const SynthesizedWord& w) { return w.Text == "five"; });
   ASSERT_NE(five, a.Words.end());
   for (size_t k = 0; k + 2 < r.Truth.Phonemes.size(); ++k)
   {
@@ -270,7 +278,8 @@ TEST(TranscriptAlignment, GermanToo)
   const SynthesisResult truth = speaker.Synthesize(text);
   TranscriptAlignOptions options;
   options.Voice = "de";
-  const TranscriptAlignment a = AlignTranscript(FromInt16Mono(truth.Audio, truth.SampleRate), text, options);
+  const TranscriptAlignment a =
+    AlignTranscript(FromInt16Mono(truth.Audio, truth.SampleRate), text, options);
   EXPECT_LT(Median(BoundaryErrors(truth.Phonemes, a.Phonemes)), 0.020);
 }
 

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // Recordings into utterances by every route (transcript, timing file, recognition), and
 // the PocketSphinx phoneme recognizer on real speech from pocketsphinx-testdata.
+#include "MorphNodeTestErrors.h"
 #include "align/PhonemeRecognizer.h"
 #include "align/RecordingSpeech.h"
 #include "audio/AudioFile.h"
@@ -8,7 +9,6 @@
 #include "base/Error.h"
 #include "speech/Sampa.h"
 #include "speech/SpeechSynthesizer.h"
-#include "MorphNodeTestErrors.h"
 
 #include <gtest/gtest.h>
 
@@ -93,7 +93,8 @@ TEST(RecordingSpeech, TranscriptRouteGivesTheRecordingAFace)
 
 TEST(RecordingSpeech, TimingFileRouteAndItsWarnings)
 {
-  const AudioBuffer audio = [] {
+  const AudioBuffer audio = []
+  {
     AudioBuffer a;
     a.SampleRate = 16000;
     a.Channels = 1;
@@ -101,8 +102,10 @@ TEST(RecordingSpeech, TimingFileRouteAndItsWarnings)
     return a;
   }();
   const std::string grid = Output + "/recording_timing.TextGrid";
-  std::ofstream(grid) << "File type = \"ooTextFile\"\nObject class = \"TextGrid\"\n0\n2.5\n<exists>\n1\n"
-                         "\"IntervalTier\"\n\"phones\"\n0\n2.5\n3\n0\n0.2\n\"sil\"\n0.2\n0.5\n\"M\"\n0.5\n2.5\n\"AA1\"\n";
+  std::ofstream(grid)
+    << "File type = \"ooTextFile\"\nObject class = \"TextGrid\"\n0\n2.5\n<exists>\n1\n"
+       "\"IntervalTier\"\n\"phones\"\n0\n2.5\n3\n0\n0.2\n\"sil\"\n0.2\n0.5\n\"M\"\n0.5\n2."
+       "5\n\"AA1\"\n";
   SpeechOptions speech;
   std::vector<std::string> warnings;
   speech.Warn = CollectWarnings(warnings);
@@ -122,7 +125,8 @@ TEST(RecordingSpeech, TimingFileRouteAndItsWarnings)
 TEST(RecordingSpeech, BadInputs)
 {
   SpeechOptions speech;
-  EXPECT_NE(ErrorOf([&] { SpeakRecording(AudioBuffer{}, speech); }).find("empty"), std::string::npos);
+  EXPECT_NE(
+    ErrorOf([&] { SpeakRecording(AudioBuffer{}, speech); }).find("empty"), std::string::npos);
   EXPECT_THROW(SpeakAudioFile(Output + "/no-such-recording.wav", speech), InputError);
   // Without a transcript, only English can be recognized.
   SpeechOptions german;
@@ -131,10 +135,12 @@ TEST(RecordingSpeech, BadInputs)
   audio.SampleRate = 16000;
   audio.Channels = 1;
   audio.Samples.assign(16000, 0.0f);
-  EXPECT_NE(ErrorOf([&] { SpeakRecording(audio, german); }).find("only English"), std::string::npos);
+  EXPECT_NE(
+    ErrorOf([&] { SpeakRecording(audio, german); }).find("only English"), std::string::npos);
   RecordingOptions timing;
   timing.Route = RecordingRoute::TimingFile;
-  EXPECT_NE(ErrorOf([&] { SpeakRecording(audio, speech, timing); }).find("needs a timing file"), std::string::npos);
+  EXPECT_NE(ErrorOf([&] { SpeakRecording(audio, speech, timing); }).find("needs a timing file"),
+    std::string::npos);
   EXPECT_EQ(ParseRecordingRoute("Recognition"), RecordingRoute::Recognition);
   EXPECT_THROW(ParseRecordingRoute("guess"), InputError);
 }
@@ -161,7 +167,10 @@ TEST(PhonemeRecognition, RealSpeechFromPocketsphinxTestdata)
   EXPECT_NEAR(r.Phonemes.back().Start + r.Phonemes.back().Duration, audio.GetDuration(), 0.02);
   // Sounds that are there: the n of "not"/"an"/"man", the l of "ill", the s/z of "was"/"disposed".
   auto has = [&](const char* name)
-  { return std::any_of(r.Phonemes.begin(), r.Phonemes.end(), [&](const TimedPhoneme& p) { return p.Sampa == name; }); };
+  {
+    return std::any_of(
+      r.Phonemes.begin(), r.Phonemes.end(), [&](const TimedPhoneme& p) { return p.Sampa == name; });
+  };
   EXPECT_TRUE(has("n"));
   EXPECT_TRUE(has("l"));
   EXPECT_TRUE(has("s") || has("z"));
@@ -175,7 +184,8 @@ TEST(PhonemeRecognition, RealSpeechFromPocketsphinxTestdata)
   // It says that it is the least precise route (the others do not: see above).
   ASSERT_FALSE(warnings.empty());
   EXPECT_NE(warnings[0].find("timed by English phoneme recognition, the least precise route"),
-    std::string::npos) << warnings[0];
+    std::string::npos)
+    << warnings[0];
   EXPECT_EQ(u.SampleRate, audio.SampleRate);
   // Silence: nothing recognized is an error, not an empty face track.
   AudioBuffer silence;
@@ -185,10 +195,12 @@ TEST(PhonemeRecognition, RealSpeechFromPocketsphinxTestdata)
   EXPECT_NE(ErrorOf([&] { RecognizePhonemes(silence); }).find("no speech"), std::string::npos);
   RecognitionOptions wrongModel;
   wrongModel.ModelDirectory = Output;
-  EXPECT_NE(ErrorOf([&] { RecognizePhonemes(audio, wrongModel); }).find("pocketsphinx-en-us"), std::string::npos);
+  EXPECT_NE(ErrorOf([&] { RecognizePhonemes(audio, wrongModel); }).find("pocketsphinx-en-us"),
+    std::string::npos);
   RecognitionOptions cancel;
   cancel.Progress = [](double) { return false; };
-  EXPECT_NE(ErrorOf([&] { RecognizePhonemes(audio, cancel); }).find("cancelled"), std::string::npos);
+  EXPECT_NE(
+    ErrorOf([&] { RecognizePhonemes(audio, cancel); }).find("cancelled"), std::string::npos);
 }
 
 // Rhubarb is run on recordings (its main use): its cues in TSV, JSON or XML with the

@@ -55,7 +55,8 @@ void WriteWithSndfile(const std::string& path, const AudioBuffer& a, int format)
   sf_close(f);
 }
 
-double MaxAbsDifference(const std::vector<float>& a, const std::vector<float>& b, size_t from, size_t to)
+double MaxAbsDifference(
+  const std::vector<float>& a, const std::vector<float>& b, size_t from, size_t to)
 {
   double m = 0.0;
   for (size_t i = from; i < to && i < a.size() && i < b.size(); ++i)
@@ -144,7 +145,8 @@ TEST(Audio, ResampleKeepsToneAndLength)
   const AudioBuffer expected = Sine(440, 16000, 1.0);
   EXPECT_LT(MaxAbsDifference(b.Samples, expected.Samples, 1000, 15000), 0.01);
   // Up-sampling, stereo, every quality.
-  for (ResampleQuality q : { ResampleQuality::Quick, ResampleQuality::Medium, ResampleQuality::High })
+  for (ResampleQuality q :
+    { ResampleQuality::Quick, ResampleQuality::Medium, ResampleQuality::High })
   {
     const AudioBuffer up = Resample(Sine(100, 8000, 0.25, 2), 48000, q);
     EXPECT_EQ(up.Channels, 2);
@@ -207,7 +209,8 @@ TEST(Audio, LimitsAreDecidedBeforeTheWork)
   }
   catch (const InputError& e)
   {
-    EXPECT_NE(std::string(e.what()).find("bomb.wav: a sample rate of 1 Hz is outside [4000, 384000] Hz"),
+    EXPECT_NE(
+      std::string(e.what()).find("bomb.wav: a sample rate of 1 Hz is outside [4000, 384000] Hz"),
       std::string::npos)
       << e.what();
   }

@@ -11,8 +11,8 @@
 
 #include <csignal>
 #include <filesystem>
-#include <functional>
 #include <fstream>
+#include <functional>
 #include <string>
 
 #include <sys/resource.h>
@@ -92,14 +92,17 @@ TEST(File, RefusesWhatIsNotARegularFileBeforeReading)
   Folder f;
   ASSERT_EQ(::mkfifo((f / "x.glb").c_str(), 0600), 0);
   // A FIFO with no writer: opening must not block, the kind is refused.
-  EXPECT_NE(ErrorOf([&] { text::ReadFile(f / "x.glb", "glTF file"); }).find("is a FIFO"), std::string::npos);
-  EXPECT_NE(ErrorOf([&] { text::ReadFile(f.Path.string(), "script"); }).find("is a directory"), std::string::npos);
+  EXPECT_NE(ErrorOf([&] { text::ReadFile(f / "x.glb", "glTF file"); }).find("is a FIFO"),
+    std::string::npos);
+  EXPECT_NE(ErrorOf([&] { text::ReadFile(f.Path.string(), "script"); }).find("is a directory"),
+    std::string::npos);
   // A link to /dev/zero (read-only use of the device: its kind is refused before a read).
   fs::create_symlink("/dev/zero", f / "face.glb");
   const std::string zero = ErrorOf([&] { text::ReadFile(f / "face.glb", "face"); });
   EXPECT_NE(zero.find("face '"), std::string::npos) << zero;
   EXPECT_NE(zero.find("is a device"), std::string::npos) << zero;
-  EXPECT_NE(ErrorOf([&] { text::ReadFile(f / "missing"); }).find("cannot be opened"), std::string::npos);
+  EXPECT_NE(
+    ErrorOf([&] { text::ReadFile(f / "missing"); }).find("cannot be opened"), std::string::npos);
 }
 
 TEST(File, RefusesFilesLargerThanTheLimitFromTheirSize)
@@ -113,7 +116,8 @@ TEST(File, RefusesFilesLargerThanTheLimitFromTheirSize)
   const std::string e = ErrorOf([&] { text::ReadFile(f / "big.glb", "face"); });
   EXPECT_NE(e.find("has 5368709120 bytes; the limit is"), std::string::npos) << e;
   Put(f / "small.txt", "12345");
-  EXPECT_NE(ErrorOf([&] { text::ReadFile(f / "small.txt", "text", 4); }).find("the limit is 4"), std::string::npos);
+  EXPECT_NE(ErrorOf([&] { text::ReadFile(f / "small.txt", "text", 4); }).find("the limit is 4"),
+    std::string::npos);
   EXPECT_EQ(text::ReadFile(f / "small.txt", "text", 5), "12345");
 }
 
@@ -133,9 +137,11 @@ TEST(File, WritesReplaceOnlyRegularFilesOrNewPaths)
   EXPECT_EQ(Get(f / "victim"), "keep");
   // A directory, a FIFO: refused, left alone.
   fs::create_directory(f / "dir");
-  EXPECT_NE(ErrorOf([&] { file::WriteFileSafely(f / "dir", "x"); }).find("is a directory"), std::string::npos);
+  EXPECT_NE(ErrorOf([&] { file::WriteFileSafely(f / "dir", "x"); }).find("is a directory"),
+    std::string::npos);
   ASSERT_EQ(::mkfifo((f / "fifo").c_str(), 0600), 0);
-  EXPECT_NE(ErrorOf([&] { file::WriteFileSafely(f / "fifo", "x"); }).find("is a FIFO"), std::string::npos);
+  EXPECT_NE(
+    ErrorOf([&] { file::WriteFileSafely(f / "fifo", "x"); }).find("is a FIFO"), std::string::npos);
   EXPECT_TRUE(fs::is_fifo(f / "fifo"));
   // Not committed (an error on the way): nothing left, the old file as it was.
   {
@@ -167,14 +173,16 @@ TEST(File, AFullDiskLeavesTheOldFileAndNoPartialFile)
     catch (const InputError& e)
     {
       const std::string m = e.what();
-      code = m.find("File too large") != std::string::npos && m.find("'") != std::string::npos ? 0 : 11;
+      code =
+        m.find("File too large") != std::string::npos && m.find("'") != std::string::npos ? 0 : 11;
     }
     ::_exit(code);
   }
   int status = 0;
   ASSERT_EQ(::waitpid(child, &status, 0), child);
   ASSERT_TRUE(WIFEXITED(status));
-  EXPECT_EQ(WEXITSTATUS(status), 0) << "10: the write did not fail, 11: the message does not say EFBIG";
+  EXPECT_EQ(WEXITSTATUS(status), 0)
+    << "10: the write did not fail, 11: the message does not say EFBIG";
   EXPECT_EQ(Get(f / "old.csv"), "old contents\n");
   EXPECT_EQ(PartFiles(f), 0u);
 }
@@ -182,8 +190,11 @@ TEST(File, AFullDiskLeavesTheOldFileAndNoPartialFile)
 TEST(InputError, MessagesAreValidUtf8)
 {
   // A quoted token with a broken sequence (issue 29: such a message never reached Python).
-  const InputError e(std::string("bad token 'a\xff\xfe" "b' and \xc3\xa9 kept"));
+  const InputError e(std::string("bad token 'a\xff\xfe"
+                                 "b' and \xc3\xa9 kept"));
   const std::string m = e.what();
-  EXPECT_EQ(m, "bad token 'a\xef\xbf\xbd\xef\xbf\xbd" "b' and \xc3\xa9 kept");
+  EXPECT_EQ(m,
+    "bad token 'a\xef\xbf\xbd\xef\xbf\xbd"
+    "b' and \xc3\xa9 kept");
   EXPECT_EQ(std::string(InputError("plain").what()), "plain");
 }

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Shared helpers of the behaviour tests: synthetic utterances with known viseme timing.
-#include "speech/SpeechTypes.h"
 #include "behavior/BehaviorController.h"
+#include "speech/SpeechTypes.h"
 
 #include <algorithm>
 #include <cmath>
@@ -20,7 +20,8 @@ inline morphnode::Utterance MakeUtterance(double duration = 1.0)
   for (int f = 0; f < frames; ++f)
   {
     const double t = f / 100.0;
-    auto ramp = [t](double a, double b) {
+    auto ramp = [t](double a, double b)
+    {
       const double up = std::clamp((t - a) / 0.05 + 1.0, 0.0, 1.0);
       const double down = std::clamp((b - t) / 0.05 + 1.0, 0.0, 1.0);
       return std::min(up, down);

@@ -46,7 +46,7 @@ TEST(BehaviorAudio, UtterancesAtTheirStartsSummedAndClipped)
   b.Speak(Sound(100, 30000), 0.5);   // [11025, 11125)
   b.Speak(Sound(50, 10000), 0.5045); // [11124.225 -> 11124, 11174): 30000 + 10000 clips
   b.Speak(Sound(10, -30000), 0.6);
-  b.Speak(Sound(10, -30000), 0.6);   // -60000 clips to -32768
+  b.Speak(Sound(10, -30000), 0.6); // -60000 clips to -32768
   b.Prepare();
   const AudioBuffer mix = MixBehaviorAudio(b);
   EXPECT_EQ(mix.SampleRate, 22050);

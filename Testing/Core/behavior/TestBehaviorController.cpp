@@ -40,21 +40,9 @@ TEST(BehaviorController, ChannelsAreFixedAndNamed)
 {
   BehaviorController b = Base();
   b.Prepare();
-  const std::vector<std::string> expected = { "EyesClosed",
-    "BrowsUp",
-    "BrowsFright",
-    "BrowsAngry",
-    "MouthSmile",
-    "MouthSad",
-    "LookUp",
-    "LookDown",
-    "LookLeft",
-    "LookRight",
-    "HeadYaw",
-    "HeadPitch",
-    "HeadRoll",
-    "EyeYaw",
-    "EyePitch" };
+  const std::vector<std::string> expected = { "EyesClosed", "BrowsUp", "BrowsFright", "BrowsAngry",
+    "MouthSmile", "MouthSad", "LookUp", "LookDown", "LookLeft", "LookRight", "HeadYaw", "HeadPitch",
+    "HeadRoll", "EyeYaw", "EyePitch" };
   EXPECT_EQ(b.GetChannelNames(), expected);
   EXPECT_EQ(BehaviorChannel::Names(), expected);
   b.Speak(MakeUtterance(), 1.0);
@@ -94,15 +82,10 @@ TEST(BehaviorController, GesturesShowAtTheirTimesOnlyOnTheirChannels)
     const char* Channel;
     double MinimumChange; // at the middle of the gesture
   };
-  const Case cases[] = { { "smile", "MouthSmile", 0.7 },
-    { "sad", "MouthSad", 0.7 },
-    { "raise_brows", "BrowsUp", 0.7 },
-    { "frown", "BrowsAngry", 0.7 },
-    { "fright", "BrowsFright", 0.7 },
-    { "close_eyes", "EyesClosed", 0.5 },
-    { "nod", "HeadPitch", 5.0 },
-    { "shake", "HeadYaw", 5.0 },
-    { "tilt", "HeadRoll", 5.0 } };
+  const Case cases[] = { { "smile", "MouthSmile", 0.7 }, { "sad", "MouthSad", 0.7 },
+    { "raise_brows", "BrowsUp", 0.7 }, { "frown", "BrowsAngry", 0.7 },
+    { "fright", "BrowsFright", 0.7 }, { "close_eyes", "EyesClosed", 0.5 },
+    { "nod", "HeadPitch", 5.0 }, { "shake", "HeadYaw", 5.0 }, { "tilt", "HeadRoll", 5.0 } };
   for (const Case& k : cases)
   {
     BehaviorController plain = Base(), with = Base();
@@ -360,10 +343,12 @@ TEST(BehaviorController, SayCallsTheSynthesizer)
   BehaviorController b = Base();
   EXPECT_THROW(b.Say("Hello"), InputError);
   std::string heard;
-  b.SetSynthesizer([&](const std::string& text) {
-    heard = text;
-    return MakeUtterance(1.5);
-  });
+  b.SetSynthesizer(
+    [&](const std::string& text)
+    {
+      heard = text;
+      return MakeUtterance(1.5);
+    });
   b.Say("Hello world", 0.5);
   b.Say("Again");
   EXPECT_EQ(heard, "Again");
@@ -442,7 +427,8 @@ TEST(BehaviorTimeline, FadeTrackFadesFromWhereItIs)
 
 TEST(BehaviorController, MoodsModulateIdleSmiles)
 {
-  auto peakSmile = [](const char* mood, double intensity) {
+  auto peakSmile = [](const char* mood, double intensity)
+  {
     BehaviorController b;
     b.SetSeed(4);
     b.SetDuration(300.0);
@@ -460,7 +446,7 @@ TEST(BehaviorController, MoodsModulateIdleSmiles)
   };
   const double neutral = peakSmile("neutral", 0.0);
   EXPECT_GT(neutral, 0.15);
-  EXPECT_NEAR(peakSmile("sad", 1.0), 0.0, 1e-12);              // a sad face does not smile idly
+  EXPECT_NEAR(peakSmile("sad", 1.0), 0.0, 1e-12);            // a sad face does not smile idly
   EXPECT_NEAR(peakSmile("happy", 0.2), 1.2 * neutral, 1e-9); // a happy one smiles broader
 }
 

@@ -18,9 +18,9 @@ TEST(BehaviorFrames, FromZeroToTheLastFrameAtOrBeforeTheEnd)
 {
   EXPECT_EQ(NumberOfFrames(5.0, 30.0), 151u); // 0, 1/30, ..., 5
   EXPECT_EQ(NumberOfFrames(4.0, 25.0), 101u);
-  EXPECT_EQ(NumberOfFrames(0.0, 30.0), 1u);    // t = 0 alone
+  EXPECT_EQ(NumberOfFrames(0.0, 30.0), 1u);        // t = 0 alone
   EXPECT_EQ(NumberOfFrames(1.0 / 60.0, 30.0), 1u); // the end falls between frames 0 and 1
-  EXPECT_EQ(NumberOfFrames(1.05, 10.0), 11u);  // the last frame (1.0) before the end
+  EXPECT_EQ(NumberOfFrames(1.05, 10.0), 11u);      // the last frame (1.0) before the end
   // 0.29 * 100 = 28.999999999999996 in doubles: still 30 frames, the last at 0.29 s.
   ASSERT_LT(0.29 * 100.0, 29.0);
   EXPECT_EQ(NumberOfFrames(0.29, 100.0), 30u);

@@ -75,8 +75,7 @@ TEST(BehaviorLibrary, FileOverDefaults)
                                "head": { "motion": "hold", "pitch": 3, "roll": "TiltAmplitude" } },
                     "nod": { "duration": 2.0, "head": { "motion": "nod", "amplitude": 4 } } },
       "moods": { "bored": { "blinkRate": 0.5, "gaze": { "pitch": -10 } } } })",
-    "test.json",
-    &BehaviorLibrary::Default());
+    "test.json", &BehaviorLibrary::Default());
   EXPECT_DOUBLE_EQ(library.FindGesture("shrug").Shapes[BehaviorChannel::BrowsUp], 0.5);
   EXPECT_DOUBLE_EQ(library.FindGesture("nod").Duration, 2.0); // replaced
   EXPECT_GE(library.FindGestureIndex("smile"), 0);            // kept
@@ -111,7 +110,8 @@ TEST(BehaviorLibrary, ErrorsNameTheJsonPath)
   EXPECT_NE(ErrorOf(R"({"gestures": {"x": {"mouthShapes": ["ou", 3]}}})")
               .find("gestures.x.mouthShapes[1]: expected a string"),
     std::string::npos);
-  EXPECT_NE(ErrorOf(R"({"gestures": {"x": {"head": {"motion": "nod"}}}})").find("needs an amplitude"),
+  EXPECT_NE(
+    ErrorOf(R"({"gestures": {"x": {"head": {"motion": "nod"}}}})").find("needs an amplitude"),
     std::string::npos);
   EXPECT_NE(ErrorOf(R"({"gestures": {"--": {}}})").find("needs a name"), std::string::npos);
   EXPECT_THROW(BehaviorLibrary::Load("/nonexistent/behavior.json"), InputError);

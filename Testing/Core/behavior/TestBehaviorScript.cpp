@@ -205,10 +205,12 @@ TEST(BehaviorScript, PhonemesGoThroughTheLoaderRelativeToTheScript)
   BehaviorController b;
   EXPECT_THROW(b.LoadScript(path), InputError);
   std::string loaded;
-  b.SetPhonemeFileLoader([&](const std::string& file) {
-    loaded = file;
-    return MakeUtterance(1.0);
-  });
+  b.SetPhonemeFileLoader(
+    [&](const std::string& file)
+    {
+      loaded = file;
+      return MakeUtterance(1.0);
+    });
   b.LoadScript(path);
   std::remove(path.c_str());
   EXPECT_EQ(loaded, dir + "hello.pho");
@@ -269,8 +271,7 @@ TEST(BehaviorScript, GarbageNeverCrashes)
   // A small in-test fuzzer (the libFuzzer target fuzz_script goes further): mutations of
   // the example scripts throw InputError or parse, nothing else.
   const std::string seeds[] = { ReadFile(ScriptDir + "greeting.txt"),
-    ReadFile(ScriptDir + "greeting.json"),
-    ReadFile(ScriptDir + "bad-news.txt") };
+    ReadFile(ScriptDir + "greeting.json"), ReadFile(ScriptDir + "bad-news.txt") };
   BehaviorRandom rng(99);
   const std::string alphabet = "at0123456789.-e \"\\\n{}[]:,#xyznod";
   for (int i = 0; i < 3000; ++i)
@@ -304,6 +305,7 @@ TEST(BehaviorScript, GarbageNeverCrashes)
       b.Sample(1.0, w);
     }
     catch (const InputError&)
-    {}
+    {
+    }
   }
 }

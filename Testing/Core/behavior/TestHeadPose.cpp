@@ -79,7 +79,8 @@ TEST(HeadPose, TurnsAboutThePivot)
   // A rigid motion: distances from the pivot are kept, and the last row is (0 0 0 1).
   const Vec3 p{ 1.5, 0.25, 3.0 };
   const Vec3 q = Apply(m, p);
-  auto dist = [&](const Vec3& a) {
+  auto dist = [&](const Vec3& a)
+  {
     return std::sqrt((a[0] - pivot[0]) * (a[0] - pivot[0]) + (a[1] - pivot[1]) * (a[1] - pivot[1]) +
       (a[2] - pivot[2]) * (a[2] - pivot[2]));
   };
@@ -103,7 +104,8 @@ TEST(HeadPose, NonFiniteAnglesAreAnInputError)
 {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   EXPECT_THROW(HeadPoseMatrix({ nan, 0, 0 }, Origin), InputError);
-  EXPECT_THROW(HeadPoseMatrix({ 0, 0, 0 }, { 0, std::numeric_limits<double>::infinity(), 0 }), InputError);
+  EXPECT_THROW(
+    HeadPoseMatrix({ 0, 0, 0 }, { 0, std::numeric_limits<double>::infinity(), 0 }), InputError);
 }
 
 TEST(HeadPose, FiniteHeadAnglesKeepsAFrame)

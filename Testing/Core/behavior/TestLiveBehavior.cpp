@@ -344,7 +344,8 @@ TEST(LiveBehavior, MoodChangesBlinksGazeAndHead)
   {
     double BlinksPerMinute, MeanSaccade, LookDown, HeadYawSd;
   };
-  auto run = [](const char* mood) {
+  auto run = [](const char* mood)
+  {
     LiveBehavior live(Visemes, BehaviorParameters(), 21);
     live.SetMood(mood, 1.0, 0.0);
     const double duration = 900.0;
@@ -367,9 +368,7 @@ TEST(LiveBehavior, MoodChangesBlinksGazeAndHead)
         n += 1.0;
       }
     }
-    return Figures{ blinks / (duration / 60.0),
-      amplitude / saccades,
-      lookDown / n,
+    return Figures{ blinks / (duration / 60.0), amplitude / saccades, lookDown / n,
       std::sqrt(yaw2 / n - (yaw / n) * (yaw / n)) };
   };
   const Figures neutral = run("neutral"), sad = run("sad"), afraid = run("afraid"),
@@ -401,14 +400,16 @@ TEST(LiveBehavior, SpeakingBlinksFaster)
     s += talking.GetBlinkStarts(previous, t).size();
     previous = t;
   }
-  const double expected = BehaviorParameters().BlinkRateSpeaking / BehaviorParameters().BlinkRateRest;
+  const double expected =
+    BehaviorParameters().BlinkRateSpeaking / BehaviorParameters().BlinkRateRest;
   EXPECT_NEAR(static_cast<double>(s) / static_cast<double>(q), expected, 0.25 * expected);
 }
 
 TEST(LiveBehavior, ClosedEyesBlockBlinks)
 {
   // Half-closed eyes held for a minute: a blink would close them fully.
-  auto maxLid = [](const BehaviorLibrary& library) {
+  auto maxLid = [](const BehaviorLibrary& library)
+  {
     LiveBehavior live(Visemes, BehaviorParameters(), 8, library);
     std::vector<double> w(live.GetNumberOfChannels());
     live.Gesture("close_eyes", 1.0, 0.5, 61.0);
@@ -447,7 +448,8 @@ TEST(LiveBehavior, SpeechLimitsTheMoodsMouth)
 
 TEST(LiveBehavior, AStrongExpressionLimitsClashingMouthShapes)
 {
-  auto mouth = [](double intensity) {
+  auto mouth = [](double intensity)
+  {
     LiveBehavior live({ "sil", "ou", "aa" }, behaviortest::QuietParameters(), 1);
     std::vector<double> w(live.GetNumberOfChannels());
     live.Gesture("smile", 0.0, intensity, 5.0);
@@ -480,7 +482,8 @@ TEST(LiveBehavior, SplitSpeechChunks)
     EXPECT_LE(c.size(), 60u);
     joined += (joined.empty() ? "" : " ") + c;
   }
-  auto squash = [](const std::string& s) {
+  auto squash = [](const std::string& s)
+  {
     std::string out;
     for (char c : s)
     {
@@ -498,12 +501,14 @@ TEST(LiveBehavior, LongTextStartsAfterOneChunk)
 {
   LiveBehavior live(Visemes, BehaviorParameters(), 1);
   std::vector<std::string> synthesized;
-  live.SetSynthesizer([&](const std::string& text) {
-    synthesized.push_back(text);
-    Utterance u = behaviortest::MakeUtterance(0.05 * static_cast<double>(text.size()));
-    u.Audio.assign(100, 1);
-    return u;
-  });
+  live.SetSynthesizer(
+    [&](const std::string& text)
+    {
+      synthesized.push_back(text);
+      Utterance u = behaviortest::MakeUtterance(0.05 * static_cast<double>(text.size()));
+      u.Audio.assign(100, 1);
+      return u;
+    });
   const std::string text = "One sentence here. Another sentence follows it. A third one comes. "
                            "And a fourth. Then the last one of all.";
   const auto timing = live.Say(text, 1.0);
@@ -533,7 +538,8 @@ TEST(LiveBehavior, LongTextStartsAfterOneChunk)
   // The chunks follow each other without gaps.
   for (size_t i = 1; i < audio.size(); ++i)
   {
-    EXPECT_NEAR(audio[i].Start - audio[i - 1].Start, 0.05 * static_cast<double>(synthesized[i - 1].size()), 1e-9);
+    EXPECT_NEAR(audio[i].Start - audio[i - 1].Start,
+      0.05 * static_cast<double>(synthesized[i - 1].size()), 1e-9);
   }
   EXPECT_GT(lastSpeech, audio.back().Start);
   EXPECT_FALSE(live.IsSpeaking(20.0));
@@ -543,10 +549,12 @@ TEST(LiveBehavior, StopSpeakingEndsTheMouthAndDropsTheQueue)
 {
   LiveBehavior live(Visemes, behaviortest::QuietParameters(), 1);
   int calls = 0;
-  live.SetSynthesizer([&](const std::string&) {
-    ++calls;
-    return behaviortest::MakeUtterance(1.0);
-  });
+  live.SetSynthesizer(
+    [&](const std::string&)
+    {
+      ++calls;
+      return behaviortest::MakeUtterance(1.0);
+    });
   live.Say("First part. Second part. Third part.", 0.0);
   std::vector<double> w(live.GetNumberOfChannels());
   live.Sample(0.4, w.data());
@@ -571,16 +579,18 @@ TEST(LiveBehavior, EachTextKeepsItsSynthesizer)
 {
   LiveBehavior live(Visemes, BehaviorParameters(), 1);
   std::string calls;
-  auto voice = [&](char name) {
-    return [&calls, name](const std::string& text) {
+  auto voice = [&](char name)
+  {
+    return [&calls, name](const std::string& text)
+    {
       calls += name;
       return behaviortest::MakeUtterance(0.02 * static_cast<double>(text.size()));
     };
   };
   live.SetSynthesizer(voice('d'));
-  live.Say("First sentence one. First sentence two.", 0.0);                  // d now, d later
-  live.Say("Second text one. Second text two.", 0.0, voice('x'));            // queued: x, x
-  live.Say("Third.", 0.0);                                                     // queued: d
+  live.Say("First sentence one. First sentence two.", 0.0);       // d now, d later
+  live.Say("Second text one. Second text two.", 0.0, voice('x')); // queued: x, x
+  live.Say("Third.", 0.0);                                        // queued: d
   EXPECT_EQ(calls, "d");
   std::vector<double> w(live.GetNumberOfChannels());
   for (double t = 0.0; t < 10.0; t += 0.05)

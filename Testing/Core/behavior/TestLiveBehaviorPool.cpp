@@ -36,7 +36,8 @@ public:
   bool Wait(double limit)
   {
     std::unique_lock<std::mutex> lock(this->M);
-    return this->Cv.wait_for(lock, std::chrono::duration<double>(limit), [this] { return this->IsOpen; });
+    return this->Cv.wait_for(
+      lock, std::chrono::duration<double>(limit), [this] { return this->IsOpen; });
   }
 
 private:
@@ -68,18 +69,20 @@ TEST(LiveBehaviorPool, SayAndSampleNeverWaitForSynthesis)
   auto timedOut = std::make_shared<std::atomic<bool>>(false);
   const auto caller = std::this_thread::get_id();
   auto onCaller = std::make_shared<std::atomic<bool>>(false);
-  live.SetSynthesizer([gate, timedOut, caller, onCaller](const std::string&) {
-    *onCaller = *onCaller || std::this_thread::get_id() == caller;
-    // Held until the test opens the gate: a Say or Sample that waited for it would only
-    // go on after this 3 s limit, and the test sees timedOut.
-    if (!gate->Wait(3.0))
+  live.SetSynthesizer(
+    [gate, timedOut, caller, onCaller](const std::string&)
     {
-      *timedOut = true;
-    }
-    Utterance u = behaviortest::MakeUtterance(1.0);
-    u.Audio.assign(2205, 100);
-    return u;
-  });
+      *onCaller = *onCaller || std::this_thread::get_id() == caller;
+      // Held until the test opens the gate: a Say or Sample that waited for it would only
+      // go on after this 3 s limit, and the test sees timedOut.
+      if (!gate->Wait(3.0))
+      {
+        *timedOut = true;
+      }
+      Utterance u = behaviortest::MakeUtterance(1.0);
+      u.Audio.assign(2205, 100);
+      return u;
+    });
   std::vector<double> w(live.GetNumberOfChannels());
   live.Sample(1.0, w.data());
   const LiveBehavior::Timing said = live.Say("Hello there.", 1.0);
@@ -95,7 +98,8 @@ TEST(LiveBehaviorPool, SayAndSampleNeverWaitForSynthesis)
     t += 0.02;
     live.Sample(t, w.data());
     mouth = std::max(mouth, w[C::NumberOfBaseChannels + 2]);
-    EXPECT_GT(live.GetSpeechTiming(said.Id).Start, t) << "the start stays after the last frame until ready";
+    EXPECT_GT(live.GetSpeechTiming(said.Id).Start, t)
+      << "the start stays after the last frame until ready";
   }
   EXPECT_EQ(mouth, 0.0);
   EXPECT_TRUE(live.TakeAudio().empty());
@@ -107,7 +111,8 @@ TEST(LiveBehaviorPool, SayAndSampleNeverWaitForSynthesis)
   const LiveBehavior::Timing ready = live.GetSpeechTiming(said.Id);
   ASSERT_EQ(ready.Id, said.Id);
   EXPECT_TRUE(ready.Final);
-  EXPECT_GT(ready.Start, pickedAt) << "speech starts at the frame that picked it up, not in the past";
+  EXPECT_GT(ready.Start, pickedAt)
+    << "speech starts at the frame that picked it up, not in the past";
   EXPECT_LE(ready.Start, t);
   EXPECT_NEAR(ready.End - ready.Start, 1.0, 1e-9);
   const auto audio = live.TakeAudio();
@@ -129,15 +134,16 @@ TEST(LiveBehaviorPool, ChunksKeepTheirOrderAndALateChunkIsReportedWithItsUtteran
   auto pool = std::make_shared<SynthesisPool>(settings);
   // Another user of the pool holds its only worker for a while.
   auto gate = std::make_shared<Gate>();
-  auto busy = pool->Submit([gate]() {
-    gate->Wait(5.0);
-    return behaviortest::MakeUtterance(0.1);
-  });
+  auto busy = pool->Submit(
+    [gate]()
+    {
+      gate->Wait(5.0);
+      return behaviortest::MakeUtterance(0.1);
+    });
   LiveBehavior live(Visemes, behaviortest::QuietParameters(), 1);
   live.SetSynthesisPool(pool);
-  live.SetSynthesizer([](const std::string& text) {
-    return behaviortest::MakeUtterance(0.02 * static_cast<double>(text.size()));
-  });
+  live.SetSynthesizer([](const std::string& text)
+    { return behaviortest::MakeUtterance(0.02 * static_cast<double>(text.size())); });
   std::vector<double> w(live.GetNumberOfChannels());
   const auto late = live.Say("This waits too long.", 0.0);
   std::this_thread::sleep_for(std::chrono::milliseconds(150));
@@ -175,18 +181,22 @@ TEST(LiveBehaviorPool, StopCancelsWhatWaitsForThePool)
   settings.Workers = 1;
   auto pool = std::make_shared<SynthesisPool>(settings);
   auto gate = std::make_shared<Gate>();
-  auto busy = pool->Submit([gate]() {
-    gate->Wait(5.0);
-    return behaviortest::MakeUtterance(0.1);
-  });
+  auto busy = pool->Submit(
+    [gate]()
+    {
+      gate->Wait(5.0);
+      return behaviortest::MakeUtterance(0.1);
+    });
   auto calls = std::make_shared<std::atomic<int>>(0);
   {
     LiveBehavior live(Visemes, behaviortest::QuietParameters(), 1);
     live.SetSynthesisPool(pool);
-    live.SetSynthesizer([calls](const std::string&) {
-      ++*calls;
-      return behaviortest::MakeUtterance(1.0);
-    });
+    live.SetSynthesizer(
+      [calls](const std::string&)
+      {
+        ++*calls;
+        return behaviortest::MakeUtterance(1.0);
+      });
     live.Say("Never said.", 0.0);
     live.StopSpeaking(0.1);
     EXPECT_FALSE(live.IsSpeaking(0.1));

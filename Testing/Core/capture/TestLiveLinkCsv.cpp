@@ -158,8 +158,9 @@ TEST(ArkitNames, EveryAppleNameLandsOnTheIctTargetsThroughTheRig)
       }
     }
     const auto& names = ArkitIctNames(s);
-    std::set<std::string> want = ArkitShapeNames()[s] == "tongueOut" ? std::set<std::string>{}
-                                                                       : std::set<std::string>(names.begin(), names.end());
+    std::set<std::string> want = ArkitShapeNames()[s] == "tongueOut"
+      ? std::set<std::string>{}
+      : std::set<std::string>(names.begin(), names.end());
     EXPECT_EQ(moved, want) << ArkitShapeNames()[s];
   }
   // Apple-named faces map one to one; names that are no ARKit shape are reported.
@@ -173,7 +174,8 @@ TEST(ArkitNames, EveryAppleNameLandsOnTheIctTargetsThroughTheRig)
 TEST(LiveLinkCsv, TimecodesWithSubFrames)
 {
   EXPECT_DOUBLE_EQ(ParseLiveLinkTimecode("00:00:01:30", 60), 1.5);
-  EXPECT_NEAR(ParseLiveLinkTimecode("12:21:59:06.595", 60), 12 * 3600 + 21 * 60 + 59 + 6.595 / 60, 1e-9);
+  EXPECT_NEAR(
+    ParseLiveLinkTimecode("12:21:59:06.595", 60), 12 * 3600 + 21 * 60 + 59 + 6.595 / 60, 1e-9);
   EXPECT_NEAR(ParseLiveLinkTimecode("00:00:00:01.5", 30), 1.5 / 30, 1e-12);
   EXPECT_NEAR(ParseLiveLinkTimecode("00:00:00;10", 30), 10.0 / 30, 1e-12);
   EXPECT_EQ(FormatLiveLinkTimecode(12 * 3600 + 21 * 60 + 59 + 6.595 / 60, 60), "12:21:59:06.595");
@@ -182,8 +184,8 @@ TEST(LiveLinkCsv, TimecodesWithSubFrames)
   EXPECT_EQ(FormatLiveLinkTimecode(1.0 - 1e-9, 60), "00:00:01:00.000");
   EXPECT_EQ(FormatLiveLinkTimecode(1.0 - 2e-5, 60), "00:00:00:59.999");
   EXPECT_EQ(FormatLiveLinkTimecode(-1.0 / 60, 60), "23:59:59:59.000");
-  for (const char* bad : { "", "12:00:00", "12:00:00:60", "24:00:00:00", "12:60:00:00", "1a:00:00:00",
-         "12:00:00:01.", "12:00:00:01.x", "12:00:00:-1", "12:00:00:01:02" })
+  for (const char* bad : { "", "12:00:00", "12:00:00:60", "24:00:00:00", "12:60:00:00",
+         "1a:00:00:00", "12:00:00:01.", "12:00:00:01.x", "12:00:00:-1", "12:00:00:01:02" })
   {
     EXPECT_THROW(ParseLiveLinkTimecode(bad, 60), InputError) << bad;
   }
@@ -217,13 +219,17 @@ TEST(LiveLinkCsv, ASyntheticTakeReadsBackExactly)
     // Radians to the behaviour's degrees.
     EXPECT_NEAR(capture.GetValue(r, static_cast<size_t>(capture.FindChannel("HeadYaw"))),
       0.01 * static_cast<double>(r) * 180.0 / Pi, 1e-9);
-    EXPECT_NEAR(capture.GetValue(r, static_cast<size_t>(capture.FindChannel("HeadPitch"))), -0.05 * 180.0 / Pi, 1e-9);
-    EXPECT_NEAR(capture.GetValue(r, static_cast<size_t>(capture.FindChannel("EyeYaw"))), 0.2 * 180.0 / Pi, 1e-9);
-    EXPECT_NEAR(capture.GetValue(r, static_cast<size_t>(capture.FindChannel("EyePitch"))), -0.2 * 180.0 / Pi, 1e-9);
+    EXPECT_NEAR(capture.GetValue(r, static_cast<size_t>(capture.FindChannel("HeadPitch"))),
+      -0.05 * 180.0 / Pi, 1e-9);
+    EXPECT_NEAR(capture.GetValue(r, static_cast<size_t>(capture.FindChannel("EyeYaw"))),
+      0.2 * 180.0 / Pi, 1e-9);
+    EXPECT_NEAR(capture.GetValue(r, static_cast<size_t>(capture.FindChannel("EyePitch"))),
+      -0.2 * 180.0 / Pi, 1e-9);
   }
   // Between rows: linear interpolation; outside: clamped.
   const size_t jaw = static_cast<size_t>(capture.FindChannel("jawOpen"));
-  EXPECT_NEAR(capture.Sample(0.5 / 30.0, jaw), 0.5 * (capture.GetValue(0, jaw) + capture.GetValue(1, jaw)), 1e-12);
+  EXPECT_NEAR(capture.Sample(0.5 / 30.0, jaw),
+    0.5 * (capture.GetValue(0, jaw) + capture.GetValue(1, jaw)), 1e-12);
   EXPECT_DOUBLE_EQ(capture.Sample(-1.0, jaw), capture.GetValue(0, jaw));
   EXPECT_DOUBLE_EQ(capture.Sample(100.0, jaw), capture.GetValue(rows - 1, jaw));
   // As a fixed-rate track.
@@ -235,7 +241,8 @@ TEST(LiveLinkCsv, ASyntheticTakeReadsBackExactly)
   std::stringstream written;
   WriteLiveLinkCsv(written, capture);
   EXPECT_EQ(written.str().substr(0, written.str().find('\n')), AppHeader);
-  EXPECT_TRUE(Contains(written.str(), "\n12:21:59:06.595,61,0.0000000000,0.1000000000,")) << written.str().substr(0, 700);
+  EXPECT_TRUE(Contains(written.str(), "\n12:21:59:06.595,61,0.0000000000,0.1000000000,"))
+    << written.str().substr(0, 700);
   const LiveLinkCapture back = ReadLiveLinkCsv(written);
   ASSERT_EQ(back.Channels, capture.Channels);
   ASSERT_EQ(back.GetNumberOfRows(), rows);
@@ -290,10 +297,13 @@ TEST(LiveLinkCsv, BadInputNamesLineAndColumn)
     { "Timecode,JawOpen,jaw_Open\n", {} }, // unknown column: fine (no rows error below)
     { header + good + "00:00:00:02.000,2,0.5\n", { "line 3, column 4", "'HeadYaw'", "missing" } },
     { header + good + "00:00:00:02.000,2,0.5,0.1,9\n", { "line 3, column 5", "5 cells" } },
-    { header + good + "00:00:00:02.000,2,abc,0.1\n", { "line 3, column 3", "'JawOpen'", "'abc'", "not a finite number" } },
-    { header + good + "00:00:00:02.000,2,0.5,nan\n", { "line 3, column 4", "not a finite number" } },
+    { header + good + "00:00:00:02.000,2,abc,0.1\n",
+      { "line 3, column 3", "'JawOpen'", "'abc'", "not a finite number" } },
+    { header + good + "00:00:00:02.000,2,0.5,nan\n",
+      { "line 3, column 4", "not a finite number" } },
     { header + good + "00:00:00:02.000,2,0.5,\n", { "line 3, column 4", "not a finite number" } },
-    { header + good + "00:00:00:61.000,2,0.5,0.1\n", { "line 3, column 1", "frame 61", "rate of 60" } },
+    { header + good + "00:00:00:61.000,2,0.5,0.1\n",
+      { "line 3, column 1", "frame 61", "rate of 60" } },
     { header + good + "0:0:0\n", { "line 3, column 2", "missing" } },
     { header + good + good, { "line 3, column 1", "not later" } },
   };
@@ -324,7 +334,9 @@ TEST(LiveLinkCsv, ATrackOfFaceTargetsGoesOut)
 {
   // The behaviour's output expanded onto the ICT face: ICT names, split halves, gaze and
   // head angles in degrees, a channel that is no ARKit shape.
-  WeightTrack track({ "jawOpen", "browInnerUp_L", "browInnerUp_R", "eyeBlink_L", "HeadYaw", "EyeYaw", "EyePitch", "sil" }, 30.0);
+  WeightTrack track({ "jawOpen", "browInnerUp_L", "browInnerUp_R", "eyeBlink_L", "HeadYaw",
+                      "EyeYaw", "EyePitch", "sil" },
+    30.0);
   track.AppendFrame({ 0.5, 0.2, 0.4, 1.0, 10.0, 5.0, -3.0, 1.0 });
   track.AppendFrame({ 0.25, 0.0, 0.0, 0.0, -10.0, 0.0, 0.0, 0.0 });
   std::vector<std::string> unmapped;
@@ -338,7 +350,8 @@ TEST(LiveLinkCsv, ATrackOfFaceTargetsGoesOut)
   ASSERT_EQ(back.GetNumberOfRows(), 2u);
   EXPECT_NEAR(back.StartTimecode, 3600.0, 1e-9);
   EXPECT_NEAR(back.Times[1], 1.0 / 30.0, 1e-6);
-  auto value = [&](size_t row, const char* name) {
+  auto value = [&](size_t row, const char* name)
+  {
     const int c = back.FindChannel(name);
     EXPECT_GE(c, 0) << name;
     return c < 0 ? NAN : back.GetValue(row, static_cast<size_t>(c));
@@ -393,7 +406,8 @@ TEST(LiveLinkCsv, ACaptureDrivesTheIctHead)
   std::istringstream in(csv.str());
   const LiveLinkCapture capture = ReadLiveLinkCsv(in);
   std::vector<double> shapes(ArkitShapeCount, 0.0);
-  auto displacement = [&](double time) {
+  auto displacement = [&](double time)
+  {
     std::fill(shapes.begin(), shapes.end(), 0.0);
     for (size_t c = 0; c < capture.Channels.size(); ++c)
     {
@@ -454,7 +468,8 @@ TEST(CaptureMapping, TakeOntoAFaceAndWithoutOne)
   EXPECT_DOUBLE_EQ(row[2], capture.GetValue(1, inner)) << "browInnerUp_L";
   EXPECT_DOUBLE_EQ(row[3], capture.GetValue(1, inner)) << "browInnerUp_R";
   EXPECT_DOUBLE_EQ(row[10], capture.GetValue(1, blink)) << "eyeBlink_L";
-  EXPECT_DOUBLE_EQ(row[IctTargets.size()], capture.GetValue(1, ArkitShapeCount)) << "HeadYaw copied";
+  EXPECT_DOUBLE_EQ(row[IctTargets.size()], capture.GetValue(1, ArkitShapeCount))
+    << "HeadYaw copied";
   // Targets that make no rig.
   EXPECT_THROW(CaptureFaceMapping(capture, { "jawOpen", "jawOpen" }), InputError);
 }

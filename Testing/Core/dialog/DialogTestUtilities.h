@@ -75,8 +75,8 @@ inline bool SendAll(int fd, const std::string& bytes)
 /// Reads from fd, keeping partial lines in `pending`, until `count` lines arrived or the
 /// timeout passed; while waiting it polls the server (so that it reads and answers).
 /// Each line is parsed as JSON (a discarded value if it is not JSON).
-inline std::vector<json> ReadEvents(int fd, size_t count, DialogServer* server,
-  std::string& pending, int timeoutMs = 3000)
+inline std::vector<json> ReadEvents(
+  int fd, size_t count, DialogServer* server, std::string& pending, int timeoutMs = 3000)
 {
   std::vector<json> events;
   const auto until = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeoutMs);
@@ -111,15 +111,16 @@ inline std::vector<json> ReadEvents(int fd, size_t count, DialogServer* server,
   return events;
 }
 
-inline std::vector<json> ReadEvents(int fd, size_t count, DialogServer* server, int timeoutMs = 3000)
+inline std::vector<json> ReadEvents(
+  int fd, size_t count, DialogServer* server, int timeoutMs = 3000)
 {
   std::string pending;
   return ReadEvents(fd, count, server, pending, timeoutMs);
 }
 
 /// Polls until at least `count` commands arrived (or the timeout).
-inline std::vector<DialogServer::Incoming> PollCommands(DialogServer& server, size_t count,
-  int timeoutMs = 3000)
+inline std::vector<DialogServer::Incoming> PollCommands(
+  DialogServer& server, size_t count, int timeoutMs = 3000)
 {
   std::vector<DialogServer::Incoming> all;
   const auto until = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeoutMs);

@@ -12,8 +12,9 @@ using namespace morphnode::dialog;
 
 TEST(DialogProtocol, SayWithARecordingAndItsTimings)
 {
-  ParsedLine p = ParseCommand(R"({"cmd":"say","id":7,"audio":"/srv/take.wav","timings":"/srv/take.json",)"
-                              R"("timings_format":"azure-visemes"})");
+  ParsedLine p =
+    ParseCommand(R"({"cmd":"say","id":7,"audio":"/srv/take.wav","timings":"/srv/take.json",)"
+                 R"("timings_format":"azure-visemes"})");
   ASSERT_TRUE(p.Ok()) << p.Error.Message;
   const auto& say = std::get<SayCommand>(p.Cmd.Body);
   EXPECT_EQ(say.Audio, "/srv/take.wav");

@@ -142,14 +142,14 @@ TEST(DialogProtocol, MissingOrUnknownCommand)
 TEST(DialogProtocol, WrongFieldTypesAndRanges)
 {
   const char* bad[] = {
-    R"({"cmd":"say"})",                                  // text missing
-    R"({"cmd":"say","text":5})",                         // not a string
-    R"({"cmd":"say","text":""})",                        // empty
-    R"({"cmd":"say","text":"   "})",                     // blank
-    R"({"cmd":"say","text":"hi","voice":3})",            // voice not a string
-    R"({"cmd":"say","text":"hi","voice":""})",           // voice empty
-    R"({"cmd":"gesture"})",                              // name missing
-    R"({"cmd":"gesture","name":["nod"]})",               // name not a string
+    R"({"cmd":"say"})",                        // text missing
+    R"({"cmd":"say","text":5})",               // not a string
+    R"({"cmd":"say","text":""})",              // empty
+    R"({"cmd":"say","text":"   "})",           // blank
+    R"({"cmd":"say","text":"hi","voice":3})",  // voice not a string
+    R"({"cmd":"say","text":"hi","voice":""})", // voice empty
+    R"({"cmd":"gesture"})",                    // name missing
+    R"({"cmd":"gesture","name":["nod"]})",     // name not a string
     R"({"cmd":"gesture","name":"nod","intensity":"high"})",
     R"({"cmd":"gesture","name":"nod","intensity":1.5})", // out of [0, 1]
     R"({"cmd":"gesture","name":"nod","intensity":-0.1})",
@@ -158,10 +158,10 @@ TEST(DialogProtocol, WrongFieldTypesAndRanges)
     R"({"cmd":"mood","name":"happy","intensity":2})",
     R"({"cmd":"mood","name":"happy","intensity":null})",
     R"({"cmd":"mood","intensity":0.5})",
-    R"({"cmd":"look_at","yaw":10})",                     // pitch missing
-    R"({"cmd":"look_at","pitch":10})",                   // yaw missing
+    R"({"cmd":"look_at","yaw":10})",   // pitch missing
+    R"({"cmd":"look_at","pitch":10})", // yaw missing
     R"({"cmd":"look_at","yaw":"left","pitch":0})",
-    R"({"cmd":"look_at","yaw":120,"pitch":0})",          // beyond 90 degrees
+    R"({"cmd":"look_at","yaw":120,"pitch":0})", // beyond 90 degrees
     R"({"cmd":"look_at","yaw":0,"pitch":-91})",
     R"({"cmd":"look_at","yaw":0,"pitch":0,"duration":-2})",
     // Durations have a floor (issue 29: 1e-320 made the head pose NaN and ended the avatar).
@@ -170,7 +170,7 @@ TEST(DialogProtocol, WrongFieldTypesAndRanges)
     R"({"cmd":"gesture","name":"nod","duration":0.0099})",
     R"({"cmd":"gesture","name":"nod","duration":600.001})",
     R"({"cmd":"look_at","yaw":0,"pitch":0,"duration":5e-324})",
-    R"({"cmd":"say","text":"hi","id":1.5})",             // id: string or integer only
+    R"({"cmd":"say","text":"hi","id":1.5})", // id: string or integer only
     R"({"cmd":"say","text":"hi","id":{"a":1}})",
     R"({"cmd":"say","text":"hi","id":[1]})",
     R"({"cmd":"say","text":"hi","id":true})",
@@ -181,7 +181,8 @@ TEST(DialogProtocol, WrongFieldTypesAndRanges)
     EXPECT_EQ(ReasonOf(line), reason::BadField) << line;
   }
   for (const char* line : { R"({"cmd":"gesture","name":"nod","duration":0.01})",
-         R"({"cmd":"gesture","name":"nod","duration":0})", R"({"cmd":"gesture","name":"nod","duration":600})",
+         R"({"cmd":"gesture","name":"nod","duration":0})",
+         R"({"cmd":"gesture","name":"nod","duration":600})",
          R"({"cmd":"look_at","yaw":0,"pitch":0,"duration":0.01})" })
   {
     EXPECT_TRUE(ParseCommand(line).Ok()) << line;
@@ -342,9 +343,9 @@ TEST(LineFramer, Reset)
 // Issue 29: a duplicate key took the last value; a command means one thing to every reader.
 TEST(DialogProtocol, DuplicateKeysAreRefused)
 {
-  for (const char* line : { R"({"cmd":"say","text":"yes","text":"no"})",
-         R"({"cmd":"gesture","name":"nod","cmd":"quit"})",
-         R"({"cmd":"look_at","yaw":1,"pitch":2,"yaw":80})" })
+  for (const char* line :
+    { R"({"cmd":"say","text":"yes","text":"no"})", R"({"cmd":"gesture","name":"nod","cmd":"quit"})",
+      R"({"cmd":"look_at","yaw":1,"pitch":2,"yaw":80})" })
   {
     const ParsedLine p = ParseCommand(line);
     ASSERT_FALSE(p.Ok()) << line;

@@ -33,7 +33,7 @@ Event Accepted(const Command& c)
 std::string TempPath(const char* name)
 {
   return (std::filesystem::temp_directory_path() /
-           (std::string(name) + "-" + std::to_string(getpid()) + ".sock"))
+    (std::string(name) + "-" + std::to_string(getpid()) + ".sock"))
     .string();
 }
 } // namespace
@@ -98,7 +98,7 @@ TEST(DialogServer, BadInputGetsErrorsAndNothingElse)
     "{\"cmd\":\"juggle\",\"id\":\"j\"}\n"
     "{\"cmd\":\"say\",\"text\":42,\"id\":9}\n"
     "{\"cmd\":\"stop\",\"please\":1}\n" +
-    nul + std::string(5000, '{') + "\n"));
+      nul + std::string(5000, '{') + "\n"));
   auto events = ReadEvents(fd, 8, &server);
   ASSERT_EQ(events.size(), 8u);
   const char* reasons[] = { reason::Malformed, reason::NotObject, reason::MissingCmd,
@@ -161,7 +161,8 @@ TEST(DialogServer, ClientLeavingMidLineRunsNothing)
   // Half-closed: a full line, then half of one; it can still read its events.
   int fd = ConnectTcp(address);
   ASSERT_GE(fd, 0);
-  ASSERT_TRUE(SendAll(fd, "{\"cmd\":\"gesture\",\"name\":\"nod\"}\n{\"cmd\":\"say\",\"text\":\"Hel"));
+  ASSERT_TRUE(
+    SendAll(fd, "{\"cmd\":\"gesture\",\"name\":\"nod\"}\n{\"cmd\":\"say\",\"text\":\"Hel"));
   shutdown(fd, SHUT_WR);
   auto in = PollCommands(server, 2, 300);
   ASSERT_EQ(in.size(), 1u); // the complete line only
@@ -289,8 +290,8 @@ TEST(DialogServer, LoopbackOnlyUnlessAllowed)
 TEST(DialogServer, BadAddresses)
 {
   DialogServer server;
-  const char* bad[] = { "", "abc", "127.0.0.1:", "127.0.0.1:99999", "127.0.0.1:12x",
-    "::1:5555", "unix:" };
+  const char* bad[] = { "", "abc", "127.0.0.1:", "127.0.0.1:99999", "127.0.0.1:12x", "::1:5555",
+    "unix:" };
   for (const char* address : bad)
   {
     EXPECT_THROW(server.Listen(address), morphnode::InputError) << address;
@@ -314,7 +315,9 @@ TEST(DialogServer, UnixSocket)
   {
     DialogServer server;
     EXPECT_EQ(server.Listen("unix:" + path), "unix:" + path);
-    struct stat st{};
+    struct stat st
+    {
+    };
     ASSERT_EQ(stat(path.c_str(), &st), 0);
     EXPECT_TRUE(S_ISSOCK(st.st_mode));
     EXPECT_EQ(st.st_mode & 0777, 0600u); // this user only
@@ -357,7 +360,8 @@ TEST(DialogServer, StreamLikeStdin)
     server.AddStream(in[0], out[1]);
     EXPECT_THROW(server.AddStream(in[0], out[1]), morphnode::InputError);
     EXPECT_TRUE(server.IsConnected(DialogServer::StreamClient));
-    const std::string lines = "{\"cmd\":\"gesture\",\"name\":\"blink\",\"id\":1}\nbad\n{\"cmd\":\"sa";
+    const std::string lines =
+      "{\"cmd\":\"gesture\",\"name\":\"blink\",\"id\":1}\nbad\n{\"cmd\":\"sa";
     ASSERT_EQ(write(in[1], lines.data(), lines.size()), static_cast<ssize_t>(lines.size()));
     auto cmds = PollCommands(server, 1);
     ASSERT_EQ(cmds.size(), 1u);

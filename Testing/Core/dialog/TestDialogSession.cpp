@@ -190,8 +190,8 @@ TEST(DialogSession, RejectedCommandChangesNothing)
 TEST(DialogSession, StopInterruptsSpeech)
 {
   Fixture f;
-  f.Command(R"({"cmd":"say","text":"One","id":"a"})", 0.0);  // 0 .. 2
-  f.Command(R"({"cmd":"say","text":"Two","id":"b"})", 0.0);  // queued: 2 .. 4
+  f.Command(R"({"cmd":"say","text":"One","id":"a"})", 0.0); // 0 .. 2
+  f.Command(R"({"cmd":"say","text":"Two","id":"b"})", 0.0); // queued: 2 .. 4
   f.Command(R"({"cmd":"gesture","name":"nod","duration":5,"id":"n"})", 0.0);
   f.Session.Advance(1.0); // a and the nod started
   f.Events(5);
@@ -271,7 +271,8 @@ TEST(DialogSession, HalfClosedClientGetsItsEvents)
   to.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
   const int fd = socket(AF_INET, SOCK_STREAM, 0);
   ASSERT_EQ(connect(fd, reinterpret_cast<sockaddr*>(&to), sizeof(to)), 0);
-  const std::string line = R"({"cmd":"gesture","name":"nod","duration":1,"id":"h"})" "\n";
+  const std::string line = R"({"cmd":"gesture","name":"nod","duration":1,"id":"h"})"
+                           "\n";
   ASSERT_EQ(write(fd, line.data(), line.size()), static_cast<ssize_t>(line.size()));
   shutdown(fd, SHUT_WR);
   for (int i = 0; i < 20 && sink.Calls.empty(); ++i)

@@ -6,13 +6,13 @@
 #include "gaze/EyeRig.h"
 #include "gaze/EyeRotation.h"
 
+#include "MorphNodeTestErrors.h"
 #include "base/Error.h"
 #include "behavior/BehaviorController.h"
 #include "behavior/BehaviorTypes.h"
 #include "behavior/HeadPose.h"
 #include "gltf/GltfScene.h"
 #include "rig/Rig.h"
-#include "MorphNodeTestErrors.h"
 
 #include <gtest/gtest.h>
 
@@ -70,9 +70,9 @@ std::array<double, 9> FromQuaternion(double x, double y, double z, double w)
 {
   const double n = std::sqrt(x * x + y * y + z * z + w * w);
   x /= n, y /= n, z /= n, w /= n;
-  return { 1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w),
-    2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w),
-    2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y) };
+  return { 1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w), 2 * (x * y + z * w),
+    1 - 2 * (x * x + z * z), 2 * (y * z - x * w), 2 * (x * z - y * w), 2 * (y * z + x * w),
+    1 - 2 * (x * x + y * y) };
 }
 
 /// NodeAxes (x, y, z axes, 3 values each) of a rotation: its columns.
@@ -84,15 +84,15 @@ std::array<double, 9> AxesOf(const std::array<double, 9>& r)
 
 TEST(EyeRig, DefaultConventionFindsCommonEyeNames)
 {
-  for (const char* name : { "EyeLeft", "EyeRight", "eye_L", "eye_R", "LeftEye", "RightEye",
-         "mixamorig:LeftEye", "Eye.L", "lEye", "rEye", "EYE", "Wolf3D_Eye", "eyeball_left",
-         "Eye_Sclera_L" })
+  for (const char* name :
+    { "EyeLeft", "EyeRight", "eye_L", "eye_R", "LeftEye", "RightEye", "mixamorig:LeftEye", "Eye.L",
+      "lEye", "rEye", "EYE", "Wolf3D_Eye", "eyeball_left", "Eye_Sclera_L" })
   {
     EXPECT_TRUE(EyeRig::MatchesDefaultConvention(name)) << name;
   }
-  for (const char* name : { "Head", "Eyelashes", "EyeLashes", "Eyebrows", "Brows", "Eyelid_L",
-         "EyeSocket", "M_EyeSocket", "Lacrimal_Eye", "EyeBlend", "EyeOcclusion", "TearLine_L",
-         "", "Teeth", "ey e" })
+  for (const char* name :
+    { "Head", "Eyelashes", "EyeLashes", "Eyebrows", "Brows", "Eyelid_L", "EyeSocket", "M_EyeSocket",
+      "Lacrimal_Eye", "EyeBlend", "EyeOcclusion", "TearLine_L", "", "Teeth", "ey e" })
   {
     EXPECT_FALSE(EyeRig::MatchesDefaultConvention(name)) << name;
   }
@@ -153,7 +153,11 @@ TEST(EyeRig, NamedEyesReplaceTheConvention)
   EXPECT_NE(ErrorOf([&] { rig.AddEye(parallel); }).find("parallel"), std::string::npos);
   parallel.Up = { 0, std::nan(""), 0 };
   EXPECT_NE(ErrorOf([&] { rig.AddEye(parallel); }).find("finite"), std::string::npos);
-  EXPECT_NE(ErrorOf([&] { rig.SetDefaultDirections({ 0, 0, 0 }, { 0, 1, 0 }); }).find("zero"),
+  EXPECT_NE(ErrorOf(
+              [&] {
+                rig.SetDefaultDirections({ 0, 0, 0 }, { 0, 1, 0 });
+              })
+              .find("zero"),
     std::string::npos);
 }
 
@@ -177,7 +181,11 @@ TEST(EyeLimits, ClampAndVergence)
   EXPECT_EQ(EyeAngles({ 38.0, 5.0 }, 8.0, EyeSide::Right, limits).Yaw, 40.0);
   EXPECT_EQ(EyeAngles({ 10.0, 5.0 }, 8.0, EyeSide::Left, limits).Pitch, 5.0);
 
-  EXPECT_NE(ErrorOf([&] { EyeAngles({ 0, 0 }, -1.0, EyeSide::Left, limits); }).find("vergence"),
+  EXPECT_NE(ErrorOf(
+              [&] {
+                EyeAngles({ 0, 0 }, -1.0, EyeSide::Left, limits);
+              })
+              .find("vergence"),
     std::string::npos);
   EXPECT_NE(ErrorOf([&] { limits.Clamp({ std::nan(""), 0 }); }).find("finite"), std::string::npos);
   for (const double bad : { 0.0, -5.0, 91.0, std::nan(""), HUGE_VAL })
@@ -284,16 +292,34 @@ TEST(EyeRotation, RigidAboutTheCentreInRotatedFramesAndOtherRestDirections)
 TEST(EyeRotation, BadInput)
 {
   EyeSpec eye;
-  EXPECT_NE(ErrorOf([&] { EyeTurn({ 0, 0 }, { std::nan(""), 0, 0 }, Identity, eye); }).find("NodeOrigin"),
+  EXPECT_NE(ErrorOf(
+              [&] {
+                EyeTurn({ 0, 0 }, { std::nan(""), 0, 0 }, Identity, eye);
+              })
+              .find("NodeOrigin"),
     std::string::npos);
-  EXPECT_NE(ErrorOf([&] { EyeTurn({ HUGE_VAL, 0 }, { 0, 0, 0 }, Identity, eye); }).find("finite"),
+  EXPECT_NE(ErrorOf(
+              [&] {
+                EyeTurn({ HUGE_VAL, 0 }, { 0, 0, 0 }, Identity, eye);
+              })
+              .find("finite"),
     std::string::npos);
   std::array<double, 9> flat = Identity;
   flat[6] = flat[7] = flat[8] = 0.0; // no z axis
-  EXPECT_NE(ErrorOf([&] { EyeTurn({ 0, 0 }, { 0, 0, 0 }, flat, eye); }).find("axes"), std::string::npos);
+  EXPECT_NE(ErrorOf(
+              [&] {
+                EyeTurn({ 0, 0 }, { 0, 0, 0 }, flat, eye);
+              })
+              .find("axes"),
+    std::string::npos);
   std::array<double, 9> nan = Identity;
   nan[4] = std::nan("");
-  EXPECT_NE(ErrorOf([&] { EyeTurn({ 0, 0 }, { 0, 0, 0 }, nan, eye); }).find("finite"), std::string::npos);
+  EXPECT_NE(ErrorOf(
+              [&] {
+                EyeTurn({ 0, 0 }, { 0, 0, 0 }, nan, eye);
+              })
+              .find("finite"),
+    std::string::npos);
 }
 
 namespace
@@ -321,7 +347,8 @@ void CheckHead(const std::string& file, size_t eyeParts)
     std::array<double, 9> axes{};
     for (int c = 0; c < 3; ++c)
     {
-      const double l = std::sqrt(m[4 * c] * m[4 * c] + m[4 * c + 1] * m[4 * c + 1] + m[4 * c + 2] * m[4 * c + 2]);
+      const double l =
+        std::sqrt(m[4 * c] * m[4 * c] + m[4 * c + 1] * m[4 * c + 1] + m[4 * c + 2] * m[4 * c + 2]);
       for (int r = 0; r < 3; ++r)
       {
         axes[3 * c + r] = m[4 * c + r] / l;
@@ -371,7 +398,9 @@ void CheckHead(const std::string& file, size_t eyeParts)
     EXPECT_LT(worst, 1e-6) << part.Name << ": distances change (m)";
     Vec3 centre = origin;
     t.TurnPoints(origin.data(), centre.data(), 1);
-    EXPECT_LT(std::abs(centre[0] - origin[0]) + std::abs(centre[1] - origin[1]) + std::abs(centre[2] - origin[2]), 1e-12);
+    EXPECT_LT(std::abs(centre[0] - origin[0]) + std::abs(centre[1] - origin[1]) +
+        std::abs(centre[2] - origin[2]),
+      1e-12);
 
     // Normals turn with the points and stay unit.
     if (!part.Normals.empty())
@@ -465,7 +494,8 @@ TEST(EyeRotation, FaceKitLidsFollowTheEyes)
   ASSERT_EQ(channels[C::LookRight], 0.0);
 
   const morphnode::GltfScene scene = morphnode::LoadGltfScene(file);
-  morphnode::Rig rig = morphnode::Rig::LoadFile(std::string(MORPHNODE_SOURCE_DIR) + "/Data/rigs/arkit.json");
+  morphnode::Rig rig =
+    morphnode::Rig::LoadFile(std::string(MORPHNODE_SOURCE_DIR) + "/Data/rigs/arkit.json");
   const int face = scene.FindPart("Head/M_Face");
   ASSERT_GE(face, 0);
   const auto& part = scene.Parts[face];
@@ -516,8 +546,8 @@ TEST(EyeRotation, FaceKitLidsFollowTheEyes)
     }
     ASSERT_GT(near, 20u) << eyePart.Name << ": the look shapes move the skin around the eye";
     // The eye's own turn moves its front the same ways.
-    const RigidTurn turn = EyeTurn(EyeAngles(gaze, 0.0, eye.Side, eyes.GetLimits()), centre,
-      { 1, 0, 0, 0, 1, 0, 0, 0, 1 }, eye);
+    const RigidTurn turn = EyeTurn(
+      EyeAngles(gaze, 0.0, eye.Side, eyes.GetLimits()), centre, { 1, 0, 0, 0, 1, 0, 0, 0, 1 }, eye);
     const Vec3 front = Apply(turn.Rotation, { 0, 0, 1 });
     EXPECT_GT(front[0], 0.0);
     EXPECT_GT(front[1], 0.0);

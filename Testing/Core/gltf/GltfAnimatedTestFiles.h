@@ -31,7 +31,8 @@ inline const std::vector<float>& AnimatedTimes()
 /// Face weights per key (3 targets).
 inline const std::vector<float>& AnimatedFaceWeights()
 {
-  static const std::vector<float> w{ 0.0f, 0.2f, 0.0f, 0.8f, 0.5f, 0.1f, 0.3f, 1.0f, 0.9f, 0.0f, 0.0f, 0.2f };
+  static const std::vector<float> w{ 0.0f, 0.2f, 0.0f, 0.8f, 0.5f, 0.1f, 0.3f, 1.0f, 0.9f, 0.0f,
+    0.0f, 0.2f };
   return w;
 }
 
@@ -39,13 +40,16 @@ inline const std::vector<float>& AnimatedFaceWeights()
 inline std::vector<float> AnimatedFaceCubic()
 {
   const std::vector<float>& v = AnimatedFaceWeights();
-  const float in[4][3] = { { 0, 0, 0 }, { 1.5f, -0.5f, 0.25f }, { -0.75f, 1.0f, 2.0f }, { -1.0f, 0.5f, 0 } };
-  const float out[4][3] = { { 2.0f, 0.5f, -0.25f }, { 0.5f, 1.25f, -1.0f }, { -2.0f, 0.25f, 0.5f }, { 0, 0, 0 } };
+  const float in[4][3] = { { 0, 0, 0 }, { 1.5f, -0.5f, 0.25f }, { -0.75f, 1.0f, 2.0f },
+    { -1.0f, 0.5f, 0 } };
+  const float out[4][3] = { { 2.0f, 0.5f, -0.25f }, { 0.5f, 1.25f, -1.0f }, { -2.0f, 0.25f, 0.5f },
+    { 0, 0, 0 } };
   std::vector<float> o;
   for (size_t k = 0; k < 4; ++k)
   {
     o.insert(o.end(), in[k], in[k] + 3);
-    o.insert(o.end(), v.begin() + 3 * static_cast<long>(k), v.begin() + 3 * static_cast<long>(k) + 3);
+    o.insert(
+      o.end(), v.begin() + 3 * static_cast<long>(k), v.begin() + 3 * static_cast<long>(k) + 3);
     o.insert(o.end(), out[k], out[k] + 3);
   }
   return o;
@@ -59,7 +63,8 @@ inline std::vector<float> AnimatedHeadRotations()
   for (double d : degrees)
   {
     const double h = 0.5 * d * 3.14159265358979323846 / 180.0;
-    q.insert(q.end(), { 0.0f, static_cast<float>(std::sin(h)), 0.0f, static_cast<float>(std::cos(h)) });
+    q.insert(
+      q.end(), { 0.0f, static_cast<float>(std::sin(h)), 0.0f, static_cast<float>(std::cos(h)) });
   }
   return q;
 }
@@ -75,16 +80,22 @@ inline Builder AnimatedHead()
   b.Mesh({ { "name", "Face" },
     { "primitives",
       { { { "attributes", { { "POSITION", facePoints } } }, { "indices", faceIndices },
-        { "targets", { { { "POSITION", jaw } }, { { "POSITION", smile } }, { { "POSITION", blink } } } } } } },
-    { "weights", { 0.1, 0, 0 } }, { "extras", { { "targetNames", { "jawOpen", "smile", "eyeBlinkLeft" } } } } });
+        { "targets",
+          { { { "POSITION", jaw } }, { { "POSITION", smile } }, { { "POSITION", blink } } } } } } },
+    { "weights", { 0.1, 0, 0 } },
+    { "extras", { { "targetNames", { "jawOpen", "smile", "eyeBlinkLeft" } } } } });
   const int teethPoints = b.Vec3({ -0.2f, 0, 0, 0.2f, 0, 0, 0, -0.1f, 0.05f });
   const int teethJaw = b.Vec3({ 0, -0.15f, 0, 0, -0.15f, 0, 0, -0.2f, 0 });
   b.Mesh({ { "name", "Teeth" },
-    { "primitives", { { { "attributes", { { "POSITION", teethPoints } } }, { "targets", { { { "POSITION", teethJaw } } } } } } },
+    { "primitives",
+      { { { "attributes", { { "POSITION", teethPoints } } },
+        { "targets", { { { "POSITION", teethJaw } } } } } } },
     { "weights", { 0.0 } }, { "extras", { { "targetNames", { "jawOpen" } } } } });
   const int eyePoints = b.Vec3({ -0.05f, 0, 0, 0.05f, 0, 0, 0, 0.05f, 0 });
-  b.Mesh({ { "name", "Eye" }, { "primitives", { { { "attributes", { { "POSITION", eyePoints } } } } } } });
-  b.Node({ { "name", "Head" }, { "mesh", 0 }, { "translation", { 0, 1, 0 } }, { "children", { 1, 2 } } });
+  b.Mesh({ { "name", "Eye" },
+    { "primitives", { { { "attributes", { { "POSITION", eyePoints } } } } } } });
+  b.Node({ { "name", "Head" }, { "mesh", 0 }, { "translation", { 0, 1, 0 } },
+    { "children", { 1, 2 } } });
   b.Node({ { "name", "Teeth" }, { "mesh", 1 }, { "translation", { 0, -0.5, 0.2 } } });
   b.Node({ { "name", "EyeLeft" }, { "mesh", 2 }, { "translation", { 0.3, 0.2, 0.1 } } });
   b.Doc["scenes"] = { { { "name", "Scene" }, { "nodes", { 0 } } } };
@@ -102,17 +113,18 @@ inline Builder AnimatedHead()
   }
   const int teeth = b.Floats(teethWeights, "SCALAR", 1);
   const int cubic = b.Floats(AnimatedFaceCubic(), "SCALAR", 1);
-  const int translations = b.Floats({ 0, 1, 0, 0.1f, 1.2f, 0, -0.2f, 0.9f, 0.1f, 0, 1, 0 }, "VEC3", 3);
+  const int translations =
+    b.Floats({ 0, 1, 0, 0.1f, 1.2f, 0, -0.2f, 0.9f, 0.1f, 0, 1, 0 }, "VEC3", 3);
   const int rotations = b.Floats(AnimatedHeadRotations(), "VEC4", 4);
   // Scale, CUBICSPLINE: [in, value, out] per key.
-  const int scales = b.Floats({ 0, 0, 0, 1, 1, 1, 0.5f, 0, 0, //
+  const int scales = b.Floats({ 0, 0, 0, 1, 1, 1, 0.5f, 0, 0,             //
                                 0.2f, 0.2f, 0, 1.1f, 1, 1, 0.4f, 0, 0.1f, //
-                                -0.3f, 0, 0, 0.9f, 1, 1.05f, 0, 0, 0, //
+                                -0.3f, 0, 0, 0.9f, 1, 1.05f, 0, 0, 0,     //
                                 0, 0, 0, 1, 1, 1, 0, 0, 0 },
     "VEC3", 3);
   const float half = 0.5f * 25.0f * 3.14159265f / 180.0f;
-  const int eyeRotations = b.Floats({ 0, 0, 0, 1, std::sin(half), 0, 0, std::cos(half), 0, std::sin(half), 0,
-                                      std::cos(half), 0, 0, 0, 1 },
+  const int eyeRotations = b.Floats({ 0, 0, 0, 1, std::sin(half), 0, 0, std::cos(half), 0,
+                                      std::sin(half), 0, std::cos(half), 0, 0, 0, 1 },
     "VEC4", 4);
   auto sampler = [&](int output, const char* interpolation) {
     return json{ { "input", times }, { "output", output }, { "interpolation", interpolation } };
@@ -121,17 +133,18 @@ inline Builder AnimatedHead()
     return json{ { "sampler", s }, { "target", { { "node", node }, { "path", path } } } };
   };
   b.Doc["animations"] = json::array();
-  b.Doc["animations"].push_back({ { "name", "Linear" },
-    { "samplers", { sampler(face, "LINEAR"), sampler(teeth, "LINEAR") } },
-    { "channels", { channel(0, 0, "weights"), channel(1, 1, "weights") } } });
   b.Doc["animations"].push_back(
-    { { "name", "Step" }, { "samplers", { sampler(face, "STEP") } }, { "channels", { channel(0, 0, "weights") } } });
-  b.Doc["animations"].push_back({ { "name", "Cubic" }, { "samplers", { sampler(cubic, "CUBICSPLINE") } },
+    { { "name", "Linear" }, { "samplers", { sampler(face, "LINEAR"), sampler(teeth, "LINEAR") } },
+      { "channels", { channel(0, 0, "weights"), channel(1, 1, "weights") } } });
+  b.Doc["animations"].push_back({ { "name", "Step" }, { "samplers", { sampler(face, "STEP") } },
     { "channels", { channel(0, 0, "weights") } } });
+  b.Doc["animations"].push_back(
+    { { "name", "Cubic" }, { "samplers", { sampler(cubic, "CUBICSPLINE") } },
+      { "channels", { channel(0, 0, "weights") } } });
   b.Doc["animations"].push_back({ { "name", "Pose" },
     { "samplers",
-      { sampler(translations, "LINEAR"), sampler(rotations, "LINEAR"), sampler(scales, "CUBICSPLINE"),
-        sampler(eyeRotations, "STEP") } },
+      { sampler(translations, "LINEAR"), sampler(rotations, "LINEAR"),
+        sampler(scales, "CUBICSPLINE"), sampler(eyeRotations, "STEP") } },
     { "channels",
       { channel(0, 0, "translation"), channel(1, 0, "rotation"), channel(2, 0, "scale"),
         channel(3, 2, "rotation") } } });

@@ -33,31 +33,40 @@ inline Builder SkinnedQuad()
   Builder b;
   const int position = b.Vec3({ 1, 1, 0, 2, 1, 0, 1, 2, 0, 3, 1, 0 });
   const int normal = b.Vec3({ 0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1 });
-  const int joints0 = b.Accessor({ { "bufferView", b.View(std::vector<uint8_t>{ 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0 }) },
-    { "componentType", UnsignedByte }, { "count", 4 }, { "type", "VEC4" } });
+  const int joints0 =
+    b.Accessor({ { "bufferView",
+                   b.View(std::vector<uint8_t>{ 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0 }) },
+      { "componentType", UnsignedByte }, { "count", 4 }, { "type", "VEC4" } });
   const int weights0 = b.Floats({ 1, 0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 0, 0.25f, 0, 0, 0 }, "VEC4", 4);
-  const int joints1 = b.Accessor({ { "bufferView", b.View(std::vector<uint16_t>{ 0, 0, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0 }) },
-    { "componentType", UnsignedShort }, { "count", 4 }, { "type", "VEC4" } });
-  const int weights1 = b.Accessor({ { "bufferView", b.View(std::vector<uint8_t>{ 0, 0, 0, 0, 0, 0, 0, 0, 255, 0, 0, 0, 255, 0, 0, 0 }) },
-    { "componentType", UnsignedByte }, { "normalized", true }, { "count", 4 }, { "type", "VEC4" } });
+  const int joints1 = b.Accessor(
+    { { "bufferView",
+        b.View(std::vector<uint16_t>{ 0, 0, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0 }) },
+      { "componentType", UnsignedShort }, { "count", 4 }, { "type", "VEC4" } });
+  const int weights1 = b.Accessor(
+    { { "bufferView",
+        b.View(std::vector<uint8_t>{ 0, 0, 0, 0, 0, 0, 0, 0, 255, 0, 0, 0, 255, 0, 0, 0 }) },
+      { "componentType", UnsignedByte }, { "normalized", true }, { "count", 4 },
+      { "type", "VEC4" } });
   const int indices = b.Indices({ 0, 1, 2, 1, 3, 2 });
   const int up = b.Vec3({ 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1, 0 });
   const int right = b.Vec3({ 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0 });
   b.Mesh({ { "name", "SkinnedQuad" },
     { "primitives",
       { { { "attributes",
-            { { "POSITION", position }, { "NORMAL", normal }, { "JOINTS_0", joints0 }, { "WEIGHTS_0", weights0 },
-              { "JOINTS_1", joints1 }, { "WEIGHTS_1", weights1 } } },
-          { "indices", indices }, { "targets", { { { "POSITION", up } }, { { "POSITION", right } } } } } } },
+            { { "POSITION", position }, { "NORMAL", normal }, { "JOINTS_0", joints0 },
+              { "WEIGHTS_0", weights0 }, { "JOINTS_1", joints1 }, { "WEIGHTS_1", weights1 } } },
+        { "indices", indices },
+        { "targets", { { { "POSITION", up } }, { { "POSITION", right } } } } } } },
     { "weights", { 0, 0 } }, { "extras", { { "targetNames", { "Up", "Right" } } } } });
   // Inverse bind matrices, column-major.
   const std::vector<float> ibm = { 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, -1, -1, 0, 1, //
     1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, -1, -3, 0, 1 };
-  const int ibmAccessor = b.Accessor(
-    { { "bufferView", b.View(ibm) }, { "componentType", Float }, { "count", 2 }, { "type", "MAT4" } });
+  const int ibmAccessor = b.Accessor({ { "bufferView", b.View(ibm) }, { "componentType", Float },
+    { "count", 2 }, { "type", "MAT4" } });
   const double s = std::sqrt(0.5);
   b.Node({ { "name", "Root" }, { "translation", { 0, 1, 0 } }, { "children", { 1, 3 } } });
-  b.Node({ { "name", "J1" }, { "translation", { 1, 0, 0 } }, { "rotation", { 0, 0, s, s } }, { "children", { 2 } } });
+  b.Node({ { "name", "J1" }, { "translation", { 1, 0, 0 } }, { "rotation", { 0, 0, s, s } },
+    { "children", { 2 } } });
   b.Node({ { "name", "J2" }, { "translation", { 0, 1, 0 } } });
   b.Node({ { "name", "Mesh" }, { "mesh", 0 }, { "skin", 0 }, { "translation", { 100, 0, 0 } } });
   b.Doc["skins"] = json::array({ { { "name", "Rig" }, { "joints", { 1, 2 } }, { "skeleton", 1 },

@@ -68,14 +68,14 @@ public:
   int Indices(const std::vector<uint16_t>& values)
   {
     const int view = this->View(values);
-    return this->Accessor(
-      { { "bufferView", view }, { "componentType", UnsignedShort }, { "count", values.size() }, { "type", "SCALAR" } });
+    return this->Accessor({ { "bufferView", view }, { "componentType", UnsignedShort },
+      { "count", values.size() }, { "type", "SCALAR" } });
   }
 
   /// A sparse VEC3 FLOAT accessor of `count` elements: values at `indices`; on a zero base
   /// (no bufferView) or on `base` (dense values, when given).
-  int SparseVec3(size_t count, const std::vector<uint32_t>& indices, const std::vector<float>& values,
-    const std::vector<float>& base = {})
+  int SparseVec3(size_t count, const std::vector<uint32_t>& indices,
+    const std::vector<float>& values, const std::vector<float>& base = {})
   {
     json accessor = { { "componentType", Float }, { "count", count }, { "type", "VEC3" } };
     if (!base.empty())
@@ -133,7 +133,8 @@ public:
       text += ' ';
     }
     std::string out;
-    auto u32 = [&out](uint32_t v) {
+    auto u32 = [&out](uint32_t v)
+    {
       for (int i = 0; i < 4; ++i)
       {
         out += static_cast<char>((v >> (8 * i)) & 0xff);
@@ -158,12 +159,14 @@ public:
   /// .gltf JSON with the buffer as a base64 data URI.
   std::string GltfWithDataUri() const
   {
-    static const char* const alphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    static const char* const alphabet =
+      "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
     const std::vector<unsigned char> bin = this->PaddedBin();
     std::string b64;
     for (size_t i = 0; i < bin.size(); i += 3)
     {
-      const uint32_t n = (uint32_t(bin[i]) << 16) | (i + 1 < bin.size() ? uint32_t(bin[i + 1]) << 8 : 0) |
+      const uint32_t n = (uint32_t(bin[i]) << 16) |
+        (i + 1 < bin.size() ? uint32_t(bin[i + 1]) << 8 : 0) |
         (i + 2 < bin.size() ? uint32_t(bin[i + 2]) : 0);
       b64 += alphabet[(n >> 18) & 63];
       b64 += alphabet[(n >> 12) & 63];
@@ -186,19 +189,26 @@ inline Builder Quad()
   Builder b;
   const int position = b.Vec3({ 0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0 });
   const int normal = b.Vec3({ 0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1 });
-  const int color = b.Accessor({ { "bufferView", b.View(std::vector<uint8_t>{ 255, 0, 0, 0, 255, 0, 0, 0, 255, 255, 255, 255 }) },
-    { "componentType", UnsignedByte }, { "normalized", true }, { "count", 4 }, { "type", "VEC3" } });
+  const int color =
+    b.Accessor({ { "bufferView",
+                   b.View(std::vector<uint8_t>{ 255, 0, 0, 0, 255, 0, 0, 0, 255, 255, 255, 255 }) },
+      { "componentType", UnsignedByte }, { "normalized", true }, { "count", 4 },
+      { "type", "VEC3" } });
   const int indices = b.Indices({ 0, 1, 2, 0, 2, 3 });
   const int dense = b.Vec3({ 0, 0, 0.1f, 0, 0, 0.2f, 0, 0, 0.3f, 0, 0, 0.4f });
   const int denseNormal = b.Vec3({ 0.1f, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0 });
   const int sparse = b.SparseVec3(4, { 2 }, { 0, 0.5f, 0 });
   b.Mesh({ { "name", "QuadMesh" },
     { "primitives",
-      { { { "attributes", { { "POSITION", position }, { "NORMAL", normal }, { "COLOR_0", color } } },
+      { { { "attributes",
+            { { "POSITION", position }, { "NORMAL", normal }, { "COLOR_0", color } } },
         { "indices", indices }, { "material", 0 },
-        { "targets", { { { "POSITION", dense }, { "NORMAL", denseNormal } }, { { "POSITION", sparse } } } } } } },
+        { "targets",
+          { { { "POSITION", dense }, { "NORMAL", denseNormal } },
+            { { "POSITION", sparse } } } } } } },
     { "weights", { 0.25, 0 } }, { "extras", { { "targetNames", { "Lift", "Raise" } } } } });
-  b.Doc["materials"] = { { { "name", "Skin" }, { "pbrMetallicRoughness", { { "baseColorFactor", { 0.8, 0.6, 0.5, 1 } } } } } };
+  b.Doc["materials"] = { { { "name", "Skin" },
+    { "pbrMetallicRoughness", { { "baseColorFactor", { 0.8, 0.6, 0.5, 1 } } } } } };
   b.Node({ { "name", "Root" }, { "scale", { 0.5, 0.5, 0.5 } }, { "children", { 1 } } });
   // 90 degrees about z: (x, y, z, w) = (0, 0, sin 45, cos 45)
   b.Node({ { "name", "Quad" }, { "mesh", 0 }, { "translation", { 1, 2, 3 } },
@@ -206,7 +216,8 @@ inline Builder Quad()
   b.Doc["scenes"] = { { { "name", "Scene" }, { "nodes", { 0 } } } };
   b.Doc["scene"] = 0;
   const int times = b.Floats({ 0, 0.5f, 1 }, "SCALAR", 1);
-  const int rotations = b.Floats({ 0, 0, 0, 1, 0, 0, 0.3826834f, 0.9238795f, 0, 0, 0.7071068f, 0.7071068f }, "VEC4", 4);
+  const int rotations =
+    b.Floats({ 0, 0, 0, 1, 0, 0, 0.3826834f, 0.9238795f, 0, 0, 0.7071068f, 0.7071068f }, "VEC4", 4);
   const int weights = b.Floats({ 0, 0, 1, 0, 0, 1 }, "SCALAR", 1);
   b.Doc["animations"] = { { { "name", "Nod" },
     { "samplers",

@@ -7,8 +7,8 @@
 
 #include "gltf/GltfAnimation.h"
 
-#include "base/Error.h"
 #include "GltfAnimatedTestFiles.h"
+#include "base/Error.h"
 
 #include <gtest/gtest.h>
 
@@ -26,7 +26,8 @@ using namespace gltftest;
 
 GltfScene Load(const std::string& bytes)
 {
-  return morphnode::LoadGltfSceneFromMemory(bytes.data(), bytes.size(), std::string(), {}, "head.glb");
+  return morphnode::LoadGltfSceneFromMemory(
+    bytes.data(), bytes.size(), std::string(), {}, "head.glb");
 }
 
 GltfScene Head()
@@ -80,7 +81,8 @@ std::string ErrorOf(const std::string& bytes)
 template <typename T>
 void Poke(Builder& b, int view, size_t byte, T value)
 {
-  const size_t offset = b.Doc["bufferViews"][static_cast<size_t>(view)]["byteOffset"].get<size_t>() + byte;
+  const size_t offset =
+    b.Doc["bufferViews"][static_cast<size_t>(view)]["byteOffset"].get<size_t>() + byte;
   std::memcpy(b.Bin.data() + offset, &value, sizeof(T));
 }
 
@@ -133,8 +135,8 @@ TEST(GltfAnimation, StepHoldsTheKeyBefore)
   const GltfScene scene = Head();
   const GltfAnimationPlayer player(scene, 1);
   const auto& w = AnimatedFaceWeights();
-  const std::vector<std::pair<double, size_t>> cases{ { -0.5, 0 }, { 0, 0 }, { 0.49, 0 }, { 0.5, 1 }, { 1.0, 1 },
-    { 1.25, 2 }, { 1.99, 2 }, { 2.0, 3 }, { 9.0, 3 } };
+  const std::vector<std::pair<double, size_t>> cases{ { -0.5, 0 }, { 0, 0 }, { 0.49, 0 },
+    { 0.5, 1 }, { 1.0, 1 }, { 1.25, 2 }, { 1.99, 2 }, { 2.0, 3 }, { 9.0, 3 } };
   for (const auto& [t, key] : cases)
   {
     const auto sample = player.Sample(t);
@@ -175,17 +177,19 @@ TEST(GltfAnimation, CubicSplineIsTheSpecsHermite)
     for (size_t i = 0; i < 3; ++i)
     {
       EXPECT_NEAR((right[i] - w[3 * k + i]) / h, out(k, i), 2e-3) << "key " << k << " target " << i;
-      EXPECT_NEAR((w[3 * (k + 1) + i] - left[i]) / h, in(k + 1, i), 2e-3) << "key " << k + 1 << " target " << i;
+      EXPECT_NEAR((w[3 * (k + 1) + i] - left[i]) / h, in(k + 1, i), 2e-3)
+        << "key " << k + 1 << " target " << i;
     }
   }
   // One point inside, by the formula: t = 0.8 in [0.5, 1.25], u = 0.4, td = 0.75.
   const double u = 0.4, td = 0.75;
-  const double h00 = 2 * u * u * u - 3 * u * u + 1, h10 = u * u * u - 2 * u * u + u, h01 = -2 * u * u * u + 3 * u * u,
-               h11 = u * u * u - u * u;
+  const double h00 = 2 * u * u * u - 3 * u * u + 1, h10 = u * u * u - 2 * u * u + u,
+               h01 = -2 * u * u * u + 3 * u * u, h11 = u * u * u - u * u;
   const auto mid = player.Sample(0.8).Nodes[0].Weights;
   for (size_t i = 0; i < 3; ++i)
   {
-    const double expected = h00 * w[3 + i] + h10 * td * out(1, i) + h01 * w[6 + i] + h11 * td * in(2, i);
+    const double expected =
+      h00 * w[3 + i] + h10 * td * out(1, i) + h01 * w[6 + i] + h11 * td * in(2, i);
     EXPECT_NEAR(mid[i], expected, 1e-7);
   }
 }
@@ -201,16 +205,20 @@ TEST(GltfAnimation, RotationsSlerpAndNodesCompose)
   EXPECT_NEAR(AngleAboutY(player.Sample(5).Nodes[0].Rotation), 10.0, 1e-5);
   // The eye turns by STEP: 25 degrees about x from 0.5 to 2.
   const auto s = player.Sample(0.7);
-  EXPECT_NEAR(2 * std::atan2(s.Nodes[2].Rotation[0], s.Nodes[2].Rotation[3]) * 180 / 3.14159265358979323846, 25.0, 1e-4);
+  EXPECT_NEAR(
+    2 * std::atan2(s.Nodes[2].Rotation[0], s.Nodes[2].Rotation[3]) * 180 / 3.14159265358979323846,
+    25.0, 1e-4);
   EXPECT_TRUE(s.Nodes[2].RotationAnimated);
   // Translation, linear: 0.7 is u = 4/15 of (0.1, 1.2, 0) -> (-0.2, 0.9, 0.1).
   const double u = 0.2 / 0.75;
   EXPECT_NEAR(s.Nodes[0].Translation[0], 0.1 + u * -0.3, 1e-7);
   EXPECT_NEAR(s.Nodes[0].Translation[1], 1.2 + u * -0.3, 1e-7);
   EXPECT_NEAR(s.Nodes[0].Translation[2], u * 0.1, 1e-7);
-  // World = parent's world * local: the eye's origin is the head's T R S applied to its translation.
+  // World = parent's world * local: the eye's origin is the head's T R S applied to its
+  // translation.
   const auto& head = s.Nodes[0];
-  const morphnode::GltfMatrix expectedHead = morphnode::GltfComposeTrs(head.Translation, head.Rotation, head.Scale);
+  const morphnode::GltfMatrix expectedHead =
+    morphnode::GltfComposeTrs(head.Translation, head.Rotation, head.Scale);
   for (int i = 0; i < 16; ++i)
   {
     EXPECT_NEAR(head.World[static_cast<size_t>(i)], expectedHead[static_cast<size_t>(i)], 1e-12);
@@ -230,7 +238,8 @@ TEST(GltfAnimation, SlerpTakesTheShorterArc)
   morphnode::GltfAnimationSampler sampler;
   sampler.Times = { 0, 1 };
   // 170 degrees about z, then the same orientation as -q (190 degrees written the long way).
-  const double a = 170.0 * 3.14159265358979323846 / 360.0, b = 190.0 * 3.14159265358979323846 / 360.0;
+  const double a = 170.0 * 3.14159265358979323846 / 360.0,
+               b = 190.0 * 3.14159265358979323846 / 360.0;
   sampler.Values = { 0, 0, static_cast<float>(std::sin(a)), static_cast<float>(std::cos(a)), 0, 0,
     static_cast<float>(std::sin(b)), static_cast<float>(std::cos(b)) };
   double q[4];
@@ -283,7 +292,9 @@ TEST(GltfAnimation, BadAnimationsNameTheirPlace)
     Builder b = AnimatedHead();
     const int times = b.Doc["animations"][0]["samplers"][0]["input"].get<int>();
     Poke<float>(b, ViewOf(b, times), 8, 0.25f);
-    EXPECT_NE(ErrorOf(b.Glb()).find("key time 2 (0.25 s, input of /animations/0/samplers/0) is earlier than the key before it"),
+    EXPECT_NE(
+      ErrorOf(b.Glb()).find(
+        "key time 2 (0.25 s, input of /animations/0/samplers/0) is earlier than the key before it"),
       std::string::npos)
       << ErrorOf(b.Glb());
   }
@@ -310,7 +321,8 @@ TEST(GltfAnimation, BadAnimationsNameTheirPlace)
     json doc = b.Finished();
     doc["animations"][2]["samplers"][0]["output"] = doc["animations"][0]["samplers"][0]["output"];
     const std::string e = ErrorOf(Builder::MakeGlb(doc.dump(), b.PaddedBin()));
-    EXPECT_NE(e.find("/animations/2/samplers/0/output: 12 output elements, but 4 keys of weights (3 morph targets) "
+    EXPECT_NE(e.find("/animations/2/samplers/0/output: 12 output elements, but 4 keys of weights "
+                     "(3 morph targets) "
                      "with CUBICSPLINE tangents need 36"),
       std::string::npos)
       << e;
@@ -321,7 +333,8 @@ TEST(GltfAnimation, BadAnimationsNameTheirPlace)
     json doc = b.Finished();
     doc["animations"][0]["channels"][0]["sampler"] = 1;
     const std::string e = ErrorOf(Builder::MakeGlb(doc.dump(), b.PaddedBin()));
-    EXPECT_NE(e.find("/animations/0/samplers/1/output: 4 output elements, but 4 keys of weights (3 morph targets) need 12"),
+    EXPECT_NE(e.find("/animations/0/samplers/1/output: 4 output elements, but 4 keys of weights (3 "
+                     "morph targets) need 12"),
       std::string::npos)
       << e;
   }
@@ -331,7 +344,8 @@ TEST(GltfAnimation, BadAnimationsNameTheirPlace)
     json doc = b.Finished();
     doc["animations"][3]["channels"][3]["target"]["node"] = 7;
     const std::string e = ErrorOf(Builder::MakeGlb(doc.dump(), b.PaddedBin()));
-    EXPECT_NE(e.find("/animations/3/channels/3/target/node: there is no node 7"), std::string::npos) << e;
+    EXPECT_NE(e.find("/animations/3/channels/3/target/node: there is no node 7"), std::string::npos)
+      << e;
   }
   // The TRS of a node given by a matrix (glTF forbids animating it): found by the player.
   {
@@ -340,6 +354,8 @@ TEST(GltfAnimation, BadAnimationsNameTheirPlace)
     doc["nodes"][2].erase("translation");
     doc["nodes"][2]["matrix"] = { 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0.3, 0.2, 0.1, 1 };
     const std::string e = ErrorOf(Builder::MakeGlb(doc.dump(), b.PaddedBin()));
-    EXPECT_NE(e.find("head.glb: /animations/3/channels/3/target/node: node 2 gives a matrix"), std::string::npos) << e;
+    EXPECT_NE(e.find("head.glb: /animations/3/channels/3/target/node: node 2 gives a matrix"),
+      std::string::npos)
+      << e;
   }
 }

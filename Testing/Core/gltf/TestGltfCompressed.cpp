@@ -13,28 +13,28 @@
 // it is, README of the data), so the inverse bind matrices do not enter.
 #include "gltf/GltfScene.h"
 
-#include "base/Error.h"
 #include "GltfTestFiles.h"
 #include "MorphNodeTestErrors.h"
+#include "base/Error.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
-#include <functional>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <sstream>
 #include <tuple>
 
+using gltftest::Builder;
+using gltftest::json;
 using morphnode::GltfPart;
 using morphnode::GltfScene;
 using morphnode::InputError;
 using morphnode::LoadGltfScene;
-using gltftest::Builder;
-using gltftest::json;
 
 namespace
 {
@@ -45,8 +45,8 @@ std::string AvatarFile(const std::string& name)
   return Avatar + "/" + name;
 }
 
-#define SKIP_WITHOUT_AVATAR()                                                                  \
-  if (!std::filesystem::exists(AvatarFile("makehuman_avatar.glb")))                           \
+#define SKIP_WITHOUT_AVATAR()                                                                      \
+  if (!std::filesystem::exists(AvatarFile("makehuman_avatar.glb")))                                \
   GTEST_SKIP() << "MakeHuman avatar not found in " << Avatar << "; set MORPHNODE_AVATAR_DIR"
 
 /// The largest differences of a decoded part from the original's: per vertex of the
@@ -59,20 +59,24 @@ struct Differences
   size_t Compared = 0;
 };
 
-Differences Compare(const GltfPart& original, const GltfPart& decoded, const std::array<double, 9>* uvMatrix)
+Differences Compare(
+  const GltfPart& original, const GltfPart& decoded, const std::array<double, 9>* uvMatrix)
 {
   // A hash grid of the decoded points, 1 mm cells.
   const double cell = 1e-3;
   std::map<std::tuple<long, long, long>, std::vector<size_t>> grid;
-  auto key = [&](const float* p, int dx, int dy, int dz) {
+  auto key = [&](const float* p, int dx, int dy, int dz)
+  {
     return std::make_tuple(static_cast<long>(std::floor(p[0] / cell)) + dx,
-      static_cast<long>(std::floor(p[1] / cell)) + dy, static_cast<long>(std::floor(p[2] / cell)) + dz);
+      static_cast<long>(std::floor(p[1] / cell)) + dy,
+      static_cast<long>(std::floor(p[2] / cell)) + dz);
   };
   for (size_t i = 0; i < decoded.GetNumberOfPoints(); ++i)
   {
     grid[key(&decoded.Positions[3 * i], 0, 0, 0)].push_back(i);
   }
-  auto uvOf = [&](size_t i) {
+  auto uvOf = [&](size_t i)
+  {
     double u = decoded.TexCoords0[2 * i], v = decoded.TexCoords0[2 * i + 1];
     if (uvMatrix)
     {
@@ -102,13 +106,14 @@ Differences Compare(const GltfPart& original, const GltfPart& decoded, const std
           for (size_t j : it->second)
           {
             const float* q = &decoded.Positions[3 * j];
-            const double dist = std::sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) +
-              (p[2] - q[2]) * (p[2] - q[2]));
+            const double dist = std::sqrt((p[0] - q[0]) * (p[0] - q[0]) +
+              (p[1] - q[1]) * (p[1] - q[1]) + (p[2] - q[2]) * (p[2] - q[2]));
             double uvd = 0;
             if (uvs)
             {
               const auto uv = uvOf(j);
-              uvd = std::max(std::abs(uv[0] - original.TexCoords0[2 * i]), std::abs(uv[1] - original.TexCoords0[2 * i + 1]));
+              uvd = std::max(std::abs(uv[0] - original.TexCoords0[2 * i]),
+                std::abs(uv[1] - original.TexCoords0[2 * i + 1]));
             }
             // Points within 0.3 mm are candidates for the same vertex; among them the UV
             // and the normal decide (the teeth have points back to back).
@@ -142,26 +147,31 @@ Differences Compare(const GltfPart& original, const GltfPart& decoded, const std
     if (uvs)
     {
       const auto uv = uvOf(best);
-      d.Uv = std::max(d.Uv, std::max(std::abs(uv[0] - original.TexCoords0[2 * i]), std::abs(uv[1] - original.TexCoords0[2 * i + 1])));
+      d.Uv = std::max(d.Uv,
+        std::max(std::abs(uv[0] - original.TexCoords0[2 * i]),
+          std::abs(uv[1] - original.TexCoords0[2 * i + 1])));
     }
     for (int k = 0; k < 3; ++k)
     {
       if (!original.Normals.empty())
       {
-        d.Normal = std::max(d.Normal, std::abs(double(original.Normals[3 * i + k]) - decoded.Normals[3 * best + k]));
+        d.Normal = std::max(
+          d.Normal, std::abs(double(original.Normals[3 * i + k]) - decoded.Normals[3 * best + k]));
       }
       for (size_t t = 0; t < original.Targets.size(); ++t)
       {
         const auto& a = original.Targets[t];
         const auto& b = decoded.Targets[t];
-        d.PositionDelta = std::max(d.PositionDelta, std::abs(double(a.PositionDeltas[3 * i + k]) - b.PositionDeltas[3 * best + k]));
+        d.PositionDelta = std::max(d.PositionDelta,
+          std::abs(double(a.PositionDeltas[3 * i + k]) - b.PositionDeltas[3 * best + k]));
         if (!a.NormalDeltas.empty() && !b.NormalDeltas.empty())
         {
           // Normal deltas are stored as normalized bytes or shorts, which hold [-1, 1]:
           // larger deltas (a normal turning past 60 degrees) are clamped by the writer.
           const double clamped = std::max(-1.0, std::min(1.0, double(a.NormalDeltas[3 * i + k])));
-          d.NormalDelta = std::max(d.NormalDelta, std::min(std::abs(clamped - b.NormalDeltas[3 * best + k]),
-                                                    std::abs(double(a.NormalDeltas[3 * i + k]) - b.NormalDeltas[3 * best + k])));
+          d.NormalDelta = std::max(d.NormalDelta,
+            std::min(std::abs(clamped - b.NormalDeltas[3 * best + k]),
+              std::abs(double(a.NormalDeltas[3 * i + k]) - b.NormalDeltas[3 * best + k])));
         }
       }
     }
@@ -237,12 +247,14 @@ TEST(GltfCompressed, MeshoptAvatarEqualsQuantized)
     EXPECT_EQ(m.Parts[p].Normals, q.Parts[p].Normals);
     EXPECT_EQ(m.Parts[p].TexCoords0, q.Parts[p].TexCoords0);
     // The index codec may start a triangle at another corner (same winding).
-    auto rotated = [](std::vector<uint32_t> t) {
+    auto rotated = [](std::vector<uint32_t> t)
+    {
       for (size_t i = 0; i + 2 < t.size(); i += 3)
       {
         while (t[i] > t[i + 1] || t[i] > t[i + 2])
         {
-          std::rotate(t.begin() + static_cast<long>(i), t.begin() + static_cast<long>(i) + 1, t.begin() + static_cast<long>(i) + 3);
+          std::rotate(t.begin() + static_cast<long>(i), t.begin() + static_cast<long>(i) + 1,
+            t.begin() + static_cast<long>(i) + 3);
         }
       }
       return t;
@@ -268,9 +280,10 @@ std::string Gltfpack(const std::string& options, const std::string& name)
   {
     return std::string();
   }
-  const std::string out = (std::filesystem::temp_directory_path() / ("morphnode_gltfpack_" + name + ".glb")).string();
-  const std::string command =
-    "gltfpack -kn -km -ke " + options + " -i '" + AvatarFile("makehuman_avatar.glb") + "' -o '" + out + "' > /dev/null 2>&1";
+  const std::string out =
+    (std::filesystem::temp_directory_path() / ("morphnode_gltfpack_" + name + ".glb")).string();
+  const std::string command = "gltfpack -kn -km -ke " + options + " -i '" +
+    AvatarFile("makehuman_avatar.glb") + "' -o '" + out + "' > /dev/null 2>&1";
   return std::system(command.c_str()) == 0 ? out : std::string();
 }
 } // namespace
@@ -322,24 +335,26 @@ Builder QuantizedTriangle(int type, bool normalized)
   std::vector<int8_t> p8 = { 0, 0, 0, 0, 100, 0, 0, 0, 0, 100, 0, 0 };
   const bool shorts = type == gltftest::Short || type == gltftest::UnsignedShort;
   const int pv = shorts ? b.View(p16, 8) : b.View(p8, 4);
-  json position = { { "bufferView", pv }, { "componentType", type }, { "count", 3 }, { "type", "VEC3" } };
+  json position = { { "bufferView", pv }, { "componentType", type }, { "count", 3 },
+    { "type", "VEC3" } };
   if (normalized)
   {
     position["normalized"] = true;
   }
   const int pa = b.Accessor(position);
   const int nv = b.View(std::vector<int8_t>{ 0, 0, 127, 0, 0, 0, 127, 0, 0, 0, -127, 0 }, 4);
-  const int na = b.Accessor({ { "bufferView", nv }, { "componentType", gltftest::Byte }, { "normalized", true },
-    { "count", 3 }, { "type", "VEC3" } });
+  const int na = b.Accessor({ { "bufferView", nv }, { "componentType", gltftest::Byte },
+    { "normalized", true }, { "count", 3 }, { "type", "VEC3" } });
   const int uv = b.View(std::vector<uint16_t>{ 0, 0, 65535, 0, 0, 32768 });
-  const int ua = b.Accessor({ { "bufferView", uv }, { "componentType", gltftest::UnsignedShort }, { "normalized", true },
-    { "count", 3 }, { "type", "VEC2" } });
+  const int ua = b.Accessor({ { "bufferView", uv }, { "componentType", gltftest::UnsignedShort },
+    { "normalized", true }, { "count", 3 }, { "type", "VEC2" } });
   const int dv = b.View(std::vector<int8_t>{ 0, 0, 0, 0, 10, -10, 0, 0, 0, 0, 5, 0 }, 4);
-  const int da = b.Accessor({ { "bufferView", dv }, { "componentType", gltftest::Byte }, { "count", 3 }, { "type", "VEC3" } });
+  const int da = b.Accessor({ { "bufferView", dv }, { "componentType", gltftest::Byte },
+    { "count", 3 }, { "type", "VEC3" } });
   const int ia = b.Indices({ 0, 1, 2 });
   b.Mesh({ { "primitives",
-    { { { "attributes", { { "POSITION", pa }, { "NORMAL", na }, { "TEXCOORD_0", ua } } }, { "indices", ia },
-      { "targets", { { { "POSITION", da } } } } } } } });
+    { { { "attributes", { { "POSITION", pa }, { "NORMAL", na }, { "TEXCOORD_0", ua } } },
+      { "indices", ia }, { "targets", { { { "POSITION", da } } } } } } } });
   b.Node({ { "mesh", 0 } });
   b.Doc["scenes"] = { { { "nodes", { 0 } } } };
   b.Doc["extensionsUsed"] = { "KHR_mesh_quantization" };
@@ -390,19 +405,21 @@ TEST(GltfCompressed, QuantizationTypesWrittenByTheTest)
   Builder b = QuantizedTriangle(gltftest::Short, false);
   b.Doc.erase("extensionsUsed");
   b.Doc.erase("extensionsRequired");
-  EXPECT_NE(ErrorOf(b.Glb()).find("integers need KHR_mesh_quantization"), std::string::npos) << ErrorOf(b.Glb());
+  EXPECT_NE(ErrorOf(b.Glb()).find("integers need KHR_mesh_quantization"), std::string::npos)
+    << ErrorOf(b.Glb());
 }
 
 TEST(GltfCompressed, RequiredExtensionsNotImplementedAreErrors)
 {
-  for (const char* name : { "KHR_draco_mesh_compression", "KHR_texture_basisu", "EXT_mesh_gpu_instancing",
-         "KHR_materials_volume", "VENDOR_made_up" })
+  for (const char* name : { "KHR_draco_mesh_compression", "KHR_texture_basisu",
+         "EXT_mesh_gpu_instancing", "KHR_materials_volume", "VENDOR_made_up" })
   {
     Builder b = QuantizedTriangle(gltftest::Short, false);
     b.Doc["extensionsUsed"].push_back(name);
     b.Doc["extensionsRequired"].push_back(name);
     const std::string error = ErrorOf(b.Glb());
-    EXPECT_NE(error.find("/extensionsRequired/1: the file requires the extension '" + std::string(name) + "'"),
+    EXPECT_NE(error.find("/extensionsRequired/1: the file requires the extension '" +
+                std::string(name) + "'"),
       std::string::npos)
       << error;
   }
@@ -412,12 +429,14 @@ TEST(GltfCompressed, RequiredExtensionsNotImplementedAreErrors)
   EXPECT_NE(ErrorOf(b.Glb()).find("Draco decoding is not implemented"), std::string::npos);
   // Optional ones are read past, with a note.
   b.Doc["extensionsRequired"] = { "KHR_mesh_quantization" };
-  b.Doc["extensionsUsed"] = { "KHR_mesh_quantization", "KHR_draco_mesh_compression", "KHR_materials_sheen" };
+  b.Doc["extensionsUsed"] = { "KHR_mesh_quantization", "KHR_draco_mesh_compression",
+    "KHR_materials_sheen" };
   const GltfScene scene = Load(b.Glb());
   bool noted = false;
   for (const auto& note : scene.Notes)
   {
-    noted = noted || note.find("KHR_draco_mesh_compression is optional and not read") != std::string::npos;
+    noted = noted ||
+      note.find("KHR_draco_mesh_compression is optional and not read") != std::string::npos;
   }
   EXPECT_TRUE(noted);
 }
@@ -426,13 +445,15 @@ TEST(GltfCompressed, MeshoptStreamsTheLibraryCannotDecodeAreRefused)
 {
   SKIP_WITHOUT_AVATAR();
   std::ifstream in(AvatarFile("makehuman_avatar_meshopt.glb"), std::ios::binary);
-  const std::string original((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string original(
+    (std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   // Split the GLB, change the JSON, join again.
   const uint32_t jsonLength = *reinterpret_cast<const uint32_t*>(original.data() + 12);
   json doc = json::parse(original.substr(20, jsonLength));
   const std::string binChunk = original.substr(20 + jsonLength + 8);
   const std::vector<unsigned char> bin(binChunk.begin(), binChunk.end());
-  auto errorWith = [&](const std::function<void(json&, std::vector<unsigned char>&)>& change) {
+  auto errorWith = [&](const std::function<void(json&, std::vector<unsigned char>&)>& change)
+  {
     json d = doc;
     std::vector<unsigned char> b = bin;
     change(d, b);
@@ -442,31 +463,33 @@ TEST(GltfCompressed, MeshoptStreamsTheLibraryCannotDecodeAreRefused)
   const size_t offset = ext0["byteOffset"].get<size_t>();
   // A vertex stream of version 1 (a newer meshoptimizer's).
   std::string e = errorWith([&](json&, std::vector<unsigned char>& b) { b[offset] = 0xa1; });
-  EXPECT_NE(e.find("/bufferViews/3/extensions/EXT_meshopt_compression: meshopt vertex stream version 1, which "
-                   "Debian's meshoptimizer 0.18 cannot decode"),
+  EXPECT_NE(
+    e.find(
+      "/bufferViews/3/extensions/EXT_meshopt_compression: meshopt vertex stream version 1, which "
+      "Debian's meshoptimizer 0.18 cannot decode"),
     std::string::npos)
     << e;
-  e = errorWith([&](json& d, std::vector<unsigned char>&) {
-    d["bufferViews"][3]["extensions"]["EXT_meshopt_compression"]["filter"] = "COLOR";
-  });
-  EXPECT_NE(e.find("/bufferViews/3/extensions/EXT_meshopt_compression/filter: 'COLOR' is a filter Debian's "
-                   "meshoptimizer 0.18 cannot decode"),
+  e = errorWith([&](json& d, std::vector<unsigned char>&)
+    { d["bufferViews"][3]["extensions"]["EXT_meshopt_compression"]["filter"] = "COLOR"; });
+  EXPECT_NE(
+    e.find("/bufferViews/3/extensions/EXT_meshopt_compression/filter: 'COLOR' is a filter Debian's "
+           "meshoptimizer 0.18 cannot decode"),
     std::string::npos)
     << e;
-  e = errorWith([&](json& d, std::vector<unsigned char>&) {
-    d["bufferViews"][3]["extensions"]["EXT_meshopt_compression"]["byteLength"] = 10;
-  });
+  e = errorWith([&](json& d, std::vector<unsigned char>&)
+    { d["bufferViews"][3]["extensions"]["EXT_meshopt_compression"]["byteLength"] = 10; });
   EXPECT_NE(e.find("cannot be decoded (meshoptimizer error"), std::string::npos) << e;
-  e = errorWith([&](json& d, std::vector<unsigned char>&) {
-    d["bufferViews"][3]["extensions"]["EXT_meshopt_compression"]["byteOffset"] = 1u << 30;
-  });
-  EXPECT_NE(e.find("/bufferViews/3/extensions/EXT_meshopt_compression/byteOffset: must be an integer"),
+  e = errorWith([&](json& d, std::vector<unsigned char>&)
+    { d["bufferViews"][3]["extensions"]["EXT_meshopt_compression"]["byteOffset"] = 1u << 30; });
+  EXPECT_NE(
+    e.find("/bufferViews/3/extensions/EXT_meshopt_compression/byteOffset: must be an integer"),
     std::string::npos)
     << e;
   // The extension not declared as used: the fallback buffer is then a GLB buffer without
   // data, which is an error too (never zeros read as the mesh).
-  e = errorWith([&](json& d, std::vector<unsigned char>&) {
-    d["extensionsRequired"] = { "KHR_mesh_quantization", "VENDOR_meshopt" };
-  });
+  e = errorWith(
+    [&](json& d, std::vector<unsigned char>&) {
+      d["extensionsRequired"] = { "KHR_mesh_quantization", "VENDOR_meshopt" };
+    });
   EXPECT_NE(e.find("VENDOR_meshopt"), std::string::npos) << e;
 }

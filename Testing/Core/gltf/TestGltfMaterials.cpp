@@ -5,9 +5,9 @@
 // emissive strength, and bad material JSON as an error naming the pointer.
 #include "gltf/GltfScene.h"
 
-#include "base/Error.h"
 #include "GltfTestFiles.h"
 #include "MorphNodeTestErrors.h"
+#include "base/Error.h"
 
 #include <gtest/gtest.h>
 
@@ -15,19 +15,19 @@
 #include <filesystem>
 #include <functional>
 
+using gltftest::Builder;
+using gltftest::json;
 using morphnode::GltfAlphaMode;
 using morphnode::GltfScene;
 using morphnode::InputError;
 using morphnode::LoadGltfScene;
-using gltftest::Builder;
-using gltftest::json;
 
 namespace
 {
 const std::string Avatar = MORPHNODE_AVATAR_DIR;
 
-#define SKIP_WITHOUT_AVATAR()                                                                  \
-  if (!std::filesystem::exists(Avatar + "/makehuman_avatar.glb"))                             \
+#define SKIP_WITHOUT_AVATAR()                                                                      \
+  if (!std::filesystem::exists(Avatar + "/makehuman_avatar.glb"))                                  \
   GTEST_SKIP() << "MakeHuman avatar not found in " << Avatar << "; set MORPHNODE_AVATAR_DIR"
 
 GltfScene Load(const std::string& bytes)
@@ -42,11 +42,11 @@ std::string ErrorOf(const std::string& bytes)
 }
 
 // A 1x1 RGBA PNG (red, alpha 128), made with Python's zlib.
-const std::vector<unsigned char> RedPng = { 0x89, 0x50, 0x4e, 0x47, 0x0d, 0x0a, 0x1a, 0x0a, 0x00, 0x00, 0x00, 0x0d,
-  0x49, 0x48, 0x44, 0x52, 0x00, 0x00, 0x00, 0x01, 0x00, 0x00, 0x00, 0x01, 0x08, 0x06, 0x00, 0x00, 0x00, 0x1f, 0x15,
-  0xc4, 0x89, 0x00, 0x00, 0x00, 0x0d, 0x49, 0x44, 0x41, 0x54, 0x78, 0x9c, 0x63, 0xf8, 0xcf, 0xc0, 0xd0, 0x00, 0x00,
-  0x04, 0x81, 0x01, 0x80, 0x2c, 0x55, 0xce, 0xb0, 0x00, 0x00, 0x00, 0x00, 0x49, 0x45, 0x4e, 0x44, 0xae, 0x42, 0x60,
-  0x82 };
+const std::vector<unsigned char> RedPng = { 0x89, 0x50, 0x4e, 0x47, 0x0d, 0x0a, 0x1a, 0x0a, 0x00,
+  0x00, 0x00, 0x0d, 0x49, 0x48, 0x44, 0x52, 0x00, 0x00, 0x00, 0x01, 0x00, 0x00, 0x00, 0x01, 0x08,
+  0x06, 0x00, 0x00, 0x00, 0x1f, 0x15, 0xc4, 0x89, 0x00, 0x00, 0x00, 0x0d, 0x49, 0x44, 0x41, 0x54,
+  0x78, 0x9c, 0x63, 0xf8, 0xcf, 0xc0, 0xd0, 0x00, 0x00, 0x04, 0x81, 0x01, 0x80, 0x2c, 0x55, 0xce,
+  0xb0, 0x00, 0x00, 0x00, 0x00, 0x49, 0x45, 0x4e, 0x44, 0xae, 0x42, 0x60, 0x82 };
 
 /// A triangle with UVs and three textured materials' worth of images: image 0 broken,
 /// images 1 and 2 the red PNG; textures 0, 1, 2 on them.
@@ -56,27 +56,34 @@ Builder TexturedTriangle()
   const int p = b.Vec3({ 0, 0, 0, 1, 0, 0, 0, 1, 0 });
   const int uv = b.Floats({ 0, 0, 1, 0, 0, 1 }, "VEC2", 2);
   const int i = b.Indices({ 0, 1, 2 });
-  b.Mesh({ { "primitives", { { { "attributes", { { "POSITION", p }, { "TEXCOORD_0", uv } } }, { "indices", i },
-                                { "material", 0 } } } } });
+  b.Mesh({ { "primitives",
+    { { { "attributes", { { "POSITION", p }, { "TEXCOORD_0", uv } } }, { "indices", i },
+      { "material", 0 } } } } });
   b.Node({ { "mesh", 0 } });
   b.Doc["scenes"] = { { { "nodes", { 0 } } } };
   const int broken = b.View(std::vector<unsigned char>{ 0x89, 'P', 'N', 'G', 0, 1, 2, 3 });
   const int red1 = b.View(RedPng);
   const int red2 = b.View(RedPng);
-  b.Doc["images"] = { { { "bufferView", broken }, { "mimeType", "image/png" }, { "name", "broken" } },
-    { { "bufferView", red1 }, { "mimeType", "image/png" } }, { { "bufferView", red2 }, { "mimeType", "image/png" } } };
+  b.Doc["images"] = { { { "bufferView", broken }, { "mimeType", "image/png" },
+                        { "name", "broken" } },
+    { { "bufferView", red1 }, { "mimeType", "image/png" } },
+    { { "bufferView", red2 }, { "mimeType", "image/png" } } };
   b.Doc["samplers"] = { { { "magFilter", 9728 }, { "wrapS", 33071 } } };
-  b.Doc["textures"] = { { { "source", 0 } }, { { "source", 1 }, { "sampler", 0 } }, { { "source", 2 } } };
+  b.Doc["textures"] = { { { "source", 0 } }, { { "source", 1 }, { "sampler", 0 } },
+    { { "source", 2 } } };
   b.Doc["materials"] = { { { "name", "M" },
     { "pbrMetallicRoughness",
-      { { "baseColorTexture", { { "index", 0 } } }, { "metallicRoughnessTexture", { { "index", 1 } } },
-        { "metallicFactor", 0.25 } } },
+      { { "baseColorTexture", { { "index", 0 } } },
+        { "metallicRoughnessTexture", { { "index", 1 } } }, { "metallicFactor", 0.25 } } },
     { "emissiveTexture",
       { { "index", 2 },
-        { "extensions", { { "KHR_texture_transform", { { "offset", { 0.5, 0 } }, { "scale", { 2, 2 } } } } } } } },
+        { "extensions",
+          { { "KHR_texture_transform",
+            { { "offset", { 0.5, 0 } }, { "scale", { 2, 2 } } } } } } } },
     { "emissiveFactor", { 1, 0.5, 0 } }, { "alphaMode", "BLEND" }, { "doubleSided", true },
     { "extensions",
-      { { "KHR_materials_emissive_strength", { { "emissiveStrength", 4 } } }, { "KHR_materials_clearcoat", json::object() } } } } };
+      { { "KHR_materials_emissive_strength", { { "emissiveStrength", 4 } } },
+        { "KHR_materials_clearcoat", json::object() } } } } };
   return b;
 }
 } // namespace
@@ -109,7 +116,8 @@ TEST(GltfMaterials, AvatarMaterials)
   // The eye part carries its UVs.
   const int eyeLeft = scene.FindPart("EyeLeft");
   ASSERT_GE(eyeLeft, 0);
-  EXPECT_EQ(scene.Parts[static_cast<size_t>(eyeLeft)].TexCoords0.size(), 2 * scene.Parts[static_cast<size_t>(eyeLeft)].GetNumberOfPoints());
+  EXPECT_EQ(scene.Parts[static_cast<size_t>(eyeLeft)].TexCoords0.size(),
+    2 * scene.Parts[static_cast<size_t>(eyeLeft)].GetNumberOfPoints());
 }
 
 TEST(GltfMaterials, WebpImagesEqualTheirPngTwins)
@@ -162,7 +170,7 @@ TEST(GltfMaterials, UndecodableImageLeavesTheOthersOnTheirParts)
   EXPECT_EQ(scene.Images[1].Pixels, (std::vector<uint8_t>{ 255, 0, 0, 128 }));
   const auto& m = scene.Materials[0];
   EXPECT_EQ(m.BaseColorTexture.Texture, 0);
-  EXPECT_EQ(m.BaseColorTexture.Image, -1); // drawn without it
+  EXPECT_EQ(m.BaseColorTexture.Image, -1);        // drawn without it
   EXPECT_EQ(m.MetallicRoughnessTexture.Image, 1); // not shifted onto image 0
   EXPECT_EQ(m.EmissiveTexture.Image, 2);
   EXPECT_EQ(m.MetallicRoughnessTexture.Sampler.MagFilter, 9728);
@@ -212,15 +220,20 @@ TEST(GltfMaterials, BadMaterialJsonNamesThePointer)
     std::string Expected;
   };
   const std::vector<Case> cases = {
-    { [](json& d) { d["materials"][0]["alphaMode"] = "GLASS"; }, "/materials/0/alphaMode: \"GLASS\" is not OPAQUE" },
+    { [](json& d) { d["materials"][0]["alphaMode"] = "GLASS"; },
+      "/materials/0/alphaMode: \"GLASS\" is not OPAQUE" },
     { [](json& d) { d["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["index"] = 7; },
       "/materials/0/pbrMetallicRoughness/baseColorTexture/index: 7 is not the index" },
     { [](json& d) { d["textures"][0]["source"] = -1; }, "/textures/0/source: -1 is not the index" },
-    { [](json& d) { d["samplers"][0]["wrapS"] = 1; }, "/samplers/0/wrapS: 1 is not a glTF sampler value" },
+    { [](json& d) { d["samplers"][0]["wrapS"] = 1; },
+      "/samplers/0/wrapS: 1 is not a glTF sampler value" },
     { [](json& d) { d["materials"][0]["pbrMetallicRoughness"]["metallicFactor"] = 2; },
       "/materials/0/pbrMetallicRoughness/metallicFactor: must be a number from 0 to 1" },
-    { [](json& d) { d["materials"][0]["emissiveTexture"]["extensions"]["KHR_texture_transform"]["scale"] = { 1 }; },
-      "/materials/0/emissiveTexture/extensions/KHR_texture_transform/scale: must be an array of 2 numbers" },
+    { [](json& d) {
+       d["materials"][0]["emissiveTexture"]["extensions"]["KHR_texture_transform"]["scale"] = { 1 };
+     },
+      "/materials/0/emissiveTexture/extensions/KHR_texture_transform/scale: must be an array of 2 "
+      "numbers" },
   };
   for (const Case& c : cases)
   {
@@ -260,7 +273,8 @@ TEST(GltfMaterials, FuzzSeedsReachTheDecoders)
 TEST(GltfMaterials, ImagesPastTheDecodedSizeLimitAreLeftOut)
 {
   const std::string bytes = TexturedTriangle().Glb();
-  auto loads = [&](uint64_t limit) {
+  auto loads = [&](uint64_t limit)
+  {
     morphnode::GltfLoadOptions options;
     options.MaxDecodedBytes = limit;
     try
@@ -282,11 +296,13 @@ TEST(GltfMaterials, ImagesPastTheDecodedSizeLimitAreLeftOut)
   }
   morphnode::GltfLoadOptions options;
   options.MaxDecodedBytes = hi + 4; // room for one 1 x 1 RGBA image
-  const GltfScene scene = morphnode::LoadGltfSceneFromMemory(bytes.data(), bytes.size(), "", options, "test.glb");
+  const GltfScene scene =
+    morphnode::LoadGltfSceneFromMemory(bytes.data(), bytes.size(), "", options, "test.glb");
   ASSERT_EQ(scene.Images.size(), 3u);
   EXPECT_TRUE(scene.Images[1].IsDecoded());
   EXPECT_FALSE(scene.Images[2].IsDecoded());
-  EXPECT_NE(scene.Images[2].Error.find("more than the limit"), std::string::npos) << scene.Images[2].Error;
+  EXPECT_NE(scene.Images[2].Error.find("more than the limit"), std::string::npos)
+    << scene.Images[2].Error;
   EXPECT_EQ(scene.Materials[0].MetallicRoughnessTexture.Image, 1);
   EXPECT_EQ(scene.Materials[0].EmissiveTexture.Image, -1);
 }

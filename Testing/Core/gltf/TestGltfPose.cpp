@@ -7,8 +7,8 @@
 
 #include "gltf/GltfPose.h"
 
-#include "base/Error.h"
 #include "GltfAnimatedTestFiles.h"
+#include "base/Error.h"
 
 #include <gtest/gtest.h>
 
@@ -27,7 +27,8 @@ GltfScene Head(bool applyTransforms)
   const std::string bytes = gltftest::AnimatedHead().Glb();
   morphnode::GltfLoadOptions options;
   options.ApplyTransforms = applyTransforms;
-  return morphnode::LoadGltfSceneFromMemory(bytes.data(), bytes.size(), std::string(), options, "head.glb");
+  return morphnode::LoadGltfSceneFromMemory(
+    bytes.data(), bytes.size(), std::string(), options, "head.glb");
 }
 } // namespace
 
@@ -103,7 +104,8 @@ TEST(GltfPose, TargetNamesAndParts)
 {
   const GltfScene scene = Head(true);
   // The face's jawOpen, smile, eyeBlinkLeft; the teeth's jawOpen again.
-  EXPECT_EQ(morphnode::GltfTargetNames(scene), (std::vector<std::string>{ "jawOpen", "smile", "eyeBlinkLeft" }));
+  EXPECT_EQ(morphnode::GltfTargetNames(scene),
+    (std::vector<std::string>{ "jawOpen", "smile", "eyeBlinkLeft" }));
   const morphnode::GltfPart& first = morphnode::FindGltfPart(scene, "", -1, -1, "head.glb");
   EXPECT_EQ(first.Mesh, 0);
   EXPECT_EQ(first.Primitive, 0);
@@ -116,7 +118,8 @@ TEST(GltfPose, TargetNamesAndParts)
   }
   catch (const InputError& e)
   {
-    EXPECT_NE(std::string(e.what()).find("has no mesh named 'Nope'; meshes:"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("has no mesh named 'Nope'; meshes:"), std::string::npos)
+      << e.what();
   }
   EXPECT_THROW(morphnode::FindGltfPart(scene, "", 99, 0, "head.glb"), InputError);
   EXPECT_THROW(morphnode::FindGltfPart(scene, "", 0, 5, "head.glb"), InputError);

@@ -5,9 +5,9 @@
 // ASan + UBSan in CI).
 #include "gltf/GltfScene.h"
 
+#include "GltfTestFiles.h"
 #include "base/Error.h"
 #include "gltf/GltfMorphMesh.h"
-#include "GltfTestFiles.h"
 
 #include <gtest/gtest.h>
 
@@ -21,13 +21,13 @@
 #include <functional>
 #include <sstream>
 
+using gltftest::Builder;
+using gltftest::json;
 using morphnode::GltfLoadOptions;
 using morphnode::GltfPart;
 using morphnode::GltfScene;
 using morphnode::InputError;
 using morphnode::LoadGltfScene;
-using gltftest::Builder;
-using gltftest::json;
 
 namespace
 {
@@ -160,7 +160,8 @@ TEST(GltfScene, IctHeadFullReadsEveryPartInMetres)
     double radius = 0;
     for (size_t p = 0; p < eye.GetNumberOfPoints(); ++p)
     {
-      const double dx = eye.Positions[3 * p] - eye.World[12], dy = eye.Positions[3 * p + 1] - eye.World[13],
+      const double dx = eye.Positions[3 * p] - eye.World[12],
+                   dy = eye.Positions[3 * p + 1] - eye.World[13],
                    dz = eye.Positions[3 * p + 2] - eye.World[14];
       radius = std::max(radius, std::sqrt(dx * dx + dy * dy + dz * dz));
     }
@@ -185,7 +186,8 @@ TEST(GltfScene, IctHeadFullReadsEveryPartInMetres)
   for (size_t i = 0; i < 3 * 9409; ++i)
   {
     worstPoint = std::max(worstPoint, std::abs(face.Positions[i] - 0.01 * neutral[i]));
-    worstDelta = std::max(worstDelta, std::abs(face.Targets[jaw].PositionDeltas[i] - 0.01 * (jawOpen[i] - neutral[i])));
+    worstDelta = std::max(
+      worstDelta, std::abs(face.Targets[jaw].PositionDeltas[i] - 0.01 * (jawOpen[i] - neutral[i])));
   }
   EXPECT_LT(worstPoint, 1e-6);
   EXPECT_LT(worstDelta, 1e-6);
@@ -219,7 +221,8 @@ TEST(GltfScene, IctHeadInTheFileFrame)
 TEST(GltfScene, DefaultHeadLoadsEveryPart)
 {
   // The project's own multi-part head (Data/DefaultFace/default_head.glb, docs/default-face.md).
-  const GltfScene scene = LoadGltfScene(std::string(MORPHNODE_SOURCE_DIR) + "/Data/DefaultFace/default_head.glb");
+  const GltfScene scene =
+    LoadGltfScene(std::string(MORPHNODE_SOURCE_DIR) + "/Data/DefaultFace/default_head.glb");
   size_t primitives = 0;
   for (const auto& node : scene.Nodes)
   {
@@ -315,17 +318,21 @@ TEST(GltfScene, NestedTrsAndMatrixAgree)
   const double n1 = std::sqrt(q1[0] * q1[0] + q1[1] * q1[1] + q1[2] * q1[2] + q1[3] * q1[3]);
   const std::array<double, 4> r1{ { q1[0] / n1, q1[1] / n1, q1[2] / n1, q1[3] / n1 } };
   const auto m1 = morphnode::GltfComposeTrs({ { 1, -2, 0.5 } }, r1, { { 2, 2, 2 } });
-  const auto m2 = morphnode::GltfComposeTrs({ { 0, 3, 0 } }, { { 0, 0.6, 0, 0.8 } }, { { 1, 1, 1 } });
-  const auto m3 = morphnode::GltfComposeTrs({ { -1, 0, 0.25 } }, { { 0, 0, 0, 1 } }, { { 1, 3, 0.5 } });
+  const auto m2 =
+    morphnode::GltfComposeTrs({ { 0, 3, 0 } }, { { 0, 0.6, 0, 0.8 } }, { { 1, 1, 1 } });
+  const auto m3 =
+    morphnode::GltfComposeTrs({ { -1, 0, 0.25 } }, { { 0, 0, 0, 1 } }, { { 1, 3, 0.5 } });
 
-  auto make = [&](bool matrices) {
+  auto make = [&](bool matrices)
+  {
     Builder b = gltftest::Quad();
     b.Doc["nodes"] = json::array();
     b.Doc.erase("animations");
     auto node = [&](const std::array<double, 16>& m, json trs) {
       return matrices ? json{ { "matrix", m } } : trs;
     };
-    b.Node(node(m1, { { "translation", { 1, -2, 0.5 } }, { "rotation", q1 }, { "scale", { 2, 2, 2 } } }));
+    b.Node(node(
+      m1, { { "translation", { 1, -2, 0.5 } }, { "rotation", q1 }, { "scale", { 2, 2, 2 } } }));
     b.Node({ { "matrix", m2 } });
     b.Node(node(m3, { { "translation", { -1, 0, 0.25 } }, { "scale", { 1, 3, 0.5 } } }));
     b.Doc["nodes"][0]["children"] = { 1 };
@@ -343,7 +350,8 @@ TEST(GltfScene, NestedTrsAndMatrixAgree)
     EXPECT_NEAR(matrix.Parts[0].World[i], world[i], 1e-12);
   }
   // Point 1 = (1, 0, 0) goes to world * (1, 0, 0, 1).
-  ExpectNear3(&trs.Parts[0].Positions[3], world[0] + world[12], world[1] + world[13], world[2] + world[14], 1e-5);
+  ExpectNear3(&trs.Parts[0].Positions[3], world[0] + world[12], world[1] + world[13],
+    world[2] + world[14], 1e-5);
   for (size_t i = 0; i < trs.Parts[0].Positions.size(); ++i)
   {
     EXPECT_NEAR(trs.Parts[0].Positions[i], matrix.Parts[0].Positions[i], 1e-5);
@@ -373,7 +381,8 @@ TEST(GltfScene, SparseWithAndWithoutBufferView)
 {
   Builder b = gltftest::Quad();
   // A sparse POSITION target on a dense base: point 1 replaced, the others kept.
-  const int onBase = b.SparseVec3(4, { 1, 3 }, { 0, 0, 7, 0, 0, 9 }, { 1, 1, 1, 2, 2, 2, 3, 3, 3, 4, 4, 4 });
+  const int onBase =
+    b.SparseVec3(4, { 1, 3 }, { 0, 0, 7, 0, 0, 9 }, { 1, 1, 1, 2, 2, 2, 3, 3, 3, 4, 4, 4 });
   b.Doc["meshes"][0]["primitives"][0]["targets"][1]["POSITION"] = onBase;
   GltfLoadOptions options;
   options.ApplyTransforms = false;
@@ -382,7 +391,8 @@ TEST(GltfScene, SparseWithAndWithoutBufferView)
     (std::vector<float>{ 1, 1, 1, 0, 0, 7, 3, 3, 3, 0, 0, 9 }));
   // Without bufferView (the Quad's own), the base is zeros.
   const GltfScene quad = Load(gltftest::Quad().Glb(), options);
-  EXPECT_EQ(quad.Parts[0].Targets[1].PositionDeltas, (std::vector<float>{ 0, 0, 0, 0, 0, 0, 0, 0.5f, 0, 0, 0, 0 }));
+  EXPECT_EQ(quad.Parts[0].Targets[1].PositionDeltas,
+    (std::vector<float>{ 0, 0, 0, 0, 0, 0, 0, 0.5f, 0, 0, 0, 0 }));
 }
 
 TEST(GltfScene, StripsFansAndUnindexed)
@@ -436,7 +446,8 @@ TEST(GltfScene, InstancedMeshesAndNodeWeights)
 
 TEST(GltfScene, ExternalBufferBesideTheFile)
 {
-  const std::filesystem::path folder = std::filesystem::path(MORPHNODE_TEST_OUTPUT_DIR) / "gltf-external";
+  const std::filesystem::path folder =
+    std::filesystem::path(MORPHNODE_TEST_OUTPUT_DIR) / "gltf-external";
   std::filesystem::create_directories(folder / "inner");
   const Builder b = gltftest::Quad();
   json doc = b.Finished();
@@ -449,7 +460,8 @@ TEST(GltfScene, ExternalBufferBesideTheFile)
   EXPECT_EQ(scene.Parts.size(), 1u);
 
   // Only files in the same folder: a path out of it is refused before anything is read.
-  for (const char* uri : { "../quad%20data.bin", "inner/quad.bin", "/etc/passwd", "file:///etc/passwd", "..%2Fx.bin" })
+  for (const char* uri :
+    { "../quad%20data.bin", "inner/quad.bin", "/etc/passwd", "file:///etc/passwd", "..%2Fx.bin" })
   {
     doc["buffers"][0]["uri"] = uri;
     std::ofstream(folder / "inner" / "bad.gltf") << doc.dump();
@@ -526,17 +538,28 @@ TEST_P(GltfDamage, IsAnInputErrorNamingThePointer)
 
 const Damage Damages[] = {
   // The issue's cases.
-  { "accessor count past the buffer", [](Builder& b) { return Json(b, [](json& d) { d["accessors"][0]["count"] = 400; }); },
+  { "accessor count past the buffer",
+    [](Builder& b) { return Json(b, [](json& d) { d["accessors"][0]["count"] = 400; }); },
     "/accessors/0/count: 400 elements" },
   { "bufferView offset past the buffer",
-    [](Builder& b) { return Json(b, [](json& d) { d["bufferViews"][0]["byteOffset"] = 100000; }); }, "/bufferViews/0: " },
+    [](Builder& b) { return Json(b, [](json& d) { d["bufferViews"][0]["byteOffset"] = 100000; }); },
+    "/bufferViews/0: " },
   { "bufferView length past the buffer",
-    [](Builder& b) { return Json(b, [](json& d) { d["bufferViews"][3]["byteLength"] = 4000; }); }, "/bufferViews/3: " },
+    [](Builder& b) { return Json(b, [](json& d) { d["bufferViews"][3]["byteLength"] = 4000; }); },
+    "/bufferViews/3: " },
   { "missing accessor",
-    [](Builder& b) { return Json(b, [](json& d) { d["meshes"][0]["primitives"][0]["attributes"]["POSITION"] = 99; }); },
+    [](Builder& b)
+    {
+      return Json(
+        b, [](json& d) { d["meshes"][0]["primitives"][0]["attributes"]["POSITION"] = 99; });
+    },
     "/meshes/0/primitives/0/attributes/POSITION: there is no accessor 99" },
   { "missing accessor in a target",
-    [](Builder& b) { return Json(b, [](json& d) { d["meshes"][0]["primitives"][0]["targets"][1]["POSITION"] = 10; }); },
+    [](Builder& b)
+    {
+      return Json(
+        b, [](json& d) { d["meshes"][0]["primitives"][0]["targets"][1]["POSITION"] = 10; });
+    },
     "/meshes/0/primitives/0/targets/1/POSITION: there is no accessor 10" },
   { "sparse count larger than the accessor",
     [](Builder& b) { return Json(b, [](json& d) { d["accessors"][6]["sparse"]["count"] = 400; }); },
@@ -545,217 +568,340 @@ const Damage Damages[] = {
     [](Builder& b) { return Json(b, [](json& d) { d["accessors"][6]["sparse"]["count"] = 3; }); },
     "/accessors/6/sparse/count: 3 indices" },
   { "sparse index out of range",
-    [](Builder& b) {
+    [](Builder& b)
+    {
       Poke<uint32_t>(b, ViewOffset(b, 6), 7);
       return b.Glb();
     },
     "/accessors/6/sparse/indices: index 0 is 7" },
   { "sparse indices not increasing",
-    [](Builder& b) {
-      b.Doc["meshes"][0]["primitives"][0]["targets"][1]["POSITION"] = b.SparseVec3(4, { 2, 1 }, { 0, 1, 0, 0, 1, 0 });
+    [](Builder& b)
+    {
+      b.Doc["meshes"][0]["primitives"][0]["targets"][1]["POSITION"] =
+        b.SparseVec3(4, { 2, 1 }, { 0, 1, 0, 0, 1, 0 });
       return b.Glb();
     },
     "/accessors/10/sparse/indices: index 1 (1) does not follow" },
   { "index referencing a point past the count",
-    [](Builder& b) {
+    [](Builder& b)
+    {
       Poke<uint16_t>(b, ViewOffset(b, 3) + 4, 9);
       return b.Glb();
     },
-    "/accessors/3: element 2 (indices of /meshes/0/primitives/0) is 9, but there are only 4 points" },
+    "/accessors/3: element 2 (indices of /meshes/0/primitives/0) is 9, but there are only 4 "
+    "points" },
   { "wrong component type for POSITION",
     [](Builder& b) { return Json(b, [](json& d) { d["accessors"][0]["componentType"] = 5123; }); },
-    "/meshes/0/primitives/0/attributes/POSITION: accessor 0 is VEC3 of UNSIGNED_SHORT; POSITION must be VEC3 of FLOAT" },
-  { "wrong type for POSITION", [](Builder& b) { return Json(b, [](json& d) { d["accessors"][0]["type"] = "VEC2"; }); },
+    "/meshes/0/primitives/0/attributes/POSITION: accessor 0 is VEC3 of UNSIGNED_SHORT; POSITION "
+    "must be VEC3 of FLOAT" },
+  { "wrong type for POSITION",
+    [](Builder& b) { return Json(b, [](json& d) { d["accessors"][0]["type"] = "VEC2"; }); },
     "/meshes/0/primitives/0/attributes/POSITION: accessor 0 is VEC2" },
-  { "target with a mismatching count", [](Builder& b) { return Json(b, [](json& d) { d["accessors"][4]["count"] = 3; }); },
-    "/meshes/0/primitives/0/targets/0/POSITION: accessor 4 has 3 elements, but the primitive has 4 points" },
+  { "target with a mismatching count",
+    [](Builder& b) { return Json(b, [](json& d) { d["accessors"][4]["count"] = 3; }); },
+    "/meshes/0/primitives/0/targets/0/POSITION: accessor 4 has 3 elements, but the primitive has 4 "
+    "points" },
   { "NaN (null) in a matrix",
-    [](Builder& b) {
-      return Json(b, [](json& d) {
-        d["nodes"][1] = { { "mesh", 0 }, { "matrix", { 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1 } } };
-        d["nodes"][1]["matrix"][5] = std::nan("");
-      });
+    [](Builder& b)
+    {
+      return Json(b,
+        [](json& d)
+        {
+          d["nodes"][1] = { { "mesh", 0 },
+            { "matrix", { 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1 } } };
+          d["nodes"][1]["matrix"][5] = std::nan("");
+        });
     },
     "/nodes/1/matrix/5: must be a number, got null" },
   { "NaN literal in the JSON",
-    [](Builder& b) {
+    [](Builder& b)
+    {
       std::string text = b.Finished().dump();
       text.replace(text.find("\"scale\":[0.5,0.5,0.5]"), 21, "\"scale\":[NaN,0.5,0.5]");
       return Builder::MakeGlb(text, b.PaddedBin());
     },
     "is not valid glTF JSON" },
   { "NaN in the positions",
-    [](Builder& b) {
+    [](Builder& b)
+    {
       Poke<float>(b, ViewOffset(b, 0) + 16, std::nanf(""));
       return b.Glb();
     },
     "/accessors/0: element 1 (POSITION of /meshes/0/primitives/0) is NaN" },
   { "infinity in a target",
-    [](Builder& b) {
+    [](Builder& b)
+    {
       Poke<float>(b, ViewOffset(b, 7) + 4, HUGE_VALF);
       return b.Glb();
     },
     "/accessors/6: element 2 (POSITION of /meshes/0/primitives/0/targets/1) is infinite" },
   { "non-affine matrix",
-    [](Builder& b) {
-      return Json(b, [](json& d) { d["nodes"][1] = { { "mesh", 0 }, { "matrix", { 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 2 } } }; });
+    [](Builder& b)
+    {
+      return Json(b,
+        [](json& d)
+        {
+          d["nodes"][1] = { { "mesh", 0 },
+            { "matrix", { 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 2 } } };
+        });
     },
     "/nodes/1/matrix: is not an affine transform" },
   { "matrix taking points beyond float (found by FuzzGltf)",
-    [](Builder& b) {
-      return Json(b, [](json& d) { d["nodes"][1] = { { "mesh", 0 }, { "matrix", { 0, 1, 1e300, 0, -1, 0, 0, 0, 0, 0, 1, 0, 0, 0, 1, 1 } } }; });
+    [](Builder& b)
+    {
+      return Json(b,
+        [](json& d)
+        {
+          d["nodes"][1] = { { "mesh", 0 },
+            { "matrix", { 0, 1, 1e300, 0, -1, 0, 0, 0, 0, 0, 1, 0, 0, 0, 1, 1 } } };
+        });
     },
     "/nodes/1/matrix/2: 1e+300 is beyond the range of float" }, // (refused where it is, issue 29)
   { "matrix taking points past the blend limit (issue 29)",
-    [](Builder& b) {
-      return Json(b, [](json& d) { d["nodes"][1] = { { "mesh", 0 }, { "matrix", { 0, 1, 3e38, 0, -1, 0, 0, 0, 0, 0, 1, 0, 0, 0, 1, 1 } } }; });
+    [](Builder& b)
+    {
+      return Json(b,
+        [](json& d)
+        {
+          d["nodes"][1] = { { "mesh", 0 },
+            { "matrix", { 0, 1, 3e38, 0, -1, 0, 0, 0, 0, 0, 1, 0, 0, 0, 1, 1 } } };
+        });
     },
     "/meshes/0/primitives/0: its positions, deltas and default weights reach a coordinate of 1.5" },
   { "default weight beyond float (issue 29)",
-    [](Builder& b) { return Json(b, [](json& d) { d["meshes"][0]["weights"] = { 1e39, 0 }; }); },
+    [](Builder& b) {
+      return Json(b, [](json& d) { d["meshes"][0]["weights"] = { 1e39, 0 }; });
+    },
     "/meshes/0/weights/0: 1e+39 is beyond the range of float" },
   { "default weight whose blend passes the coordinate limit (issue 29)",
-    [](Builder& b) { return Json(b, [](json& d) { d["meshes"][0]["weights"] = { 3e38, 0 }; }); },
+    [](Builder& b) {
+      return Json(b, [](json& d) { d["meshes"][0]["weights"] = { 3e38, 0 }; });
+    },
     "/meshes/0/primitives/0: its positions, deltas and default weights reach a coordinate of" },
   { "asset.minVersion above 2.0 (issue 29)",
     [](Builder& b) { return Json(b, [](json& d) { d["asset"]["minVersion"] = "2.5"; }); },
     "/asset/minVersion: glTF '2.5' is required; this reader reads 2.0" },
   { "matrix and TRS",
-    [](Builder& b) { return Json(b, [](json& d) { d["nodes"][1]["matrix"] = json::array({ 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1 }); }); },
+    [](Builder& b)
+    {
+      return Json(b,
+        [](json& d) {
+          d["nodes"][1]["matrix"] = json::array({ 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1 });
+        });
+    },
     "/nodes/1/translation: a node with a 'matrix'" },
-  { "zero quaternion", [](Builder& b) { return Json(b, [](json& d) { d["nodes"][1]["rotation"] = { 0, 0, 0, 0 }; }); },
+  { "zero quaternion",
+    [](Builder& b) {
+      return Json(b, [](json& d) { d["nodes"][1]["rotation"] = { 0, 0, 0, 0 }; });
+    },
     "/nodes/1/rotation: is not a rotation quaternion" },
-  { "negative count", [](Builder& b) { return Json(b, [](json& d) { d["accessors"][0]["count"] = -1; }); },
+  { "negative count",
+    [](Builder& b) { return Json(b, [](json& d) { d["accessors"][0]["count"] = -1; }); },
     "/accessors/0/count: must not be negative, got -1" },
-  { "zero count", [](Builder& b) { return Json(b, [](json& d) { d["accessors"][0]["count"] = 0; }); },
+  { "zero count",
+    [](Builder& b) { return Json(b, [](json& d) { d["accessors"][0]["count"] = 0; }); },
     "/accessors/0/count: must be at least 1" },
-  { "huge count", [](Builder& b) { return Json(b, [](json& d) { d["accessors"][0]["count"] = 1099511627776ull; }); },
+  { "huge count",
+    [](Builder& b)
+    { return Json(b, [](json& d) { d["accessors"][0]["count"] = 1099511627776ull; }); },
     "/accessors/0/count: 1099511627776 is too large" },
-  { "count as a float", [](Builder& b) { return Json(b, [](json& d) { d["accessors"][0]["count"] = 4.0; }); },
+  { "count as a float",
+    [](Builder& b) { return Json(b, [](json& d) { d["accessors"][0]["count"] = 4.0; }); },
     "/accessors/0/count: must be an integer, got 4" },
   { "index 2^32 (tinygltf would read accessor 0)",
-    [](Builder& b) {
-      return Json(b, [](json& d) { d["meshes"][0]["primitives"][0]["attributes"]["NORMAL"] = 4294967296ull; });
+    [](Builder& b)
+    {
+      return Json(b,
+        [](json& d) { d["meshes"][0]["primitives"][0]["attributes"]["NORMAL"] = 4294967296ull; });
     },
     "/meshes/0/primitives/0/attributes/NORMAL: 4294967296 is too large" },
   { "huge sparse byteOffset",
-    [](Builder& b) { return Json(b, [](json& d) { d["accessors"][6]["sparse"]["values"]["byteOffset"] = 4294967292ull; }); },
+    [](Builder& b)
+    {
+      return Json(
+        b, [](json& d) { d["accessors"][6]["sparse"]["values"]["byteOffset"] = 4294967292ull; });
+    },
     "/accessors/6/sparse/values/byteOffset: 4294967292 is too large" },
-  { "misaligned accessor", [](Builder& b) { return Json(b, [](json& d) { d["accessors"][0]["byteOffset"] = 2; }); },
+  { "misaligned accessor",
+    [](Builder& b) { return Json(b, [](json& d) { d["accessors"][0]["byteOffset"] = 2; }); },
     "/accessors/0/byteOffset: the accessor's data do not start on a multiple of 4 bytes" },
   { "stride shorter than an element",
     [](Builder& b) { return Json(b, [](json& d) { d["bufferViews"][0]["byteStride"] = 8; }); },
     "/accessors/0: bufferView 0's byteStride 8 is less than an element" },
-  { "stride not a multiple of 4", [](Builder& b) { return Json(b, [](json& d) { d["bufferViews"][0]["byteStride"] = 14; }); },
+  { "stride not a multiple of 4",
+    [](Builder& b) { return Json(b, [](json& d) { d["bufferViews"][0]["byteStride"] = 14; }); },
     "/bufferViews/0/byteStride: must be a multiple of 4" },
   { "buffer longer than the BIN chunk",
-    [](Builder& b) { return Json(b, [](json& d) { d["buffers"][0]["byteLength"] = d["buffers"][0]["byteLength"].get<int>() + 4; }); },
+    [](Builder& b)
+    {
+      return Json(b,
+        [](json& d)
+        { d["buffers"][0]["byteLength"] = d["buffers"][0]["byteLength"].get<int>() + 4; });
+    },
     "/buffers/0/byteLength: " },
   { "second buffer without uri",
-    [](Builder& b) { return Json(b, [](json& d) { d["buffers"].push_back({ { "byteLength", 4 } }); }); },
+    [](Builder& b) {
+      return Json(b, [](json& d) { d["buffers"].push_back({ { "byteLength", 4 } }); });
+    },
     "/buffers/1: has no 'uri'" },
   { "index count not a multiple of 3",
     [](Builder& b) { return Json(b, [](json& d) { d["accessors"][3]["count"] = 5; }); },
     "/meshes/0/primitives/0/indices: 5 corners do not make whole triangles" },
-  { "lines", [](Builder& b) { return Json(b, [](json& d) { d["meshes"][0]["primitives"][0]["mode"] = 1; }); },
+  { "lines",
+    [](Builder& b)
+    { return Json(b, [](json& d) { d["meshes"][0]["primitives"][0]["mode"] = 1; }); },
     "/meshes/0/primitives/0/mode: LINES is not supported" },
-  { "unknown mode", [](Builder& b) { return Json(b, [](json& d) { d["meshes"][0]["primitives"][0]["mode"] = 7; }); },
+  { "unknown mode",
+    [](Builder& b)
+    { return Json(b, [](json& d) { d["meshes"][0]["primitives"][0]["mode"] = 7; }); },
     "/meshes/0/primitives/0/mode: 7 is not a glTF primitive mode" },
   { "no POSITION",
-    [](Builder& b) { return Json(b, [](json& d) { d["meshes"][0]["primitives"][0]["attributes"].erase("POSITION"); }); },
+    [](Builder& b)
+    {
+      return Json(
+        b, [](json& d) { d["meshes"][0]["primitives"][0]["attributes"].erase("POSITION"); });
+    },
     "/meshes/0/primitives/0/attributes: has no POSITION" },
   { "indices without bufferView",
     [](Builder& b) { return Json(b, [](json& d) { d["accessors"][3].erase("bufferView"); }); },
     "/meshes/0/primitives/0/indices: accessor 3 has no bufferView" },
-  { "signed byte indices", [](Builder& b) { return Json(b, [](json& d) { d["accessors"][3]["componentType"] = 5120; }); },
+  { "signed byte indices",
+    [](Builder& b) { return Json(b, [](json& d) { d["accessors"][3]["componentType"] = 5120; }); },
     "/meshes/0/primitives/0/indices: accessor 3 is SCALAR of BYTE" },
   { "primitives with different target counts",
-    [](Builder& b) {
-      return Json(b, [](json& d) {
-        json second = d["meshes"][0]["primitives"][0];
-        second["targets"].erase(1);
-        d["meshes"][0]["primitives"].push_back(second);
-      });
+    [](Builder& b)
+    {
+      return Json(b,
+        [](json& d)
+        {
+          json second = d["meshes"][0]["primitives"][0];
+          second["targets"].erase(1);
+          d["meshes"][0]["primitives"].push_back(second);
+        });
     },
-    "/meshes/0/primitives/1/targets: the primitive has 1 morph targets, but primitive 0 of the mesh has 2" },
+    "/meshes/0/primitives/1/targets: the primitive has 1 morph targets, but primitive 0 of the "
+    "mesh has 2" },
   { "mesh weights of the wrong number",
     [](Builder& b) { return Json(b, [](json& d) { d["meshes"][0]["weights"] = { 0.5 }; }); },
     "/meshes/0/weights: 1 weights for 2 morph targets" },
   { "node weights of the wrong number",
-    [](Builder& b) { return Json(b, [](json& d) { d["nodes"][1]["weights"] = { 0.5, 0, 0 }; }); },
+    [](Builder& b) {
+      return Json(b, [](json& d) { d["nodes"][1]["weights"] = { 0.5, 0, 0 }; });
+    },
     "/nodes/1/weights: 3 weights for 2 morph targets" },
   { "too few target names",
-    [](Builder& b) { return Json(b, [](json& d) { d["meshes"][0]["extras"]["targetNames"] = { "Lift" }; }); },
+    [](Builder& b)
+    { return Json(b, [](json& d) { d["meshes"][0]["extras"]["targetNames"] = { "Lift" }; }); },
     "/meshes/0/extras/targetNames: 1 names for 2 morph targets" },
   { "a target name that is a number",
-    [](Builder& b) { return Json(b, [](json& d) { d["meshes"][0]["extras"]["targetNames"][1] = 7; }); },
+    [](Builder& b)
+    { return Json(b, [](json& d) { d["meshes"][0]["extras"]["targetNames"][1] = 7; }); },
     "/meshes/0/extras/targetNames/1: must be a string, got 7" },
   { "duplicate target names",
-    [](Builder& b) { return Json(b, [](json& d) { d["meshes"][0]["extras"]["targetNames"][1] = "Lift"; }); },
+    [](Builder& b)
+    { return Json(b, [](json& d) { d["meshes"][0]["extras"]["targetNames"][1] = "Lift"; }); },
     "/meshes/0/extras/targetNames/1: 'Lift' names target 0 already" },
-  { "node cycle", [](Builder& b) { return Json(b, [](json& d) { d["nodes"][1]["children"] = { 0 }; }); },
+  { "node cycle",
+    [](Builder& b) { return Json(b, [](json& d) { d["nodes"][1]["children"] = { 0 }; }); },
     "is its own ancestor (the node hierarchy has a cycle)" },
   { "node with two parents",
     [](Builder& b) {
-      return Json(b, [](json& d) {
-        d["nodes"].push_back({ { "children", { 1 } } });
-      });
+      return Json(b, [](json& d) { d["nodes"].push_back({ { "children", { 1 } } }); });
     },
     "/nodes/2/children/0: node 1 is already a child of node 0" },
-  { "node its own child", [](Builder& b) { return Json(b, [](json& d) { d["nodes"][1]["children"] = { 1 }; }); },
+  { "node its own child",
+    [](Builder& b) { return Json(b, [](json& d) { d["nodes"][1]["children"] = { 1 }; }); },
     "/nodes/1/children/0: node 1 cannot be its own child" },
-  { "scene root that is a child", [](Builder& b) { return Json(b, [](json& d) { d["scenes"][0]["nodes"] = { 1 }; }); },
+  { "scene root that is a child",
+    [](Builder& b) { return Json(b, [](json& d) { d["scenes"][0]["nodes"] = { 1 }; }); },
     "/scenes/0/nodes/0: node 1 is a child of node 0, not a root" },
-  { "missing scene", [](Builder& b) { return Json(b, [](json& d) { d["scene"] = 3; }); }, "/scene: there is no scene 3" },
+  { "missing scene", [](Builder& b) { return Json(b, [](json& d) { d["scene"] = 3; }); },
+    "/scene: there is no scene 3" },
   { "base colour out of range",
-    [](Builder& b) { return Json(b, [](json& d) { d["materials"][0]["pbrMetallicRoughness"]["baseColorFactor"][0] = 2; }); },
+    [](Builder& b)
+    {
+      return Json(
+        b, [](json& d) { d["materials"][0]["pbrMetallicRoughness"]["baseColorFactor"][0] = 2; });
+    },
     "/materials/0/pbrMetallicRoughness/baseColorFactor/0: must lie in [0, 1]" },
-  { "missing material", [](Builder& b) { return Json(b, [](json& d) { d["meshes"][0]["primitives"][0]["material"] = 1; }); },
+  { "missing material",
+    [](Builder& b)
+    { return Json(b, [](json& d) { d["meshes"][0]["primitives"][0]["material"] = 1; }); },
     "/meshes/0/primitives/0/material: there is no material 1" },
   // Animations.
   { "key times going back",
-    [](Builder& b) {
+    [](Builder& b)
+    {
       Poke<float>(b, ViewOffset(b, 8) + 8, 0.25f);
       return b.Glb();
     },
-    "/accessors/7: key time 2 (0.25 s, input of /animations/0/samplers/0) is earlier than the key before it" },
+    "/accessors/7: key time 2 (0.25 s, input of /animations/0/samplers/0) is earlier than the key "
+    "before it" },
   { "negative key time",
-    [](Builder& b) {
+    [](Builder& b)
+    {
       Poke<float>(b, ViewOffset(b, 8), -1.0f);
       return b.Glb();
     },
     "/accessors/7: key time 0 (-1 s, input of /animations/0/samplers/0) is negative" },
   { "weights output of the wrong count",
     [](Builder& b) { return Json(b, [](json& d) { d["accessors"][9]["count"] = 3; }); },
-    "/animations/0/samplers/1/output: 3 output elements, but 3 keys of weights (2 morph targets) need 6" },
+    "/animations/0/samplers/1/output: 3 output elements, but 3 keys of weights (2 morph targets) "
+    "need 6" },
   { "CUBICSPLINE without tangents",
-    [](Builder& b) { return Json(b, [](json& d) { d["animations"][0]["samplers"][0]["interpolation"] = "CUBICSPLINE"; }); },
+    [](Builder& b)
+    {
+      return Json(
+        b, [](json& d) { d["animations"][0]["samplers"][0]["interpolation"] = "CUBICSPLINE"; });
+    },
     "/animations/0/samplers/0/output: accessor 8 has 3 elements, not a multiple of 9" },
   { "unknown interpolation",
-    [](Builder& b) { return Json(b, [](json& d) { d["animations"][0]["samplers"][0]["interpolation"] = "SMOOTH"; }); },
+    [](Builder& b) {
+      return Json(
+        b, [](json& d) { d["animations"][0]["samplers"][0]["interpolation"] = "SMOOTH"; });
+    },
     "/animations/0/samplers/0/interpolation: 'SMOOTH' is not LINEAR, STEP or CUBICSPLINE" },
   { "channel to a missing node",
-    [](Builder& b) { return Json(b, [](json& d) { d["animations"][0]["channels"][0]["target"]["node"] = 5; }); },
+    [](Builder& b)
+    { return Json(b, [](json& d) { d["animations"][0]["channels"][0]["target"]["node"] = 5; }); },
     "/animations/0/channels/0/target/node: there is no node 5" },
   { "channel to a missing sampler",
-    [](Builder& b) { return Json(b, [](json& d) { d["animations"][0]["channels"][0]["sampler"] = 2; }); },
+    [](Builder& b)
+    { return Json(b, [](json& d) { d["animations"][0]["channels"][0]["sampler"] = 2; }); },
     "/animations/0/channels/0/sampler: there is no sampler 2 (the animation has 2)" },
   { "rotation from a VEC3",
-    [](Builder& b) { return Json(b, [](json& d) { d["animations"][0]["channels"][0]["target"]["path"] = "translation"; }); },
+    [](Builder& b)
+    {
+      return Json(
+        b, [](json& d) { d["animations"][0]["channels"][0]["target"]["path"] = "translation"; });
+    },
     "/animations/0/samplers/0/output: is VEC4 of FLOAT, but channel 0 animates translation" },
   { "weights of a node without targets",
-    [](Builder& b) { return Json(b, [](json& d) { d["animations"][0]["channels"][1]["target"]["node"] = 0; }); },
+    [](Builder& b)
+    { return Json(b, [](json& d) { d["animations"][0]["channels"][1]["target"]["node"] = 0; }); },
     "/animations/0/channels/1/target/node: node 0 has no mesh with morph targets" },
   { "two channels on one path",
-    [](Builder& b) { return Json(b, [](json& d) { d["animations"][0]["channels"][1] = d["animations"][0]["channels"][0]; }); },
+    [](Builder& b)
+    {
+      return Json(
+        b, [](json& d) { d["animations"][0]["channels"][1] = d["animations"][0]["channels"][0]; });
+    },
     "/animations/0/channels/1/target: node 1's rotation is animated by an earlier channel too" },
-  { "key times as integers", [](Builder& b) { return Json(b, [](json& d) { d["accessors"][7]["componentType"] = 5123; }); },
-    "/animations/0/samplers/0/input: accessor 7 is SCALAR of UNSIGNED_SHORT; key times must be SCALAR of FLOAT" },
+  { "key times as integers",
+    [](Builder& b) { return Json(b, [](json& d) { d["accessors"][7]["componentType"] = 5123; }); },
+    "/animations/0/samplers/0/input: accessor 7 is SCALAR of UNSIGNED_SHORT; key times must be "
+    "SCALAR of FLOAT" },
   // The container.
-  { "truncated GLB", [](Builder& b) { std::string g = b.Glb(); return g.substr(0, g.size() - 10); },
+  { "truncated GLB",
+    [](Builder& b)
+    {
+      std::string g = b.Glb();
+      return g.substr(0, g.size() - 10);
+    },
     "GLB: the header gives a length of" },
   { "truncated GLB, length patched",
-    [](Builder& b) {
+    [](Builder& b)
+    {
       std::string g = b.Glb();
       g.resize(g.size() - 12);
       const uint32_t n = static_cast<uint32_t>(g.size());
@@ -764,8 +910,11 @@ const Damage Damages[] = {
     },
     "GLB: chunk 1 at byte" },
   { "BIN chunk and buffer claiming the chunk header's 8 bytes more (tinygltf reads past the input)",
-    [](Builder& b) {
-      std::string g = Json(b, [](json& d) { d["buffers"][0]["byteLength"] = d["buffers"][0]["byteLength"].get<int>() + 8; });
+    [](Builder& b)
+    {
+      std::string g = Json(b,
+        [](json& d)
+        { d["buffers"][0]["byteLength"] = d["buffers"][0]["byteLength"].get<int>() + 8; });
       uint32_t jsonLength;
       std::memcpy(&jsonLength, &g[12], 4);
       uint32_t binLength;
@@ -775,12 +924,27 @@ const Damage Damages[] = {
       return g;
     },
     "runs past the end of the file" },
-  { "GLB header only", [](Builder&) { return std::string("glTF\x02\0\0\0\x0c\0\0\0", 12); }, "GLB: the file has no JSON chunk" },
-  { "GLB version 1", [](Builder& b) { std::string g = b.Glb(); g[4] = 1; return g; }, "GLB: version 1 is not supported" },
-  { "JSON chunk of another type", [](Builder& b) { std::string g = b.Glb(); g[16] = 'X'; return g; },
+  { "GLB header only", [](Builder&) { return std::string("glTF\x02\0\0\0\x0c\0\0\0", 12); },
+    "GLB: the file has no JSON chunk" },
+  { "GLB version 1",
+    [](Builder& b)
+    {
+      std::string g = b.Glb();
+      g[4] = 1;
+      return g;
+    },
+    "GLB: version 1 is not supported" },
+  { "JSON chunk of another type",
+    [](Builder& b)
+    {
+      std::string g = b.Glb();
+      g[16] = 'X';
+      return g;
+    },
     "GLB: the first chunk must be JSON" },
   { "BIN chunk length not a multiple of 4",
-    [](Builder& b) {
+    [](Builder& b)
+    {
       b.Bin.push_back(1);
       b.Doc["buffers"] = json::array({ { { "byteLength", b.Bin.size() } } });
       json doc = b.Finished();
@@ -788,44 +952,67 @@ const Damage Damages[] = {
     },
     "GLB: the BIN chunk's length" },
   { "empty input", [](Builder&) { return std::string(); }, "is neither a GLB nor glTF JSON" },
-  { "not JSON", [](Builder&) { return std::string("solid cube\nfacet normal 0 0 1\n"); }, "is not valid glTF JSON" },
+  { "not JSON", [](Builder&) { return std::string("solid cube\nfacet normal 0 0 1\n"); },
+    "is not valid glTF JSON" },
   { "deep nesting",
-    [](Builder&) { return "{\"asset\":{\"version\":\"2.0\"},\"extras\":" + std::string(5000, '[') + std::string(5000, ']') + "}"; },
+    [](Builder&)
+    {
+      return "{\"asset\":{\"version\":\"2.0\"},\"extras\":" + std::string(5000, '[') +
+        std::string(5000, ']') + "}";
+    },
     "nests deeper than 64 levels" },
   // JSON of the wrong types.
-  { "accessors as an object", [](Builder& b) { return Json(b, [](json& d) { d["accessors"] = json::object(); }); },
+  { "accessors as an object",
+    [](Builder& b) { return Json(b, [](json& d) { d["accessors"] = json::object(); }); },
     "/accessors: must be an array, got an object" },
-  { "an accessor that is a number", [](Builder& b) { return Json(b, [](json& d) { d["accessors"][2] = 5; }); },
+  { "an accessor that is a number",
+    [](Builder& b) { return Json(b, [](json& d) { d["accessors"][2] = 5; }); },
     "/accessors/2: must be an object, got 5" },
   { "attributes as an array",
-    [](Builder& b) { return Json(b, [](json& d) { d["meshes"][0]["primitives"][0]["attributes"] = json::array(); }); },
+    [](Builder& b) {
+      return Json(
+        b, [](json& d) { d["meshes"][0]["primitives"][0]["attributes"] = json::array(); });
+    },
     "/meshes/0/primitives/0/attributes: must be an object, got an array" },
-  { "a name that is a number", [](Builder& b) { return Json(b, [](json& d) { d["nodes"][0]["name"] = 5; }); },
+  { "a name that is a number",
+    [](Builder& b) { return Json(b, [](json& d) { d["nodes"][0]["name"] = 5; }); },
     "/nodes/0/name: must be a string, got 5" },
   { "scene as a string", [](Builder& b) { return Json(b, [](json& d) { d["scene"] = "0"; }); },
     "/scene: must be an integer, got the string '0'" },
-  { "type as a number", [](Builder& b) { return Json(b, [](json& d) { d["accessors"][0]["type"] = 3; }); },
+  { "type as a number",
+    [](Builder& b) { return Json(b, [](json& d) { d["accessors"][0]["type"] = 3; }); },
     "/accessors/0/type: must be a string, got 3" },
-  { "normalized as a string", [](Builder& b) { return Json(b, [](json& d) { d["accessors"][2]["normalized"] = "yes"; }); },
+  { "normalized as a string",
+    [](Builder& b) { return Json(b, [](json& d) { d["accessors"][2]["normalized"] = "yes"; }); },
     "/accessors/2/normalized: must be true or false" },
-  { "translation of two numbers", [](Builder& b) { return Json(b, [](json& d) { d["nodes"][1]["translation"] = { 1, 2 }; }); },
+  { "translation of two numbers",
+    [](Builder& b) {
+      return Json(b, [](json& d) { d["nodes"][1]["translation"] = { 1, 2 }; });
+    },
     "/nodes/1/translation: must have 3 numbers, got 2" },
-  { "children as a number", [](Builder& b) { return Json(b, [](json& d) { d["nodes"][0]["children"] = 1; }); },
+  { "children as a number",
+    [](Builder& b) { return Json(b, [](json& d) { d["nodes"][0]["children"] = 1; }); },
     "/nodes/0/children: must be an array, got 1" },
-  { "asset missing", [](Builder& b) { return Json(b, [](json& d) { d.erase("asset"); }); }, "/: 'asset' is missing" },
+  { "asset missing", [](Builder& b) { return Json(b, [](json& d) { d.erase("asset"); }); },
+    "/: 'asset' is missing" },
   { "glTF 1.0", [](Builder& b) { return Json(b, [](json& d) { d["asset"]["version"] = "1.0"; }); },
     "/asset/version: glTF '1.0' is not supported" },
-  { "root is an array", [](Builder&) { return std::string("[1, 2, 3]"); }, "/: the glTF document must be a JSON object" },
+  { "root is an array", [](Builder&) { return std::string("[1, 2, 3]"); },
+    "/: the glTF document must be a JSON object" },
   { "Draco required",
-    [](Builder& b) {
-      return Json(b, [](json& d) {
-        d["extensionsUsed"] = { "KHR_draco_mesh_compression" };
-        d["extensionsRequired"] = { "KHR_draco_mesh_compression" };
-      });
+    [](Builder& b)
+    {
+      return Json(b,
+        [](json& d)
+        {
+          d["extensionsUsed"] = { "KHR_draco_mesh_compression" };
+          d["extensionsRequired"] = { "KHR_draco_mesh_compression" };
+        });
     },
     "/extensionsRequired/0: the file requires the extension 'KHR_draco_mesh_compression'" },
   { "bad base64",
-    [](Builder& b) {
+    [](Builder& b)
+    {
       json doc = json::parse(b.GltfWithDataUri());
       std::string uri = doc["buffers"][0]["uri"];
       uri[50] = '*';
@@ -834,19 +1021,27 @@ const Damage Damages[] = {
     },
     "/buffers/0/uri: the data URI is not valid base64" },
   { "data URI shorter than byteLength",
-    [](Builder& b) {
+    [](Builder& b)
+    {
       json doc = json::parse(b.GltfWithDataUri());
       doc["buffers"][0]["byteLength"] = doc["buffers"][0]["byteLength"].get<int>() + 1;
       return doc.dump();
     },
     "/buffers/0/uri: the data URI holds" },
   { "image with a missing buffer view",
-    [](Builder& b) { return Json(b, [](json& d) { d["images"] = { { { "bufferView", 40 }, { "mimeType", "image/png" } } }; }); },
+    [](Builder& b)
+    {
+      return Json(b,
+        [](json& d) {
+          d["images"] = { { { "bufferView", 40 }, { "mimeType", "image/png" } } };
+        });
+    },
     "/images/0/bufferView: there is no bufferView 40" },
 };
 
 INSTANTIATE_TEST_SUITE_P(Cases, GltfDamage, ::testing::ValuesIn(Damages),
-  [](const ::testing::TestParamInfo<Damage>& info) {
+  [](const ::testing::TestParamInfo<Damage>& info)
+  {
     std::string name;
     for (const char* c = info.param.Name; *c; ++c)
     {
@@ -894,7 +1089,8 @@ TEST(GltfScene, FuzzSeedsLoadAndDamagedOnesAreRejected)
 {
   // The seed corpus of FuzzGltf (Testing/Fuzz/tools/MakeGltfSeeds.cpp): good seeds must
   // reach the end of the loader, the damaged ones (regression inputs) must be refused.
-  const std::filesystem::path folder = std::filesystem::path(MORPHNODE_SOURCE_DIR) / "Testing/Fuzz/corpus/gltf";
+  const std::filesystem::path folder =
+    std::filesystem::path(MORPHNODE_SOURCE_DIR) / "Testing/Fuzz/corpus/gltf";
   size_t good = 0, damaged = 0;
   for (const auto& entry : std::filesystem::directory_iterator(folder))
   {

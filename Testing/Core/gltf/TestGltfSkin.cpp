@@ -3,23 +3,23 @@
 // joints, two weight sets of different types, a bind pose unlike the node pose, the skinned
 // node's own transform ignored, morph then skin), re-skinning it, damaged skins refused, and
 // the shared MakeHuman avatar at rest (its bind pose is its rest pose) with its bones found.
-#include "gltf/GltfSkin.h"
 #include "gltf/GltfPerformanceExport.h"
+#include "gltf/GltfSkin.h"
 #include "gltf/GltfVrm.h"
 
-#include "base/Error.h"
-#include "skin/AvatarBones.h"
 #include "GltfSkinnedTestFiles.h"
 #include "MorphNodeTestErrors.h"
+#include "base/Error.h"
+#include "skin/AvatarBones.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
-#include <iostream>
-#include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 
 using namespace morphnode;
 using morphnode_test::ErrorOf;
@@ -53,7 +53,8 @@ TEST(GltfSkin, SkinnedQuadAtRestMatchesHandComputedPoints)
   const std::vector<double> expected = gltftest::SkinnedQuadRest();
   for (size_t k = 0; k < expected.size(); ++k)
   {
-    // 100 off in x if the mesh node's transform were applied; (1, 1, 0) for p3 if set 1 were ignored.
+    // 100 off in x if the mesh node's transform were applied; (1, 1, 0) for p3 if set 1 were
+    // ignored.
     EXPECT_NEAR(part.Positions[k], expected[k], 1e-6) << k;
   }
   // Morph first, then skin: the rest delta of `Up` at p3 is Rz(90)(0, 1, 0) = (-1, 0, 0).
@@ -102,24 +103,28 @@ TEST(GltfSkin, DamagedSkinsAreRefusedWithAClearError)
   {
     gltftest::Builder b = gltftest::SkinnedQuad();
     b.Doc["skins"][0]["joints"] = { 1 }; // point 2 and 3 are bound to joint 1
-    EXPECT_NE(Error(b).find("bound to joint 1, but the skin has only 1 joints"), std::string::npos) << Error(b);
+    EXPECT_NE(Error(b).find("bound to joint 1, but the skin has only 1 joints"), std::string::npos)
+      << Error(b);
   }
   {
     gltftest::Builder b = gltftest::SkinnedQuad();
     b.Doc["skins"][0]["joints"] = { 1, 9 };
-    EXPECT_NE(Error(b).find("/skins/0/joints/1: node 9 does not exist"), std::string::npos) << Error(b);
+    EXPECT_NE(Error(b).find("/skins/0/joints/1: node 9 does not exist"), std::string::npos)
+      << Error(b);
   }
   {
     gltftest::Builder b = gltftest::SkinnedQuad();
     const std::vector<float> zero(32, 0.0f);
-    b.Doc["accessors"][b.Doc["skins"][0]["inverseBindMatrices"].get<int>()]["bufferView"] = b.View(zero);
+    b.Doc["accessors"][b.Doc["skins"][0]["inverseBindMatrices"].get<int>()]["bufferView"] =
+      b.View(zero);
     EXPECT_NE(Error(b).find("is not affine"), std::string::npos) << Error(b);
   }
   {
     gltftest::Builder b = gltftest::SkinnedQuad();
     std::vector<float> singular(32, 0.0f);
     singular[15] = singular[31] = 1.0f;
-    b.Doc["accessors"][b.Doc["skins"][0]["inverseBindMatrices"].get<int>()]["bufferView"] = b.View(singular);
+    b.Doc["accessors"][b.Doc["skins"][0]["inverseBindMatrices"].get<int>()]["bufferView"] =
+      b.View(singular);
     EXPECT_NE(Error(b).find("singular"), std::string::npos) << Error(b);
   }
   {
@@ -143,7 +148,8 @@ TEST(GltfSkin, DamagedSkinsAreRefusedWithAClearError)
     const int joints = b.Doc["meshes"][0]["primitives"][0]["attributes"]["JOINTS_0"].get<int>();
     b.Doc["accessors"][joints]["componentType"] = gltftest::Float;
     b.Doc["accessors"][joints]["bufferView"] = b.View(std::vector<float>(16, 0.0f));
-    EXPECT_NE(Error(b).find("must be VEC4 of UNSIGNED_BYTE or UNSIGNED_SHORT"), std::string::npos) << Error(b);
+    EXPECT_NE(Error(b).find("must be VEC4 of UNSIGNED_BYTE or UNSIGNED_SHORT"), std::string::npos)
+      << Error(b);
   }
 }
 
@@ -165,7 +171,8 @@ TEST(GltfSkin, MakeHumanAvatarAtRestAndItsBones)
     // Rest pose = bind pose: skinning at rest keeps the stored points.
     for (size_t k = 0; k < scene.Parts[p].Positions.size(); ++k)
     {
-      largest = std::max(largest, double(std::abs(scene.Parts[p].Positions[k] - bind.Parts[p].Positions[k])));
+      largest = std::max(
+        largest, double(std::abs(scene.Parts[p].Positions[k] - bind.Parts[p].Positions[k])));
     }
   }
   EXPECT_LT(largest, 1e-6 * 1.666);
@@ -189,7 +196,8 @@ TEST(GltfSkin, QuantizedAndMeshoptVariantsAreReadOrRefusedClearly)
   {
     GTEST_SKIP() << "MakeHuman avatar not found in " << dir;
   }
-  auto bounds = [](const GltfScene& scene) {
+  auto bounds = [](const GltfScene& scene)
+  {
     std::array<double, 6> b{ 1e30, -1e30, 1e30, -1e30, 1e30, -1e30 };
     for (const auto& part : scene.Parts)
     {
@@ -253,7 +261,9 @@ TEST(GltfSkin, UnskinnedQuadIsTheFilesBindSpaceAndNodesComeBackFromTheSkeleton)
     EXPECT_NEAR(part.Normals[k], bind.Parts[0].Normals[k], 1e-5) << k;
     for (size_t t = 0; t < part.Targets.size(); ++t)
     {
-      EXPECT_NEAR(part.Targets[t].PositionDeltas[k], bind.Parts[0].Targets[t].PositionDeltas[k], 1e-5) << k;
+      EXPECT_NEAR(
+        part.Targets[t].PositionDeltas[k], bind.Parts[0].Targets[t].PositionDeltas[k], 1e-5)
+        << k;
     }
   }
   // Skinned again, it is the rest pose.
@@ -306,7 +316,8 @@ TEST(GltfSkin, PerformanceOpensAJawJointOnlyWithoutAJawOpenTarget)
   EXPECT_TRUE(p.TargetNames.empty());
   const double* q = p.Rotations[0].Rotations.data() + 4;
   // In the parent's frame (J1 is turned 90 degrees about z): the angle is 20 degrees.
-  EXPECT_NEAR(2.0 * std::acos(std::min(1.0, std::abs(q[3]))) * 180.0 / glm::pi<double>(), 20.0, 1e-6);
+  EXPECT_NEAR(
+    2.0 * std::acos(std::min(1.0, std::abs(q[3]))) * 180.0 / glm::pi<double>(), 20.0, 1e-6);
   EXPECT_NEAR(p.Rotations[0].Rotations[3], 1.0, 1e-12); // closed at t = 0
 
   scene.Parts[0].Targets[0].Name = "jawOpen";
@@ -326,25 +337,38 @@ gltftest::Builder VrmQuad(bool one)
   if (one)
   {
     b.Doc["extensions"]["VRMC_vrm"] = { { "specVersion", "1.0" },
-      { "humanoid", { { "humanBones", { { "head", { { "node", 1 } } }, { "jaw", { { "node", 2 } } } } } } },
+      { "humanoid",
+        { { "humanBones", { { "head", { { "node", 1 } } }, { "jaw", { { "node", 2 } } } } } } },
       { "expressions",
         { { "preset",
-            { { "oh", { { "morphTargetBinds", { { { "node", 3 }, { "index", 1 }, { "weight", 0.5 } } } } } },
-              { "blink", { { "morphTargetBinds", { { { "node", 3 }, { "index", 0 }, { "weight", 1.0 } } } } } } } },
-          { "custom", { { "smirk", { { "morphTargetBinds", { { { "node", 3 }, { "index", 0 } } } } } } } } } },
-      { "lookAt", { { "type", "bone" }, { "offsetFromHeadBone", { 0, 0.06, 0 } },
-                    { "rangeMapHorizontalOuter", { { "inputMaxValue", 90 }, { "outputScale", 12 } } } } } };
+            { { "oh",
+                { { "morphTargetBinds",
+                  { { { "node", 3 }, { "index", 1 }, { "weight", 0.5 } } } } } },
+              { "blink",
+                { { "morphTargetBinds",
+                  { { { "node", 3 }, { "index", 0 }, { "weight", 1.0 } } } } } } } },
+          { "custom",
+            { { "smirk",
+              { { "morphTargetBinds", { { { "node", 3 }, { "index", 0 } } } } } } } } } },
+      { "lookAt",
+        { { "type", "bone" }, { "offsetFromHeadBone", { 0, 0.06, 0 } },
+          { "rangeMapHorizontalOuter", { { "inputMaxValue", 90 }, { "outputScale", 12 } } } } } };
     b.Doc["extensionsUsed"] = { "VRMC_vrm" };
   }
   else
   {
-    b.Doc["extensions"]["VRM"] = { { "humanoid", { { "humanBones", { { { "bone", "head" }, { "node", 1 } } } } } },
+    b.Doc["extensions"]["VRM"] = {
+      { "humanoid", { { "humanBones", { { { "bone", "head" }, { "node", 1 } } } } } },
       { "blendShapeMaster",
         { { "blendShapeGroups",
-          { { { "name", "O" }, { "presetName", "o" }, { "binds", { { { "mesh", 0 }, { "index", 1 }, { "weight", 50 } } } } },
-            { { "name", "Joy" }, { "presetName", "joy" }, { "binds", { { { "mesh", 0 }, { "index", 0 }, { "weight", 100 } } } } } } } } },
-      { "firstPerson", { { "lookAtTypeName", "BlendShape" },
-                         { "lookAtHorizontalOuter", { { "xRange", 30 }, { "yRange", 1 } } } } } };
+          { { { "name", "O" }, { "presetName", "o" },
+              { "binds", { { { "mesh", 0 }, { "index", 1 }, { "weight", 50 } } } } },
+            { { "name", "Joy" }, { "presetName", "joy" },
+              { "binds", { { { "mesh", 0 }, { "index", 0 }, { "weight", 100 } } } } } } } } },
+      { "firstPerson",
+        { { "lookAtTypeName", "BlendShape" },
+          { "lookAtHorizontalOuter", { { "xRange", 30 }, { "yRange", 1 } } } } }
+    };
     b.Doc["extensionsUsed"] = { "VRM" };
   }
   return b;
@@ -366,13 +390,15 @@ TEST(GltfVrm, ExpressionsBonesAndLookAtOfBothVersions)
   const GltfVrm one = ReadGltfVrm(WriteTemp("morphnode_vrm1.glb", VrmQuad(true).Glb()));
   EXPECT_EQ(one.Version, 2);
   ASSERT_EQ(one.Expressions.size(), 3u);
-  const auto find = [](const GltfVrm& v, const std::string& name) {
+  const auto find = [](const GltfVrm& v, const std::string& name)
+  {
     const auto it = std::find_if(v.Expressions.begin(), v.Expressions.end(),
       [&name](const GltfVrmExpression& e) { return e.Name == name; });
     return it == v.Expressions.end() ? nullptr : &*it;
   };
   ASSERT_NE(find(one, "oh"), nullptr);
-  EXPECT_EQ(find(one, "oh")->Binds, (std::vector<std::pair<std::string, double>>{ { "Right", 0.5 } }));
+  EXPECT_EQ(
+    find(one, "oh")->Binds, (std::vector<std::pair<std::string, double>>{ { "Right", 0.5 } }));
   ASSERT_NE(find(one, "smirk"), nullptr);
   EXPECT_FALSE(find(one, "smirk")->Preset);
   EXPECT_EQ(one.HumanBones.at("head"), 1);
@@ -386,19 +412,24 @@ TEST(GltfVrm, ExpressionsBonesAndLookAtOfBothVersions)
   const GltfVrm zero = ReadGltfVrm(WriteTemp("morphnode_vrm0.glb", VrmQuad(false).Glb()));
   EXPECT_EQ(zero.Version, 1);
   ASSERT_NE(find(zero, "oh"), nullptr);
-  EXPECT_EQ(find(zero, "oh")->Binds, (std::vector<std::pair<std::string, double>>{ { "Right", 0.5 } }));
+  EXPECT_EQ(
+    find(zero, "oh")->Binds, (std::vector<std::pair<std::string, double>>{ { "Right", 0.5 } }));
   ASSERT_NE(find(zero, "happy"), nullptr);
   EXPECT_EQ(zero.HumanBoneNodeNames.at("head"), "J1");
   EXPECT_EQ(zero.LookAtType, "expression");
   EXPECT_NEAR(zero.HorizontalOuter.Map(15), 0.5, 1e-12);
 
-  EXPECT_FALSE(ReadGltfVrm(WriteTemp("morphnode_novrm.glb", gltftest::SkinnedQuad().Glb())).IsVrm());
+  EXPECT_FALSE(
+    ReadGltfVrm(WriteTemp("morphnode_novrm.glb", gltftest::SkinnedQuad().Glb())).IsVrm());
   gltftest::Builder bad = VrmQuad(true);
-  bad.Doc["extensions"]["VRMC_vrm"]["expressions"]["preset"]["oh"]["morphTargetBinds"][0]["index"] = 7;
-  EXPECT_NE(ErrorOf([&] { ReadGltfVrm(WriteTemp("morphnode_badvrm.glb", bad.Glb())); }).find("target 7 of mesh 0"),
+  bad.Doc["extensions"]["VRMC_vrm"]["expressions"]["preset"]["oh"]["morphTargetBinds"][0]["index"] =
+    7;
+  EXPECT_NE(ErrorOf([&] { ReadGltfVrm(WriteTemp("morphnode_badvrm.glb", bad.Glb())); })
+              .find("target 7 of mesh 0"),
     std::string::npos);
   gltftest::Builder badBone = VrmQuad(false);
   badBone.Doc["extensions"]["VRM"]["humanoid"]["humanBones"][0]["node"] = 99;
-  EXPECT_NE(ErrorOf([&] { ReadGltfVrm(WriteTemp("morphnode_badvrm0.glb", badBone.Glb())); }).find("node 99"),
+  EXPECT_NE(ErrorOf([&] { ReadGltfVrm(WriteTemp("morphnode_badvrm0.glb", badBone.Glb())); })
+              .find("node 99"),
     std::string::npos);
 }

@@ -26,7 +26,8 @@ using namespace morphnode;
 
 namespace
 {
-const std::string DefaultHead = std::string(MORPHNODE_SOURCE_DIR) + "/Data/DefaultFace/default_head.glb";
+const std::string DefaultHead =
+  std::string(MORPHNODE_SOURCE_DIR) + "/Data/DefaultFace/default_head.glb";
 const std::string IctHead = std::string(MORPHNODE_FACEKIT_DIR) + "/ict_head_full53.glb";
 
 /// Where the files go: the validator test's folder (MORPHNODE_GLTF_EXPORT_DIR) when it runs
@@ -34,7 +35,8 @@ const std::string IctHead = std::string(MORPHNODE_FACEKIT_DIR) + "/ict_head_full
 std::string OutputDir()
 {
   const char* env = std::getenv("MORPHNODE_GLTF_EXPORT_DIR");
-  const std::string dir = env && *env ? std::string(env) : std::string(MORPHNODE_TEST_OUTPUT_DIR) + "/gltf-export";
+  const std::string dir =
+    env && *env ? std::string(env) : std::string(MORPHNODE_TEST_OUTPUT_DIR) + "/gltf-export";
   std::filesystem::create_directories(dir);
   return dir;
 }
@@ -78,7 +80,8 @@ GltfPerformance RandomPerformance(const GltfScene& scene, size_t frames, unsigne
       p.Weights.push_back(u(rng) < 0.3 ? u(rng) : 0.0);
     }
   }
-  auto turns = [&](double amplitude) {
+  auto turns = [&](double amplitude)
+  {
     std::vector<double> q;
     for (size_t f = 0; f < frames; ++f)
     {
@@ -165,7 +168,8 @@ double WrittenWeight(const GltfScene& s, int node, const std::string& name, size
     if (c.Node == node && c.Path == GltfAnimationPath::Weights)
     {
       const auto& sampler = s.Animations[0].Samplers[static_cast<size_t>(c.Sampler)];
-      return sampler.Values.at(key * mesh.TargetNames.size() + static_cast<size_t>(it - mesh.TargetNames.begin()));
+      return sampler.Values.at(
+        key * mesh.TargetNames.size() + static_cast<size_t>(it - mesh.TargetNames.begin()));
     }
   }
   return std::nan("");
@@ -248,7 +252,9 @@ TEST(GltfWriter, DefaultHeadRoundTripInNodeFrames)
     EXPECT_EQ(sampler.Interpolation, GltfInterpolation::Linear);
     ASSERT_EQ(sampler.Times.size(), p.Times.size());
     const std::string& name = back.Nodes[static_cast<size_t>(c.Node)].Name;
-    const GltfRotationTrack& r = p.Rotations[name == "HeadRotation" ? 0 : name == "EyeLeftRotation" ? 1 : 2];
+    const GltfRotationTrack& r = p.Rotations[name == "HeadRotation" ? 0
+        : name == "EyeLeftRotation"                                 ? 1
+                                                                    : 2];
     for (size_t k = 0; k < p.Times.size(); ++k)
     {
       double dot = 0;
@@ -267,8 +273,10 @@ namespace
 GltfMatrix Turn(const std::array<double, 3>& pivot, const double* q)
 {
   const GltfMatrix to = GltfComposeTrs(pivot, { { 0, 0, 0, 1 } }, { { 1, 1, 1 } });
-  const GltfMatrix r = GltfComposeTrs({ { 0, 0, 0 } }, { { q[0], q[1], q[2], q[3] } }, { { 1, 1, 1 } });
-  const GltfMatrix back = GltfComposeTrs({ { -pivot[0], -pivot[1], -pivot[2] } }, { { 0, 0, 0, 1 } }, { { 1, 1, 1 } });
+  const GltfMatrix r =
+    GltfComposeTrs({ { 0, 0, 0 } }, { { q[0], q[1], q[2], q[3] } }, { { 1, 1, 1 } });
+  const GltfMatrix back =
+    GltfComposeTrs({ { -pivot[0], -pivot[1], -pivot[2] } }, { { 0, 0, 0, 1 } }, { { 1, 1, 1 } });
   return GltfMultiply(to, GltfMultiply(r, back));
 }
 
@@ -308,8 +316,10 @@ TEST(GltfWriter, PlaysBackThroughGltfAnimationPlayer)
     {
       const auto it = std::find(named.Names.begin(), named.Names.end(), p.TargetNames[i]);
       ASSERT_NE(it, named.Names.end()) << p.TargetNames[i];
-      const double expected = (1 - u) * static_cast<float>(p.Weights[k * n + i]) + u * static_cast<float>(p.Weights[k1 * n + i]);
-      EXPECT_NEAR(named.Values[static_cast<size_t>(it - named.Names.begin())], expected, 1e-6) << p.TargetNames[i];
+      const double expected = (1 - u) * static_cast<float>(p.Weights[k * n + i]) +
+        u * static_cast<float>(p.Weights[k1 * n + i]);
+      EXPECT_NEAR(named.Values[static_cast<size_t>(it - named.Names.begin())], expected, 1e-6)
+        << p.TargetNames[i];
     }
     if (u > 1e-9)
     {
@@ -326,8 +336,10 @@ TEST(GltfWriter, PlaysBackThroughGltfAnimationPlayer)
       {
         if (p.Rotations[r].Node == node.Name)
         {
-          const GltfMatrix parent = node.Parent >= 0 ? head.Nodes[static_cast<size_t>(node.Parent)].World : GltfIdentity();
-          world = GltfMultiply(parent, GltfMultiply(Turn(p.Rotations[r].Pivot, &p.Rotations[r].Rotations[4 * k]), node.Local));
+          const GltfMatrix parent =
+            node.Parent >= 0 ? head.Nodes[static_cast<size_t>(node.Parent)].World : GltfIdentity();
+          world = GltfMultiply(parent,
+            GltfMultiply(Turn(p.Rotations[r].Pivot, &p.Rotations[r].Rotations[4 * k]), node.Local));
         }
       }
       world = GltfMultiply(Turn(p.Rotations[0].Pivot, &p.Rotations[0].Rotations[4 * k]), world);
@@ -335,11 +347,14 @@ TEST(GltfWriter, PlaysBackThroughGltfAnimationPlayer)
       const auto& w = s.Nodes[static_cast<size_t>(written.Node)].Weights;
       for (size_t v = 0; v < part.GetNumberOfPoints(); v += 7)
       {
-        double x[3] = { part.Positions[3 * v], part.Positions[3 * v + 1], part.Positions[3 * v + 2] };
+        double x[3] = { part.Positions[3 * v], part.Positions[3 * v + 1],
+          part.Positions[3 * v + 2] };
         double y[3] = { x[0], x[1], x[2] };
         for (size_t t2 = 0; t2 < part.Targets.size(); ++t2)
         {
-          const auto ti = std::find(p.TargetNames.begin(), p.TargetNames.end(), part.Targets[t2].Name) - p.TargetNames.begin();
+          const auto ti =
+            std::find(p.TargetNames.begin(), p.TargetNames.end(), part.Targets[t2].Name) -
+            p.TargetNames.begin();
           const double weight = static_cast<float>(p.Weights[k * n + static_cast<size_t>(ti)]);
           for (int c = 0; c < 3; ++c)
           {
@@ -369,7 +384,9 @@ TEST(GltfWriter, DefaultHeadWorldSpaceAndJson)
   // A .gltf is JSON with the buffer embedded.
   std::ifstream in(file);
   const nlohmann::json j = nlohmann::json::parse(in);
-  EXPECT_EQ(j["buffers"][0]["uri"].get<std::string>().rfind("data:application/octet-stream;base64,", 0), 0u);
+  EXPECT_EQ(
+    j["buffers"][0]["uri"].get<std::string>().rfind("data:application/octet-stream;base64,", 0),
+    0u);
 }
 
 TEST(GltfWriter, StaticSceneWithoutPerformance)
@@ -409,7 +426,8 @@ std::pair<size_t, size_t> CountSparse(const std::vector<unsigned char>& glb, boo
 std::vector<unsigned char> ReadBytes(const std::string& file)
 {
   std::ifstream in(file, std::ios::binary);
-  return std::vector<unsigned char>(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  return std::vector<unsigned char>(
+    std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
 }
 } // namespace
 
@@ -469,7 +487,8 @@ TEST(GltfWriter, IctHeadRoundTrip)
   const GltfScene back = LoadGltfScene(file, options);
   ExpectSameScene(head, back);
   // Scale of the root kept.
-  EXPECT_EQ(back.Nodes[static_cast<size_t>(FindNode(back, "ICTFaceKit"))].Scale, head.Nodes[0].Scale);
+  EXPECT_EQ(
+    back.Nodes[static_cast<size_t>(FindNode(back, "ICTFaceKit"))].Scale, head.Nodes[0].Scale);
   std::ifstream original(IctHead, std::ios::binary | std::ios::ate);
   std::ifstream written(file, std::ios::binary | std::ios::ate);
   EXPECT_LT(static_cast<double>(written.tellg()), 1.5 * static_cast<double>(original.tellg()));
@@ -614,8 +633,9 @@ size_t ExpectSameMaterials(const GltfScene& a, const GltfScene& b)
     EXPECT_EQ(n.Unlit, m.Unlit) << where;
     const std::pair<const GltfTextureRef*, const GltfTextureRef*> refs[] = {
       { &m.BaseColorTexture, &n.BaseColorTexture },
-      { &m.MetallicRoughnessTexture, &n.MetallicRoughnessTexture }, { &m.NormalTexture, &n.NormalTexture },
-      { &m.OcclusionTexture, &n.OcclusionTexture }, { &m.EmissiveTexture, &n.EmissiveTexture }
+      { &m.MetallicRoughnessTexture, &n.MetallicRoughnessTexture },
+      { &m.NormalTexture, &n.NormalTexture }, { &m.OcclusionTexture, &n.OcclusionTexture },
+      { &m.EmissiveTexture, &n.EmissiveTexture }
     };
     for (const auto& [r, s] : refs)
     {
@@ -638,7 +658,8 @@ size_t ExpectSameMaterials(const GltfScene& a, const GltfScene& b)
       EXPECT_EQ(y.Name, x.Name) << where;
       EXPECT_EQ(y.Width, x.Width) << where;
       EXPECT_EQ(y.Height, x.Height) << where;
-      EXPECT_TRUE(y.Pixels == x.Pixels) << where << ": the pixels of image '" << x.Name << "' differ";
+      EXPECT_TRUE(y.Pixels == x.Pixels)
+        << where << ": the pixels of image '" << x.Name << "' differ";
     }
   }
   return textures;
@@ -663,7 +684,8 @@ TEST(GltfWriter, AvatarMaterialsRoundTrip)
   const GltfScene back = LoadGltfScene(out);
   EXPECT_EQ(back.Parts.size(), avatar.Parts.size());
   EXPECT_GT(ExpectSameMaterials(avatar, back), 0u);
-  EXPECT_EQ(back.Images.size(), avatar.Images.size()) << "every image of the avatar is used by a material";
+  EXPECT_EQ(back.Images.size(), avatar.Images.size())
+    << "every image of the avatar is used by a material";
   // PNG and JPEG go back as the file held them.
   for (const auto& image : back.Images)
   {
@@ -760,10 +782,12 @@ TEST(GltfWriter, AvatarSkinRoundTrip)
   ASSERT_EQ(s1.Joints.size(), s0.Joints.size());
   for (size_t j = 0; j < s0.Joints.size(); ++j)
   {
-    EXPECT_EQ(back.Nodes[static_cast<size_t>(s1.Joints[j])].Name, avatar.Nodes[static_cast<size_t>(s0.Joints[j])].Name);
+    EXPECT_EQ(back.Nodes[static_cast<size_t>(s1.Joints[j])].Name,
+      avatar.Nodes[static_cast<size_t>(s0.Joints[j])].Name);
     for (size_t c = 0; c < 16; ++c)
     {
-      EXPECT_NEAR(s1.InverseBind[j][c], s0.InverseBind[j][c], 1e-6 * (1 + std::abs(s0.InverseBind[j][c])));
+      EXPECT_NEAR(
+        s1.InverseBind[j][c], s0.InverseBind[j][c], 1e-6 * (1 + std::abs(s0.InverseBind[j][c])));
     }
   }
   size_t skinnedParts = 0;
@@ -782,7 +806,8 @@ TEST(GltfWriter, AvatarSkinRoundTrip)
     ASSERT_EQ(other.Influences.Weights.size(), part.Influences.Weights.size()) << part.Name;
     for (size_t i = 0; i < part.Influences.Weights.size(); ++i)
     {
-      EXPECT_NEAR(other.Influences.Weights[i], part.Influences.Weights[i], 1e-6) << part.Name << " " << i;
+      EXPECT_NEAR(other.Influences.Weights[i], part.Influences.Weights[i], 1e-6)
+        << part.Name << " " << i;
       if (part.Influences.Weights[i] > 0.0f)
       {
         EXPECT_EQ(other.Influences.Joints[i], part.Influences.Joints[i]) << part.Name << " " << i;
@@ -817,9 +842,10 @@ TEST(GltfWriter, AvatarSkinRoundTrip)
     const int n = FindNode(back, joint);
     ASSERT_GE(n, 0) << joint;
     const auto& channels = back.Animations[0].Channels;
-    EXPECT_TRUE(std::any_of(channels.begin(), channels.end(), [n](const GltfAnimationChannel& c) {
-      return c.Node == n && c.Path == GltfAnimationPath::Rotation;
-    })) << joint;
+    EXPECT_TRUE(std::any_of(channels.begin(), channels.end(),
+      [n](const GltfAnimationChannel& c)
+      { return c.Node == n && c.Path == GltfAnimationPath::Rotation; }))
+      << joint;
   }
   // Re-read, it plays: at a key the joints hold turn * rest rotation about their own
   // origin, and the eyes ride on the turned head (their centres move).
@@ -832,12 +858,14 @@ TEST(GltfWriter, AvatarSkinRoundTrip)
     const int n = FindNode(back, track.Node);
     const auto& q0 = avatar.Nodes[static_cast<size_t>(FindNode(avatar, track.Node))].Rotation;
     const double* r = track.Rotations.data() + 4 * key; // (sin, 0, 0, cos): about x
-    const std::array<double, 4> expected{ { r[3] * q0[0] + r[0] * q0[3], r[3] * q0[1] - r[0] * q0[2],
-      r[3] * q0[2] + r[0] * q0[1], r[3] * q0[3] - r[0] * q0[0] } };
+    const std::array<double, 4> expected{ { r[3] * q0[0] + r[0] * q0[3],
+      r[3] * q0[1] - r[0] * q0[2], r[3] * q0[2] + r[0] * q0[1], r[3] * q0[3] - r[0] * q0[0] } };
     const auto& got = sample.Nodes[static_cast<size_t>(n)].Rotation;
-    const double dot = got[0] * expected[0] + got[1] * expected[1] + got[2] * expected[2] + got[3] * expected[3];
+    const double dot =
+      got[0] * expected[0] + got[1] * expected[1] + got[2] * expected[2] + got[3] * expected[3];
     EXPECT_NEAR(std::abs(dot), 1.0, 1e-6) << track.Node;
-    EXPECT_EQ(sample.Nodes[static_cast<size_t>(n)].Translation, avatar.Nodes[static_cast<size_t>(n)].Translation);
+    EXPECT_EQ(sample.Nodes[static_cast<size_t>(n)].Translation,
+      avatar.Nodes[static_cast<size_t>(n)].Translation);
   }
   const int eye = FindNode(back, "LeftEye");
   const auto& w1 = sample.Nodes[static_cast<size_t>(eye)].World;
@@ -919,10 +947,12 @@ TEST(GltfWriter, BadSkinAndTexCoords)
   GltfLoadOptions nodeFrames;
   nodeFrames.ApplyTransforms = false;
   const GltfScene avatar = LoadGltfScene(file, nodeFrames);
-  const auto skinned = std::find_if(avatar.Parts.begin(), avatar.Parts.end(), [](const GltfPart& p) { return p.Skin >= 0; });
+  const auto skinned = std::find_if(
+    avatar.Parts.begin(), avatar.Parts.end(), [](const GltfPart& p) { return p.Skin >= 0; });
   ASSERT_NE(skinned, avatar.Parts.end());
   const size_t k = static_cast<size_t>(skinned - avatar.Parts.begin());
-  auto expectError = [](const GltfScene& scene, const std::string& words) {
+  auto expectError = [](const GltfScene& scene, const std::string& words)
+  {
     try
     {
       WriteGltfSceneToMemory(scene, nullptr);
@@ -934,9 +964,10 @@ TEST(GltfWriter, BadSkinAndTexCoords)
     }
   };
   GltfScene bad = avatar;
-  const auto w = std::find_if(bad.Parts[k].Influences.Weights.begin(), bad.Parts[k].Influences.Weights.end(),
-    [](float x) { return x > 0.0f; });
-  bad.Parts[k].Influences.Joints[static_cast<size_t>(w - bad.Parts[k].Influences.Weights.begin())] = 60000;
+  const auto w = std::find_if(bad.Parts[k].Influences.Weights.begin(),
+    bad.Parts[k].Influences.Weights.end(), [](float x) { return x > 0.0f; });
+  bad.Parts[k].Influences.Joints[static_cast<size_t>(w - bad.Parts[k].Influences.Weights.begin())] =
+    60000;
   expectError(bad, "beyond its skin's");
   bad = avatar;
   bad.Parts[k].Influences.Weights.pop_back();

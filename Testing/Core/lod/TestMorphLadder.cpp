@@ -2,12 +2,12 @@
 // The ladder: levels of the animation-aware reduction over one vertex buffer and one set of
 // targets; their geomorphs; the target level of detail and the level chosen on screen
 // (FrameBudgetController over the ladder's levels).
+#include "Core/reduction/ReductionTestMesh.h"
 #include "base/Error.h"
 #include "budget/DeviceProfile.h"
 #include "budget/FrameBudgetController.h"
 #include "lod/MorphLadder.h"
 #include "lod/ScalableMorph.h"
-#include "Core/reduction/ReductionTestMesh.h"
 
 #include <gtest/gtest.h>
 
@@ -24,8 +24,8 @@ namespace
 {
 const MorphLadder& Ladder()
 {
-  static const MorphLadder ladder = morphnode::BuildMorphLadder(
-    reductiontest::MakeFace(), morphnode::LadderSettings());
+  static const MorphLadder ladder =
+    morphnode::BuildMorphLadder(reductiontest::MakeFace(), morphnode::LadderSettings());
   return ladder;
 }
 
@@ -89,7 +89,8 @@ TEST(MorphLadder, OneVertexBufferAndOneSetOfTargets)
   {
     const auto& level = ladder.Levels[l];
     ASSERT_FALSE(level.Triangles.empty());
-    EXPECT_LT(*std::max_element(level.Triangles.begin(), level.Triangles.end()), level.NumberOfPoints);
+    EXPECT_LT(
+      *std::max_element(level.Triangles.begin(), level.Triangles.end()), level.NumberOfPoints);
     if (l > 0)
     {
       EXPECT_LT(level.NumberOfPoints, ladder.Levels[l - 1].NumberOfPoints);
@@ -131,7 +132,8 @@ TEST(MorphLadder, LevelsAreTheAnimationAwareReduction)
   plain.Reduction.AnimationWeight = 0.0;
   const MorphLadder quadric = morphnode::BuildMorphLadder(input, plain);
   const std::vector<double> region = input.ComputeAnimatedRegion();
-  auto animatedKept = [&](const MorphLadder& l, size_t level) {
+  auto animatedKept = [&](const MorphLadder& l, size_t level)
+  {
     size_t n = 0;
     for (size_t p = 0; p < l.Levels[level].NumberOfPoints; ++p)
     {
@@ -242,7 +244,8 @@ double MaxDeviation(const std::vector<float>& a, const std::vector<float>& b, si
   double worst = 0.0;
   for (size_t p = 0; p < n; ++p)
   {
-    const double dx = a[3 * p] - b[3 * p], dy = a[3 * p + 1] - b[3 * p + 1], dz = a[3 * p + 2] - b[3 * p + 2];
+    const double dx = a[3 * p] - b[3 * p], dy = a[3 * p + 1] - b[3 * p + 1],
+                 dz = a[3 * p + 2] - b[3 * p + 2];
     worst = std::max(worst, std::sqrt(dx * dx + dy * dy + dz * dz));
   }
   return worst;
@@ -286,7 +289,8 @@ TEST(MorphLadder, TargetLevelOfDetailDoesNotPop)
 {
   // A weight hovering at the edge of what the screen sees: the optimizer's hysteresis
   // keeps the set of blended targets from flickering.
-  auto changes = [](double hysteresis) {
+  auto changes = [](double hysteresis)
+  {
     morphnode::ControllerSettings s;
     s.FrameBudget = 1.0;
     s.Thresholds = { 0.0 };
@@ -415,8 +419,8 @@ TEST(ScalableMorph, BlendsTheShownLevelAndItsGeomorph)
       morphnode::GeomorphLadder(*ladder, d.Level, d.Alpha, expected.data());
       ++transitions;
     }
-    ASSERT_TRUE(std::equal(expected.begin(), expected.begin() + 3 * frame.NumberOfPoints,
-      morph.GetPositions().begin()))
+    ASSERT_TRUE(std::equal(
+      expected.begin(), expected.begin() + 3 * frame.NumberOfPoints, morph.GetPositions().begin()))
       << "frame " << f;
     EXPECT_GE(frame.BlendSeconds, 0.0);
   }

@@ -2,11 +2,11 @@
 // Every part of an avatar on its own ladder under one controller (ScalableScene), and a
 // skinned part's ladder: its influences follow the ladder's renumbering, so a reduced level
 // skins as the full mesh does, within the level's error.
+#include "Core/reduction/ReductionTestMesh.h"
 #include "base/Error.h"
 #include "lod/MorphLadder.h"
 #include "lod/ScalableScene.h"
 #include "skin/Skinning.h"
-#include "Core/reduction/ReductionTestMesh.h"
 
 #include <gtest/gtest.h>
 
@@ -56,7 +56,8 @@ struct Scene
     morphnode::LadderSettings one;
     one.TriangleFractions.clear();
     this->Parts = {
-      std::make_shared<const MorphLadder>(morphnode::BuildMorphLadder(reductiontest::MakeFace(41), {})),
+      std::make_shared<const MorphLadder>(
+        morphnode::BuildMorphLadder(reductiontest::MakeFace(41), {})),
       std::make_shared<const MorphLadder>(morphnode::BuildMorphLadder(
         Part(21, 3.0f, 4.0f, { 1, 0 }, { "Neutral", "target1", "extra" }), {})),
       std::make_shared<const MorphLadder>(morphnode::BuildMorphLadder(
@@ -77,7 +78,8 @@ std::vector<double> SceneWeights(int frame)
   std::vector<double> w(6, 0.0);
   for (size_t k = 1; k < w.size(); ++k)
   {
-    const double s = std::sin(0.05 * frame * (1.0 + 0.37 * static_cast<double>(k)) + static_cast<double>(k));
+    const double s =
+      std::sin(0.05 * frame * (1.0 + 0.37 * static_cast<double>(k)) + static_cast<double>(k));
     w[k] = std::max(0.0, s) * 0.3;
   }
   double sum = 0.0;
@@ -115,7 +117,8 @@ TEST(ScalableScene, EveryPartOnItsOwnBufferSwitchingTogether)
   ASSERT_EQ(scene.GetNumberOfParts(), 3u);
   ASSERT_EQ(scene.GetNumberOfLevels(), 4u);
   // Targets matched by name: B's target1 drives the scene's target1, its own is new.
-  const std::vector<std::string> names = { "Neutral", "target0", "target1", "target2", "target3", "extra" };
+  const std::vector<std::string> names = { "Neutral", "target0", "target1", "target2", "target3",
+    "extra" };
   EXPECT_EQ(scene.GetTargetNames(), names);
   EXPECT_EQ(scene.GetTargetMap(1), (std::vector<size_t>{ 0, 2, 5 }));
   // B is three times as large: its errors set the scene's.
@@ -137,7 +140,8 @@ TEST(ScalableScene, EveryPartOnItsOwnBufferSwitchingTogether)
     double error = SceneError(parts, static_cast<size_t>(d.Level));
     if (d.MorphTowards >= 0)
     {
-      error += d.Alpha * std::max(0.0, SceneError(parts, static_cast<size_t>(d.MorphTowards)) - error);
+      error +=
+        d.Alpha * std::max(0.0, SceneError(parts, static_cast<size_t>(d.MorphTowards)) - error);
     }
     EXPECT_NEAR(d.LevelPixelError, error * ppu, 1e-9 * ppu);
     switches += d.Level != lastLevel;
@@ -175,7 +179,8 @@ TEST(ScalableScene, EveryPartOnItsOwnBufferSwitchingTogether)
       pw[0] = d.Weights[0] + (all - mapped);
       std::vector<float> expected(3 * ladder.Mesh.GetNumberOfPoints(), 0.0f);
       reductiontest::PositionsOf(ladder.Mesh).Blend(pw.data(), pw.size(), expected.data(), 0, n);
-      if (d.MorphTowards >= 0 && pl == d.Level && static_cast<size_t>(pl) + 1 < ladder.Levels.size())
+      if (d.MorphTowards >= 0 && pl == d.Level &&
+        static_cast<size_t>(pl) + 1 < ladder.Levels.size())
       {
         morphnode::GeomorphLadder(ladder, static_cast<size_t>(pl), d.Alpha, expected.data());
       }
@@ -225,7 +230,8 @@ TEST(ScalableScene, EveryPartOnItsOwnBufferSwitchingTogether)
     const MorphLadder& ladder = *parts[p];
     const std::vector<double>& pw = still.GetPartWeights(p);
     std::vector<float> expected(3 * ladder.Mesh.GetNumberOfPoints(), 0.0f);
-    reductiontest::PositionsOf(ladder.Mesh).Blend(pw.data(), pw.size(), expected.data(), 0, moved.PartPoints[p]);
+    reductiontest::PositionsOf(ladder.Mesh)
+      .Blend(pw.data(), pw.size(), expected.data(), 0, moved.PartPoints[p]);
     for (size_t i = 0; i < 3 * moved.PartPoints[p]; ++i)
     {
       ASSERT_NEAR(still.GetPositions(p)[i], expected[i], 1e-5f) << "part " << p;
@@ -308,8 +314,10 @@ TEST(ScalableScene, SkinnedLevelSkinsLikeFullResolution)
   {
     for (size_t k = 0; k < skin.PerPoint; ++k)
     {
-      ASSERT_EQ(ladder.Influences.Joints[p * 4 + k], skin.Joints[ladder.OriginalPointIds[p] * 4 + k]);
-      ASSERT_EQ(ladder.Influences.Weights[p * 4 + k], skin.Weights[ladder.OriginalPointIds[p] * 4 + k]);
+      ASSERT_EQ(
+        ladder.Influences.Joints[p * 4 + k], skin.Joints[ladder.OriginalPointIds[p] * 4 + k]);
+      ASSERT_EQ(
+        ladder.Influences.Weights[p * 4 + k], skin.Weights[ladder.OriginalPointIds[p] * 4 + k]);
     }
   }
 
@@ -318,20 +326,20 @@ TEST(ScalableScene, SkinnedLevelSkinsLikeFullResolution)
   const std::vector<glm::dmat4> pose = JawPose(20.0);
   std::vector<float> full(3 * np), fullSkinned(3 * np);
   reductiontest::PositionsOf(mesh).Blend(w.data(), w.size(), full.data(), 0, np);
-  morphnode::SkinPoints(skin, pose, full.data(), static_cast<const float*>(nullptr), fullSkinned.data(),
-    static_cast<float*>(nullptr), 0, np);
+  morphnode::SkinPoints(skin, pose, full.data(), static_cast<const float*>(nullptr),
+    fullSkinned.data(), static_cast<float*>(nullptr), 0, np);
   for (size_t l = 1; l < ladder.Levels.size(); ++l)
   {
     const morphnode::LadderLevel& level = ladder.Levels[l];
     const size_t n = level.NumberOfPoints;
     std::vector<float> blended(3 * np, 0.0f), skinned(3 * np, 0.0f), wrong(3 * np, 0.0f);
     reductiontest::PositionsOf(ladder.Mesh).Blend(w.data(), w.size(), blended.data(), 0, n);
-    morphnode::SkinPoints(ladder.Influences, pose, blended.data(), static_cast<const float*>(nullptr),
-      skinned.data(), static_cast<float*>(nullptr), 0, n);
+    morphnode::SkinPoints(ladder.Influences, pose, blended.data(),
+      static_cast<const float*>(nullptr), skinned.data(), static_cast<float*>(nullptr), 0, n);
     // A ladder that kept the input's order of influences skins its points with other
     // points' joints: the fault this test names.
-    morphnode::SkinPoints(skin, pose, blended.data(), static_cast<const float*>(nullptr), wrong.data(),
-      static_cast<float*>(nullptr), 0, n);
+    morphnode::SkinPoints(skin, pose, blended.data(), static_cast<const float*>(nullptr),
+      wrong.data(), static_cast<float*>(nullptr), 0, n);
     double keptWorst = 0.0, wrongWorst = 0.0;
     for (size_t p = 0; p < n; ++p)
     {
@@ -362,8 +370,8 @@ TEST(ScalableScene, SkinnedLevelSkinsLikeFullResolution)
     }
     std::sort(errors.begin(), errors.end());
     const double p99 = errors[(np * 99) / 100];
-    EXPECT_LE(p99, 1.25 * level.Error99) << "level " << l << ": skinned p99 " << p99 << ", level error "
-                                         << level.Error99;
+    EXPECT_LE(p99, 1.25 * level.Error99)
+      << "level " << l << ": skinned p99 " << p99 << ", level error " << level.Error99;
     EXPECT_LE(errors.back(), 1.25 * level.MaxError) << "level " << l;
     // The skin's bend is in the error: above the error of the morph alone.
     EXPECT_GT(level.Error99, unskinned.Levels[l].Error99) << "level " << l;
@@ -371,7 +379,8 @@ TEST(ScalableScene, SkinnedLevelSkinsLikeFullResolution)
   morphnode::LadderSettings onePose;
   onePose.SkinPoses = { { glm::dmat4(1.0) } };
   EXPECT_THROW(morphnode::BuildMorphLadder(mesh, skin, onePose), morphnode::InputError);
-  EXPECT_THROW(morphnode::BuildMorphLadder(reductiontest::MakeFace(21), skin, {}), morphnode::InputError);
+  EXPECT_THROW(
+    morphnode::BuildMorphLadder(reductiontest::MakeFace(21), skin, {}), morphnode::InputError);
   EXPECT_THROW(skin.Gather({ static_cast<uint32_t>(np) }), morphnode::InputError);
 }
 
@@ -382,7 +391,8 @@ TEST(ScalableScene, OtherAttributesFollowTheShownLevel)
   reductiontest::FlatFace f = reductiontest::MakeFlatFace(41);
   morphnode::MorphMesh mesh = f.ToMesh();
   const size_t np = mesh.GetNumberOfPoints();
-  auto xy = [&](const std::vector<float>& v) {
+  auto xy = [&](const std::vector<float>& v)
+  {
     std::vector<float> out(2 * np);
     for (size_t p = 0; p < np; ++p)
     {

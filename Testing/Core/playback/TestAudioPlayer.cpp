@@ -79,12 +79,13 @@ class AudioPlayerClock : public ::testing::TestWithParam<AudioPlayer::Options::C
 };
 
 INSTANTIATE_TEST_SUITE_P(AudioPlayer, AudioPlayerClock,
-  ::testing::Values(AudioPlayer::Options::ClockSource::Auto, AudioPlayer::Options::ClockSource::Device,
-    AudioPlayer::Options::ClockSource::Steady),
-  [](const ::testing::TestParamInfo<AudioPlayer::Options::ClockSource>& info) {
+  ::testing::Values(AudioPlayer::Options::ClockSource::Auto,
+    AudioPlayer::Options::ClockSource::Device, AudioPlayer::Options::ClockSource::Steady),
+  [](const ::testing::TestParamInfo<AudioPlayer::Options::ClockSource>& info)
+  {
     return info.param == AudioPlayer::Options::ClockSource::Auto ? std::string("Auto")
       : info.param == AudioPlayer::Options::ClockSource::Device  ? std::string("Device")
-                                                                  : std::string("Steady");
+                                                                 : std::string("Steady");
   });
 
 TEST_P(AudioPlayerClock, RunsStandsAndSeeks)
@@ -153,7 +154,8 @@ TEST(AudioPlayer, TheDevicePlaysTheClipsMixedAtTheirTimes)
   }
   if (player.GetDriverName() != "disk")
   {
-    GTEST_SKIP() << "built without SDL2: the player is a silent clock (" << player.GetDriverName() << ")";
+    GTEST_SKIP() << "built without SDL2: the player is a silent clock (" << player.GetDriverName()
+                 << ")";
   }
   const int rate = player.GetSampleRate();
   // A: 0.20 s at 0.3 from 0.10 s; B: 0.20 s at 0.3 from 0.20 s (overlapping A by 0.10 s:
@@ -168,7 +170,8 @@ TEST(AudioPlayer, TheDevicePlaysTheClipsMixedAtTheirTimes)
 
   std::ifstream in(file, std::ios::binary);
   std::vector<float> samples((std::filesystem::file_size(file)) / sizeof(float));
-  in.read(reinterpret_cast<char*>(samples.data()), static_cast<std::streamsize>(samples.size() * sizeof(float)));
+  in.read(reinterpret_cast<char*>(samples.data()),
+    static_cast<std::streamsize>(samples.size() * sizeof(float)));
   std::filesystem::remove(file);
   const auto sounds = Sounds(samples, rate);
   ASSERT_EQ(sounds.size(), 2u) << "A and B as one sound, then C";

@@ -19,8 +19,8 @@ inline float Height(float x, float y)
 /// The face in flat arrays, to build variants of it (bad input) from.
 struct FlatFace
 {
-  std::vector<float> Positions;    ///< 3 per point
-  std::vector<uint32_t> Triangles; ///< 3 per triangle
+  std::vector<float> Positions;                   ///< 3 per point
+  std::vector<uint32_t> Triangles;                ///< 3 per triangle
   std::vector<std::vector<float>> PositionDeltas; ///< 3 per point, one array per target
 
   size_t GetNumberOfPoints() const { return this->Positions.size() / 3; }
@@ -30,8 +30,7 @@ struct FlatFace
   {
     morphnode::MorphMesh mesh(this->GetNumberOfPoints());
     mesh.SetTargetNames(morphnode::DefaultTargetNames(this->PositionDeltas.size() + 1));
-    auto& positions =
-      mesh.AddAttribute<float>("Position", morphnode::AttributeRole::Position, 3);
+    auto& positions = mesh.AddAttribute<float>("Position", morphnode::AttributeRole::Position, 3);
     positions.SetNeutral(this->Positions.data());
     for (const auto& d : this->PositionDeltas)
     {
@@ -79,7 +78,8 @@ inline FlatFace MakeFlatFace(int n = 41)
     }
   }
   const size_t np = mesh.GetNumberOfPoints();
-  std::vector<float> jaw(3 * np, 0.0f), smile(3 * np, 0.0f), blinkL(3 * np, 0.0f), blinkR(3 * np, 0.0f);
+  std::vector<float> jaw(3 * np, 0.0f), smile(3 * np, 0.0f), blinkL(3 * np, 0.0f),
+    blinkR(3 * np, 0.0f);
   for (size_t p = 0; p < np; ++p)
   {
     const float x = mesh.Positions[3 * p], y = mesh.Positions[3 * p + 1];
@@ -94,7 +94,8 @@ inline FlatFace MakeFlatFace(int n = 41)
       smile[3 * p] = 0.05f * (x - 0.5f) * std::exp(-r2 / 0.02f);
       smile[3 * p + 1] = 0.03f * std::exp(-r2 / 0.02f);
     }
-    auto spot = [&](std::vector<float>& d, float cx) {
+    auto spot = [&](std::vector<float>& d, float cx)
+    {
       const float r2 = (x - cx) * (x - cx) + (y - 0.75f) * (y - 0.75f);
       if (r2 < 0.01f)
       {

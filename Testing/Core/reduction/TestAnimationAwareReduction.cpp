@@ -124,8 +124,8 @@ TEST(AnimationAwareReduction, GatherCarriesAnyAttribute)
     EXPECT_EQ(reduced[2 * k], double(r.OriginalPointIds[k]));
     EXPECT_EQ(reduced[2 * k + 1], -double(r.OriginalPointIds[k]));
   }
-  EXPECT_THROW(morphnode::GatherPoints(uv, 3, mesh.GetNumberOfPoints(), r.OriginalPointIds),
-    InputError);
+  EXPECT_THROW(
+    morphnode::GatherPoints(uv, 3, mesh.GetNumberOfPoints(), r.OriginalPointIds), InputError);
 }
 
 TEST(AnimationAwareReduction, KeepsMoreOfTheAnimatedRegions)
@@ -143,14 +143,16 @@ TEST(AnimationAwareReduction, KeepsMoreOfTheAnimatedRegions)
   {
     const size_t budget = mesh.GetNumberOfTriangles() / divisor;
     const auto plain = ReduceAnimationAware(mesh, Budget(budget, 0.0));
-    const auto ours = ReduceAnimationAware(mesh, Budget(budget, ReductionSettings().AnimationWeight));
+    const auto ours =
+      ReduceAnimationAware(mesh, Budget(budget, ReductionSettings().AnimationWeight));
     const size_t keptPlain = KeptAnimated(plain, region, animated);
     const size_t keptOurs = KeptAnimated(ours, region, animated);
     EXPECT_GT(keptOurs, keptPlain + keptPlain / 5)
       << "budget 1/" << divisor << ": animated points kept, ours " << keptOurs << ", plain "
       << keptPlain;
     // the same budget, spent elsewhere
-    EXPECT_NEAR(double(ours.Mesh.GetNumberOfTriangles()), double(plain.Mesh.GetNumberOfTriangles()), 2.0);
+    EXPECT_NEAR(
+      double(ours.Mesh.GetNumberOfTriangles()), double(plain.Mesh.GetNumberOfTriangles()), 2.0);
   }
 }
 
@@ -222,7 +224,8 @@ TEST(AnimationAwareReduction, BadInputIsReported)
   const auto flat = reductiontest::MakeFlatFace(11);
   const MorphMesh good = flat.ToMesh();
   const size_t half = good.GetNumberOfTriangles() / 2;
-  auto message = [](const MorphMesh& m, const ReductionSettings& s) {
+  auto message = [](const MorphMesh& m, const ReductionSettings& s)
+  {
     try
     {
       ReduceAnimationAware(m, s);
@@ -243,9 +246,11 @@ TEST(AnimationAwareReduction, BadInputIsReported)
   noPositions.SetTargetNames({ "Neutral" });
   noPositions.AddAttribute<float>("uv", morphnode::AttributeRole::Generic, 2);
   noPositions.SetTriangles(good.GetTriangles());
-  EXPECT_NE(message(noPositions, Budget(half, 1.0)).find("no Position attribute"), std::string::npos);
+  EXPECT_NE(
+    message(noPositions, Budget(half, 1.0)).find("no Position attribute"), std::string::npos);
 
-  EXPECT_NE(message(good, Budget(good.GetNumberOfTriangles(), 1.0)).find("budget"), std::string::npos);
+  EXPECT_NE(
+    message(good, Budget(good.GetNumberOfTriangles(), 1.0)).find("budget"), std::string::npos);
   EXPECT_NE(message(good, Budget(good.GetNumberOfTriangles() + 100, 1.0)).find("must be below"),
     std::string::npos);
   ReductionSettings pointBudget;
@@ -262,7 +267,8 @@ TEST(AnimationAwareReduction, BadInputIsReported)
 
   auto outOfRange = flat;
   outOfRange.Triangles[7] = 100000;
-  EXPECT_NE(message(outOfRange.ToMesh(), Budget(half, 1.0)).find("point id 100000"), std::string::npos);
+  EXPECT_NE(
+    message(outOfRange.ToMesh(), Budget(half, 1.0)).find("point id 100000"), std::string::npos);
 
   auto notFinite = flat;
   notFinite.Positions[5] = std::nanf("");
@@ -279,7 +285,8 @@ TEST(AnimationAwareReduction, BadInputIsReported)
   }
   const uint32_t extra = static_cast<uint32_t>(nonManifold.GetNumberOfPoints() - 1);
   nonManifold.Triangles.insert(nonManifold.Triangles.end(), { 0, 1, extra, 1, 0, extra });
-  EXPECT_NE(message(nonManifold.ToMesh(), Budget(half, 1.0)).find("non-manifold"), std::string::npos);
+  EXPECT_NE(
+    message(nonManifold.ToMesh(), Budget(half, 1.0)).find("non-manifold"), std::string::npos);
 
   auto degenerate = flat;
   degenerate.Triangles.insert(degenerate.Triangles.end(), { 3, 3, 4 });
@@ -321,7 +328,8 @@ TEST(AnimationAwareReduction, DoublePositionsAndEveryAttributeAreCarried)
   }
   twice.SetTriangles(flat.Triangles);
 
-  const auto budget = Budget(single.GetNumberOfTriangles() / 3, ReductionSettings().AnimationWeight);
+  const auto budget =
+    Budget(single.GetNumberOfTriangles() / 3, ReductionSettings().AnimationWeight);
   const auto a = ReduceAnimationAware(single, budget);
   const auto b = ReduceAnimationAware(twice, budget);
   EXPECT_EQ(a.OriginalPointIds, b.OriginalPointIds);

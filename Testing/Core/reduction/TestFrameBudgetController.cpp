@@ -254,7 +254,7 @@ TEST(FrameBudgetController, BadInputIsReported)
   c.AddLevel(levels[0]);
   EXPECT_THROW(c.AddLevel(levels[0]), InputError); // not coarser
   levels[1].MovedPoints.pop_back();
-  EXPECT_THROW(c.AddLevel(levels[1]), InputError); // target count
+  EXPECT_THROW(c.AddLevel(levels[1]), InputError);  // target count
   EXPECT_THROW(c.Update({ 0.5, 0.5 }), InputError); // weight count
 }
 
@@ -364,8 +364,8 @@ TEST(FrameBudgetController, LearnsTheDevicesCostModel)
   EXPECT_LE(c.GetNumberOfMeasurements(static_cast<size_t>(c.GetCurrentLevel())),
     size_t(c.GetSettings().MeasurementWindow));
   // The fit itself: a line through noisy points with one outlier.
-  const CostModel m = CostModel::FitMedian(
-    { 0, 100, 200, 300, 400 }, { 1e-6, 2e-6, 30e-6, 4e-6, 5e-6 }, 0.0);
+  const CostModel m =
+    CostModel::FitMedian({ 0, 100, 200, 300, 400 }, { 1e-6, 2e-6, 30e-6, 4e-6, 5e-6 }, 0.0);
   EXPECT_NEAR(m.PerTargetPoint, 1e-8, 1e-14);
   EXPECT_NEAR(m.Fixed, 1e-6, 1e-12);
 }
@@ -417,7 +417,8 @@ TEST(FrameBudgetController, MeasurementsAreChecked)
 // the scatter (1.2 %).
 TEST(FrameBudgetController, PlansForTheScatterOfMeasurements)
 {
-  auto overShare = [](double quantile) {
+  auto overShare = [](double quantile)
+  {
     FrameBudgetController c;
     ControllerSettings s;
     s.FrameBudget = 150e-6; // about four targets of the full face on this device
@@ -448,8 +449,8 @@ TEST(FrameBudgetController, PlansForTheScatterOfMeasurements)
     return double(over) / double(counted);
   };
   const double median = overShare(0.5), planned = overShare(0.9);
-  std::cout << "frames over budget: planning for the median " << median << ", for the 90 % quantile "
-            << planned << "\n";
+  std::cout << "frames over budget: planning for the median " << median
+            << ", for the 90 % quantile " << planned << "\n";
   EXPECT_LT(planned, 0.15);
   EXPECT_GT(median, 2.0 * planned);
   ControllerSettings bad;
@@ -462,7 +463,8 @@ TEST(FrameBudgetController, PlansForTheScatterOfMeasurements)
 // fewer frames, and the budget holds as well.
 TEST(FrameBudgetController, ThresholdHysteresisChangesTheSettingLessOften)
 {
-  auto run = [](double hysteresis, int& over) {
+  auto run = [](double hysteresis, int& over)
+  {
     FrameBudgetController c;
     ControllerSettings s;
     s.FrameBudget = 60e-6;
@@ -491,7 +493,8 @@ TEST(FrameBudgetController, ThresholdHysteresisChangesTheSettingLessOften)
   const int plain = run(0.0, overPlain);
   const int sticky = run(0.15, overSticky);
   std::cout << "threshold changes in 1200 frames: " << plain << " without, " << sticky
-            << " with threshold hysteresis (over budget " << overPlain << ", " << overSticky << ")\n";
+            << " with threshold hysteresis (over budget " << overPlain << ", " << overSticky
+            << ")\n";
   EXPECT_LT(sticky, plain * 3 / 4);
   EXPECT_LE(overSticky, 12);
 }

@@ -56,11 +56,11 @@ TEST(ArkitRig, HasEverySetWithTheExactNames)
     (std::vector<std::string>{ "EyesClosed", "BrowsUp", "S", "F", "BrowsFright", "BrowsAngry", "L",
       "E", "A", "MouthSmile", "MouthSad", "O" }));
   EXPECT_EQ(rig.GetSet("meta"),
-    (std::vector<std::string>{ "sil", "PP", "FF", "TH", "DD", "kk", "CH", "SS", "nn", "RR", "aa", "E",
-      "ih", "oh", "ou" }));
+    (std::vector<std::string>{
+      "sil", "PP", "FF", "TH", "DD", "kk", "CH", "SS", "nn", "RR", "aa", "E", "ih", "oh", "ou" }));
   EXPECT_EQ(rig.GetSet("german"),
-    (std::vector<std::string>{ "sil", "P", "M", "F", "S", "Z", "T", "L", "R", "K", "A", "O", "U", "E",
-      "Y", "Q" }));
+    (std::vector<std::string>{
+      "sil", "P", "M", "F", "S", "Z", "T", "L", "R", "K", "A", "O", "U", "E", "Y", "Q" }));
   EXPECT_EQ(rig.GetSet("behavior"),
     (std::vector<std::string>{ "EyesClosed", "BrowsUp", "BrowsFright", "BrowsAngry", "MouthSmile",
       "MouthSad", "LookUp", "LookDown", "LookLeft", "LookRight" }));
@@ -105,8 +105,10 @@ TEST(ArkitRig, BilabialsCloseTheLips)
     EXPECT_GT(terms["mouthPress_R"], 0.0) << shape;
     EXPECT_GT(terms["mouthRollLower"], 0.0) << shape;
     // No opening shapes.
-    EXPECT_EQ(terms.count("mouthLowerDown_L") + terms.count("mouthUpperUp_L") +
-        terms.count("mouthFunnel"), 0u) << shape;
+    EXPECT_EQ(
+      terms.count("mouthLowerDown_L") + terms.count("mouthUpperUp_L") + terms.count("mouthFunnel"),
+      0u)
+      << shape;
   }
 }
 
@@ -114,7 +116,8 @@ TEST(ArkitRig, ShapesMatchTheirDescriptions)
 {
   Rig rig = Rig::LoadFile(ArkitRigPath());
   rig.Bind(IctTargets);
-  auto weight = [&](const std::string& shape, const std::string& target) {
+  auto weight = [&](const std::string& shape, const std::string& target)
+  {
     const auto w = rig.Expand(std::map<std::string, double>{ { shape, 1.0 } });
     for (size_t t = 0; t < IctTargets.size(); ++t)
     {

@@ -104,7 +104,8 @@ TEST(ObjParse, MalformedLinesNameTheFileAndLine)
   ExpectParseError("v 0 0 0\nv 1 0\n", "bad.obj:2:");
   ExpectParseError("v 0 0 0\nv 1 x 0\n", "bad number 'x'");
   ExpectParseError("v 0 0 0\nv 1 0 0\nf 1 2\n", "bad.obj:3: 'f' needs at least 3");
-  ExpectParseError("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n", "bad.obj:4: vertex index 4 is out of range");
+  ExpectParseError(
+    "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n", "bad.obj:4: vertex index 4 is out of range");
   ExpectParseError("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 0\n", "vertex index 0");
   ExpectParseError("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/1 2/1 3/1\n", "texture coordinate index 1");
   ExpectParseError("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1// 2// 3//\n", "not one of v, v/vt");
@@ -118,7 +119,8 @@ TEST(ObjSet, ShapesAreNamedByStemAndMustMatchTheNeutral)
 {
   ScratchDir dir("small");
   const std::string neutral = dir.Write("neutral.obj", Square);
-  const std::string up = dir.Write("liftUp.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0.5\nv 0 1 0.5\nf 1 2 3 4\n");
+  const std::string up =
+    dir.Write("liftUp.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0.5\nv 0 1 0.5\nf 1 2 3 4\n");
   const MorphMesh model = ReadObjSet(neutral, { up });
   EXPECT_EQ(model.GetTargetNames(), (std::vector<std::string>{ "Neutral", "liftUp" }));
   EXPECT_EQ(model.FindTarget("liftUp"), 1);
@@ -167,8 +169,9 @@ TEST(ObjSet, IctFaceKitOriginals)
   EXPECT_EQ(model.GetNumberOfPoints(), 26719u);
   // 25,836 quads and 548 triangles.
   EXPECT_EQ(model.GetNumberOfTriangles(), 2u * 25836u + 548u);
-  EXPECT_EQ(model.GetTargetNames(), (std::vector<std::string>{ "Neutral", "browInnerUp_L",
-                                      "eyeBlink_L", "jawOpen", "mouthFunnel", "mouthSmile_L" }));
+  EXPECT_EQ(model.GetTargetNames(),
+    (std::vector<std::string>{
+      "Neutral", "browInnerUp_L", "eyeBlink_L", "jawOpen", "mouthFunnel", "mouthSmile_L" }));
 
   const TargetDistances distances = model.ComputeDistances();
   // Every shape moves the face; jawOpen moves the most of these five (it drags the chin).
@@ -190,7 +193,8 @@ TEST(ObjSet, IctFaceKitOriginals)
   EXPECT_LT(movedBlink, model.GetNumberOfPoints() / 5);
 
   // A rig baked on the real face: O = 0.35 jawOpen + 0.6 mouthFunnel, vertex by vertex.
-  Rig rig = Rig::LoadString(R"({"name": "t", "shapes": {"O": {"jawOpen": 0.35, "mouthFunnel": 0.6}}})");
+  Rig rig =
+    Rig::LoadString(R"({"name": "t", "shapes": {"O": {"jawOpen": 0.35, "mouthFunnel": 0.6}}})");
   const MorphMesh baked = rig.BakeModel(model);
   ASSERT_EQ(baked.GetTargetNames(), (std::vector<std::string>{ "Neutral", "O" }));
   EXPECT_EQ(baked.GetTriangles(), model.GetTriangles());

@@ -26,7 +26,8 @@ const char* const SmallRig = R"({
   "notes": {"A": "open"}
 })";
 
-const std::vector<std::string> FaceTargets = { "eyeBlink_L", "mouthFunnel", "jawOpen", "cheekPuff_L" };
+const std::vector<std::string> FaceTargets = { "eyeBlink_L", "mouthFunnel", "jawOpen",
+  "cheekPuff_L" };
 
 // Expects an InputError whose message contains every given fragment.
 template <typename F>
@@ -101,7 +102,8 @@ TEST(Rig, ExpandRejectsBadCalls)
   Rig rig = Rig::LoadString(SmallRig);
   ExpectInputError([&] { rig.Expand(std::vector<double>(4, 0.0)); }, { "Bind" });
   rig.Bind(FaceTargets);
-  ExpectInputError([&] { rig.Expand(std::vector<double>(3, 0.0)); }, { "3 shape weights", "4 shapes" });
+  ExpectInputError(
+    [&] { rig.Expand(std::vector<double>(3, 0.0)); }, { "3 shape weights", "4 shapes" });
   ExpectInputError([&] { rig.Expand(std::map<std::string, double>{ { "U", 1.0 } }); }, { "'U'" });
   ExpectInputError(
     [&] {
@@ -114,8 +116,13 @@ TEST(Rig, ValidateNamesTheShapeAndTheMissingTarget)
 {
   Rig rig = Rig::LoadString(SmallRig);
   EXPECT_NO_THROW(rig.Validate(FaceTargets));
-  ExpectInputError([&] { rig.Validate({ "jawOpen", "mouthFunnel" }); }, { "'Blink'", "'eyeBlink_L'" });
-  ExpectInputError([&] { rig.Bind(std::vector<std::string>{ "jawOpen" }); }, { "'A'", "'mouthFunnel'" });
+  ExpectInputError(
+    [&] {
+      rig.Validate({ "jawOpen", "mouthFunnel" });
+    },
+    { "'Blink'", "'eyeBlink_L'" });
+  ExpectInputError(
+    [&] { rig.Bind(std::vector<std::string>{ "jawOpen" }); }, { "'A'", "'mouthFunnel'" });
   EXPECT_FALSE(rig.IsBound());
 }
 
@@ -127,7 +134,8 @@ TEST(Rig, LoadErrorsNameTheFieldAtFault)
   ExpectInputError([] { Rig::LoadString(R"({"name": "x"})"); }, { "'shapes'" });
   ExpectInputError([] { Rig::LoadString(R"({"name": "x", "shapes": {}, "shape": {}})"); },
     { "unknown field 'shape'" });
-  ExpectInputError([] { Rig::LoadString(R"({"name": "x", "shapes": {"A": 3}})"); }, { "shape 'A'" });
+  ExpectInputError(
+    [] { Rig::LoadString(R"({"name": "x", "shapes": {"A": 3}})"); }, { "shape 'A'" });
   ExpectInputError([] { Rig::LoadString(R"({"name": "x", "shapes": {"A": {"jawOpen": "0.5"}}})"); },
     { "shape 'A'", "target 'jawOpen'", "number" });
   ExpectInputError(
@@ -137,15 +145,18 @@ TEST(Rig, LoadErrorsNameTheFieldAtFault)
     { "shape 'A'", "'jawOpn'", "'targets'" });
   ExpectInputError([] { Rig::LoadString(R"({"name": "x", "targets": ["a", "a"], "shapes": {}})"); },
     { "'a'", "twice" });
-  ExpectInputError([] { Rig::LoadString(R"({"name": "x", "shapes": {"E": {}, "E": {}}})"); },
-    { "'E'", "twice" });
-  ExpectInputError([] { Rig::LoadString(R"({"name": "x", "shapes": {"FF": "F"}})"); },
-    { "'FF'", "alias", "'F'" });
-  ExpectInputError([] { Rig::LoadString(R"({"name": "x", "shapes": {"F": {}, "FF": "F", "V": "FF"}})"); },
+  ExpectInputError(
+    [] { Rig::LoadString(R"({"name": "x", "shapes": {"E": {}, "E": {}}})"); }, { "'E'", "twice" });
+  ExpectInputError(
+    [] { Rig::LoadString(R"({"name": "x", "shapes": {"FF": "F"}})"); }, { "'FF'", "alias", "'F'" });
+  ExpectInputError([]
+    { Rig::LoadString(R"({"name": "x", "shapes": {"F": {}, "FF": "F", "V": "FF"}})"); },
     { "'V'", "itself an alias" });
-  ExpectInputError([] { Rig::LoadString(R"({"name": "x", "shapes": {"A": {}}, "sets": {"v": ["A", "O"]}})"); },
+  ExpectInputError([]
+    { Rig::LoadString(R"({"name": "x", "shapes": {"A": {}}, "sets": {"v": ["A", "O"]}})"); },
     { "set 'v'", "'O'" });
-  ExpectInputError([] { Rig::LoadString(R"({"name": "x", "shapes": {"A": {}}, "notes": {"B": "?"}})"); },
+  ExpectInputError([]
+    { Rig::LoadString(R"({"name": "x", "shapes": {"A": {}}, "notes": {"B": "?"}})"); },
     { "'B'" });
   ExpectInputError([] { Rig::LoadFile("/nonexistent/rig.json"); }, { "/nonexistent/rig.json" });
 }
@@ -159,8 +170,7 @@ TEST(Rig, BakeCombinesTargetDeltasLinearly)
   const std::vector<float> funnel = { 0, 0, 1, 0, 0, 2 };
   const std::vector<float> jaw = { 0, -1, 0, 0, -2, 0 };
   const std::vector<float> puff = { 5, 5, 5, 5, 5, 5 };
-  const auto baked =
-    rig.Bake<float>({ blink.data(), funnel.data(), jaw.data(), puff.data() }, 6);
+  const auto baked = rig.Bake<float>({ blink.data(), funnel.data(), jaw.data(), puff.data() }, 6);
   ASSERT_EQ(baked.size(), 4u);
   const std::vector<float> expectedA = { 0, -0.6f, 0.1f, 0, -1.2f, 0.2f };
   for (size_t v = 0; v < 6; ++v)
@@ -170,7 +180,10 @@ TEST(Rig, BakeCombinesTargetDeltasLinearly)
     EXPECT_FLOAT_EQ(baked[2][v], blink[v]);
   }
   EXPECT_THROW(rig.Bake<float>({ blink.data() }, 6), InputError);
-  ExpectInputError([&] { rig.Bake<float>({ blink.data(), funnel.data(), nullptr, puff.data() }, 6); },
+  ExpectInputError(
+    [&] {
+      rig.Bake<float>({ blink.data(), funnel.data(), nullptr, puff.data() }, 6);
+    },
     { "'A'", "'jawOpen'" });
 }
 

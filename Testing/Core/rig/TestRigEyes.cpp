@@ -16,7 +16,8 @@ namespace
 {
 Rig WithEyes(const std::string& eyes)
 {
-  return Rig::LoadString(R"({"name": "R", "shapes": {"A": {"jawOpen": 1}}, "eyes": )" + eyes + "}", "test");
+  return Rig::LoadString(
+    R"({"name": "R", "shapes": {"A": {"jawOpen": 1}}, "eyes": )" + eyes + "}", "test");
 }
 
 std::string ErrorOf(const std::string& eyes)

@@ -30,8 +30,8 @@ std::vector<FaceSpec> Faces()
   return {
     { "default face", Source + "/Data/DefaultFace/default_head.glb", "", VisemeSet::Paper6, "A",
       "MouthSmile", 1000.0 },
-    { "ICT head", IctHead, Source + "/Data/rigs/arkit.json", VisemeSet::Oculus15, "aa", "MouthSmile",
-      1000.0 },
+    { "ICT head", IctHead, Source + "/Data/rigs/arkit.json", VisemeSet::Oculus15, "aa",
+      "MouthSmile", 1000.0 },
     { "MakeHuman avatar", Avatar, Source + "/Data/rigs/readyplayerme.json", VisemeSet::Oculus15,
       "aa", "MouthSmile", 1000.0 },
   };
@@ -79,7 +79,7 @@ TEST(RigLips, EveryMethodDecidingPerShapeClosesEveryBilabialOnEveryFace)
     const std::vector<size_t> bilabials = BilabialFrames(speech, map, options.Coarticulation.Lead);
     ASSERT_GE(bilabials.size(), 20u) << "the long text has many bilabials";
     const double closed = face->RestGap() + 0.5; // touching as at rest, within 0.5 mm
-    const double eps = 0.005 * face->Diagonal;    // MorphAvatar's default bound
+    const double eps = 0.005 * face->Diagonal;   // MorphAvatar's default bound
     for (int m = 0; m < NumberOfOptimizerPresets; ++m)
     {
       const auto preset = static_cast<OptimizerPreset>(m);
@@ -90,8 +90,9 @@ TEST(RigLips, EveryMethodDecidingPerShapeClosesEveryBilabialOnEveryFace)
       {
         open += GapNear(gaps, f) > closed ? 1 : 0;
       }
-      EXPECT_EQ(open, 0) << spec.Name << ", " << OptimizerPresetName(preset) << ": " << open << " of "
-                         << bilabials.size() << " bilabials open (rest gap " << face->RestGap() << " mm)";
+      EXPECT_EQ(open, 0) << spec.Name << ", " << OptimizerPresetName(preset) << ": " << open
+                         << " of " << bilabials.size() << " bilabials open (rest gap "
+                         << face->RestGap() << " mm)";
     }
   }
   if (faces < 3 && std::getenv("CI"))
@@ -147,7 +148,8 @@ TEST(RigLips, FixedMaximumDecidingPerShapeDoesNotOverOpen)
     {
       worst = std::max(worst, maximum[f] - none[f]);
     }
-    EXPECT_LT(worst, 5.0) << spec.Name << ": the lips open " << worst << " mm more than unoptimized";
+    EXPECT_LT(worst, 5.0) << spec.Name << ": the lips open " << worst
+                          << " mm more than unoptimized";
   }
 }
 
@@ -163,7 +165,8 @@ TEST(RigLips, RoundedVowelsRoundTheIctHead)
   const double oh = face->MouthWidth(face->ExpandShape("oh"));
   const double ou = face->MouthWidth(face->ExpandShape("ou"));
   const double aa = face->MouthWidth(face->ExpandShape("aa"));
-  std::cout << "mouth width (mm): rest " << rest << ", aa " << aa << ", oh " << oh << ", ou " << ou << "\n";
+  std::cout << "mouth width (mm): rest " << rest << ", aa " << aa << ", oh " << oh << ", ou " << ou
+            << "\n";
   // Rounded: at least 12 % narrower than at rest (ou: 17 %; the rig's earlier oh, jawOpen 0.4,
   // mouthFunnel 0.4, mouthPucker 0.1, was 10 % narrower and opened nearly like aa).
   EXPECT_LT(oh, 0.88 * rest);

@@ -8,8 +8,8 @@
 #include "skin/Skeleton.h"
 #include "skin/Skinning.h"
 
-#include "base/Error.h"
 #include "MorphNodeTestErrors.h"
+#include "base/Error.h"
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
@@ -28,7 +28,8 @@ glm::dquat AxisAngle(double degrees, const glm::dvec3& axis)
   return glm::angleAxis(degrees * Pi / 180.0, glm::normalize(axis));
 }
 
-Joint MakeJoint(const std::string& name, int parent, glm::dvec3 t, glm::dquat r = glm::dquat(1, 0, 0, 0))
+Joint MakeJoint(
+  const std::string& name, int parent, glm::dvec3 t, glm::dquat r = glm::dquat(1, 0, 0, 0))
 {
   Joint j;
   j.Name = name;
@@ -89,7 +90,8 @@ TEST(Skeleton, TurnJointKeepsThePivotAndCarriesChildren)
   ExpectNear(glm::dvec3(world[0][3]), glm::dvec3(rest[0][3])); // the pivot stays
   // The head turns with the neck: its offset from the neck turned by 90 degrees about +Y.
   const glm::dvec3 offset = glm::dvec3(rest[1][3]) - glm::dvec3(rest[0][3]);
-  ExpectNear(glm::dvec3(world[1][3]) - glm::dvec3(world[0][3]), AxisAngle(90, { 0, 1, 0 }) * offset);
+  ExpectNear(
+    glm::dvec3(world[1][3]) - glm::dvec3(world[0][3]), AxisAngle(90, { 0, 1, 0 }) * offset);
 }
 
 TEST(Skinning, TwoJointsBlendAsTheSpecificationSays)
@@ -131,7 +133,8 @@ TEST(Skinning, NormalsGoByTheInverseTransposeAndAreRenormalized)
 
 TEST(Skinning, TwoWeightSetsAreBothUsed)
 {
-  const std::vector<glm::dmat4> m = { glm::dmat4(1.0), glm::translate(glm::dmat4(1.0), glm::dvec3(0, 0, 4)) };
+  const std::vector<glm::dmat4> m = { glm::dmat4(1.0),
+    glm::translate(glm::dmat4(1.0), glm::dvec3(0, 0, 4)) };
   SkinInfluences inf;
   inf.AddSet({ 0, 0, 0, 0 }, { 0.5f, 0, 0, 0 }, 1);
   inf.AddSet({ 1, 0, 0, 0 }, { 0.5f, 0, 0, 0 }, 1);
@@ -147,11 +150,13 @@ TEST(Skinning, ReskinningTheRestPoseEqualsSkinningTheBindPose)
 {
   // A bind pose unlike the rest pose: the rest matrices are not identity.
   const std::vector<glm::dmat4> rest = { glm::translate(glm::dmat4(1.0), glm::dvec3(0, 1, 0)),
-    glm::dmat4(glm::mat4_cast(AxisAngle(40, { 1, 1, 0 }))) * glm::scale(glm::dmat4(1.0), glm::dvec3(1, 2, 1)) };
+    glm::dmat4(glm::mat4_cast(AxisAngle(40, { 1, 1, 0 }))) *
+      glm::scale(glm::dmat4(1.0), glm::dvec3(1, 2, 1)) };
   const std::vector<glm::dmat4> posed = { glm::dmat4(glm::mat4_cast(AxisAngle(-25, { 0, 1, 0 }))),
     glm::translate(glm::dmat4(1.0), glm::dvec3(0.3, 0, 0)) * rest[1] };
   SkinInfluences inf;
-  inf.AddSet({ 0, 1, 0, 0, 0, 1, 0, 0, 1, 0, 0, 0 }, { 1, 0, 0, 0, 0.3f, 0.7f, 0, 0, 1, 0, 0, 0 }, 3);
+  inf.AddSet(
+    { 0, 1, 0, 0, 0, 1, 0, 0, 1, 0, 0, 0 }, { 1, 0, 0, 0, 0.3f, 0.7f, 0, 0, 1, 0, 0, 0 }, 3);
   inf.Normalize(2, "test");
   const double bind[] = { 1, 2, 3, -1, 0.5, 2, 0, 0, 1 };
   const double bindNormals[] = { 0, 0, 1, 0, 1, 0, 1, 0, 0 };
@@ -182,8 +187,8 @@ TEST(Skinning, ReskinningTheRestPoseEqualsSkinningTheBindPose)
   // Skinning after morphing differs from morphing after skinning (the order matters here).
   double skinnedFirst[9];
   SkinPoints<double>(inf, posed, bind, nullptr, skinnedFirst, nullptr, 0, 3);
-  EXPECT_GT(std::abs(skinnedFirst[0] + delta[0] - expected[0]) + std::abs(skinnedFirst[1] - expected[1]) +
-      std::abs(skinnedFirst[2] - expected[2]),
+  EXPECT_GT(std::abs(skinnedFirst[0] + delta[0] - expected[0]) +
+      std::abs(skinnedFirst[1] - expected[1]) + std::abs(skinnedFirst[2] - expected[2]),
     1e-3);
   // At rest nothing moves, and points are copied.
   EXPECT_FALSE(skin.SetPose(rest));
@@ -213,7 +218,8 @@ TEST(Skinning, DamagedSkinsAreRefused)
 
   SkinInfluences range;
   range.AddSet({ 0, 3, 0, 0 }, { 0.5f, 0.5f, 0, 0 }, 1);
-  EXPECT_NE(ErrorOf([&] { range.Normalize(2, "skin"); }).find("bound to joint 3"), std::string::npos);
+  EXPECT_NE(
+    ErrorOf([&] { range.Normalize(2, "skin"); }).find("bound to joint 3"), std::string::npos);
   SkinInfluences nan;
   nan.AddSet({ 0, 0, 0, 0 }, { std::nanf(""), 0, 0, 0 }, 1);
   EXPECT_NE(ErrorOf([&] { nan.Normalize(1, "skin"); }).find("weight"), std::string::npos);
@@ -221,7 +227,12 @@ TEST(Skinning, DamagedSkinsAreRefused)
   zero.AddSet({ 0, 0, 0, 0 }, { 0, 0, 0, 0 }, 1);
   EXPECT_NE(ErrorOf([&] { zero.Normalize(1, "skin"); }).find("no weight"), std::string::npos);
   SkinInfluences fraction;
-  EXPECT_NE(ErrorOf([&] { fraction.AddSet({ 0.5f, 0, 0, 0 }, { 1, 0, 0, 0 }, 1); }).find("16-bit"), std::string::npos);
+  EXPECT_NE(ErrorOf(
+              [&] {
+                fraction.AddSet({ 0.5f, 0, 0, 0 }, { 1, 0, 0, 0 }, 1);
+              })
+              .find("16-bit"),
+    std::string::npos);
 }
 
 TEST(AvatarBones, EveryNamingFamilyIsFound)
@@ -235,13 +246,16 @@ TEST(AvatarBones, EveryNamingFamilyIsFound)
     const char* Jaw;
   };
   const Family families[] = {
-    { "Head", "Neck", "LeftEye", "RightEye", "Jaw" },                                        // RPM, Avaturn, MPFB
-    { "mixamorig:Head", "mixamorig:Neck", "mixamorig:LeftEye", "mixamorig:RightEye", "mixamorig:Jaw" }, // Mixamo
-    { "head", "neck", "leftEye", "rightEye", "jaw" },                                        // VRM humanoid
-    { "J_Bip_C_Head", "J_Bip_C_Neck", "J_Adj_L_FaceEye", "J_Adj_R_FaceEye", "J_Bip_C_Jaw" }, // VRoid
-    { "CC_Base_Head", "CC_Base_NeckTwist01", "CC_Base_L_Eye", "CC_Base_R_Eye", "CC_Base_JawRoot" }, // CC
-    { "Bip01 Head", "Bip01 Neck", "Bip01 LEye", "Bip01 REye", "Bip01 Jaw" },               // Rocketbox
-    { "head", "neck", "eye.L", "eye.R", "jaw" },                                             // Blender
+    { "Head", "Neck", "LeftEye", "RightEye", "Jaw" }, // RPM, Avaturn, MPFB
+    { "mixamorig:Head", "mixamorig:Neck", "mixamorig:LeftEye", "mixamorig:RightEye",
+      "mixamorig:Jaw" },                              // Mixamo
+    { "head", "neck", "leftEye", "rightEye", "jaw" }, // VRM humanoid
+    { "J_Bip_C_Head", "J_Bip_C_Neck", "J_Adj_L_FaceEye", "J_Adj_R_FaceEye",
+      "J_Bip_C_Jaw" }, // VRoid
+    { "CC_Base_Head", "CC_Base_NeckTwist01", "CC_Base_L_Eye", "CC_Base_R_Eye",
+      "CC_Base_JawRoot" },                                                   // CC
+    { "Bip01 Head", "Bip01 Neck", "Bip01 LEye", "Bip01 REye", "Bip01 Jaw" }, // Rocketbox
+    { "head", "neck", "eye.L", "eye.R", "jaw" },                             // Blender
   };
   for (const Family& f : families)
   {
@@ -270,7 +284,8 @@ TEST(AvatarBones, EyesTurnAboutTheirJointAndTheHeadCarriesThem)
   const int hips = s.AddJoint(MakeJoint("Hips", -1, { 0, 0.9, 0 }));
   const int neck = s.AddJoint(MakeJoint("Neck", hips, { 0, 0.5, 0 }, AxisAngle(-10, { 1, 0, 0 })));
   const int head = s.AddJoint(MakeJoint("Head", neck, { 0, 0.06, 0 }, AxisAngle(10, { 1, 0, 0 })));
-  const int eye = s.AddJoint(MakeJoint("LeftEye", head, { 0.031, 0.08, 0.1 }, AxisAngle(90, { 1, 0, 0 })));
+  const int eye =
+    s.AddJoint(MakeJoint("LeftEye", head, { 0.031, 0.08, 0.1 }, AxisAngle(90, { 1, 0, 0 })));
   s.Validate();
   const AvatarBoneRoles roles = FindAvatarBones(s);
   ASSERT_EQ(roles.LeftEye, eye);
@@ -288,14 +303,18 @@ TEST(AvatarBones, EyesTurnAboutTheirJointAndTheHeadCarriesThem)
   const glm::dmat4 eyeMove = world[eye] * glm::inverse(restWorld[eye]);
   ExpectNear(glm::dvec3(eyeMove * glm::dvec4(centre, 1)), centre, 1e-12);
   glm::dvec3 dir = glm::normalize(glm::dvec3(eyeMove * glm::dvec4(cornea, 1)) - centre);
-  EXPECT_LT(std::acos(glm::dot(dir, glm::dvec3(std::sin(20 * Pi / 180), 0, std::cos(20 * Pi / 180)))) * 180 / Pi, 1.0);
+  EXPECT_LT(
+    std::acos(glm::dot(dir, glm::dvec3(std::sin(20 * Pi / 180), 0, std::cos(20 * Pi / 180)))) *
+      180 / Pi,
+    1.0);
 
   // Beyond the limits (40 degrees by default) the eye stops at them.
   SkeletonPose far(s);
   angles.EyeYaw = 70;
   PoseAvatarBones(far, roles, angles);
   world = far.World();
-  dir = glm::normalize(glm::dvec3(world[eye] * glm::inverse(restWorld[eye]) * glm::dvec4(cornea, 1)) - centre);
+  dir = glm::normalize(
+    glm::dvec3(world[eye] * glm::inverse(restWorld[eye]) * glm::dvec4(cornea, 1)) - centre);
   EXPECT_NEAR(std::atan2(dir.x, dir.z) * 180 / Pi, 40.0, 1e-6);
 
   // A head turn of 30 degrees (shared with the neck) carries the eye: its centre turns
@@ -317,11 +336,14 @@ TEST(AvatarBones, EyesTurnAboutTheirJointAndTheHeadCarriesThem)
   {
     ExpectNear(headMove[c], r[c], 1e-9);
   }
-  EXPECT_NE(ErrorOf([&] {
-    AvatarBonePose bad;
-    bad.HeadYaw = std::nan("");
-    PoseAvatarBones(turned, roles, bad);
-  }).find("finite"),
+  EXPECT_NE(ErrorOf(
+              [&]
+              {
+                AvatarBonePose bad;
+                bad.HeadYaw = std::nan("");
+                PoseAvatarBones(turned, roles, bad);
+              })
+              .find("finite"),
     std::string::npos);
 }
 
@@ -342,8 +364,8 @@ TEST(AvatarBones, RelaxedArmsHangDown)
   PoseAvatarBones(pose, roles, relaxed);
   const auto world = pose.World();
   const glm::dvec3 d = glm::normalize(glm::dvec3(world[fore][3]) - glm::dvec3(world[arm][3]));
-  EXPECT_NEAR(std::acos(-d.y) * 180 / Pi, 12.0, 1e-6); // 12 degrees out from straight down
-  EXPECT_GT(d.x, 0.0);                                 // still on its own side
+  EXPECT_NEAR(std::acos(-d.y) * 180 / Pi, 12.0, 1e-6);    // 12 degrees out from straight down
+  EXPECT_GT(d.x, 0.0);                                    // still on its own side
   ExpectNear(glm::dvec3(world[arm][3]), { 0.2, 1.4, 0 }); // the shoulder stays
 }
 
@@ -363,8 +385,10 @@ TEST(AvatarBones, PointsUnderTheHeadByTheirStrongestJoint)
   inf.AddSet({ 0, 0, 0, 0, 1, 0, 0, 0, 2, 0, 0, 0, 0, 1, 0, 0 },
     { 1, 0, 0, 0, 0.7f, 0.3f, 0, 0, 1, 0, 0, 0, 0.6f, 0.4f, 0, 0 }, 4);
   inf.Normalize(3, "test");
-  EXPECT_EQ(PointsUnderJoint(s, joints, inf, 2), (std::vector<size_t>{ 1, 2 })) << "the head and the eye below it";
-  EXPECT_EQ(PointsUnderJoint(s, joints, inf, 0), (std::vector<size_t>{ 0, 1, 2, 3 })) << "everything is under the root";
+  EXPECT_EQ(PointsUnderJoint(s, joints, inf, 2), (std::vector<size_t>{ 1, 2 }))
+    << "the head and the eye below it";
+  EXPECT_EQ(PointsUnderJoint(s, joints, inf, 0), (std::vector<size_t>{ 0, 1, 2, 3 }))
+    << "everything is under the root";
   EXPECT_TRUE(PointsUnderJoint(s, joints, inf, -1).empty());
 }
 
@@ -428,14 +452,15 @@ TEST(AvatarBones, VrmHumanoidMapAndLookAtRangeMaps)
   const int b2 = s.AddJoint(MakeJoint("Bone.002", b1, { 0.03, 0.05, 0.08 }));
   s.Validate();
   EXPECT_EQ(FindAvatarBones(s).Head, -1);
-  const AvatarBoneRoles roles =
-    FindAvatarBones(s, { { "head", "Bone.001" }, { "leftEye", "Bone.002" }, { "jaw", "NoSuchNode" } });
+  const AvatarBoneRoles roles = FindAvatarBones(
+    s, { { "head", "Bone.001" }, { "leftEye", "Bone.002" }, { "jaw", "NoSuchNode" } });
   EXPECT_EQ(roles.Head, b1);
   EXPECT_EQ(roles.LeftEye, b2);
   EXPECT_EQ(roles.Jaw, -1);
   SkeletonPose rest(s);
   const glm::dmat4 restEye = rest.World()[b2];
-  auto yawOf = [&](double eyeYaw) {
+  auto yawOf = [&](double eyeYaw)
+  {
     SkeletonPose pose(s);
     AvatarBonePose a;
     a.EyeYaw = eyeYaw;
@@ -463,10 +488,13 @@ TEST(Skinning, RestSkinFastPathsEqualExactSkinning)
   glm::dmat4 rest1(1.0);
   rest1[3][0] = 1e-7; // float rounding of an inverse bind matrix
   const std::vector<glm::dmat4> rest = { rest0, rest1 };
-  const std::vector<glm::dmat4> pose = { glm::rotate(glm::dmat4(1.0), 0.7, glm::dvec3(0, 1, 0)) * rest0,
-    glm::scale(glm::translate(glm::dmat4(1.0), glm::dvec3(0.1, 0, 0)), glm::dvec3(2, 1, 0.5)) * rest1 };
+  const std::vector<glm::dmat4> pose = { glm::rotate(glm::dmat4(1.0), 0.7, glm::dvec3(0, 1, 0)) *
+      rest0,
+    glm::scale(glm::translate(glm::dmat4(1.0), glm::dvec3(0.1, 0, 0)), glm::dvec3(2, 1, 0.5)) *
+      rest1 };
   SkinInfluences inf;
-  inf.AddSet({ 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0 }, { 1, 0, 0, 0, 1, 0, 0, 0, 0.3f, 0.7f, 0, 0 }, 3);
+  inf.AddSet(
+    { 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0 }, { 1, 0, 0, 0, 1, 0, 0, 0, 0.3f, 0.7f, 0, 0 }, 3);
   inf.Normalize(2, "test");
   RestSkin skin(inf, rest, "test");
   ASSERT_TRUE(skin.SetPose(pose));
@@ -482,9 +510,9 @@ TEST(Skinning, RestSkinFastPathsEqualExactSkinning)
     bindPoints[i] = points[i];
     bindNormals[i] = normals[i];
   }
-  bindPoints[0] -= 0.0;               // point 0 on joint 0: rest is the identity
-  bindPoints[3] -= 1e-7;              // point 1 on joint 1
-  bindPoints[6] -= 0.7 * 1e-7;        // point 2: 0.7 on joint 1
+  bindPoints[0] -= 0.0;        // point 0 on joint 0: rest is the identity
+  bindPoints[3] -= 1e-7;       // point 1 on joint 1
+  bindPoints[6] -= 0.7 * 1e-7; // point 2: 0.7 on joint 1
   SkinPoints<double>(inf, pose, bindPoints, bindNormals, q, m, 0, 3);
   for (int i = 0; i < 9; ++i)
   {
@@ -509,16 +537,19 @@ TEST(AvatarBones, LidBonesFollowTheEyesPitch)
   ASSERT_EQ(roles.LeftEye, eye);
   ASSERT_EQ(roles.LeftUpperLid, upper);
   ASSERT_EQ(roles.LeftLowerLid, lower);
-  EXPECT_NE(roles.Describe(s).find("left upper lid 'CC_Base_L_UpperLid'"), std::string::npos) << roles.Describe(s);
+  EXPECT_NE(roles.Describe(s).find("left upper lid 'CC_Base_L_UpperLid'"), std::string::npos)
+    << roles.Describe(s);
   SkeletonPose rest(s);
   const auto restWorld = rest.World();
-  auto pitchOf = [&](int joint, double eyeYaw, double eyePitch) {
+  auto pitchOf = [&](int joint, double eyeYaw, double eyePitch)
+  {
     SkeletonPose pose(s);
     AvatarBonePose a;
     a.EyeYaw = eyeYaw;
     a.EyePitch = eyePitch;
     PoseAvatarBones(pose, roles, a);
-    const glm::dmat3 m = glm::dmat3(pose.World()[joint]) * glm::inverse(glm::dmat3(restWorld[joint]));
+    const glm::dmat3 m =
+      glm::dmat3(pose.World()[joint]) * glm::inverse(glm::dmat3(restWorld[joint]));
     const glm::dvec3 f = m * glm::dvec3(0, 0, 1);
     ExpectNear(glm::dvec3(pose.World()[joint][3]), glm::dvec3(restWorld[joint][3]), 1e-12);
     return std::asin(f.y) * 180 / Pi;

@@ -86,7 +86,7 @@ TEST(Articulation, TablesFindTheNearestPhoneme)
   EXPECT_EQ(oculus.MapPhonemeName("o~", warn), oculus.MapPhonemeName("o", warn));
   EXPECT_EQ(oculus.MapPhonemeName("i", warn), "ih");
   EXPECT_EQ(oculus.MapPhonemeName("a", warn), "aa");
-  EXPECT_EQ(oculus.MapPhonemeName("B", warn), "PP");  // Spanish β: lips
+  EXPECT_EQ(oculus.MapPhonemeName("B", warn), "PP"); // Spanish β: lips
   EXPECT_EQ(oculus.MapPhonemeName("p_h", warn), "PP");
   EXPECT_TRUE(oculus.IsClosurePhoneme("p_h"));
   EXPECT_FALSE(oculus.IsClosurePhoneme("B"));
@@ -137,7 +137,8 @@ TEST(Articulation, EveryEspeakVoiceSpeaksWithoutAnUnmappedPhoneme)
     SpeechSynthesizer synthesizer(voice);
     synthesizer.SetEstimatePitch(false);
     // Numbers are spoken in each language's own words, whatever its script.
-    const SynthesisResult r = synthesizer.Synthesize("1 2 3 4 5 6 7 8 9 10 11 12 20 100. Hello, good morning!");
+    const SynthesisResult r =
+      synthesizer.Synthesize("1 2 3 4 5 6 7 8 9 10 11 12 20 100. Hello, good morning!");
     EXPECT_GT(r.Phonemes.size(), 10u) << voice;
     const VisemeMap map = SelectVisemeMap(options);
     for (const TimedPhoneme& p : r.Phonemes)

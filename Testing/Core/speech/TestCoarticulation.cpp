@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: BSD-3-Clause
+#include "MorphNodeTestSkips.h"
 #include "base/Error.h"
 #include "speech/Coarticulation.h"
 #include "speech/Sampa.h"
 #include "speech/Speech.h"
-#include "MorphNodeTestSkips.h"
 
 #include <gtest/gtest.h>
 
@@ -57,11 +57,12 @@ int ArgMax(const WeightTrack& track, size_t frame)
 TEST(Coarticulation, ChannelsAreConvexWeights)
 {
   const VisemeMap map = VisemeMap::Builtin(VisemeSet::Oculus15, "de");
-  const auto phonemes = Sequence({ { "_", 100 }, { "m", 80 }, { "a:", 200 }, { "p", 60 }, { "a:", 200 },
-    { "b", 40 }, { "U", 150 }, { "_", 100 } });
+  const auto phonemes = Sequence({ { "_", 100 }, { "m", 80 }, { "a:", 200 }, { "p", 60 },
+    { "a:", 200 }, { "b", 40 }, { "U", 150 }, { "_", 100 } });
   const WeightTrack track = CoarticulatePhonemes(phonemes, map, End(phonemes), {});
   EXPECT_EQ(track.GetChannels(), map.GetVisemes());
-  EXPECT_EQ(track.GetNumberOfFrames(), static_cast<size_t>(std::ceil(End(phonemes) * 60.0 - 1e-9)) + 1);
+  EXPECT_EQ(
+    track.GetNumberOfFrames(), static_cast<size_t>(std::ceil(End(phonemes) * 60.0 - 1e-9)) + 1);
   for (size_t f = 0; f < track.GetNumberOfFrames(); ++f)
   {
     double sum = 0.0;
@@ -86,8 +87,8 @@ TEST(Coarticulation, BilabialsCloseFullyAndOpenVowelsOpen)
   {
     const VisemeMap map = VisemeMap::Builtin(set, "de");
     // A very short b between dominant rounded vowels must still close completely.
-    const auto phonemes = Sequence({ { "_", 100 }, { "m", 80 }, { "a:", 200 }, { "p", 60 }, { "a:", 200 },
-      { "b", 12 }, { "u:", 150 }, { "m", 30 }, { "a", 90 }, { "_", 100 } });
+    const auto phonemes = Sequence({ { "_", 100 }, { "m", 80 }, { "a:", 200 }, { "p", 60 },
+      { "a:", 200 }, { "b", 12 }, { "u:", 150 }, { "m", 30 }, { "a", 90 }, { "_", 100 } });
     for (double rate : { 24.0, 30.0, 60.0, 100.0 })
     {
       options.FrameRate = rate;
@@ -103,7 +104,8 @@ TEST(Coarticulation, BilabialsCloseFullyAndOpenVowelsOpen)
         }
         if (p.Sampa == "a:")
         {
-          EXPECT_GE(track.Sample(centre, static_cast<size_t>(channel)), 0.75) << VisemeSetName(set) << " " << rate;
+          EXPECT_GE(track.Sample(centre, static_cast<size_t>(channel)), 0.75)
+            << VisemeSetName(set) << " " << rate;
         }
       }
     }
@@ -132,7 +134,8 @@ TEST(Coarticulation, NextVisemeIsAnticipated)
 TEST(Coarticulation, LeadShiftsTheTrackEarlier)
 {
   const VisemeMap map = VisemeMap::Builtin(VisemeSet::German16, "de");
-  const auto phonemes = Sequence({ { "_", 300 }, { "m", 80 }, { "a:", 200 }, { "l", 60 }, { "a", 200 }, { "_", 300 } });
+  const auto phonemes =
+    Sequence({ { "_", 300 }, { "m", 80 }, { "a:", 200 }, { "l", 60 }, { "a", 200 }, { "_", 300 } });
   CoarticulationOptions options;
   options.FrameRate = 100.0;
   options.Lead = 0.0;
@@ -212,7 +215,8 @@ TEST_P(SpokenTrack, FollowsEspeakPhonemeEvents)
     const double delay = firstUtterance->Start - firstRaw->Start;
     EXPECT_GE(delay, 0.0);
     EXPECT_LE(delay, lead + 1e-3);
-    EXPECT_EQ(u.Audio.size(), raw.Audio.size() + static_cast<size_t>(std::lround(delay * u.SampleRate)));
+    EXPECT_EQ(
+      u.Audio.size(), raw.Audio.size() + static_cast<size_t>(std::lround(delay * u.SampleRate)));
 
     // What the track shows in turn: each phoneme, a diphthong as its vowels' visemes, each
     // over its part of the phoneme's time (VisemeMap::MapPhonemeParts).
@@ -247,13 +251,15 @@ TEST_P(SpokenTrack, FollowsEspeakPhonemeEvents)
       const double centre = 0.5 * (start + end);
       if (p.Closure)
       {
-        EXPECT_GE(PeakNear(track, channel, centre), 0.999) << VisemeSetName(set) << " " << p.Sampa << " at " << p.Start;
+        EXPECT_GE(PeakNear(track, channel, centre), 0.999)
+          << VisemeSetName(set) << " " << p.Sampa << " at " << p.Start;
         ++closures;
       }
       const std::string& viseme = map.GetVisemes()[static_cast<size_t>(channel)];
       if ((viseme == "aa" || viseme == "A") && p.Duration >= 0.06)
       {
-        EXPECT_GE(track.Sample(centre, static_cast<size_t>(channel)), 0.6) << VisemeSetName(set) << " " << p.Sampa << " at " << p.Start;
+        EXPECT_GE(track.Sample(centre, static_cast<size_t>(channel)), 0.6)
+          << VisemeSetName(set) << " " << p.Sampa << " at " << p.Start;
         ++openVowels;
       }
       // Timing: a viseme that no other phoneme near it shares peaks within the phoneme's
@@ -262,7 +268,8 @@ TEST_P(SpokenTrack, FollowsEspeakPhonemeEvents)
       for (size_t j = 0; j < units.size() && distinct; ++j)
       {
         const Unit& q = units[j];
-        const bool near = q.Start < p.Start + p.Duration + 4 * frame && q.Start + q.Duration > p.Start - 4 * frame;
+        const bool near =
+          q.Start < p.Start + p.Duration + 4 * frame && q.Start + q.Duration > p.Start - 4 * frame;
         distinct = j == i || !near || q.Viseme != channel;
       }
       if (distinct && p.Duration >= 2 * frame)
@@ -272,17 +279,21 @@ TEST_P(SpokenTrack, FollowsEspeakPhonemeEvents)
         for (size_t f = 0; f < track.GetNumberOfFrames(); ++f)
         {
           const double t = track.GetTime(f);
-          if (t >= start - 3 * frame && t <= end + 3 * frame && track.GetValue(f, size_t(channel)) > best)
+          if (t >= start - 3 * frame && t <= end + 3 * frame &&
+            track.GetValue(f, size_t(channel)) > best)
           {
             best = track.GetValue(f, size_t(channel));
             bestFrame = f;
           }
         }
-        EXPECT_GE(track.GetTime(bestFrame), start - frame - 1e-9) << VisemeSetName(set) << " " << p.Sampa << " at " << p.Start;
-        EXPECT_LE(track.GetTime(bestFrame), end + frame + 1e-9) << VisemeSetName(set) << " " << p.Sampa << " at " << p.Start;
+        EXPECT_GE(track.GetTime(bestFrame), start - frame - 1e-9)
+          << VisemeSetName(set) << " " << p.Sampa << " at " << p.Start;
+        EXPECT_LE(track.GetTime(bestFrame), end + frame + 1e-9)
+          << VisemeSetName(set) << " " << p.Sampa << " at " << p.Start;
         if (p.Duration >= 3 * frame)
         {
-          EXPECT_EQ(ArgMax(track, size_t(std::lround(centre / frame))), channel) << VisemeSetName(set) << " " << p.Sampa << " at " << p.Start;
+          EXPECT_EQ(ArgMax(track, size_t(std::lround(centre / frame))), channel)
+            << VisemeSetName(set) << " " << p.Sampa << " at " << p.Start;
         }
         ++checked;
       }
@@ -296,6 +307,7 @@ TEST_P(SpokenTrack, FollowsEspeakPhonemeEvents)
 INSTANTIATE_TEST_SUITE_P(Speech, SpokenTrack,
   ::testing::Values(std::make_pair("de", "Papa bringt meine Bälle mit. Am Abend malt Mama Tannen."),
     std::make_pair("en", "Bob meets Pam at the market, maybe by bus. Father was calm.")),
-  [](const ::testing::TestParamInfo<std::pair<const char*, const char*>>& info) {
+  [](const ::testing::TestParamInfo<std::pair<const char*, const char*>>& info)
+  {
     return std::string(info.param.first); // the voice: stable test names for ctest
   });

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
+#include "MorphNodeTestSkips.h"
 #include "speech/Nonverbal.h"
 #include "speech/Speech.h"
-#include "MorphNodeTestSkips.h"
 
 #include <gtest/gtest.h>
 
@@ -14,7 +14,8 @@ namespace
 using Kind = NonverbalCue::Kind;
 
 /// (name, ms, pitch Hz or 0) back to back.
-std::vector<TimedPhoneme> Sequence(const std::vector<std::tuple<std::string, double, double>>& items)
+std::vector<TimedPhoneme> Sequence(
+  const std::vector<std::tuple<std::string, double, double>>& items)
 {
   std::vector<TimedPhoneme> phonemes;
   double start = 0.0;
@@ -34,7 +35,8 @@ std::vector<TimedPhoneme> Sequence(const std::vector<std::tuple<std::string, dou
 std::vector<NonverbalCue> OfKind(const std::vector<NonverbalCue>& cues, Kind kind)
 {
   std::vector<NonverbalCue> out;
-  std::copy_if(cues.begin(), cues.end(), std::back_inserter(out), [&](const NonverbalCue& c) { return c.Type == kind; });
+  std::copy_if(cues.begin(), cues.end(), std::back_inserter(out),
+    [&](const NonverbalCue& c) { return c.Type == kind; });
   return out;
 }
 } // namespace
@@ -42,8 +44,9 @@ std::vector<NonverbalCue> OfKind(const std::vector<NonverbalCue>& cues, Kind kin
 TEST(Nonverbal, PitchAccentRaisesTheBrows)
 {
   // "a statement": flat 100 Hz with one accented vowel at 150 Hz, falling at the end.
-  const auto phonemes = Sequence({ { "_", 100, 0 }, { "d", 50, 0 }, { "a:", 150, 100 }, { "s", 80, 0 },
-    { "i:", 120, 150 }, { "t", 60, 0 }, { "a", 150, 98 }, { "n", 80, 95 }, { "@", 120, 90 }, { "_", 100, 0 } });
+  const auto phonemes = Sequence(
+    { { "_", 100, 0 }, { "d", 50, 0 }, { "a:", 150, 100 }, { "s", 80, 0 }, { "i:", 120, 150 },
+      { "t", 60, 0 }, { "a", 150, 98 }, { "n", 80, 95 }, { "@", 120, 90 }, { "_", 100, 0 } });
   const auto cues = DeriveNonverbalCues(phonemes);
   const auto brows = OfKind(cues, Kind::BrowRaise);
   ASSERT_EQ(brows.size(), 1u);
@@ -65,8 +68,9 @@ TEST(Nonverbal, PitchAccentRaisesTheBrows)
 
 TEST(Nonverbal, PausesRelaxAndInviteBlinksSentencesNod)
 {
-  const auto phonemes = Sequence({ { "_", 50, 0 }, { "j", 60, 100 }, { "a:", 150, 100 }, { "_", 350, 0 },
-    { "n", 60, 100 }, { "aI", 150, 100 }, { "_", 100, 0 }, { "g", 50, 0 }, { "u:", 150, 95 }, { "_", 50, 0 } });
+  const auto phonemes = Sequence(
+    { { "_", 50, 0 }, { "j", 60, 100 }, { "a:", 150, 100 }, { "_", 350, 0 }, { "n", 60, 100 },
+      { "aI", 150, 100 }, { "_", 100, 0 }, { "g", 50, 0 }, { "u:", 150, 95 }, { "_", 50, 0 } });
   const auto cues = DeriveNonverbalCues(phonemes);
   const auto relax = OfKind(cues, Kind::Relax);
   ASSERT_EQ(relax.size(), 1u); // the 100 ms pause is too short
@@ -85,8 +89,8 @@ TEST(Nonverbal, PausesRelaxAndInviteBlinksSentencesNod)
 
 TEST(Nonverbal, QuestionGetsBrowsNotANod)
 {
-  const auto phonemes = Sequence({ { "_", 50, 0 }, { "j", 60, 100 }, { "a:", 150, 100 }, { "n", 60, 100 },
-    { "aI", 150, 100 }, { "g", 50, 0 }, { "u:", 150, 125 }, { "_", 50, 0 } });
+  const auto phonemes = Sequence({ { "_", 50, 0 }, { "j", 60, 100 }, { "a:", 150, 100 },
+    { "n", 60, 100 }, { "aI", 150, 100 }, { "g", 50, 0 }, { "u:", 150, 125 }, { "_", 50, 0 } });
   const auto cues = DeriveNonverbalCues(phonemes);
   EXPECT_TRUE(OfKind(cues, Kind::Nod).empty());
   EXPECT_FALSE(OfKind(cues, Kind::BrowRaise).empty());
@@ -108,7 +112,8 @@ TEST(Nonverbal, SynthesizedSpeechGetsCues)
   MORPHNODE_SKIP_WITHOUT_ESPEAK();
   SpeechOptions options;
   options.Voice = "en";
-  const Utterance u = SpeakText("This is really important. Please listen to me carefully.", options);
+  const Utterance u =
+    SpeakText("This is really important. Please listen to me carefully.", options);
   ASSERT_FALSE(u.Cues.empty());
   for (const auto& c : u.Cues)
   {
@@ -117,7 +122,7 @@ TEST(Nonverbal, SynthesizedSpeechGetsCues)
     EXPECT_GE(c.Intensity, 0.0);
     EXPECT_LE(c.Intensity, 1.0);
   }
-  EXPECT_EQ(OfKind(u.Cues, Kind::Nod).size(), 2u);      // two statements
-  EXPECT_EQ(OfKind(u.Cues, Kind::Blink).size(), 1u);    // the sentence pause
+  EXPECT_EQ(OfKind(u.Cues, Kind::Nod).size(), 2u);       // two statements
+  EXPECT_EQ(OfKind(u.Cues, Kind::Blink).size(), 1u);     // the sentence pause
   EXPECT_GE(OfKind(u.Cues, Kind::BrowRaise).size(), 1u); // eSpeak accents stressed syllables
 }

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
+#include "MorphNodeTestSkips.h"
 #include "base/Error.h"
 #include "speech/Rhubarb.h"
 #include "speech/Speech.h"
-#include "MorphNodeTestSkips.h"
 
 #include <gtest/gtest.h>
 
@@ -15,8 +15,8 @@ namespace
 std::vector<MouthCue> Cues()
 {
   return { { 0.0, 0.05, 'X' }, { 0.05, 0.27, 'D' }, { 0.27, 0.31, 'C' }, { 0.31, 0.43, 'B' },
-    { 0.43, 0.47, 'A' }, { 0.47, 0.61, 'F' }, { 0.61, 0.65, 'G' }, { 0.65, 0.70, 'H' }, { 0.70, 0.85, 'E' },
-    { 0.85, 1.0 / 3.0 + 0.6, 'X' } };
+    { 0.43, 0.47, 'A' }, { 0.47, 0.61, 'F' }, { 0.61, 0.65, 'G' }, { 0.65, 0.70, 'H' },
+    { 0.70, 0.85, 'E' }, { 0.85, 1.0 / 3.0 + 0.6, 'X' } };
 }
 
 void ExpectSame(const std::vector<MouthCue>& a, const std::vector<MouthCue>& b)
@@ -89,11 +89,14 @@ TEST(Rhubarb, MalformedInputIsRejected)
   EXPECT_NE(TsvError("0.5\tX\textra\n").find("line 1"), std::string::npos);
   EXPECT_NE(TsvError("-1\tX\n").find("line 1"), std::string::npos);
   EXPECT_EQ(TsvError("0\tX\n0.2\tA\n"), "");
-  const char* badJson[] = { "", "[]", "{}", R"({"mouthCues": {}})", R"({"mouthCues": [1]})",
-    R"({"mouthCues": [{"start": 0, "end": 1}]})", R"({"mouthCues": [{"start": 0, "end": 1, "value": "Z"}]})",
+  const char* badJson[] = {
+    "", "[]", "{}", R"({"mouthCues": {}})", R"({"mouthCues": [1]})",
+    R"({"mouthCues": [{"start": 0, "end": 1}]})",
+    R"({"mouthCues": [{"start": 0, "end": 1, "value": "Z"}]})",
     R"({"mouthCues": [{"start": 1, "end": 0.5, "value": "A"}]})",
     R"({"mouthCues": [{"start": "0", "end": 1, "value": "A"}]})",
-    R"({"mouthCues": [{"start": 1, "end": 2, "value": "A"}, {"start": 0, "end": 1, "value": "B"}]})" };
+    R"({"mouthCues": [{"start": 1, "end": 2, "value": "A"}, {"start": 0, "end": 1, "value": "B"}]})"
+  };
   for (const char* text : badJson)
   {
     std::istringstream in(text);
@@ -138,16 +141,17 @@ TEST(Rhubarb, VisemesToShapesAndBack)
   {
     EXPECT_DOUBLE_EQ(cues[i].Start, cues[i - 1].End);
     EXPECT_NE(cues[i].Shape, cues[i - 1].Shape);
-    EXPECT_TRUE(cues[i].End - cues[i].Start >= 0.07 - 1e-9 || cues[i].Shape == 'A' || i + 1 == cues.size());
+    EXPECT_TRUE(
+      cues[i].End - cues[i].Start >= 0.07 - 1e-9 || cues[i].Shape == 'A' || i + 1 == cues.size());
   }
   for (const auto& p : u.Phonemes)
   {
     if (p.Sampa == "b" || p.Sampa == "p" || p.Sampa == "m")
     {
       const double t = p.Start + 0.5 * p.Duration - options.Coarticulation.Lead;
-      const bool covered = std::any_of(cues.begin(), cues.end(), [&](const MouthCue& c) {
-        return c.Shape == 'A' && c.Start <= t + 1.0 / 60.0 && c.End >= t - 1.0 / 60.0;
-      });
+      const bool covered = std::any_of(cues.begin(), cues.end(),
+        [&](const MouthCue& c)
+        { return c.Shape == 'A' && c.Start <= t + 1.0 / 60.0 && c.End >= t - 1.0 / 60.0; });
       EXPECT_TRUE(covered) << p.Sampa << " at " << p.Start;
     }
   }
@@ -196,7 +200,8 @@ TEST(Rhubarb, XmlExportReadsLikeJson)
 
 TEST(Rhubarb, MalformedXmlIsRejected)
 {
-  auto error = [](const std::string& body) {
+  auto error = [](const std::string& body)
+  {
     std::istringstream in("<rhubarbResult><mouthCues>\n" + body + "</mouthCues></rhubarbResult>");
     try
     {
@@ -209,15 +214,24 @@ TEST(Rhubarb, MalformedXmlIsRejected)
     return std::string();
   };
   EXPECT_EQ(error(R"(<mouthCue start="0" end="1">A</mouthCue>)"), "");
-  EXPECT_NE(error(R"(<mouthCue start="0" end="1">Q</mouthCue>)").find("line 2: a mouthCue's shape"), std::string::npos);
-  EXPECT_NE(error(R"(<mouthCue start="0">A</mouthCue>)").find("needs 'start' and 'end'"), std::string::npos);
-  EXPECT_NE(error(R"(<mouthCue start="x" end="1">A</mouthCue>)").find("time in seconds"), std::string::npos);
-  EXPECT_NE(error(R"(<mouthCue start="-1" end="1">A</mouthCue>)").find("time in seconds"), std::string::npos);
-  EXPECT_NE(error(R"(<mouthCue start="2" end="1">A</mouthCue>)").find("ends before it starts"), std::string::npos);
-  EXPECT_NE(error(R"(<mouthCue start="1" end="2">A</mouthCue><mouthCue start="0" end="1">X</mouthCue>)")
-              .find("starts before"), std::string::npos);
-  EXPECT_NE(error(R"(<mouthCue start="0" end="1"><b/>A</mouthCue>)").find("only its shape"), std::string::npos);
-  EXPECT_NE(error(R"(<mouthCue start="0" end="1">A</mouthCu>)").find("not valid XML"), std::string::npos);
+  EXPECT_NE(error(R"(<mouthCue start="0" end="1">Q</mouthCue>)").find("line 2: a mouthCue's shape"),
+    std::string::npos);
+  EXPECT_NE(error(R"(<mouthCue start="0">A</mouthCue>)").find("needs 'start' and 'end'"),
+    std::string::npos);
+  EXPECT_NE(error(R"(<mouthCue start="x" end="1">A</mouthCue>)").find("time in seconds"),
+    std::string::npos);
+  EXPECT_NE(error(R"(<mouthCue start="-1" end="1">A</mouthCue>)").find("time in seconds"),
+    std::string::npos);
+  EXPECT_NE(error(R"(<mouthCue start="2" end="1">A</mouthCue>)").find("ends before it starts"),
+    std::string::npos);
+  EXPECT_NE(
+    error(R"(<mouthCue start="1" end="2">A</mouthCue><mouthCue start="0" end="1">X</mouthCue>)")
+      .find("starts before"),
+    std::string::npos);
+  EXPECT_NE(error(R"(<mouthCue start="0" end="1"><b/>A</mouthCue>)").find("only its shape"),
+    std::string::npos);
+  EXPECT_NE(
+    error(R"(<mouthCue start="0" end="1">A</mouthCu>)").find("not valid XML"), std::string::npos);
   std::istringstream empty("");
   EXPECT_THROW(ReadRhubarbXml(empty), InputError);
 }

@@ -33,9 +33,9 @@ TEST(SpeechFiles, RhubarbTsvAndJsonToldApartByTheirContent)
   ASSERT_EQ(tsv.size(), 4u);
   EXPECT_EQ(tsv[1].Shape, 'D');
   EXPECT_EQ(tsv[1].End, 0.27);
-  const auto json = ParseRhubarb(
-    "\n  {\"mouthCues\": [{\"start\": 0.0, \"end\": 0.05, \"value\": \"X\"},"
-    " {\"start\": 0.05, \"end\": 0.27, \"value\": \"D\"}]}");
+  const auto json =
+    ParseRhubarb("\n  {\"mouthCues\": [{\"start\": 0.0, \"end\": 0.05, \"value\": \"X\"},"
+                 " {\"start\": 0.05, \"end\": 0.27, \"value\": \"D\"}]}");
   ASSERT_EQ(json.size(), 2u);
   EXPECT_EQ(json[1].Shape, 'D');
   EXPECT_EQ(json[1].End, 0.27);
@@ -46,7 +46,8 @@ TEST(SpeechFiles, RhubarbTsvAndJsonToldApartByTheirContent)
   // The fuzz corpus seeds are real exports.
   EXPECT_EQ(ReadRhubarbFile(Corpus + "rhubarb_tsv/sample.tsv").size(), 10u);
   EXPECT_EQ(ReadRhubarbFile(Corpus + "rhubarb_json/sample.json").size(), 4u);
-  for (const std::string bad : { "rhubarb_tsv/decreasing.tsv", "rhubarb_json/end_before_start.json" })
+  for (const std::string bad :
+    { "rhubarb_tsv/decreasing.tsv", "rhubarb_json/end_before_start.json" })
   {
     try
     {
@@ -65,7 +66,8 @@ TEST(SpeechFiles, CuesAndPhonemesBecomeUtterancesWithoutAudio)
 {
   SpeechOptions options;
   options.Visemes = VisemeSet::Paper6;
-  const Utterance cues = UtteranceFromMouthCues(ReadRhubarbFile(Corpus + "rhubarb_json/sample.json"), options);
+  const Utterance cues =
+    UtteranceFromMouthCues(ReadRhubarbFile(Corpus + "rhubarb_json/sample.json"), options);
   EXPECT_TRUE(cues.Audio.empty());
   EXPECT_DOUBLE_EQ(cues.Duration, 0.62);
   EXPECT_GE(cues.Visemes.FindChannel("A"), 0);
@@ -82,7 +84,8 @@ TEST(SpeechFiles, CuesAndPhonemesBecomeUtterancesWithoutAudio)
   double open = 0.0;
   for (size_t f = 0; f < fromText.Visemes.GetNumberOfFrames(); ++f)
   {
-    EXPECT_EQ(fromText.Visemes.GetValue(f, static_cast<size_t>(a)), fromFile.Visemes.GetValue(f, static_cast<size_t>(a)));
+    EXPECT_EQ(fromText.Visemes.GetValue(f, static_cast<size_t>(a)),
+      fromFile.Visemes.GetValue(f, static_cast<size_t>(a)));
     open = std::max(open, fromText.Visemes.GetValue(f, static_cast<size_t>(a)));
   }
   EXPECT_GT(open, 0.5) << "the long A: opens the mouth";

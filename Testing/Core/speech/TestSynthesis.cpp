@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: BSD-3-Clause
+#include "MorphNodeTestSkips.h"
+#include "audio/AudioFile.h"
 #include "base/Error.h"
 #include "speech/Articulation.h"
 #include "speech/Sampa.h"
 #include "speech/Speech.h"
 #include "speech/SpeechSynthesizer.h"
-#include "audio/AudioFile.h"
-#include "MorphNodeTestSkips.h"
 
 #include <gtest/gtest.h>
 
@@ -37,7 +37,8 @@ std::vector<std::string> Names(const std::vector<TimedPhoneme>& phonemes)
 uint32_t Read32(const std::string& bytes, size_t at)
 {
   return static_cast<uint8_t>(bytes[at]) | static_cast<uint8_t>(bytes[at + 1]) << 8 |
-    static_cast<uint8_t>(bytes[at + 2]) << 16 | static_cast<uint32_t>(static_cast<uint8_t>(bytes[at + 3])) << 24;
+    static_cast<uint8_t>(bytes[at + 2]) << 16 |
+    static_cast<uint32_t>(static_cast<uint8_t>(bytes[at + 3])) << 24;
 }
 } // namespace
 
@@ -116,7 +117,8 @@ TEST(Synthesis, WavFileHoldsTheSamples)
 TEST(Synthesis, GermanIsNormalizedToSampa)
 {
   MORPHNODE_SKIP_WITHOUT_ESPEAK();
-  const SynthesisResult r = SpeechSynthesizer("de").Synthesize("Guten Tag, schöne Pfeifen, Bücher und Äpfel.");
+  const SynthesisResult r =
+    SpeechSynthesizer("de").Synthesize("Guten Tag, schöne Pfeifen, Bücher und Äpfel.");
   const auto names = Names(r.Phonemes);
   auto has = [&](const char* n) { return std::find(names.begin(), names.end(), n) != names.end(); };
   // eSpeak says A:, Y:, pF, 3 and _!: SAMPA has a:, 2:, pf, 6 and ?.
@@ -168,9 +170,9 @@ TEST(Synthesis, NormalizationTable)
   EXPECT_EQ(SpeechLanguageOf("de-DE"), "de");
   EXPECT_EQ(SpeechLanguageOf("en-us"), "en");
   // Pauses merge, zero-length pauses and language switches vanish.
-  const auto merged = NormalizeEspeakPhonemes({ { "a", 0.0, 0.1, {} }, { "_:", 0.1, 0.2, {} },
-                                                { "_", 0.3, 0.05, {} }, { "_|", 0.35, 0.0, {} },
-                                                { "(en)", 0.35, 0.0, {} }, { "b", 0.35, 0.1, {} } },
+  const auto merged = NormalizeEspeakPhonemes(
+    { { "a", 0.0, 0.1, {} }, { "_:", 0.1, 0.2, {} }, { "_", 0.3, 0.05, {} },
+      { "_|", 0.35, 0.0, {} }, { "(en)", 0.35, 0.0, {} }, { "b", 0.35, 0.1, {} } },
     "en");
   ASSERT_EQ(merged.size(), 3u);
   EXPECT_EQ(merged[1].Sampa, "_");
@@ -205,7 +207,8 @@ TEST(Synthesis, UnknownVoiceAndMissingDataAreInputErrors)
   }
   catch (const InputError& e)
   {
-    EXPECT_NE(std::string(e.what()).find("eSpeak NG failed to initialize"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("eSpeak NG failed to initialize"), std::string::npos)
+      << e.what();
   }
   // The engine still works afterwards.
   EXPECT_FALSE(SpeechSynthesizer("en").Synthesize("hello").Phonemes.empty());
@@ -224,8 +227,8 @@ TEST(Synthesis, AnotherDataPathAfterARejectedVoiceNeitherHangsNorSwitches)
   {
     GTEST_SKIP() << "eSpeak NG's data is not at " << system;
   }
-  for (const std::string& path : { system, system + "/", std::string("/usr/lib/x86_64-linux-gnu"),
-         std::string() })
+  for (const std::string& path :
+    { system, system + "/", std::string("/usr/lib/x86_64-linux-gnu"), std::string() })
   {
     SpeechSynthesizer synthesizer("en");
     synthesizer.SetDataPath(path);
@@ -258,9 +261,12 @@ TEST(Synthesis, ConcurrentCallsAreSerialized)
   std::vector<std::thread> threads;
   for (size_t i = 0; i < results.size(); ++i)
   {
-    threads.emplace_back([&results, i] {
-      results[i] = SpeechSynthesizer(i % 2 ? "en" : "de").Synthesize(i % 2 ? "Good morning" : "Guten Morgen");
-    });
+    threads.emplace_back(
+      [&results, i]
+      {
+        results[i] = SpeechSynthesizer(i % 2 ? "en" : "de")
+                       .Synthesize(i % 2 ? "Good morning" : "Guten Morgen");
+      });
   }
   for (auto& t : threads)
   {
@@ -270,7 +276,8 @@ TEST(Synthesis, ConcurrentCallsAreSerialized)
   for (size_t i = 0; i < results.size(); i += 2)
   {
     EXPECT_EQ(Names(results[i].Phonemes), Names(reference.Phonemes));
-    EXPECT_NEAR(double(results[i].Audio.size()), double(reference.Audio.size()), 0.02 * reference.Audio.size());
+    EXPECT_NEAR(double(results[i].Audio.size()), double(reference.Audio.size()),
+      0.02 * reference.Audio.size());
   }
   EXPECT_FALSE(results[1].Audio.empty());
 }
@@ -320,11 +327,13 @@ TEST(Synthesis, PalatalMarkBeforeAVowelIsNoPhoneme)
 TEST(Synthesis, LanguageSwitchesWarnOnce)
 {
   MORPHNODE_SKIP_WITHOUT_ESPEAK();
-  auto warningsOf = [](const std::string& text, const std::string& voice) {
+  auto warningsOf = [](const std::string& text, const std::string& voice)
+  {
     std::vector<std::string> warnings;
     SpeechOptions options;
     options.Voice = voice;
-    options.Warn = [&](const std::string& w) {
+    options.Warn = [&](const std::string& w)
+    {
       if (w.find("no rules") != std::string::npos)
       {
         warnings.push_back(w);
@@ -342,10 +351,14 @@ TEST(Synthesis, LanguageSwitchesWarnOnce)
   EXPECT_TRUE(warningsOf("Hello there, how are you?", "en").empty());
   EXPECT_TRUE(warningsOf("Hello there, how are you?", "en-us").empty());
   EXPECT_TRUE(warningsOf("Guten Tag, wie geht es dir?", "de").empty());
-  EXPECT_TRUE(warningsOf("Buenos d\xc3\xad" "as, \xc2\xbf" "c\xc3\xb3mo est\xc3\xa1s?", "es").empty());
+  EXPECT_TRUE(warningsOf("Buenos d\xc3\xad"
+                         "as, \xc2\xbf"
+                         "c\xc3\xb3mo est\xc3\xa1s?",
+    "es")
+                .empty());
   // The switches themselves.
-  EXPECT_EQ(EspeakLanguageSwitches({ { "(en)", 0, 0, {} }, { "n", 0, 0.1, {} }, { "(cmn)", 0.1, 0, {} },
-                                     { "(en)", 0.2, 0, {} } },
+  EXPECT_EQ(EspeakLanguageSwitches({ { "(en)", 0, 0, {} }, { "n", 0, 0.1, {} },
+                                     { "(cmn)", 0.1, 0, {} }, { "(en)", 0.2, 0, {} } },
               "cmn"),
     std::vector<std::string>{ "en" });
   EXPECT_TRUE(EspeakLanguageSwitches({ { "(en)", 0, 0, {} } }, "en-us").empty());
@@ -394,7 +407,8 @@ TEST(Synthesis, EveryPhonemeOfEveryVoiceNormalizes)
       ASSERT_LE(at + 16, d.size());
       char mnemonic[5] = { 0, 0, 0, 0, 0 };
       std::memcpy(mnemonic, d.data() + at, 4);
-      table[static_cast<unsigned char>(d[at + 10])] = { mnemonic, static_cast<unsigned char>(d[at + 11]) };
+      table[static_cast<unsigned char>(d[at + 10])] = { mnemonic,
+        static_cast<unsigned char>(d[at + 11]) };
     }
     tables.push_back(std::move(table));
   }
@@ -424,7 +438,8 @@ TEST(Synthesis, EveryPhonemeOfEveryVoiceNormalizes)
         continue;
       }
       ++checked;
-      auto describes = [](const std::string& x) {
+      auto describes = [](const std::string& x)
+      {
         const auto segments = SplitPhone(x);
         return !segments.empty() && DescribePhone(segments[0]).IsKnown();
       };

@@ -30,7 +30,8 @@ public:
   bool Wait(double limit = 10.0)
   {
     std::unique_lock<std::mutex> lock(this->M);
-    return this->C.wait_for(lock, std::chrono::duration<double>(limit), [this] { return this->IsOpen; });
+    return this->C.wait_for(
+      lock, std::chrono::duration<double>(limit), [this] { return this->IsOpen; });
   }
 
 private:
@@ -62,10 +63,12 @@ TEST(SynthesisPool, JobsRunOnItsWorkersNotTheCaller)
   SynthesisPool pool;
   std::atomic<bool> onCaller{ true };
   const auto caller = std::this_thread::get_id();
-  auto job = pool.Submit([&]() {
-    onCaller = std::this_thread::get_id() == caller;
-    return Seconds(1.5);
-  });
+  auto job = pool.Submit(
+    [&]()
+    {
+      onCaller = std::this_thread::get_id() == caller;
+      return Seconds(1.5);
+    });
   ASSERT_TRUE(Finishes(job));
   EXPECT_FALSE(onCaller);
   EXPECT_EQ(job->GetState(), SynthesisJob::State::Done);
@@ -82,15 +85,19 @@ TEST(SynthesisPool, AJobThatWaitedTooLongIsReportedNotRun)
   settings.MaxWaitSeconds = 0.05;
   SynthesisPool pool(settings);
   Gate gate;
-  auto busy = pool.Submit([&]() {
-    gate.Wait();
-    return Seconds(1.0);
-  });
+  auto busy = pool.Submit(
+    [&]()
+    {
+      gate.Wait();
+      return Seconds(1.0);
+    });
   std::atomic<bool> ran{ false };
-  auto late = pool.Submit([&]() {
-    ran = true;
-    return Seconds(1.0);
-  });
+  auto late = pool.Submit(
+    [&]()
+    {
+      ran = true;
+      return Seconds(1.0);
+    });
   std::this_thread::sleep_for(std::chrono::milliseconds(150)); // longer than MaxWaitSeconds
   gate.Open();
   ASSERT_TRUE(Finishes(busy));
@@ -111,17 +118,21 @@ TEST(SynthesisPool, AFullQueueRefusesAndCancelledJobsNeverRun)
   settings.MaxQueued = 1;
   SynthesisPool pool(settings);
   Gate started, gate;
-  auto busy = pool.Submit([&]() {
-    started.Open();
-    gate.Wait();
-    return Seconds(1.0);
-  });
+  auto busy = pool.Submit(
+    [&]()
+    {
+      started.Open();
+      gate.Wait();
+      return Seconds(1.0);
+    });
   ASSERT_TRUE(started.Wait()); // the worker holds it: the queue is empty again
   std::atomic<bool> ran{ false };
-  auto queued = pool.Submit([&]() {
-    ran = true;
-    return Seconds(1.0);
-  });
+  auto queued = pool.Submit(
+    [&]()
+    {
+      ran = true;
+      return Seconds(1.0);
+    });
   EXPECT_THROW(pool.Submit([]() { return Seconds(1.0); }), InputError);
   EXPECT_EQ(pool.GetStats().Refused, 1u);
   queued->Cancel();

@@ -16,8 +16,8 @@ const VisemeSet AllSets[] = { VisemeSet::Oculus15, VisemeSet::German16, VisemeSe
 
 std::string DataFile(VisemeSet set, const std::string& language)
 {
-  return std::string(MORPHNODE_SOURCE_DIR) + "/Modules/Core/speech/data/visemes_" + VisemeSetName(set) + "_" +
-    language + ".json";
+  return std::string(MORPHNODE_SOURCE_DIR) + "/Modules/Core/speech/data/visemes_" +
+    VisemeSetName(set) + "_" + language + ".json";
 }
 } // namespace
 
@@ -42,7 +42,8 @@ TEST(VisemeMap, German16GroupsAfterAschenbernerAndWeiss)
   const std::vector<std::pair<std::string, std::string>> groups = { { "P", "p b" }, { "M", "m" },
     { "F", "f v pf" }, { "S", "s z ts" }, { "Z", "S Z tS dZ" }, { "T", "t d n" }, { "L", "l" },
     { "R", "R r" }, { "K", "k g N x C j h ?" }, { "A", "a a: aI aU" }, { "O", "o: O OY" },
-    { "U", "u: U" }, { "E", "i: I e: E: E" }, { "Y", "y: Y 2: 9" }, { "Q", "@ 6" }, { "sil", "_" } };
+    { "U", "u: U" }, { "E", "i: I e: E: E" }, { "Y", "y: Y 2: 9" }, { "Q", "@ 6" },
+    { "sil", "_" } };
   for (const auto& [viseme, phonemes] : groups)
   {
     std::istringstream list(phonemes);
@@ -56,15 +57,17 @@ TEST(VisemeMap, German16GroupsAfterAschenbernerAndWeiss)
 
 TEST(VisemeMap, EveryPhonemeOfTheLanguageIsMappedWithoutWarning)
 {
-  const std::vector<std::string> german = { "p", "b", "t", "d", "k", "g", "?", "pf", "ts", "tS", "dZ",
-    "f", "v", "s", "z", "S", "Z", "C", "j", "x", "h", "m", "n", "N", "l", "R", "I", "E", "a", "O", "U",
-    "Y", "9", "i:", "e:", "E:", "a:", "o:", "u:", "y:", "2:", "aI", "aU", "OY", "@", "6" };
-  const std::vector<std::string> english = { "p", "b", "t", "d", "k", "g", "tS", "dZ", "f", "v", "T",
-    "D", "s", "z", "S", "Z", "h", "m", "n", "N", "r", "l", "w", "j", "I", "e", "{", "Q", "V", "U", "@",
-    "i:", "eI", "aI", "OI", "u:", "@U", "aU", "I@", "e@", "U@", "A:", "O:", "3:", "5" };
+  const std::vector<std::string> german = { "p", "b", "t", "d", "k", "g", "?", "pf", "ts", "tS",
+    "dZ", "f", "v", "s", "z", "S", "Z", "C", "j", "x", "h", "m", "n", "N", "l", "R", "I", "E", "a",
+    "O", "U", "Y", "9", "i:", "e:", "E:", "a:", "o:", "u:", "y:", "2:", "aI", "aU", "OY", "@",
+    "6" };
+  const std::vector<std::string> english = { "p", "b", "t", "d", "k", "g", "tS", "dZ", "f", "v",
+    "T", "D", "s", "z", "S", "Z", "h", "m", "n", "N", "r", "l", "w", "j", "I", "e", "{", "Q", "V",
+    "U", "@", "i:", "eI", "aI", "OI", "u:", "@U", "aU", "I@", "e@", "U@", "A:", "O:", "3:", "5" };
   for (VisemeSet set : AllSets)
   {
-    for (const auto& [language, inventory] : { std::make_pair("de", german), std::make_pair("en", english) })
+    for (const auto& [language, inventory] :
+      { std::make_pair("de", german), std::make_pair("en", english) })
     {
       const VisemeMap map = VisemeMap::Builtin(set, language);
       std::vector<std::string> warnings;
@@ -73,7 +76,8 @@ TEST(VisemeMap, EveryPhonemeOfTheLanguageIsMappedWithoutWarning)
         EXPECT_TRUE(IsSampaPhoneme(p, language)) << p;
         map.MapPhoneme(p, CollectWarnings(warnings));
       }
-      EXPECT_TRUE(warnings.empty()) << VisemeSetName(set) << "/" << language << ": " << warnings.front();
+      EXPECT_TRUE(warnings.empty())
+        << VisemeSetName(set) << "/" << language << ": " << warnings.front();
       EXPECT_EQ(map.GetLanguage(), language);
       for (const char* bilabial : { "p", "b", "m" })
       {
@@ -98,8 +102,8 @@ TEST(VisemeMap, UnknownPhonemeWarnsByNameAndUsesTheFallback)
   EXPECT_EQ(warnings.size(), 1u);
   // Through the segment mapping: one warning per unknown name, however often it occurs.
   warnings.clear();
-  const auto segments = PhonemesToVisemeSegments(
-    { { "Xq", 0.0, 0.1, {} }, { "a:", 0.1, 0.1, {} }, { "Xq", 0.2, 0.1, {} }, { "Yq", 0.3, 0.1, {} } },
+  const auto segments = PhonemesToVisemeSegments({ { "Xq", 0.0, 0.1, {} }, { "a:", 0.1, 0.1, {} },
+                                                   { "Xq", 0.2, 0.1, {} }, { "Yq", 0.3, 0.1, {} } },
     VisemeMap::Builtin(VisemeSet::German16, "de"), CollectWarnings(warnings));
   ASSERT_EQ(warnings.size(), 2u);
   EXPECT_NE(warnings[0].find("'Xq'"), std::string::npos);

@@ -41,9 +41,18 @@ TEST(StreamProtocol, HeaderRoundTrip)
   EXPECT_THROW(FormatHeader(many), StreamError);
   EXPECT_THROW(ParseHeader("not json"), StreamError);
   EXPECT_THROW(ParseHeader("[1]"), StreamError);
-  EXPECT_THROW(ParseHeader(R"({"type":"header","protocol":2,"fps":30,"sampleRate":24000,"codec":"pcm16","targets":[],"rotations":[]})"), StreamError);
-  EXPECT_THROW(ParseHeader(R"({"type":"header","protocol":1,"fps":30,"sampleRate":24000,"codec":"mp3","targets":[],"rotations":[]})"), StreamError);
-  EXPECT_THROW(ParseHeader(R"({"type":"header","protocol":1,"fps":"x","sampleRate":24000,"codec":"pcm16","targets":[],"rotations":[]})"), StreamError);
+  EXPECT_THROW(
+    ParseHeader(
+      R"({"type":"header","protocol":2,"fps":30,"sampleRate":24000,"codec":"pcm16","targets":[],"rotations":[]})"),
+    StreamError);
+  EXPECT_THROW(
+    ParseHeader(
+      R"({"type":"header","protocol":1,"fps":30,"sampleRate":24000,"codec":"mp3","targets":[],"rotations":[]})"),
+    StreamError);
+  EXPECT_THROW(
+    ParseHeader(
+      R"({"type":"header","protocol":1,"fps":"x","sampleRate":24000,"codec":"pcm16","targets":[],"rotations":[]})"),
+    StreamError);
 }
 
 TEST(StreamProtocol, FrameRoundTripAndSize)
@@ -107,7 +116,8 @@ TEST(StreamProtocol, AudioAndStop)
   EXPECT_THROW(DecodeServerMessage(odd.data(), odd.size()), StreamError);
   StreamHeader opus = SmallHeader();
   opus.Codec = AudioCodec::Opus;
-  EXPECT_THROW(DecodeServerMessage(bytes.data(), bytes.size(), &opus), StreamError); // codec differs
+  EXPECT_THROW(
+    DecodeServerMessage(bytes.data(), bytes.size(), &opus), StreamError); // codec differs
 
   const auto stop = EncodeStop({ 4800 });
   EXPECT_EQ(stop.size(), 5u);
@@ -155,7 +165,8 @@ TEST(StreamProtocol, ClientMessagesAreDialogCommands)
   EXPECT_EQ(quit.Error.Reason, dialog::reason::Rejected);
   EXPECT_EQ(quit.Error.Id, "7");
   EXPECT_EQ(ParseClientMessage("{{{").Error.Reason, dialog::reason::Malformed);
-  const std::string huge = R"({"cmd":"say","text":")" + std::string(MaxClientMessageBytes, 'a') + "\"}";
+  const std::string huge =
+    R"({"cmd":"say","text":")" + std::string(MaxClientMessageBytes, 'a') + "\"}";
   EXPECT_EQ(ParseClientMessage(huge).Error.Reason, dialog::reason::TooLong);
   EXPECT_TRUE(ParseClientMessage(R"({"cmd":"look_at","yaw":10,"pitch":-5})").Ok());
   EXPECT_TRUE(ParseClientMessage(R"({"cmd":"stop"})").Ok());

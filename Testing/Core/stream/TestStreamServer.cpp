@@ -41,27 +41,29 @@ public:
     beast::flat_buffer b;
     this->Ws.read(b);
     this->Header = nlohmann::json::parse(beast::buffers_to_string(b.data()));
-    this->Reader = std::thread([this]() {
-      for (;;)
+    this->Reader = std::thread(
+      [this]()
       {
-        beast::flat_buffer m;
-        beast::error_code ec;
-        this->Ws.read(m, ec);
-        if (ec)
+        for (;;)
         {
-          return;
+          beast::flat_buffer m;
+          beast::error_code ec;
+          this->Ws.read(m, ec);
+          if (ec)
+          {
+            return;
+          }
+          std::lock_guard<std::mutex> lock(this->M);
+          if (this->Ws.got_text())
+          {
+            this->Texts.push_back(beast::buffers_to_string(m.data()));
+          }
+          else if (m.size() > 0 && static_cast<const uint8_t*>(m.data().data())[0] == 2)
+          {
+            ++this->AudioChunks;
+          }
         }
-        std::lock_guard<std::mutex> lock(this->M);
-        if (this->Ws.got_text())
-        {
-          this->Texts.push_back(beast::buffers_to_string(m.data()));
-        }
-        else if (m.size() > 0 && static_cast<const uint8_t*>(m.data().data())[0] == 2)
-        {
-          ++this->AudioChunks;
-        }
-      }
-    });
+      });
   }
   ~Page()
   {
@@ -163,19 +165,22 @@ TEST(StreamServer, CommandsReachTheirSessionAndTheirEventsComeBack)
   SpeechOptions speech;
   speech.Visemes = VisemeSet::Paper6;
   const std::vector<std::string> visemes = SelectVisemeMap(speech).GetVisemes();
-  const GltfScene head = LoadGltfScene(std::string(MORPHNODE_SOURCE_DIR) + "/Data/DefaultFace/default_head.glb");
+  const GltfScene head =
+    LoadGltfScene(std::string(MORPHNODE_SOURCE_DIR) + "/Data/DefaultFace/default_head.glb");
   const StreamAvatar avatar(head, LiveBehavior(visemes).GetChannelNames());
   auto pool = std::make_shared<SynthesisPool>();
   std::mutex m;
   std::vector<std::pair<int, dialog::Event>> events;
   StreamServerSettings settings;
   settings.Threads = 2;
-  settings.MakeSession = [&](const SessionRequest&) {
+  settings.MakeSession = [&](const SessionRequest&)
+  {
     auto s = std::make_unique<StreamSession>(avatar, visemes, StandIn, StreamSettings());
     s->SetSynthesisPool(pool);
     return s;
   };
-  settings.CommandEvents = [&](int client, const dialog::Event& e) {
+  settings.CommandEvents = [&](int client, const dialog::Event& e)
+  {
     std::lock_guard<std::mutex> lock(m);
     events.emplace_back(client, e);
   };
@@ -189,11 +194,11 @@ TEST(StreamServer, CommandsReachTheirSessionAndTheirEventsComeBack)
   // Addressed to the first session: only it speaks; client 7 hears accepted, started,
   // ended, each naming the session; the pages hear none of these events.
   EXPECT_EQ(server.Send(Say("a", one.Id()), 7), 1u);
-  const auto saw = [&](const std::string& id, dialog::EventKind kind) {
+  const auto saw = [&](const std::string& id, dialog::EventKind kind)
+  {
     std::lock_guard<std::mutex> lock(m);
-    return std::count_if(events.begin(), events.end(), [&](const auto& e) {
-      return e.second.Id == "\"" + id + "\"" && e.second.Kind == kind;
-    });
+    return std::count_if(events.begin(), events.end(),
+      [&](const auto& e) { return e.second.Id == "\"" + id + "\"" && e.second.Kind == kind; });
   };
   ASSERT_TRUE(WaitFor([&] { return saw("a", dialog::EventKind::Ended) == 1; }));
   {
@@ -207,7 +212,8 @@ TEST(StreamServer, CommandsReachTheirSessionAndTheirEventsComeBack)
       EXPECT_EQ(e.second.Session, one.Id());
       EXPECT_EQ(e.second.Cmd, "say");
     }
-    EXPECT_NE(dialog::FormatEvent(events[0].second).find("\"session\":\"" + one.Id() + "\""), std::string::npos)
+    EXPECT_NE(dialog::FormatEvent(events[0].second).find("\"session\":\"" + one.Id() + "\""),
+      std::string::npos)
       << dialog::FormatEvent(events[0].second);
   }
   EXPECT_GT(one.Audio(), 0u);
@@ -220,7 +226,8 @@ TEST(StreamServer, CommandsReachTheirSessionAndTheirEventsComeBack)
   EXPECT_EQ(server.Send(Say("c", "nobody"), 8), 0u);
 
   // A page cannot address another session.
-  const std::string reply = FirstReply(port, "{\"cmd\":\"say\",\"text\":\"Hi\",\"session\":\"" + one.Id() + "\"}");
+  const std::string reply =
+    FirstReply(port, "{\"cmd\":\"say\",\"text\":\"Hi\",\"session\":\"" + one.Id() + "\"}");
   EXPECT_NE(reply.find("unknown_field"), std::string::npos) << reply;
   for (const std::string& t : one.Events())
   {

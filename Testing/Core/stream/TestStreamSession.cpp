@@ -14,13 +14,13 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <chrono>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <set>
 #include <thread>
-#include <chrono>
-#include <cmath>
 
 using namespace morphnode;
 using namespace morphnode::stream;
@@ -57,7 +57,8 @@ void WriteForValidator(const StreamAvatar& avatar, const std::string& name)
   }
   std::filesystem::create_directories(dir);
   std::ofstream out(std::string(dir) + "/" + name, std::ios::binary);
-  out.write(reinterpret_cast<const char*>(avatar.GetFile().data()), static_cast<std::streamsize>(avatar.GetFile().size()));
+  out.write(reinterpret_cast<const char*>(avatar.GetFile().data()),
+    static_cast<std::streamsize>(avatar.GetFile().size()));
 }
 
 struct Decoded
@@ -113,9 +114,11 @@ TEST(StreamAvatar, DefaultHeadFileHasDrivenTargetsAndRotationNodes)
   // The quantized file: KHR_mesh_quantization, fewer bytes (the deltas are half of them).
   const auto& glb = quantized.GetFile();
   ASSERT_GT(glb.size(), 20u);
-  const size_t jsonLength = glb[12] | (glb[13] << 8) | (glb[14] << 16) | (static_cast<size_t>(glb[15]) << 24);
+  const size_t jsonLength =
+    glb[12] | (glb[13] << 8) | (glb[14] << 16) | (static_cast<size_t>(glb[15]) << 24);
   ASSERT_LE(20 + jsonLength, glb.size());
-  const std::string json(glb.begin() + 20, glb.begin() + 20 + static_cast<std::ptrdiff_t>(jsonLength));
+  const std::string json(
+    glb.begin() + 20, glb.begin() + 20 + static_cast<std::ptrdiff_t>(jsonLength));
   EXPECT_NE(json.find("KHR_mesh_quantization"), std::string::npos);
   EXPECT_LT(quantized.GetFile().size(), avatar.GetFile().size());
   EXPECT_EQ(quantized.GetTargetNames(), avatar.GetTargetNames());
@@ -137,8 +140,8 @@ TEST(StreamAvatar, DefaultHeadFileHasDrivenTargetsAndRotationNodes)
   EXPECT_EQ(names, std::set<std::string>(targets.begin(), targets.end()));
   for (const std::string& rotation : avatar.GetRotationNames())
   {
-    EXPECT_TRUE(std::any_of(back.Nodes.begin(), back.Nodes.end(),
-      [&](const GltfNode& n) { return n.Name == rotation; }))
+    EXPECT_TRUE(std::any_of(
+      back.Nodes.begin(), back.Nodes.end(), [&](const GltfNode& n) { return n.Name == rotation; }))
       << rotation;
   }
   // A face the channels cannot drive is refused.
@@ -195,7 +198,8 @@ TEST(StreamSession, SayOpensTheMouthBringsSoundAndStopClosesIt)
   const SpeechOptions speech = Paper6();
   const StreamAvatar avatar(DefaultHead(), ChannelsOf(speech));
   StreamSettings settings;
-  StreamSession s(avatar, SelectVisemeMap(speech).GetVisemes(),
+  StreamSession s(
+    avatar, SelectVisemeMap(speech).GetVisemes(),
     [speech](const std::string& text) { return SpeakText(text, speech); }, settings);
   const StreamHeader h = ParseHeader(s.Header("x", "/avatar.glb"));
   const std::set<std::string> mouth = { "A", "E", "O", "S", "F", "L" };
@@ -241,10 +245,12 @@ TEST(StreamSession, TheOptimizerSendsFewerTargets)
   MORPHNODE_SKIP_WITHOUT_ESPEAK();
   const SpeechOptions speech = Paper6();
   const StreamAvatar avatar(DefaultHead(), ChannelsOf(speech));
-  auto count = [&](const OptimizerSettings& optimizer) {
+  auto count = [&](const OptimizerSettings& optimizer)
+  {
     StreamSettings settings;
     settings.Optimizer = optimizer;
-    StreamSession s(avatar, SelectVisemeMap(speech).GetVisemes(),
+    StreamSession s(
+      avatar, SelectVisemeMap(speech).GetVisemes(),
       [speech](const std::string& text) { return SpeakText(text, speech); }, settings);
     dialog::SayCommand say;
     say.Text = "One two three four five six seven.";
@@ -269,10 +275,12 @@ TEST(StreamSession, OpusWhenAskedIsSmallerThanPcm)
   }
   const SpeechOptions speech = Paper6();
   const StreamAvatar avatar(DefaultHead(), ChannelsOf(speech));
-  auto audio = [&](AudioCodec codec, std::vector<AudioChunk>& chunks) {
+  auto audio = [&](AudioCodec codec, std::vector<AudioChunk>& chunks)
+  {
     StreamSettings settings;
     settings.Codec = codec;
-    StreamSession s(avatar, SelectVisemeMap(speech).GetVisemes(),
+    StreamSession s(
+      avatar, SelectVisemeMap(speech).GetVisemes(),
       [speech](const std::string& text) { return SpeakText(text, speech); }, settings);
     const StreamHeader h = ParseHeader(s.Header("x", "/avatar.glb"));
     EXPECT_EQ(h.Codec, codec);
@@ -311,7 +319,8 @@ TEST(StreamSession, OpusWhenAskedIsSmallerThanPcm)
   StreamSettings odd;
   odd.Codec = AudioCodec::Opus;
   odd.SampleRate = 22050;
-  EXPECT_THROW(StreamSession(avatar, SelectVisemeMap(speech).GetVisemes(), nullptr, odd), InputError);
+  EXPECT_THROW(
+    StreamSession(avatar, SelectVisemeMap(speech).GetVisemes(), nullptr, odd), InputError);
 }
 
 // With the synthesis pool, a say returns at once and the frames go on; the speech starts
@@ -323,8 +332,10 @@ TEST(StreamSession, WithAPoolSayNeverBlocksAndASaysVoiceIsUsed)
   const SpeechOptions speech = Paper6();
   const StreamAvatar avatar(DefaultHead(), ChannelsOf(speech));
   auto voices = std::make_shared<std::vector<std::string>>();
-  auto fake = [](const std::string& voice) {
-    return [voice](const std::string& text) {
+  auto fake = [](const std::string& voice)
+  {
+    return [voice](const std::string& text)
+    {
       std::this_thread::sleep_for(std::chrono::milliseconds(30)); // synthesis takes a while
       Utterance u;
       u.Visemes = WeightTrack({ "A" }, 100.0);
@@ -347,14 +358,16 @@ TEST(StreamSession, WithAPoolSayNeverBlocksAndASaysVoiceIsUsed)
   say.Text = "Hallo.";
   say.Voice = "de";
   EXPECT_THROW(s.Say(say, 0.0), InputError) << "no voice synthesizers: a voice is refused";
-  s.SetVoiceSynthesizers([&](const std::string& voice) -> LiveBehavior::Synthesizer {
-    voices->push_back(voice);
-    if (voice != "de")
+  s.SetVoiceSynthesizers(
+    [&](const std::string& voice) -> LiveBehavior::Synthesizer
     {
-      throw InputError("unknown voice '" + voice + "'");
-    }
-    return fake(voice);
-  });
+      voices->push_back(voice);
+      if (voice != "de")
+      {
+        throw InputError("unknown voice '" + voice + "'");
+      }
+      return fake(voice);
+    });
   say.Voice = "xx";
   EXPECT_THROW(s.Say(say, 0.0), InputError);
   say.Voice = "de";
@@ -420,11 +433,13 @@ TEST(StreamAvatar, DevicesGetTheirLevelAndTheirPixelBoundPrunesTargets)
   EXPECT_DOUBLE_EQ(phoneOptions.TargetPixelBound, 1.0);
   phoneOptions.QuantizeDeltas = false; // read back below
   const StreamAvatar phone(DefaultHead(), channels, nullptr, phoneOptions);
-  EXPECT_EQ(phone.GetTargetNames(), full.GetTargetNames()) << "every target of the default head shows on a phone";
+  EXPECT_EQ(phone.GetTargetNames(), full.GetTargetNames())
+    << "every target of the default head shows on a phone";
   EXPECT_TRUE(phone.GetPrunedTargets().empty());
   if (phone.GetLevel() == 0)
   {
-    GTEST_SKIP() << "this build has no reduction (MORPHNODE_ENABLE_REDUCTION): the phone gets the full mesh";
+    GTEST_SKIP()
+      << "this build has no reduction (MORPHNODE_ENABLE_REDUCTION): the phone gets the full mesh";
   }
   EXPECT_EQ(phone.GetLevel(), 1);
   EXPECT_LT(phone.GetNumberOfTriangles(), 0.8 * full.GetNumberOfTriangles());
@@ -446,7 +461,8 @@ TEST(StreamAvatar, DevicesGetTheirLevelAndTheirPixelBoundPrunesTargets)
   EXPECT_EQ(triangles, phone.GetNumberOfTriangles());
   EXPECT_EQ(names.size(), phone.GetTargetNames().size());
   StreamAvatarOptions quantized = DeviceAvatarOptions(FindDeviceProfile("phone"));
-  WriteForValidator(StreamAvatar(DefaultHead(), channels, nullptr, quantized), "stream_default_head_phone.glb");
+  WriteForValidator(
+    StreamAvatar(DefaultHead(), channels, nullptr, quantized), "stream_default_head_phone.glb");
 
   // A target that barely moves: pruned for the phone (1 px), kept without a bound.
   GltfScene face = DefaultHead();

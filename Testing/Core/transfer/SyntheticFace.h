@@ -40,7 +40,8 @@ inline glm::dvec3 Delta(const std::string& name, double x, double y, bool lower)
     if (!(lower || y < MouthY - 1e-9))
       return glm::dvec3(0.0);
     // Fading out towards the corners: continuous wherever the sheet is whole.
-    const double f = std::exp(-x * x / 0.3) * std::clamp((MouthHalfWidth - std::abs(x)) / 0.1, 0.0, 1.0);
+    const double f =
+      std::exp(-x * x / 0.3) * std::clamp((MouthHalfWidth - std::abs(x)) / 0.1, 0.0, 1.0);
     return glm::dvec3(0.0, -0.2 * f, 0.05 * f);
   }
   if (name == "eyeBlink_L" || name == "eyeBlink_R")
@@ -64,7 +65,8 @@ inline glm::dvec3 Delta(const std::string& name, double x, double y, bool lower)
 
 inline const std::vector<std::string>& Names()
 {
-  static const std::vector<std::string> names{ "jawOpen", "eyeBlink_L", "eyeBlink_R", "mouthSmile_L" };
+  static const std::vector<std::string> names{ "jawOpen", "eyeBlink_L", "eyeBlink_R",
+    "mouthSmile_L" };
   return names;
 }
 
@@ -93,7 +95,8 @@ inline Face MakeFace(double h, double gap = 0.0, bool openMouth = true, bool too
   const int ny = int(std::lround(2.2 / h)) + 1;
   const int mouthRow = int(std::lround((MouthY + 1.2) / h));
   std::vector<int> id(size_t(nx * ny)), lowerId(size_t(nx * ny), -1);
-  auto add = [&](double x, double y, bool lower, int side) {
+  auto add = [&](double x, double y, bool lower, int side)
+  {
     const double yy = lower ? y - gap : y;
     face.Surface.Points.emplace_back(x, yy, Height(x, yy));
     std::vector<glm::dvec3> d;
@@ -118,7 +121,8 @@ inline Face MakeFace(double h, double gap = 0.0, bool openMouth = true, bool too
       if (InEye(cx, cy))
         continue;
       // The row below the slit uses the lower lip's copies.
-      auto v = [&](int ii, int jj) {
+      auto v = [&](int ii, int jj)
+      {
         const size_t k = size_t(jj * nx + ii);
         return uint32_t(jj == mouthRow && j < mouthRow && lowerId[k] >= 0 ? lowerId[k] : id[k]);
       };

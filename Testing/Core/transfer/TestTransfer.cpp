@@ -74,7 +74,8 @@ TEST(TransferAlignment, AutomaticRecoversASimilarity)
   const Similarity t = SomeSimilarity();
   TransferOptions options;
   options.Stiffness.clear(); // alignment only
-  const TransferResult r = TransferTargets(synthetic::ToSource(face), Transformed(face.Surface, t), options);
+  const TransferResult r =
+    TransferTargets(synthetic::ToSource(face), Transformed(face.Surface, t), options);
   EXPECT_NEAR(r.Scale, t.Scale, 1e-6);
   for (int c = 0; c < 3; ++c)
     for (int k = 0; k < 3; ++k)
@@ -95,11 +96,13 @@ TEST(TransferAlignment, LandmarksWithNoiseThenIcp)
   for (const auto& l : found.SourceLandmarks)
   {
     // 2 % of the eye distance off, in alternating directions.
-    const glm::dvec3 noise = 0.016 * glm::dvec3((k & 1) ? 1 : -1, (k & 2) ? 1 : -1, (k & 4) ? 1 : -1);
+    const glm::dvec3 noise =
+      0.016 * glm::dvec3((k & 1) ? 1 : -1, (k & 2) ? 1 : -1, (k & 4) ? 1 : -1);
     options.TargetLandmarks.push_back({ l.Name, t(l.Position + noise) });
     ++k;
   }
-  const TransferResult r = TransferTargets(synthetic::ToSource(face), Transformed(face.Surface, t), options);
+  const TransferResult r =
+    TransferTargets(synthetic::ToSource(face), Transformed(face.Surface, t), options);
   // The landmarks' alignment is off by about their noise; the registration takes it up.
   EXPECT_NEAR(r.Scale, t.Scale, 0.03 * t.Scale);
   EXPECT_LT(glm::length(r.Translation - t.T), 0.05);
@@ -110,7 +113,8 @@ TEST(TransferAlignment, LandmarksWithNoiseThenIcp)
 
 TEST(TransferAlignment, LandmarkFile)
 {
-  const auto l = ParseTransferLandmarks("# face\neye_L 1 2 3\n  chin -1 0.5 1e-2 # tip\n\nnoseTip 0 0 0");
+  const auto l =
+    ParseTransferLandmarks("# face\neye_L 1 2 3\n  chin -1 0.5 1e-2 # tip\n\nnoseTip 0 0 0");
   ASSERT_EQ(l.size(), 3u);
   EXPECT_EQ(l[1].Name, "chin");
   EXPECT_DOUBLE_EQ(l[1].Position.z, 0.01);
@@ -127,7 +131,8 @@ TEST(TransferExact, SimilarityCopyOfTheSource)
   const Similarity t = SomeSimilarity();
   TransferOptions options;
   options.ComputeAllMethods = true;
-  const TransferResult r = TransferTargets(synthetic::ToSource(face), Transformed(face.Surface, t), options);
+  const TransferResult r =
+    TransferTargets(synthetic::ToSource(face), Transformed(face.Surface, t), options);
   double largest = 0;
   const double dt = MaxError(r, face.Deltas, t, largest);
   EXPECT_LT(dt, 1e-6 * largest);
@@ -148,9 +153,11 @@ TEST(TransferRegistration, ResidualFallsOnAnotherShape)
   // Landmarks where the source's are, on the other shape (the alignment has its own tests).
   TransferOptions options, probe;
   probe.Stiffness.clear();
-  for (const auto& l : TransferTargets(synthetic::ToSource(face), face.Surface, probe).SourceLandmarks)
-    options.TargetLandmarks.push_back(
-      { l.Name, l.Position + glm::dvec3(0, 0, 0.08 * l.Position.x * l.Position.x + 0.04 * std::sin(3 * l.Position.y)) });
+  for (const auto& l :
+    TransferTargets(synthetic::ToSource(face), face.Surface, probe).SourceLandmarks)
+    options.TargetLandmarks.push_back({ l.Name,
+      l.Position +
+        glm::dvec3(0, 0, 0.08 * l.Position.x * l.Position.x + 0.04 * std::sin(3 * l.Position.y)) });
   const TransferResult r = TransferTargets(synthetic::ToSource(face), other, options);
   EXPECT_GT(r.AlignedResidualP95, 0.02);
   EXPECT_LT(r.ResidualP95, 0.15 * r.AlignedResidualP95);
@@ -232,7 +239,8 @@ TEST(TransferErrors, BadInputIsRefusedClearly)
 {
   const auto face = synthetic::MakeFace(0.05);
   const auto source = synthetic::ToSource(face);
-  auto expectError = [](auto&& call, const std::string& words) {
+  auto expectError = [](auto&& call, const std::string& words)
+  {
     try
     {
       call();
@@ -251,7 +259,8 @@ TEST(TransferErrors, BadInputIsRefusedClearly)
   auto nonManifold = face.Surface;
   nonManifold.Points.emplace_back(0.0, 0.0, 5.0);
   nonManifold.Triangles.insert(nonManifold.Triangles.end(),
-    { nonManifold.Triangles[0], nonManifold.Triangles[2], uint32_t(nonManifold.Points.size() - 1) });
+    { nonManifold.Triangles[0], nonManifold.Triangles[2],
+      uint32_t(nonManifold.Points.size() - 1) });
   expectError([&] { TransferTargets(source, nonManifold); }, "non-manifold");
   // A closed mouth.
   const auto closed = synthetic::MakeFace(0.05, 0.0, false);

@@ -1,6 +1,6 @@
 // Blends two triangles with the installed vtkMorphNodeFilter; exits 0 when the blend is right.
-#include <vtkMorphNodeFilter.h>
 #include "morph/Weights.h"
+#include <vtkMorphNodeFilter.h>
 
 #include <vtkCellArray.h>
 #include <vtkNew.h>
@@ -27,6 +27,7 @@ int main()
   morph->SetWeight(1, 0.5);
   morph->Update();
   const double x = morph->GetOutput()->GetPoint(1)[0];
-  std::cout << "blended x = " << x << " (" << morphnode::WeightModeName(morphnode::WeightMode::Normalize) << ")\n";
+  std::cout << "blended x = " << x << " ("
+            << morphnode::WeightModeName(morphnode::WeightMode::Normalize) << ")\n";
   return std::abs(x - 1.5) < 1e-6 ? 0 : 1;
 }

@@ -24,8 +24,8 @@
 #include <cmath>
 #include <fstream>
 #include <iostream>
-#include <sstream>
 #include <memory>
+#include <sstream>
 #include <vector>
 
 using namespace morphnode;
@@ -35,7 +35,8 @@ int main(int argc, char** argv)
   CLI::App app{ "Mouth cues (Rhubarb Lip Sync TSV/JSON) for a recording: aligned to its "
                 "transcript in any eSpeak NG language, from another tool's timings, or recognized "
                 "(English only, less precise)." };
-  std::string audioPath, text, textFile, timings, voice = "en", format = "tsv", output, route = "auto";
+  std::string audioPath, text, textFile, timings, voice = "en", format = "tsv", output,
+                                                  route = "auto";
   std::string visemes = "oculus15";
   double minimumCue = 0.07;
   bool quiet = false;
@@ -43,21 +44,33 @@ int main(int argc, char** argv)
     ->required()
     ->check(CLI::ExistingFile);
   auto* textOption = app.add_option("--text", text, "the transcript");
-  auto* textFileOption = app.add_option("--text-file,-d,--dialogFile", textFile,
-    "a UTF-8 file holding the transcript")->check(CLI::ExistingFile);
+  auto* textFileOption =
+    app.add_option("--text-file,-d,--dialogFile", textFile, "a UTF-8 file holding the transcript")
+      ->check(CLI::ExistingFile);
   textOption->excludes(textFileOption);
-  app.add_option("--timings", timings,
-    "timings from another tool instead of aligning: .TextGrid (phone tier), .marks (speech "
-    "marks), .pho")->check(CLI::ExistingFile)->excludes(textOption)->excludes(textFileOption);
-  app.add_option("--voice,-v", voice, "eSpeak NG voice of the transcript's language (en, de, "
-    "fr, es, ...)")->capture_default_str();
-  app.add_option("--route", route, "auto, transcript, timing-file or recognition")->capture_default_str();
+  app
+    .add_option("--timings", timings,
+      "timings from another tool instead of aligning: .TextGrid (phone tier), .marks (speech "
+      "marks), .pho")
+    ->check(CLI::ExistingFile)
+    ->excludes(textOption)
+    ->excludes(textFileOption);
+  app
+    .add_option("--voice,-v", voice,
+      "eSpeak NG voice of the transcript's language (en, de, "
+      "fr, es, ...)")
+    ->capture_default_str();
+  app.add_option("--route", route, "auto, transcript, timing-file or recognition")
+    ->capture_default_str();
   app.add_option("-f,--exportFormat", format, "tsv or json")
     ->check(CLI::IsMember({ "tsv", "json" }))
     ->capture_default_str();
   app.add_option("-o,--output", output, "the cue file (default: standard output)");
-  app.add_option("--visemes", visemes, "viseme set the shapes are taken from: oculus15, german16, "
-    "paper6")->capture_default_str();
+  app
+    .add_option("--visemes", visemes,
+      "viseme set the shapes are taken from: oculus15, german16, "
+      "paper6")
+    ->capture_default_str();
   appkit::AddNumberOption(app, "--min-cue", minimumCue, 0.0, 1.0,
     "seconds a cue lasts at least (shorter ones merge into the previous; closures are kept)");
   app.add_flag("-q,--quiet", quiet, "no progress bar");
@@ -72,7 +85,8 @@ int main(int argc, char** argv)
     SpeechOptions speech;
     speech.Voice = voice;
     speech.Visemes = ParseVisemeSet(visemes);
-    speech.Warn = [](const std::string& message) { std::cerr << "MorphLipSync: warning: " << message << "\n"; };
+    speech.Warn = [](const std::string& message)
+    { std::cerr << "MorphLipSync: warning: " << message << "\n"; };
     RecordingOptions options;
     options.Route = ParseRecordingRoute(route);
     options.Transcript = text;
@@ -89,13 +103,15 @@ int main(int argc, char** argv)
     // BuildUtterance may have put silence in front for the mouth's lead: undo it, so the
     // cues match the file as it is.
     const double pad = static_cast<double>(u.Audio.size()) / u.SampleRate - recording.GetDuration();
-    std::vector<MouthCue> cues = VisemeTrackToMouthCues(u.Visemes, SelectVisemeMap(speech), minimumCue);
+    std::vector<MouthCue> cues =
+      VisemeTrackToMouthCues(u.Visemes, SelectVisemeMap(speech), minimumCue);
     std::vector<MouthCue> shifted;
     for (MouthCue c : cues)
     {
       // Rhubarb writes centiseconds; so do we (a cue never starts before the previous).
       c.Start = std::round(100.0 * std::max(0.0, c.Start - std::max(pad, 0.0))) / 100.0;
-      c.End = std::round(100.0 * std::min(recording.GetDuration(), c.End - std::max(pad, 0.0))) / 100.0;
+      c.End =
+        std::round(100.0 * std::min(recording.GetDuration(), c.End - std::max(pad, 0.0))) / 100.0;
       if (!shifted.empty())
       {
         c.Start = std::max(c.Start, shifted.back().End);
@@ -109,9 +125,9 @@ int main(int argc, char** argv)
     {
       std::cerr << "MorphLipSync: route " << RecordingRouteName(report.Route) << ", "
                 << shifted.size() << " cues over " << recording.GetDuration() << " s"
-                << (report.Route == RecordingRoute::Transcript
-                       ? ", alignment score " + text::FormatNumber(std::round(report.Score * 1000) / 1000)
-                       : std::string())
+                << (report.Route == RecordingRoute::Transcript ? ", alignment score " +
+                         text::FormatNumber(std::round(report.Score * 1000) / 1000)
+                                                               : std::string())
                 << "\n";
     }
     std::ostringstream file; // written safely below (base/File.h)
@@ -142,7 +158,8 @@ int main(int argc, char** argv)
   }
   catch (const std::bad_alloc&)
   {
-    std::cerr << "MorphLipSync: out of memory (the input is too long for this machine; see docs/limits.md)\n";
+    std::cerr << "MorphLipSync: out of memory (the input is too long for this machine; see "
+                 "docs/limits.md)\n";
     return 1;
   }
   catch (const std::exception& e)
