@@ -4,6 +4,7 @@
 #include "base/Error.h"
 
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
+#include <OpenMesh/Core/System/omstream.hh>
 // QuadricT needs vector_traits from the mesh headers.
 #include <OpenMesh/Core/Geometry/QuadricT.hh>
 #include <OpenMesh/Tools/Decimater/DecimaterT.hh>
@@ -28,6 +29,29 @@ struct Traits : public OpenMesh::DefaultTraits
 };
 using Mesh = OpenMesh::TriMesh_ArrayKernelT<Traits>;
 using Quadric = OpenMesh::Geometry::QuadricT<double>;
+
+/// Silences OpenMesh's error stream (omerr) for its lifetime and restores it after.
+class OpenMeshErrorsQuiet
+{
+public:
+  OpenMeshErrorsQuiet()
+    : WasEnabled(omerr().is_enabled())
+  {
+    omerr().disable();
+  }
+  ~OpenMeshErrorsQuiet()
+  {
+    if (this->WasEnabled)
+    {
+      omerr().enable();
+    }
+  }
+  OpenMeshErrorsQuiet(const OpenMeshErrorsQuiet&) = delete;
+  OpenMeshErrorsQuiet& operator=(const OpenMeshErrorsQuiet&) = delete;
+
+private:
+  bool WasEnabled;
+};
 
 /// The area-weighted plane quadric of a triangle, as ModQuadricT builds it.
 Quadric FaceQuadric(
@@ -375,6 +399,9 @@ ReductionResult Reduce(
       Mesh::Point(input.Positions[3 * v], input.Positions[3 * v + 1], input.Positions[3 * v + 2]));
   }
   size_t rejected = 0;
+  // OpenMesh prints "complex edge" / "complex vertex" on its error stream for every face it
+  // refuses; the count is reported below (or through the result) instead, in one message.
+  const OpenMeshErrorsQuiet quiet;
   for (size_t t = 0; t < morph.GetNumberOfTriangles(); ++t)
   {
     const uint32_t* ids = &triangles[3 * t];
