@@ -303,16 +303,18 @@ TEST(MorphAvatar, IctHeadTalksWithTeethAndTongue)
 
 TEST(MorphAvatar, InteractiveWindowRunsAndKeysSwitchTheMethod)
 {
-  // The window for a second, time in real time; keys 4 (error-bounded), then 2 and + + -
-  // (fixed threshold + remaining, 0.1 + 0.025).
-  const AvatarRun run = RunAvatar("--say 'Hi.' --size 320x320 --exit-after 1 --keys '42++-'");
+  // The window for two seconds, time in real time; keys 4 (error-bounded), then 2 and + + -
+  // (fixed threshold + remaining, 0.1 + 0.025). A timer that never fires leaves the first
+  // frame alone; the window's first render (shaders under llvmpipe) can take most of a second
+  // on a loaded machine, so two seconds and more than one frame, not a frame rate.
+  const AvatarRun run = RunAvatar("--say 'Hi.' --size 320x320 --exit-after 2 --keys '42++-'");
   ASSERT_EQ(run.ExitCode, 0) << run.Text;
   EXPECT_NE(run.Text.find("method 2: fixed threshold + remaining"), std::string::npos) << run.Text;
   EXPECT_NE(run.Text.find("threshold 0.125"), std::string::npos) << run.Text;
   int frames = 0;
   ASSERT_EQ(
     std::sscanf(run.Text.substr(run.Text.find("rendered")).c_str(), "rendered %d", &frames), 1);
-  EXPECT_GT(frames, 3) << "the timer did not advance the animation";
+  EXPECT_GT(frames, 1) << "the timer did not advance the animation";
 }
 
 // The window plays the speech on the sound device (playback/AudioPlayer), and its clock is
