@@ -10,9 +10,14 @@
 #endif
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
+#include <map>
 #include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
 
 namespace morphnode
 {
@@ -135,6 +140,145 @@ PhonemeRecognition RecognizePhonemes(
   (void)options;
   throw InputError("phoneme recognition needs PocketSphinx, and this MorphNode was built without "
                    "it (MORPHNODE_ENABLE_POCKETSPHINX=OFF): give a transcript or a timing file");
+#endif
+}
+
+TranscriptFit FitTranscript(
+  const AudioBuffer& recording, const std::string& transcript, const RecognitionOptions& options)
+{
+  if (recording.IsEmpty() || recording.SampleRate <= 0)
+  {
+    throw InputError("the recording is empty");
+  }
+  // The transcript's words as the dictionary spells them: lower case, letters and '.
+  std::vector<std::string> words(1);
+  for (char c : transcript)
+  {
+    const unsigned char u = static_cast<unsigned char>(c);
+    if (std::isalpha(u) || (c == '\'' && !words.back().empty()))
+    {
+      words.back() += static_cast<char>(std::tolower(u));
+    }
+    else if (u >= 0x80 || std::isdigit(u))
+    {
+      throw InputError("the transcript has characters the English dictionary does not spell");
+    }
+    else if (!words.back().empty())
+    {
+      words.emplace_back();
+    }
+  }
+  if (words.back().empty())
+  {
+    words.pop_back();
+  }
+  if (words.empty())
+  {
+    throw InputError("the transcript has no words");
+  }
+#if MORPHNODE_HAVE_POCKETSPHINX
+  namespace fs = std::filesystem;
+  const std::string folder = options.ModelDirectory.empty()
+    ? std::string(MORPHNODE_POCKETSPHINX_MODEL_DIR)
+    : options.ModelDirectory;
+  const std::string hmm = (fs::path(folder) / "en-us").string();
+  const std::string lm = (fs::path(folder) / "en-us-phone.lm.bin").string();
+  const std::string dict = (fs::path(folder) / "cmudict-en-us.dict").string();
+  std::error_code ignored;
+  if (!fs::is_directory(hmm, ignored) || !fs::is_regular_file(lm, ignored) ||
+    !fs::is_regular_file(dict, ignored))
+  {
+    throw InputError("the transcript check needs the PocketSphinx en-us model in '" + folder +
+      "' (Debian: pocketsphinx-en-us)");
+  }
+  // The phone loop is the recognizer's search (RecognizePhonemes); the forced path a
+  // grammar of the transcript's words in order (pauses and breath between words are the
+  // decoder's own fillers).
+  // Loading the model and the dictionary takes about a second: one decoder per model
+  // folder is kept for the process (PocketSphinx decoders are not thread-safe: a lock).
+  // Beams of 1e-10: the widest that keeps the check fast (0.3 s for 3 s of speech); the
+  // ratios on the cards set are the same as with 1e-20 (docs/speech.md).
+  struct Decoder
+  {
+    std::unique_ptr<cmd_ln_t, int (*)(cmd_ln_t*)> Config{ nullptr, cmd_ln_free_r };
+    std::unique_ptr<ps_decoder_t, int (*)(ps_decoder_t*)> Ps{ nullptr, ps_free };
+  };
+  static std::mutex lock;
+  static std::map<std::string, Decoder> decoders;
+  std::lock_guard<std::mutex> hold(lock);
+  Decoder& cached = decoders[folder];
+  if (!cached.Ps)
+  {
+    cached.Config.reset(cmd_ln_init(nullptr, ps_args(), TRUE, "-hmm", hmm.c_str(), "-dict",
+      dict.c_str(), "-allphone", lm.c_str(), "-backtrace", "yes", "-beam", "1e-10", "-pbeam",
+      "1e-10", "-wbeam", "1e-10", "-lw", "2.0", "-logfn", "/dev/null", nullptr));
+    if (!cached.Config)
+    {
+      throw InputError("PocketSphinx rejected its configuration");
+    }
+    cached.Ps.reset(ps_init(cached.Config.get()));
+    if (!cached.Ps)
+    {
+      throw InputError("PocketSphinx failed to load its model from '" + folder + "'");
+    }
+  }
+  ps_decoder_t* decoder = cached.Ps.get();
+  ps_set_search(decoder, "_default"); // the phone loop, -allphone (after an earlier transcript)
+  ps_unset_search(decoder, "transcript");
+  std::string grammar = "#JSGF V1.0;\ngrammar transcript;\npublic <transcript> =";
+  for (const std::string& w : words)
+  {
+    if (!ps_lookup_word(decoder, w.c_str()))
+    {
+      throw InputError("'" + w + "' is not in the English dictionary");
+    }
+    grammar += " " + w;
+  }
+  grammar += ";\n";
+  const AudioBuffer mono = Resample(MixToMono(recording), 16000, ResampleQuality::Medium);
+  const std::vector<int16_t> samples = ToInt16Mono(mono);
+  // The acoustic cost of the best path of the active search; false: no path to its end.
+  const auto decode = [&](long long& cost, int& frames)
+  {
+    if (ps_start_utt(decoder) < 0 ||
+      ps_process_raw(decoder, samples.data(), samples.size(), FALSE, TRUE) < 0)
+    {
+      throw InputError("PocketSphinx failed while decoding");
+    }
+    ps_end_utt(decoder);
+    frames = ps_get_n_frames(decoder);
+    int32 best = 0;
+    if (!ps_get_hyp(decoder, &best))
+    {
+      return false;
+    }
+    cost = 0;
+    for (ps_seg_t* seg = ps_seg_iter(decoder); seg; seg = ps_seg_next(seg))
+    {
+      int32 acoustic = 0, language = 0, backoff = 0;
+      ps_seg_prob(seg, &acoustic, &language, &backoff);
+      cost -= acoustic;
+    }
+    return true;
+  };
+  TranscriptFit fit;
+  long long loop = 0, forced = 0;
+  if (!decode(loop, fit.Frames) || loop <= 0)
+  {
+    throw InputError("no speech recognized in the recording (silence or noise only?)");
+  }
+  if (ps_set_jsgf_string(decoder, "transcript", grammar.c_str()) < 0 ||
+    ps_set_search(decoder, "transcript") < 0)
+  {
+    throw InputError("PocketSphinx rejected the transcript's grammar");
+  }
+  fit.Completed = decode(forced, fit.Frames);
+  fit.Ratio = fit.Completed ? static_cast<double>(forced) / static_cast<double>(loop) : 0.0;
+  return fit;
+#else
+  (void)options;
+  throw InputError("the transcript check needs PocketSphinx, and this MorphNode was built "
+                   "without it (MORPHNODE_ENABLE_POCKETSPHINX=OFF)");
 #endif
 }
 } // namespace morphnode
