@@ -196,8 +196,10 @@ TranscriptFit FitTranscript(
   // decoder's own fillers).
   // Loading the model and the dictionary takes about a second: one decoder per model
   // folder is kept for the process (PocketSphinx decoders are not thread-safe: a lock).
-  // Beams of 1e-10: the widest that keeps the check fast (0.3 s for 3 s of speech); the
-  // ratios on the cards set are the same as with 1e-20 (docs/speech.md).
+  // Beams of 1e-10: the phone loop is the costly search (0.2 s of a core per second of
+  // speech at 1e-10, 5x that at 1e-20); 1e-8 already spoils it (a wrong transcript then
+  // fits better than the pruned free decode), 1e-10 separates the cards set as 1e-20 does
+  // (docs/speech.md).
   struct Decoder
   {
     std::unique_ptr<cmd_ln_t, int (*)(cmd_ln_t*)> Config{ nullptr, cmd_ln_free_r };
