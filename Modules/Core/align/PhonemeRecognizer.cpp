@@ -7,6 +7,8 @@
 
 #if MORPHNODE_HAVE_POCKETSPHINX
 #include <pocketsphinx.h>
+#include <sphinxbase/ckd_alloc.h>
+#include <sphinxbase/fsg_model.h>
 #endif
 
 #include <algorithm>
@@ -227,16 +229,15 @@ TranscriptFit FitTranscript(
   ps_decoder_t* decoder = cached.Ps.get();
   ps_set_search(decoder, "_default"); // the phone loop, -allphone (after an earlier transcript)
   ps_unset_search(decoder, "transcript");
-  std::string grammar = "#JSGF V1.0;\ngrammar transcript;\npublic <transcript> =";
   for (const std::string& w : words)
   {
-    if (!ps_lookup_word(decoder, w.c_str()))
+    char* phones = ps_lookup_word(decoder, w.c_str()); // the caller frees it
+    if (!phones)
     {
       throw InputError("'" + w + "' is not in the English dictionary");
     }
-    grammar += " " + w;
+    ckd_free(phones);
   }
-  grammar += ";\n";
   const AudioBuffer mono = Resample(MixToMono(recording), 16000, ResampleQuality::Medium);
   const std::vector<int16_t> samples = ToInt16Mono(mono);
   // The acoustic cost of the best path of the active search; false: no path to its end.
@@ -269,8 +270,22 @@ TranscriptFit FitTranscript(
   {
     throw InputError("no speech recognized in the recording (silence or noise only?)");
   }
-  if (ps_set_jsgf_string(decoder, "transcript", grammar.c_str()) < 0 ||
-    ps_set_search(decoder, "transcript") < 0)
+  // The grammar: a chain of the words, state i to i + 1 by word i (the search adds the
+  // fillers and alternative pronunciations). Built directly, not parsed from JSGF text:
+  // sphinxbase's JSGF parser leaks its tokens.
+  const int32 states = static_cast<int32>(words.size()) + 1;
+  fsg_model_t* chain = fsg_model_init("transcript", ps_get_logmath(decoder),
+    static_cast<float32>(cmd_ln_float32_r(cached.Config.get(), "-lw")), states);
+  for (size_t i = 0; i < words.size(); ++i)
+  {
+    fsg_model_trans_add(chain, static_cast<int32>(i), static_cast<int32>(i + 1), 0,
+      fsg_model_word_add(chain, words[i].c_str()));
+  }
+  chain->start_state = 0;
+  chain->final_state = states - 1;
+  const int added = ps_set_fsg(decoder, "transcript", chain); // it keeps its own reference
+  fsg_model_free(chain);
+  if (added < 0 || ps_set_search(decoder, "transcript") < 0)
   {
     throw InputError("PocketSphinx rejected the transcript's grammar");
   }
