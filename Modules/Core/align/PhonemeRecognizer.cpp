@@ -206,6 +206,11 @@ TranscriptFit FitTranscript(
   {
     std::unique_ptr<cmd_ln_t, int (*)(cmd_ln_t*)> Config{ nullptr, cmd_ln_free_r };
     std::unique_ptr<ps_decoder_t, int (*)(ps_decoder_t*)> Ps{ nullptr, ps_free };
+    /// The last recording's free decode (the costly part): several transcripts tried on
+    /// one recording decode it once.
+    std::vector<int16_t> LastSamples;
+    long long LastLoop = 0;
+    int LastFrames = 0;
   };
   static std::mutex lock;
   static std::map<std::string, Decoder> decoders;
@@ -213,9 +218,10 @@ TranscriptFit FitTranscript(
   Decoder& cached = decoders[folder];
   if (!cached.Ps)
   {
-    cached.Config.reset(cmd_ln_init(nullptr, ps_args(), TRUE, "-hmm", hmm.c_str(), "-dict",
-      dict.c_str(), "-allphone", lm.c_str(), "-backtrace", "yes", "-beam", "1e-10", "-pbeam",
-      "1e-10", "-wbeam", "1e-10", "-lw", "2.0", "-logfn", "/dev/null", nullptr));
+    cached.Config.reset(
+      cmd_ln_init(nullptr, ps_args(), TRUE, "-hmm", hmm.c_str(), "-dict", dict.c_str(), "-allphone",
+        lm.c_str(), "-backtrace", "yes", "-beam", "1e-10", "-pbeam", "1e-10", "-wbeam", "1e-10",
+        "-lw", "2.0", "-remove_noise", "no", "-logfn", "/dev/null", nullptr));
     if (!cached.Config)
     {
       throw InputError("PocketSphinx rejected its configuration");
@@ -225,6 +231,17 @@ TranscriptFit FitTranscript(
     {
       throw InputError("PocketSphinx failed to load its model from '" + folder + "'");
     }
+    // Results must not depend on what was decoded before: without noise removal (its
+    // estimate carries over from one utterance to the next) only the decoder's first
+    // utterance differs from all later ones; a warm-up utterance takes that place.
+    std::vector<int16_t> warmUp(8000);
+    for (size_t i = 0; i < warmUp.size(); ++i)
+    {
+      warmUp[i] = static_cast<int16_t>(3000.0 * std::sin(0.07 * static_cast<double>(i)));
+    }
+    ps_start_utt(cached.Ps.get());
+    ps_process_raw(cached.Ps.get(), warmUp.data(), warmUp.size(), FALSE, TRUE);
+    ps_end_utt(cached.Ps.get());
   }
   ps_decoder_t* decoder = cached.Ps.get();
   ps_set_search(decoder, "_default"); // the phone loop, -allphone (after an earlier transcript)
@@ -266,9 +283,21 @@ TranscriptFit FitTranscript(
   };
   TranscriptFit fit;
   long long loop = 0, forced = 0;
-  if (!decode(loop, fit.Frames) || loop <= 0)
+  if (samples == cached.LastSamples)
   {
-    throw InputError("no speech recognized in the recording (silence or noise only?)");
+    loop = cached.LastLoop;
+    fit.Frames = cached.LastFrames;
+  }
+  else
+  {
+    cached.LastSamples.clear();
+    if (!decode(loop, fit.Frames) || loop <= 0)
+    {
+      throw InputError("no speech recognized in the recording (silence or noise only?)");
+    }
+    cached.LastSamples = samples;
+    cached.LastLoop = loop;
+    cached.LastFrames = fit.Frames;
   }
   // The grammar: a chain of the words, state i to i + 1 by word i (the search adds the
   // fillers and alternative pronunciations). Built directly, not parsed from JSGF text:

@@ -40,10 +40,10 @@ bool IsPhonemeRecognitionAvailable();
 /// How well an English transcript fits a recording, relative to what the audio supports: the
 /// acoustic cost (minus log-likelihood) of the transcript forced through the recording
 /// (PocketSphinx: its words in order from the CMU dictionary, triphones, optional pauses
-/// between words) against that of a free phone-loop decode of the same audio (context-free
-/// phones, any order). A recording of the transcript fits it better than the free decode
-/// (ratio below 1: on pocketsphinx-testdata's cards 0.33 to 0.59); another text costs more
-/// (1.0 to 2.6), or cannot be forced through the recording at all.
+/// between words) against that of a free phone-loop decode of the same audio (phones in
+/// any order). A recording of the transcript fits it better than the free decode
+/// (ratio below 1: on pocketsphinx-testdata's cards 0.37 to 0.73); another text costs more
+/// (0.94 to 2.8), or cannot be forced through the recording at all.
 struct TranscriptFit
 {
   bool Completed = false; ///< the forced path reached the transcript's end

@@ -53,7 +53,7 @@ struct TranscriptAlignOptions
   /// short recording of natural speech, whose alignment Score is low even for its own
   /// words, does not warn falsely. Calibrated on pocketsphinx-testdata's cards
   /// (docs/speech.md).
-  double MaximumFitRatio = 0.85;
+  double MaximumFitRatio = 0.83;
   double MaximumCheckSeconds = 30.0;
   bool AcousticCheck = true; ///< off: the Score alone decides
   /// Called with the fraction done (0..1); returning false cancels with InputError.
