@@ -108,6 +108,29 @@ class AvatarClient:
     def say(self, text, voice=None, **kw):
         return self.send("say", text=text, **({"voice": voice} if voice else {}), **kw)
 
+    def say_recording(self, audio, timings=None, text=None, timings_format=None, **kw):
+        """External speech (docs/dialog.md): `audio` is the recording's bytes (sent inline,
+        base64) or a file name in the avatar's --speech-dir; `timings` a file name there (str),
+        the timing file's text (bytes) or its JSON (a list or dict), sent inline; `text` the
+        transcript to align when there are no timings."""
+        import base64
+        fields = {}
+        if isinstance(audio, (bytes, bytearray)):
+            fields["audio_base64"] = base64.b64encode(audio).decode("ascii")
+        else:
+            fields["audio"] = audio
+        if isinstance(timings, str):
+            fields["timings"] = timings
+        elif isinstance(timings, (bytes, bytearray)):
+            fields["timings_inline"] = timings.decode("utf-8")
+        elif timings is not None:
+            fields["timings_inline"] = timings
+        if timings_format:
+            fields["timings_format"] = timings_format
+        if text is not None:
+            fields["text"] = text
+        return self.send("say", **fields, **kw)
+
     def gesture(self, name, intensity=1.0, duration=None, **kw):
         extra = {"duration": duration} if duration else {}
         return self.send("gesture", name=name, intensity=intensity, **extra, **kw)

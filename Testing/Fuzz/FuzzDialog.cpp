@@ -42,13 +42,18 @@ void CheckLine(std::string_view text, size_t limit)
     if (std::holds_alternative<SayCommand>(p.Cmd.Body))
     {
       const SayCommand& say = std::get<SayCommand>(p.Cmd.Body);
-      if (say.Audio.empty() && say.Text.find_first_not_of(" \t\r\n") == std::string::npos)
+      if (!say.HasRecording() && say.Text.find_first_not_of(" \t\r\n") == std::string::npos)
       {
-        std::abort(); // a say has text, or a recording (external speech)
+        std::abort(); // a say has text, or a recording (external speech, by name or inline)
       }
-      if (say.Audio.empty() && (!say.Timings.empty() || !say.TimingsFormat.empty()))
+      if (!say.HasRecording() &&
+        (!say.Timings.empty() || !say.TimingsData.empty() || !say.TimingsFormat.empty()))
       {
         std::abort(); // timings only with a recording
+      }
+      if (!say.Audio.empty() && !say.AudioData.empty())
+      {
+        std::abort(); // a recording by name or inline, not both
       }
     }
     return;

@@ -105,7 +105,7 @@ class DialogAvatarTest(unittest.TestCase):
         c = self.client
         c.send_line(b"not json\n[1,2]\n{\"text\":\"x\"}\n{\"cmd\":\"fly\",\"id\":\"f\"}\n")
         c.send_line(b"{\"cmd\":\"gesture\",\"name\":\"nod\",\"intensity\":7,\"id\":\"g\"}\n")
-        c.send_line(b"{\"cmd\":\"stop\",\"\x00\":1}\n" + b"x" * 70000 + b"\n")
+        c.send_line(b"{\"cmd\":\"stop\",\"\x00\":1}\n" + b"x" * (1024 * 1024 + 10) + b"\n")
         reasons = []
         while len(reasons) < 7:
             e = c.next_event(timeout=30)
@@ -205,6 +205,68 @@ class DialogAvatarTest(unittest.TestCase):
                 c.wait(c.send("say", audio=audio, timings=tsv), "accepted", 30)
             self.assertEqual(caught.exception.event["reason"], "rejected")
             self.assertIn("speech folder", caught.exception.event["message"])
+
+    def test_8_inline_external_speech(self):
+        """External speech inline: the recording's bytes in base64 and its Polly speech marks
+        in the command itself (no file, no --speech-dir needed). The avatar speaks it like a
+        named recording: the utterance lasts the recording, its sound starts where the
+        recording's does (0.3 s, where the marks close the lips). Bad base64, bytes that are
+        no sound, an unreadable timing text and an oversized line each get an error and the
+        session goes on."""
+        import base64
+        import io
+        import math
+        import struct
+        import wave
+        c = self.client
+        data = io.BytesIO()
+        with wave.open(data, "wb") as w:  # 1.5 s: silence, a tone from 0.3 s to 1.3 s, silence
+            w.setnchannels(1)
+            w.setsampwidth(2)
+            w.setframerate(16000)
+            w.writeframes(b"".join(
+                struct.pack("<h", int(8000 * math.sin(2 * math.pi * 220 * i / 16000))
+                            if 0.3 * 16000 <= i < 1.3 * 16000 else 0) for i in range(24000)))
+        audio = base64.b64encode(data.getvalue()).decode("ascii")
+        marks = [{"time": 0, "type": "viseme", "value": "sil"}, {"time": 300, "type": "viseme", "value": "p"},
+                 {"time": 450, "type": "viseme", "value": "a"}, {"time": 1300, "type": "viseme", "value": "sil"}]
+        # As JSON (an array of marks), as Polly's text (one mark a line), and named.
+        text = "".join(json.dumps(m) + "\n" for m in marks)
+        for fields in ({"timings_inline": marks},
+                       {"timings_inline": text, "timings_format": "speech-marks"}):
+            said = c.send("say", audio_base64=audio, **fields)
+            accepted, started, ended = self.lifecycle(c, said)
+            self.assertEqual(accepted["cmd"], "say")
+            self.assertAlmostEqual(accepted["end"] - accepted["start"], 1.5, delta=0.15)
+            self.assertAlmostEqual(accepted["sound"] - accepted["start"], 0.3, delta=0.05)
+        # Bad base64: the parser refuses it (bad_field, where it went wrong).
+        with self.assertRaises(AvatarError) as caught:
+            c.wait(c.send("say", audio_base64=audio[:100] + "*" + audio[101:], timings_inline=marks),
+                   "accepted", 30)
+        self.assertEqual(caught.exception.event["reason"], "bad_field")
+        self.assertIn("'audio_base64' is not valid base64: '*' at character 100",
+                      caught.exception.event["message"])
+        # Valid base64 of bytes that are no sound file: rejected by the audio reader.
+        with self.assertRaises(AvatarError) as caught:
+            c.wait(c.send("say", audio_base64=base64.b64encode(b"RIFF but no WAVE" * 8).decode(),
+                          timings_inline=marks), "accepted", 30)
+        self.assertEqual(caught.exception.event["reason"], "rejected")
+        self.assertIn("'audio_base64' cannot be read", caught.exception.event["message"])
+        # Timings that are no timings.
+        with self.assertRaises(AvatarError) as caught:
+            c.wait(c.send("say", audio_base64=audio, timings_inline="no timings here"), "accepted", 30)
+        self.assertEqual(caught.exception.event["reason"], "rejected")
+        self.assertIn("inline timings", caught.exception.event["message"])
+        # Beyond the line limit (1 MiB): too_long, the bytes dropped as they come.
+        big = base64.b64encode(b"\0" * (800 * 1024)).decode()
+        c.send_line(json.dumps({"cmd": "say", "id": "big", "audio_base64": big}) + "\n")
+        e = c.next_event(timeout=30)
+        while e["event"] != "error":  # (late events of earlier commands are not)
+            e = c.next_event(timeout=30)
+        self.assertEqual(e["reason"], "too_long")
+        # The session goes on (the example client's helper sends the same command).
+        accepted, _, _ = self.lifecycle(c, c.say_recording(data.getvalue(), text.encode()))
+        self.assertAlmostEqual(accepted["sound"] - accepted["start"], 0.3, delta=0.05)
 
     def test_9_quit(self):
         c = self.client

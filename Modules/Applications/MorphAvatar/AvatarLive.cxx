@@ -15,6 +15,7 @@
 #include "StopSignal.h"
 
 #include "align/RecordingSpeech.h"
+#include "audio/AudioFile.h"
 #include "base/Error.h"
 #include "behavior/LiveBehavior.h"
 #include "dialog/DialogServer.h"
@@ -105,12 +106,12 @@ public:
   dialog::Schedule Say(const dialog::SayCommand& c, double now) override
   {
     morphnode::LiveBehavior::Timing timing;
-    if (!c.Audio.empty())
+    if (c.HasRecording())
     {
-      // External speech: the dialog system's own voice, a recording on this machine with
-      // its timings (or its transcript); the recording is the sound, the mouth its timing.
+      // External speech: the dialog system's own voice, a recording on this machine or
+      // inline in the command, with its timings (a file or inline) or its transcript; the
+      // recording is the sound, the mouth its timing.
       const std::string folder = this->A ? this->A->Opt.SpeechDir : std::string();
-      const std::string audio = InsideFolder(c.Audio, folder, "audio");
       const std::string timings =
         c.Timings.empty() ? "" : InsideFolder(c.Timings, folder, "timings");
       morphnode::SpeechOptions options = this->Speech;
@@ -120,12 +121,20 @@ public:
       }
       morphnode::RecordingOptions recording;
       recording.Transcript = c.Text;
+      // (The transcript's acoustic check costs 0.2 s of a core per second of speech: too
+      // long for the frame loop; the alignment's score still warns.)
+      recording.Align.AcousticCheck = false;
       recording.TimingFile = timings;
+      recording.TimingData = c.TimingsData;
       if (!c.TimingsFormat.empty())
       {
         recording.Timing.Format = morphnode::ParseTimingFormat(c.TimingsFormat);
       }
-      timing = this->Live.Speak(morphnode::SpeakAudioFile(audio, options, recording), now);
+      // The same reader for both: libsndfile from the file, or from memory (virtual I/O).
+      const morphnode::AudioBuffer sound = c.AudioData.empty()
+        ? morphnode::ReadAudioFile(InsideFolder(c.Audio, folder, "audio"))
+        : morphnode::ReadAudioMemory(c.AudioData, "'audio_base64'");
+      timing = this->Live.Speak(morphnode::SpeakRecording(sound, options, recording), now);
     }
     else if (c.Voice.empty())
     {

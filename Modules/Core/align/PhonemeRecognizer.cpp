@@ -7,12 +7,19 @@
 
 #if MORPHNODE_HAVE_POCKETSPHINX
 #include <pocketsphinx.h>
+#include <sphinxbase/ckd_alloc.h>
+#include <sphinxbase/fsg_model.h>
 #endif
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
+#include <map>
 #include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
 
 namespace morphnode
 {
@@ -135,6 +142,189 @@ PhonemeRecognition RecognizePhonemes(
   (void)options;
   throw InputError("phoneme recognition needs PocketSphinx, and this MorphNode was built without "
                    "it (MORPHNODE_ENABLE_POCKETSPHINX=OFF): give a transcript or a timing file");
+#endif
+}
+
+TranscriptFit FitTranscript(
+  const AudioBuffer& recording, const std::string& transcript, const RecognitionOptions& options)
+{
+  if (recording.IsEmpty() || recording.SampleRate <= 0)
+  {
+    throw InputError("the recording is empty");
+  }
+  // The transcript's words as the dictionary spells them: lower case, letters and '.
+  std::vector<std::string> words(1);
+  for (char c : transcript)
+  {
+    const unsigned char u = static_cast<unsigned char>(c);
+    if (std::isalpha(u) || (c == '\'' && !words.back().empty()))
+    {
+      words.back() += static_cast<char>(std::tolower(u));
+    }
+    else if (u >= 0x80 || std::isdigit(u))
+    {
+      throw InputError("the transcript has characters the English dictionary does not spell");
+    }
+    else if (!words.back().empty())
+    {
+      words.emplace_back();
+    }
+  }
+  if (words.back().empty())
+  {
+    words.pop_back();
+  }
+  if (words.empty())
+  {
+    throw InputError("the transcript has no words");
+  }
+#if MORPHNODE_HAVE_POCKETSPHINX
+  namespace fs = std::filesystem;
+  const std::string folder = options.ModelDirectory.empty()
+    ? std::string(MORPHNODE_POCKETSPHINX_MODEL_DIR)
+    : options.ModelDirectory;
+  const std::string hmm = (fs::path(folder) / "en-us").string();
+  const std::string lm = (fs::path(folder) / "en-us-phone.lm.bin").string();
+  const std::string dict = (fs::path(folder) / "cmudict-en-us.dict").string();
+  std::error_code ignored;
+  if (!fs::is_directory(hmm, ignored) || !fs::is_regular_file(lm, ignored) ||
+    !fs::is_regular_file(dict, ignored))
+  {
+    throw InputError("the transcript check needs the PocketSphinx en-us model in '" + folder +
+      "' (Debian: pocketsphinx-en-us)");
+  }
+  // The phone loop is the recognizer's search (RecognizePhonemes); the forced path a
+  // grammar of the transcript's words in order (pauses and breath between words are the
+  // decoder's own fillers).
+  // Loading the model and the dictionary takes about a second: one decoder per model
+  // folder is kept for the process (PocketSphinx decoders are not thread-safe: a lock).
+  // Beams of 1e-10: the phone loop is the costly search (0.2 s of a core per second of
+  // speech at 1e-10, 5x that at 1e-20); 1e-8 already spoils it (a wrong transcript then
+  // fits better than the pruned free decode), 1e-10 separates the cards set as 1e-20 does
+  // (docs/speech.md).
+  struct Decoder
+  {
+    std::unique_ptr<cmd_ln_t, int (*)(cmd_ln_t*)> Config{ nullptr, cmd_ln_free_r };
+    std::unique_ptr<ps_decoder_t, int (*)(ps_decoder_t*)> Ps{ nullptr, ps_free };
+    /// The last recording's free decode (the costly part): several transcripts tried on
+    /// one recording decode it once.
+    std::vector<int16_t> LastSamples;
+    long long LastLoop = 0;
+    int LastFrames = 0;
+  };
+  static std::mutex lock;
+  static std::map<std::string, Decoder> decoders;
+  std::lock_guard<std::mutex> hold(lock);
+  Decoder& cached = decoders[folder];
+  if (!cached.Ps)
+  {
+    cached.Config.reset(
+      cmd_ln_init(nullptr, ps_args(), TRUE, "-hmm", hmm.c_str(), "-dict", dict.c_str(), "-allphone",
+        lm.c_str(), "-backtrace", "yes", "-beam", "1e-10", "-pbeam", "1e-10", "-wbeam", "1e-10",
+        "-lw", "2.0", "-remove_noise", "no", "-logfn", "/dev/null", nullptr));
+    if (!cached.Config)
+    {
+      throw InputError("PocketSphinx rejected its configuration");
+    }
+    cached.Ps.reset(ps_init(cached.Config.get()));
+    if (!cached.Ps)
+    {
+      throw InputError("PocketSphinx failed to load its model from '" + folder + "'");
+    }
+    // Results must not depend on what was decoded before: without noise removal (its
+    // estimate carries over from one utterance to the next) only the decoder's first
+    // utterance differs from all later ones; a warm-up utterance takes that place.
+    std::vector<int16_t> warmUp(8000);
+    for (size_t i = 0; i < warmUp.size(); ++i)
+    {
+      warmUp[i] = static_cast<int16_t>(3000.0 * std::sin(0.07 * static_cast<double>(i)));
+    }
+    ps_start_utt(cached.Ps.get());
+    ps_process_raw(cached.Ps.get(), warmUp.data(), warmUp.size(), FALSE, TRUE);
+    ps_end_utt(cached.Ps.get());
+  }
+  ps_decoder_t* decoder = cached.Ps.get();
+  ps_set_search(decoder, "_default"); // the phone loop, -allphone (after an earlier transcript)
+  ps_unset_search(decoder, "transcript");
+  for (const std::string& w : words)
+  {
+    char* phones = ps_lookup_word(decoder, w.c_str()); // the caller frees it
+    if (!phones)
+    {
+      throw InputError("'" + w + "' is not in the English dictionary");
+    }
+    ckd_free(phones);
+  }
+  const AudioBuffer mono = Resample(MixToMono(recording), 16000, ResampleQuality::Medium);
+  const std::vector<int16_t> samples = ToInt16Mono(mono);
+  // The acoustic cost of the best path of the active search; false: no path to its end.
+  const auto decode = [&](long long& cost, int& frames)
+  {
+    if (ps_start_utt(decoder) < 0 ||
+      ps_process_raw(decoder, samples.data(), samples.size(), FALSE, TRUE) < 0)
+    {
+      throw InputError("PocketSphinx failed while decoding");
+    }
+    ps_end_utt(decoder);
+    frames = ps_get_n_frames(decoder);
+    int32 best = 0;
+    if (!ps_get_hyp(decoder, &best))
+    {
+      return false;
+    }
+    cost = 0;
+    for (ps_seg_t* seg = ps_seg_iter(decoder); seg; seg = ps_seg_next(seg))
+    {
+      int32 acoustic = 0, language = 0, backoff = 0;
+      ps_seg_prob(seg, &acoustic, &language, &backoff);
+      cost -= acoustic;
+    }
+    return true;
+  };
+  TranscriptFit fit;
+  long long loop = 0, forced = 0;
+  if (samples == cached.LastSamples)
+  {
+    loop = cached.LastLoop;
+    fit.Frames = cached.LastFrames;
+  }
+  else
+  {
+    cached.LastSamples.clear();
+    if (!decode(loop, fit.Frames) || loop <= 0)
+    {
+      throw InputError("no speech recognized in the recording (silence or noise only?)");
+    }
+    cached.LastSamples = samples;
+    cached.LastLoop = loop;
+    cached.LastFrames = fit.Frames;
+  }
+  // The grammar: a chain of the words, state i to i + 1 by word i (the search adds the
+  // fillers and alternative pronunciations). Built directly, not parsed from JSGF text:
+  // sphinxbase's JSGF parser leaks its tokens.
+  const int32 states = static_cast<int32>(words.size()) + 1;
+  fsg_model_t* chain = fsg_model_init("transcript", ps_get_logmath(decoder),
+    static_cast<float32>(cmd_ln_float32_r(cached.Config.get(), "-lw")), states);
+  for (size_t i = 0; i < words.size(); ++i)
+  {
+    fsg_model_trans_add(chain, static_cast<int32>(i), static_cast<int32>(i + 1), 0,
+      fsg_model_word_add(chain, words[i].c_str()));
+  }
+  chain->start_state = 0;
+  chain->final_state = states - 1;
+  const int added = ps_set_fsg(decoder, "transcript", chain); // it keeps its own reference
+  fsg_model_free(chain);
+  if (added < 0 || ps_set_search(decoder, "transcript") < 0)
+  {
+    throw InputError("PocketSphinx rejected the transcript's grammar");
+  }
+  fit.Completed = decode(forced, fit.Frames);
+  fit.Ratio = fit.Completed ? static_cast<double>(forced) / static_cast<double>(loop) : 0.0;
+  return fit;
+#else
+  (void)options;
+  throw InputError("the transcript check needs PocketSphinx, and this MorphNode was built "
+                   "without it (MORPHNODE_ENABLE_POCKETSPHINX=OFF)");
 #endif
 }
 } // namespace morphnode

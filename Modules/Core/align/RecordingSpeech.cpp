@@ -83,8 +83,8 @@ Utterance SpeakRecording(const AudioBuffer& recording, const SpeechOptions& spee
   RecordingRoute route = options.Route;
   if (route == RecordingRoute::Auto)
   {
-    route = !options.TimingFile.empty()         ? RecordingRoute::TimingFile
-      : !text::Trim(options.Transcript).empty() ? RecordingRoute::Transcript
+    route = !options.TimingFile.empty() || !options.TimingData.empty() ? RecordingRoute::TimingFile
+      : !text::Trim(options.Transcript).empty()                        ? RecordingRoute::Transcript
                                                 : RecordingRoute::Recognition;
   }
   RecordingReport done;
@@ -95,14 +95,17 @@ Utterance SpeakRecording(const AudioBuffer& recording, const SpeechOptions& spee
   {
     case RecordingRoute::TimingFile:
     {
-      if (options.TimingFile.empty())
+      const bool inMemory = !options.TimingData.empty();
+      if (options.TimingFile.empty() && !inMemory)
       {
         throw InputError("the timing-file route needs a timing file");
       }
       done.Score = 1.0;
-      const std::string bytes = text::ReadFile(options.TimingFile, "timing file");
+      const std::string name = options.TimingFile.empty() ? "inline timings" : options.TimingFile;
+      const std::string bytes =
+        inMemory ? options.TimingData : text::ReadFile(options.TimingFile, "timing file");
       const TimingFormat format = options.Timing.Format == TimingFormat::Auto
-        ? GuessTimingFormat(options.TimingFile, bytes)
+        ? GuessTimingFormat(name, bytes)
         : options.Timing.Format;
       if (IsRhubarbFormat(format))
       {
@@ -110,14 +113,14 @@ Utterance SpeakRecording(const AudioBuffer& recording, const SpeechOptions& spee
         // visemes as they are; the recording is their sound, from time 0 as the cues.
         TimingFileOptions timing = options.Timing;
         timing.Format = format;
-        Utterance u = LoadTimingFile(options.TimingFile, speech, timing);
+        Utterance u = LoadTimingData(bytes, name, speech, timing);
         int rate = 0;
         u.Audio = SoundOf(recording, rate);
         u.SampleRate = rate;
         const double seconds = static_cast<double>(u.Audio.size()) / rate;
         if (u.Duration > seconds + 0.5 && speech.Warn)
         {
-          speech.Warn("the mouth cues of '" + options.TimingFile + "' run " +
+          speech.Warn("the mouth cues of '" + name + "' run " +
             text::FormatNumber(std::round((u.Duration - seconds) * 100) / 100) +
             " s past the end of the recording");
         }
@@ -132,11 +135,13 @@ Utterance SpeakRecording(const AudioBuffer& recording, const SpeechOptions& spee
         }
         return u;
       }
-      phonemes = LoadTimedPhonemes(options.TimingFile, language, options.Timing);
+      TimingFileOptions timing = options.Timing;
+      timing.Format = format;
+      phonemes = LoadTimedPhonemesData(bytes, name, language, timing);
       const double end = phonemes.empty() ? 0.0 : phonemes.back().Start + phonemes.back().Duration;
       if (end > recording.GetDuration() + 0.5 && speech.Warn)
       {
-        speech.Warn("the timings of '" + options.TimingFile + "' run " +
+        speech.Warn("the timings of '" + name + "' run " +
           text::FormatNumber(std::round((end - recording.GetDuration()) * 100) / 100) +
           " s past the end of the recording");
       }

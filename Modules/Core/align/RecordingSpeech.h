@@ -30,6 +30,9 @@ struct RecordingOptions
   RecordingRoute Route = RecordingRoute::Auto;
   std::string Transcript; ///< UTF-8, in the language of SpeechOptions::Voice
   std::string TimingFile; ///< a .TextGrid, .marks, .pho, .tsv, .json
+  /// The timings' bytes in memory (e.g. inline in a dialog command) instead of reading
+  /// TimingFile, which then only names them in messages (empty: "inline timings").
+  std::string TimingData;
   TimingFileOptions Timing;
   /// Passed to the aligner (its Voice, Warn and Progress are taken from here and the
   /// SpeechOptions when left at their defaults).

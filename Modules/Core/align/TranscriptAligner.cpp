@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "align/TranscriptAligner.h"
 
+#include "align/PhonemeRecognizer.h"
 #include "base/Error.h"
 #include "base/Text.h"
 #include "speech/Sampa.h"
@@ -8,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 
 namespace morphnode
 {
@@ -450,12 +452,61 @@ TranscriptAlignment AlignTranscript(const AudioBuffer& recording, const std::str
   }
   const double random = RandomPairDistance(a, silentA, b, silentB);
   result.Score = (random > 0.0 && pathCount > 0) ? 1.0 - (pathSum / pathCount) / random : 0.0;
-  result.Reliable = result.Score >= options.MinimumScore;
+  // Does the transcript match? The alignment's score alone does not tell on short
+  // recordings of natural speech (a speaker far from eSpeak's voice scores low with the
+  // right words, and as low with a similar sentence); where it can, an acoustic model
+  // judges the words relative to what the audio supports (FitTranscript). The transcript
+  // is doubted only when neither the score nor the acoustic check supports it.
+  std::string why;
+  const std::string language = text::ToLower(options.Voice);
+  if (options.AcousticCheck && IsPhonemeRecognitionAvailable() &&
+    SpeechLanguageOf(options.Voice) == "en" && language.rfind("en", 0) == 0 &&
+    recordingDuration <= options.MaximumCheckSeconds)
+  {
+    try
+    {
+      const TranscriptFit fit = FitTranscript(recording, transcript);
+      result.FitRatio = fit.Completed ? fit.Ratio : std::numeric_limits<double>::infinity();
+      if (!fit.Completed)
+      {
+        why = "its words cannot be forced through the audio (acoustic check)";
+      }
+      else if (fit.Ratio > options.MaximumFitRatio)
+      {
+        why = "its words, forced through the audio, cost " +
+          text::FormatNumber(std::round(fit.Ratio * 100) / 100) +
+          " times as much as a free phone decode of it (at most " +
+          text::FormatNumber(options.MaximumFitRatio) + " for a recording of them; acoustic check)";
+      }
+    }
+    catch (const InputError&)
+    {
+      // A word the dictionary lacks, no model: the score decides (FitRatio stays NaN).
+    }
+  }
+  if (result.Score < options.MinimumScore)
+  {
+    why = "alignment score " + text::FormatNumber(std::round(result.Score * 1000) / 1000) + " < " +
+      text::FormatNumber(options.MinimumScore) + (why.empty() ? "" : ", and " + why);
+  }
+  else
+  {
+    // A score above the bound is evidence enough: synthetic speech (eSpeak's voices, which
+    // it compares well with) fits PocketSphinx's model of natural speech poorly even with
+    // its own words.
+    why.clear();
+  }
+  if (std::isfinite(result.FitRatio) && result.FitRatio <= options.MaximumFitRatio)
+  {
+    why.clear(); // the words fit the audio better than a free decode does
+  }
+  result.Reliable = why.empty();
   if (!result.Reliable && options.Warn)
   {
-    options.Warn("the transcript may not match the recording: alignment score " +
-      text::FormatNumber(std::round(result.Score * 1000) / 1000) + " < " +
-      text::FormatNumber(options.MinimumScore));
+    // Say which route timed the recording: this transcript, aligned all the same.
+    options.Warn("the transcript may not match the recording: " + why +
+      "; the recording is timed by aligning this transcript all the same (check the "
+      "transcript, or give a timing file)");
   }
 
   // Carry every boundary across.

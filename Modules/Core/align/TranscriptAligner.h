@@ -21,6 +21,7 @@
 #include "speech/Warning.h"
 
 #include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -42,8 +43,19 @@ struct TranscriptAlignOptions
   /// Weight of the log-energy feature against the 12 normalized cepstra.
   double EnergyWeight = 1.5;
   /// Alignments scoring below this are reported as not matching the transcript
-  /// (Reliable = false and a warning). Calibrated in docs/speech.md.
+  /// (Reliable = false and a warning), unless the acoustic check below finds that the
+  /// transcript fits. Calibrated in docs/speech.md.
   double MinimumScore = 0.2;
+  /// The acoustic check (English, with PocketSphinx, recordings up to MaximumCheckSeconds,
+  /// every word in the CMU dictionary): the transcript fits when it can be forced through
+  /// the recording at most this times the acoustic cost of a free phone decode of the same
+  /// audio (FitTranscript, PhonemeRecognizer.h). Relative to what the audio supports, so a
+  /// short recording of natural speech, whose alignment Score is low even for its own
+  /// words, does not warn falsely. Calibrated on pocketsphinx-testdata's cards
+  /// (docs/speech.md).
+  double MaximumFitRatio = 0.83;
+  double MaximumCheckSeconds = 30.0;
+  bool AcousticCheck = true; ///< off: the Score alone decides
   /// Called with the fraction done (0..1); returning false cancels with InputError.
   std::function<bool(double)> Progress;
   WarningHandler Warn;
@@ -62,7 +74,13 @@ struct TranscriptAlignment
   /// 1 - (mean distance along the path) / (mean distance between random frames): near 0.5
   /// for a recording of the transcript, near 0 for a transcript that does not match it.
   double Score = 0.0;
-  bool Reliable = false;   ///< Score >= MinimumScore and the tempo was plausible
+  /// The acoustic check's forced / free cost ratio (TranscriptAlignOptions::MaximumFitRatio);
+  /// +inf when the transcript could not be forced through the recording; NaN when the check
+  /// did not run (another language, no PocketSphinx, a word not in its dictionary, a long
+  /// recording): then Score alone decided.
+  double FitRatio = std::numeric_limits<double>::quiet_NaN();
+  /// Score >= MinimumScore or FitRatio <= MaximumFitRatio (and the tempo was plausible).
+  bool Reliable = false;
   int SynthesisRate = 0;   ///< words per minute of the synthesis aligned
   double TempoRatio = 1.0; ///< recorded speech duration / synthetic, before rate adaption
   size_t CellsEvaluated = 0;

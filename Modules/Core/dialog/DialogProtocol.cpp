@@ -1,8 +1,12 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "dialog/DialogProtocol.h"
 
+#include "base/Base64.h"
+#include "base/Error.h"
+
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <initializer_list>
@@ -120,21 +124,94 @@ double GetDuration(const json& object, const char* key)
   return value;
 }
 
+/// `timings_inline`: the timing file's text as a string (TSV, TextGrid, .pho, speech-mark
+/// lines, any JSON format as text), or a JSON format as JSON: an object (Rhubarb JSON, Azure
+/// visemes, character alignments) or an array (Azure viseme events; speech marks, which
+/// become the one-object-per-line text Polly writes).
+std::string InlineTimings(const json& value)
+{
+  if (value.is_string())
+  {
+    const std::string& text = value.get_ref<const std::string&>();
+    if (text.find_first_not_of(" \t\r\n") == std::string::npos)
+    {
+      throw FieldError{ reason::BadField, "'timings_inline' must not be empty" };
+    }
+    return text;
+  }
+  if (value.is_array() && !value.empty())
+  {
+    const bool marks = std::all_of(value.begin(), value.end(),
+      [](const json& m) { return m.is_object() && m.contains("time") && m.contains("type"); });
+    if (!marks)
+    {
+      return value.dump(-1, ' ', false, json::error_handler_t::replace);
+    }
+    std::string lines;
+    for (const json& mark : value)
+    {
+      lines += mark.dump(-1, ' ', false, json::error_handler_t::replace) + "\n";
+    }
+    return lines;
+  }
+  if (value.is_object() && !value.empty())
+  {
+    return value.dump(-1, ' ', false, json::error_handler_t::replace);
+  }
+  throw FieldError{ reason::BadField,
+    "'timings_inline' must be the timings' text (a string) or their JSON (a non-empty object "
+    "or array)" };
+}
+
 CommandBody ParseBody(const std::string& cmd, const json& o)
 {
   if (cmd == "say")
   {
-    CheckKeys(o, "say", { "text", "voice", "audio", "timings", "timings_format" });
+    CheckKeys(o, "say",
+      { "text", "voice", "audio", "timings", "timings_format", "audio_base64", "timings_inline" });
     SayCommand c;
     // External speech: a recording (and its timings) instead of synthesis; text optional.
+    // By name (files in the avatar's speech folder) or inline (base64 bytes, timing text).
     c.Audio = GetString(o, "audio", false, true);
+    if (o.contains("audio_base64"))
+    {
+      if (o.contains("audio"))
+      {
+        throw FieldError{ reason::BadField, "give 'audio' (a file) or 'audio_base64', not both" };
+      }
+      const std::string encoded = GetString(o, "audio_base64", true, true);
+      try
+      {
+        c.AudioData = base64::Decode(encoded, "'audio_base64'");
+      }
+      catch (const InputError& e)
+      {
+        throw FieldError{ reason::BadField, e.what() };
+      }
+      if (c.AudioData.empty())
+      {
+        throw FieldError{ reason::BadField, "'audio_base64' holds no bytes" };
+      }
+    }
     c.Timings = GetString(o, "timings", false, true);
     c.TimingsFormat = GetString(o, "timings_format", false, true);
-    if (c.Audio.empty() && (o.contains("timings") || o.contains("timings_format")))
+    auto inlineTimings = o.find("timings_inline");
+    if (inlineTimings != o.end())
     {
-      throw FieldError{ reason::BadField, "'timings' and 'timings_format' go with 'audio'" };
+      if (o.contains("timings"))
+      {
+        throw FieldError{ reason::BadField,
+          "give 'timings' (a file) or 'timings_inline', not both" };
+      }
+      c.TimingsData = InlineTimings(*inlineTimings);
     }
-    c.Text = GetString(o, "text", c.Audio.empty(), c.Audio.empty());
+    if (!c.HasRecording() &&
+      (o.contains("timings") || o.contains("timings_inline") || o.contains("timings_format")))
+    {
+      throw FieldError{ reason::BadField,
+        "'timings', 'timings_inline' and 'timings_format' go with 'audio' or 'audio_base64'" };
+    }
+    c.Text = GetString(o, "text", !c.HasRecording(), !c.HasRecording());
     c.Voice = GetString(o, "voice", false, false);
     if (o.contains("voice") && c.Voice.find_first_not_of(" \t") == std::string::npos)
     {

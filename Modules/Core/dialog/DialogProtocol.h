@@ -26,8 +26,9 @@ namespace dialog
 {
 /// Protocol version (the `protocol` field of docs/dialog.md).
 constexpr int ProtocolVersion = 1;
-/// Longest line accepted by default, newline excluded (bytes).
-constexpr size_t DefaultMaxLineBytes = 64 * 1024;
+/// Longest line accepted by default, newline excluded (bytes): room for a recording inline
+/// (`audio_base64`: about 750 KB of sound, 24 s of 16-bit 16 kHz WAV, minutes of OGG).
+constexpr size_t DefaultMaxLineBytes = 1024 * 1024;
 /// Longest id string (bytes).
 constexpr size_t MaxIdBytes = 256;
 /// A command's duration is 0 (its default) or in [MinDuration, MaxDuration] seconds: every
@@ -49,6 +50,13 @@ struct SayCommand
   std::string Audio;
   std::string Timings;
   std::string TimingsFormat;
+  /// External speech inline: the recording's bytes (`audio_base64`, decoded: a WAV, FLAC or
+  /// OGG file as it would be on disk) instead of `Audio`, and the timing file's text
+  /// (`timings_inline`) instead of `Timings`.
+  std::string AudioData;
+  std::string TimingsData;
+  /// True for external speech (a recording by name or inline).
+  bool HasRecording() const { return !this->Audio.empty() || !this->AudioData.empty(); }
 };
 struct GestureCommand
 {

@@ -174,13 +174,13 @@ TimingFormat GuessTimingFormat(const std::string& path, const std::string& bytes
   }
   throw InputError("'" + path +
     "': cannot tell the timing format (use the extension .pho, "
-    ".tsv, .json, .xml, .TextGrid or .marks, or name the format: --timings-format)");
+    ".tsv, .json, .xml, .TextGrid or .marks, or name the format: --timings-format, "
+    "'timings_format' in a dialog command)");
 }
 
-std::vector<TimedPhoneme> LoadTimedPhonemes(
-  const std::string& path, const std::string& language, const TimingFileOptions& options)
+std::vector<TimedPhoneme> LoadTimedPhonemesData(const std::string& bytes, const std::string& path,
+  const std::string& language, const TimingFileOptions& options)
 {
-  const std::string bytes = text::ReadFile(path, "timing file");
   try
   {
     const TimingFormat format =
@@ -194,10 +194,15 @@ std::vector<TimedPhoneme> LoadTimedPhonemes(
   }
 }
 
-Utterance LoadTimingFile(
-  const std::string& path, const SpeechOptions& speech, const TimingFileOptions& options)
+std::vector<TimedPhoneme> LoadTimedPhonemes(
+  const std::string& path, const std::string& language, const TimingFileOptions& options)
 {
-  const std::string bytes = text::ReadFile(path, "timing file");
+  return LoadTimedPhonemesData(text::ReadFile(path, "timing file"), path, language, options);
+}
+
+Utterance LoadTimingData(const std::string& bytes, const std::string& path,
+  const SpeechOptions& speech, const TimingFileOptions& options)
+{
   try
   {
     const TimingFormat format =
@@ -217,5 +222,11 @@ Utterance LoadTimingFile(
     const std::string what = e.what();
     throw InputError(what.rfind("'" + path + "'", 0) == 0 ? what : "'" + path + "': " + what);
   }
+}
+
+Utterance LoadTimingFile(
+  const std::string& path, const SpeechOptions& speech, const TimingFileOptions& options)
+{
+  return LoadTimingData(text::ReadFile(path, "timing file"), path, speech, options);
 }
 } // namespace morphnode

@@ -53,4 +53,12 @@ Utterance LoadTimingFile(
 /// files, which hold mouth shapes, not phonemes).
 std::vector<TimedPhoneme> LoadTimedPhonemes(
   const std::string& path, const std::string& language, const TimingFileOptions& options = {});
+
+/// The same two from a timing file's bytes in memory (timings inline in a dialog command):
+/// `name` stands for the file in messages, and an extension in it tells the format like a
+/// file's (e.g. "inline timings" has none: the content tells).
+Utterance LoadTimingData(const std::string& bytes, const std::string& name,
+  const SpeechOptions& speech = {}, const TimingFileOptions& options = {});
+std::vector<TimedPhoneme> LoadTimedPhonemesData(const std::string& bytes, const std::string& name,
+  const std::string& language, const TimingFileOptions& options = {});
 } // namespace morphnode

@@ -275,7 +275,7 @@ void StreamSession::QueueAudio(const LiveBehavior::AudioSegment& segment)
 
 dialog::Schedule StreamSession::Say(const dialog::SayCommand& c, double now)
 {
-  if (!c.Audio.empty() || !c.Timings.empty())
+  if (c.HasRecording() || !c.Timings.empty())
   {
     // (Recordings name files on the server: the command socket's external speech is the
     // window's; a stream session synthesizes its text.)

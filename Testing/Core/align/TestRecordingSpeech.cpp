@@ -7,12 +7,14 @@
 #include "audio/AudioFile.h"
 #include "audio/Resample.h"
 #include "base/Error.h"
+#include "base/Text.h"
 #include "speech/Sampa.h"
 #include "speech/SpeechSynthesizer.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
@@ -256,4 +258,113 @@ TEST(RecordingSpeech, RhubarbCuesOfTheRecording)
   RecordingOptions guessed;
   guessed.TimingFile = unnamed;
   EXPECT_NO_THROW(SpeakRecording(audio, speech, guessed));
+}
+
+// Timings in memory (inline in a dialog command) time the recording as their file does, and
+// the recording read from its bytes (libsndfile's virtual I/O) sounds as the file does.
+TEST(RecordingSpeech, InlineTimingsAndAudioLikeTheirFiles)
+{
+  AudioBuffer audio;
+  audio.SampleRate = 16000;
+  audio.Channels = 1;
+  for (size_t i = 0; i < 16000; ++i)
+  {
+    audio.Samples.push_back(i >= 4800 && i < 12800 ? 0.25f * std::sin(0.0864f * i) : 0.0f);
+  }
+  const std::string wav = Output + "/inline_recording.wav";
+  const std::string marks = Output + "/inline_recording.marks";
+  WriteWavFile(wav, audio);
+  const std::string text = "{\"time\":0,\"type\":\"viseme\",\"value\":\"sil\"}\n"
+                           "{\"time\":300,\"type\":\"viseme\",\"value\":\"p\"}\n"
+                           "{\"time\":450,\"type\":\"viseme\",\"value\":\"a\"}\n"
+                           "{\"time\":800,\"type\":\"viseme\",\"value\":\"sil\"}\n";
+  std::ofstream(marks) << text;
+  SpeechOptions speech;
+  RecordingOptions fromFile;
+  fromFile.TimingFile = marks;
+  RecordingOptions inMemory;
+  inMemory.TimingData = text;
+  RecordingReport report;
+  const Utterance a = SpeakAudioFile(wav, speech, fromFile);
+  const Utterance b = SpeakRecording(
+    ReadAudioMemory(text::ReadFile(wav, "test"), "bytes"), speech, inMemory, &report);
+  EXPECT_EQ(report.Route, RecordingRoute::TimingFile);
+  EXPECT_EQ(a.Audio, b.Audio);
+  ASSERT_EQ(a.Phonemes.size(), b.Phonemes.size());
+  for (size_t k = 0; k < a.Phonemes.size(); ++k)
+  {
+    EXPECT_EQ(a.Phonemes[k].Sampa, b.Phonemes[k].Sampa);
+    EXPECT_DOUBLE_EQ(a.Phonemes[k].Start, b.Phonemes[k].Start);
+  }
+  const int pp = b.Visemes.FindChannel("PP");
+  ASSERT_GE(pp, 0);
+  EXPECT_GT(b.Visemes.Sample(0.375 - speech.Coarticulation.Lead, static_cast<size_t>(pp)), 0.5);
+  // Inline timings that tell no format: the message names them and the dialog field.
+  inMemory.TimingData = "no timings here";
+  const std::string error = ErrorOf([&] { SpeakRecording(audio, speech, inMemory); });
+  EXPECT_NE(error.find("'inline timings': cannot tell the timing format"), std::string::npos)
+    << error;
+  EXPECT_NE(error.find("'timings_format'"), std::string::npos) << error;
+}
+
+// The transcript check on short real recordings (pocketsphinx-testdata's cards, 1.1 to
+// 3.5 s, one speaker far from eSpeak's voice): no warning for any recording's own
+// transcript, a warning (or the tempo's "does not match" error) for every other
+// recording's transcript and for an unrelated sentence. The alignment score alone warns
+// on 3 of the 5 right ones (no threshold separates); the acoustic check is relative to
+// what the audio supports (docs/speech.md).
+TEST(TranscriptAlignment, TranscriptCheckOnShortRealRecordings)
+{
+  if (!IsTranscriptAlignmentAvailable() || !IsPhonemeRecognitionAvailable())
+  {
+    GTEST_SKIP() << "needs eSpeak NG and PocketSphinx";
+  }
+  const std::string cards = "/usr/share/pocketsphinx/test/data/cards/";
+  if (!std::filesystem::exists(cards + "001.wav"))
+  {
+    GTEST_SKIP() << "pocketsphinx-testdata is not installed (" << cards << ")";
+  }
+  // cards.transcription
+  const std::vector<std::string> transcripts = { "ten of clubs", "four queen of clubs",
+    "seven of clubs", "five five", "eight of spades four of clubs seven of hearts",
+    "the weather is nice today" };
+  size_t right = 0, wrong = 0;
+  for (size_t r = 0; r < 5; ++r)
+  {
+    const AudioBuffer audio = ReadAudioFile(cards + "00" + std::to_string(r + 1) + ".wav");
+    for (size_t t = 0; t < transcripts.size(); ++t)
+    {
+      std::vector<std::string> warnings;
+      TranscriptAlignOptions options;
+      options.Warn = CollectWarnings(warnings);
+      std::string error;
+      TranscriptAlignment a;
+      try
+      {
+        a = AlignTranscript(audio, transcripts[t], options);
+      }
+      catch (const InputError& e)
+      {
+        error = e.what();
+      }
+      const std::string what = "recording " + std::to_string(r + 1) + " with '" + transcripts[t] +
+        "': score " + std::to_string(a.Score) + ", fit ratio " + std::to_string(a.FitRatio) + " " +
+        error + (warnings.empty() ? "" : warnings[0]);
+      if (t == r)
+      {
+        EXPECT_TRUE(error.empty() && warnings.empty() && a.Reliable) << what;
+        EXPECT_LE(a.FitRatio, options.MaximumFitRatio) << what; // the check ran
+        right += error.empty() && warnings.empty();
+        continue;
+      }
+      const bool refused = error.find("does not match") != std::string::npos;
+      const bool warned = warnings.size() == 1 && !a.Reliable &&
+        warnings[0].find("the transcript may not match the recording") != std::string::npos &&
+        warnings[0].find("timed by aligning this transcript") != std::string::npos;
+      EXPECT_TRUE(refused || warned) << what;
+      wrong += refused || warned;
+    }
+  }
+  EXPECT_EQ(right, 5u);
+  EXPECT_EQ(wrong, 25u);
 }
