@@ -88,6 +88,8 @@ const state = {
   jitterChanges: 0,
   margins: [],           // adaptive buffer: [arrival ms, margin ms] of recent frames
   soundEnd: 0,           // the stream sample where the queued sound ends
+  renderer: software,    // the software renderer's name, or null (a GPU)
+  antialias,             // multisampling on
   draws: [],             // the last draws: { sample, position, raf, began, ended }
 };
 window.morphnode = {

@@ -48,7 +48,6 @@ const context = await chromium.launchPersistentContext(profile, {
     '--autoplay-policy=no-user-gesture-required'],
 });
 const page = await context.newPage();
-page.on('console', (msg) => console.log(`page: ${msg.text()}`));
 await page.goto(`${address}/?jitter=${jitter}${queryArg ? `&${queryArg}` : ''}`);
 await page.waitForFunction(() => window.morphnode && window.morphnode.state.loaded && window.morphnode.state.shown);
 const loadBefore = loadavg();
@@ -85,7 +84,6 @@ const result = await page.evaluate(async (ms) => {
         // The frame the heard position asked for (the nearest on the frame grid).
         const wanted = Math.round(d.position / frameSamples) * frameSamples;
         const w = s.log.find((f) => Math.abs(f.sample - wanted) < 0.5);
-        if (!w) console.log('no frame', wanted, d.position, d.sample, s.log.length, s.log[0].sample, s.log[s.log.length - 1].sample);
         outliers.push({ offset, interval: draws[draws.length - 1].interval,
           wantedLateMs: w ? w.received - d.began : null, // > 0: not on the main thread at the draw
           wantedWaitMs: w ? w.received - w.arrived : null, // the handover to the main thread
@@ -117,11 +115,7 @@ const result = await page.evaluate(async (ms) => {
     }
     says.push(say);
   }
-  const lt = s.longTasks ? s.longTasks() : [];
-  const span = performance.now() - t0;
-  const ltSum = lt.filter(([st]) => st >= t0).reduce((a, [, d]) => a + d, 0);
-  const ctx = { longTasks: lt.filter(([st]) => st >= t0).length, longShare: ltSum / span,
-    longMedian: lt.length ? lt.map(([, d]) => d).sort((a, b) => a - b)[lt.length >> 1] : 0 };
+  const ctx = { antialias: s.antialias, renderer: s.renderer };
   return { says, draws, outliers, underruns: s.frameUnderruns, late: s.audioLate, rate,
     jitterMs: s.jitterMs, jitterChanges: s.jitterChanges, ctx };
 }, minutes * 60000);
@@ -139,7 +133,7 @@ const col = (name) => says.map((x) => x[name]);
 const intervals = result.draws.map((d) => d.interval);
 console.log(`load average before ${loadBefore.map((v) => v.toFixed(1)).join(' ')}, after ${loadAfter.map((v) => v.toFixed(1)).join(' ')}; ` +
   `draws ${o.length} in ${minutes} min (${(o.length / minutes / 60).toFixed(1)} per s; interval median ${f0(q(intervals, 0.5))} ms, p95 ${f0(q(intervals, 0.95))} ms)`);
-console.log(`main thread long tasks: ${result.ctx.longTasks}, ${(100 * result.ctx.longShare).toFixed(0)} % of the time, median ${f0(result.ctx.longMedian)} ms`);
+console.log(`WebGL renderer: ${result.ctx.renderer || 'a GPU'}; multisampling ${result.ctx.antialias ? 'on' : 'off'}`);
 console.log('');
 console.log('| minutes | jitter buffer at the end (ms; changes) | frames drawn | A/V offset median / p5 / p95 / min / max (ms) | outside EBU R37 | first mouth motion after say: median / p95 / max (ms) | frame underruns | late sound (ms) |');
 console.log('|---:|---|---:|---|---:|---|---:|---:|');
@@ -157,8 +151,10 @@ const mp = (name) => `${f0(q(col(name), 0.5))} / ${f0(q(col(name), 0.95))}`;
 console.log(`| ${mp('roundTrip')} | ${mp('server')} | ${mp('onset')} | ${mp('arrived')} | ${mp('handover')} | ${mp('buffer')} | ${mp('drawWait')} | ${mp('draw')} | ${mp('drawn')} | ${mp('first')} |`);
 if (outside) {
   const late = result.outliers.filter((x) => x.wantedLateMs !== null && x.wantedLateMs > 0);
+  const missing = result.outliers.filter((x) => x.wantedLateMs === null);
   console.log('');
-  console.log(`Outside R37: ${outside} draws; the wanted frame had not reached the main thread at the draw in ${late.length} ` +
+  console.log(`Outside R37: ${outside} draws; the wanted frame never came (not sent) in ${missing.length}; ` +
+    `it had not reached the main thread at the draw in ${late.length} ` +
     `(it came ${f0(q(late.map((x) => x.wantedLateMs), 0.5))} ms later, median; its handover from the socket's worker took ${f0(q(late.map((x) => x.wantedWaitMs), 0.5))} ms); ` +
     `draw interval before them median ${f0(q(result.outliers.map((x) => x.interval), 0.5))} ms.`);
   for (const x of result.outliers.slice(0, 20)) {

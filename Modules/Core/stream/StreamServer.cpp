@@ -452,7 +452,6 @@ private:
       {
         // A frame now, off the frame clock: the speech's first picture need not wait for
         // the next frame (frames carry their own sample; a page shows the nearest).
-        this->Session->Tick(now);
         this->Dialog->Advance(now);
         ++this->Server.FramesSent;
         this->Flush();

@@ -171,14 +171,20 @@ void StreamSession::SetSynthesizedCallback(std::function<void()> callback)
 
 bool StreamSession::PickUp(double now)
 {
-  if (!this->Live->IsSynthesizing())
+  if (!this->Live->IsSynthesizing() || now <= this->LastTime)
   {
     return false;
   }
-  this->Live->SynthesizeAhead(std::max(now, this->LastTime));
-  const size_t before = this->Outbox.size();
-  this->TakeAudio();
-  return this->Outbox.size() > before;
+  this->Live->SynthesizeAhead(now);
+  std::vector<LiveBehavior::AudioSegment> ready = this->Live->TakeAudio();
+  if (ready.empty())
+  {
+    return false;
+  }
+  // The frame first (a page shows the mouth once it has it), then the sound (Tick).
+  this->Held = std::move(ready);
+  this->Tick(now);
+  return true;
 }
 
 void StreamSession::SetSynthesisPool(std::shared_ptr<SynthesisPool> pool)
@@ -273,7 +279,13 @@ std::vector<std::vector<uint8_t>> StreamSession::TakeMessages()
 
 void StreamSession::TakeAudio()
 {
-  for (const LiveBehavior::AudioSegment& segment : this->Live->TakeAudio())
+  std::vector<LiveBehavior::AudioSegment> segments;
+  segments.swap(this->Held);
+  for (LiveBehavior::AudioSegment& segment : this->Live->TakeAudio())
+  {
+    segments.push_back(std::move(segment));
+  }
+  for (const LiveBehavior::AudioSegment& segment : segments)
   {
     if (this->SoundStarts.size() < 256)
     {

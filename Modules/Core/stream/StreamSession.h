@@ -87,9 +87,9 @@ public:
   void SetSynthesizedCallback(std::function<void()> callback);
   /// True while speech waits for the pool.
   bool IsSynthesizing() const { return this->Live->IsSynthesizing(); }
-  /// Between frames (now at or after the last Tick): takes what the pool finished now and
-  /// starts it at `now` (not at the next frame), its sound queued for TakeMessages() at
-  /// once. The next Tick shows the speech already under way. False: nothing was ready.
+  /// Between frames (now after the last Tick): takes what the pool finished and starts it
+  /// at `now` rather than at the next frame, with a frame at `now` (Tick(now): the frame,
+  /// then the sound, for TakeMessages()). False: nothing was ready (nothing queued).
   bool PickUp(double now);
   /// Makes the synthesizer of a say's `voice` (InputError for a voice it does not have).
   /// Without it, a say with a voice is refused.
@@ -152,6 +152,7 @@ private:
   VoiceSynthesizers MakeVoice;
   std::string AvatarUrl;
   std::vector<LiveBehavior::SpeechError> SpeechErrors;
+  std::vector<LiveBehavior::AudioSegment> Held; ///< picked up, sent after PickUp's frame
   std::map<uint64_t, double> SoundStarts; ///< utterance id -> its sound's start (held briefly)
 
   const StreamAvatar& Avatar;

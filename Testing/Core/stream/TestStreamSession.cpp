@@ -563,10 +563,14 @@ TEST(StreamSession, SpeechPickedUpBetweenFramesStartsThere)
   const double between = 3 * frame + 0.01;
   ASSERT_TRUE(s.PickUp(between));
   EXPECT_FALSE(s.IsSynthesizing());
-  const Decoded sound = Decode(s, h);
-  ASSERT_FALSE(sound.Audio.empty()) << "the sound leaves at the pick-up";
-  EXPECT_TRUE(sound.Frames.empty()) << "no frame between frames";
-  EXPECT_EQ(sound.Audio[0].Sample, s.SampleOf(between));
+  const std::vector<std::vector<uint8_t>> messages = s.TakeMessages();
+  ASSERT_GE(messages.size(), 2u);
+  EXPECT_EQ(messages[0][0], 1) << "the pick-up's frame comes first";
+  EXPECT_EQ(std::get<Frame>(DecodeServerMessage(messages[0].data(), messages[0].size(), &h)).Sample,
+    s.SampleOf(between));
+  const ServerMessage first = DecodeServerMessage(messages[1].data(), messages[1].size(), &h);
+  ASSERT_TRUE(std::holds_alternative<AudioChunk>(first)) << "then the sound, leaving at once";
+  EXPECT_EQ(std::get<AudioChunk>(first).Sample, s.SampleOf(between)) << "starting there";
   s.Tick(4 * frame);
   const Decoded next = Decode(s, h);
   ASSERT_EQ(next.Frames.size(), 1u);
