@@ -605,7 +605,8 @@ private:
         << ",\"refused\":" << this->Server.SessionsRefused
         << ",\"clientErrors\":" << this->Server.ClientErrors
         << ",\"frames\":" << this->Server.FramesSent << ",\"late\":" << this->Server.FramesLate
-        << ",\"bytes\":" << this->Server.BytesSent << "}\n";
+        << ",\"skipped\":" << this->Server.FramesSkipped << ",\"bytes\":" << this->Server.BytesSent
+        << "}\n";
       return this->Respond(request, http::status::ok, "application/json", j.str());
     }
     const auto file = this->Server.S.Files.find(path);
