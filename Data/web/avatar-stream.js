@@ -28,9 +28,31 @@ const withhold = params.has('withhold');
 const still = params.has('still'); // rotations not applied (the tests' mouth pictures)
 
 // ---- the scene ------------------------------------------------------------------------
+/// The name of the WebGL renderer when it draws on the CPU (SwiftShader, llvmpipe, ...), else
+/// null. Multisampling there made every draw cost twice as much: 80 ms instead of 43 ms a
+/// draw at 390 x 844 in Chromium with SwiftShader, and the page's main thread waits for the
+/// draw, so frames and the first mouth motion waited too (docs/streaming.md). A GPU
+/// multisamples for next to nothing, so only software rendering goes without it
+/// (`antialias=0|1` decides instead).
+function softwareRenderer() {
+  try {
+    const probe = document.createElement('canvas').getContext('webgl2') ||
+      document.createElement('canvas').getContext('webgl');
+    if (!probe) return null;
+    const info = probe.getExtension('WEBGL_debug_renderer_info');
+    const name = String(probe.getParameter(info ? info.UNMASKED_RENDERER_WEBGL : probe.RENDERER));
+    const lose = probe.getExtension('WEBGL_lose_context');
+    if (lose) lose.loseContext();
+    return /swiftshader|llvmpipe|softpipe|software|microsoft basic render/i.test(name) ? name : null;
+  } catch (e) {
+    return null;
+  }
+}
 const view = document.getElementById('view');
 const figures = document.getElementById('figures');
-const renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
+const software = softwareRenderer();
+const antialias = params.has('antialias') ? params.get('antialias') !== '0' : !software;
+const renderer = new THREE.WebGLRenderer({ antialias, preserveDrawingBuffer: true });
 renderer.setPixelRatio(Math.min(window.devicePixelRatio, 2));
 view.appendChild(renderer.domElement);
 const scene = new THREE.Scene();
@@ -66,6 +88,9 @@ const state = {
   jitterChanges: 0,
   margins: [],           // adaptive buffer: [arrival ms, margin ms] of recent frames
   soundEnd: 0,           // the stream sample where the queued sound ends
+  renderer: software,    // the software renderer's name, or null (a GPU)
+  antialias,             // multisampling on
+  draws: [],             // the last draws: { sample, position, raf, began, ended }
 };
 window.morphnode = {
   state,
@@ -121,11 +146,20 @@ async function startAudio(rate) {
     opusDecoder.postMessage({ type: 'init', port: channel.port2, rate }, [channel.port2]);
   }
 }
-/// The stream sample heard now: the context's frame (its output latency taken off).
+/// The stream sample heard now. The sound device's output timestamp says which context time
+/// left the speaker at which moment (performance clock); carried forward to now it is what
+/// is heard, with the output latency in it. currentTime alone moves in the device's steps
+/// (here 5 to 10 ms, and not at all while the page's thread is held up) and runs ahead of
+/// the speaker by baseLatency + outputLatency (here 10 + 32 ms), which it is then given.
 function position() {
   if (!audio || state.offset === null) return null;
-  const latency = (audio.outputLatency || 0) + (audio.baseLatency || 0);
-  return (audio.currentTime - latency) * audio.sampleRate + state.offset;
+  let heard = audio.currentTime - (audio.outputLatency || 0) - (audio.baseLatency || 0);
+  const stamp = audio.state === 'running' && audio.getOutputTimestamp ? audio.getOutputTimestamp() : null;
+  if (stamp && stamp.contextTime > 0 && stamp.performanceTime > 0) {
+    // (Never ahead of what the context has made: a stale stamp is carried no further.)
+    heard = Math.min(stamp.contextTime + (performance.now() - stamp.performanceTime) / 1000, audio.currentTime);
+  }
+  return heard * audio.sampleRate + state.offset;
 }
 
 // ---- the avatar --------------------------------------------------------------------------
@@ -199,7 +233,7 @@ function onFrame(f) {
   }
   state.newestSample = f.sample;
   state.frames.push(f);
-  state.log.push({ sample: f.sample, targets: f.targets });
+  state.log.push({ sample: f.sample, targets: f.targets, arrived: f.arrived, received: f.received });
   if (state.log.length > 900) state.log.splice(0, state.log.length - 600);
 }
 
@@ -282,6 +316,7 @@ socket.onmessage = async (e) => {
       await startAudio(m.sampleRate);
       await loadAvatar(m);
     } else {
+      m.arrived = w.at - performance.timeOrigin;
       state.events.push(m);
       if (state.events.length > 200) state.events.shift();
     }
@@ -291,7 +326,12 @@ socket.onmessage = async (e) => {
   if (!player) return;
   const m = decode(w.data);
   if (!m) return;
-  if (m.type === 1) { state.weightBytes += w.data.byteLength; onFrame(m); }
+  if (m.type === 1) {
+    state.weightBytes += w.data.byteLength;
+    m.arrived = w.at - performance.timeOrigin; // at the socket's worker (page time)
+    m.received = performance.now();            // on the page's main thread
+    onFrame(m);
+  }
   else if (m.type === 2) { state.audioBytes += w.data.byteLength; onAudio(m); }
   else if (m.type === 3) onStop(m);
 };
@@ -299,9 +339,11 @@ socket.postMessage({ type: 'open', url });
 
 // ---- the loop: the frame the sound's clock asks for ------------------------------------
 let lastFigures = performance.now(), lastBytes = 0, lastWeightBytes = 0, rate = 0, weightRate = 0;
-function tick() {
+function tick(rafTime) {
   requestAnimationFrame(tick);
+  const began = performance.now();
   const now = position();
+  let drawn = null;
   if (state.loaded && now !== null) {
     if (state.newestSample !== undefined) {
       state.margins.push([performance.now(), (state.newestSample - now) / audio.sampleRate * 1000]);
@@ -313,6 +355,7 @@ function tick() {
     while (state.frames.length && state.frames[0].sample <= now + half) next = state.frames.shift();
     if (next) {
       applyFrame(next);
+      drawn = next;
       const offset = (next.sample - now) / audio.sampleRate * 1000; // picture minus sound
       state.offsetMs = offset;
       state.offsets.push(offset);
@@ -323,6 +366,10 @@ function tick() {
   }
   renderer.render(scene, camera);
   const t = performance.now();
+  // The draws' timeline (the sync study reads it): the frame's sample, the position heard
+  // when it was chosen, the animation frame's time, when this draw began and ended.
+  state.draws.push({ sample: drawn ? drawn.sample : null, position: now, raf: rafTime, began, ended: t });
+  if (state.draws.length > 3000) state.draws.splice(0, 1000);
   if (t - lastFigures >= 1000) {
     const s = (t - lastFigures) / 1000;
     rate = (state.bytes - lastBytes) / s; weightRate = (state.weightBytes - lastWeightBytes) / s;

@@ -6,6 +6,9 @@
 // text go to the page.
 let ws = null, player = null;
 
+// `at`: when the message arrived, as an absolute time (performance.timeOrigin + now), so the
+// page can tell how long it waited for the page's main thread (the study's timeline).
+const stamp = () => performance.timeOrigin + performance.now();
 function toPage(data, transfer) { postMessage(data, transfer || []); }
 
 onmessage = (e) => {
@@ -16,7 +19,7 @@ onmessage = (e) => {
     ws.onopen = () => toPage({ type: 'open' });
     ws.onclose = () => toPage({ type: 'close' });
     ws.onmessage = (ev) => {
-      if (typeof ev.data === 'string') { toPage({ type: 'text', data: ev.data }); return; }
+      if (typeof ev.data === 'string') { toPage({ type: 'text', data: ev.data, at: stamp() }); return; }
       const buffer = ev.data;
       if (buffer.byteLength < 1) return;
       const v = new DataView(buffer);
@@ -34,7 +37,7 @@ onmessage = (e) => {
       if (player && kind === 3 && buffer.byteLength >= 5) {
         player.postMessage({ type: 'stop', sample: v.getUint32(1, true) }); // before any later chunk
       }
-      toPage({ type: 'binary', data: buffer, played: player !== null }, [buffer]);
+      toPage({ type: 'binary', data: buffer, played: player !== null, at: stamp() }, [buffer]);
     };
   } else if (m.type === 'port') {
     player = m.port;

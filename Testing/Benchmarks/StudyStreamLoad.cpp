@@ -14,6 +14,10 @@
 //
 //   StudyStreamLoad [--seconds 8] [--sessions 25,50,100,200,400] [--threads 1] [--pool-workers 1]
 //                   [--modes cache,inline,pool] [--continuous] [--quick] [--out FILE.md]
+//   StudyStreamLoad --first-motion N
+// --first-motion: instead, one session on loopback, N short says, and the time from a say
+// to the first frame with an open mouth on the stream's clock, with speech started when the
+// synthesis pool has it and at the next frame (in turns).
 // --continuous: every session speaks all the time (a new sentence as soon as its say ended),
 // instead of one sentence each.
 #include "gltf/GltfScene.h"
@@ -26,6 +30,7 @@
 #include <boost/beast/core.hpp>
 #include <boost/beast/websocket.hpp>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -33,6 +38,7 @@
 #include <iostream>
 #include <map>
 #include <mutex>
+#include <random>
 #include <sstream>
 #include <thread>
 
@@ -275,6 +281,132 @@ Result Run(const StreamAvatar& avatar, const std::vector<std::string>& visemes,
   }
   return r;
 }
+/// One session, one client on loopback: says a short sentence every 0.8 s (sent at a random
+/// moment between two frames) and measures, on the stream's clock, from the say leaving the
+/// client to the first frame with an open mouth (a mouth weight above 10/255): what a page
+/// adds to it is its jitter buffer and its drawing. Per say also the server's `started`
+/// latency_ms. Returns the latencies in ms (first) and latency_ms (second).
+std::pair<std::vector<double>, std::vector<double>> FirstMotion(const StreamAvatar& avatar,
+  const std::vector<std::string>& visemes, LiveBehavior::Synthesizer synth, int says, bool pickUp,
+  std::mt19937& random)
+{
+  SynthesisPoolSettings ps;
+  ps.Workers = 2;
+  auto pool = std::make_shared<SynthesisPool>(ps);
+  StreamServerSettings settings;
+  settings.Threads = 1;
+  settings.PickUpWhenSynthesized = pickUp;
+  settings.MakeSession = [&avatar, &visemes, synth, pool](const SessionRequest& want)
+  {
+    StreamSettings s;
+    s.Optimizer = MakeOptimizerSettings(OptimizerPreset::Adjusted, 0.1, 0.0);
+    s.Seed = want.Seed;
+    auto session = std::make_unique<StreamSession>(avatar, visemes, synth, s);
+    session->SetSynthesisPool(pool);
+    return session;
+  };
+  StreamServer server(settings);
+  const std::string bound = server.Start();
+  const std::string port = bound.substr(bound.rfind(':') + 1);
+  net::io_context io;
+  tcp::resolver resolver(io);
+  websocket::stream<tcp::socket> ws(io);
+  net::connect(ws.next_layer(), resolver.resolve("127.0.0.1", port));
+  ws.handshake("127.0.0.1:" + port, "/stream");
+  beast::flat_buffer buffer;
+  ws.read(buffer);
+  const StreamHeader header = ParseHeader(beast::buffers_to_string(buffer.data()));
+  buffer.consume(buffer.size());
+  std::vector<bool> mouth(header.Targets.size(), false);
+  for (size_t k = 0; k < header.Targets.size(); ++k)
+  {
+    for (const char* m : { "A", "E", "O", "S", "F", "L" })
+    {
+      mouth[k] = mouth[k] || header.Targets[k] == m;
+    }
+  }
+  using Clock = std::chrono::steady_clock;
+  const double rate = header.SampleRate;
+  double newest = -1.0;
+  Clock::time_point newestAt;
+  std::vector<double> latencies, serverPart;
+  std::uniform_real_distribution<double> between(0.0, 1.0 / header.FrameRate);
+  const char* const texts[] = { "Hello there.", "How are you?", "Fine, thanks." };
+  for (int i = 0; i < says; ++i)
+  {
+    // Past the previous speech, then a random moment after a frame.
+    const auto until = Clock::now() + std::chrono::milliseconds(800);
+    bool opened = false, started = false;
+    double sentSample = 0.0;
+    bool sent = false;
+    while (Clock::now() < until ||
+      (sent && (!opened || !started) && Clock::now() < until + std::chrono::seconds(3)))
+    {
+      ws.read(buffer);
+      const auto at = Clock::now();
+      const std::string bytes = beast::buffers_to_string(buffer.data());
+      buffer.consume(buffer.size());
+      if (ws.got_text())
+      {
+        const size_t p = bytes.find("\"latency_ms\":");
+        if (sent && !started && bytes.find("\"started\"") != std::string::npos &&
+          p != std::string::npos)
+        {
+          serverPart.push_back(std::atof(bytes.c_str() + p + 13));
+          started = true;
+        }
+        continue;
+      }
+      if (bytes.empty() || bytes[0] != 1)
+      {
+        continue;
+      }
+      const ServerMessage message =
+        DecodeServerMessage(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size(), &header);
+      const Frame& f = std::get<Frame>(message);
+      newest = f.Sample;
+      newestAt = at;
+      if (sent && !opened && f.Sample > sentSample)
+      {
+        for (const auto& [k, w] : f.Targets)
+        {
+          if (k < mouth.size() && mouth[k] && w > 10)
+          {
+            opened = true;
+          }
+        }
+        if (opened)
+        {
+          latencies.push_back(1000.0 * (f.Sample - sentSample) / rate);
+        }
+      }
+      if (!sent && i >= 0 && Clock::now() + std::chrono::milliseconds(400) > until)
+      {
+        std::this_thread::sleep_for(std::chrono::duration<double>(between(random)));
+        const std::string say = std::string("{\"cmd\":\"say\",\"text\":\"") + texts[i % 3] + "\"}";
+        sentSample = newest + rate * std::chrono::duration<double>(Clock::now() - newestAt).count();
+        ws.text(true);
+        ws.write(net::buffer(say));
+        ws.binary(true);
+        sent = true;
+      }
+    }
+  }
+  beast::error_code ignored;
+  ws.next_layer().close(ignored);
+  server.Stop();
+  return { latencies, serverPart };
+}
+
+double Quantile(std::vector<double> v, double q)
+{
+  if (v.empty())
+  {
+    return std::nan("");
+  }
+  std::sort(v.begin(), v.end());
+  return v[std::min(v.size() - 1, static_cast<size_t>(q * static_cast<double>(v.size())))];
+}
 } // namespace
 
 int main(int argc, char* argv[])
@@ -286,6 +418,7 @@ int main(int argc, char* argv[])
   std::vector<std::string> modes = { "cache", "inline", "pool" };
   std::vector<size_t> counts = { 25, 50, 100, 200, 400 };
   std::string out;
+  int firstMotion = 0;
   for (int i = 1; i < argc; ++i)
   {
     const std::string a = argv[i];
@@ -324,6 +457,10 @@ int main(int argc, char* argv[])
     else if (a == "--continuous")
     {
       continuous = true;
+    }
+    else if (a == "--first-motion" && i + 1 < argc)
+    {
+      firstMotion = std::max(1, std::atoi(argv[++i]));
     }
     else if (a == "--quick")
     {
@@ -372,6 +509,43 @@ int main(int argc, char* argv[])
     }
     LiveBehavior::Synthesizer synthesize = [speech](const std::string& text)
     { return SpeakText(text, speech); };
+    if (firstMotion > 0)
+    {
+      // Speech picked up when the pool has it, against the next frame, in blocks of 5 says
+      // taking turns (the machine's load drifts alike for both).
+      std::mt19937 random(7);
+      std::vector<double> motion[2], started[2];
+      for (int done = 0; done < firstMotion; done += 5)
+      {
+        for (int mode = 0; mode < 2; ++mode)
+        {
+          auto r = FirstMotion(
+            avatar, visemes, synthesize, std::min(5, firstMotion - done), mode == 0, random);
+          motion[mode].insert(motion[mode].end(), r.first.begin(), r.first.end());
+          started[mode].insert(started[mode].end(), r.second.begin(), r.second.end());
+          std::cerr << "." << std::flush;
+        }
+      }
+      std::cerr << "\n";
+      std::ostringstream md;
+      md << "| speech starts | says | say to the first open-mouth frame, stream clock: median / "
+            "p95 / max (ms) | started latency_ms: median / p95 (ms) |\n|---|---:|---|---|\n";
+      md << std::fixed;
+      md.precision(0);
+      for (int mode = 0; mode < 2; ++mode)
+      {
+        md << "| " << (mode == 0 ? "when the pool has it (PickUp)" : "at the next frame") << " | "
+           << motion[mode].size() << " | " << Quantile(motion[mode], 0.5) << " / "
+           << Quantile(motion[mode], 0.95) << " / " << Quantile(motion[mode], 1.0) << " | "
+           << Quantile(started[mode], 0.5) << " / " << Quantile(started[mode], 0.95) << " |\n";
+      }
+      std::cout << md.str();
+      if (!out.empty())
+      {
+        std::ofstream(out) << md.str();
+      }
+      return 0;
+    }
     std::ostringstream md;
     md << "Server threads: " << threads << ", synthesis pool workers (pool rows): " << poolWorkers
        << ", " << seconds << " s per row, "

@@ -9,6 +9,20 @@
 
 namespace morphnode
 {
+namespace
+{
+/// The callbacks the job a worker runs asked for (WhenFinished); null outside a job.
+thread_local std::vector<std::function<void()>>* FinishedCallbacks = nullptr;
+}
+
+void SynthesisPool::WhenFinished(std::function<void()> callback)
+{
+  if (FinishedCallbacks && callback)
+  {
+    FinishedCallbacks->push_back(std::move(callback));
+  }
+}
+
 std::shared_ptr<SynthesisJob> SynthesisJob::Ready(Utterance utterance)
 {
   auto job = std::make_shared<SynthesisJob>();
@@ -206,8 +220,10 @@ void SynthesisPool::Run()
     Utterance result;
     std::string error;
     bool failed = false;
+    std::vector<std::function<void()>> callbacks;
     if (work)
     {
+      FinishedCallbacks = &callbacks;
       try
       {
         result = work();
@@ -222,6 +238,7 @@ void SynthesisPool::Run()
         failed = true;
         error = "speech synthesis failed";
       }
+      FinishedCallbacks = nullptr;
     }
     const double worked = std::chrono::duration<double>(SynthesisJob::Clock::now() - taken).count();
     if (work)
@@ -231,6 +248,18 @@ void SynthesisPool::Run()
       job->Status = failed ? SynthesisJob::State::Failed : SynthesisJob::State::Done;
       job->Error = std::move(error);
       job->Result = std::move(result);
+    }
+    // The job is final: whoever waits for it may take it now.
+    for (const std::function<void()>& callback : callbacks)
+    {
+      try
+      {
+        callback();
+      }
+      catch (...)
+      {
+        // (A waiter that cannot be woken finds the job at its next look.)
+      }
     }
     std::lock_guard<std::mutex> lock(this->Mutex);
     --this->Stats.Running;

@@ -14,6 +14,9 @@
 /// - A job whose work throws finishes as Failed with the exception's message.
 /// - Cancel() of a queued job: it never runs. A running job runs to its end (its result is
 ///   dropped by whoever cancelled it).
+/// - WhenFinished(), called by a job's own work, runs a callback on the worker once that
+///   job is finished (Done or Failed, Take() ready): a real-time loop that waits for the
+///   utterance can be woken at once instead of finding it at its next frame.
 /// - The destructor cancels what waits and joins the workers (after the running jobs).
 /// - eSpeak NG is one engine per process (SpeechSynthesizer.h): its part of the work is
 ///   serialized whatever the worker count; the rest (pitch estimation, coarticulation,
@@ -111,6 +114,10 @@ public:
 
   /// Queues the work. InputError when MaxQueued jobs wait already (counted as Refused).
   std::shared_ptr<SynthesisJob> Submit(Work work);
+  /// Called from inside a job's work (on a worker): `callback` runs on that worker once the
+  /// job is finished, after its state is final (an exception it throws is ignored). Not
+  /// within a pool's job: ignored (a synthesizer used directly finishes in its caller).
+  static void WhenFinished(std::function<void()> callback);
   SynthesisPoolStats GetStats() const;
   const SynthesisPoolSettings& GetSettings() const { return this->Settings; }
 

@@ -166,7 +166,7 @@ struct StreamServer::Impl
   std::vector<std::weak_ptr<WsSession>> Sessions;
   std::string Bound;
   std::atomic<size_t> SessionsStarted{ 0 }, SessionsRefused{ 0 }, ClientErrors{ 0 };
-  std::atomic<uint64_t> FramesSent{ 0 }, FramesLate{ 0 }, BytesSent{ 0 };
+  std::atomic<uint64_t> FramesSent{ 0 }, FramesLate{ 0 }, FramesSkipped{ 0 }, BytesSent{ 0 };
   std::atomic<uint64_t> NextSession{ 1 };
   bool Running = false;
 
@@ -273,6 +273,23 @@ private:
         this->Queue(true, std::move(line));
       },
       *this->Session);
+    // Speech the pool finished is taken at once (on this strand), not at the next frame:
+    // that frame then shows it under way, and its sound leaves now (OnSynthesized).
+    if (this->Server.S.PickUpWhenSynthesized)
+    {
+      this->Session->SetSynthesizedCallback(
+        [weak = this->weak_from_this(), executor = this->Ws.get_executor()]()
+        {
+          net::post(executor,
+            [weak]()
+            {
+              if (auto self = weak.lock())
+              {
+                self->OnSynthesized();
+              }
+            });
+        });
+    }
     this->Queue(true,
       this->Session->Header(this->Id,
         this->Session->GetAvatarUrl().empty() ? this->Server.S.AvatarPath
@@ -365,24 +382,31 @@ private:
       this->Shutdown();
       return;
     }
-    const double t = this->NextFrame * frame;
-    if (now - t > frame)
+    // The frames due: a late timer (a loaded machine) sends those missed that a page can
+    // still show, and skips older ones rather than bursting them.
+    const DueFrames due = FramesDue(this->NextFrame, now, frame, this->Server.S.CatchUpSeconds);
+    if (due.Late)
     {
-      ++this->Server.FramesLate; // skip the frames missed rather than bursting them
-      this->NextFrame = static_cast<uint64_t>(std::floor(now / frame));
+      ++this->Server.FramesLate;
     }
-    const double shown = this->NextFrame * frame;
+    this->Server.FramesSkipped += due.Skipped;
     try
     {
-      this->Session->Tick(shown);
-      for (const LiveBehavior::SpeechError& e : this->Session->TakeSpeechErrors())
+      for (uint64_t k = due.First; k <= due.Last; ++k)
       {
-        // A say whose speech could not be made (the pool was busy or synthesis failed):
-        // its page hears why, the say ends; the session goes on.
-        this->Dialog->Fail(
-          e.Id, e.Busy ? dialog::reason::Overloaded : dialog::reason::Rejected, e.Message, shown);
+        const double shown = static_cast<double>(k) * frame;
+        this->Session->Tick(shown);
+        for (const LiveBehavior::SpeechError& e : this->Session->TakeSpeechErrors())
+        {
+          // A say whose speech could not be made (the pool was busy or synthesis failed):
+          // its page hears why, the say ends; the session goes on.
+          this->Dialog->Fail(
+            e.Id, e.Busy ? dialog::reason::Overloaded : dialog::reason::Rejected, e.Message, shown);
+        }
+        this->Dialog->Advance(shown);
+        ++this->Server.FramesSent;
       }
-      this->Dialog->Advance(shown);
+      this->NextFrame = due.Last;
     }
     catch (const std::exception& e)
     {
@@ -393,7 +417,6 @@ private:
       this->Shutdown();
       return;
     }
-    ++this->Server.FramesSent;
     this->Flush();
     ++this->NextFrame;
     this->Timer.expires_at(this->Start +
@@ -407,6 +430,37 @@ private:
           self->Tick();
         }
       });
+  }
+
+  /// A synthesis job of this session finished: start it now, with a frame of its own,
+  /// unless a frame is due within a millisecond (that frame's Tick takes it).
+  void OnSynthesized()
+  {
+    if (this->Closed)
+    {
+      return;
+    }
+    const double frame = 1.0 / this->Session->GetSettings().FrameRate;
+    const double now = this->Now();
+    if (static_cast<double>(this->NextFrame) * frame - now < 0.001)
+    {
+      return;
+    }
+    try
+    {
+      if (this->Session->PickUp(now))
+      {
+        // A frame now, off the frame clock: the speech's first picture need not wait for
+        // the next frame (frames carry their own sample; a page shows the nearest).
+        this->Dialog->Advance(now);
+        ++this->Server.FramesSent;
+        this->Flush();
+      }
+    }
+    catch (const std::exception&)
+    {
+      // (The next Tick meets the same fault and ends the session with its message.)
+    }
   }
 
   /// The session's binary messages into the write queue.
@@ -551,7 +605,8 @@ private:
         << ",\"refused\":" << this->Server.SessionsRefused
         << ",\"clientErrors\":" << this->Server.ClientErrors
         << ",\"frames\":" << this->Server.FramesSent << ",\"late\":" << this->Server.FramesLate
-        << ",\"bytes\":" << this->Server.BytesSent << "}\n";
+        << ",\"skipped\":" << this->Server.FramesSkipped << ",\"bytes\":" << this->Server.BytesSent
+        << "}\n";
       return this->Respond(request, http::status::ok, "application/json", j.str());
     }
     const auto file = this->Server.S.Files.find(path);
@@ -891,6 +946,7 @@ StreamServerStats StreamServer::GetStats() const
   s.ClientErrors = this->P->ClientErrors;
   s.FramesSent = this->P->FramesSent;
   s.FramesLate = this->P->FramesLate;
+  s.FramesSkipped = this->P->FramesSkipped;
   s.BytesSent = this->P->BytesSent;
   return s;
 }

@@ -89,6 +89,13 @@ struct StreamServerSettings
   std::function<void(int client, const dialog::Event& event)> CommandEvents;
   /// Sessions end after this many seconds (the u32 sample clock wraps after a day at 48 kHz).
   double MaxSessionSeconds = 12 * 3600.0;
+  /// A frame timer that fires late still sends the frames missed up to this old (seconds;
+  /// stream::FramesDue): a page's jitter buffer shows them instead of a gap. Older ones are
+  /// skipped (StreamServerStats::FramesSkipped).
+  double CatchUpSeconds = 0.1;
+  /// Speech the synthesis pool finished starts when it is ready (StreamSession::PickUp on
+  /// the pool's signal), not at the next frame. Off: at the next frame (the studies compare).
+  bool PickUpWhenSynthesized = true;
 };
 
 struct StreamServerStats
@@ -98,7 +105,8 @@ struct StreamServerStats
   size_t SessionsRefused = 0;
   size_t ClientErrors = 0; ///< error events sent for bad client input
   uint64_t FramesSent = 0;
-  uint64_t FramesLate = 0; ///< ticks that ran more than one frame late
+  uint64_t FramesLate = 0;    ///< ticks that ran more than one frame late
+  uint64_t FramesSkipped = 0; ///< frames not sent: older than CatchUpSeconds when due
   uint64_t BytesSent = 0;
 };
 

@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <mutex>
 
 #ifdef MORPHNODE_HAVE_OPUS
 #include <opus.h>
@@ -41,6 +42,47 @@ struct StreamSession::OpusState
   }
 #endif
 };
+
+/// The SynthesizedCallback, shared with the synthesizers handed to the pool (a job may
+/// outlive its session: then it calls nothing).
+struct StreamSession::Notifier
+{
+  std::mutex Mutex;
+  std::function<void()> Callback;
+  void Call()
+  {
+    // Under the lock: a session being destroyed waits for a call in flight (the callback
+    // only posts to the session's thread).
+    std::lock_guard<std::mutex> lock(this->Mutex);
+    if (this->Callback)
+    {
+      this->Callback();
+    }
+  }
+};
+
+DueFrames FramesDue(uint64_t next, double now, double frameSeconds, double catchUpSeconds)
+{
+  DueFrames d;
+  d.First = next;
+  if (!(frameSeconds > 0.0) || !std::isfinite(now) || now < 0.0)
+  {
+    d.Last = next;
+    return d;
+  }
+  const double due = std::floor(now / frameSeconds + 1e-9);
+  const uint64_t last = due < 0.0 ? 0 : static_cast<uint64_t>(due);
+  d.Last = std::max(last, next); // the timer fires at the frame's time; a hair early is on time
+  d.Late = last > next;
+  const double keep = std::floor(std::max(catchUpSeconds, 0.0) / frameSeconds + 1e-9);
+  const uint64_t oldest = d.Last - std::min<uint64_t>(d.Last, static_cast<uint64_t>(keep));
+  if (oldest > d.First)
+  {
+    d.Skipped = oldest - d.First;
+    d.First = oldest;
+  }
+  return d;
+}
 
 bool HasOpus()
 {
@@ -92,9 +134,10 @@ StreamSession::StreamSession(const StreamAvatar& avatar,
 #endif
   }
   this->Live = std::make_unique<LiveBehavior>(visemeChannels, settings.Behavior, settings.Seed);
+  this->Synthesized = std::make_shared<Notifier>();
   if (this->Synthesize)
   {
-    this->Live->SetSynthesizer(this->Synthesize);
+    this->Live->SetSynthesizer(this->Notifying(this->Synthesize));
   }
   this->Optimizer = std::make_unique<Decision>(avatar.GetModel().GetTargetDistances());
   this->Optimizer->SetWeightMode(WeightMode::Relative);
@@ -103,7 +146,46 @@ StreamSession::StreamSession(const StreamAvatar& avatar,
   this->Requested.assign(avatar.GetTargetNames().size() + 1, 0.0);
 }
 
-StreamSession::~StreamSession() = default;
+StreamSession::~StreamSession()
+{
+  std::lock_guard<std::mutex> lock(this->Synthesized->Mutex);
+  this->Synthesized->Callback = nullptr; // jobs still in the pool call nothing
+}
+
+LiveBehavior::Synthesizer StreamSession::Notifying(LiveBehavior::Synthesizer synthesizer) const
+{
+  return
+    [synthesizer = std::move(synthesizer), notifier = this->Synthesized](const std::string& text)
+  {
+    // In a pool's job: wake the session once the job is final (SynthesisPool::WhenFinished).
+    SynthesisPool::WhenFinished([notifier]() { notifier->Call(); });
+    return synthesizer(text);
+  };
+}
+
+void StreamSession::SetSynthesizedCallback(std::function<void()> callback)
+{
+  std::lock_guard<std::mutex> lock(this->Synthesized->Mutex);
+  this->Synthesized->Callback = std::move(callback);
+}
+
+bool StreamSession::PickUp(double now)
+{
+  if (!this->Live->IsSynthesizing() || now <= this->LastTime)
+  {
+    return false;
+  }
+  this->Live->SynthesizeAhead(now);
+  std::vector<LiveBehavior::AudioSegment> ready = this->Live->TakeAudio();
+  if (ready.empty())
+  {
+    return false;
+  }
+  // The frame first (a page shows the mouth once it has it), then the sound (Tick).
+  this->Held = std::move(ready);
+  this->Tick(now);
+  return true;
+}
 
 void StreamSession::SetSynthesisPool(std::shared_ptr<SynthesisPool> pool)
 {
@@ -197,7 +279,13 @@ std::vector<std::vector<uint8_t>> StreamSession::TakeMessages()
 
 void StreamSession::TakeAudio()
 {
-  for (const LiveBehavior::AudioSegment& segment : this->Live->TakeAudio())
+  std::vector<LiveBehavior::AudioSegment> segments;
+  segments.swap(this->Held);
+  for (LiveBehavior::AudioSegment& segment : this->Live->TakeAudio())
+  {
+    segments.push_back(std::move(segment));
+  }
+  for (const LiveBehavior::AudioSegment& segment : segments)
   {
     if (this->SoundStarts.size() < 256)
     {
@@ -289,6 +377,10 @@ dialog::Schedule StreamSession::Say(const dialog::SayCommand& c, double now)
       throw InputError("this server speaks with its own voice only (no 'voice' field)");
     }
     voice = this->MakeVoice(c.Voice); // InputError for a voice it does not have
+    if (voice)
+    {
+      voice = this->Notifying(std::move(voice));
+    }
   }
   if (this->Live->GetSynthesisPool())
   {

@@ -53,6 +53,20 @@ struct StreamSettings
 /// True when this build can encode Opus (Debian libopus-dev found).
 bool HasOpus();
 
+/// The frames a session's frame timer sends when it fires at `now` (seconds on the
+/// session's clock) and frame `next` (at next * frameSeconds) is the first not yet sent:
+/// every frame from `next` up to the one due now (floor(now / frameSeconds)), but none
+/// older than `catchUpSeconds` before now. A timer that fired late (a loaded machine)
+/// still delivers the frames a client's jitter buffer can use instead of leaving a gap in
+/// the picture; older ones it would drop anyway. First > Last: nothing is due yet.
+struct DueFrames
+{
+  uint64_t First = 0, Last = 0;
+  bool Late = false;    ///< more than one frame behind (a late tick)
+  uint64_t Skipped = 0; ///< frames too old to send
+};
+DueFrames FramesDue(uint64_t next, double now, double frameSeconds, double catchUpSeconds);
+
 class StreamSession : public dialog::CommandSink
 {
 public:
@@ -67,6 +81,16 @@ public:
   /// blocks the session; its speech starts at the first frame after it is ready. Set it
   /// before the first say; shared by every session of a server.
   void SetSynthesisPool(std::shared_ptr<SynthesisPool> pool);
+  /// Called on a pool thread whenever synthesis for this session finished (any of its
+  /// chunks, any voice): e.g. to run PickUp() on the session's thread at once rather than
+  /// at the next frame. Set it before the first say; it must be thread-safe.
+  void SetSynthesizedCallback(std::function<void()> callback);
+  /// True while speech waits for the pool.
+  bool IsSynthesizing() const { return this->Live->IsSynthesizing(); }
+  /// Between frames (now after the last Tick): takes what the pool finished and starts it
+  /// at `now` rather than at the next frame, with a frame at `now` (Tick(now): the frame,
+  /// then the sound, for TakeMessages()). False: nothing was ready (nothing queued).
+  bool PickUp(double now);
   /// Makes the synthesizer of a say's `voice` (InputError for a voice it does not have).
   /// Without it, a say with a voice is refused.
   using VoiceSynthesizers = std::function<LiveBehavior::Synthesizer(const std::string& voice)>;
@@ -121,9 +145,14 @@ public:
 private:
   void TakeAudio();
   void QueueAudio(const LiveBehavior::AudioSegment& segment);
+  /// The synthesizer, telling the SynthesizedCallback when a pool job of it is finished.
+  LiveBehavior::Synthesizer Notifying(LiveBehavior::Synthesizer synthesizer) const;
+  struct Notifier;
+  std::shared_ptr<Notifier> Synthesized;
   VoiceSynthesizers MakeVoice;
   std::string AvatarUrl;
   std::vector<LiveBehavior::SpeechError> SpeechErrors;
+  std::vector<LiveBehavior::AudioSegment> Held; ///< picked up, sent after PickUp's frame
   std::map<uint64_t, double> SoundStarts; ///< utterance id -> its sound's start (held briefly)
 
   const StreamAvatar& Avatar;

@@ -7,11 +7,14 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
 #include <mutex>
+#include <string>
 #include <thread>
+#include <vector>
 
 using namespace morphnode;
 
@@ -159,4 +162,56 @@ TEST(SynthesisPool, FailuresCarryTheirMessageAndBadSettingsAreRefused)
   bad.MaxQueued = 0;
   EXPECT_THROW(SynthesisPool{ bad }, InputError);
   EXPECT_TRUE(SynthesisJob::Ready(Seconds(0.5))->IsFinished());
+}
+
+// WhenFinished: the callback a job's work asks for runs once the job is final (its state
+// Done or Failed when the callback looks), on the worker; outside a pool's job it is ignored.
+TEST(SynthesisPool, WhenFinishedRunsOnceTheJobIsFinal)
+{
+  SynthesisPool pool;
+  std::mutex m;
+  std::vector<std::string> seen;
+  std::shared_ptr<SynthesisJob> done, failed;
+  Gate submitted;
+  auto note = [&](std::shared_ptr<SynthesisJob>* job, const char* name)
+  {
+    return [&, job, name]()
+    {
+      submitted.Wait();
+      std::lock_guard<std::mutex> lock(m);
+      seen.push_back(std::string(name) + ((*job)->IsFinished() ? " final" : " not final"));
+    };
+  };
+  done = pool.Submit(
+    [&]()
+    {
+      SynthesisPool::WhenFinished(note(&done, "done"));
+      return Seconds(0.5);
+    });
+  failed = pool.Submit(
+    [&]() -> Utterance
+    {
+      SynthesisPool::WhenFinished(note(&failed, "failed"));
+      throw InputError("no voice");
+    });
+  submitted.Open();
+  ASSERT_TRUE(Finishes(done));
+  ASSERT_TRUE(Finishes(failed));
+  for (int i = 0; i < 2000; ++i)
+  {
+    {
+      std::lock_guard<std::mutex> lock(m);
+      if (seen.size() == 2)
+      {
+        break;
+      }
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  std::lock_guard<std::mutex> lock(m);
+  std::sort(seen.begin(), seen.end());
+  EXPECT_EQ(seen, (std::vector<std::string>{ "done final", "failed final" }));
+  bool called = false;
+  SynthesisPool::WhenFinished([&]() { called = true; }); // not in a job
+  EXPECT_FALSE(called);
 }

@@ -14,6 +14,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -491,4 +492,87 @@ TEST(StreamAvatar, DevicesGetTheirLevelAndTheirPixelBoundPrunesTargets)
   EXPECT_EQ(kept.GetTargetNames().size(), full.GetTargetNames().size());
   bound.TargetPixelBound = -1.0;
   EXPECT_THROW(StreamAvatar(face, channels, nullptr, bound), InputError);
+}
+
+// The frames a timer sends: the one due, every one missed by a late timer back to the
+// catch-up bound (a page still shows them), none older (counted as skipped).
+TEST(StreamSession, ALateTimerSendsTheFramesAPageCanStillShow)
+{
+  const double frame = 1.0 / 30.0;
+  DueFrames d = FramesDue(10, 10 * frame + 0.001, frame, 0.1);
+  EXPECT_EQ(d.First, 10u);
+  EXPECT_EQ(d.Last, 10u);
+  EXPECT_FALSE(d.Late);
+  d = FramesDue(10, 10 * frame - 1e-12, frame, 0.1); // a hair early: still that frame
+  EXPECT_EQ(d.First, 10u);
+  EXPECT_EQ(d.Last, 10u);
+  d = FramesDue(10, 12 * frame + 0.01, frame, 0.1); // two frames late: 10, 11, 12
+  EXPECT_TRUE(d.Late);
+  EXPECT_EQ(d.First, 10u);
+  EXPECT_EQ(d.Last, 12u);
+  EXPECT_EQ(d.Skipped, 0u);
+  d = FramesDue(10, 20 * frame + 0.01, frame, 0.1); // ten late: only the last 0.1 s
+  EXPECT_TRUE(d.Late);
+  EXPECT_EQ(d.Last, 20u);
+  EXPECT_EQ(d.First, 17u);
+  EXPECT_EQ(d.Skipped, 7u);
+  d = FramesDue(10, 20 * frame + 0.01, frame, 0.0); // no catch-up: the frame due only
+  EXPECT_EQ(d.First, 20u);
+  EXPECT_EQ(d.Skipped, 10u);
+}
+
+// Speech the pool finished between two frames starts when it is picked up (PickUp), not at
+// the next frame: its sound is stamped at the pick-up's time and leaves at once, the
+// session is told (SynthesizedCallback) when the job is final, and the next frame already
+// shows the mouth moving.
+TEST(StreamSession, SpeechPickedUpBetweenFramesStartsThere)
+{
+  const SpeechOptions speech = Paper6();
+  const StreamAvatar avatar(DefaultHead(), ChannelsOf(speech));
+  auto synthesize = [](const std::string&)
+  {
+    Utterance u;
+    u.Visemes = WeightTrack({ "A" }, 100.0);
+    for (int f = 0; f <= 100; ++f)
+    {
+      u.Visemes.AppendFrame(std::vector<double>{ f < 90 ? 1.0 : 0.0 });
+    }
+    u.Duration = 1.0;
+    u.SampleRate = 24000;
+    u.Audio.assign(24000, 1000);
+    return u;
+  };
+  StreamSession s(avatar, SelectVisemeMap(speech).GetVisemes(), synthesize, StreamSettings());
+  s.SetSynthesisPool(std::make_shared<SynthesisPool>());
+  std::atomic<int> told{ 0 };
+  s.SetSynthesizedCallback([&]() { ++told; });
+  const StreamHeader h = ParseHeader(s.Header("x", "/avatar.glb"));
+  const double frame = 1.0 / 30.0;
+  s.Tick(3 * frame);
+  Decode(s, h);
+  EXPECT_FALSE(s.PickUp(3 * frame)) << "nothing waits";
+  dialog::SayCommand say;
+  say.Text = "Hello.";
+  s.Say(say, 3 * frame);
+  EXPECT_TRUE(s.IsSynthesizing());
+  for (int i = 0; i < 2000 && told == 0; ++i)
+  {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  ASSERT_EQ(told, 1) << "the session is told when the pool finished";
+  const double between = 3 * frame + 0.01;
+  ASSERT_TRUE(s.PickUp(between));
+  EXPECT_FALSE(s.IsSynthesizing());
+  const std::vector<std::vector<uint8_t>> messages = s.TakeMessages();
+  ASSERT_GE(messages.size(), 2u);
+  EXPECT_EQ(messages[0][0], 1) << "the pick-up's frame comes first";
+  EXPECT_EQ(std::get<Frame>(DecodeServerMessage(messages[0].data(), messages[0].size(), &h)).Sample,
+    s.SampleOf(between));
+  const ServerMessage first = DecodeServerMessage(messages[1].data(), messages[1].size(), &h);
+  ASSERT_TRUE(std::holds_alternative<AudioChunk>(first)) << "then the sound, leaving at once";
+  EXPECT_EQ(std::get<AudioChunk>(first).Sample, s.SampleOf(between)) << "starting there";
+  s.Tick(4 * frame);
+  const Decoded next = Decode(s, h);
+  ASSERT_EQ(next.Frames.size(), 1u);
+  EXPECT_GT(Largest(next.Frames[0], h, { "A" }), 0) << "the next frame shows the speech under way";
 }
