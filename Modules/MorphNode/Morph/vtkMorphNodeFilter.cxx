@@ -98,7 +98,8 @@ struct vtkMorphNodeFilter::vtkInternals
   double BuiltSparseCoverage = -1.0;
   bool Valid = false; // the last execution succeeded
 
-  /// SetTargetOffInPart: part name -> targets off there; applied to the scene's parts.
+  /// SetTargetOffInPart: part name -> targets off there; the scene matches them to its
+  /// parts' names (MorphScene::SetTargetsOffByPartName).
   std::map<std::string, std::vector<std::string>> TargetsOff;
   bool TargetsOffApplied = false; // some part of the scene has targets off
 
@@ -108,23 +109,15 @@ struct vtkMorphNodeFilter::vtkInternals
     {
       return;
     }
-    this->TargetsOffApplied = false;
-    static const std::vector<std::string> none;
+    std::vector<std::string> names(this->Scene.GetNumberOfParts());
     for (const vtkMorphNodeOutput::Part& part : this->Output.Parts)
     {
-      if (part.ScenePart < 0)
+      if (part.ScenePart >= 0)
       {
-        continue;
+        names[static_cast<size_t>(part.ScenePart)] = part.Name;
       }
-      auto it = this->TargetsOff.find(part.Name);
-      if (it == this->TargetsOff.end())
-      {
-        it = this->TargetsOff.find(part.Name.substr(0, part.Name.rfind('/')));
-      }
-      this->Scene.SetPartTargetsOff(
-        static_cast<size_t>(part.ScenePart), it == this->TargetsOff.end() ? none : it->second);
-      this->TargetsOffApplied = this->TargetsOffApplied || it != this->TargetsOff.end();
     }
+    this->TargetsOffApplied = this->Scene.SetTargetsOffByPartName(names, this->TargetsOff);
   }
 
   /// The frame budget and target level of detail, and the blend's tasks.
