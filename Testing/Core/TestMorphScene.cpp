@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <memory>
 #include <random>
 #include <string>
@@ -304,6 +305,42 @@ TEST(MorphScene, ATargetOnSomePartsMovesOnlyThose)
   EXPECT_EQ(scene.GetPartWeights(1), (std::vector<double>{ 0.75, 0.25 }));
   EXPECT_EQ(scene.GetPartWeights(0)[3], 0.25);
   EXPECT_EQ(scene.GetPartWeights(2), (std::vector<double>{ 1.0 }));
+}
+
+TEST(MorphScene, TargetsOffByPartNameMatchTheNameOrTheMeshOfAPartition)
+{
+  // Parts named as vtkMorphNodeFilter names a composite's leaves: "Name/i" is partition i of
+  // the mesh "Name". A part takes the entry of its own name, else of its mesh's.
+  const Model m = MakeModel(400, 3, 5);
+  MorphScene scene;
+  scene.SetParts({ Piece(m, 0, 100, { 0, 1, 2 }), Piece(m, 100, 200, { 0, 1 }),
+    Piece(m, 200, 300, { 0, 1 }), Piece(m, 300, 400, { 0, 1 }) });
+  scene.SetWeightMode(WeightMode::Relative);
+  const std::vector<std::string> names{ "head", "eye/0", "eye/1", "lash" };
+  std::vector<double> w(scene.GetNumberOfTargets(), 0.0);
+  w[static_cast<size_t>(scene.FindTarget("shape0"))] = 0.5;
+  w[static_cast<size_t>(scene.FindTarget("shape1"))] = 0.25;
+  const auto partWeights = [&](size_t part)
+  {
+    scene.SetWeights(w);
+    return scene.GetPartWeights(part);
+  };
+
+  std::map<std::string, std::vector<std::string>> off{ { "eye", { "shape0", "nosuch" } },
+    { "eye/1", { "shape1" } } };
+  EXPECT_TRUE(scene.SetTargetsOffByPartName(names, off));
+  EXPECT_EQ(partWeights(0), (std::vector<double>{ 0.25, 0.5, 0.25, 0.0 })) << "head: no entry";
+  EXPECT_EQ(partWeights(1), (std::vector<double>{ 0.75, 0.0, 0.25 })) << "eye/0 takes 'eye'";
+  EXPECT_EQ(partWeights(2), (std::vector<double>{ 0.5, 0.5, 0.0 })) << "eye/1: its own entry";
+  EXPECT_EQ(partWeights(3), (std::vector<double>{ 0.25, 0.5, 0.25 })) << "lash: no entry";
+
+  off.clear(); // no entries: every part moves again
+  EXPECT_FALSE(scene.SetTargetsOffByPartName(names, off));
+  EXPECT_EQ(partWeights(1), (std::vector<double>{ 0.25, 0.5, 0.25 }));
+  EXPECT_EQ(partWeights(2), (std::vector<double>{ 0.25, 0.5, 0.25 }));
+
+  EXPECT_THROW(scene.SetTargetsOffByPartName({ "head" }, off), InputError)
+    << "every part needs a name";
 }
 
 TEST(MorphScene, TheBudgetCountsEveryPart)

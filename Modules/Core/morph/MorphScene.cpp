@@ -262,6 +262,32 @@ void MorphScene::SetPartTargetsOff(size_t part, const std::vector<std::string>& 
   }
 }
 
+bool MorphScene::SetTargetsOffByPartName(const std::vector<std::string>& partNames,
+  const std::map<std::string, std::vector<std::string>>& off)
+{
+  if (partNames.size() != this->Parts.size())
+  {
+    std::ostringstream msg;
+    msg << "the morph scene got " << partNames.size() << " part names for its "
+        << this->Parts.size() << " parts";
+    throw InputError(msg.str());
+  }
+  static const std::vector<std::string> none;
+  bool any = false;
+  for (size_t p = 0; p < partNames.size(); ++p)
+  {
+    const std::string& name = partNames[p];
+    auto it = off.find(name);
+    if (it == off.end())
+    {
+      it = off.find(name.substr(0, name.rfind('/'))); // "Name/i": the mesh "Name"
+    }
+    this->SetPartTargetsOff(p, it == off.end() ? none : it->second);
+    any = any || it != off.end();
+  }
+  return any;
+}
+
 void MorphScene::ClearResult()
 {
   this->ClearDecision();

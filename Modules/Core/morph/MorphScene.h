@@ -36,6 +36,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -127,6 +128,15 @@ public:
   /// still move the lids of the head). Replaces the part's earlier list; names the part
   /// lacks are ignored. Kept until SetParts; takes effect with the next SetWeights.
   void SetPartTargetsOff(size_t part, const std::vector<std::string>& names);
+
+  /// Targets off by part name, for every part at once (SetPartTargetsOff): `off` maps a
+  /// part name to the targets that never move that part; `partNames` names the scene's
+  /// parts, in order. A part takes the entry of its own name, else the entry of its name up
+  /// to the last '/' (the partitions "Name/0", "Name/1" of a mesh "Name"); a part with
+  /// neither has no targets off. Returns whether any part has an entry. Throws InputError
+  /// when `partNames` does not name every part.
+  bool SetTargetsOffByPartName(const std::vector<std::string>& partNames,
+    const std::map<std::string, std::vector<std::string>>& off);
 
   // The weight mode, the optimizer's settings or preset, the target distances of the model
   // (MakeTargetDistances), the effective weights (one per scene target), the error bound

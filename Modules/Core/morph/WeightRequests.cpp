@@ -103,7 +103,9 @@ void WeightRequests::Resolve(std::vector<double>& requested) const
   {
     requested[0] = 1.0;
   }
-  std::vector<uint64_t> order(n, 0);
+  // Which request set a weight, only needed when names may override indices: no allocation
+  // on the usual step (every weight set by index).
+  std::vector<uint64_t> order(this->ByName.empty() ? 0 : n, 0);
   // The first error in the order the weights were set, as a user would read them.
   size_t outOfRange = 0;
   uint64_t outOfRangeOrder = 0, unknownOrder = 0;
@@ -119,7 +121,10 @@ void WeightRequests::Resolve(std::vector<double>& requested) const
     else if (r.Order && i < n)
     {
       requested[i] = r.Weight;
-      order[i] = r.Order;
+      if (!order.empty())
+      {
+        order[i] = r.Order;
+      }
     }
   }
   for (const NamedRequest& named : this->ByName)
@@ -140,15 +145,16 @@ void WeightRequests::Resolve(std::vector<double>& requested) const
       order[i] = named.Value.Order;
     }
   }
-  std::ostringstream msg;
   if (outOfRangeOrder && (!unknown || outOfRangeOrder < unknownOrder))
   {
+    std::ostringstream msg; // made only for an error: a stream costs more than the rest
     msg << "a weight is set for target " << outOfRange << ", but the input has " << n
         << " targets (0.." << (n > 0 ? n - 1 : 0) << ", neutral first)";
     throw InputError(msg.str());
   }
   if (unknown)
   {
+    std::ostringstream msg;
     msg << "a weight is set for target '" << unknown->Name
         << "', but no target has that name; targets:";
     for (const std::string& name : this->Names)

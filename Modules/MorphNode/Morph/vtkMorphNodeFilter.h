@@ -13,8 +13,12 @@
  *   The same geometries may come as the partitions of one vtkPartitionedDataSet on one
  *   connection (partition 0 the neutral; no partition carries target arrays): the same
  *   result, but VTK's executive handles one connection instead of one per geometry (each
- *   connection costs it about 1.2 us per update, see docs/benchmarks.md). The output is
- *   then of the neutral's type.
+ *   connection costs it about 1.2 us per update). The output is then of the neutral's
+ *   type. This is the way to use the Java3D form at speed: with the 14 shapes of the
+ *   benchmark face, 14 connections cost VTK's executive ~22 us an update and miss the
+ *   speed goals against Java3D's Morph (8x on speech frames, 12x with all 14 active); one
+ *   vtkPartitionedDataSet of them costs what one input with target arrays costs (+0.3-1 us)
+ *   and met them on a quiet machine (docs/benchmarks.md, "Both Java3D forms").
  * - glTF style: one vtkPointSet carrying relative targets as point-data arrays
  *   `target<k>_position` (and `target<k>_normal`), as vtkGLTFReader produces with
  *   ApplyDeformationsToGeometry off. Target 0 is the base mesh, `target<k>_*` target k+1.
@@ -172,10 +176,11 @@ public:
   /**
    * Targets that do not move one part of a composite input, named as the filter names
    * its leaves (the reader's part names; a partition "Name/i" matches "Name"): their
-   * weights count as 0 there and still move the other parts (morphnode::MorphScene::
-   * SetPartTargetsOff). MorphAvatar turns the eyeLook* targets off on the eyeballs when the
-   * eye joints turn them, so that the same weights move only the lids. Names neither part
-   * nor target has are ignored. Default: none.
+   * weights count as 0 there and still move the other parts (the core matches the
+   * names: morphnode::MorphScene::SetTargetsOffByPartName). MorphAvatar turns the
+   * eyeLook* targets off on the eyeballs when the eye joints turn them, so that the same
+   * weights move only the lids. Names neither part nor target has are ignored.
+   * Default: none.
    */
   void SetTargetOffInPart(const char* part, const char* target);
   void RemoveAllTargetsOffInParts();

@@ -170,7 +170,10 @@ bool IsTargetArrayName(const char* name)
 
 bool HasTargets(vtkPointData* pd)
 {
-  return pd && pd->GetAbstractArray(ArrayName(0, Kind::Position).c_str()) != nullptr;
+  // The name made once: asked of every partition twice an update in the Java3D form in one
+  // data set, building it each time cost more than the lookup.
+  static const std::string first = ArrayName(0, Kind::Position);
+  return pd && pd->GetAbstractArray(first.c_str()) != nullptr;
 }
 
 bool HasTargets(vtkPointSet* input)
