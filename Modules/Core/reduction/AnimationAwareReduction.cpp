@@ -375,6 +375,8 @@ ReductionResult Reduce(
       Mesh::Point(input.Positions[3 * v], input.Positions[3 * v + 1], input.Positions[3 * v + 2]));
   }
   size_t rejected = 0;
+  std::vector<uint32_t> faceInput; // OpenMesh face id -> input triangle
+  faceInput.reserve(morph.GetNumberOfTriangles());
   for (size_t t = 0; t < morph.GetNumberOfTriangles(); ++t)
   {
     const uint32_t* ids = &triangles[3 * t];
@@ -386,7 +388,9 @@ ReductionResult Reduce(
     if (!mesh.add_face(handles[ids[0]], handles[ids[1]], handles[ids[2]]).is_valid())
     {
       ++rejected;
+      continue;
     }
+    faceInput.push_back(static_cast<uint32_t>(t));
   }
   if (rejected > 0 && settings.SkipNonManifold)
   {
@@ -480,6 +484,7 @@ ReductionResult Reduce(
     {
       continue;
     }
+    result.OriginalTriangleIds.push_back(faceInput[static_cast<size_t>(fh.idx())]);
     for (const auto vh : mesh.fv_range(fh))
     {
       reducedTriangles.push_back(reducedId[vh.idx()]);
