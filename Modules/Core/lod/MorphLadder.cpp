@@ -310,6 +310,9 @@ MorphLadder BuildLadder(
   std::iota(parentFull.begin(), parentFull.end(), 0u);
   std::vector<std::vector<uint32_t>> trianglesFull(levels);
   trianglesFull[0] = mesh.GetTriangles();
+  std::vector<std::vector<uint32_t>> originalTriangles(levels); // level triangle -> input's
+  originalTriangles[0].resize(fullTriangles);
+  std::iota(originalTriangles[0].begin(), originalTriangles[0].end(), 0u);
   std::vector<uint32_t> kept(np); // this level's point -> input id
   std::iota(kept.begin(), kept.end(), 0u);
   MorphMesh current;
@@ -342,6 +345,11 @@ MorphLadder BuildLadder(
         keptUntil[kept[j]] = l - 1;
         parentFull[kept[j]] = next[r.Representatives[j]];
       }
+    }
+    originalTriangles[l].resize(r.OriginalTriangleIds.size());
+    for (size_t i = 0; i < r.OriginalTriangleIds.size(); ++i)
+    {
+      originalTriangles[l][i] = originalTriangles[l - 1][r.OriginalTriangleIds[i]];
     }
     const auto& t = r.Mesh.GetTriangles();
     trianglesFull[l].resize(t.size());
@@ -388,6 +396,7 @@ MorphLadder BuildLadder(
     {
       level.Triangles[i] = newId[trianglesFull[l][i]];
     }
+    level.OriginalTriangleIds = std::move(originalTriangles[l]);
   }
   ladder.Mesh = GatherMorphMesh(
     mesh, ladder.OriginalPointIds, ladder.Levels[0].Triangles, settings.Reduction.SparseCoverage);

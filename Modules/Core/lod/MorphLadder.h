@@ -65,6 +65,10 @@ struct LadderLevel
   size_t NumberOfPoints = 0;
   /// Its index buffer: 3 shared point ids per triangle, all < NumberOfPoints.
   std::vector<uint32_t> Triangles;
+  /// Per triangle of the index buffer, the input triangle it is (an index into the input
+  /// mesh's triangles / 3; the identity for level 0): every reduced triangle is an input
+  /// triangle with collapsed corners moved, so per-triangle data (cell data) carries over.
+  std::vector<uint32_t> OriginalTriangleIds;
   /// Where every shared point sits on this level: the level triangle (3 shared ids) and
   /// barycentric weights of its closest point in the neutral, searched among the triangles
   /// around the point's representative (two rings), so that a lip point stays on its own

@@ -402,6 +402,8 @@ ReductionResult Reduce(
   // OpenMesh prints "complex edge" / "complex vertex" on its error stream for every face it
   // refuses; the count is reported below (or through the result) instead, in one message.
   const OpenMeshErrorsQuiet quiet;
+  std::vector<uint32_t> faceInput; // OpenMesh face id -> input triangle
+  faceInput.reserve(morph.GetNumberOfTriangles());
   for (size_t t = 0; t < morph.GetNumberOfTriangles(); ++t)
   {
     const uint32_t* ids = &triangles[3 * t];
@@ -413,7 +415,9 @@ ReductionResult Reduce(
     if (!mesh.add_face(handles[ids[0]], handles[ids[1]], handles[ids[2]]).is_valid())
     {
       ++rejected;
+      continue;
     }
+    faceInput.push_back(static_cast<uint32_t>(t));
   }
   if (rejected > 0 && settings.SkipNonManifold)
   {
@@ -507,6 +511,7 @@ ReductionResult Reduce(
     {
       continue;
     }
+    result.OriginalTriangleIds.push_back(faceInput[static_cast<size_t>(fh.idx())]);
     for (const auto vh : mesh.fv_range(fh))
     {
       reducedTriangles.push_back(reducedId[vh.idx()]);

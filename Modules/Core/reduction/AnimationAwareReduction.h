@@ -82,6 +82,11 @@ struct ReductionResult
   /// Original point -> reduced point it was collapsed into (itself when kept): Hoppe's
   /// geomorph target, and a nearest-kept-vertex map for any per-point data.
   std::vector<uint32_t> Representatives;
+  /// Reduced triangle -> the input triangle it is (index into the input's triangles / 3): a
+  /// halfedge collapse removes the two triangles of the collapsed edge and moves a corner of
+  /// the others, so every kept triangle is one of the input's. For carrying per-triangle
+  /// data (cell data) onto the reduced mesh.
+  std::vector<uint32_t> OriginalTriangleIds;
   /// Degenerate input triangles (a repeated point id) that were dropped.
   size_t DroppedDegenerateTriangles = 0;
   /// Non-manifold triangles left out (ReductionSettings::SkipNonManifold).

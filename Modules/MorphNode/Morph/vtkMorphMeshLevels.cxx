@@ -8,6 +8,7 @@
 #include "skin/AvatarBones.h"
 
 #include "vtkCellArray.h"
+#include "vtkCellData.h"
 #include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
 #include "vtkFloatArray.h"
@@ -152,8 +153,85 @@ void Assembler::Reset()
   this->Previous.clear();
 }
 
-void Assembler::Assemble(
-  const morphnode::ScalableScene& scene, size_t part, vtkPointSet* input, vtkPolyData* output)
+void Assembler::MakeLevel(
+  Level& made, const morphnode::MorphLadder& ladder, int level, vtkPointSet* input)
+{
+  const auto vn = static_cast<vtkIdType>(ladder.Levels[static_cast<size_t>(level)].NumberOfPoints);
+  // The input's arrays gathered to the level's points (the target arrays left out), and
+  // the points' ids in the input.
+  vtkNew<vtkIdList> from;
+  from->SetNumberOfIds(vn);
+  for (vtkIdType i = 0; i < vn; ++i)
+  {
+    from->SetId(i, static_cast<vtkIdType>(ladder.OriginalPointIds[static_cast<size_t>(i)]));
+  }
+  vtkPointData* inPD = input->GetPointData();
+  made.Gathered = vtkSmartPointer<vtkPointData>::New();
+  made.Gathered->CopyAllocate(inPD, vn);
+  made.Gathered->SetNumberOfTuples(vn);
+  for (int a = 0; a < made.Gathered->GetNumberOfArrays(); ++a)
+  {
+    vtkAbstractArray* target = made.Gathered->GetAbstractArray(a);
+    if (vtkAbstractArray* source =
+          target->GetName() ? inPD->GetAbstractArray(target->GetName()) : nullptr)
+    {
+      source->GetTuples(from, target);
+    }
+  }
+  vtkMorphTargetArrays::RemoveTargetArrays(made.Gathered);
+  vtkNew<vtkIdTypeArray> original;
+  original->SetName(OriginalPointIdArray);
+  original->SetNumberOfTuples(vn);
+  for (vtkIdType i = 0; i < vn; ++i)
+  {
+    original->SetValue(i, from->GetId(i));
+  }
+  made.Gathered->AddArray(original);
+  made.ExtraSources.clear();
+  made.Extras.clear();
+  if (ladder.Levels.size() > 1 || !vtkPolyData::SafeDownCast(input))
+  {
+    const morphnode::LadderLevel& shown = ladder.Levels[static_cast<size_t>(level)];
+    const std::vector<uint32_t>& triangles = shown.Triangles;
+    const auto nt = static_cast<vtkIdType>(triangles.size() / 3);
+    made.Polys = vtkSmartPointer<vtkCellArray>::New();
+    made.Polys->AllocateExact(nt, static_cast<vtkIdType>(triangles.size()));
+    for (size_t t = 0; t + 2 < triangles.size(); t += 3)
+    {
+      const vtkIdType tri[3] = { triangles[t], triangles[t + 1], triangles[t + 2] };
+      made.Polys->InsertNextCell(3, tri);
+    }
+    // The input's cell data of each level triangle: a reduced part is a vtkPolyData of
+    // triangles only (Reducible), so an input triangle's index is its cell id.
+    vtkCellData* inCD = input->GetCellData();
+    made.Cells = vtkSmartPointer<vtkCellData>::New();
+    if (inCD->GetNumberOfArrays() > 0 &&
+      shown.OriginalTriangleIds.size() == static_cast<size_t>(nt) &&
+      input->GetNumberOfCells() >= static_cast<vtkIdType>(ladder.Levels[0].Triangles.size() / 3))
+    {
+      vtkNew<vtkIdList> cells;
+      cells->SetNumberOfIds(nt);
+      for (vtkIdType t = 0; t < nt; ++t)
+      {
+        cells->SetId(t, static_cast<vtkIdType>(shown.OriginalTriangleIds[static_cast<size_t>(t)]));
+      }
+      made.Cells->CopyAllocate(inCD, nt);
+      made.Cells->SetNumberOfTuples(nt);
+      for (int a = 0; a < made.Cells->GetNumberOfArrays(); ++a)
+      {
+        vtkAbstractArray* target = made.Cells->GetAbstractArray(a);
+        if (vtkAbstractArray* source =
+              target->GetName() ? inCD->GetAbstractArray(target->GetName()) : nullptr)
+        {
+          source->GetTuples(cells, target);
+        }
+      }
+    }
+  }
+}
+
+vtkPolyData* Assembler::Assemble(const morphnode::ScalableScene& scene, size_t part,
+  vtkPointSet* input, const std::vector<vtkDataArray*>& extra)
 {
   const morphnode::MorphLadder& ladder = scene.GetLadder(part);
   const morphnode::SceneFrame& frame = scene.GetFrame();
@@ -168,147 +246,192 @@ void Assembler::Assemble(
   if (this->Levels.size() < scene.GetNumberOfParts())
   {
     this->Levels.resize(scene.GetNumberOfParts());
+    this->Previous.resize(scene.GetNumberOfParts());
   }
   this->Levels[part].resize(ladder.Levels.size());
   Level& made = this->Levels[part][static_cast<size_t>(level)];
   if (!made.Gathered)
   {
-    // The input's arrays gathered to the level's points (the target arrays left out), and
-    // the points' ids in the input.
+    this->MakeLevel(made, ladder, level, input);
+  }
+  if (made.ExtraSources != extra)
+  {
+    // The caller's per-point arrays (distance maps) gathered to the level's points.
+    made.ExtraSources = extra;
+    made.Extras.clear();
+    vtkDataArray* ids = made.Gathered->GetArray(OriginalPointIdArray);
     vtkNew<vtkIdList> from;
     from->SetNumberOfIds(vn);
     for (vtkIdType i = 0; i < vn; ++i)
     {
-      from->SetId(i, static_cast<vtkIdType>(ladder.OriginalPointIds[static_cast<size_t>(i)]));
+      from->SetId(i, static_cast<vtkIdType>(ids->GetTuple1(i)));
     }
-    vtkPointData* inPD = input->GetPointData();
-    made.Gathered = vtkSmartPointer<vtkPointData>::New();
-    made.Gathered->CopyAllocate(inPD, vn);
-    made.Gathered->SetNumberOfTuples(vn);
-    for (int a = 0; a < made.Gathered->GetNumberOfArrays(); ++a)
+    for (vtkDataArray* source : extra)
     {
-      vtkAbstractArray* target = made.Gathered->GetAbstractArray(a);
-      if (vtkAbstractArray* source =
-            target->GetName() ? inPD->GetAbstractArray(target->GetName()) : nullptr)
+      if (!source || source->GetNumberOfTuples() != input->GetNumberOfPoints())
       {
-        source->GetTuples(from, target);
+        throw morphnode::InputError("mesh levels: an extra point array does not fit the part");
       }
-    }
-    vtkMorphTargetArrays::RemoveTargetArrays(made.Gathered);
-    vtkNew<vtkIdTypeArray> original;
-    original->SetName(OriginalPointIdArray);
-    original->SetNumberOfTuples(vn);
-    for (vtkIdType i = 0; i < vn; ++i)
-    {
-      original->SetValue(i, from->GetId(i));
-    }
-    made.Gathered->AddArray(original);
-    if (ladder.Levels.size() > 1 || !vtkPolyData::SafeDownCast(input))
-    {
-      const std::vector<uint32_t>& triangles = ladder.Levels[static_cast<size_t>(level)].Triangles;
-      made.Polys = vtkSmartPointer<vtkCellArray>::New();
-      made.Polys->AllocateExact(
-        static_cast<vtkIdType>(triangles.size() / 3), static_cast<vtkIdType>(triangles.size()));
-      for (size_t t = 0; t + 2 < triangles.size(); t += 3)
-      {
-        const vtkIdType tri[3] = { triangles[t], triangles[t + 1], triangles[t + 2] };
-        made.Polys->InsertNextCell(3, tri);
-      }
+      vtkSmartPointer<vtkDataArray> gathered = vtk::TakeSmartPointer(source->NewInstance());
+      gathered->SetName(source->GetName());
+      gathered->SetNumberOfComponents(source->GetNumberOfComponents());
+      gathered->SetNumberOfTuples(vn);
+      source->GetTuples(from, gathered);
+      made.Extras.push_back(gathered);
     }
   }
 
-  output->Initialize();
-  if (this->Previous.size() < scene.GetNumberOfParts())
+  // The kept output: filled again when only this helper holds it, else a new one.
+  Kept& kept = this->Previous[part];
+  kept.Kept = kept.Output && kept.Output->GetReferenceCount() == 1;
+  if (!kept.Kept)
   {
-    this->Previous.resize(scene.GetNumberOfParts());
+    kept.Output = vtkSmartPointer<vtkPolyData>::New();
+    kept.Level = -1;
   }
-  Last& last = this->Previous[part];
-  const bool reuse = !scene.IsPartChanged(part) && last.Level == level && last.Points;
-  if (!reuse)
-  {
-    last.Level = level;
-    last.Morphed.clear();
-    last.Points = vtkSmartPointer<vtkPoints>::New();
-    last.Points->SetDataTypeToFloat();
-    last.Points->SetNumberOfPoints(vn);
-    std::copy_n(scene.GetPositions(part).data(), 3 * n,
-      static_cast<float*>(last.Points->GetData()->GetVoidPointer(0)));
-  }
-  output->SetPoints(last.Points);
-  if (made.Polys)
-  {
-    output->SetPolys(made.Polys);
-  }
-  else
-  {
-    // Kept whole: the input's own cells (the numbering is the input's).
-    auto* poly = vtkPolyData::SafeDownCast(input);
-    output->SetVerts(poly->GetVerts());
-    output->SetLines(poly->GetLines());
-    output->SetPolys(poly->GetPolys());
-    output->SetStrips(poly->GetStrips());
-  }
-
-  // The level's gathered arrays, shared; the morphed ones (normals, ...) new, blended (or
-  // the last output's, when the part did not change).
+  vtkPolyData* output = kept.Output;
   vtkPointData* outPD = output->GetPointData();
-  outPD->ShallowCopy(made.Gathered);
-  if (reuse)
+  // The structure, the gathered arrays and the cell data: again on a change of level.
+  std::vector<vtkDataArray*> extrasNow;
+  for (const auto& array : made.Extras)
   {
-    for (vtkDataArray* array : last.Morphed)
+    extrasNow.push_back(array);
+  }
+  const bool restructure =
+    kept.Level != level || kept.GatheredFrom != made.Gathered.Get() || kept.ExtrasFrom != extrasNow;
+  kept.Kept = kept.Kept && !restructure;
+  if (restructure)
+  {
+    output->Initialize();
+    if (made.Polys)
+    {
+      output->SetPolys(made.Polys);
+      output->GetCellData()->ShallowCopy(made.Cells);
+    }
+    else
+    {
+      // Kept whole: the input's own cells (the numbering is the input's) and cell data.
+      auto* poly = vtkPolyData::SafeDownCast(input);
+      output->SetVerts(poly->GetVerts());
+      output->SetLines(poly->GetLines());
+      output->SetPolys(poly->GetPolys());
+      output->SetStrips(poly->GetStrips());
+      output->GetCellData()->ShallowCopy(input->GetCellData());
+    }
+    outPD->ShallowCopy(made.Gathered);
+    for (vtkDataArray* array : extrasNow)
     {
       outPD->AddArray(array);
     }
+    output->GetFieldData()->PassData(input->GetFieldData());
+    kept.GatheredFrom = made.Gathered;
+    kept.ExtrasFrom = extrasNow;
   }
+
+  // The points and the morphed arrays (normals, ...): untouched when the scene did not
+  // blend the part again at this level; else written in place when only the kept output
+  // and this helper hold them, or new.
+  const bool same = !scene.IsPartChanged(part) && kept.Level == level && kept.Points;
+  kept.Level = level;
+  auto free = [](vtkObjectBase* object, bool inOutput)
+  { return object && object->GetReferenceCount() == 1 + (inOutput ? 1 : 0); };
+  if (!same)
+  {
+    if (!free(kept.Points, output->GetPoints() == kept.Points) ||
+      kept.Points->GetData()->GetReferenceCount() != 1 || kept.Points->GetDataType() != VTK_FLOAT)
+    {
+      kept.Points = vtkSmartPointer<vtkPoints>::New();
+      kept.Points->SetDataTypeToFloat();
+    }
+    kept.Points->SetNumberOfPoints(vn);
+    std::copy_n(scene.GetPositions(part).data(), 3 * n,
+      static_cast<float*>(kept.Points->GetData()->GetVoidPointer(0)));
+    kept.Points->Modified();
+  }
+  output->SetPoints(kept.Points);
   const int position = ladder.Mesh.GetPositionAttribute();
-  for (size_t a = 0; a < ladder.Mesh.GetNumberOfAttributes() && !reuse; ++a)
+  kept.Morphed.resize(ladder.Mesh.GetNumberOfAttributes());
+  for (size_t a = 0; a < ladder.Mesh.GetNumberOfAttributes(); ++a)
   {
     if (static_cast<int>(a) == position)
     {
       continue;
     }
-    const morphnode::AnyMorphAttribute& attribute = ladder.Mesh.GetAttribute(a);
-    const std::string& name =
-      std::visit([](const auto& v) -> const std::string& { return v.GetName(); }, attribute);
-    vtkDataArray* gathered = outPD->GetArray(name.c_str());
-    if (!gathered)
+    vtkSmartPointer<vtkDataArray>& array = kept.Morphed[a];
+    if (same && array && !restructure)
     {
-      continue;
+      continue; // in the output as the last frame left it
     }
-    vtkSmartPointer<vtkDataArray> array = vtk::TakeSmartPointer(gathered->NewInstance());
-    array->SetName(gathered->GetName());
-    array->SetNumberOfComponents(gathered->GetNumberOfComponents());
-    array->SetNumberOfTuples(vn);
-    if (std::holds_alternative<morphnode::MorphAttribute<float>>(attribute))
+    if (!same || !array)
     {
-      BlendInto<float>(scene, part, a, array, n);
+      const morphnode::AnyMorphAttribute& attribute = ladder.Mesh.GetAttribute(a);
+      const std::string& name =
+        std::visit([](const auto& v) -> const std::string& { return v.GetName(); }, attribute);
+      vtkDataArray* gathered = made.Gathered->GetArray(name.c_str());
+      if (!gathered)
+      {
+        continue;
+      }
+      const bool inOutput = outPD->GetArray(name.c_str()) == array.Get() && array;
+      if (!free(array, inOutput) || array->GetDataType() != gathered->GetDataType() ||
+        array->GetNumberOfComponents() != gathered->GetNumberOfComponents())
+      {
+        array = vtk::TakeSmartPointer(gathered->NewInstance());
+        array->SetName(gathered->GetName());
+        array->SetNumberOfComponents(gathered->GetNumberOfComponents());
+      }
+      array->SetNumberOfTuples(vn);
+      if (std::holds_alternative<morphnode::MorphAttribute<float>>(attribute))
+      {
+        BlendInto<float>(scene, part, a, array, n);
+      }
+      else
+      {
+        BlendInto<double>(scene, part, a, array, n);
+      }
+      array->Modified();
     }
-    else
+    if (outPD->GetArray(array->GetName()) != array.Get())
     {
-      BlendInto<double>(scene, part, a, array, n);
+      outPD->AddArray(array); // in the gathered one's place (and attribute)
     }
-    outPD->AddArray(array); // in the gathered one's place (and attribute)
-    last.Morphed.push_back(array);
   }
 
-  output->GetFieldData()->PassData(input->GetFieldData());
   const morphnode::ControllerDecision& d = frame.Decision;
   const bool slides = d.MorphTowards >= 0 && level == d.Level &&
     static_cast<size_t>(level) + 1 < ladder.Levels.size();
-  vtkNew<vtkDoubleArray> lod;
-  lod->SetName(LevelOfDetailArray);
-  lod->SetNumberOfComponents(5);
-  lod->SetComponentName(0, "Level");
-  lod->SetComponentName(1, "MorphTowards");
-  lod->SetComponentName(2, "Alpha");
-  lod->SetComponentName(3, "ActiveTargets");
-  lod->SetComponentName(4, "Points");
+  vtkFieldData* fd = output->GetFieldData();
+  if (!free(kept.LevelOfDetail, fd->GetArray(LevelOfDetailArray) == kept.LevelOfDetail.Get()))
+  {
+    kept.LevelOfDetail = vtkSmartPointer<vtkDoubleArray>::New();
+    kept.LevelOfDetail->SetName(LevelOfDetailArray);
+    kept.LevelOfDetail->SetNumberOfComponents(5);
+    kept.LevelOfDetail->SetComponentName(0, "Level");
+    kept.LevelOfDetail->SetComponentName(1, "MorphTowards");
+    kept.LevelOfDetail->SetComponentName(2, "Alpha");
+    kept.LevelOfDetail->SetComponentName(3, "ActiveTargets");
+    kept.LevelOfDetail->SetComponentName(4, "Points");
+    kept.LevelOfDetail->SetNumberOfTuples(1);
+  }
   const double tuple[5] = { static_cast<double>(level),
     slides ? static_cast<double>(d.MorphTowards) : -1.0, slides ? d.Alpha : 0.0,
     static_cast<double>(d.ActiveTargets), static_cast<double>(frame.NumberOfPoints) };
-  lod->InsertNextTuple(tuple);
-  output->GetFieldData()->AddArray(lod);
+  kept.LevelOfDetail->SetTypedTuple(0, tuple);
+  kept.LevelOfDetail->Modified();
+  if (fd->GetArray(LevelOfDetailArray) != kept.LevelOfDetail.Get())
+  {
+    fd->AddArray(kept.LevelOfDetail);
+  }
+  output->Modified();
+  return output;
 }
+
+void Assembler::Assemble(const morphnode::ScalableScene& scene, size_t part, vtkPointSet* input,
+  vtkPolyData* output, const std::vector<vtkDataArray*>& extra)
+{
+  output->ShallowCopy(this->Assemble(scene, part, input, extra));
+}
+
 void SceneLevels::Clear()
 {
   if (this->Inputs.empty() && this->Generation == 0)
@@ -319,6 +442,8 @@ void SceneLevels::Clear()
   this->Inputs.clear();
   this->Scene = morphnode::ScalableScene();
   this->Configured = false;
+  this->MappedNames.clear();
+  this->NameMap.clear();
   this->Output.Reset();
 }
 
@@ -357,7 +482,8 @@ const morphnode::SceneFrame& SceneLevels::Update(const std::vector<std::string>&
   }
   const morphnode::ControllerSettings& was = this->Scene.GetSettings();
   if (!this->Configured || was.FrameBudget != settings.FrameBudget ||
-    was.PixelBound != settings.PixelBound || was.FinestLevel != settings.FinestLevel ||
+    was.MeasurementWindow != settings.MeasurementWindow || was.PixelBound != settings.PixelBound ||
+    was.FinestLevel != settings.FinestLevel ||
     was.MaxGeomorphPixels != settings.MaxGeomorphPixels || was.Thresholds != settings.Thresholds ||
     was.TargetPixelBound != settings.TargetPixelBound)
   {
@@ -365,15 +491,26 @@ const morphnode::SceneFrame& SceneLevels::Update(const std::vector<std::string>&
     this->Configured = true;
   }
   // The filter's weights by name onto the scene's targets (the same names: both are the
-  // parts' matched as MorphScene matches them).
+  // parts' matched as MorphScene matches them); the map is made again only when the names
+  // change (a new model).
   const std::vector<std::string>& targets = this->Scene.GetTargetNames();
-  this->Weights.assign(targets.size(), 0.0);
-  for (size_t t = 1; t < targets.size() && !names.empty(); ++t)
+  if (this->NameMap.size() != targets.size() || this->MappedNames != names)
   {
-    const auto it = std::find(names.begin() + 1, names.end(), targets[t]);
-    if (it != names.end() && static_cast<size_t>(it - names.begin()) < weights.size())
+    this->MappedNames = names;
+    this->NameMap.assign(targets.size(), 0);
+    for (size_t t = 1; t < targets.size() && !names.empty(); ++t)
     {
-      this->Weights[t] = weights[static_cast<size_t>(it - names.begin())];
+      const auto it = std::find(names.begin() + 1, names.end(), targets[t]);
+      this->NameMap[t] = it != names.end() ? static_cast<size_t>(it - names.begin()) : 0;
+    }
+  }
+  this->Weights.assign(targets.size(), 0.0);
+  for (size_t t = 1; t < targets.size(); ++t)
+  {
+    const size_t i = this->NameMap[t];
+    if (i > 0 && i < weights.size())
+    {
+      this->Weights[t] = weights[i];
     }
   }
   double sum = 0.0;
@@ -385,8 +522,8 @@ const morphnode::SceneFrame& SceneLevels::Update(const std::vector<std::string>&
   return this->Scene.Update(this->Weights, pixelsPerUnit);
 }
 
-void SceneLevels::Assemble(size_t part, vtkPolyData* output)
+vtkPolyData* SceneLevels::Assemble(size_t part, const std::vector<vtkDataArray*>& extra)
 {
-  this->Output.Assemble(this->Scene, part, this->Inputs.at(part), output);
+  return this->Output.Assemble(this->Scene, part, this->Inputs.at(part), extra);
 }
 } // namespace vtkMorphMeshLevels

@@ -11,11 +11,14 @@
  * - points: the shown prefix of the part's one vertex buffer (the ladder's numbering), the
  *   blended and geomorphed positions;
  * - cells: the level's triangles (a part kept whole, see BuildLadder, keeps the input's
- *   cells: its numbering is the input's);
+ *   cells: its numbering is the input's), with the input's cell data of each triangle
+ *   (a reduced triangle is an input triangle with collapsed corners moved:
+ *   morphnode::LadderLevel::OriginalTriangleIds);
  * - point data: every array of the input gathered to the shown points (target<k>_* arrays
  *   left out), the morphed ones (normals, ...) blended and geomorphed at the level, and
  *   `OriginalPointId` (vtkIdTypeArray): each point's id in the input part, by which
  *   anything per point of the full mesh (colours, tangents, picks) maps onto the level;
+ *   extra point arrays of the caller (the filter's distance arrays) gathered likewise;
  *   skin arrays (vtkMorphSkinArrays) are gathered too, so a reduced skinned part still
  *   skins;
  * - field data: the input's, and `LevelOfDetail` (vtkDoubleArray, one tuple, components
@@ -40,7 +43,9 @@
 #include <vector>
 
 class vtkCellArray;
+class vtkCellData;
 class vtkDataArray;
+class vtkDoubleArray;
 class vtkPoints;
 class vtkPointData;
 class vtkPointSet;
@@ -69,37 +74,60 @@ std::shared_ptr<const morphnode::MorphLadder> BuildLadder(const morphnode::Morph
 std::shared_ptr<const morphnode::MorphLadder> BuildLadder(
   vtkPointSet* part, const morphnode::LadderSettings& settings, const std::string& what);
 
-/// The levels a scene shows, as VTK data. What depends on a part's level only (its cells,
-/// the input's arrays gathered to its points, OriginalPointId) is made once per level and
-/// shared by every output of that level (so a downstream cache keyed on an array, such as
-/// vtkMorphSkinFilter's skin, holds while the level does); the morphed arrays are new in
-/// every output.
+/// The levels a scene shows, as VTK data. What depends on a part's level only (its cells and
+/// their cell data, the input's arrays gathered to its points, OriginalPointId) is made once
+/// per level and shared by every output of that level (so a downstream cache keyed on an
+/// array, such as vtkMorphSkinFilter's skin, holds while the level does). Each part's output
+/// data set, its points and its morphed arrays are kept across executions and written again
+/// in place when no one else holds them (as vtkMorphNodeOutput keeps the filter's own), new
+/// ones otherwise; a part the scene did not blend again keeps them untouched.
 class Assembler
 {
 public:
   /// Forgets the levels made (a new scene or new inputs).
   void Reset();
   /// The level the scene's last frame shows of part `part` (whose input is `input`, the
-  /// data set its ladder was built from), in the convention above.
-  void Assemble(
-    const morphnode::ScalableScene& scene, size_t part, vtkPointSet* input, vtkPolyData* output);
+  /// data set its ladder was built from), in the convention above, as the part's kept data
+  /// set (a new one when the last is still held elsewhere). `extra`: point arrays over the
+  /// input's points made elsewhere (vtkMorphNodeFilter's distance arrays), gathered to the
+  /// level's points with the input's own (again only when they are other arrays).
+  vtkPolyData* Assemble(const morphnode::ScalableScene& scene, size_t part, vtkPointSet* input,
+    const std::vector<vtkDataArray*>& extra = {});
+  /// Whether part `part`'s last Assemble gave the data set of the execution before, its
+  /// structure and field data kept (only its points and morphed arrays written again).
+  bool IsKept(size_t part) const
+  {
+    return part < this->Previous.size() && this->Previous[part].Kept;
+  }
+  /// The same, shallow-copied into `output`.
+  void Assemble(const morphnode::ScalableScene& scene, size_t part, vtkPointSet* input,
+    vtkPolyData* output, const std::vector<vtkDataArray*>& extra = {});
 
 private:
   struct Level
   {
     vtkSmartPointer<vtkPointData> Gathered;
-    vtkSmartPointer<vtkCellArray> Polys; // null: the input's own cells
+    vtkSmartPointer<vtkCellArray> Polys;     // null: the input's own cells
+    vtkSmartPointer<vtkCellData> Cells;      // the input's cell data on Polys (null: the input's)
+    std::vector<vtkDataArray*> ExtraSources; // not held: identify what Extras were made of
+    std::vector<vtkSmartPointer<vtkDataArray>> Extras;
   };
+  void MakeLevel(Level& made, const morphnode::MorphLadder& ladder, int level, vtkPointSet* input);
   std::vector<std::vector<Level>> Levels; // [part][level]
-  /// Per part, the last output's points and morphed arrays: shared again (never written in
-  /// place) while the scene did not blend the part again (ScalableScene::IsPartChanged).
-  struct Last
+  /// Per part, the kept output: its data set, points, morphed arrays (in the ladder's
+  /// attribute order, null for the positions and arrays not output) and LevelOfDetail.
+  struct Kept
   {
-    int Level = -1;
+    vtkSmartPointer<vtkPolyData> Output;
+    int Level = -1; // the level Output's structure and gathered arrays are of,
+    vtkPointData* GatheredFrom = nullptr;  // made from these (not held)
+    std::vector<vtkDataArray*> ExtrasFrom; // (not held)
+    bool Kept = false;                     // the last Assemble gave Output again, not restructured
     vtkSmartPointer<vtkPoints> Points;
     std::vector<vtkSmartPointer<vtkDataArray>> Morphed;
+    vtkSmartPointer<vtkDoubleArray> LevelOfDetail;
   };
-  std::vector<Last> Previous;
+  std::vector<Kept> Previous;
 };
 
 /// A morph node's mesh levels (vtkMorphNodeFilter::MeshLevels): the ladders of its parts,
@@ -122,8 +150,11 @@ public:
   const morphnode::SceneFrame& Update(const std::vector<std::string>& names,
     const std::vector<double>& weights, const morphnode::ControllerSettings& settings,
     double pixelsPerUnit);
-  /// Part `part`'s shown level as VTK data.
-  void Assemble(size_t part, vtkPolyData* output);
+  /// Part `part`'s shown level as VTK data (Assembler::Assemble, kept across executions),
+  /// with `extra` point arrays over the part's input points gathered to it.
+  vtkPolyData* Assemble(size_t part, const std::vector<vtkDataArray*>& extra = {});
+  /// Assembler::IsKept.
+  bool IsKept(size_t part) const { return this->Output.IsKept(part); }
   const morphnode::ScalableScene& GetScene() const { return this->Scene; }
   bool Empty() const { return this->Inputs.empty(); }
   void Clear();
@@ -134,6 +165,10 @@ private:
   morphnode::ScalableScene Scene;
   bool Configured = false;
   std::vector<double> Weights; // scratch, over the scene's targets
+  /// The filter's target names the map below was made for, and per scene target (neutral
+  /// first) the index of its name in them (0: none).
+  std::vector<std::string> MappedNames;
+  std::vector<size_t> NameMap;
   Assembler Output;
 };
 } // namespace vtkMorphMeshLevels

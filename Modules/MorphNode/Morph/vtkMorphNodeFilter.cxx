@@ -437,29 +437,50 @@ struct vtkMorphNodeFilter::vtkInternals
     settings.PixelBound = self->PixelsPerUnit > 0.0 ? self->LevelPixelBound : 0.0;
     settings.FinestLevel = self->FinestLevel;
     settings.MaxGeomorphPixels = 1.0;
+    // Without a frame budget the level follows the screen alone: no decision reads the cost
+    // models, so they are not refitted to every execution's measured time.
+    settings.MeasurementWindow = self->FrameBudget > 0.0 ? settings.MeasurementWindow : 0;
     const morphnode::SceneFrame& frame = this->Levels.Update(
       this->Names(), this->Scene.GetEffectiveWeights(), settings, self->PixelsPerUnit);
     self->Level = frame.Decision.Level;
     self->UpdateProgress(0.9);
 
-    auto level = [&](const vtkMorphNodeOutput::Part& part) -> vtkSmartPointer<vtkDataObject>
+    // Every part's kept level data set (filled again in place while no one else holds it;
+    // the last output's sets let go of it first), with the distance maps gathered to its
+    // points when asked for, and the filter's field data (rewritten in place in the kept
+    // ones). An empty leaf passes through.
+    auto* composite = vtkCompositeDataSet::SafeDownCast(output);
+    if (composite)
+    {
+      this->Output.ReleaseLeaves();
+    }
+    const bool distances = self->GenerateDistanceArrays;
+    std::vector<vtkSmartPointer<vtkDataObject>> leaves;
+    std::vector<vtkFieldData*> fields;
+    std::vector<bool> kept;
+    for (vtkMorphNodeOutput::Part& part : this->Output.Parts)
     {
       if (part.ScenePart < 0)
       {
-        return part.Input; // an empty leaf passes through
+        leaves.emplace_back(part.Input);
+        continue;
       }
-      auto poly = vtkSmartPointer<vtkPolyData>::New();
-      this->Levels.Assemble(static_cast<size_t>(part.ScenePart), poly);
-      this->Output.AddFieldArrays(poly->GetFieldData(), &this->Scene);
-      return poly;
-    };
-    if (auto* composite = vtkCompositeDataSet::SafeDownCast(output))
+      const auto p = static_cast<size_t>(part.ScenePart);
+      vtkPolyData* poly = this->Levels.Assemble(p,
+        distances ? this->Output.GetDistanceArrays(part, &this->Scene)
+                  : std::vector<vtkDataArray*>());
+      leaves.emplace_back(poly);
+      fields.push_back(poly->GetFieldData());
+      kept.push_back(this->Levels.IsKept(p));
+    }
+    this->Output.AddFieldArrays(fields, kept, &this->Scene, distances);
+    if (composite)
     {
       // The levels in the output's structure as the filter's own leaves are placed; none
       // kept for the next execution (a level's leaf is not the input's structure).
-      for (vtkMorphNodeOutput::Part& part : this->Output.Parts)
+      for (size_t i = 0; i < leaves.size(); ++i)
       {
-        part.OutputLeaf = vtkPointSet::SafeDownCast(level(part));
+        this->Output.Parts[i].OutputLeaf = vtkPointSet::SafeDownCast(leaves[i]);
       }
       this->Output.PlaceLeaves(this->CompositeInput, composite);
       for (vtkMorphNodeOutput::Part& part : this->Output.Parts)
@@ -469,12 +490,12 @@ struct vtkMorphNodeFilter::vtkInternals
       return;
     }
     auto* poly = vtkPolyData::SafeDownCast(output);
-    if (!poly || this->Output.Parts.size() != 1)
+    if (!poly || leaves.size() != 1)
     {
       throw morphnode::InputError(
         "MeshLevels: the input must be a vtkPolyData (or a composite of them)");
     }
-    poly->ShallowCopy(level(this->Output.Parts[0]));
+    poly->ShallowCopy(leaves[0]);
 #else
     (void)self;
     (void)output;

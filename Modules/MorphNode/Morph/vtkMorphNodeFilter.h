@@ -350,7 +350,9 @@ public:
    * level's points and triangles (vtkPolyData), every point array gathered to the level's
    * points with the morphed ones blended, point data `OriginalPointId` (each point's id in
    * its input part) and field data `LevelOfDetail` (Level, MorphTowards, Alpha,
-   * ActiveTargets, Points); cell data and the distance arrays are left out. Off (the
+   * ActiveTargets, Points); the cell data of each kept triangle (a reduced triangle is an
+   * input triangle with collapsed corners moved) and, with GenerateDistanceArrays, the
+   * distance arrays gathered to the level's points (by OriginalPointId). Off (the
    * default): the output is the input's structure, as always. Level is the level the last
    * execution showed (-1: levels off, or before).
    */

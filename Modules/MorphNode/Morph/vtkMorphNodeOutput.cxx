@@ -121,7 +121,7 @@ void vtkMorphNodeOutput::PrepareArrays(Part& part)
 }
 
 //------------------------------------------------------------------------------
-std::vector<size_t> vtkMorphNodeOutput::Prepare(const morphnode::MorphScene& scene, bool composite)
+void vtkMorphNodeOutput::ReleaseLeaves()
 {
   // The partitioned data sets of the last output that only this helper holds let go of
   // their leaves, which can then be kept.
@@ -132,6 +132,12 @@ std::vector<size_t> vtkMorphNodeOutput::Prepare(const morphnode::MorphScene& sce
       set->Initialize();
     }
   }
+}
+
+//------------------------------------------------------------------------------
+std::vector<size_t> vtkMorphNodeOutput::Prepare(const morphnode::MorphScene& scene, bool composite)
+{
+  this->ReleaseLeaves();
   std::vector<size_t> blend;
   this->WhereByScenePart.assign(scene.GetNumberOfParts(), nullptr);
   for (Part& part : this->Parts)
@@ -264,14 +270,36 @@ std::vector<vtkDataArray*> vtkMorphNodeOutput::FieldArrays(
 }
 
 //------------------------------------------------------------------------------
-void vtkMorphNodeOutput::AddFieldArrays(vtkFieldData* fd, const morphnode::MorphScene* scene)
+void vtkMorphNodeOutput::AddFieldArrays(const std::vector<vtkFieldData*>& fds,
+  const std::vector<bool>& kept, const morphnode::MorphScene* scene, bool distances)
 {
+  const int holders = static_cast<int>(std::count(kept.begin(), kept.end(), true));
   bool fresh = false;
-  for (vtkDataArray* array : this->FieldArrays(scene, false, 0, fresh))
+  const std::vector<vtkDataArray*> arrays = this->FieldArrays(scene, distances, holders, fresh);
+  for (size_t i = 0; i < fds.size(); ++i)
   {
-    fd->AddArray(array);
+    if (i < kept.size() && kept[i] && !fresh)
+    {
+      continue; // holds them, rewritten in place
+    }
+    for (vtkDataArray* array : arrays)
+    {
+      fds[i]->AddArray(array);
+    }
+    fds[i]->AddArray(this->TargetNames);
   }
-  fd->AddArray(this->TargetNames);
+}
+
+//------------------------------------------------------------------------------
+std::vector<vtkDataArray*> vtkMorphNodeOutput::GetDistanceArrays(
+  Part& part, const morphnode::MorphScene* scene)
+{
+  std::vector<vtkDataArray*> arrays;
+  for (const auto& array : this->DistanceArrays(part, scene))
+  {
+    arrays.push_back(array);
+  }
+  return arrays;
 }
 
 //------------------------------------------------------------------------------

@@ -101,9 +101,20 @@ public:
     const morphnode::MorphScene* scene, bool distances);
 
   /// The model's target names and this execution's field data (EffectiveWeights,
-  /// ActiveTargetCount, ErrorBound), added to `fd`: for output data sets assembled
-  /// elsewhere (the filter's mesh levels, vtkMorphMeshLevels).
-  void AddFieldArrays(vtkFieldData* fd, const morphnode::MorphScene* scene);
+  /// ActiveTargetCount, ErrorBound, and DistNorm when `distances`) for output data sets
+  /// assembled elsewhere (the filter's mesh levels, vtkMorphMeshLevels): added to each of
+  /// `fds`, except to those `kept` (an output that holds the last execution's arrays, which
+  /// are rewritten in place when only this helper and the kept outputs hold them) unless
+  /// new arrays had to be made.
+  void AddFieldArrays(const std::vector<vtkFieldData*>& fds, const std::vector<bool>& kept,
+    const morphnode::MorphScene* scene, bool distances);
+  /// A part's distance maps over its input's points (made on first request, kept with the
+  /// part), as Assemble adds them: for outputs assembled elsewhere (the mesh levels gather
+  /// them to a level's points).
+  std::vector<vtkDataArray*> GetDistanceArrays(Part& part, const morphnode::MorphScene* scene);
+  /// The last output's partitioned data sets that only this helper holds let go of their
+  /// leaves (Prepare does this first), so that a leaf assembled elsewhere can be kept.
+  void ReleaseLeaves();
   /// A composite output's structure (the input's) holding the parts' OutputLeaf, and its
   /// field data: the last step of Assemble, for leaves assembled elsewhere.
   void PlaceLeaves(vtkCompositeDataSet* input, vtkCompositeDataSet* output);

@@ -147,6 +147,43 @@ TEST(MorphLadder, LevelsAreTheAnimationAwareReduction)
   }
 }
 
+TEST(MorphLadder, EveryLevelTriangleIsAnInputTriangle)
+{
+  // Per level, each triangle's OriginalTriangleIds entry names the input triangle it is: its
+  // corners are that triangle's corners' representatives on the level (a collapse moves a
+  // corner onto its representative), so cell data carries over by these ids.
+  const morphnode::MorphMesh input = reductiontest::MakeFace();
+  const MorphLadder& ladder = Ladder();
+  const std::vector<uint32_t>& in = input.GetTriangles();
+  std::vector<uint32_t> shared(ladder.OriginalPointIds.size()); // input id -> shared id
+  for (size_t i = 0; i < shared.size(); ++i)
+  {
+    shared[ladder.OriginalPointIds[i]] = static_cast<uint32_t>(i);
+  }
+  for (size_t l = 0; l < ladder.Levels.size(); ++l)
+  {
+    const auto& level = ladder.Levels[l];
+    ASSERT_EQ(level.OriginalTriangleIds.size(), level.Triangles.size() / 3) << "level " << l;
+    std::set<uint32_t> distinct(level.OriginalTriangleIds.begin(), level.OriginalTriangleIds.end());
+    EXPECT_EQ(distinct.size(), level.OriginalTriangleIds.size()) << "level " << l;
+    size_t moved = 0;
+    for (size_t t = 0; t < level.OriginalTriangleIds.size(); ++t)
+    {
+      const uint32_t o = level.OriginalTriangleIds[t];
+      ASSERT_LT(o, in.size() / 3);
+      std::multiset<uint32_t> expected, got;
+      for (int c = 0; c < 3; ++c)
+      {
+        expected.insert(ladder.Representative(l, shared[in[3 * o + c]]));
+        got.insert(level.Triangles[3 * t + c]);
+        moved += shared[in[3 * o + c]] != ladder.Representative(l, shared[in[3 * o + c]]);
+      }
+      ASSERT_EQ(got, expected) << "level " << l << " triangle " << t;
+    }
+    EXPECT_EQ(moved > 0, l > 0) << "level " << l; // reduced levels move corners
+  }
+}
+
 TEST(MorphLadder, GeomorphEndpointsAreTheLevels)
 {
   const MorphLadder& ladder = Ladder();
