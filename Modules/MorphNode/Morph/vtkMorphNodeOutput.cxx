@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkMorphNodeOutput.h"
 
+#include "vtkMorphSkinArrays.h"
 #include "vtkMorphTargetArrays.h"
 
 #include "base/Error.h"
@@ -11,6 +12,7 @@
 #include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
 #include "vtkFloatArray.h"
+#include "vtkIdTypeArray.h"
 #include "vtkInformation.h"
 #include "vtkIntArray.h"
 #include "vtkPartitionedDataSet.h"
@@ -30,7 +32,8 @@ namespace
 {
 /// Field-data arrays the filter writes; a neutral's arrays of these names are replaced.
 const char* const OutputFieldArrays[] = { adapter::TargetNamesArray, adapter::EffectiveWeightsArray,
-  adapter::ActiveTargetCountArray, adapter::ErrorBoundArray, adapter::DistNormArray };
+  adapter::ActiveTargetCountArray, adapter::ErrorBoundArray, adapter::DistNormArray,
+  vtkMorphSkinArrays::MorphedRangesArray };
 
 /// `values` in the ArrayT held by `slot`, rewritten in place when only `slot` and
 /// `holders` more references (the kept output leaves) hold it; `fresh` tells whether a new
@@ -275,6 +278,35 @@ void vtkMorphNodeOutput::AddFieldArrays(vtkFieldData* fd, const morphnode::Morph
 }
 
 //------------------------------------------------------------------------------
+void vtkMorphNodeOutput::SetMovedRanges(Part& part, vtkFieldData* fd)
+{
+  if (!part.Blended || !part.Built || !part.Input || !vtkMorphSkinArrays::IsSkinned(part.Input))
+  {
+    if (fd->GetAbstractArray(vtkMorphSkinArrays::MorphedRangesArray))
+    {
+      fd->RemoveArray(vtkMorphSkinArrays::MorphedRangesArray);
+    }
+    return;
+  }
+  if (!part.MovedRanges || part.MovedRangesOf.lock() != part.Built)
+  {
+    // A new array per model: the skin filter knows a model by its array.
+    const std::vector<size_t> ranges = part.Built->Model.MovedPointRanges();
+    vtkNew<vtkIdTypeArray> array;
+    array->SetName(vtkMorphSkinArrays::MorphedRangesArray);
+    array->SetNumberOfComponents(2);
+    array->SetNumberOfTuples(static_cast<vtkIdType>(ranges.size() / 2));
+    for (size_t i = 0; i < ranges.size(); ++i)
+    {
+      array->SetValue(static_cast<vtkIdType>(i), static_cast<vtkIdType>(ranges[i]));
+    }
+    part.MovedRanges = array;
+    part.MovedRangesOf = part.Built;
+  }
+  fd->AddArray(part.MovedRanges);
+}
+
+//------------------------------------------------------------------------------
 void vtkMorphNodeOutput::AssemblePart(Part& part, vtkPointSet* output,
   const morphnode::MorphScene* scene, bool distances, const std::vector<vtkDataArray*>& fieldArrays,
   bool kept)
@@ -341,6 +373,7 @@ void vtkMorphNodeOutput::AssemblePart(Part& part, vtkPointSet* output,
     {
       fd->AddArray(array);
     }
+    SetMovedRanges(part, fd);
     return;
   }
   part.HasDistNorm = distances;
@@ -363,6 +396,7 @@ void vtkMorphNodeOutput::AssemblePart(Part& part, vtkPointSet* output,
   {
     fd->AddArray(array);
   }
+  SetMovedRanges(part, fd);
 }
 
 //------------------------------------------------------------------------------

@@ -71,6 +71,9 @@ public:
     vtkSmartPointer<vtkPointSet> OutputLeaf;
     bool LeafKept = false;
     bool HasDistNorm = false; ///< the kept leaf's field data holds DistNorm
+    /// A skinned part's MorphedPointRanges (vtkMorphSkinArrays.h), made once per model.
+    vtkSmartPointer<vtkDataArray> MovedRanges;
+    std::weak_ptr<const vtkMorphModelAdapter::BuiltModel> MovedRangesOf;
   };
   std::vector<Part> Parts;
 
@@ -113,6 +116,8 @@ private:
     Part& part, const morphnode::MorphScene* scene);
   std::vector<vtkDataArray*> FieldArrays(
     const morphnode::MorphScene* scene, bool distances, int kept, bool& fresh);
+  /// A blended skinned part's MorphedPointRanges into `fd`; removed from other parts.
+  static void SetMovedRanges(Part& part, vtkFieldData* fd);
   void AssemblePart(Part& part, vtkPointSet* output, const morphnode::MorphScene* scene,
     bool distances, const std::vector<vtkDataArray*>& fieldArrays, bool kept);
   void AssembleComposite(vtkCompositeDataSet* input, vtkCompositeDataSet* output,

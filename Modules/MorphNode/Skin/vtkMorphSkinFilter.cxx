@@ -16,6 +16,7 @@
 #include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
 #include "vtkFloatArray.h"
+#include "vtkIdTypeArray.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkNew.h"
@@ -37,18 +38,24 @@ vtkStandardNewMacro(vtkMorphSkinFilter);
 
 namespace
 {
-/// Re-skins what changed since the previous frame (RestSkin::ApplyChanged) into the kept
-/// output arrays.
+/// Re-skins what may have changed since the previous frame (RestSkin::ApplyChanged) into
+/// the kept output arrays: in parallel only when there is enough work to share.
 template <typename T>
-vtkIdType Reskin(const morphnode::RestSkin& skin, const T* points, const T* normals, T* lastPoints,
-  T* lastNormals, T* outPoints, T* outNormals, size_t n, bool all)
+vtkIdType Reskin(const morphnode::RestSkin& skin, const T* points, const T* normals, T* outPoints,
+  T* outNormals, const std::vector<size_t>& changedInput, size_t n)
 {
+  constexpr size_t Grain = 16384;
+  if (n <= Grain || vtkSMPTools::GetEstimatedNumberOfThreads() < 2)
+  {
+    return static_cast<vtkIdType>(
+      skin.ApplyChanged<T>(points, normals, outPoints, outNormals, changedInput, 0, n));
+  }
   std::atomic<vtkIdType> count(0);
-  vtkSMPTools::For(0, static_cast<vtkIdType>(n), 4096,
+  vtkSMPTools::For(0, static_cast<vtkIdType>(n), static_cast<vtkIdType>(Grain),
     [&](vtkIdType begin, vtkIdType end)
     {
-      count += static_cast<vtkIdType>(skin.ApplyChanged<T>(points, normals, lastPoints, lastNormals,
-        outPoints, outNormals, static_cast<size_t>(begin), static_cast<size_t>(end), all));
+      count += static_cast<vtkIdType>(skin.ApplyChanged<T>(points, normals, outPoints, outNormals,
+        changedInput, static_cast<size_t>(begin), static_cast<size_t>(end)));
     });
   return count;
 }
@@ -97,11 +104,24 @@ public:
     std::vector<glm::dmat4> RestMatrices;
     morphnode::AvatarBoneRoles Roles; ///< found once per skin
     /// The last frame's output (written again in place only where points changed, and only
-    /// when nothing but this entry holds them: a snapshot kept downstream never changes) and
-    /// its input (to see which points the morph moved).
-    vtkSmartPointer<vtkDataArray> OutPoints, OutNormals, LastPoints, LastNormals;
-    bool Valid = false;          ///< the kept arrays hold the last frame
-    unsigned long Execution = 0; ///< the last execution that used the entry
+    /// when nothing but this entry holds them: a snapshot kept downstream never changes).
+    vtkSmartPointer<vtkDataArray> OutPoints, OutNormals;
+    /// The last frame's input, to tell what can have changed: its arrays and the morph
+    /// node's MorphedPointRanges (by address and modification time; never held, so that
+    /// the morph node may write them in place).
+    struct Seen
+    {
+      const void* Array = nullptr;
+      vtkMTimeType Time = 0;
+      bool operator==(const Seen& o) const
+      {
+        return this->Array == o.Array && this->Time == o.Time;
+      }
+    };
+    Seen LastPoints, LastNormals, LastRanges;
+    std::vector<size_t> ChangedInput; ///< this frame's
+    bool Valid = false;               ///< the kept arrays hold the last frame
+    unsigned long Execution = 0;      ///< the last execution that used the entry
     bool HeadKnown = false;
     bool EyePart = false; ///< every point's largest weight on an eye joint or below it
     double HeadBounds[6] = { 1, -1, 1, -1, 1, -1 }; ///< empty when min > max
@@ -228,30 +248,73 @@ public:
       return a && a->GetReferenceCount() == 1 && a->GetDataType() == like->GetDataType() &&
         a->GetNumberOfTuples() == like->GetNumberOfTuples();
     };
-    bool all = !wasValid || entry.Execution == this->Execution || !kept(entry.OutPoints, points) ||
-      !kept(entry.LastPoints, points) || (normals != nullptr) != (entry.OutNormals != nullptr) ||
-      (normals && (!kept(entry.OutNormals, normals) || !kept(entry.LastNormals, normals)));
+    const bool all = !wasValid || entry.Execution == this->Execution ||
+      !kept(entry.OutPoints, points) || (normals != nullptr) != (entry.OutNormals != nullptr) ||
+      (normals && !kept(entry.OutNormals, normals));
     entry.Execution = this->Execution;
     if (all)
     {
       entry.OutPoints = NewLike(points);
-      entry.LastPoints = NewLike(points);
       entry.OutNormals = normals ? NewLike(normals) : nullptr;
-      entry.LastNormals = normals ? NewLike(normals) : nullptr;
     }
+    // What input can have changed since the last frame: nothing when its arrays are the same,
+    // unmodified; else the morph node's MorphedPointRanges when the last frame came from the
+    // same model (outside them the input is the neutral's); else all.
+    using Seen = vtkInternals::Entry::Seen;
+    const Seen seenPoints{ points, points->GetMTime() };
+    const Seen seenNormals{ normals, normals ? normals->GetMTime() : 0 };
+    auto* ranges = vtkIdTypeArray::SafeDownCast(
+      leaf->GetFieldData()->GetArray(vtkMorphSkinArrays::MorphedRangesArray));
+    if (ranges && ranges->GetNumberOfComponents() != 2)
+    {
+      ranges = nullptr;
+    }
+    const Seen seenRanges{ ranges, ranges ? ranges->GetMTime() : 0 };
+    std::vector<size_t>& changedInput = entry.ChangedInput;
+    changedInput.clear();
+    if (all)
+    {
+      changedInput = { 0, n };
+    }
+    else if (seenPoints == entry.LastPoints && seenNormals == entry.LastNormals)
+    {
+      // unchanged input: only points whose joints changed
+    }
+    else if (ranges && seenRanges == entry.LastRanges)
+    {
+      const vtkIdType* r = ranges->GetPointer(0);
+      const vtkIdType count = 2 * ranges->GetNumberOfTuples();
+      for (vtkIdType i = 0; i + 1 < count; i += 2)
+      {
+        // Sorted, disjoint, within the points (else all).
+        const vtkIdType lo = changedInput.empty() ? 0 : static_cast<vtkIdType>(changedInput.back());
+        if (r[i] < lo || r[i + 1] < r[i] || r[i + 1] > static_cast<vtkIdType>(n))
+        {
+          changedInput = { 0, n };
+          break;
+        }
+        changedInput.push_back(static_cast<size_t>(r[i]));
+        changedInput.push_back(static_cast<size_t>(r[i + 1]));
+      }
+    }
+    else
+    {
+      changedInput = { 0, n };
+    }
+    entry.LastPoints = seenPoints;
+    entry.LastNormals = seenNormals;
+    entry.LastRanges = seenRanges;
     if (vtkFloatArray::FastDownCast(points))
     {
       self->NumberOfReskinnedPoints += Reskin<float>(entry.Rest, Pointer<vtkFloatArray>(points),
-        Pointer<vtkFloatArray>(normals), Pointer<vtkFloatArray>(entry.LastPoints),
-        Pointer<vtkFloatArray>(entry.LastNormals), Pointer<vtkFloatArray>(entry.OutPoints),
-        Pointer<vtkFloatArray>(entry.OutNormals), n, all);
+        Pointer<vtkFloatArray>(normals), Pointer<vtkFloatArray>(entry.OutPoints),
+        Pointer<vtkFloatArray>(entry.OutNormals), changedInput, n);
     }
     else
     {
       self->NumberOfReskinnedPoints += Reskin<double>(entry.Rest, Pointer<vtkDoubleArray>(points),
-        Pointer<vtkDoubleArray>(normals), Pointer<vtkDoubleArray>(entry.LastPoints),
-        Pointer<vtkDoubleArray>(entry.LastNormals), Pointer<vtkDoubleArray>(entry.OutPoints),
-        Pointer<vtkDoubleArray>(entry.OutNormals), n, all);
+        Pointer<vtkDoubleArray>(normals), Pointer<vtkDoubleArray>(entry.OutPoints),
+        Pointer<vtkDoubleArray>(entry.OutNormals), changedInput, n);
     }
     entry.Valid = true;
     // Written through raw pointers: renderers upload again on MTime.
