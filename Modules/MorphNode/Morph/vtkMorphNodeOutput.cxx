@@ -280,30 +280,34 @@ void vtkMorphNodeOutput::AddFieldArrays(vtkFieldData* fd, const morphnode::Morph
 //------------------------------------------------------------------------------
 void vtkMorphNodeOutput::SetMovedRanges(Part& part, vtkFieldData* fd)
 {
-  if (!part.Blended || !part.Built || !part.Input || !vtkMorphSkinArrays::IsSkinned(part.Input))
+  if (part.Built && part.Input && part.MovedRangesOf.lock() != part.Built)
   {
-    if (fd->GetAbstractArray(vtkMorphSkinArrays::MorphedRangesArray))
-    {
-      fd->RemoveArray(vtkMorphSkinArrays::MorphedRangesArray);
-    }
-    return;
-  }
-  if (!part.MovedRanges || part.MovedRangesOf.lock() != part.Built)
-  {
-    // A new array per model: the skin filter knows a model by its array.
-    const std::vector<size_t> ranges = part.Built->Model.MovedPointRanges();
-    vtkNew<vtkIdTypeArray> array;
-    array->SetName(vtkMorphSkinArrays::MorphedRangesArray);
-    array->SetNumberOfComponents(2);
-    array->SetNumberOfTuples(static_cast<vtkIdType>(ranges.size() / 2));
-    for (size_t i = 0; i < ranges.size(); ++i)
-    {
-      array->SetValue(static_cast<vtkIdType>(i), static_cast<vtkIdType>(ranges[i]));
-    }
-    part.MovedRanges = array;
+    // Once per model (a new array per model: the skin filter knows a model by its array),
+    // for skinned parts only.
+    part.MovedRanges = nullptr;
     part.MovedRangesOf = part.Built;
+    if (vtkMorphSkinArrays::IsSkinned(part.Input))
+    {
+      const std::vector<size_t> ranges = part.Built->Model.MovedPointRanges();
+      vtkNew<vtkIdTypeArray> array;
+      array->SetName(vtkMorphSkinArrays::MorphedRangesArray);
+      array->SetNumberOfComponents(2);
+      array->SetNumberOfTuples(static_cast<vtkIdType>(ranges.size() / 2));
+      for (size_t i = 0; i < ranges.size(); ++i)
+      {
+        array->SetValue(static_cast<vtkIdType>(i), static_cast<vtkIdType>(ranges[i]));
+      }
+      part.MovedRanges = array;
+    }
   }
-  fd->AddArray(part.MovedRanges);
+  if (part.Blended && part.Built && part.MovedRanges)
+  {
+    fd->AddArray(part.MovedRanges);
+  }
+  else if (part.MovedRanges)
+  {
+    fd->RemoveArray(vtkMorphSkinArrays::MorphedRangesArray);
+  }
 }
 
 //------------------------------------------------------------------------------

@@ -33,6 +33,7 @@
 #include <atomic>
 #include <cmath>
 #include <map>
+#include <memory>
 
 vtkStandardNewMacro(vtkMorphSkinFilter);
 
@@ -92,6 +93,41 @@ vtkSmartPointer<vtkDataArray> NewLike(vtkDataArray* in)
 }
 } // namespace
 
+/// One skeleton posed once per execution, shared by the parts bound to it (an avatar's
+/// parts each carry the same skeleton).
+struct PoseSlot
+{
+  morphnode::Skeleton Bones;
+  std::map<std::string, std::string> Humanoid;
+  morphnode::EyeRangeMaps RangeMaps;
+  unsigned long Execution = 0;   ///< of World
+  std::vector<glm::dmat4> World; ///< posed
+
+  /// The same skeleton (joints as stored, exactly), humanoid map and range maps.
+  bool Same(const vtkMorphSkinArrays::Skin& skin) const
+  {
+    const morphnode::EyeRangeMaps& a = this->RangeMaps;
+    const morphnode::EyeRangeMaps& b = skin.RangeMaps;
+    if (this->Humanoid != skin.Humanoid || a.Enabled != b.Enabled || a.InnerMax != b.InnerMax ||
+      a.InnerScale != b.InnerScale || a.OuterMax != b.OuterMax || a.OuterScale != b.OuterScale ||
+      a.DownMax != b.DownMax || a.DownScale != b.DownScale || a.UpMax != b.UpMax ||
+      a.UpScale != b.UpScale || this->Bones.GetNumberOfJoints() != skin.Bones.GetNumberOfJoints())
+    {
+      return false;
+    }
+    for (size_t j = 0; j < this->Bones.GetNumberOfJoints(); ++j)
+    {
+      const morphnode::Joint& p = this->Bones.GetJoint(j);
+      const morphnode::Joint& q = skin.Bones.GetJoint(j);
+      if (p.Name != q.Name || p.Parent != q.Parent)
+      {
+        return false;
+      }
+    }
+    return this->Bones.RestLocals() == skin.Bones.RestLocals();
+  }
+};
+
 class vtkMorphSkinFilter::vtkInternals
 {
 public:
@@ -103,6 +139,7 @@ public:
     morphnode::RestSkin Rest;
     std::vector<glm::dmat4> RestMatrices;
     morphnode::AvatarBoneRoles Roles; ///< found once per skin
+    std::shared_ptr<PoseSlot> Slot;   ///< its skeleton's pose
     /// The last frame's output (written again in place only where points changed, and only
     /// when nothing but this entry holds them: a snapshot kept downstream never changes).
     vtkSmartPointer<vtkDataArray> OutPoints, OutNormals;
@@ -149,6 +186,21 @@ public:
     entry.EyePart = morphnode::TurnedByEyeJoints(
       entry.Skin.Influences, entry.Skin.Joints.Joints, entry.Skin.Bones, entry.Roles);
     entry.Rest = morphnode::RestSkin(entry.Skin.Influences, entry.RestMatrices, what);
+    for (const auto& [array, other] : this->Cache)
+    {
+      if (other.Slot && other.Slot->Same(entry.Skin))
+      {
+        entry.Slot = other.Slot;
+        break;
+      }
+    }
+    if (!entry.Slot)
+    {
+      entry.Slot = std::make_shared<PoseSlot>();
+      entry.Slot->Bones = entry.Skin.Bones;
+      entry.Slot->Humanoid = entry.Skin.Humanoid;
+      entry.Slot->RangeMaps = entry.Skin.RangeMaps;
+    }
     return this->Cache[weights] = std::move(entry);
   }
 
@@ -209,14 +261,21 @@ public:
     {
       self->Bones = roles.Describe(entry.Skin.Bones);
     }
-    morphnode::SkeletonPose pose(entry.Skin.Bones);
-    morphnode::AvatarBonePose posed = angles;
-    posed.RangeMaps = entry.Skin.RangeMaps; // a VRM's look-at (vtkMorphSkinArrays.h)
-    morphnode::PoseAvatarBones(pose, roles, posed);
+    PoseSlot& slot = *entry.Slot;
+    if (slot.Execution != this->Execution)
+    {
+      // Once per skeleton and execution (the roles and angles are the same for its parts).
+      morphnode::SkeletonPose pose(slot.Bones);
+      morphnode::AvatarBonePose posed = angles;
+      posed.RangeMaps = slot.RangeMaps; // a VRM's look-at (vtkMorphSkinArrays.h)
+      morphnode::PoseAvatarBones(pose, roles, posed);
+      slot.World = pose.World();
+      slot.Execution = this->Execution;
+    }
     ++self->NumberOfSkinnedParts;
     const bool wasValid = entry.Valid;
     entry.Valid = false; // the pose moves on: the kept arrays hold this frame only when written
-    if (!entry.Rest.SetPose(entry.Skin.Joints.Matrices(pose.World())))
+    if (!entry.Rest.SetPose(entry.Skin.Joints.Matrices(slot.World)))
     {
       return nullptr; // at rest
     }
