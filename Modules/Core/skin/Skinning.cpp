@@ -350,20 +350,24 @@ bool RestSkin::SetPose(const std::vector<glm::dmat4>& matrices)
   bool any = false;
   for (size_t k = 0; k < matrices.size(); ++k)
   {
-    if (!Finite(matrices[k]))
-    {
-      throw InputError("skin: the pose of joint " + std::to_string(k) + " is not finite");
-    }
-    this->Moved[k] = matrices[k] != this->Rest[k];
-    any = any || (this->Moved[k] && this->Used[k]);
     this->JointChanged[k] = matrices[k] != this->Pose[k];
+    if (this->JointChanged[k])
+    {
+      // (An unchanged matrix was checked when it came.)
+      if (!Finite(matrices[k]))
+      {
+        throw InputError("skin: the pose of joint " + std::to_string(k) + " is not finite");
+      }
+      this->Moved[k] = matrices[k] != this->Rest[k];
+      this->Pose[k] = matrices[k];
+    }
+    any = any || (this->Moved[k] && this->Used[k]);
     if (!this->Used[k] || !this->JointChanged[k])
     {
       continue; // no point of this mesh follows it, or its product is formed already
     }
     this->SetDelta(k, matrices[k]);
   }
-  this->Pose = matrices;
   return any;
 }
 

@@ -102,6 +102,41 @@ struct PoseSlot
   morphnode::EyeRangeMaps RangeMaps;
   unsigned long Execution = 0;   ///< of World
   std::vector<glm::dmat4> World; ///< posed
+  /// The distinct skins of its parts (an avatar's parts usually share one) and their joint
+  /// matrices at World, formed once per execution.
+  struct SkinMatrices
+  {
+    morphnode::SkinJoints Joints;
+    unsigned long Execution = 0;
+    std::vector<glm::dmat4> Matrices;
+  };
+  std::vector<SkinMatrices> Skins;
+
+  /// The index in Skins of `joints` (added when new).
+  size_t FindSkin(const morphnode::SkinJoints& joints)
+  {
+    for (size_t k = 0; k < this->Skins.size(); ++k)
+    {
+      if (this->Skins[k].Joints.Joints == joints.Joints &&
+        this->Skins[k].Joints.InverseBind == joints.InverseBind)
+      {
+        return k;
+      }
+    }
+    this->Skins.push_back(SkinMatrices{ joints, 0, {} });
+    return this->Skins.size() - 1;
+  }
+  /// The joint matrices of skin k at this execution's World.
+  const std::vector<glm::dmat4>& Matrices(size_t k)
+  {
+    SkinMatrices& skin = this->Skins[k];
+    if (skin.Execution != this->Execution)
+    {
+      skin.Matrices = skin.Joints.Matrices(this->World);
+      skin.Execution = this->Execution;
+    }
+    return skin.Matrices;
+  }
 
   /// The same skeleton (joints as stored, exactly), humanoid map and range maps.
   bool Same(const vtkMorphSkinArrays::Skin& skin) const
@@ -140,6 +175,7 @@ public:
     std::vector<glm::dmat4> RestMatrices;
     morphnode::AvatarBoneRoles Roles; ///< found once per skin
     std::shared_ptr<PoseSlot> Slot;   ///< its skeleton's pose
+    size_t SlotSkin = 0;              ///< its skin in Slot->Skins
     /// The last frame's output (written again in place only where points changed, and only
     /// when nothing but this entry holds them: a snapshot kept downstream never changes).
     vtkSmartPointer<vtkDataArray> OutPoints, OutNormals;
@@ -165,6 +201,10 @@ public:
   };
   std::map<vtkDataArray*, Entry> Cache;
   unsigned long Execution = 0;
+  /// The input's jawOpen target (JAW_AUTO), known for these names arrays (address, MTime).
+  bool JawKnown = false;
+  bool JawTarget = false;
+  std::vector<std::pair<const void*, vtkMTimeType>> JawKey;
 
   Entry& Get(vtkPointSet* leaf, const std::string& what)
   {
@@ -201,6 +241,7 @@ public:
       entry.Slot->Humanoid = entry.Skin.Humanoid;
       entry.Slot->RangeMaps = entry.Skin.RangeMaps;
     }
+    entry.SlotSkin = entry.Slot->FindSkin(entry.Skin.Joints);
     return this->Cache[weights] = std::move(entry);
   }
 
@@ -275,7 +316,7 @@ public:
     ++self->NumberOfSkinnedParts;
     const bool wasValid = entry.Valid;
     entry.Valid = false; // the pose moves on: the kept arrays hold this frame only when written
-    if (!entry.Rest.SetPose(entry.Skin.Joints.Matrices(slot.World)))
+    if (!entry.Rest.SetPose(slot.Matrices(entry.SlotSkin)))
     {
       return nullptr; // at rest
     }
@@ -485,9 +526,38 @@ int vtkMorphSkinFilter::RequestData(
     bool jawTarget = false;
     if (this->TurnJaw == JAW_AUTO)
     {
-      std::vector<std::string> names;
-      vtkMorphTargetArrays::GetFaceTargetNames(input, names);
-      jawTarget = morphnode::NamesJawOpenTarget(names);
+      // Decided again only when the leaves' target names arrays change (the morph node
+      // passes the model's one array on every frame).
+      vtkInternals& internals = *this->Internals;
+      std::vector<std::pair<const void*, vtkMTimeType>> key;
+      auto note = [&key](vtkDataObject* leaf)
+      {
+        vtkAbstractArray* names = leaf && leaf->GetFieldData()
+          ? leaf->GetFieldData()->GetAbstractArray(vtkMorphTargetArrays::TargetNamesArray)
+          : nullptr;
+        key.emplace_back(names, names ? names->GetMTime() : 0);
+      };
+      if (auto* composite = vtkCompositeDataSet::SafeDownCast(input))
+      {
+        for (vtkDataObject* leaf :
+          vtk::Range(composite, vtk::CompositeDataSetOptions::SkipEmptyNodes))
+        {
+          note(leaf);
+        }
+      }
+      else
+      {
+        note(input);
+      }
+      if (!internals.JawKnown || key != internals.JawKey)
+      {
+        std::vector<std::string> names;
+        vtkMorphTargetArrays::GetFaceTargetNames(input, names);
+        internals.JawTarget = morphnode::NamesJawOpenTarget(names);
+        internals.JawKey = std::move(key);
+        internals.JawKnown = true;
+      }
+      jawTarget = internals.JawTarget;
     }
     const bool jawAllowed = this->TurnJaw == JAW_ON || (this->TurnJaw == JAW_AUTO && !jawTarget);
 
