@@ -179,6 +179,10 @@ public:
     /// The last frame's output (written again in place only where points changed, and only
     /// when nothing but this entry holds them: a snapshot kept downstream never changes).
     vtkSmartPointer<vtkDataArray> OutPoints, OutNormals;
+    vtkSmartPointer<vtkPointSet> OutLeaf;
+    vtkSmartPointer<vtkPoints> OutPointsObject;
+    vtkSmartPointer<vtkFieldData> OutField;
+    vtkSmartPointer<vtkDoubleArray> OutPose;
     /// The last frame's input, to tell what can have changed: its arrays and the morph
     /// node's MorphedPointRanges (by address and modification time; never held, so that
     /// the morph node may write them in place).
@@ -320,8 +324,19 @@ public:
     {
       return nullptr; // at rest
     }
-    vtkSmartPointer<vtkPointSet> out;
-    out.TakeReference(leaf->NewInstance());
+    // The output leaf, its points object, field data and SkinPose array of the last frame,
+    // filled again when nothing else holds them (the output composite let go of them), else
+    // new ones.
+    auto free = [](vtkObjectBase* o) { return o && o->GetReferenceCount() == 1; };
+    if (!free(entry.OutLeaf) || !entry.OutLeaf->IsA(leaf->GetClassName()) ||
+      entry.Execution == this->Execution)
+    {
+      entry.OutLeaf.TakeReference(leaf->NewInstance());
+      entry.OutPointsObject = nullptr;
+      entry.OutField = nullptr;
+      entry.OutPose = nullptr;
+    }
+    vtkSmartPointer<vtkPointSet> out = entry.OutLeaf;
     out->ShallowCopy(leaf);
     vtkDataArray* points = leaf->GetPoints()->GetData();
     vtkDataArray* normals = leaf->GetPointData()->GetNormals();
@@ -343,9 +358,13 @@ public:
     // The kept arrays, written again in place where points changed, when only this entry
     // holds them (and the entry serves one leaf this execution); else new ones, all
     // re-skinned.
+    // (The points array is also held by the kept points object when that is free.)
+    const int ownHolders =
+      free(entry.OutPointsObject) && entry.OutPointsObject->GetData() == entry.OutPoints ? 1 : 0;
     auto kept = [&](vtkSmartPointer<vtkDataArray>& a, vtkDataArray* like)
     {
-      return a && a->GetReferenceCount() == 1 && a->GetDataType() == like->GetDataType() &&
+      const int holders = 1 + (a == entry.OutPoints ? ownHolders : 0);
+      return a && a->GetReferenceCount() == holders && a->GetDataType() == like->GetDataType() &&
         a->GetNumberOfTuples() == like->GetNumberOfTuples();
     };
     const bool all = !wasValid || entry.Execution == this->Execution ||
@@ -425,24 +444,36 @@ public:
     {
       newNormals->Modified();
     }
-    vtkNew<vtkPoints> p;
-    p->SetData(newPoints);
-    out->SetPoints(p);
+    if (!free(entry.OutPointsObject))
+    {
+      entry.OutPointsObject = vtkSmartPointer<vtkPoints>::New();
+    }
+    entry.OutPointsObject->SetData(newPoints);
+    out->SetPoints(entry.OutPointsObject);
     if (newNormals)
     {
       out->GetPointData()->SetNormals(newNormals);
     }
-    vtkNew<vtkFieldData> field;
-    field->ShallowCopy(leaf->GetFieldData());
-    vtkNew<vtkDoubleArray> used;
-    used->SetName("SkinPose");
+    if (!free(entry.OutField))
+    {
+      entry.OutField = vtkSmartPointer<vtkFieldData>::New();
+    }
+    entry.OutField->ShallowCopy(leaf->GetFieldData());
+    if (!free(entry.OutPose))
+    {
+      entry.OutPose = vtkSmartPointer<vtkDoubleArray>::New();
+      entry.OutPose->SetName("SkinPose");
+      entry.OutPose->SetNumberOfValues(6);
+    }
+    vtkIdType k = 0;
     for (double v : { angles.HeadYaw, angles.HeadPitch, angles.HeadRoll, angles.EyeYaw,
            angles.EyePitch, roles.Jaw >= 0 ? angles.JawOpen : 0.0 })
     {
-      used->InsertNextValue(v);
+      entry.OutPose->SetValue(k++, v);
     }
-    field->AddArray(used);
-    out->SetFieldData(field);
+    entry.OutPose->Modified();
+    entry.OutField->AddArray(entry.OutPose);
+    out->SetFieldData(entry.OutField);
     return out;
   }
 };
