@@ -391,15 +391,13 @@ public:
     const Seen seenRanges{ ranges, ranges ? ranges->GetMTime() : 0 };
     std::vector<size_t>& changedInput = entry.ChangedInput;
     changedInput.clear();
-    if (all)
-    {
-      changedInput = { 0, n };
-    }
-    else if (seenPoints == entry.LastPoints && seenNormals == entry.LastNormals)
+    const bool sameInput = seenPoints == entry.LastPoints && seenNormals == entry.LastNormals;
+    const bool sameModel = ranges && seenRanges == entry.LastRanges;
+    if (!all && sameInput)
     {
       // unchanged input: only points whose joints changed
     }
-    else if (ranges && seenRanges == entry.LastRanges)
+    else if (!all && sameModel)
     {
       const vtkIdType* r = ranges->GetPointer(0);
       const vtkIdType count = 2 * ranges->GetNumberOfTuples();
