@@ -26,6 +26,8 @@
 #include "vtkPolyData.h"
 #include "vtkSmartPointer.h"
 #include "vtkStringArray.h"
+#include "vtkTransform.h"
+#include "vtkTransformFilter.h"
 #include "vtkUnsignedShortArray.h"
 
 #include <gtest/gtest.h>
@@ -356,6 +358,46 @@ TEST(MorphSkinFilter, ReskinsOnlyWhatChangedAndEqualsAFullReskin)
       EXPECT_EQ(reskinned, 0);
     }
     last = now;
+  }
+}
+
+// A filter between the morph node and the skin filter that moves every point (here a
+// translation changing each frame) passes the morph's MorphedPointRanges on; the skin
+// filter must not trust them for points that filter wrote (MorphedArraysTime): with the head
+// held, the legs move with the translation as a full re-skin moves them.
+TEST(MorphSkinFilter, AFilterBetweenTheMorphAndTheSkinIsNotTakenForTheMorph)
+{
+  SKIP_WITHOUT_AVATAR();
+  Pipeline p;
+  vtkNew<vtkTransform> shift;
+  vtkNew<vtkTransformFilter> move;
+  move->SetTransform(shift);
+  move->SetInputConnection(p.Morph->GetOutputPort());
+  p.Skin->SetInputConnection(move->GetOutputPort());
+  p.Skin->SetHeadYaw(10.0);
+  p.Morph->SetWeightByName("jawOpen", 0.1);
+  Snapshot(p.Skin);
+  move->Update();
+  const auto moved = Parts(move->GetOutputDataObject(0));
+  ASSERT_EQ(moved.count("Body"), 1u);
+  ASSERT_NE(moved.at("Body")->GetFieldData()->GetArray("MorphedPointRanges"), nullptr)
+    << "the ranges do not reach the skin filter: the check could not fail";
+  for (int step = 1; step <= 3; ++step)
+  {
+    SCOPED_TRACE("step " + std::to_string(step));
+    shift->Identity();
+    shift->Translate(0.01 * step, 0.0, 0.0);
+    p.Morph->SetWeightByName("jawOpen", 0.1 + 0.1 * step);
+    const auto now = Snapshot(p.Skin);
+    vtkNew<vtkMorphSkinFilter> fresh;
+    fresh->SetInputConnection(move->GetOutputPort());
+    fresh->SetHeadYaw(10.0);
+    const auto expected = Snapshot(fresh);
+    ASSERT_EQ(now.size(), expected.size());
+    for (const auto& [name, values] : expected)
+    {
+      EXPECT_TRUE(now.at(name) == values) << name << " differs from a full re-skin";
+    }
   }
 }
 

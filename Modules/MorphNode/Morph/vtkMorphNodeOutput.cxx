@@ -33,7 +33,7 @@ namespace
 /// Field-data arrays the filter writes; a neutral's arrays of these names are replaced.
 const char* const OutputFieldArrays[] = { adapter::TargetNamesArray, adapter::EffectiveWeightsArray,
   adapter::ActiveTargetCountArray, adapter::ErrorBoundArray, adapter::DistNormArray,
-  vtkMorphSkinArrays::MorphedRangesArray };
+  vtkMorphSkinArrays::MorphedRangesArray, vtkMorphSkinArrays::MorphedTimeArray };
 
 /// `values` in the ArrayT held by `slot`, rewritten in place when only `slot` and
 /// `holders` more references (the kept output leaves) hold it; `fresh` tells whether a new
@@ -278,7 +278,7 @@ void vtkMorphNodeOutput::AddFieldArrays(vtkFieldData* fd, const morphnode::Morph
 }
 
 //------------------------------------------------------------------------------
-void vtkMorphNodeOutput::SetMovedRanges(Part& part, vtkFieldData* fd)
+void vtkMorphNodeOutput::SetMovedRanges(Part& part, vtkPointSet* output, vtkFieldData* fd)
 {
   if (part.Built && part.Input && part.MovedRangesOf.lock() != part.Built)
   {
@@ -302,11 +302,27 @@ void vtkMorphNodeOutput::SetMovedRanges(Part& part, vtkFieldData* fd)
   }
   if (part.Blended && part.Built && part.MovedRanges)
   {
+    // The ranges hold for these very arrays: their modification times (a filter between
+    // here and the skin filter that changes points or normals changes them).
+    vtkDataArray* points = output->GetPoints() ? output->GetPoints()->GetData() : nullptr;
+    vtkDataArray* normals = output->GetPointData()->GetNormals();
+    if (!part.MovedTime || part.MovedTime->GetReferenceCount() != 1)
+    {
+      vtkNew<vtkIdTypeArray> time;
+      time->SetName(vtkMorphSkinArrays::MorphedTimeArray);
+      time->SetNumberOfValues(2);
+      part.MovedTime = time;
+    }
+    part.MovedTime->SetValue(0, points ? static_cast<vtkIdType>(points->GetMTime()) : 0);
+    part.MovedTime->SetValue(1, normals ? static_cast<vtkIdType>(normals->GetMTime()) : 0);
+    part.MovedTime->Modified();
     fd->AddArray(part.MovedRanges);
+    fd->AddArray(part.MovedTime);
   }
   else if (part.MovedRanges)
   {
     fd->RemoveArray(vtkMorphSkinArrays::MorphedRangesArray);
+    fd->RemoveArray(vtkMorphSkinArrays::MorphedTimeArray);
   }
 }
 
@@ -377,7 +393,7 @@ void vtkMorphNodeOutput::AssemblePart(Part& part, vtkPointSet* output,
     {
       fd->AddArray(array);
     }
-    SetMovedRanges(part, fd);
+    SetMovedRanges(part, output, fd);
     return;
   }
   part.HasDistNorm = distances;
@@ -400,7 +416,7 @@ void vtkMorphNodeOutput::AssemblePart(Part& part, vtkPointSet* output,
   {
     fd->AddArray(array);
   }
-  SetMovedRanges(part, fd);
+  SetMovedRanges(part, output, fd);
 }
 
 //------------------------------------------------------------------------------

@@ -24,6 +24,7 @@
 
 #include "morph/MorphScene.h"
 
+#include "vtkIdTypeArray.h"
 #include "vtkNew.h"
 #include "vtkSmartPointer.h"
 
@@ -74,6 +75,7 @@ public:
     /// A skinned part's MorphedPointRanges (vtkMorphSkinArrays.h), made once per model.
     vtkSmartPointer<vtkDataArray> MovedRanges;
     std::weak_ptr<const vtkMorphModelAdapter::BuiltModel> MovedRangesOf;
+    vtkSmartPointer<vtkIdTypeArray> MovedTime; ///< MorphedArraysTime, rewritten each frame
   };
   std::vector<Part> Parts;
 
@@ -116,8 +118,9 @@ private:
     Part& part, const morphnode::MorphScene* scene);
   std::vector<vtkDataArray*> FieldArrays(
     const morphnode::MorphScene* scene, bool distances, int kept, bool& fresh);
-  /// A blended skinned part's MorphedPointRanges into `fd`; removed from other parts.
-  static void SetMovedRanges(Part& part, vtkFieldData* fd);
+  /// A blended skinned part's MorphedPointRanges and MorphedArraysTime (of `output`'s points
+  /// and normals) into `fd`; removed from other parts.
+  static void SetMovedRanges(Part& part, vtkPointSet* output, vtkFieldData* fd);
   void AssemblePart(Part& part, vtkPointSet* output, const morphnode::MorphScene* scene,
     bool distances, const std::vector<vtkDataArray*>& fieldArrays, bool kept);
   void AssembleComposite(vtkCompositeDataSet* input, vtkCompositeDataSet* output,

@@ -384,7 +384,15 @@ public:
     const Seen seenNormals{ normals, normals ? normals->GetMTime() : 0 };
     auto* ranges = vtkIdTypeArray::SafeDownCast(
       leaf->GetFieldData()->GetArray(vtkMorphSkinArrays::MorphedRangesArray));
-    if (ranges && ranges->GetNumberOfComponents() != 2)
+    // The ranges hold for the arrays the morph node wrote (MorphedArraysTime), not after a
+    // filter in between moved the points or changed the normals.
+    auto* written = vtkIdTypeArray::SafeDownCast(
+      leaf->GetFieldData()->GetArray(vtkMorphSkinArrays::MorphedTimeArray));
+    vtkDataArray* inNormals = leaf->GetPointData()->GetNormals();
+    if (ranges &&
+      (ranges->GetNumberOfComponents() != 2 || !written || written->GetNumberOfValues() != 2 ||
+        written->GetValue(0) != static_cast<vtkIdType>(points->GetMTime()) ||
+        written->GetValue(1) != (inNormals ? static_cast<vtkIdType>(inNormals->GetMTime()) : 0)))
     {
       ranges = nullptr;
     }
@@ -457,6 +465,9 @@ public:
       entry.OutField = vtkSmartPointer<vtkFieldData>::New();
     }
     entry.OutField->ShallowCopy(leaf->GetFieldData());
+    // The morph's ranges describe the input, not this output.
+    entry.OutField->RemoveArray(vtkMorphSkinArrays::MorphedRangesArray);
+    entry.OutField->RemoveArray(vtkMorphSkinArrays::MorphedTimeArray);
     if (!free(entry.OutPose))
     {
       entry.OutPose = vtkSmartPointer<vtkDoubleArray>::New();
