@@ -94,10 +94,11 @@ public:
   /// first frame or new output arrays). Other points keep what `outPoints`/`outNormals`
   /// hold (the previous frame's output: nothing is read or copied there). The result equals
   /// Apply bit for bit: a point's output depends only on its input and its joints'
-  /// matrices. The points are re-skinned by runs set up once (SkinRun): a run of points
-  /// bound rigidly to one joint is one 3x4 transform over consecutive points, its normals
-  /// turned by the same rotation. In and out must be different arrays. Returns the number
-  /// of points re-skinned.
+  /// matrices. The points are re-skinned by runs and groups set up once (SkinRun,
+  /// BlendGroup): a run of points bound rigidly to one joint is one 3x4 transform over
+  /// consecutive points, its normals turned by the same rotation; a group's points, blended
+  /// over the same joints, are re-skinned together in vectorized blocks. In and out must be
+  /// different arrays. Returns the number of points re-skinned.
   template <typename T>
   size_t ApplyChanged(const T* points, const T* normals, T* outPoints, T* outNormals,
     const std::vector<size_t>& changedInput, size_t begin, size_t end) const;
