@@ -741,3 +741,96 @@ TEST(MorphGltfWriter, SkinnedAvatarKeepsItsSkeletonAndTurnsItsBones)
             << " mm\n";
   EXPECT_LT(worstOurs, 1e-6 * 1.666);
 }
+
+// The relaxed arms the window shows are what the export writes: the upper arm joints' node
+// rotations, so that VTK's vtkGLTFReader and our reader show the avatar at rest with its
+// arms down, at the points vtkMorphSkinFilter's RelaxArms gives.
+TEST(MorphGltfWriter, SkinnedAvatarExportKeepsTheRelaxedArms)
+{
+  if (!std::filesystem::exists(Avatar))
+  {
+    GTEST_SKIP() << "MakeHuman avatar not found: " << Avatar;
+  }
+  vtkNew<vtkMorphTargetReader> reader;
+  reader->SetFileName(Avatar.c_str());
+  const std::string out = OutputPath("makehuman_avatar_relaxed_arms.glb");
+  vtkNew<vtkMorphGltfWriter> writer;
+  writer->SetInputConnection(reader->GetOutputPort());
+  writer->SetRelaxArms(true);
+  writer->SetFileName(out.c_str());
+  ASSERT_EQ(writer->Write(), 1);
+  ASSERT_EQ(writer->GetErrorCode(), vtkErrorCode::NoError);
+  EXPECT_EQ(writer->GetNumberOfRelaxedArms(), 2);
+
+  // The display: the stored (T- or A-) pose with the arms relaxed.
+  vtkNew<vtkMorphSkinFilter> skin;
+  skin->SetInputConnection(reader->GetOutputPort());
+  skin->SetRelaxArms(true);
+  skin->Update();
+  const auto shown = morphnode_test::PolyDataLeaves(skin->GetOutputDataObject(0));
+  const auto stored = morphnode_test::PolyDataLeaves(reader->GetOutputDataObject(0));
+
+  vtkNew<vtkGLTFReader> gltf;
+  gltf->SetFileName(PatchForVtk(out).c_str());
+  gltf->SetApplyDeformationsToGeometry(true);
+  gltf->Update();
+  const auto theirs = morphnode_test::PolyDataLeaves(gltf->GetOutput());
+  vtkNew<vtkMorphTargetReader> again;
+  again->SetFileName(out.c_str());
+  again->Update();
+  const auto ours = morphnode_test::PolyDataLeaves(again->GetOutputDataObject(0));
+  ASSERT_EQ(theirs.size(), shown.size());
+  ASSERT_EQ(ours.size(), shown.size());
+  ASSERT_EQ(stored.size(), shown.size());
+
+  // An arm vertex: the body's point farthest out to the side as stored (a fingertip).
+  size_t body = 0;
+  for (size_t i = 0; i < shown.size(); ++i)
+  {
+    body = shown[i]->GetNumberOfPoints() > shown[body]->GetNumberOfPoints() ? i : body;
+  }
+  vtkIdType tip = 0;
+  for (vtkIdType p = 0; p < stored[body]->GetNumberOfPoints(); ++p)
+  {
+    tip =
+      std::abs(stored[body]->GetPoint(p)[0]) > std::abs(stored[body]->GetPoint(tip)[0]) ? p : tip;
+  }
+  double rest[3], display[3], vtk[3], back[3];
+  stored[body]->GetPoint(tip, rest);
+  shown[body]->GetPoint(tip, display);
+  theirs[body]->GetPoint(tip, vtk);
+  ours[body]->GetPoint(tip, back);
+  const double lowered = std::sqrt(vtkMath::Distance2BetweenPoints(rest, display));
+  std::cout << "relaxed arms: the fingertip at x = " << rest[0] << " m moves " << lowered
+            << " m; vtkGLTFReader puts it "
+            << std::sqrt(vtkMath::Distance2BetweenPoints(vtk, display)) * 1e3
+            << " mm from the display, our reader "
+            << std::sqrt(vtkMath::Distance2BetweenPoints(back, display)) * 1e3 << " mm\n";
+  // The shared avatar stands in an A-pose: its fingertip comes down by about 0.1 m and in by
+  // more.
+  EXPECT_GT(lowered, 0.1) << "the arms do not come down: the check could not fail";
+  EXPECT_LT(display[1], rest[1] - 0.05) << "the fingertip is not lower";
+  EXPECT_LT(std::sqrt(vtkMath::Distance2BetweenPoints(vtk, display)), 1e-6 * 1.666)
+    << "vtkGLTFReader shows the arm elsewhere";
+  EXPECT_LT(std::sqrt(vtkMath::Distance2BetweenPoints(back, display)), 1e-6 * 1.666)
+    << "our reader shows the arm elsewhere";
+
+  // Every point of every part.
+  double worst = 0.0, worstOurs = 0.0;
+  for (size_t i = 0; i < shown.size(); ++i)
+  {
+    ASSERT_EQ(theirs[i]->GetNumberOfPoints(), shown[i]->GetNumberOfPoints()) << i;
+    ASSERT_EQ(ours[i]->GetNumberOfPoints(), shown[i]->GetNumberOfPoints()) << i;
+    for (vtkIdType p = 0; p < shown[i]->GetNumberOfPoints(); ++p)
+    {
+      double a[3], b[3], c[3];
+      shown[i]->GetPoint(p, a);
+      theirs[i]->GetPoint(p, b);
+      ours[i]->GetPoint(p, c);
+      worst = std::max(worst, std::sqrt(vtkMath::Distance2BetweenPoints(a, b)));
+      worstOurs = std::max(worstOurs, std::sqrt(vtkMath::Distance2BetweenPoints(a, c)));
+    }
+  }
+  EXPECT_LT(worst, 1e-6 * 1.666);
+  EXPECT_LT(worstOurs, 1e-6 * 1.666);
+}

@@ -48,6 +48,9 @@ bool ExportGltf(Avatar& a)
   // One way of moving the eyes, as on screen (--gaze): with eyeLook* targets the eye joints
   // stay (eye nodes of an unskinned head turn as vtkEyeGazeFilter turns them on screen).
   writer->SetWriteEyeRotations(o.Gaze != "targets" || !a.Skin->GetHasEyeBones());
+  // The arms as on screen (--pose): a T- or A-pose body relaxed unless asked otherwise.
+  writer->SetRelaxArms(a.Skin->GetRelaxArms());
+  writer->SetArmAngle(a.Skin->GetArmAngle());
   // The sound first: it is the cheaper of the two to refuse (a timeline whose sound passes
   // the memory budget, docs/limits.md), and a refusal then leaves no glTF file behind.
   const std::string wav = std::filesystem::path(o.Gltf).replace_extension(".wav").string();
@@ -70,7 +73,8 @@ bool ExportGltf(Avatar& a)
               << writer->GetNumberOfFrames() << " frames, " << writer->GetNumberOfWeightColumns()
               << " animated targets, weights " << (o.GltfOptimized ? "optimized" : "raw")
               << (writer->GetTurnsBones() ? ", head and eyes turned by the skeleton's joints" : "")
-              << ", " << seconds << " s) and " << wav << "\n";
+              << (writer->GetNumberOfRelaxedArms() > 0 ? ", arms relaxed" : "") << ", " << seconds
+              << " s) and " << wav << "\n";
   }
   return true;
 }

@@ -212,7 +212,8 @@ Options ParseOptions(int argc, char* argv[])
     ->group(face);
   app
     .add_option("--pose", o.Pose,
-      "a skinned body's arms: relaxed (a T- or A-pose lowered) or stored (as in the file)")
+      "a skinned body's arms, on screen and in --gltf: relaxed (a T- or A-pose lowered) or "
+      "stored (as in the file)")
     ->check(CLI::IsMember({ "relaxed", "stored" }))
     ->capture_default_str()
     ->group(face);

@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <memory>
 #include <set>
 
@@ -355,19 +356,101 @@ GltfPerformance MakeGltfPerformance(const GltfScene& scene, const GltfPerformanc
   return p;
 }
 
+std::vector<std::string> RelaxGltfArms(
+  GltfScene& scene, double armAngle, const std::map<std::string, std::string>& humanoid)
+{
+  const bool skinned = std::any_of(scene.Parts.begin(), scene.Parts.end(),
+    [](const GltfPart& part) { return part.Skin >= 0 && !part.TransformApplied; });
+  if (!skinned || scene.Nodes.empty())
+  {
+    return {};
+  }
+  const Skeleton skeleton = GltfSkeleton(scene);
+  const AvatarBoneRoles roles = FindAvatarBones(skeleton, humanoid);
+  SkeletonPose pose(skeleton);
+  AvatarBonePose relaxed;
+  relaxed.RelaxArms = true;
+  relaxed.ArmAngle = armAngle;
+  PoseAvatarBones(pose, roles, relaxed);
+  const std::vector<glm::dmat4> rest = skeleton.RestLocals();
+  std::vector<std::string> names;
+  for (int j : { roles.LeftUpperArm, roles.RightUpperArm })
+  {
+    const size_t n = static_cast<size_t>(j);
+    if (j < 0 || n >= scene.Nodes.size() || pose.GetLocals()[n] == rest[n])
+    {
+      continue;
+    }
+    GltfNode& node = scene.Nodes[n];
+    const glm::dmat4& local = pose.GetLocals()[n];
+    if (node.HasMatrix)
+    {
+      node.Local = GltfFromGlm(local);
+    }
+    else
+    {
+      // The joint turns about its own origin: its translation and scale stay.
+      const glm::dquat q = LocalRotation(local);
+      node.Rotation = { { q.x, q.y, q.z, q.w } };
+      node.Local = GltfComposeTrs(node.Translation, node.Rotation, node.Scale);
+    }
+    names.push_back(node.Name);
+  }
+  // The world transforms again, parents first.
+  std::vector<char> done(scene.Nodes.size(), 0);
+  std::function<void(size_t)> world = [&](size_t n)
+  {
+    if (done[n])
+    {
+      return;
+    }
+    done[n] = 1; // a cycle (refused when the scene was read) ends here
+    GltfNode& node = scene.Nodes[n];
+    const int parent = node.Parent;
+    if (parent >= 0 && static_cast<size_t>(parent) < scene.Nodes.size())
+    {
+      world(static_cast<size_t>(parent));
+      node.World = GltfMultiply(scene.Nodes[static_cast<size_t>(parent)].World, node.Local);
+    }
+    else
+    {
+      node.World = node.Local;
+    }
+  };
+  for (size_t n = 0; n < scene.Nodes.size() && !names.empty(); ++n)
+  {
+    world(n);
+  }
+  return names;
+}
+
 std::vector<unsigned char> WriteGltfPerformanceToMemory(const GltfScene& scene,
   const GltfPerformanceTable* table, const GltfPerformanceSettings& settings,
   const GltfWriteOptions& options, GltfPerformanceReport* report)
 {
+  const GltfScene* written = &scene;
+  GltfScene relaxed;
+  std::vector<std::string> relaxedArms;
+  if (settings.RelaxArms)
+  {
+    relaxed = scene;
+    relaxedArms = RelaxGltfArms(relaxed, settings.ArmAngle, settings.Humanoid);
+    written = &relaxed;
+  }
   if (table && !table->Times.empty())
   {
-    const GltfPerformance p = MakeGltfPerformance(scene, *table, settings, report);
-    return WriteGltfSceneToMemory(scene, &p, options);
+    const GltfPerformance p = MakeGltfPerformance(*written, *table, settings, report);
+    if (report)
+    {
+      report->Relaxed = relaxedArms;
+    }
+    return WriteGltfSceneToMemory(*written, &p, options);
   }
   if (report)
   {
     *report = GltfPerformanceReport();
+    report->Relaxed = relaxedArms;
   }
-  return WriteGltfSceneToMemory(scene, nullptr, options);
+  return WriteGltfSceneToMemory(*written, nullptr, options);
 }
 } // namespace morphnode

@@ -88,6 +88,10 @@ struct GltfPerformanceSettings
   /// One per scene node when the parts are in world space and the nodes carry no transform
   /// (the eye nodes' centres and axes); empty: from the nodes' world transforms.
   std::vector<GltfNodeFrame> NodeFrames;
+  /// A T- or A-pose skinned avatar written with its arms relaxed, as vtkMorphSkinFilter's
+  /// RelaxArms shows it (RelaxGltfArms): the upper arm joints' node rotations.
+  bool RelaxArms = false;
+  double ArmAngle = 12.0;
 };
 
 /// What was made, for reports.
@@ -99,15 +103,28 @@ struct GltfPerformanceReport
   bool Bones = false;
   /// The joints or nodes that turn (empty name: the whole scene).
   std::vector<std::string> Turned;
+  /// The upper arm joints written relaxed (RelaxArms).
+  std::vector<std::string> Relaxed;
 };
+
+/// Lowers the arms of a T- or A-pose skinned avatar in `scene`: the upper arm joints the
+/// skeleton's names (or `humanoid`, VRM's map) give are turned as PoseAvatarBones' RelaxArms
+/// turns them (skin/AvatarBones.h: ArmAngle degrees out from straight down) and their node
+/// rotations (or matrices) and the nodes' world transforms set to that pose, so that every
+/// reader shows the avatar at rest with its arms down. The points stay in bind space (the
+/// skin places them). Returns the joints' names; none for a scene without a skinned part in
+/// its nodes' frames, without both arm joints of a side, or arms already down.
+std::vector<std::string> RelaxGltfArms(
+  GltfScene& scene, double armAngle, const std::map<std::string, std::string>& humanoid = {});
 
 /// The performance for `scene` from `table`. InputError for columns of the wrong length,
 /// non-finite angles, times the writer refuses.
 GltfPerformance MakeGltfPerformance(const GltfScene& scene, const GltfPerformanceTable& table,
   const GltfPerformanceSettings& settings, GltfPerformanceReport* report = nullptr);
 
-/// The file in memory: the scene and, when `table` has rows, its performance
-/// (MakeGltfPerformance then WriteGltfSceneToMemory). Throws InputError.
+/// The file in memory: the scene (its arms relaxed first when settings.RelaxArms) and, when
+/// `table` has rows, its performance (MakeGltfPerformance then WriteGltfSceneToMemory).
+/// Throws InputError.
 std::vector<unsigned char> WriteGltfPerformanceToMemory(const GltfScene& scene,
   const GltfPerformanceTable* table, const GltfPerformanceSettings& settings,
   const GltfWriteOptions& options = {}, GltfPerformanceReport* report = nullptr);

@@ -296,6 +296,56 @@ void SkinAtRest(GltfPart& part, const GltfScene& scene, const std::string& what)
 }
 } // namespace gltfskin
 
+namespace
+{
+/// Point i of `part` by an affine transform: its position to l p + t, its target position
+/// deltas by l, its normal and the normal deltas by `nm` (the normal's transform up to a
+/// positive factor), the normal renormalized and its deltas scaled alike (as the loader's
+/// transforms: the blended normal, renormalized, is then the transformed normal of the
+/// file's blend). Returns whether the position is finite in float.
+bool TransformPoint(
+  GltfPart& part, size_t i, const glm::dmat3& l, const glm::dvec3& t, const glm::dmat3& nm)
+{
+  float* p = &part.Positions[3 * i];
+  const glm::dvec3 q = l * glm::dvec3(p[0], p[1], p[2]) + t;
+  for (int k = 0; k < 3; ++k)
+  {
+    p[k] = static_cast<float>(q[k]);
+  }
+  double normalScale = 1.0;
+  if (!part.Normals.empty())
+  {
+    float* m = &part.Normals[3 * i];
+    const glm::dvec3 v = nm * glm::dvec3(m[0], m[1], m[2]);
+    const double len = glm::length(v);
+    normalScale = len > 0.0 ? 1.0 / len : 1.0;
+    for (int k = 0; k < 3; ++k)
+    {
+      m[k] = static_cast<float>(v[k] * normalScale);
+    }
+  }
+  for (auto& target : part.Targets)
+  {
+    float* d = &target.PositionDeltas[3 * i];
+    const glm::dvec3 e = l * glm::dvec3(d[0], d[1], d[2]);
+    for (int k = 0; k < 3; ++k)
+    {
+      d[k] = static_cast<float>(e[k]);
+    }
+    if (!target.NormalDeltas.empty())
+    {
+      float* dn = &target.NormalDeltas[3 * i];
+      const glm::dvec3 f = nm * glm::dvec3(dn[0], dn[1], dn[2]);
+      for (int k = 0; k < 3; ++k)
+      {
+        dn[k] = static_cast<float>(f[k] * normalScale);
+      }
+    }
+  }
+  return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]);
+}
+} // namespace
+
 void GltfSkinPart(GltfPart& part, const GltfScene& scene, const std::vector<GltfMatrix>& nodeWorlds,
   const std::string& what)
 {
@@ -318,44 +368,7 @@ void GltfSkinPart(GltfPart& part, const GltfScene& scene, const std::vector<Gltf
     const glm::dmat3 l(b);
     const glm::dmat3 cof(glm::cross(l[1], l[2]), glm::cross(l[2], l[0]), glm::cross(l[0], l[1]));
     const glm::dmat3 nm = glm::determinant(l) < 0.0 ? -cof : cof;
-    float* p = &part.Positions[3 * i];
-    const glm::dvec3 q = glm::dvec3(b * glm::dvec4(p[0], p[1], p[2], 1.0));
-    p[0] = static_cast<float>(q.x);
-    p[1] = static_cast<float>(q.y);
-    p[2] = static_cast<float>(q.z);
-    finite = finite && std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]);
-    double normalScale = 1.0;
-    if (!part.Normals.empty())
-    {
-      float* m = &part.Normals[3 * i];
-      const glm::dvec3 v = nm * glm::dvec3(m[0], m[1], m[2]);
-      const double len = glm::length(v);
-      // As the loader's transforms: the normal kept unit and its deltas scaled alike, so that
-      // the blended normal, renormalized, is the skinned normal of the file's blend.
-      normalScale = len > 0.0 ? 1.0 / len : 1.0;
-      for (int k = 0; k < 3; ++k)
-      {
-        m[k] = static_cast<float>(v[k] * normalScale);
-      }
-    }
-    for (auto& target : part.Targets)
-    {
-      float* d = &target.PositionDeltas[3 * i];
-      const glm::dvec3 e = l * glm::dvec3(d[0], d[1], d[2]);
-      for (int k = 0; k < 3; ++k)
-      {
-        d[k] = static_cast<float>(e[k]);
-      }
-      if (!target.NormalDeltas.empty())
-      {
-        float* dn = &target.NormalDeltas[3 * i];
-        const glm::dvec3 f = nm * glm::dvec3(dn[0], dn[1], dn[2]);
-        for (int k = 0; k < 3; ++k)
-        {
-          dn[k] = static_cast<float>(f[k] * normalScale);
-        }
-      }
-    }
+    finite = TransformPoint(part, i, l, glm::dvec3(b[3]), nm) && finite;
   }
   if (!finite)
   {
@@ -408,47 +421,11 @@ void GltfUnskinPart(GltfPart& part, const GltfScene& scene,
       throw InputError(
         what + ": point " + std::to_string(i) + "'s blended joint matrix is singular");
     }
+    // The inverse: p = l^-1 (q - t); a normal skinned by the cofactor matrix (det times the
+    // inverse transpose) comes back by the transpose divided by det, its sign kept.
     const glm::dmat3 inv = glm::inverse(l);
-    const glm::dvec3 t(b[3]);
-    float* p = &part.Positions[3 * i];
-    const glm::dvec3 q = inv * (glm::dvec3(p[0], p[1], p[2]) - t);
-    for (int k = 0; k < 3; ++k)
-    {
-      p[k] = static_cast<float>(q[k]);
-    }
-    // Skinning takes a normal by the cofactor matrix (det * inverse transpose) and keeps it
-    // unit; its inverse is the transpose divided by det, and the deltas share the scale.
-    double normalScale = 1.0;
     const glm::dmat3 back = glm::transpose(l) / det;
-    if (!part.Normals.empty())
-    {
-      float* m = &part.Normals[3 * i];
-      const glm::dvec3 v = (det < 0.0 ? -back : back) * glm::dvec3(m[0], m[1], m[2]);
-      const double len = glm::length(v);
-      normalScale = len > 0.0 ? 1.0 / len : 1.0;
-      for (int k = 0; k < 3; ++k)
-      {
-        m[k] = static_cast<float>(v[k] * normalScale);
-      }
-    }
-    for (auto& target : part.Targets)
-    {
-      float* d = &target.PositionDeltas[3 * i];
-      const glm::dvec3 e = inv * glm::dvec3(d[0], d[1], d[2]);
-      for (int k = 0; k < 3; ++k)
-      {
-        d[k] = static_cast<float>(e[k]);
-      }
-      if (!target.NormalDeltas.empty())
-      {
-        float* dn = &target.NormalDeltas[3 * i];
-        const glm::dvec3 f = (det < 0.0 ? -back : back) * glm::dvec3(dn[0], dn[1], dn[2]);
-        for (int k = 0; k < 3; ++k)
-        {
-          dn[k] = static_cast<float>(f[k] * normalScale);
-        }
-      }
-    }
+    TransformPoint(part, i, inv, -(inv * glm::dvec3(b[3])), det < 0.0 ? -back : back);
   }
   part.TransformApplied = false;
 }

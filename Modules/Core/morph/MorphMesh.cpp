@@ -106,6 +106,41 @@ std::vector<double> MorphMesh::ComputeAnimatedRegion() const
     this->Attributes[static_cast<size_t>(p)]);
 }
 
+std::vector<size_t> MorphMesh::MovedPointRanges() const
+{
+  std::vector<char> moved(this->NumPoints, 0);
+  std::vector<double> norms;
+  for (const auto& any : this->Attributes)
+  {
+    std::visit(
+      [&](const auto& a)
+      {
+        for (size_t t = 1; t < a.GetNumberOfTargets(); ++t)
+        {
+          a.GetTarget(t).PointNorms(norms);
+          for (size_t p = 0; p < norms.size() && p < moved.size(); ++p)
+          {
+            moved[p] = moved[p] || norms[p] != 0.0;
+          }
+        }
+      },
+      any);
+  }
+  std::vector<size_t> ranges;
+  for (size_t p = 0; p < moved.size(); ++p)
+  {
+    if (moved[p] && (p == 0 || !moved[p - 1]))
+    {
+      ranges.push_back(p);
+    }
+    if (moved[p] && (p + 1 == moved.size() || !moved[p + 1]))
+    {
+      ranges.push_back(p + 1);
+    }
+  }
+  return ranges;
+}
+
 size_t MorphMesh::GetMemorySize() const
 {
   size_t bytes = 0;

@@ -61,6 +61,10 @@ public:
   TargetDistances ComputeDistances() const;
   std::vector<double> ComputePointDistances(size_t target) const;
   std::vector<double> ComputeAnimatedRegion() const;
+  /// The points some target moves in some attribute (a delta not exactly zero), as sorted
+  /// [first, last) pairs: outside them every blend equals the neutral whatever the weights
+  /// (what a re-skin after the morph need not look at again).
+  std::vector<size_t> MovedPointRanges() const;
 
   /// Optional topology: triangles as 3 point ids each (empty = points only; the morph
   /// node needs none, OBJ sets and the reduction do). Validate() checks the ids.

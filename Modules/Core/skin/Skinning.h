@@ -21,6 +21,9 @@
 
 #include <glm/glm.hpp>
 
+#include <array>
+#include <cstddef>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -84,17 +87,35 @@ public:
   /// SetPose than in the one before it.
   bool Changed(size_t point) const;
 
-  /// Re-skins only what changed since the previous frame: points [begin, end) whose input
-  /// (point or normal) differs from `lastPoints`/`lastNormals` (the inputs of the previous
-  /// call, updated here) or that have a joint whose matrix changed between the last two
-  /// SetPose calls. Other points keep what `outPoints`/`outNormals` hold (the previous
-  /// frame's output: nothing is copied). `all` re-skins every point (a first frame, new
-  /// output arrays). The result equals Apply bit for bit: a point's output depends only on
-  /// its input and its joints' matrices. In and out must be different arrays. Returns the
-  /// number of points re-skinned.
+  /// Re-skins only what may have changed since the previous call, for points [begin, end):
+  /// every point with a joint whose matrix changed (exactly) between the last two SetPose
+  /// calls, and the points in `changedInput` (sorted, disjoint [first, last) pairs: the
+  /// points whose input, point or normal, may differ from the previous call's; {0, n} for a
+  /// first frame or new output arrays). Other points keep what `outPoints`/`outNormals`
+  /// hold (the previous frame's output: nothing is read or copied there). The result equals
+  /// Apply bit for bit: a point's output depends only on its input and its joints'
+  /// matrices. The points are re-skinned by runs and groups set up once (SkinRun,
+  /// BlendGroup): a run of points bound rigidly to one joint is one 3x4 transform over
+  /// consecutive points, its normals turned by the same rotation; a group's points, blended
+  /// over the same joints, are re-skinned together in vectorized blocks. In and out must be
+  /// different arrays. Returns the number of points re-skinned.
   template <typename T>
-  size_t ApplyChanged(const T* points, const T* normals, T* lastPoints, T* lastNormals,
-    T* outPoints, T* outNormals, size_t begin, size_t end, bool all) const;
+  size_t ApplyChanged(const T* points, const T* normals, T* outPoints, T* outNormals,
+    const std::vector<size_t>& changedInput, size_t begin, size_t end) const;
+
+  /// Consecutive points that share how they are skinned, found once: bound to one joint
+  /// (Joint >= 0), blended over the same joints with one rest matrix (Blend), or by the
+  /// exact path (Exact), in point order. Runs cover every point but those of the blend
+  /// groups (BlendGroup).
+  struct SkinRun
+  {
+    static constexpr int Blend = -1;
+    static constexpr int Exact = -2;
+    size_t Begin = 0, End = 0;
+    int Joint = Blend;
+    size_t JointsBegin = 0, JointsEnd = 0; ///< its joints, in RunJoints
+  };
+  const std::vector<SkinRun>& GetRuns() const { return this->Runs; }
 
   /// Re-skins points [begin, end) for the pose of the last SetPose. `normals`/`outNormals`
   /// may be null. In and out may be the same arrays.
@@ -108,6 +129,32 @@ private:
   template <typename T>
   void ApplyPoint(const T* points, const T* normals, T* outPoints, T* outNormals, size_t i,
     bool moves, int single, int count) const;
+  /// Re-skins points [begin, end) of `run` (all of its kind).
+  template <typename T>
+  void ApplyRun(const SkinRun& run, const T* points, const T* normals, T* outPoints, T* outNormals,
+    size_t begin, size_t end) const;
+
+  /// Points blended over the same joints (up to MaxGroupJoints), wherever they are in the
+  /// mesh: re-skinned together, gathered into short SoA blocks so that the blend, the point
+  /// and the normal (cofactor, renormalized) vectorize across points.
+  static constexpr size_t MaxGroupJoints = 4;
+  struct BlendGroup
+  {
+    size_t M = 0;
+    std::array<uint16_t, MaxGroupJoints> Joints{};
+    size_t Begin = 0, End = 0; ///< its points in GroupPoints
+    size_t Weights = 0;        ///< its weights in GroupWeights, M per point
+  };
+  /// Re-skins the points `ids` (count of them, at `weights`: M per point) of group `g`.
+  template <typename T>
+  void ApplyGroup(const BlendGroup& g, const uint32_t* ids, const float* weights, size_t count,
+    const T* points, const T* normals, T* outPoints, T* outNormals) const;
+  /// Re-skins the points of the groups in [begin, end): all of a group whose joints changed
+  /// (or every group's when `all`), else those `mask` (per point, non-zero: input changed)
+  /// marks. Returns the count.
+  template <typename T>
+  size_t ApplyGroups(const T* points, const T* normals, T* outPoints, T* outNormals,
+    const char* mask, bool all, size_t begin, size_t end) const;
 
   SkinInfluences Influences;
   std::vector<glm::dmat4> Rest;
@@ -121,5 +168,10 @@ private:
   std::vector<char>
     Rigid; ///< per joint: its Delta is a rotation and translation (normals need no renormalizing)
   std::vector<char> Used; ///< per joint: some point has a weight on it
+  std::vector<SkinRun> Runs;
+  std::vector<uint16_t> RunJoints; ///< the joints of each run, sorted
+  std::vector<BlendGroup> Groups;
+  std::vector<uint32_t> GroupPoints; ///< each group's points, in point order
+  std::vector<float> GroupWeights;
 };
 } // namespace morphnode

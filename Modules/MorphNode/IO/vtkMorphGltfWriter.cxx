@@ -512,6 +512,8 @@ void vtkMorphGltfWriter::WriteData()
     settings.EyeRotations = this->WriteEyeRotations;
     settings.HeadPivot = morphnode::HeadPivot(bounds);
     settings.EyeNodeNames = SplitNames(this->EyeNodeNames);
+    settings.RelaxArms = this->RelaxArms;
+    settings.ArmAngle = this->ArmAngle;
     morphnode::GltfWriteOptions options;
     options.Binary = !morphnode::text::HasExtension(this->FileName, ".gltf");
     morphnode::GltfPerformanceReport report;
@@ -530,6 +532,7 @@ void vtkMorphGltfWriter::WriteData()
     this->NumberOfFrames = static_cast<int>(report.Frames);
     this->NumberOfWeightColumns = static_cast<int>(report.WeightColumns);
     this->TurnsBones = report.Bones;
+    this->NumberOfRelaxedArms = static_cast<int>(report.Relaxed.size());
     this->UpdateProgress(1.0);
   }
   catch (const std::exception& e)
@@ -537,6 +540,7 @@ void vtkMorphGltfWriter::WriteData()
     this->NumberOfFrames = 0;
     this->NumberOfWeightColumns = 0;
     this->NumberOfParts = 0;
+    this->NumberOfRelaxedArms = 0;
     vtkErrorMacro(<< this->FileName << ": " << e.what());
     this->SetErrorCode(vtkErrorCode::UserError);
   }
@@ -557,6 +561,9 @@ void vtkMorphGltfWriter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Hysteresis: " << this->Hysteresis << "\n";
   os << indent << "WriteHeadPose: " << this->WriteHeadPose << "\n";
   os << indent << "WriteEyeRotations: " << this->WriteEyeRotations << "\n";
+  os << indent << "RelaxArms: " << this->RelaxArms << "\n";
+  os << indent << "ArmAngle: " << this->ArmAngle << "\n";
+  os << indent << "NumberOfRelaxedArms: " << this->NumberOfRelaxedArms << "\n";
   os << indent << "EyeNodeNames: " << (this->EyeNodeNames ? this->EyeNodeNames : "(none)") << "\n";
   os << indent << "NumberOfFrames: " << this->NumberOfFrames << "\n";
   os << indent << "NumberOfWeightColumns: " << this->NumberOfWeightColumns << "\n";

@@ -64,7 +64,11 @@
  * turns about morphnode::HeadPivot of its bounds and each eye node (morphnode::MakeEyeRig:
  * its convention, or the nodes named in EyeNodeNames; the default limits, no vergence)
  * about its `NodeOrigin` in its `NodeAxes`, exactly as vtkEyeGazeFilter with its defaults
- * turns it. Interpolation: LINEAR (default) or STEP.
+ * turns it. Interpolation: LINEAR (default) or STEP. RelaxArms (off by default) writes a
+ * T- or A-pose skinned avatar with its arms relaxed (its upper arm joints' node rotations
+ * turned ArmAngle degrees out from straight down, as vtkMorphSkinFilter's RelaxArms shows
+ * it: morphnode::RelaxGltfArms), so that any reader shows it at rest with its arms down
+ * (GetNumberOfRelaxedArms).
  *
  * Errors (no input, leaves that are not triangle poly data, targets or arrays of the wrong
  * size, NaN, times that do not increase, a file that cannot be written) are reported with
@@ -190,6 +194,24 @@ public:
    */
   vtkGetMacro(TurnsBones, bool);
 
+  ///@{
+  /**
+   * Write a T- or A-pose skinned avatar with its arms lowered to ArmAngle degrees from
+   * straight down (default off, 12), as vtkMorphSkinFilter's RelaxArms and ArmAngle show it.
+   */
+  vtkSetMacro(RelaxArms, bool);
+  vtkGetMacro(RelaxArms, bool);
+  vtkBooleanMacro(RelaxArms, bool);
+  vtkSetClampMacro(ArmAngle, double, 0.0, 90.0);
+  vtkGetMacro(ArmAngle, double);
+  ///@}
+
+  /**
+   * The upper arm joints the last write relaxed (0 without RelaxArms, for an avatar without
+   * arm joints or with its arms already down).
+   */
+  vtkGetMacro(NumberOfRelaxedArms, int);
+
 protected:
   vtkMorphGltfWriter();
   ~vtkMorphGltfWriter() override;
@@ -212,6 +234,9 @@ protected:
   int NumberOfWeightColumns = 0;
   int NumberOfParts = 0;
   bool TurnsBones = false;
+  bool RelaxArms = false;
+  double ArmAngle = 12.0;
+  int NumberOfRelaxedArms = 0;
 
 private:
   vtkMorphGltfWriter(const vtkMorphGltfWriter&) = delete;

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkMorphNodeOutput.h"
 
+#include "vtkMorphSkinArrays.h"
 #include "vtkMorphTargetArrays.h"
 
 #include "base/Error.h"
@@ -11,6 +12,7 @@
 #include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
 #include "vtkFloatArray.h"
+#include "vtkIdTypeArray.h"
 #include "vtkInformation.h"
 #include "vtkIntArray.h"
 #include "vtkPartitionedDataSet.h"
@@ -30,7 +32,8 @@ namespace
 {
 /// Field-data arrays the filter writes; a neutral's arrays of these names are replaced.
 const char* const OutputFieldArrays[] = { adapter::TargetNamesArray, adapter::EffectiveWeightsArray,
-  adapter::ActiveTargetCountArray, adapter::ErrorBoundArray, adapter::DistNormArray };
+  adapter::ActiveTargetCountArray, adapter::ErrorBoundArray, adapter::DistNormArray,
+  vtkMorphSkinArrays::MorphedRangesArray, vtkMorphSkinArrays::MorphedTimeArray };
 
 /// `values` in the ArrayT held by `slot`, rewritten in place when only `slot` and
 /// `holders` more references (the kept output leaves) hold it; `fresh` tells whether a new
@@ -303,6 +306,55 @@ std::vector<vtkDataArray*> vtkMorphNodeOutput::GetDistanceArrays(
 }
 
 //------------------------------------------------------------------------------
+void vtkMorphNodeOutput::SetMovedRanges(Part& part, vtkPointSet* output, vtkFieldData* fd)
+{
+  if (part.Built && part.Input && part.MovedRangesOf.lock() != part.Built)
+  {
+    // Once per model (a new array per model: the skin filter knows a model by its array),
+    // for skinned parts only.
+    part.MovedRanges = nullptr;
+    part.MovedRangesOf = part.Built;
+    if (vtkMorphSkinArrays::IsSkinned(part.Input))
+    {
+      const std::vector<size_t> ranges = part.Built->Model.MovedPointRanges();
+      vtkNew<vtkIdTypeArray> array;
+      array->SetName(vtkMorphSkinArrays::MorphedRangesArray);
+      array->SetNumberOfComponents(2);
+      array->SetNumberOfTuples(static_cast<vtkIdType>(ranges.size() / 2));
+      for (size_t i = 0; i < ranges.size(); ++i)
+      {
+        array->SetValue(static_cast<vtkIdType>(i), static_cast<vtkIdType>(ranges[i]));
+      }
+      part.MovedRanges = array;
+    }
+  }
+  if (part.Blended && part.Built && part.MovedRanges)
+  {
+    // The ranges hold for these very arrays: their modification times (a filter between
+    // here and the skin filter that changes points or normals changes them).
+    vtkDataArray* points = output->GetPoints() ? output->GetPoints()->GetData() : nullptr;
+    vtkDataArray* normals = output->GetPointData()->GetNormals();
+    if (!part.MovedTime || part.MovedTime->GetReferenceCount() != 1)
+    {
+      vtkNew<vtkIdTypeArray> time;
+      time->SetName(vtkMorphSkinArrays::MorphedTimeArray);
+      time->SetNumberOfValues(2);
+      part.MovedTime = time;
+    }
+    part.MovedTime->SetValue(0, points ? static_cast<vtkIdType>(points->GetMTime()) : 0);
+    part.MovedTime->SetValue(1, normals ? static_cast<vtkIdType>(normals->GetMTime()) : 0);
+    part.MovedTime->Modified();
+    fd->AddArray(part.MovedRanges);
+    fd->AddArray(part.MovedTime);
+  }
+  else if (part.MovedRanges)
+  {
+    fd->RemoveArray(vtkMorphSkinArrays::MorphedRangesArray);
+    fd->RemoveArray(vtkMorphSkinArrays::MorphedTimeArray);
+  }
+}
+
+//------------------------------------------------------------------------------
 void vtkMorphNodeOutput::AssemblePart(Part& part, vtkPointSet* output,
   const morphnode::MorphScene* scene, bool distances, const std::vector<vtkDataArray*>& fieldArrays,
   bool kept)
@@ -369,6 +421,7 @@ void vtkMorphNodeOutput::AssemblePart(Part& part, vtkPointSet* output,
     {
       fd->AddArray(array);
     }
+    SetMovedRanges(part, output, fd);
     return;
   }
   part.HasDistNorm = distances;
@@ -391,6 +444,7 @@ void vtkMorphNodeOutput::AssemblePart(Part& part, vtkPointSet* output,
   {
     fd->AddArray(array);
   }
+  SetMovedRanges(part, output, fd);
 }
 
 //------------------------------------------------------------------------------

@@ -24,6 +24,7 @@
 
 #include "morph/MorphScene.h"
 
+#include "vtkIdTypeArray.h"
 #include "vtkNew.h"
 #include "vtkSmartPointer.h"
 
@@ -71,6 +72,10 @@ public:
     vtkSmartPointer<vtkPointSet> OutputLeaf;
     bool LeafKept = false;
     bool HasDistNorm = false; ///< the kept leaf's field data holds DistNorm
+    /// A skinned part's MorphedPointRanges (vtkMorphSkinArrays.h), made once per model.
+    vtkSmartPointer<vtkDataArray> MovedRanges;
+    std::weak_ptr<const vtkMorphModelAdapter::BuiltModel> MovedRangesOf;
+    vtkSmartPointer<vtkIdTypeArray> MovedTime; ///< MorphedArraysTime, rewritten each frame
   };
   std::vector<Part> Parts;
 
@@ -124,6 +129,9 @@ private:
     Part& part, const morphnode::MorphScene* scene);
   std::vector<vtkDataArray*> FieldArrays(
     const morphnode::MorphScene* scene, bool distances, int kept, bool& fresh);
+  /// A blended skinned part's MorphedPointRanges and MorphedArraysTime (of `output`'s points
+  /// and normals) into `fd`; removed from other parts.
+  static void SetMovedRanges(Part& part, vtkPointSet* output, vtkFieldData* fd);
   void AssemblePart(Part& part, vtkPointSet* output, const morphnode::MorphScene* scene,
     bool distances, const std::vector<vtkDataArray*>& fieldArrays, bool kept);
   void AssembleComposite(vtkCompositeDataSet* input, vtkCompositeDataSet* output,

@@ -21,6 +21,14 @@
  *   "bone=node name", VRM's humanBones) and `LookAtRangeMaps` (vtkDoubleArray of 8: inner,
  *   outer, down, up input maxima and output scales, when its look-at turns bones).
  *
+ * A morph node's output of a blended skinned part also carries field data
+ * `MorphedPointRanges` (vtkIdTypeArray, 2 components: [first, last) runs of the points some
+ * target moves; a new array per model, never modified): outside them the points and
+ * normals are the neutral's at every frame, so vtkMorphSkinFilter re-skins only these when
+ * no joint of theirs moved. With it `MorphedArraysTime` (vtkIdTypeArray of 2: the
+ * modification times of the points and normals arrays the morph node wrote): the ranges hold
+ * only for those arrays (not after a filter that moved the points in between).
+ *
  * Functions throw morphnode::InputError for bad input; callers turn that into vtkErrorMacro.
  */
 
@@ -51,6 +59,8 @@ constexpr const char* SkeletonParentsArray = "SkeletonParents";
 constexpr const char* SkeletonRestArray = "SkeletonRest";
 constexpr const char* HumanoidBonesArray = "HumanoidBones";
 constexpr const char* LookAtRangeMapsArray = "LookAtRangeMaps";
+constexpr const char* MorphedRangesArray = "MorphedPointRanges";
+constexpr const char* MorphedTimeArray = "MorphedArraysTime";
 
 /// True when the data set carries `SkinWeights`.
 bool IsSkinned(vtkDataSet* data);

@@ -16,6 +16,7 @@
 #include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
 #include "vtkFloatArray.h"
+#include "vtkIdTypeArray.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkNew.h"
@@ -32,23 +33,30 @@
 #include <atomic>
 #include <cmath>
 #include <map>
+#include <memory>
 
 vtkStandardNewMacro(vtkMorphSkinFilter);
 
 namespace
 {
-/// Re-skins what changed since the previous frame (RestSkin::ApplyChanged) into the kept
-/// output arrays.
+/// Re-skins what may have changed since the previous frame (RestSkin::ApplyChanged) into
+/// the kept output arrays: in parallel only when there is enough work to share.
 template <typename T>
-vtkIdType Reskin(const morphnode::RestSkin& skin, const T* points, const T* normals, T* lastPoints,
-  T* lastNormals, T* outPoints, T* outNormals, size_t n, bool all)
+vtkIdType Reskin(const morphnode::RestSkin& skin, const T* points, const T* normals, T* outPoints,
+  T* outNormals, const std::vector<size_t>& changedInput, size_t n)
 {
+  constexpr size_t Grain = 16384;
+  if (n <= Grain || vtkSMPTools::GetEstimatedNumberOfThreads() < 2)
+  {
+    return static_cast<vtkIdType>(
+      skin.ApplyChanged<T>(points, normals, outPoints, outNormals, changedInput, 0, n));
+  }
   std::atomic<vtkIdType> count(0);
-  vtkSMPTools::For(0, static_cast<vtkIdType>(n), 4096,
+  vtkSMPTools::For(0, static_cast<vtkIdType>(n), static_cast<vtkIdType>(Grain),
     [&](vtkIdType begin, vtkIdType end)
     {
-      count += static_cast<vtkIdType>(skin.ApplyChanged<T>(points, normals, lastPoints, lastNormals,
-        outPoints, outNormals, static_cast<size_t>(begin), static_cast<size_t>(end), all));
+      count += static_cast<vtkIdType>(skin.ApplyChanged<T>(points, normals, outPoints, outNormals,
+        changedInput, static_cast<size_t>(begin), static_cast<size_t>(end)));
     });
   return count;
 }
@@ -85,6 +93,76 @@ vtkSmartPointer<vtkDataArray> NewLike(vtkDataArray* in)
 }
 } // namespace
 
+/// One skeleton posed once per execution, shared by the parts bound to it (an avatar's
+/// parts each carry the same skeleton).
+struct PoseSlot
+{
+  morphnode::Skeleton Bones;
+  std::map<std::string, std::string> Humanoid;
+  morphnode::EyeRangeMaps RangeMaps;
+  unsigned long Execution = 0;   ///< of World
+  std::vector<glm::dmat4> World; ///< posed
+  /// The distinct skins of its parts (an avatar's parts usually share one) and their joint
+  /// matrices at World, formed once per execution.
+  struct SkinMatrices
+  {
+    morphnode::SkinJoints Joints;
+    unsigned long Execution = 0;
+    std::vector<glm::dmat4> Matrices;
+  };
+  std::vector<SkinMatrices> Skins;
+
+  /// The index in Skins of `joints` (added when new).
+  size_t FindSkin(const morphnode::SkinJoints& joints)
+  {
+    for (size_t k = 0; k < this->Skins.size(); ++k)
+    {
+      if (this->Skins[k].Joints.Joints == joints.Joints &&
+        this->Skins[k].Joints.InverseBind == joints.InverseBind)
+      {
+        return k;
+      }
+    }
+    this->Skins.push_back(SkinMatrices{ joints, 0, {} });
+    return this->Skins.size() - 1;
+  }
+  /// The joint matrices of skin k at this execution's World.
+  const std::vector<glm::dmat4>& Matrices(size_t k)
+  {
+    SkinMatrices& skin = this->Skins[k];
+    if (skin.Execution != this->Execution)
+    {
+      skin.Matrices = skin.Joints.Matrices(this->World);
+      skin.Execution = this->Execution;
+    }
+    return skin.Matrices;
+  }
+
+  /// The same skeleton (joints as stored, exactly), humanoid map and range maps.
+  bool Same(const vtkMorphSkinArrays::Skin& skin) const
+  {
+    const morphnode::EyeRangeMaps& a = this->RangeMaps;
+    const morphnode::EyeRangeMaps& b = skin.RangeMaps;
+    if (this->Humanoid != skin.Humanoid || a.Enabled != b.Enabled || a.InnerMax != b.InnerMax ||
+      a.InnerScale != b.InnerScale || a.OuterMax != b.OuterMax || a.OuterScale != b.OuterScale ||
+      a.DownMax != b.DownMax || a.DownScale != b.DownScale || a.UpMax != b.UpMax ||
+      a.UpScale != b.UpScale || this->Bones.GetNumberOfJoints() != skin.Bones.GetNumberOfJoints())
+    {
+      return false;
+    }
+    for (size_t j = 0; j < this->Bones.GetNumberOfJoints(); ++j)
+    {
+      const morphnode::Joint& p = this->Bones.GetJoint(j);
+      const morphnode::Joint& q = skin.Bones.GetJoint(j);
+      if (p.Name != q.Name || p.Parent != q.Parent)
+      {
+        return false;
+      }
+    }
+    return this->Bones.RestLocals() == skin.Bones.RestLocals();
+  }
+};
+
 class vtkMorphSkinFilter::vtkInternals
 {
 public:
@@ -96,18 +174,41 @@ public:
     morphnode::RestSkin Rest;
     std::vector<glm::dmat4> RestMatrices;
     morphnode::AvatarBoneRoles Roles; ///< found once per skin
+    std::shared_ptr<PoseSlot> Slot;   ///< its skeleton's pose
+    size_t SlotSkin = 0;              ///< its skin in Slot->Skins
     /// The last frame's output (written again in place only where points changed, and only
-    /// when nothing but this entry holds them: a snapshot kept downstream never changes) and
-    /// its input (to see which points the morph moved).
-    vtkSmartPointer<vtkDataArray> OutPoints, OutNormals, LastPoints, LastNormals;
-    bool Valid = false;          ///< the kept arrays hold the last frame
-    unsigned long Execution = 0; ///< the last execution that used the entry
+    /// when nothing but this entry holds them: a snapshot kept downstream never changes).
+    vtkSmartPointer<vtkDataArray> OutPoints, OutNormals;
+    vtkSmartPointer<vtkPointSet> OutLeaf;
+    vtkSmartPointer<vtkPoints> OutPointsObject;
+    vtkSmartPointer<vtkFieldData> OutField;
+    vtkSmartPointer<vtkDoubleArray> OutPose;
+    /// The last frame's input, to tell what can have changed: its arrays and the morph
+    /// node's MorphedPointRanges (by address and modification time; never held, so that
+    /// the morph node may write them in place).
+    struct Seen
+    {
+      const void* Array = nullptr;
+      vtkMTimeType Time = 0;
+      bool operator==(const Seen& o) const
+      {
+        return this->Array == o.Array && this->Time == o.Time;
+      }
+    };
+    Seen LastPoints, LastNormals, LastRanges;
+    std::vector<size_t> ChangedInput; ///< this frame's
+    bool Valid = false;               ///< the kept arrays hold the last frame
+    unsigned long Execution = 0;      ///< the last execution that used the entry
     bool HeadKnown = false;
     bool EyePart = false; ///< every point's largest weight on an eye joint or below it
     double HeadBounds[6] = { 1, -1, 1, -1, 1, -1 }; ///< empty when min > max
   };
   std::map<vtkDataArray*, Entry> Cache;
   unsigned long Execution = 0;
+  /// The input's jawOpen target (JAW_AUTO), known for these names arrays (address, MTime).
+  bool JawKnown = false;
+  bool JawTarget = false;
+  std::vector<std::pair<const void*, vtkMTimeType>> JawKey;
 
   Entry& Get(vtkPointSet* leaf, const std::string& what)
   {
@@ -129,6 +230,22 @@ public:
     entry.EyePart = morphnode::TurnedByEyeJoints(
       entry.Skin.Influences, entry.Skin.Joints.Joints, entry.Skin.Bones, entry.Roles);
     entry.Rest = morphnode::RestSkin(entry.Skin.Influences, entry.RestMatrices, what);
+    for (const auto& [array, other] : this->Cache)
+    {
+      if (other.Slot && other.Slot->Same(entry.Skin))
+      {
+        entry.Slot = other.Slot;
+        break;
+      }
+    }
+    if (!entry.Slot)
+    {
+      entry.Slot = std::make_shared<PoseSlot>();
+      entry.Slot->Bones = entry.Skin.Bones;
+      entry.Slot->Humanoid = entry.Skin.Humanoid;
+      entry.Slot->RangeMaps = entry.Skin.RangeMaps;
+    }
+    entry.SlotSkin = entry.Slot->FindSkin(entry.Skin.Joints);
     return this->Cache[weights] = std::move(entry);
   }
 
@@ -189,19 +306,37 @@ public:
     {
       self->Bones = roles.Describe(entry.Skin.Bones);
     }
-    morphnode::SkeletonPose pose(entry.Skin.Bones);
-    morphnode::AvatarBonePose posed = angles;
-    posed.RangeMaps = entry.Skin.RangeMaps; // a VRM's look-at (vtkMorphSkinArrays.h)
-    morphnode::PoseAvatarBones(pose, roles, posed);
+    PoseSlot& slot = *entry.Slot;
+    if (slot.Execution != this->Execution)
+    {
+      // Once per skeleton and execution (the roles and angles are the same for its parts).
+      morphnode::SkeletonPose pose(slot.Bones);
+      morphnode::AvatarBonePose posed = angles;
+      posed.RangeMaps = slot.RangeMaps; // a VRM's look-at (vtkMorphSkinArrays.h)
+      morphnode::PoseAvatarBones(pose, roles, posed);
+      slot.World = pose.World();
+      slot.Execution = this->Execution;
+    }
     ++self->NumberOfSkinnedParts;
     const bool wasValid = entry.Valid;
     entry.Valid = false; // the pose moves on: the kept arrays hold this frame only when written
-    if (!entry.Rest.SetPose(entry.Skin.Joints.Matrices(pose.World())))
+    if (!entry.Rest.SetPose(slot.Matrices(entry.SlotSkin)))
     {
       return nullptr; // at rest
     }
-    vtkSmartPointer<vtkPointSet> out;
-    out.TakeReference(leaf->NewInstance());
+    // The output leaf, its points object, field data and SkinPose array of the last frame,
+    // filled again when nothing else holds them (the output composite let go of them), else
+    // new ones.
+    auto free = [](vtkObjectBase* o) { return o && o->GetReferenceCount() == 1; };
+    if (!free(entry.OutLeaf) || !entry.OutLeaf->IsA(leaf->GetClassName()) ||
+      entry.Execution == this->Execution)
+    {
+      entry.OutLeaf.TakeReference(leaf->NewInstance());
+      entry.OutPointsObject = nullptr;
+      entry.OutField = nullptr;
+      entry.OutPose = nullptr;
+    }
+    vtkSmartPointer<vtkPointSet> out = entry.OutLeaf;
     out->ShallowCopy(leaf);
     vtkDataArray* points = leaf->GetPoints()->GetData();
     vtkDataArray* normals = leaf->GetPointData()->GetNormals();
@@ -223,35 +358,88 @@ public:
     // The kept arrays, written again in place where points changed, when only this entry
     // holds them (and the entry serves one leaf this execution); else new ones, all
     // re-skinned.
+    // (The points array is also held by the kept points object when that is free.)
+    const int ownHolders =
+      free(entry.OutPointsObject) && entry.OutPointsObject->GetData() == entry.OutPoints ? 1 : 0;
     auto kept = [&](vtkSmartPointer<vtkDataArray>& a, vtkDataArray* like)
     {
-      return a && a->GetReferenceCount() == 1 && a->GetDataType() == like->GetDataType() &&
+      const int holders = 1 + (a == entry.OutPoints ? ownHolders : 0);
+      return a && a->GetReferenceCount() == holders && a->GetDataType() == like->GetDataType() &&
         a->GetNumberOfTuples() == like->GetNumberOfTuples();
     };
-    bool all = !wasValid || entry.Execution == this->Execution || !kept(entry.OutPoints, points) ||
-      !kept(entry.LastPoints, points) || (normals != nullptr) != (entry.OutNormals != nullptr) ||
-      (normals && (!kept(entry.OutNormals, normals) || !kept(entry.LastNormals, normals)));
+    const bool all = !wasValid || entry.Execution == this->Execution ||
+      !kept(entry.OutPoints, points) || (normals != nullptr) != (entry.OutNormals != nullptr) ||
+      (normals && !kept(entry.OutNormals, normals));
     entry.Execution = this->Execution;
     if (all)
     {
       entry.OutPoints = NewLike(points);
-      entry.LastPoints = NewLike(points);
       entry.OutNormals = normals ? NewLike(normals) : nullptr;
-      entry.LastNormals = normals ? NewLike(normals) : nullptr;
     }
+    // What input can have changed since the last frame: nothing when its arrays are the same,
+    // unmodified; else the morph node's MorphedPointRanges when the last frame came from the
+    // same model (outside them the input is the neutral's); else all.
+    using Seen = vtkInternals::Entry::Seen;
+    const Seen seenPoints{ points, points->GetMTime() };
+    const Seen seenNormals{ normals, normals ? normals->GetMTime() : 0 };
+    auto* ranges = vtkIdTypeArray::SafeDownCast(
+      leaf->GetFieldData()->GetArray(vtkMorphSkinArrays::MorphedRangesArray));
+    // The ranges hold for the arrays the morph node wrote (MorphedArraysTime), not after a
+    // filter in between moved the points or changed the normals.
+    auto* written = vtkIdTypeArray::SafeDownCast(
+      leaf->GetFieldData()->GetArray(vtkMorphSkinArrays::MorphedTimeArray));
+    vtkDataArray* inNormals = leaf->GetPointData()->GetNormals();
+    if (ranges &&
+      (ranges->GetNumberOfComponents() != 2 || !written || written->GetNumberOfValues() != 2 ||
+        written->GetValue(0) != static_cast<vtkIdType>(points->GetMTime()) ||
+        written->GetValue(1) != (inNormals ? static_cast<vtkIdType>(inNormals->GetMTime()) : 0)))
+    {
+      ranges = nullptr;
+    }
+    const Seen seenRanges{ ranges, ranges ? ranges->GetMTime() : 0 };
+    std::vector<size_t>& changedInput = entry.ChangedInput;
+    changedInput.clear();
+    const bool sameInput = seenPoints == entry.LastPoints && seenNormals == entry.LastNormals;
+    const bool sameModel = ranges && seenRanges == entry.LastRanges;
+    if (!all && sameInput)
+    {
+      // unchanged input: only points whose joints changed
+    }
+    else if (!all && sameModel)
+    {
+      const vtkIdType* r = ranges->GetPointer(0);
+      const vtkIdType count = 2 * ranges->GetNumberOfTuples();
+      for (vtkIdType i = 0; i + 1 < count; i += 2)
+      {
+        // Sorted, disjoint, within the points (else all).
+        const vtkIdType lo = changedInput.empty() ? 0 : static_cast<vtkIdType>(changedInput.back());
+        if (r[i] < lo || r[i + 1] < r[i] || r[i + 1] > static_cast<vtkIdType>(n))
+        {
+          changedInput = { 0, n };
+          break;
+        }
+        changedInput.push_back(static_cast<size_t>(r[i]));
+        changedInput.push_back(static_cast<size_t>(r[i + 1]));
+      }
+    }
+    else
+    {
+      changedInput = { 0, n };
+    }
+    entry.LastPoints = seenPoints;
+    entry.LastNormals = seenNormals;
+    entry.LastRanges = seenRanges;
     if (vtkFloatArray::FastDownCast(points))
     {
       self->NumberOfReskinnedPoints += Reskin<float>(entry.Rest, Pointer<vtkFloatArray>(points),
-        Pointer<vtkFloatArray>(normals), Pointer<vtkFloatArray>(entry.LastPoints),
-        Pointer<vtkFloatArray>(entry.LastNormals), Pointer<vtkFloatArray>(entry.OutPoints),
-        Pointer<vtkFloatArray>(entry.OutNormals), n, all);
+        Pointer<vtkFloatArray>(normals), Pointer<vtkFloatArray>(entry.OutPoints),
+        Pointer<vtkFloatArray>(entry.OutNormals), changedInput, n);
     }
     else
     {
       self->NumberOfReskinnedPoints += Reskin<double>(entry.Rest, Pointer<vtkDoubleArray>(points),
-        Pointer<vtkDoubleArray>(normals), Pointer<vtkDoubleArray>(entry.LastPoints),
-        Pointer<vtkDoubleArray>(entry.LastNormals), Pointer<vtkDoubleArray>(entry.OutPoints),
-        Pointer<vtkDoubleArray>(entry.OutNormals), n, all);
+        Pointer<vtkDoubleArray>(normals), Pointer<vtkDoubleArray>(entry.OutPoints),
+        Pointer<vtkDoubleArray>(entry.OutNormals), changedInput, n);
     }
     entry.Valid = true;
     // Written through raw pointers: renderers upload again on MTime.
@@ -262,24 +450,39 @@ public:
     {
       newNormals->Modified();
     }
-    vtkNew<vtkPoints> p;
-    p->SetData(newPoints);
-    out->SetPoints(p);
+    if (!free(entry.OutPointsObject))
+    {
+      entry.OutPointsObject = vtkSmartPointer<vtkPoints>::New();
+    }
+    entry.OutPointsObject->SetData(newPoints);
+    out->SetPoints(entry.OutPointsObject);
     if (newNormals)
     {
       out->GetPointData()->SetNormals(newNormals);
     }
-    vtkNew<vtkFieldData> field;
-    field->ShallowCopy(leaf->GetFieldData());
-    vtkNew<vtkDoubleArray> used;
-    used->SetName("SkinPose");
+    if (!free(entry.OutField))
+    {
+      entry.OutField = vtkSmartPointer<vtkFieldData>::New();
+    }
+    entry.OutField->ShallowCopy(leaf->GetFieldData());
+    // The morph's ranges describe the input, not this output.
+    entry.OutField->RemoveArray(vtkMorphSkinArrays::MorphedRangesArray);
+    entry.OutField->RemoveArray(vtkMorphSkinArrays::MorphedTimeArray);
+    if (!free(entry.OutPose))
+    {
+      entry.OutPose = vtkSmartPointer<vtkDoubleArray>::New();
+      entry.OutPose->SetName("SkinPose");
+      entry.OutPose->SetNumberOfValues(6);
+    }
+    vtkIdType k = 0;
     for (double v : { angles.HeadYaw, angles.HeadPitch, angles.HeadRoll, angles.EyeYaw,
            angles.EyePitch, roles.Jaw >= 0 ? angles.JawOpen : 0.0 })
     {
-      used->InsertNextValue(v);
+      entry.OutPose->SetValue(k++, v);
     }
-    field->AddArray(used);
-    out->SetFieldData(field);
+    entry.OutPose->Modified();
+    entry.OutField->AddArray(entry.OutPose);
+    out->SetFieldData(entry.OutField);
     return out;
   }
 };
@@ -363,9 +566,38 @@ int vtkMorphSkinFilter::RequestData(
     bool jawTarget = false;
     if (this->TurnJaw == JAW_AUTO)
     {
-      std::vector<std::string> names;
-      vtkMorphTargetArrays::GetFaceTargetNames(input, names);
-      jawTarget = morphnode::NamesJawOpenTarget(names);
+      // Decided again only when the leaves' target names arrays change (the morph node
+      // passes the model's one array on every frame).
+      vtkInternals& internals = *this->Internals;
+      std::vector<std::pair<const void*, vtkMTimeType>> key;
+      auto note = [&key](vtkDataObject* leaf)
+      {
+        vtkAbstractArray* names = leaf && leaf->GetFieldData()
+          ? leaf->GetFieldData()->GetAbstractArray(vtkMorphTargetArrays::TargetNamesArray)
+          : nullptr;
+        key.emplace_back(names, names ? names->GetMTime() : 0);
+      };
+      if (auto* composite = vtkCompositeDataSet::SafeDownCast(input))
+      {
+        for (vtkDataObject* leaf :
+          vtk::Range(composite, vtk::CompositeDataSetOptions::SkipEmptyNodes))
+        {
+          note(leaf);
+        }
+      }
+      else
+      {
+        note(input);
+      }
+      if (!internals.JawKnown || key != internals.JawKey)
+      {
+        std::vector<std::string> names;
+        vtkMorphTargetArrays::GetFaceTargetNames(input, names);
+        internals.JawTarget = morphnode::NamesJawOpenTarget(names);
+        internals.JawKey = std::move(key);
+        internals.JawKnown = true;
+      }
+      jawTarget = internals.JawTarget;
     }
     const bool jawAllowed = this->TurnJaw == JAW_ON || (this->TurnJaw == JAW_AUTO && !jawTarget);
 

@@ -568,3 +568,91 @@ TEST(AvatarBones, JawOpenTargetsAreFoundInEverySpelling)
   EXPECT_FALSE(NamesJawOpenTarget({ "jawForward", "mouthOpen", "jawOpenWide" }));
   EXPECT_FALSE(NamesJawOpenTarget({}));
 }
+
+// RestSkin's runs (points bound rigidly to one joint) and blend groups (points blended over
+// the same joints, wherever they are): ApplyChanged re-skins exactly the points of a joint
+// that changed and the points whose input changed, leaves the others' output as it was, and
+// gives Apply's values; the groups gather points that are not neighbours.
+TEST(Skinning, RunsAndBlendGroupsReskinOnlyWhatChanged)
+{
+  // 8 points: rigid on joint 0, 0, 1; blended {0, 1}; rigid on 2; blended {0, 1} again
+  // (the same group as point 3); blended {1, 2}; blended {0, 1, 2}.
+  SkinInfluences inf;
+  inf.AddSet({ 0, 0, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 2, 0, 0, 0, 1, 0, 0, 0, 1, 2, 0, 0,
+               0, 1, 2, 0 },
+    { 1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 0.4f, 0.6f, 0, 0, 1, 0, 0, 0, 0.2f, 0.8f, 0, 0, 0.5f,
+      0.5f, 0, 0, 0.2f, 0.3f, 0.5f, 0 },
+    8);
+  inf.Normalize(3, "test");
+  const std::vector<glm::dmat4> rest(3, glm::dmat4(1.0));
+  RestSkin skin(inf, rest, "test");
+  size_t rigid = 0, runs = 0;
+  for (const auto& run : skin.GetRuns())
+  {
+    rigid += run.Joint >= 0 ? run.End - run.Begin : 0;
+    runs += run.Joint >= 0;
+  }
+  EXPECT_EQ(rigid, 4u); // points 0, 1, 2, 4: in three runs
+  EXPECT_EQ(runs, 3u);
+
+  std::vector<float> points(24), normals(24);
+  for (size_t i = 0; i < 8; ++i)
+  {
+    points[3 * i] = 0.1f * static_cast<float>(i);
+    points[3 * i + 1] = 1.0f;
+    points[3 * i + 2] = -0.2f;
+    normals[3 * i + 2] = 1.0f;
+  }
+  std::vector<glm::dmat4> pose = { glm::rotate(glm::dmat4(1.0), 0.3, glm::dvec3(0, 1, 0)),
+    glm::translate(glm::dmat4(1.0), glm::dvec3(0, 0.1, 0)),
+    glm::rotate(glm::dmat4(1.0), -0.5, glm::dvec3(1, 0, 0)) };
+  ASSERT_TRUE(skin.SetPose(pose));
+  std::vector<float> out(24), outNormals(24), full(24), fullNormals(24);
+  EXPECT_EQ(skin.ApplyChanged<float>(
+              points.data(), normals.data(), out.data(), outNormals.data(), { 0, 8 }, 0, 8),
+    8u);
+  skin.Apply<float>(points.data(), normals.data(), full.data(), fullNormals.data(), 0, 8);
+  EXPECT_EQ(out, full);
+  EXPECT_EQ(outNormals, fullNormals);
+
+  // Only joint 2 turns further: points 4, 6 and 7 (its run and its two groups).
+  pose[2] = glm::rotate(glm::dmat4(1.0), -0.6, glm::dvec3(1, 0, 0));
+  ASSERT_TRUE(skin.SetPose(pose));
+  std::vector<float> marked(24, 1e6f), markedNormals(24, 1e6f);
+  EXPECT_EQ(skin.ApplyChanged<float>(
+              points.data(), normals.data(), marked.data(), markedNormals.data(), {}, 0, 8),
+    3u);
+  skin.Apply<float>(points.data(), normals.data(), full.data(), fullNormals.data(), 0, 8);
+  for (size_t i = 0; i < 8; ++i)
+  {
+    const bool reskinned = i == 4 || i == 6 || i == 7;
+    for (int k = 0; k < 3; ++k)
+    {
+      EXPECT_EQ(marked[3 * i + k], reskinned ? full[3 * i + k] : 1e6f) << "point " << i;
+      EXPECT_EQ(markedNormals[3 * i + k], reskinned ? fullNormals[3 * i + k] : 1e6f) << i;
+    }
+  }
+
+  // Nothing turns, the input of points 1 and 5 changed (a run's point, a group's point).
+  ASSERT_TRUE(skin.SetPose(pose));
+  points[3 * 1 + 1] = 1.5f;
+  points[3 * 5 + 1] = 1.5f;
+  std::fill(marked.begin(), marked.end(), 1e6f);
+  EXPECT_EQ(skin.ApplyChanged<float>(points.data(), normals.data(), marked.data(),
+              markedNormals.data(), { 1, 2, 5, 6 }, 0, 8),
+    2u);
+  skin.Apply<float>(points.data(), normals.data(), full.data(), fullNormals.data(), 0, 8);
+  for (size_t i = 0; i < 8; ++i)
+  {
+    const bool reskinned = i == 1 || i == 5;
+    EXPECT_EQ(marked[3 * i + 1], reskinned ? full[3 * i + 1] : 1e6f) << "point " << i;
+  }
+  // Split ranges (as threads cut them) give the same.
+  std::vector<float> halves(24, 1e6f), halvesNormals(24);
+  EXPECT_EQ(skin.ApplyChanged<float>(points.data(), normals.data(), halves.data(),
+              halvesNormals.data(), { 1, 2, 5, 6 }, 0, 3) +
+      skin.ApplyChanged<float>(
+        points.data(), normals.data(), halves.data(), halvesNormals.data(), { 1, 2, 5, 6 }, 3, 8),
+    2u);
+  EXPECT_EQ(halves, marked);
+}
