@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkMorphNodeOutput.h"
 
+#ifdef MORPHNODE_WITH_SKINS
 #include "vtkMorphSkinArrays.h"
+#endif
 #include "vtkMorphTargetArrays.h"
 
 #include "base/Error.h"
@@ -32,8 +34,12 @@ namespace
 {
 /// Field-data arrays the filter writes; a neutral's arrays of these names are replaced.
 const char* const OutputFieldArrays[] = { adapter::TargetNamesArray, adapter::EffectiveWeightsArray,
-  adapter::ActiveTargetCountArray, adapter::ErrorBoundArray, adapter::DistNormArray,
-  vtkMorphSkinArrays::MorphedRangesArray, vtkMorphSkinArrays::MorphedTimeArray };
+  adapter::ActiveTargetCountArray, adapter::ErrorBoundArray, adapter::DistNormArray
+#ifdef MORPHNODE_WITH_SKINS
+  ,
+  vtkMorphSkinArrays::MorphedRangesArray, vtkMorphSkinArrays::MorphedTimeArray
+#endif
+};
 
 /// `values` in the ArrayT held by `slot`, rewritten in place when only `slot` and
 /// `holders` more references (the kept output leaves) hold it; `fresh` tells whether a new
@@ -308,6 +314,12 @@ std::vector<vtkDataArray*> vtkMorphNodeOutput::GetDistanceArrays(
 //------------------------------------------------------------------------------
 void vtkMorphNodeOutput::SetMovedRanges(Part& part, vtkPointSet* output, vtkFieldData* fd)
 {
+#ifndef MORPHNODE_WITH_SKINS
+  // The morph module alone knows no skins: no part carries moved ranges.
+  (void)part;
+  (void)output;
+  (void)fd;
+#else
   if (part.Built && part.Input && part.MovedRangesOf.lock() != part.Built)
   {
     // Once per model (a new array per model: the skin filter knows a model by its array),
@@ -352,6 +364,7 @@ void vtkMorphNodeOutput::SetMovedRanges(Part& part, vtkPointSet* output, vtkFiel
     fd->RemoveArray(vtkMorphSkinArrays::MorphedRangesArray);
     fd->RemoveArray(vtkMorphSkinArrays::MorphedTimeArray);
   }
+#endif
 }
 
 //------------------------------------------------------------------------------
