@@ -23,6 +23,43 @@
 
 namespace morphnode
 {
+#if MORPHNODE_HAVE_POCKETSPHINX
+namespace
+{
+/// PocketSphinx's English model files in the options' folder (or the build's default):
+/// the acoustic model, the phone language model of the phone loop, the word dictionary.
+struct EnglishModel
+{
+  explicit EnglishModel(const RecognitionOptions& options)
+    : Folder(options.ModelDirectory.empty() ? std::string(MORPHNODE_POCKETSPHINX_MODEL_DIR)
+                                            : options.ModelDirectory)
+    , Hmm((std::filesystem::path(Folder) / "en-us").string())
+    , PhoneLm((std::filesystem::path(Folder) / "en-us-phone.lm.bin").string())
+    , Dictionary((std::filesystem::path(Folder) / "cmudict-en-us.dict").string())
+  {
+  }
+  /// The acoustic model and the phone language model exist (the phone loop's search).
+  bool HasPhoneLoop() const
+  {
+    std::error_code ignored;
+    return std::filesystem::is_directory(this->Hmm, ignored) &&
+      std::filesystem::is_regular_file(this->PhoneLm, ignored);
+  }
+  /// The word dictionary exists (a transcript's words).
+  bool HasDictionary() const
+  {
+    std::error_code ignored;
+    return std::filesystem::is_regular_file(this->Dictionary, ignored);
+  }
+
+  std::string Folder;
+  std::string Hmm;
+  std::string PhoneLm;
+  std::string Dictionary;
+};
+} // namespace
+#endif
+
 bool IsPhonemeRecognitionAvailable()
 {
   return MORPHNODE_HAVE_POCKETSPHINX != 0;
@@ -36,22 +73,16 @@ PhonemeRecognition RecognizePhonemes(
     throw InputError("the recording is empty");
   }
 #if MORPHNODE_HAVE_POCKETSPHINX
-  namespace fs = std::filesystem;
-  const std::string folder = options.ModelDirectory.empty()
-    ? std::string(MORPHNODE_POCKETSPHINX_MODEL_DIR)
-    : options.ModelDirectory;
-  const std::string hmm = (fs::path(folder) / "en-us").string();
-  const std::string lm = (fs::path(folder) / "en-us-phone.lm.bin").string();
-  std::error_code ignored;
-  if (!fs::is_directory(hmm, ignored) || !fs::is_regular_file(lm, ignored))
+  const EnglishModel model(options);
+  if (!model.HasPhoneLoop())
   {
-    throw InputError("phoneme recognition needs the PocketSphinx en-us model: '" + hmm + "' and '" +
-      lm + "' (Debian: pocketsphinx-en-us)");
+    throw InputError("phoneme recognition needs the PocketSphinx en-us model: '" + model.Hmm +
+      "' and '" + model.PhoneLm + "' (Debian: pocketsphinx-en-us)");
   }
   const std::string weight = std::to_string(options.LanguageWeight);
-  cmd_ln_t* config = cmd_ln_init(nullptr, ps_args(), TRUE, "-hmm", hmm.c_str(), "-allphone",
-    lm.c_str(), "-backtrace", "yes", "-beam", "1e-20", "-pbeam", "1e-20", "-lw", weight.c_str(),
-    "-allphone_ci", "yes", "-logfn", "/dev/null", nullptr);
+  cmd_ln_t* config = cmd_ln_init(nullptr, ps_args(), TRUE, "-hmm", model.Hmm.c_str(), "-allphone",
+    model.PhoneLm.c_str(), "-backtrace", "yes", "-beam", "1e-20", "-pbeam", "1e-20", "-lw",
+    weight.c_str(), "-allphone_ci", "yes", "-logfn", "/dev/null", nullptr);
   if (!config)
   {
     throw InputError("PocketSphinx rejected its configuration");
@@ -60,7 +91,7 @@ PhonemeRecognition RecognizePhonemes(
   ps_decoder_t* decoder = ps_init(config);
   if (!decoder)
   {
-    throw InputError("PocketSphinx failed to load its model from '" + folder + "'");
+    throw InputError("PocketSphinx failed to load its model from '" + model.Folder + "'");
   }
   std::unique_ptr<ps_decoder_t, int (*)(ps_decoder_t*)> decoderGuard(decoder, ps_free);
 
@@ -179,18 +210,10 @@ TranscriptFit FitTranscript(
     throw InputError("the transcript has no words");
   }
 #if MORPHNODE_HAVE_POCKETSPHINX
-  namespace fs = std::filesystem;
-  const std::string folder = options.ModelDirectory.empty()
-    ? std::string(MORPHNODE_POCKETSPHINX_MODEL_DIR)
-    : options.ModelDirectory;
-  const std::string hmm = (fs::path(folder) / "en-us").string();
-  const std::string lm = (fs::path(folder) / "en-us-phone.lm.bin").string();
-  const std::string dict = (fs::path(folder) / "cmudict-en-us.dict").string();
-  std::error_code ignored;
-  if (!fs::is_directory(hmm, ignored) || !fs::is_regular_file(lm, ignored) ||
-    !fs::is_regular_file(dict, ignored))
+  const EnglishModel model(options);
+  if (!model.HasPhoneLoop() || !model.HasDictionary())
   {
-    throw InputError("the transcript check needs the PocketSphinx en-us model in '" + folder +
+    throw InputError("the transcript check needs the PocketSphinx en-us model in '" + model.Folder +
       "' (Debian: pocketsphinx-en-us)");
   }
   // The phone loop is the recognizer's search (RecognizePhonemes); the forced path a
@@ -215,13 +238,13 @@ TranscriptFit FitTranscript(
   static std::mutex lock;
   static std::map<std::string, Decoder> decoders;
   std::lock_guard<std::mutex> hold(lock);
-  Decoder& cached = decoders[folder];
+  Decoder& cached = decoders[model.Folder];
   if (!cached.Ps)
   {
-    cached.Config.reset(
-      cmd_ln_init(nullptr, ps_args(), TRUE, "-hmm", hmm.c_str(), "-dict", dict.c_str(), "-allphone",
-        lm.c_str(), "-backtrace", "yes", "-beam", "1e-10", "-pbeam", "1e-10", "-wbeam", "1e-10",
-        "-lw", "2.0", "-remove_noise", "no", "-logfn", "/dev/null", nullptr));
+    cached.Config.reset(cmd_ln_init(nullptr, ps_args(), TRUE, "-hmm", model.Hmm.c_str(), "-dict",
+      model.Dictionary.c_str(), "-allphone", model.PhoneLm.c_str(), "-backtrace", "yes", "-beam",
+      "1e-10", "-pbeam", "1e-10", "-wbeam", "1e-10", "-lw", "2.0", "-remove_noise", "no", "-logfn",
+      "/dev/null", nullptr));
     if (!cached.Config)
     {
       throw InputError("PocketSphinx rejected its configuration");
@@ -229,7 +252,7 @@ TranscriptFit FitTranscript(
     cached.Ps.reset(ps_init(cached.Config.get()));
     if (!cached.Ps)
     {
-      throw InputError("PocketSphinx failed to load its model from '" + folder + "'");
+      throw InputError("PocketSphinx failed to load its model from '" + model.Folder + "'");
     }
     // Results must not depend on what was decoded before: without noise removal (its
     // estimate carries over from one utterance to the next) only the decoder's first
