@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
+#include <string>
 #include <unordered_map>
 #include <variant>
 
@@ -130,5 +132,53 @@ void RigOptimizer::Optimize(const double* shapeWeights, double* effective)
     active += effective[s] != 0.0 ? 1 : 0;
   }
   this->LastActiveShapes = active;
+}
+
+std::vector<std::vector<double>> ExpandShapeFrames(const Rig& rig,
+  const std::vector<ShapeWeightColumn>& columns, size_t frames, RigOptimizer* optimizer)
+{
+  for (const ShapeWeightColumn& column : columns)
+  {
+    if (column.Values.size() < frames || column.Shape >= rig.GetNumberOfShapes())
+    {
+      throw InputError("the weights column '" + column.Name + "' has " +
+        std::to_string(column.Values.size()) + " values for " + std::to_string(frames) +
+        " frames, or names no shape of the rig");
+    }
+  }
+  std::vector<std::vector<double>> out(
+    rig.GetNumberOfBoundTargets(), std::vector<double>(frames, 0.0));
+  std::vector<double> shapes(rig.GetNumberOfShapes());
+  std::vector<double> effective(rig.GetNumberOfShapes());
+  std::vector<double> targets(rig.GetNumberOfBoundTargets());
+  for (size_t f = 0; f < frames; ++f)
+  {
+    std::fill(shapes.begin(), shapes.end(), 0.0);
+    for (const ShapeWeightColumn& column : columns)
+    {
+      const double w = column.Values[f];
+      if (!std::isfinite(w))
+      {
+        std::ostringstream msg;
+        msg << "row " << f << " of column '" << column.Name << "' is not finite (" << w << ")";
+        throw InputError(msg.str());
+      }
+      shapes[column.Shape] += w;
+    }
+    if (optimizer)
+    {
+      optimizer->Optimize(shapes.data(), effective.data());
+      rig.Expand(effective.data(), targets.data());
+    }
+    else
+    {
+      rig.Expand(shapes.data(), targets.data());
+    }
+    for (size_t t = 0; t < targets.size(); ++t)
+    {
+      out[t][f] = targets[t];
+    }
+  }
+  return out;
 }
 } // namespace morphnode

@@ -30,6 +30,7 @@
 #include "morph/WeightOptimizer.h"
 #include "rig/Rig.h"
 
+#include <string>
 #include <vector>
 
 namespace morphnode
@@ -76,4 +77,21 @@ private:
   double LastErrorBound = 0.0;
   int LastActiveShapes = 0;
 };
+
+/// One column of semantic shape weights, as a weights table holds it: the rig shape it
+/// drives, its name (for errors) and one value per frame.
+struct ShapeWeightColumn
+{
+  size_t Shape = 0;
+  std::string Name;
+  std::vector<double> Values;
+};
+
+/// Frames of shape weights to frames of the bound face's target weights: per frame the
+/// columns of a shape add up, `optimizer` (when not null, its figures set) decides on the
+/// shapes, and the rig expands them (Rig::Expand). Returns GetNumberOfBoundTargets()
+/// columns of `frames` values. Throws InputError naming the column and the frame of a
+/// weight that is not finite, or when a column has fewer than `frames` values.
+std::vector<std::vector<double>> ExpandShapeFrames(const Rig& rig,
+  const std::vector<ShapeWeightColumn>& columns, size_t frames, RigOptimizer* optimizer);
 } // namespace morphnode

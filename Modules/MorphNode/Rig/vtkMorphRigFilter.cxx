@@ -18,6 +18,7 @@
 #include "vtkFieldData.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
+#include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointSet.h"
 #include "vtkSmartPointer.h"
@@ -26,9 +27,7 @@
 #include "vtkTable.h"
 #include "vtkVariant.h"
 
-#include <cmath>
 #include <set>
-#include <sstream>
 #include <vector>
 
 vtkStandardNewMacro(vtkMorphRigFilter);
@@ -42,6 +41,13 @@ struct vtkMorphRigFilter::vtkInternals
   vtkMTimeType FiguresFace = 0;
   vtkMTimeType FiguresRig = 0;
   vtkDataObject* FiguresOf = nullptr;
+
+  /// The face's relative targets (no neutral), the rig bound to them: a connected face's
+  /// names, else SetTargetNames', else the rig's declared ones.
+  std::vector<std::string> BindTargets(morphnode::Rig& rig, vtkDataObject* face);
+  /// The shapes measured on the face (again when the face or the rig changed) and the
+  /// filter's optimizer settings.
+  void PrepareOptimizer(vtkMorphRigFilter* self, const morphnode::Rig& rig, vtkDataObject* face);
 };
 
 namespace
@@ -81,6 +87,71 @@ morphnode::TargetDistances MeasureShapes(const morphnode::Rig& rig, vtkDataObjec
   return morphnode::MakeTargetDistances(morphnode::CombineTargetDistances(pieces));
 }
 } // namespace
+
+//------------------------------------------------------------------------------
+std::vector<std::string> vtkMorphRigFilter::vtkInternals::BindTargets(
+  morphnode::Rig& rig, vtkDataObject* face)
+{
+  std::vector<std::string> targets;
+  if (face && !vtkMorphTargetArrays::GetFaceTargetNames(face, targets))
+  {
+    throw morphnode::InputError(std::string("the face on port 1 has no field data '") +
+      vtkMorphTargetArrays::TargetNamesArray + "' (neutral first)");
+  }
+  if (!face && this->TargetNames)
+  {
+    for (vtkIdType i = 1; i < this->TargetNames->GetNumberOfValues(); ++i)
+    {
+      targets.push_back(this->TargetNames->GetValue(i));
+    }
+  }
+  else if (!face) // a connected face's names win over the rig's declared ones
+  {
+    targets = rig.GetDeclaredTargets();
+    if (targets.empty())
+    {
+      throw morphnode::InputError("no target names: connect the face to port 1, call "
+                                  "SetTargetNames() or use a rig with a 'targets' list");
+    }
+  }
+  try
+  {
+    rig.Bind(targets);
+  }
+  catch (const std::exception& e)
+  {
+    throw morphnode::InputError(std::string(e.what()) +
+      (face || this->TargetNames
+          ? " (target names are taken neutral first: the first one is skipped)"
+          : ""));
+  }
+  return targets;
+}
+
+//------------------------------------------------------------------------------
+void vtkMorphRigFilter::vtkInternals::PrepareOptimizer(
+  vtkMorphRigFilter* self, const morphnode::Rig& rig, vtkDataObject* face)
+{
+  if (!face)
+  {
+    throw morphnode::InputError("rig-aware optimization measures the shapes on the face's "
+                                "geometry: connect the face to port 1");
+  }
+  const vtkMTimeType rigTime = self->vtkObject::GetMTime();
+  if (this->FiguresOf != face || this->FiguresFace != face->GetMTime() ||
+    this->FiguresRig != rigTime || this->Optimizer.GetNumberOfShapes() != rig.GetNumberOfShapes())
+  {
+    this->Optimizer.SetShapeDistances(MeasureShapes(rig, face));
+    this->FiguresOf = face;
+    this->FiguresFace = face->GetMTime();
+    this->FiguresRig = rigTime;
+  }
+  morphnode::OptimizerSettings settings =
+    morphnode::MakeOptimizerSettings(static_cast<morphnode::OptimizerPreset>(self->OptimizerPreset),
+      self->Threshold, self->MaxVertexError);
+  settings.Hysteresis = self->Hysteresis;
+  this->Optimizer.SetSettings(settings);
+}
 
 //------------------------------------------------------------------------------
 vtkMorphRigFilter::vtkMorphRigFilter()
@@ -191,138 +262,49 @@ int vtkMorphRigFilter::RequestData(
   try
   {
     morphnode::Rig& rig = internals.Rig.Get(this->RigFileName, this->vtkObject::GetMTime());
+    const std::vector<std::string> targets = internals.BindTargets(rig, face);
 
-    // The face's relative targets (no neutral).
-    std::vector<std::string> targets;
-    if (face && !vtkMorphTargetArrays::GetFaceTargetNames(face, targets))
-    {
-      throw morphnode::InputError(std::string("the face on port 1 has no field data '") +
-        vtkMorphTargetArrays::TargetNamesArray + "' (neutral first)");
-    }
-    if (!face && internals.TargetNames)
-    {
-      for (vtkIdType i = 1; i < internals.TargetNames->GetNumberOfValues(); ++i)
-      {
-        targets.push_back(internals.TargetNames->GetValue(i));
-      }
-    }
-    else if (!face) // a connected face's names win over the rig's declared ones
-    {
-      targets = rig.GetDeclaredTargets();
-      if (targets.empty())
-      {
-        throw morphnode::InputError("no target names: connect the face to port 1, call "
-                                    "SetTargetNames() or use a rig with a 'targets' list");
-      }
-    }
-    try
-    {
-      rig.Bind(targets);
-    }
-    catch (const std::exception& e)
-    {
-      throw morphnode::InputError(std::string(e.what()) +
-        (face || internals.TargetNames
-            ? " (target names are taken neutral first: the first one is skipped)"
-            : ""));
-    }
-
-    // Columns: shape columns (numeric), face-target columns (dropped), others.
-    const vtkIdType rows = input->GetNumberOfRows();
-    std::set<std::string> targetSet(targets.begin(), targets.end());
-    std::vector<std::pair<size_t, vtkAbstractArray*>> shapeColumns;
+    // Columns: shape columns (numeric), face-target columns (dropped: the expanded value
+    // wins), others (passed when asked).
+    const std::set<std::string> targetSet(targets.begin(), targets.end());
+    std::vector<morphnode::ShapeWeightColumn> shapeColumns;
     std::vector<vtkAbstractArray*> otherColumns;
     for (vtkIdType c = 0; c < input->GetNumberOfColumns(); ++c)
     {
       vtkAbstractArray* column = input->GetColumn(c);
       const char* name = column ? column->GetName() : nullptr;
       const int shape = name ? rig.FindShape(name) : -1;
+      auto* numbers = vtkDataArray::SafeDownCast(column);
+      if (shape >= 0 && (!numbers || numbers->GetNumberOfComponents() != 1))
+      {
+        throw morphnode::InputError(
+          std::string("the weights column '") + name + "' is not a numeric one-component array");
+      }
       if (shape >= 0)
       {
-        if (!vtkDataArray::SafeDownCast(column) || column->GetNumberOfComponents() != 1)
-        {
-          throw morphnode::InputError(
-            std::string("the weights column '") + name + "' is not a numeric one-component array");
-        }
-        shapeColumns.emplace_back(static_cast<size_t>(shape), column);
+        shapeColumns.push_back(
+          { static_cast<size_t>(shape), name, vtkMorphTargetArrays::ToVector<double>(numbers) });
       }
-      else if (name && targetSet.count(name))
-      {
-        continue; // the expanded value wins
-      }
-      else if (this->PassOtherColumns)
+      else if (!(name && targetSet.count(name)) && this->PassOtherColumns)
       {
         otherColumns.push_back(column);
       }
     }
 
-    std::vector<vtkSmartPointer<vtkDoubleArray>> outColumns(targets.size());
-    for (size_t t = 0; t < targets.size(); ++t)
-    {
-      outColumns[t] = vtkSmartPointer<vtkDoubleArray>::New();
-      outColumns[t]->SetName(targets[t].c_str());
-      outColumns[t]->SetNumberOfValues(rows);
-    }
-    // Rig-aware optimization: the shapes measured on the face (again when the face or the
-    // rig changed), the settings of the method.
     const bool optimize = this->OptimizerPreset != 0;
-    morphnode::RigOptimizer& optimizer = internals.Optimizer;
     if (optimize)
     {
-      const vtkMTimeType rigTime = this->vtkObject::GetMTime();
-      if (!face)
-      {
-        throw morphnode::InputError("rig-aware optimization measures the shapes on the face's "
-                                    "geometry: connect the face to port 1");
-      }
-      if (internals.FiguresOf != face || internals.FiguresFace != face->GetMTime() ||
-        internals.FiguresRig != rigTime || optimizer.GetNumberOfShapes() != rig.GetNumberOfShapes())
-      {
-        optimizer.SetShapeDistances(MeasureShapes(rig, face));
-        internals.FiguresOf = face;
-        internals.FiguresFace = face->GetMTime();
-        internals.FiguresRig = rigTime;
-      }
-      morphnode::OptimizerSettings settings = morphnode::MakeOptimizerSettings(
-        static_cast<morphnode::OptimizerPreset>(this->OptimizerPreset), this->Threshold,
-        this->MaxVertexError);
-      settings.Hysteresis = this->Hysteresis;
-      optimizer.SetSettings(settings);
+      internals.PrepareOptimizer(this, rig, face);
     }
-    std::vector<double> shapeWeights(rig.GetNumberOfShapes());
-    std::vector<double> effective(rig.GetNumberOfShapes());
-    std::vector<double> targetWeights(targets.size());
-    for (vtkIdType r = 0; r < rows; ++r)
+    const std::vector<std::vector<double>> expanded =
+      morphnode::ExpandShapeFrames(rig, shapeColumns, static_cast<size_t>(input->GetNumberOfRows()),
+        optimize ? &internals.Optimizer : nullptr);
+    for (size_t t = 0; t < targets.size(); ++t)
     {
-      std::fill(shapeWeights.begin(), shapeWeights.end(), 0.0);
-      for (const auto& sc : shapeColumns)
-      {
-        const double w = vtkDataArray::SafeDownCast(sc.second)->GetComponent(r, 0);
-        if (!std::isfinite(w))
-        {
-          std::ostringstream msg;
-          msg << "row " << r << " of column '" << sc.second->GetName() << "' is not finite (" << w
-              << ")";
-          throw morphnode::InputError(msg.str());
-        }
-        shapeWeights[sc.first] += w;
-      }
-      if (optimize)
-      {
-        optimizer.Optimize(shapeWeights.data(), effective.data());
-        rig.Expand(effective.data(), targetWeights.data());
-      }
-      else
-      {
-        rig.Expand(shapeWeights.data(), targetWeights.data());
-      }
-      for (size_t t = 0; t < targets.size(); ++t)
-      {
-        outColumns[t]->SetValue(r, targetWeights[t]);
-      }
-    }
-    for (const auto& column : outColumns)
-    {
+      vtkNew<vtkDoubleArray> column;
+      column->SetName(targets[t].c_str());
+      column->SetNumberOfValues(static_cast<vtkIdType>(expanded[t].size()));
+      std::copy(expanded[t].begin(), expanded[t].end(), column->GetPointer(0));
       output->AddColumn(column);
     }
     for (vtkAbstractArray* column : otherColumns)

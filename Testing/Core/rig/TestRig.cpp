@@ -1,9 +1,11 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "base/Error.h"
 #include "rig/Rig.h"
+#include "rig/RigOptimizer.h"
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <limits>
 #include <string>
 #include <vector>
@@ -95,6 +97,39 @@ TEST(Rig, ExpandIsTheSparseProductClampedToZeroOne)
   // An alias expands like its original.
   EXPECT_EQ(rig.Expand(std::map<std::string, double>{ { "Ah", 0.3 } }),
     rig.Expand(std::map<std::string, double>{ { "A", 0.3 } }));
+}
+
+TEST(Rig, ExpandShapeFramesAddsAShapesColumnsPerFrameAndNamesABadValue)
+{
+  Rig rig = Rig::LoadString(SmallRig);
+  rig.Bind(FaceTargets);
+  // Two columns drive A (they add up), one drives O; three frames.
+  const std::vector<ShapeWeightColumn> columns = { { 0, "A", { 0.1, 0.2, 0.0 } },
+    { 0, "Ah", { 0.1, 0.0, 0.0 } }, { 1, "O", { 0.0, 0.5, 1.0 } } };
+  const auto frames = ExpandShapeFrames(rig, columns, 3, nullptr);
+  ASSERT_EQ(frames.size(), 4u);
+  for (size_t f = 0; f < 3; ++f)
+  {
+    const std::vector<double> shapes = { columns[0].Values[f] + columns[1].Values[f],
+      columns[2].Values[f], 0.0, 0.0 };
+    const std::vector<double> expected = rig.Expand(shapes);
+    for (size_t t = 0; t < 4; ++t)
+    {
+      ASSERT_EQ(frames[t].size(), 3u);
+      EXPECT_DOUBLE_EQ(frames[t][f], expected[t]) << "target " << t << ", frame " << f;
+    }
+  }
+  EXPECT_DOUBLE_EQ(frames[2][0], 0.2 * 0.6); // jawOpen of A at 0.1 + 0.1
+  ExpectInputError(
+    [&] {
+      ExpandShapeFrames(rig, { { 1, "O", { 0.0, std::nan("") } } }, 2, nullptr);
+    },
+    { "row 1", "'O'", "not finite" });
+  ExpectInputError(
+    [&] {
+      ExpandShapeFrames(rig, { { 1, "O", { 0.0 } } }, 2, nullptr);
+    },
+    { "'O'", "1 values for 2 frames" });
 }
 
 TEST(Rig, ExpandRejectsBadCalls)
