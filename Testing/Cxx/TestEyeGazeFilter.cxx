@@ -558,4 +558,14 @@ TEST(EyeGazeFilter, PropertiesAndBadInput)
   table->AddColumn(column);
   gaze->SetInputData(1, table);
   expectError("EyeYaw");
+  // ... with the columns but no row.
+  vtkNew<vtkTable> empty;
+  for (const char* name : { "EyeYaw", "EyePitch" })
+  {
+    vtkNew<vtkDoubleArray> angles;
+    angles->SetName(name);
+    empty->AddColumn(angles);
+  }
+  gaze->SetInputData(1, empty);
+  expectError("no rows");
 }

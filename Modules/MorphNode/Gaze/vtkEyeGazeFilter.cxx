@@ -11,8 +11,6 @@
 #include "gaze/EyeRotation.h"
 
 #include "vtkCellData.h"
-#include "vtkCompositeDataSet.h"
-#include "vtkCompositeDataSetRange.h"
 #include "vtkDataArray.h"
 #include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
@@ -27,7 +25,6 @@
 #include "vtkSmartPointer.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkStringArray.h"
-#include "vtkTable.h"
 
 #include <cmath>
 #include <string>
@@ -247,20 +244,8 @@ int vtkEyeGazeFilter::RequestData(
   {
     // The gaze: the table's first row, else the properties.
     morphnode::GazeAngles gaze{ this->EyeYaw, this->EyePitch };
-    if (vtkTable* table = vtkTable::GetData(inputVector[1], 0))
-    {
-      auto* yaw = vtkDataArray::SafeDownCast(table->GetColumnByName("EyeYaw"));
-      auto* pitch = vtkDataArray::SafeDownCast(table->GetColumnByName("EyePitch"));
-      if (!yaw || !pitch)
-      {
-        throw morphnode::InputError("the gaze table has no numeric EyeYaw and EyePitch columns");
-      }
-      if (table->GetNumberOfRows() < 1)
-      {
-        throw morphnode::InputError("the gaze table has no rows");
-      }
-      gaze = { yaw->GetComponent(0, 0), pitch->GetComponent(0, 0) };
-    }
+    vtkMorphTrackFilter::ReadTrackRow(inputVector[1],
+      { { "EyeYaw", &gaze.Yaw }, { "EyePitch", &gaze.Pitch } }, "the gaze table", true);
     if (!std::isfinite(gaze.Yaw) || !std::isfinite(gaze.Pitch))
     {
       throw morphnode::InputError("the gaze angles (EyeYaw, EyePitch) must be finite");
@@ -270,46 +255,11 @@ int vtkEyeGazeFilter::RequestData(
     const morphnode::EyeRig rig = this->Internals->MakeRig(this);
     this->UpdateProgress(0.1);
 
-    if (auto* composite = vtkCompositeDataSet::SafeDownCast(input))
-    {
-      auto* out = vtkCompositeDataSet::SafeDownCast(output);
-      out->ShallowCopy(composite); // the structure, names, assembly; leaves shared
-      for (auto node : vtk::Range(out, vtk::CompositeDataSetOptions::SkipEmptyNodes))
-      {
-        auto* leaf = vtkPointSet::SafeDownCast(node);
-        if (!leaf)
-        {
-          continue;
-        }
-        const bool named =
-          node.HasMetaData() && node.GetMetaData()->Has(vtkCompositeDataSet::NAME());
-        const std::string blockName =
-          named ? node.GetMetaData()->Get(vtkCompositeDataSet::NAME()) : "";
-        if (auto turned = this->Internals->Turn(leaf, blockName, rig, gaze, this->Vergence))
-        {
-          node = turned;
-          ++this->NumberOfEyeParts;
-        }
-      }
-    }
-    else if (auto* points = vtkPointSet::SafeDownCast(input))
-    {
-      auto* out = vtkPointSet::SafeDownCast(output);
-      if (auto turned = this->Internals->Turn(points, std::string(), rig, gaze, this->Vergence))
-      {
-        out->ShallowCopy(turned);
-        ++this->NumberOfEyeParts;
-      }
-      else
-      {
-        out->ShallowCopy(points);
-      }
-    }
-    else
-    {
-      throw morphnode::InputError(std::string("cannot turn eyes in a ") + input->GetClassName());
-    }
-
+    this->NumberOfEyeParts = vtkMorphTrackFilter::MoveParts(
+      input, output,
+      [&](vtkPointSet* part, const std::string& name, const std::string&)
+      { return this->Internals->Turn(part, name, rig, gaze, this->Vergence); },
+      "turn eyes in");
     vtkMorphTrackFilter::StampTime(output, outputVector);
     this->UpdateProgress(1.0);
     return 1;

@@ -1,12 +1,19 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkMorphTrackFilter.h"
 
+#include "base/Error.h"
+
 #include "vtkAlgorithmOutput.h"
+#include "vtkCompositeDataSet.h"
+#include "vtkCompositeDataSetRange.h"
+#include "vtkDataArray.h"
 #include "vtkDataObject.h"
 #include "vtkInformation.h"
 #include "vtkInformationDoubleVectorKey.h"
 #include "vtkInformationVector.h"
+#include "vtkPointSet.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
+#include "vtkTable.h"
 
 //------------------------------------------------------------------------------
 vtkMorphTrackFilter::vtkMorphTrackFilter()
@@ -64,6 +71,75 @@ void vtkMorphTrackFilter::StampTime(vtkDataObject* output, vtkInformationVector*
     output->GetInformation()->Set(vtkDataObject::DATA_TIME_STEP(),
       outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP()));
   }
+}
+
+//------------------------------------------------------------------------------
+bool vtkMorphTrackFilter::ReadTrackRow(vtkInformationVector* trackVector,
+  std::initializer_list<TrackColumn> columns, const char* table, bool requireAll)
+{
+  vtkTable* track = trackVector ? vtkTable::GetData(trackVector, 0) : nullptr;
+  if (!track)
+  {
+    return false;
+  }
+  for (const TrackColumn& column : columns)
+  {
+    auto* values = vtkDataArray::SafeDownCast(track->GetColumnByName(column.Name));
+    if (!values && requireAll)
+    {
+      throw morphnode::InputError(
+        std::string(table) + " has no numeric column '" + column.Name + "'");
+    }
+    if (values && track->GetNumberOfRows() < 1)
+    {
+      throw morphnode::InputError(std::string(table) + " has no rows");
+    }
+    if (values)
+    {
+      *column.Value = values->GetComponent(0, 0);
+    }
+  }
+  return true;
+}
+
+//------------------------------------------------------------------------------
+int vtkMorphTrackFilter::MoveParts(
+  vtkDataObject* input, vtkDataObject* output, const MovePart& move, const char* what)
+{
+  int moved = 0;
+  if (auto* composite = vtkCompositeDataSet::SafeDownCast(input))
+  {
+    auto* out = vtkCompositeDataSet::SafeDownCast(output);
+    out->ShallowCopy(composite);
+    for (auto node : vtk::Range(out, vtk::CompositeDataSetOptions::SkipEmptyNodes))
+    {
+      auto* leaf = vtkPointSet::SafeDownCast(node);
+      if (!leaf)
+      {
+        continue;
+      }
+      const bool named = node.HasMetaData() && node.GetMetaData()->Has(vtkCompositeDataSet::NAME());
+      const std::string name = named ? node.GetMetaData()->Get(vtkCompositeDataSet::NAME()) : "";
+      const std::string description =
+        named ? "part '" + name + "'" : "part " + std::to_string(node.GetFlatIndex());
+      if (vtkSmartPointer<vtkPointSet> part = move(leaf, name, description))
+      {
+        node = part;
+        ++moved;
+      }
+    }
+    return moved;
+  }
+  if (auto* points = vtkPointSet::SafeDownCast(input))
+  {
+    auto* out = vtkPointSet::SafeDownCast(output);
+    out->Initialize();
+    vtkSmartPointer<vtkPointSet> part = move(points, std::string(), "the input");
+    out->ShallowCopy(part ? part.GetPointer() : points);
+    return part ? 1 : 0;
+  }
+  throw morphnode::InputError(
+    std::string("cannot ") + what + " a " + (input ? input->GetClassName() : "null input"));
 }
 
 //------------------------------------------------------------------------------

@@ -12,7 +12,9 @@
  * - RequestInformation: the track's TIME_STEPS and TIME_RANGE win over the head's (the
  *   executive copies port 0's only), so that the head animates with the track;
  * - the output carries DATA_TIME_STEP, the time requested (StampTime, for subclasses'
- *   RequestData).
+ *   RequestData);
+ * - the track's first row read by column name (ReadTrackRow) and the head's parts moved
+ *   the VTK way (MoveParts), so that a subclass's RequestData only moves a part.
  *
  * Subclasses implement RequestData and may name the track port after what it holds
  * (SetGazeConnection, SetPoseConnection).
@@ -25,6 +27,13 @@
 
 #include "vtkMorphNodeModule.h" // For export macro
 #include "vtkPassInputTypeAlgorithm.h"
+#include "vtkSmartPointer.h" // For vtkSmartPointer
+
+#include <functional>       // For std::function
+#include <initializer_list> // For std::initializer_list
+#include <string>           // For std::string
+
+class vtkPointSet;
 
 class VTKMORPHNODE_EXPORT vtkMorphTrackFilter : public vtkPassInputTypeAlgorithm
 {
@@ -49,6 +58,41 @@ protected:
    * Sets the output's DATA_TIME_STEP to the UPDATE_TIME_STEP requested, when there is one.
    */
   static void StampTime(vtkDataObject* output, vtkInformationVector* outputVector);
+
+  /// A column of the track and where its value goes.
+  struct TrackColumn
+  {
+    const char* Name;
+    double* Value;
+  };
+
+  /**
+   * The track's first row (`trackVector`: port 1's input information): every numeric
+   * column of `columns` the table has sets its value. Returns false without a track.
+   * Throws morphnode::InputError for a table without rows, or (`requireAll`) without one
+   * of the columns; `table` names it in the message ("the gaze table").
+   */
+  static bool ReadTrackRow(vtkInformationVector* trackVector,
+    std::initializer_list<TrackColumn> columns, const char* table, bool requireAll);
+
+  /**
+   * Moves a part: the leaf, its block name ("" without one) and its description for
+   * messages ("part 'Name'", "part 3", "the input"); returns the moved data set, or null
+   * to keep the leaf as it is.
+   */
+  using MovePart = std::function<vtkSmartPointer<vtkPointSet>(
+    vtkPointSet* part, const std::string& name, const std::string& description)>;
+
+  /**
+   * The head's parts moved, the VTK way: a composite output takes the input's structure
+   * (shallow: names, assembly, leaves shared) and each vtkPointSet leaf is replaced by what
+   * `move` returns for it; a single data set's output is released first (so that its last
+   * arrays can be written in place) and takes the moved data set or the input. Returns the
+   * number of parts moved. Throws morphnode::InputError for an input that is neither,
+   * naming what could not be done (`what`, e.g. "turn eyes in").
+   */
+  static int MoveParts(
+    vtkDataObject* input, vtkDataObject* output, const MovePart& move, const char* what);
 
 private:
   vtkMorphTrackFilter(const vtkMorphTrackFilter&) = delete;
