@@ -2,6 +2,7 @@
 // ReductionStudy: the face in flat arrays and as VTK polydata.
 #include "ReductionStudy.h"
 
+#include "vtkMorphTargetArrays.h"
 #include "vtkMorphTargetReader.h"
 
 #include "base/Error.h"
@@ -80,8 +81,8 @@ Face LoadFace(const std::string& path)
   }
   for (size_t k = 0; k + 1 < face.Names.size(); ++k)
   {
-    vtkDataArray* d =
-      poly->GetPointData()->GetArray(("target" + std::to_string(k) + "_position").c_str());
+    vtkDataArray* d = poly->GetPointData()->GetArray(
+      vtkMorphTargetArrays::ArrayName(k, vtkMorphTargetArrays::Kind::Position).c_str());
     std::vector<float> deltas(3 * np);
     for (vtkIdType p = 0; p < np; ++p)
     {

@@ -108,7 +108,8 @@ int vtkMorphTransferFilter::RequestData(
     const vtkIdType n = target->GetNumberOfPoints();
     for (size_t k = 0; k < r.Deltas.size(); ++k)
     {
-      const std::string name = "target" + std::to_string(k) + "_position";
+      const std::string name =
+        vtkMorphTargetArrays::ArrayName(k, vtkMorphTargetArrays::Kind::Position);
       pd->AddArray(
         vtkMorphTargetArrays::NewArray(VTK_FLOAT, name.c_str(), 3, n, r.Deltas[k].data()));
     }
