@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "vtkMorphMeshLevels.h"
 
+#include "vtkMorphNodeOutput.h"
 #include "vtkMorphSkinArrays.h"
 #include "vtkMorphTargetArrays.h"
 
@@ -9,6 +10,7 @@
 
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
+#include "vtkCompositeDataSet.h"
 #include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
 #include "vtkFloatArray.h"
@@ -526,4 +528,81 @@ vtkPolyData* SceneLevels::Assemble(size_t part, const std::vector<vtkDataArray*>
 {
   return this->Output.Assemble(this->Scene, part, this->Inputs.at(part), extra);
 }
+//------------------------------------------------------------------------------
+int SceneLevels::Show(const morphnode::MorphScene& scene, uint64_t generation,
+  const std::vector<std::string>& targetNames, const morphnode::ControllerSettings& settings,
+  double pixelsPerUnit, bool distances, vtkMorphNodeOutput& parts,
+  vtkCompositeDataSet* compositeInput, vtkDataObject* output)
+{
+  // The scene's parts: their models, data sets and names, in the scene's order.
+  const size_t numScene = scene.GetNumberOfParts();
+  std::vector<const morphnode::MorphMesh*> models(numScene, nullptr);
+  std::vector<vtkPointSet*> inputs(numScene, nullptr);
+  std::vector<std::string> names(numScene);
+  for (const vtkMorphNodeOutput::Part& part : parts.Parts)
+  {
+    if (part.ScenePart >= 0)
+    {
+      const auto p = static_cast<size_t>(part.ScenePart);
+      models[p] = &part.Built->Model;
+      inputs[p] = part.Input;
+      names[p] = part.Name.empty() ? "the input" : "part '" + part.Name + "'";
+    }
+  }
+  this->SetParts(models, inputs, names, generation);
+  const morphnode::SceneFrame& frame =
+    this->Update(targetNames, scene.GetEffectiveWeights(), settings, pixelsPerUnit);
+
+  // Every part's kept level data set (filled again in place while no one else holds it;
+  // the last output's sets let go of it first), with the distance maps gathered to its
+  // points when asked for, and the filter's field data (rewritten in place in the kept
+  // ones). An empty leaf passes through.
+  auto* composite = vtkCompositeDataSet::SafeDownCast(output);
+  if (composite)
+  {
+    parts.ReleaseLeaves();
+  }
+  std::vector<vtkSmartPointer<vtkDataObject>> leaves;
+  std::vector<vtkFieldData*> fields;
+  std::vector<bool> kept;
+  for (vtkMorphNodeOutput::Part& part : parts.Parts)
+  {
+    if (part.ScenePart < 0)
+    {
+      leaves.emplace_back(part.Input);
+      continue;
+    }
+    const auto p = static_cast<size_t>(part.ScenePart);
+    vtkPolyData* poly = this->Assemble(
+      p, distances ? parts.GetDistanceArrays(part, &scene) : std::vector<vtkDataArray*>());
+    leaves.emplace_back(poly);
+    fields.push_back(poly->GetFieldData());
+    kept.push_back(this->IsKept(p));
+  }
+  parts.AddFieldArrays(fields, kept, &scene, distances);
+  if (composite)
+  {
+    // The levels in the output's structure as the filter's own leaves are placed; none
+    // kept for the next execution (a level's leaf is not the input's structure).
+    for (size_t i = 0; i < leaves.size(); ++i)
+    {
+      parts.Parts[i].OutputLeaf = vtkPointSet::SafeDownCast(leaves[i]);
+    }
+    parts.PlaceLeaves(compositeInput, composite);
+    for (vtkMorphNodeOutput::Part& part : parts.Parts)
+    {
+      part.OutputLeaf = nullptr;
+    }
+    return frame.Decision.Level;
+  }
+  auto* poly = vtkPolyData::SafeDownCast(output);
+  if (!poly || leaves.size() != 1)
+  {
+    throw morphnode::InputError(
+      "MeshLevels: the input must be a vtkPolyData (or a composite of them)");
+  }
+  poly->ShallowCopy(leaves[0]);
+  return frame.Decision.Level;
+}
+
 } // namespace vtkMorphMeshLevels

@@ -34,6 +34,7 @@
 
 #include "lod/MorphLadder.h"
 #include "lod/ScalableScene.h"
+#include "morph/MorphScene.h"
 
 #include "vtkSmartPointer.h"
 
@@ -43,6 +44,9 @@
 #include <vector>
 
 class vtkCellArray;
+class vtkCompositeDataSet;
+class vtkDataObject;
+class vtkMorphNodeOutput;
 class vtkCellData;
 class vtkDataArray;
 class vtkDoubleArray;
@@ -158,6 +162,17 @@ public:
   const morphnode::ScalableScene& GetScene() const { return this->Scene; }
   bool Empty() const { return this->Inputs.empty(); }
   void Clear();
+
+  /// vtkMorphNodeFilter's MeshLevels: the level of the morph node's `scene` (model
+  /// `generation`, target names `targetNames`, its effective weights) chosen with
+  /// `settings` and `pixelsPerUnit`, and every part of `parts` shown at it in `output`: a
+  /// composite in `compositeInput`'s structure, or the one vtkPolyData; with the distance
+  /// maps gathered to the level's points when `distances`, and the morph node's field data.
+  /// Returns the level. Throws morphnode::InputError for an output that is neither.
+  int Show(const morphnode::MorphScene& scene, uint64_t generation,
+    const std::vector<std::string>& targetNames, const morphnode::ControllerSettings& settings,
+    double pixelsPerUnit, bool distances, vtkMorphNodeOutput& parts,
+    vtkCompositeDataSet* compositeInput, vtkDataObject* output);
 
 private:
   uint64_t Generation = 0;

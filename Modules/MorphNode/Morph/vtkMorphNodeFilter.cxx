@@ -2,6 +2,7 @@
 #include "vtkMorphNodeFilter.h"
 
 #include "vtkMorphModelAdapter.h"
+#include "vtkMorphNodeModel.h"
 #include "vtkMorphNodeOutput.h"
 #include "vtkMorphTargetArrays.h"
 #ifdef MORPHNODE_WITH_MESH_LEVELS
@@ -81,21 +82,10 @@ struct vtkMorphNodeFilter::vtkInternals
   morphnode::WeightRequests Requests;
   std::vector<double> Requested; // this execution's, neutral first
 
-  /// This execution's inputs: the connections of port 0 (one form) or a composite's leaves.
-  std::vector<vtkPointSet*> Inputs;
-  vtkCompositeDataSet* CompositeInput = nullptr;
-  std::vector<vtkPointSet*> LeafInputs;
-
-  /// The model: the scene of the parts (targets matched by name, one decision), and what it
-  /// was built from. The parts and the output assembled from them: Output.
-  morphnode::MorphScene Scene;
+  /// The model of port 0's data sets: the core's scene of the parts (targets matched by
+  /// name, one decision). The parts and the output assembled from them: Output.
+  vtkMorphNodeModel Model;
   vtkMorphNodeOutput Output;
-  bool Composite = false;
-  bool HasScene = false;   // the scene has parts (a process with an empty piece has none)
-  bool Ready = false;      // a model was built from the current inputs
-  uint64_t Generation = 0; // counts the models built
-  std::vector<std::pair<vtkDataObject*, vtkMTimeType>> From, BuiltFrom;
-  double BuiltSparseCoverage = -1.0;
   bool Valid = false; // the last execution succeeded
 
   /// SetTargetOffInPart: part name -> targets off there; the scene matches them to its
@@ -109,7 +99,7 @@ struct vtkMorphNodeFilter::vtkInternals
     {
       return;
     }
-    std::vector<std::string> names(this->Scene.GetNumberOfParts());
+    std::vector<std::string> names(this->Model.Scene.GetNumberOfParts());
     for (const vtkMorphNodeOutput::Part& part : this->Output.Parts)
     {
       if (part.ScenePart >= 0)
@@ -117,7 +107,7 @@ struct vtkMorphNodeFilter::vtkInternals
         names[static_cast<size_t>(part.ScenePart)] = part.Name;
       }
     }
-    this->TargetsOffApplied = this->Scene.SetTargetsOffByPartName(names, this->TargetsOff);
+    this->TargetsOffApplied = this->Model.Scene.SetTargetsOffByPartName(names, this->TargetsOff);
   }
 
   /// The frame budget and target level of detail, and the blend's tasks.
@@ -125,192 +115,6 @@ struct vtkMorphNodeFilter::vtkInternals
   morphnode::BlendPlan Plan;
 
   const std::vector<std::string>& Names() const { return this->Requests.GetTargets(); }
-
-  static bool IsParallel(vtkMultiProcessController* controller)
-  {
-    return controller && controller->GetNumberOfProcesses() > 1;
-  }
-
-  /// This execution's inputs from port 0.
-  void CollectInputs(vtkInformationVector* port0)
-  {
-    this->Inputs.clear();
-    this->LeafInputs.clear();
-    this->CompositeInput = vtkCompositeDataSet::GetData(port0, 0);
-    std::vector<vtkPointSet*> shapes = adapter::AbsoluteShapes(this->CompositeInput);
-    if (!shapes.empty() && port0->GetNumberOfInformationObjects() == 1)
-    {
-      this->CompositeInput = nullptr; // the Java3D form in one connection
-      this->Inputs = std::move(shapes);
-      return;
-    }
-    if (!this->CompositeInput)
-    {
-      for (int i = 0; i < port0->GetNumberOfInformationObjects(); ++i)
-      {
-        this->Inputs.push_back(vtkPointSet::GetData(port0, i));
-      }
-      return;
-    }
-    if (port0->GetNumberOfInformationObjects() > 1)
-    {
-      throw morphnode::InputError("a composite input (a whole head) must be the only connection of "
-                                  "port 0; the Java3D form takes point sets");
-    }
-    for (vtkDataObject* leaf :
-      vtk::Range(this->CompositeInput, vtk::CompositeDataSetOptions::SkipEmptyNodes))
-    {
-      auto* points = vtkPointSet::SafeDownCast(leaf);
-      if (!points)
-      {
-        throw morphnode::InputError("part '" +
-          adapter::LeafNames(
-            this->CompositeInput, this->LeafInputs.size())[this->LeafInputs.size()] +
-          "' of the composite input is a " + leaf->GetClassName() +
-          "; the morph node blends point sets");
-      }
-      this->LeafInputs.push_back(points);
-    }
-  }
-
-  /// Whether the model was built from these data set objects, unchanged, and settings.
-  bool Unchanged(vtkMorphNodeFilter* self)
-  {
-    this->From.clear();
-    if (this->CompositeInput)
-    {
-      this->From.emplace_back(this->CompositeInput, this->CompositeInput->GetMTime());
-      for (vtkPointSet* leaf : this->LeafInputs)
-      {
-        this->From.emplace_back(leaf, leaf->GetMTime());
-      }
-    }
-    for (vtkPointSet* input : this->Inputs)
-    {
-      this->From.emplace_back(input, input ? input->GetMTime() : 0);
-    }
-    return this->Ready && this->From == this->BuiltFrom &&
-      this->Composite == (this->CompositeInput != nullptr) &&
-      this->BuiltSparseCoverage == self->SparseCoverage;
-  }
-
-  /// The parts and the scene of this process's inputs (none for an empty piece).
-  void BuildParts(double sparseCoverage, bool parallel)
-  {
-    std::vector<std::shared_ptr<const morphnode::MorphMesh>> meshes;
-    std::vector<std::vector<uint8_t>> flags;
-    auto add = [&](vtkPointSet* input, const std::string& name, auto build)
-    {
-      vtkMorphNodeOutput::Part part;
-      part.Input = input;
-      part.Name = name;
-      if (build)
-      {
-        auto built = std::make_shared<adapter::BuiltModel>(build());
-        part.ScenePart = static_cast<int>(meshes.size());
-        meshes.emplace_back(built, &built->Model);
-        flags.push_back(adapter::DuplicateFlags(input));
-        part.Built = std::move(built);
-      }
-      this->Output.Parts.push_back(std::move(part)); // without a model: passes through
-    };
-    using Build = std::function<adapter::BuiltModel()>;
-    if (this->Composite)
-    {
-      const std::vector<std::string> names =
-        adapter::LeafNames(this->CompositeInput, this->LeafInputs.size());
-      for (size_t i = 0; i < this->LeafInputs.size(); ++i)
-      {
-        vtkPointSet* leaf = this->LeafInputs[i];
-        try
-        {
-          add(
-            leaf, names[i],
-            leaf->GetNumberOfPoints() == 0 ? Build()
-                                           : [&]
-              { return adapter::BuildModel({ leaf }, sparseCoverage); });
-        }
-        catch (const std::exception& e)
-        {
-          throw morphnode::InputError("part '" + names[i] + "': " + e.what());
-        }
-      }
-      if (meshes.empty() && !parallel)
-      {
-        throw morphnode::InputError("the composite input has no points in any part");
-      }
-    }
-    else if (this->Inputs.empty())
-    {
-      throw morphnode::InputError("no input: connect the neutral (and the targets) to port 0");
-    }
-    else
-    {
-      vtkPointSet* neutral = this->Inputs[0];
-      const bool emptyPiece = parallel && neutral && neutral->GetNumberOfPoints() == 0;
-      add(
-        neutral, "",
-        emptyPiece ? Build() : [&] { return adapter::BuildModel(this->Inputs, sparseCoverage); });
-    }
-    if (!meshes.empty())
-    {
-      this->Scene.SetParts(meshes, flags);
-      this->HasScene = true;
-    }
-  }
-
-  /// Rebuilds the model when an input or the storage choice changed. In parallel, every
-  /// process takes part in the exchange of a rebuild, whatever its input.
-  void UpdateModel(vtkMorphNodeFilter* self)
-  {
-    if (this->Unchanged(self))
-    {
-      return; // the same data set objects, unchanged: the same model
-    }
-    this->Ready = false;
-    this->HasScene = false;
-    this->Scene = morphnode::MorphScene();
-    this->Output.Parts.clear();
-    this->BuiltFrom.clear();
-    this->Requests.SetTargets({});
-    this->Composite = this->CompositeInput != nullptr;
-    vtkMultiProcessController* controller = self->Controller;
-    const bool parallel = IsParallel(controller);
-    self->UpdateProgress(0.0);
-    std::string error;
-    try
-    {
-      this->BuildParts(self->SparseCoverage, parallel);
-    }
-    catch (const std::exception& e)
-    {
-      error = *e.what() ? e.what() : "the input could not be made into a model";
-    }
-    morphnode::NamedTargetDistances model;
-    if (parallel)
-    {
-      // The whole model's figures, the same on every process.
-      model = adapter::GatherModel(controller,
-        this->HasScene && error.empty() ? &this->Scene.GetPartsDistances() : nullptr, error);
-      if (this->HasScene)
-      {
-        this->Scene.SetModel(model);
-      }
-    }
-    else if (!error.empty())
-    {
-      throw morphnode::InputError(error);
-    }
-    ++this->Generation;
-    this->Ready = true;
-    this->BuiltFrom = this->From;
-    this->BuiltSparseCoverage = self->SparseCoverage;
-    const std::vector<std::string>& names = parallel ? model.Names : this->Scene.GetTargetNames();
-    this->Requests.SetTargets(names);
-    this->Output.SetModel(names,
-      parallel ? morphnode::MakeTargetDistances(model).DistNorm
-               : this->Scene.GetTargetDistances().DistNorm);
-  }
 
   /// Requested weights (neutral first): the table on port 1, else the assignments.
   void GatherRequested(vtkMorphNodeFilter* self, vtkTable* table)
@@ -348,8 +152,8 @@ struct vtkMorphNodeFilter::vtkInternals
     }
     settings.MaxActiveTargets = self->MaxActiveTargets;
     settings.Hysteresis = self->Hysteresis;
-    this->Scene.SetOptimizerSettings(settings);
-    this->Scene.SetWeightMode(static_cast<morphnode::WeightMode>(self->WeightMode));
+    this->Model.Scene.SetOptimizerSettings(settings);
+    this->Model.Scene.SetWeightMode(static_cast<morphnode::WeightMode>(self->WeightMode));
   }
 
   /// With a frame budget or a target level of detail, the core's controller chooses this
@@ -362,7 +166,7 @@ struct vtkMorphNodeFilter::vtkInternals
     goals.FrameBudget = 1e-3 * self->FrameBudget;
     goals.TargetPixelBound = self->TargetPixelBound;
     goals.PixelsPerUnit = self->PixelsPerUnit;
-    if (!goals.Any() || !this->Ready)
+    if (!goals.Any() || !this->Model.Ready)
     {
       this->Budget.Skip();
       return;
@@ -370,30 +174,31 @@ struct vtkMorphNodeFilter::vtkInternals
     vtkMultiProcessController* controller = self->Controller;
     const std::array<double, 3> mine = this->Budget.GetMeasurement();
     std::array<double, 3> measured = mine;
-    if (IsParallel(controller) &&
+    if (vtkMorphNodeModel::IsParallel(controller) &&
       !controller->AllReduce(mine.data(), measured.data(), 3, vtkCommunicator::MAX_OP))
     {
       throw morphnode::InputError("the processes could not exchange their morph times");
     }
-    if (this->Budget.NeedsModel(this->Generation))
+    if (this->Budget.NeedsModel(this->Model.Generation))
     {
       const std::vector<double> piece = morphnode::SceneBudgetController::MovedPoints(
-        this->HasScene ? &this->Scene : nullptr, this->Names().size());
+        this->Model.HasScene ? &this->Model.Scene : nullptr, this->Names().size());
       std::vector<double> moved = piece;
-      if (IsParallel(controller) &&
+      if (vtkMorphNodeModel::IsParallel(controller) &&
         !controller->AllReduce(piece.data(), moved.data(), static_cast<vtkIdType>(moved.size()),
           vtkCommunicator::SUM_OP))
       {
         throw morphnode::InputError("the processes could not exchange their moved points");
       }
-      this->Budget.SetModel(this->Generation, std::move(moved));
+      this->Budget.SetModel(this->Model.Generation, std::move(moved));
     }
-    if (!this->HasScene)
+    if (!this->Model.HasScene)
     {
       this->Budget.Skip(); // an empty piece: took part in the exchanges, decides nothing
       return;
     }
-    self->FrameBudgetThreshold = this->Budget.Decide(this->Scene, this->Requested, goals, measured);
+    self->FrameBudgetThreshold =
+      this->Budget.Decide(this->Model.Scene, this->Requested, goals, measured);
   }
 
   // ---- Mesh levels (MeshLevels; docs/lod.md). The core decides and blends (ScalableScene
@@ -411,26 +216,11 @@ struct vtkMorphNodeFilter::vtkInternals
   }
 
   /// Steps 3 and 4 with mesh levels: the scene's level blended with the effective weights,
-  /// each part's level as the output's data set, in the input's structure.
+  /// each part's level as the output's data set, in the input's structure
+  /// (vtkMorphMeshLevels::SceneLevels::Show).
   void ShowLevels(vtkMorphNodeFilter* self, vtkDataObject* output)
   {
 #ifdef MORPHNODE_WITH_MESH_LEVELS
-    // The scene's parts: their models, data sets and names, in the scene's order.
-    const size_t numScene = this->Scene.GetNumberOfParts();
-    std::vector<const morphnode::MorphMesh*> models(numScene, nullptr);
-    std::vector<vtkPointSet*> inputs(numScene, nullptr);
-    std::vector<std::string> names(numScene);
-    for (const vtkMorphNodeOutput::Part& part : this->Output.Parts)
-    {
-      if (part.ScenePart >= 0)
-      {
-        const auto p = static_cast<size_t>(part.ScenePart);
-        models[p] = &part.Built->Model;
-        inputs[p] = part.Input;
-        names[p] = part.Name.empty() ? "the input" : "part '" + part.Name + "'";
-      }
-    }
-    this->Levels.SetParts(models, inputs, names, this->Generation);
     morphnode::ControllerSettings settings;
     settings.Thresholds = { 0.0 }; // the weights are the filter's already
     settings.FrameBudget = self->FrameBudget > 0.0 ? 1e-3 * self->FrameBudget : 1.0;
@@ -440,62 +230,10 @@ struct vtkMorphNodeFilter::vtkInternals
     // Without a frame budget the level follows the screen alone: no decision reads the cost
     // models, so they are not refitted to every execution's measured time.
     settings.MeasurementWindow = self->FrameBudget > 0.0 ? settings.MeasurementWindow : 0;
-    const morphnode::SceneFrame& frame = this->Levels.Update(
-      this->Names(), this->Scene.GetEffectiveWeights(), settings, self->PixelsPerUnit);
-    self->Level = frame.Decision.Level;
+    self->Level = this->Levels.Show(this->Model.Scene, this->Model.Generation, this->Names(),
+      settings, self->PixelsPerUnit, self->GenerateDistanceArrays, this->Output,
+      this->Model.CompositeInput, output);
     self->UpdateProgress(0.9);
-
-    // Every part's kept level data set (filled again in place while no one else holds it;
-    // the last output's sets let go of it first), with the distance maps gathered to its
-    // points when asked for, and the filter's field data (rewritten in place in the kept
-    // ones). An empty leaf passes through.
-    auto* composite = vtkCompositeDataSet::SafeDownCast(output);
-    if (composite)
-    {
-      this->Output.ReleaseLeaves();
-    }
-    const bool distances = self->GenerateDistanceArrays;
-    std::vector<vtkSmartPointer<vtkDataObject>> leaves;
-    std::vector<vtkFieldData*> fields;
-    std::vector<bool> kept;
-    for (vtkMorphNodeOutput::Part& part : this->Output.Parts)
-    {
-      if (part.ScenePart < 0)
-      {
-        leaves.emplace_back(part.Input);
-        continue;
-      }
-      const auto p = static_cast<size_t>(part.ScenePart);
-      vtkPolyData* poly = this->Levels.Assemble(p,
-        distances ? this->Output.GetDistanceArrays(part, &this->Scene)
-                  : std::vector<vtkDataArray*>());
-      leaves.emplace_back(poly);
-      fields.push_back(poly->GetFieldData());
-      kept.push_back(this->Levels.IsKept(p));
-    }
-    this->Output.AddFieldArrays(fields, kept, &this->Scene, distances);
-    if (composite)
-    {
-      // The levels in the output's structure as the filter's own leaves are placed; none
-      // kept for the next execution (a level's leaf is not the input's structure).
-      for (size_t i = 0; i < leaves.size(); ++i)
-      {
-        this->Output.Parts[i].OutputLeaf = vtkPointSet::SafeDownCast(leaves[i]);
-      }
-      this->Output.PlaceLeaves(this->CompositeInput, composite);
-      for (vtkMorphNodeOutput::Part& part : this->Output.Parts)
-      {
-        part.OutputLeaf = nullptr;
-      }
-      return;
-    }
-    auto* poly = vtkPolyData::SafeDownCast(output);
-    if (!poly || leaves.size() != 1)
-    {
-      throw morphnode::InputError(
-        "MeshLevels: the input must be a vtkPolyData (or a composite of them)");
-    }
-    poly->ShallowCopy(leaves[0]);
 #else
     (void)self;
     (void)output;
@@ -510,15 +248,16 @@ struct vtkMorphNodeFilter::vtkInternals
   /// no active target moves are not blended: they pass through.
   void Blend()
   {
-    const std::vector<size_t> parts = this->Output.Prepare(this->Scene, this->Composite);
-    this->Scene.PlanBlend(parts, vtkSMPTools::GetEstimatedNumberOfThreads(), this->Plan);
+    const std::vector<size_t> parts =
+      this->Output.Prepare(this->Model.Scene, this->Model.Composite);
+    this->Model.Scene.PlanBlend(parts, vtkSMPTools::GetEstimatedNumberOfThreads(), this->Plan);
     const auto& where = this->Output.GetWhere();
     const size_t numTasks = this->Plan.GetNumberOfTasks();
     if (this->Plan.Serial)
     {
       for (size_t t = 0; t < numTasks; ++t)
       {
-        this->Scene.BlendTask(this->Plan, t, where);
+        this->Model.Scene.BlendTask(this->Plan, t, where);
       }
     }
     else
@@ -528,7 +267,7 @@ struct vtkMorphNodeFilter::vtkInternals
         {
           for (vtkIdType t = begin; t < end; ++t)
           {
-            this->Scene.BlendTask(this->Plan, static_cast<size_t>(t), where);
+            this->Model.Scene.BlendTask(this->Plan, static_cast<size_t>(t), where);
           }
         });
     }
@@ -659,7 +398,7 @@ void vtkMorphNodeFilter::SetWeightsConnection(vtkAlgorithmOutput* output)
 //------------------------------------------------------------------------------
 int vtkMorphNodeFilter::GetNumberOfTargets()
 {
-  if (this->Internals->Ready)
+  if (this->Internals->Model.Ready)
   {
     return static_cast<int>(this->Internals->Names().size());
   }
@@ -687,7 +426,7 @@ const char* vtkMorphNodeFilter::GetTargetName(int index)
 //------------------------------------------------------------------------------
 int vtkMorphNodeFilter::GetTargetIndex(const char* name)
 {
-  if (!this->Internals->Ready || !name)
+  if (!this->Internals->Model.Ready || !name)
   {
     return -1;
   }
@@ -775,7 +514,7 @@ void vtkMorphNodeFilter::ResetWeights()
 //------------------------------------------------------------------------------
 double vtkMorphNodeFilter::GetEffectiveWeight(int index)
 {
-  const auto& w = this->Internals->Scene.GetEffectiveWeights();
+  const auto& w = this->Internals->Model.Scene.GetEffectiveWeights();
   return this->Internals->Valid && index >= 0 && static_cast<size_t>(index) < w.size()
     ? w[static_cast<size_t>(index)]
     : 0.0;
@@ -784,7 +523,7 @@ double vtkMorphNodeFilter::GetEffectiveWeight(int index)
 //------------------------------------------------------------------------------
 void vtkMorphNodeFilter::ResetHysteresis()
 {
-  this->Internals->Scene.ResetHistory();
+  this->Internals->Model.Scene.ResetHistory();
 }
 
 //------------------------------------------------------------------------------
@@ -887,7 +626,7 @@ const morphnode::MorphMesh* vtkMorphNodeFilter::GetMorphModel()
 //------------------------------------------------------------------------------
 const morphnode::MorphScene* vtkMorphNodeFilter::GetMorphScene()
 {
-  return &this->Internals->Scene;
+  return &this->Internals->Model.Scene;
 }
 
 //------------------------------------------------------------------------------
@@ -937,28 +676,29 @@ int vtkMorphNodeFilter::RequestData(
   {
     // 1. The model, rebuilt only when an input or the storage choice changed (in parallel,
     // with every process's figures).
-    internals.CollectInputs(inputVector[0]);
-    internals.UpdateModel(this);
+    internals.Model.Collect(inputVector[0]);
+    internals.Model.Update(
+      this->SparseCoverage, this->Controller, internals.Output, internals.Requests, this);
     this->UpdateProgress(0.3);
 
     // 2. Weight rules and the optimizer, once for the whole model: the core scene. With a
     // frame budget the controller chooses the threshold from the measured morph times.
     const auto started = std::chrono::steady_clock::now();
-    if (internals.HasScene)
+    if (internals.Model.HasScene)
     {
       internals.GatherRequested(this, vtkTable::GetData(inputVector[1], 0));
       internals.ApplySettings(this);
     }
     internals.ChooseThreshold(this);
-    if (internals.HasScene)
+    if (internals.Model.HasScene)
     {
       internals.ApplyTargetsOff();
-      internals.Scene.SetWeights(internals.Requested);
+      internals.Model.Scene.SetWeights(internals.Requested);
     }
     this->UpdateProgress(0.4);
 
     this->Level = -1;
-    if (this->MeshLevels && (internals.HasScene || !vtkMorphNodeFilter::HasMeshLevels()))
+    if (this->MeshLevels && (internals.Model.HasScene || !vtkMorphNodeFilter::HasMeshLevels()))
     {
       // 3-4. Mesh levels: the core's ScalableScene chooses the level and blends it; the
       // output holds each part's level (vtkMorphMeshLevels).
@@ -972,8 +712,8 @@ int vtkMorphNodeFilter::RequestData(
       this->UpdateProgress(0.9);
 
       // 4. The output: the input's structure with the blended arrays and field data.
-      internals.Output.Assemble(output, internals.CompositeInput,
-        internals.HasScene ? &internals.Scene : nullptr, this->GenerateDistanceArrays);
+      internals.Output.Assemble(output, internals.Model.CompositeInput,
+        internals.Model.HasScene ? &internals.Model.Scene : nullptr, this->GenerateDistanceArrays);
     }
     vtkInformation* outInfo = outputVector->GetInformationObject(0);
     if (outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP()))
@@ -982,11 +722,12 @@ int vtkMorphNodeFilter::RequestData(
         outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP()));
     }
     const std::chrono::duration<double> took = std::chrono::steady_clock::now() - started;
-    internals.Budget.Measure(internals.Scene, took.count());
+    internals.Budget.Measure(internals.Model.Scene, took.count());
     this->MorphTime = 1e3 * took.count();
-    internals.Valid = internals.HasScene;
-    this->ActiveTargetCount = internals.HasScene ? internals.Scene.GetActiveTargetCount() : 0;
-    this->ErrorBound = internals.HasScene ? internals.Scene.GetErrorBound() : 0.0;
+    internals.Valid = internals.Model.HasScene;
+    this->ActiveTargetCount =
+      internals.Model.HasScene ? internals.Model.Scene.GetActiveTargetCount() : 0;
+    this->ErrorBound = internals.Model.HasScene ? internals.Model.Scene.GetErrorBound() : 0.0;
     this->UpdateProgress(1.0);
     return 1;
   }
@@ -1042,7 +783,7 @@ void vtkMorphNodeFilter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "EffectiveWeights:";
   if (internals.Valid)
   {
-    for (double w : internals.Scene.GetEffectiveWeights())
+    for (double w : internals.Model.Scene.GetEffectiveWeights())
     {
       os << " " << w;
     }
