@@ -183,6 +183,7 @@ public:
     vtkSmartPointer<vtkPoints> OutPointsObject;
     vtkSmartPointer<vtkFieldData> OutField;
     vtkSmartPointer<vtkDoubleArray> OutPose;
+    vtkSmartPointer<vtkFloatArray> OutDeltas; ///< SkinJointDeltas (SkinPoints off)
     /// The last frame's input, to tell what can have changed: its arrays and the morph
     /// node's MorphedPointRanges (by address and modification time; never held, so that
     /// the morph node may write them in place).
@@ -247,6 +248,92 @@ public:
     }
     entry.SlotSkin = entry.Slot->FindSkin(entry.Skin.Joints);
     return this->Cache[weights] = std::move(entry);
+  }
+
+  /// The leaf posed only (SkinPoints off): a new data set sharing everything with the input
+  /// (points, normals, arrays), whose field data adds SkinJointDeltas (the skin's per-joint
+  /// products of this pose) and SkinPose. No per-point work.
+  vtkSmartPointer<vtkPointSet> PoseOnly(vtkMorphSkinFilter* self, Entry& entry, vtkPointSet* leaf,
+    const std::string& what, const std::vector<glm::dmat4>& matrices,
+    const morphnode::AvatarBonePose& angles, const morphnode::AvatarBoneRoles& roles)
+  {
+    const size_t n = static_cast<size_t>(leaf->GetNumberOfPoints());
+    if (entry.Rest.GetNumberOfPoints() != n)
+    {
+      throw morphnode::InputError(what + ": the skin has " +
+        std::to_string(entry.Rest.GetNumberOfPoints()) + " points, the part " + std::to_string(n));
+    }
+    entry.Rest.SetPose(matrices);
+    auto free = [](vtkObjectBase* o) { return o && o->GetReferenceCount() == 1; };
+    if (!free(entry.OutLeaf) || !entry.OutLeaf->IsA(leaf->GetClassName()) ||
+      entry.Execution == this->Execution)
+    {
+      entry.OutLeaf.TakeReference(leaf->NewInstance());
+      entry.OutField = nullptr;
+      entry.OutPose = nullptr;
+      entry.OutDeltas = nullptr;
+    }
+    entry.Execution = this->Execution;
+    entry.OutPointsObject = nullptr; // the CPU path's kept arrays no longer hold a frame
+    vtkSmartPointer<vtkPointSet> out = entry.OutLeaf;
+    out->ShallowCopy(leaf);
+    if (!free(entry.OutDeltas))
+    {
+      entry.OutDeltas = vtkSmartPointer<vtkFloatArray>::New();
+      entry.OutDeltas->SetName(vtkMorphSkinArrays::JointDeltasArray);
+      entry.OutDeltas->SetNumberOfComponents(12);
+    }
+    // The core's products are column-major 3x4; the convention's are the three rows (what
+    // a shader takes as three vec4).
+    const std::vector<float>& deltas = entry.Rest.GetDeltas();
+    const size_t joints = entry.Rest.GetNumberOfJoints();
+    entry.OutDeltas->SetNumberOfTuples(static_cast<vtkIdType>(joints));
+    float* d = entry.OutDeltas->GetPointer(0);
+    for (size_t k = 0; k < joints; ++k)
+    {
+      for (size_t r = 0; r < 3; ++r)
+      {
+        for (size_t c = 0; c < 4; ++c)
+        {
+          d[12 * k + 4 * r + c] = deltas[12 * k + 3 * c + r];
+        }
+      }
+    }
+    entry.OutDeltas->Modified();
+    this->SetField(entry, leaf, angles, roles);
+    entry.OutField->AddArray(entry.OutDeltas);
+    out->SetFieldData(entry.OutField);
+    ++self->NumberOfPosedOnlyParts;
+    return out;
+  }
+
+  /// The output's field data: the input's without the morph's ranges (they describe the
+  /// input's arrays), with SkinPose.
+  void SetField(Entry& entry, vtkPointSet* leaf, const morphnode::AvatarBonePose& angles,
+    const morphnode::AvatarBoneRoles& roles)
+  {
+    auto free = [](vtkObjectBase* o) { return o && o->GetReferenceCount() == 1; };
+    if (!free(entry.OutField))
+    {
+      entry.OutField = vtkSmartPointer<vtkFieldData>::New();
+    }
+    entry.OutField->ShallowCopy(leaf->GetFieldData());
+    entry.OutField->RemoveArray(vtkMorphSkinArrays::MorphedRangesArray);
+    entry.OutField->RemoveArray(vtkMorphSkinArrays::MorphedTimeArray);
+    if (!free(entry.OutPose))
+    {
+      entry.OutPose = vtkSmartPointer<vtkDoubleArray>::New();
+      entry.OutPose->SetName("SkinPose");
+      entry.OutPose->SetNumberOfValues(6);
+    }
+    vtkIdType k = 0;
+    for (double v : { angles.HeadYaw, angles.HeadPitch, angles.HeadRoll, angles.EyeYaw,
+           angles.EyePitch, roles.Jaw >= 0 ? angles.JawOpen : 0.0 })
+    {
+      entry.OutPose->SetValue(k++, v);
+    }
+    entry.OutPose->Modified();
+    entry.OutField->AddArray(entry.OutPose);
   }
 
   /// The leaf re-skinned at the pose `angles` asks (a new data set sharing all but points and
@@ -320,6 +407,23 @@ public:
     ++self->NumberOfSkinnedParts;
     const bool wasValid = entry.Valid;
     entry.Valid = false; // the pose moves on: the kept arrays hold this frame only when written
+    if (!self->SkinPoints)
+    {
+      // Pose only where a renderer can skin: one rest matrix per point's joints (the deltas
+      // suffice) and one set of four influences; else re-skinned here as with SkinPoints.
+      if (entry.Rest.AllSharedRest() && entry.Skin.Influences.PerPoint == 4)
+      {
+        return this->PoseOnly(
+          self, entry, leaf, what, slot.Matrices(entry.SlotSkin), angles, roles);
+      }
+      std::string name = vtkMorphPartData::GetPartName(leaf->GetFieldData(), partName);
+      name = name.empty() ? what : name;
+      if (std::find(self->CPUSkinnedParts.begin(), self->CPUSkinnedParts.end(), name) ==
+        self->CPUSkinnedParts.end())
+      {
+        self->CPUSkinnedParts.push_back(name);
+      }
+    }
     if (!entry.Rest.SetPose(slot.Matrices(entry.SlotSkin)))
     {
       return nullptr; // at rest
@@ -460,28 +564,7 @@ public:
     {
       out->GetPointData()->SetNormals(newNormals);
     }
-    if (!free(entry.OutField))
-    {
-      entry.OutField = vtkSmartPointer<vtkFieldData>::New();
-    }
-    entry.OutField->ShallowCopy(leaf->GetFieldData());
-    // The morph's ranges describe the input, not this output.
-    entry.OutField->RemoveArray(vtkMorphSkinArrays::MorphedRangesArray);
-    entry.OutField->RemoveArray(vtkMorphSkinArrays::MorphedTimeArray);
-    if (!free(entry.OutPose))
-    {
-      entry.OutPose = vtkSmartPointer<vtkDoubleArray>::New();
-      entry.OutPose->SetName("SkinPose");
-      entry.OutPose->SetNumberOfValues(6);
-    }
-    vtkIdType k = 0;
-    for (double v : { angles.HeadYaw, angles.HeadPitch, angles.HeadRoll, angles.EyeYaw,
-           angles.EyePitch, roles.Jaw >= 0 ? angles.JawOpen : 0.0 })
-    {
-      entry.OutPose->SetValue(k++, v);
-    }
-    entry.OutPose->Modified();
-    entry.OutField->AddArray(entry.OutPose);
+    this->SetField(entry, leaf, angles, roles);
     out->SetFieldData(entry.OutField);
     return out;
   }
@@ -510,6 +593,8 @@ int vtkMorphSkinFilter::RequestData(
   vtkDataObject* output = vtkDataObject::GetData(outputVector, 0);
   this->NumberOfSkinnedParts = 0;
   this->NumberOfReskinnedPoints = 0;
+  this->NumberOfPosedOnlyParts = 0;
+  this->CPUSkinnedParts.clear();
   ++this->Internals->Execution;
   this->HasEyeBones = false;
   this->EyeParts.clear();
@@ -647,6 +732,7 @@ int vtkMorphSkinFilter::RequestData(
     vtkErrorMacro(<< e.what());
     output->Initialize();
     this->NumberOfSkinnedParts = 0;
+    this->NumberOfPosedOnlyParts = 0;
     return 0;
   }
 }
@@ -658,6 +744,14 @@ const char* vtkMorphSkinFilter::GetEyePart(int i)
     ? this->EyeParts[static_cast<size_t>(i)].c_str()
     : nullptr;
 }
+//------------------------------------------------------------------------------
+const char* vtkMorphSkinFilter::GetCPUSkinnedPart(int i)
+{
+  return i >= 0 && i < static_cast<int>(this->CPUSkinnedParts.size())
+    ? this->CPUSkinnedParts[static_cast<size_t>(i)].c_str()
+    : nullptr;
+}
+
 //------------------------------------------------------------------------------
 bool vtkMorphSkinFilter::GetHeadBounds(double bounds[6])
 {
@@ -688,7 +782,15 @@ void vtkMorphSkinFilter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "RelaxArms: " << this->RelaxArms << "\n";
   os << indent << "ArmAngle: " << this->ArmAngle << "\n";
   os << indent << "NumberOfSkinnedParts: " << this->NumberOfSkinnedParts << "\n";
+  os << indent << "SkinPoints: " << this->SkinPoints << "\n";
   os << indent << "NumberOfReskinnedPoints: " << this->NumberOfReskinnedPoints << "\n";
+  os << indent << "NumberOfPosedOnlyParts: " << this->NumberOfPosedOnlyParts << "\n";
+  os << indent << "CPUSkinnedParts:";
+  for (const auto& part : this->CPUSkinnedParts)
+  {
+    os << " " << part;
+  }
+  os << "\n";
   os << indent << "HasEyeBones: " << this->HasEyeBones << "\n";
   os << indent << "EyeParts:";
   for (const auto& part : this->EyeParts)
