@@ -241,6 +241,10 @@ bool Avatar::SetUpFace()
   // A skinned avatar: its bones follow the head pose and gaze (docs/avatars.md).
   this->Skin->SetTurnEyes(o.Gaze != "targets");
   this->Skin->SetRelaxArms(o.Pose == "relaxed");
+  // Drawn skinned in the vertex shader: the skin filter poses only (the points stay), unless
+  // asked otherwise or the points are written (--pvd; --gltf writes its own skin).
+  this->Skin->SetSkinPoints(o.CpuSkin || !o.Pvd.empty());
+  this->Head.SetSkinOnGpu(!this->Skin->GetSkinPoints());
   this->Reader->Update();
   if (!appkit::HeadBounds(this->Reader->GetOutputDataObject(0), this->Bounds))
   {
