@@ -109,6 +109,11 @@ struct PoseSlot
     morphnode::SkinJoints Joints;
     unsigned long Execution = 0;
     std::vector<glm::dmat4> Matrices;
+    /// Pose only: SkinJointDeltas at World, formed once per execution and shared by the
+    /// parts of this skin (the same joints, inverse binds and skeleton rest: the same
+    /// products).
+    unsigned long DeltasExecution = 0;
+    vtkSmartPointer<vtkFloatArray> Deltas;
   };
   std::vector<SkinMatrices> Skins;
 
@@ -123,7 +128,7 @@ struct PoseSlot
         return k;
       }
     }
-    this->Skins.push_back(SkinMatrices{ joints, 0, {} });
+    this->Skins.push_back(SkinMatrices{ joints, 0, {}, 0, nullptr });
     return this->Skins.size() - 1;
   }
   /// The joint matrices of skin k at this execution's World.
@@ -183,7 +188,6 @@ public:
     vtkSmartPointer<vtkPoints> OutPointsObject;
     vtkSmartPointer<vtkFieldData> OutField;
     vtkSmartPointer<vtkDoubleArray> OutPose;
-    vtkSmartPointer<vtkFloatArray> OutDeltas; ///< SkinJointDeltas (SkinPoints off)
     /// The last frame's input, to tell what can have changed: its arrays and the morph
     /// node's MorphedPointRanges (by address and modification time; never held, so that
     /// the morph node may write them in place).
@@ -254,8 +258,8 @@ public:
   /// (points, normals, arrays), whose field data adds SkinJointDeltas (the skin's per-joint
   /// products of this pose) and SkinPose. No per-point work.
   vtkSmartPointer<vtkPointSet> PoseOnly(vtkMorphSkinFilter* self, Entry& entry, vtkPointSet* leaf,
-    const std::string& what, const std::vector<glm::dmat4>& matrices,
-    const morphnode::AvatarBonePose& angles, const morphnode::AvatarBoneRoles& roles)
+    const std::string& what, PoseSlot& slot, const morphnode::AvatarBonePose& angles,
+    const morphnode::AvatarBoneRoles& roles)
   {
     const size_t n = static_cast<size_t>(leaf->GetNumberOfPoints());
     if (entry.Rest.GetNumberOfPoints() != n)
@@ -263,7 +267,34 @@ public:
       throw morphnode::InputError(what + ": the skin has " +
         std::to_string(entry.Rest.GetNumberOfPoints()) + " points, the part " + std::to_string(n));
     }
-    entry.Rest.SetPose(matrices);
+    PoseSlot::SkinMatrices& skin = slot.Skins[entry.SlotSkin];
+    if (skin.DeltasExecution != this->Execution)
+    {
+      // Once per skin and execution: the products of the first part's RestSkin (every part
+      // of this skin has the same rest matrices). A new array: the last frame's may still be
+      // drawn or held downstream.
+      entry.Rest.SetPose(slot.Matrices(entry.SlotSkin));
+      skin.Deltas = vtkSmartPointer<vtkFloatArray>::New();
+      skin.Deltas->SetName(vtkMorphSkinArrays::JointDeltasArray);
+      skin.Deltas->SetNumberOfComponents(12);
+      // The core's products are column-major 3x4; the convention's are the three rows (what
+      // a shader takes as three vec4).
+      const std::vector<float>& deltas = entry.Rest.GetDeltas();
+      const size_t joints = entry.Rest.GetNumberOfJoints();
+      skin.Deltas->SetNumberOfTuples(static_cast<vtkIdType>(joints));
+      float* d = skin.Deltas->GetPointer(0);
+      for (size_t k = 0; k < joints; ++k)
+      {
+        for (size_t r = 0; r < 3; ++r)
+        {
+          for (size_t c = 0; c < 4; ++c)
+          {
+            d[12 * k + 4 * r + c] = deltas[12 * k + 3 * c + r];
+          }
+        }
+      }
+      skin.DeltasExecution = this->Execution;
+    }
     auto free = [](vtkObjectBase* o) { return o && o->GetReferenceCount() == 1; };
     if (!free(entry.OutLeaf) || !entry.OutLeaf->IsA(leaf->GetClassName()) ||
       entry.Execution == this->Execution)
@@ -271,46 +302,23 @@ public:
       entry.OutLeaf.TakeReference(leaf->NewInstance());
       entry.OutField = nullptr;
       entry.OutPose = nullptr;
-      entry.OutDeltas = nullptr;
     }
     entry.Execution = this->Execution;
     entry.OutPointsObject = nullptr; // the CPU path's kept arrays no longer hold a frame
     vtkSmartPointer<vtkPointSet> out = entry.OutLeaf;
     out->ShallowCopy(leaf);
-    if (!free(entry.OutDeltas))
-    {
-      entry.OutDeltas = vtkSmartPointer<vtkFloatArray>::New();
-      entry.OutDeltas->SetName(vtkMorphSkinArrays::JointDeltasArray);
-      entry.OutDeltas->SetNumberOfComponents(12);
-    }
-    // The core's products are column-major 3x4; the convention's are the three rows (what
-    // a shader takes as three vec4).
-    const std::vector<float>& deltas = entry.Rest.GetDeltas();
-    const size_t joints = entry.Rest.GetNumberOfJoints();
-    entry.OutDeltas->SetNumberOfTuples(static_cast<vtkIdType>(joints));
-    float* d = entry.OutDeltas->GetPointer(0);
-    for (size_t k = 0; k < joints; ++k)
-    {
-      for (size_t r = 0; r < 3; ++r)
-      {
-        for (size_t c = 0; c < 4; ++c)
-        {
-          d[12 * k + 4 * r + c] = deltas[12 * k + 3 * c + r];
-        }
-      }
-    }
-    entry.OutDeltas->Modified();
-    this->SetField(entry, leaf, angles, roles);
-    entry.OutField->AddArray(entry.OutDeltas);
+    // The points are the input's: the morph's ranges (MorphedPointRanges) still hold.
+    this->SetField(entry, leaf, angles, roles, false);
+    entry.OutField->AddArray(skin.Deltas);
     out->SetFieldData(entry.OutField);
     ++self->NumberOfPosedOnlyParts;
     return out;
   }
 
-  /// The output's field data: the input's without the morph's ranges (they describe the
-  /// input's arrays), with SkinPose.
+  /// The output's field data: the input's with SkinPose, without the morph's ranges when
+  /// the points moved (they describe the input's arrays).
   void SetField(Entry& entry, vtkPointSet* leaf, const morphnode::AvatarBonePose& angles,
-    const morphnode::AvatarBoneRoles& roles)
+    const morphnode::AvatarBoneRoles& roles, bool removeRanges = true)
   {
     auto free = [](vtkObjectBase* o) { return o && o->GetReferenceCount() == 1; };
     if (!free(entry.OutField))
@@ -318,8 +326,11 @@ public:
       entry.OutField = vtkSmartPointer<vtkFieldData>::New();
     }
     entry.OutField->ShallowCopy(leaf->GetFieldData());
-    entry.OutField->RemoveArray(vtkMorphSkinArrays::MorphedRangesArray);
-    entry.OutField->RemoveArray(vtkMorphSkinArrays::MorphedTimeArray);
+    if (removeRanges)
+    {
+      entry.OutField->RemoveArray(vtkMorphSkinArrays::MorphedRangesArray);
+      entry.OutField->RemoveArray(vtkMorphSkinArrays::MorphedTimeArray);
+    }
     if (!free(entry.OutPose))
     {
       entry.OutPose = vtkSmartPointer<vtkDoubleArray>::New();
@@ -413,8 +424,7 @@ public:
       // suffice) and one set of four influences; else re-skinned here as with SkinPoints.
       if (entry.Rest.AllSharedRest() && entry.Skin.Influences.PerPoint == 4)
       {
-        return this->PoseOnly(
-          self, entry, leaf, what, slot.Matrices(entry.SlotSkin), angles, roles);
+        return this->PoseOnly(self, entry, leaf, what, slot, angles, roles);
       }
       std::string name = vtkMorphPartData::GetPartName(leaf->GetFieldData(), partName);
       name = name.empty() ? what : name;
