@@ -37,7 +37,8 @@
  * M = sum_k w_k Delta_k over the point's first four SkinJoints/SkinWeights, p' = M p, the
  * normal by M's cofactor, renormalized. It holds only where the joints of every point share
  * one rest matrix (RestSkin::AllSharedRest) and a point has at most four influences; the
- * filter re-skins other parts itself. vtkMorphSkinMapper draws it.
+ * filter re-skins other parts itself. vtkMorphSkinMapper draws it. (This output keeps the
+ * morph's MorphedPointRanges: its points are the input's.)
  *
  * Functions throw morphnode::InputError for bad input; callers turn that into vtkErrorMacro.
  */
