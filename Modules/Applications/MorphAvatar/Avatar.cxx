@@ -272,6 +272,25 @@ bool Avatar::SetUpFace()
     return false;
   }
   this->FrameView();
+  if (!o.Quiet && this->Skin->GetNumberOfSkinnedParts() > 0)
+  {
+    // Where the skin is computed (docs/avatars.md, "Skinned on the GPU").
+    std::cout << "MorphAvatar: skin: " << this->Skin->GetNumberOfSkinnedParts() << " parts, ";
+    if (this->Skin->GetSkinPoints())
+    {
+      std::cout << "re-skinned on the CPU" << (o.CpuSkin ? "" : " (--pvd writes posed points)");
+    }
+    else
+    {
+      std::cout << this->Skin->GetNumberOfPosedOnlyParts()
+                << " skinned in the vertex shader (--cpu-skin re-skins on the CPU)";
+      for (int i = 0; i < this->Skin->GetNumberOfCPUSkinnedParts(); ++i)
+      {
+        std::cout << (i ? ", " : "; on the CPU: ") << this->Skin->GetCPUSkinnedPart(i);
+      }
+    }
+    std::cout << "\n";
+  }
   if (o.Rig.empty() && o.Animation.empty() && o.Capture.empty())
   {
     // Without a rig the channels must name the face's targets.
