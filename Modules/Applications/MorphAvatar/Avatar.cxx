@@ -272,24 +272,27 @@ bool Avatar::SetUpFace()
     return false;
   }
   this->FrameView();
-  if (!o.Quiet && this->Skin->GetNumberOfSkinnedParts() > 0)
+  if (!o.Quiet && this->Skin->GetNumberOfSkinnedParts() > 0 && (o.Gltf.empty() || o.Offscreen))
   {
-    // Where the skin is computed (docs/avatars.md, "Skinned on the GPU").
-    std::cout << "MorphAvatar: skin: " << this->Skin->GetNumberOfSkinnedParts() << " parts, ";
+    // Where the skin is computed (docs/avatars.md, "Skinned on the GPU"); not said for
+    // --gltf alone, which draws nothing. With commands on stdin, stdout carries only their
+    // events.
+    std::ostream& log = o.CommandsStdin ? std::cerr : std::cout;
+    log << "MorphAvatar: skin: " << this->Skin->GetNumberOfSkinnedParts() << " parts, ";
     if (this->Skin->GetSkinPoints())
     {
-      std::cout << "re-skinned on the CPU" << (o.CpuSkin ? "" : " (--pvd writes posed points)");
+      log << "re-skinned on the CPU" << (o.CpuSkin ? "" : " (--pvd writes posed points)");
     }
     else
     {
-      std::cout << this->Skin->GetNumberOfPosedOnlyParts()
-                << " skinned in the vertex shader (--cpu-skin re-skins on the CPU)";
+      log << this->Skin->GetNumberOfPosedOnlyParts()
+          << " skinned in the vertex shader (--cpu-skin re-skins on the CPU)";
       for (int i = 0; i < this->Skin->GetNumberOfCPUSkinnedParts(); ++i)
       {
-        std::cout << (i ? ", " : "; on the CPU: ") << this->Skin->GetCPUSkinnedPart(i);
+        log << (i ? ", " : "; on the CPU: ") << this->Skin->GetCPUSkinnedPart(i);
       }
     }
-    std::cout << "\n";
+    log << "\n";
   }
   if (o.Rig.empty() && o.Animation.empty() && o.Capture.empty())
   {
