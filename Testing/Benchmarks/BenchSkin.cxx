@@ -40,6 +40,7 @@
 #include "vtkProperty.h"
 #include "vtkRenderWindow.h"
 #include "vtkRenderer.h"
+#include "vtkRendererCollection.h"
 #include "vtkSmartPointer.h"
 
 #include <benchmark/benchmark.h>
@@ -318,9 +319,15 @@ void DrawnFrame(benchmark::State& state, Drawn mode)
   skinFilter->SetSkinPoints(mode == Drawn::CpuSkin);
   vtkAlgorithm* last = mode == Drawn::MorphOnlyAtRest ? static_cast<vtkAlgorithm*>(morph)
                                                       : static_cast<vtkAlgorithm*>(skinFilter);
-  vtkNew<vtkRenderWindow> window;
+  // One window for every drawn benchmark of the run (VTK 9.1 opens an X connection per
+  // window; opening many in a row now and then fails), a renderer of its own for each.
+  static vtkNew<vtkRenderWindow> window;
   window->SetOffScreenRendering(1);
   window->SetSize(640, 640);
+  while (window->GetRenderers()->GetNumberOfItems() > 0)
+  {
+    window->RemoveRenderer(window->GetRenderers()->GetFirstRenderer());
+  }
   vtkNew<vtkRenderer> renderer;
   window->AddRenderer(renderer);
   // One actor per part; each frame the part's new data set is shallow-copied into the

@@ -35,6 +35,7 @@
 #include "vtkProperty.h"
 #include "vtkRenderWindow.h"
 #include "vtkRenderer.h"
+#include "vtkRendererCollection.h"
 #include "vtkSmartPointer.h"
 #include "vtkUnsignedCharArray.h"
 #include "vtkUnsignedShortArray.h"
@@ -120,16 +121,25 @@ vtkSmartPointer<vtkPolyData> Square(double cx, double cy, int j0, int j1, float 
 
 /// An orthographic view of [-1, 1]^2 (z = 0) in a 200 x 200 window: pixel (px, py) of a
 /// point (x, y) is (100 (x + 1), 100 (y + 1)).
+/// One offscreen window for the whole test program: VTK 9.1 opens an X connection per
+/// window, and opening a dozen in a row now and then fails ("bad X server connection").
+vtkRenderWindow* SharedWindow()
+{
+  static vtkNew<vtkRenderWindow> window;
+  window->SetOffScreenRendering(1);
+  window->SetMultiSamples(0);
+  return window;
+}
+
 struct View
 {
-  vtkNew<vtkRenderWindow> Window;
+  vtkRenderWindow* Window = SharedWindow();
   vtkNew<vtkRenderer> Renderer;
+  int Size[2];
   View(int w = 200, int h = 200)
+    : Size{ w, h }
   {
-    this->Window->SetOffScreenRendering(1);
-    this->Window->SetMultiSamples(0);
-    this->Window->SetSize(w, h);
-    this->Window->AddRenderer(this->Renderer);
+    this->Show();
     this->Renderer->SetBackground(0, 0, 0);
     vtkCamera* camera = this->Renderer->GetActiveCamera();
     camera->ParallelProjectionOn();
@@ -138,6 +148,24 @@ struct View
     camera->SetPosition(0, 0, 5);
     camera->SetViewUp(0, 1, 0);
     this->Renderer->ResetCameraClippingRange(-2, 2, -2, 2, -2, 2);
+  }
+  ~View() { this->Window->RemoveRenderer(this->Renderer); }
+  /// This view's renderer alone in the window, at its size.
+  void Show()
+  {
+    if (this->Window->HasRenderer(this->Renderer) &&
+      this->Window->GetRenderers()->GetNumberOfItems() == 1)
+    {
+      return;
+    }
+    this->Window->GetRenderers()->InitTraversal();
+    while (vtkRenderer* other = this->Window->GetRenderers()->GetNextItem())
+    {
+      this->Window->RemoveRenderer(other);
+      this->Window->GetRenderers()->InitTraversal();
+    }
+    this->Window->SetSize(this->Size[0], this->Size[1]);
+    this->Window->AddRenderer(this->Renderer);
   }
   vtkActor* Add(vtkPolyDataMapper* mapper, vtkPolyData* poly)
   {
@@ -150,6 +178,7 @@ struct View
   /// The window's RGB pixels after a render.
   vtkSmartPointer<vtkImageData> Grab()
   {
+    this->Show();
     this->Window->Render();
     vtkNew<vtkWindowToImageFilter> grab;
     grab->SetInput(this->Window);

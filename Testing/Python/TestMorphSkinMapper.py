@@ -56,12 +56,20 @@ def square(deltas, with_deltas=True):
     return poly
 
 
+# One offscreen window for the whole test: VTK 9.1 opens an X connection per window, and
+# opening many in a row now and then fails ("bad X server connection").
+WINDOW = vtkRenderWindow()
+WINDOW.SetOffScreenRendering(1)
+WINDOW.SetMultiSamples(0)
+
+
 def draw(polys, mapper_class, size=200, camera=None):
     """The polydata drawn (orthographic [-1, 1]^2 unless `camera` sets the view), as a
     function (x, y) -> lit (r + g + b of the pixel at that point), the image and mappers."""
-    window = vtkRenderWindow()
-    window.SetOffScreenRendering(1)
-    window.SetMultiSamples(0)
+    window = WINDOW
+    renderers = window.GetRenderers()
+    while renderers.GetNumberOfItems():
+        window.RemoveRenderer(renderers.GetFirstRenderer())
     window.SetSize(size, size)
     renderer = vtkRenderer()
     window.AddRenderer(renderer)

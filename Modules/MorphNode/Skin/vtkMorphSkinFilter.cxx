@@ -186,7 +186,6 @@ public:
     vtkSmartPointer<vtkDataArray> OutPoints, OutNormals;
     vtkSmartPointer<vtkPointSet> OutLeaf;
     vtkSmartPointer<vtkPoints> OutPointsObject;
-    vtkSmartPointer<vtkFieldData> OutField;
     vtkSmartPointer<vtkDoubleArray> OutPose;
     /// The last frame's input, to tell what can have changed: its arrays and the morph
     /// node's MorphedPointRanges (by address and modification time; never held, so that
@@ -300,36 +299,45 @@ public:
       entry.Execution == this->Execution)
     {
       entry.OutLeaf.TakeReference(leaf->NewInstance());
-      entry.OutField = nullptr;
       entry.OutPose = nullptr;
     }
     entry.Execution = this->Execution;
     entry.OutPointsObject = nullptr; // the CPU path's kept arrays no longer hold a frame
     vtkSmartPointer<vtkPointSet> out = entry.OutLeaf;
-    out->ShallowCopy(leaf);
+    CopyLeaf(out, leaf);
     // The points are the input's: the morph's ranges (MorphedPointRanges) still hold.
-    this->SetField(entry, leaf, angles, roles, false);
-    entry.OutField->AddArray(skin.Deltas);
-    out->SetFieldData(entry.OutField);
+    this->SetField(entry, out, angles, roles, false);
+    out->GetFieldData()->AddArray(skin.Deltas);
     ++self->NumberOfPosedOnlyParts;
     return out;
   }
 
-  /// The output's field data: the input's with SkinPose, without the morph's ranges when
-  /// the points moved (they describe the input's arrays).
-  void SetField(Entry& entry, vtkPointSet* leaf, const morphnode::AvatarBonePose& angles,
+  /// out->ShallowCopy(leaf), into field data only `out` holds: a shallow copy fills the data
+  /// set's own field data object with the input's arrays, and SetField adds to it.
+  static void CopyLeaf(vtkPointSet* out, vtkPointSet* leaf)
+  {
+    if (out->GetFieldData() && out->GetFieldData()->GetReferenceCount() != 1)
+    {
+      out->SetFieldData(vtkSmartPointer<vtkFieldData>::New());
+    }
+    out->ShallowCopy(leaf);
+    if (!out->GetFieldData())
+    {
+      out->SetFieldData(vtkSmartPointer<vtkFieldData>::New());
+    }
+  }
+
+  /// The output's field data (the input's arrays, CopyLeaf) with SkinPose, without the
+  /// morph's ranges when the points moved (they describe the input's arrays).
+  void SetField(Entry& entry, vtkPointSet* out, const morphnode::AvatarBonePose& angles,
     const morphnode::AvatarBoneRoles& roles, bool removeRanges = true)
   {
     auto free = [](vtkObjectBase* o) { return o && o->GetReferenceCount() == 1; };
-    if (!free(entry.OutField))
-    {
-      entry.OutField = vtkSmartPointer<vtkFieldData>::New();
-    }
-    entry.OutField->ShallowCopy(leaf->GetFieldData());
+    vtkFieldData* field = out->GetFieldData();
     if (removeRanges)
     {
-      entry.OutField->RemoveArray(vtkMorphSkinArrays::MorphedRangesArray);
-      entry.OutField->RemoveArray(vtkMorphSkinArrays::MorphedTimeArray);
+      field->RemoveArray(vtkMorphSkinArrays::MorphedRangesArray);
+      field->RemoveArray(vtkMorphSkinArrays::MorphedTimeArray);
     }
     if (!free(entry.OutPose))
     {
@@ -344,7 +352,7 @@ public:
       entry.OutPose->SetValue(k++, v);
     }
     entry.OutPose->Modified();
-    entry.OutField->AddArray(entry.OutPose);
+    field->AddArray(entry.OutPose);
   }
 
   /// The leaf re-skinned at the pose `angles` asks (a new data set sharing all but points and
@@ -438,8 +446,8 @@ public:
     {
       return nullptr; // at rest
     }
-    // The output leaf, its points object, field data and SkinPose array of the last frame,
-    // filled again when nothing else holds them (the output composite let go of them), else
+    // The output leaf (with its field data), its points object and SkinPose array of the last
+    // frame, filled again when nothing else holds them (the output composite let go of them), else
     // new ones.
     auto free = [](vtkObjectBase* o) { return o && o->GetReferenceCount() == 1; };
     if (!free(entry.OutLeaf) || !entry.OutLeaf->IsA(leaf->GetClassName()) ||
@@ -447,11 +455,10 @@ public:
     {
       entry.OutLeaf.TakeReference(leaf->NewInstance());
       entry.OutPointsObject = nullptr;
-      entry.OutField = nullptr;
       entry.OutPose = nullptr;
     }
     vtkSmartPointer<vtkPointSet> out = entry.OutLeaf;
-    out->ShallowCopy(leaf);
+    CopyLeaf(out, leaf);
     vtkDataArray* points = leaf->GetPoints()->GetData();
     vtkDataArray* normals = leaf->GetPointData()->GetNormals();
     if (normals &&
@@ -574,8 +581,7 @@ public:
     {
       out->GetPointData()->SetNormals(newNormals);
     }
-    this->SetField(entry, leaf, angles, roles);
-    out->SetFieldData(entry.OutField);
+    this->SetField(entry, out, angles, roles);
     return out;
   }
 };
