@@ -186,7 +186,6 @@ public:
     vtkSmartPointer<vtkDataArray> OutPoints, OutNormals;
     vtkSmartPointer<vtkPointSet> OutLeaf;
     vtkSmartPointer<vtkPoints> OutPointsObject;
-    vtkSmartPointer<vtkDoubleArray> OutPose;
     /// The last frame's input, to tell what can have changed: its arrays and the morph
     /// node's MorphedPointRanges (by address and modification time; never held, so that
     /// the morph node may write them in place).
@@ -203,6 +202,8 @@ public:
     std::vector<size_t> ChangedInput; ///< this frame's
     bool Valid = false;               ///< the kept arrays hold the last frame
     unsigned long Execution = 0;      ///< the last execution that used the entry
+    std::string Described;            ///< the roles as GetBones says them, for DescribedKey
+    int DescribedKey = -1;
     bool HeadKnown = false;
     bool EyePart = false; ///< every point's largest weight on an eye joint or below it
     double HeadBounds[6] = { 1, -1, 1, -1, 1, -1 }; ///< empty when min > max
@@ -299,14 +300,13 @@ public:
       entry.Execution == this->Execution)
     {
       entry.OutLeaf.TakeReference(leaf->NewInstance());
-      entry.OutPose = nullptr;
     }
     entry.Execution = this->Execution;
     entry.OutPointsObject = nullptr; // the CPU path's kept arrays no longer hold a frame
     vtkSmartPointer<vtkPointSet> out = entry.OutLeaf;
     CopyLeaf(out, leaf);
     // The points are the input's: the morph's ranges (MorphedPointRanges) still hold.
-    this->SetField(entry, out, angles, roles, false);
+    this->SetField(out, angles, roles, false);
     out->GetFieldData()->AddArray(skin.Deltas);
     ++self->NumberOfPosedOnlyParts;
     return out;
@@ -329,31 +329,36 @@ public:
 
   /// The output's field data (the input's arrays, CopyLeaf) with SkinPose, without the
   /// morph's ranges when the points moved (they describe the input's arrays).
-  void SetField(Entry& entry, vtkPointSet* out, const morphnode::AvatarBonePose& angles,
+  void SetField(vtkPointSet* out, const morphnode::AvatarBonePose& angles,
     const morphnode::AvatarBoneRoles& roles, bool removeRanges = true)
   {
-    auto free = [](vtkObjectBase* o) { return o && o->GetReferenceCount() == 1; };
     vtkFieldData* field = out->GetFieldData();
     if (removeRanges)
     {
       field->RemoveArray(vtkMorphSkinArrays::MorphedRangesArray);
       field->RemoveArray(vtkMorphSkinArrays::MorphedTimeArray);
     }
-    if (!free(entry.OutPose))
+    // One SkinPose array per execution (and jaw role), shared by the parts: the angles are
+    // the execution's.
+    const size_t jaw = roles.Jaw >= 0 ? 1 : 0;
+    if (this->PoseExecution[jaw] != this->Execution)
     {
-      entry.OutPose = vtkSmartPointer<vtkDoubleArray>::New();
-      entry.OutPose->SetName("SkinPose");
-      entry.OutPose->SetNumberOfValues(6);
+      vtkNew<vtkDoubleArray> pose;
+      pose->SetName("SkinPose");
+      pose->SetNumberOfValues(6);
+      vtkIdType k = 0;
+      for (double v : { angles.HeadYaw, angles.HeadPitch, angles.HeadRoll, angles.EyeYaw,
+             angles.EyePitch, jaw ? angles.JawOpen : 0.0 })
+      {
+        pose->SetValue(k++, v);
+      }
+      this->Pose[jaw] = pose;
+      this->PoseExecution[jaw] = this->Execution;
     }
-    vtkIdType k = 0;
-    for (double v : { angles.HeadYaw, angles.HeadPitch, angles.HeadRoll, angles.EyeYaw,
-           angles.EyePitch, roles.Jaw >= 0 ? angles.JawOpen : 0.0 })
-    {
-      entry.OutPose->SetValue(k++, v);
-    }
-    entry.OutPose->Modified();
-    field->AddArray(entry.OutPose);
+    field->AddArray(this->Pose[jaw]);
   }
+  vtkSmartPointer<vtkDoubleArray> Pose[2]; ///< SkinPose without and with the jaw joint
+  unsigned long PoseExecution[2] = { 0, 0 };
 
   /// The leaf re-skinned at the pose `angles` asks (a new data set sharing all but points and
   /// normals), nullptr when it is not skinned or stays at rest; updates the filter's report
@@ -410,7 +415,14 @@ public:
     self->JawByBone = self->JawByBone || roles.Jaw >= 0;
     if (self->Bones.empty())
     {
-      self->Bones = roles.Describe(entry.Skin.Bones);
+      // Described once per skin and choice of eyes and jaw.
+      const int key = (self->TurnEyes ? 1 : 0) + (jawAllowed ? 2 : 0);
+      if (entry.DescribedKey != key)
+      {
+        entry.Described = roles.Describe(entry.Skin.Bones);
+        entry.DescribedKey = key;
+      }
+      self->Bones = entry.Described;
     }
     PoseSlot& slot = *entry.Slot;
     if (slot.Execution != this->Execution)
@@ -446,16 +458,14 @@ public:
     {
       return nullptr; // at rest
     }
-    // The output leaf (with its field data), its points object and SkinPose array of the last
-    // frame, filled again when nothing else holds them (the output composite let go of them), else
-    // new ones.
+    // The output leaf (with its field data) and its points object of the last frame, filled
+    // again when nothing else holds them (the output composite let go of them), else new ones.
     auto free = [](vtkObjectBase* o) { return o && o->GetReferenceCount() == 1; };
     if (!free(entry.OutLeaf) || !entry.OutLeaf->IsA(leaf->GetClassName()) ||
       entry.Execution == this->Execution)
     {
       entry.OutLeaf.TakeReference(leaf->NewInstance());
       entry.OutPointsObject = nullptr;
-      entry.OutPose = nullptr;
     }
     vtkSmartPointer<vtkPointSet> out = entry.OutLeaf;
     CopyLeaf(out, leaf);
@@ -581,7 +591,7 @@ public:
     {
       out->GetPointData()->SetNormals(newNormals);
     }
-    this->SetField(entry, out, angles, roles);
+    this->SetField(out, angles, roles);
     return out;
   }
 };
