@@ -11,7 +11,7 @@ from morphnode import (vtkMorphNodeFilter, vtkMorphSkinFilter, vtkMorphSkinMappe
                        vtkMorphTargetReader)
 
 from vtkmodules.vtkCommonCore import vtkFloatArray, vtkIntArray, vtkPoints, vtkUnsignedShortArray
-from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkCompositeDataSet, vtkPolyData
+from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkPolyData
 from vtkmodules.vtkRenderingCore import (vtkActor, vtkPolyDataMapper, vtkRenderWindow,
                                          vtkRenderer, vtkWindowToImageFilter)
 import vtkmodules.vtkRenderingOpenGL2  # noqa: F401 (the OpenGL classes behind the factories)
