@@ -2,8 +2,9 @@
 // vtkMorphSkinMapper: skinning in the vertex shader.
 // - A two-joint bar built by hand: a square blended half and half between a joint that stays
 //   and one moved 0.8 along x is drawn 0.4 to the right (read back pixels), one bound to a
-//   joint turned 90 degrees about z lands where the turn puts it; its normal is turned too
-//   (the lit colour matches the same square moved on the CPU).
+//   joint turned 90 degrees about z lands where the turn puts it (and the mapper's bounds
+//   follow); its normal is turned too (the lit colour matches the same square moved on the
+//   CPU).
 // - The shared MakeHuman avatar, framed on the face, head turned and eyes left: drawn once
 //   re-skinned on the CPU (vtkMorphSkinFilter, plain mappers) and once posed only with this
 //   mapper: the images agree within a tight threshold; the negative control, posed only and
@@ -258,6 +259,19 @@ TEST(MorphSkinMapper, KnownVerticesGoWhereTheirJointsPutThem)
   EXPECT_EQ(Lit(image, -0.23, 0.5), 0);
   EXPECT_GT(Lit(image, -0.01, 0.5), 60);
   EXPECT_EQ(Lit(image, 0.03, 0.5), 0);
+  // The bounds hold where the squares are drawn: the blended one between its joints' images
+  // (x in [-0.6, 0.4]), the turned one where the turn puts it.
+  double bounds[6];
+  blended->GetBounds(bounds);
+  EXPECT_NEAR(bounds[0], -0.6, 1e-6);
+  EXPECT_NEAR(bounds[1], 0.4, 1e-6);
+  EXPECT_NEAR(bounds[2], 0.4, 1e-6);
+  EXPECT_NEAR(bounds[3], 0.6, 1e-6);
+  rigid->GetBounds(bounds);
+  EXPECT_NEAR(bounds[0], 0.4, 1e-6);
+  EXPECT_NEAR(bounds[1], 0.6, 1e-6);
+  EXPECT_NEAR(bounds[2], 0.4, 1e-6);
+  EXPECT_NEAR(bounds[3], 0.6, 1e-6);
 
   // The normal: a joint that tilts the square 60 degrees about y darkens it as the same
   // square tilted on the CPU.

@@ -6,6 +6,7 @@
 #include "vtkDataArray.h"
 #include "vtkFieldData.h"
 #include "vtkFloatArray.h"
+#include "vtkMath.h"
 #include "vtkObjectFactory.h"
 #include "vtkOpenGLHelper.h"
 #include "vtkOpenGLVertexBufferObject.h"
@@ -15,6 +16,7 @@
 #include "vtkShaderProgram.h"
 #include "vtk_glew.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -142,6 +144,89 @@ void vtkMorphSkinMapper::CheckSkin()
   this->NumberOfJoints = static_cast<int>(count);
   this->Deltas = rows->GetPointer(0);
   this->Say(SKIN_GPU, "");
+}
+
+//------------------------------------------------------------------------------
+const std::vector<vtkIdType>& vtkMorphSkinMapper::UsedJoints(
+  vtkDataArray* joints, vtkDataArray* weights, vtkIdType count)
+{
+  std::vector<std::pair<const void*, vtkMTimeType>> key = { { joints, joints->GetMTime() },
+    { weights, weights->GetMTime() }, { nullptr, static_cast<vtkMTimeType>(count) } };
+  if (key == this->UsedKey)
+  {
+    return this->Used;
+  }
+  // Once per influence arrays (the morph node passes the same arrays every frame).
+  std::vector<char> used(static_cast<size_t>(count), 0);
+  for (vtkIdType i = 0; i < joints->GetNumberOfTuples(); ++i)
+  {
+    for (int s = 0; s < 4; ++s)
+    {
+      if (weights->GetComponent(i, s) != 0.0)
+      {
+        // As the shader reads it: rounded, clamped to the skin's joints.
+        const double j = std::round(joints->GetComponent(i, s));
+        used[static_cast<size_t>(std::min<double>(std::max(j, 0.0), double(count - 1)))] = 1;
+      }
+    }
+  }
+  this->Used.clear();
+  for (vtkIdType k = 0; k < count; ++k)
+  {
+    if (used[static_cast<size_t>(k)])
+    {
+      this->Used.push_back(k);
+    }
+  }
+  this->UsedKey = std::move(key);
+  return this->Used;
+}
+
+//------------------------------------------------------------------------------
+void vtkMorphSkinMapper::ComputeBounds()
+{
+  this->Superclass::ComputeBounds();
+  vtkPolyData* poly = this->GetInput();
+  if (!poly || !vtkMath::AreBoundsInitialized(this->Bounds))
+  {
+    return;
+  }
+  auto* rows = vtkFloatArray::SafeDownCast(
+    poly->GetFieldData()->GetArray(vtkMorphSkinArrays::JointDeltasArray));
+  vtkDataArray* joints = poly->GetPointData()->GetArray(vtkMorphSkinArrays::JointsArray);
+  vtkDataArray* weights = poly->GetPointData()->GetArray(vtkMorphSkinArrays::WeightsArray);
+  const vtkIdType n = poly->GetNumberOfPoints();
+  if (!rows || rows->GetNumberOfComponents() != 12 || rows->GetNumberOfTuples() < 1 || !joints ||
+    !weights || joints->GetNumberOfComponents() != 4 || weights->GetNumberOfComponents() != 4 ||
+    joints->GetNumberOfTuples() != n || weights->GetNumberOfTuples() != n)
+  {
+    return; // drawn as given, or not at all (CheckSkin says why)
+  }
+  double b[6] = { VTK_DOUBLE_MAX, VTK_DOUBLE_MIN, VTK_DOUBLE_MAX, VTK_DOUBLE_MIN, VTK_DOUBLE_MAX,
+    VTK_DOUBLE_MIN };
+  const double* rest = this->Bounds;
+  for (vtkIdType k : this->UsedJoints(joints, weights, rows->GetNumberOfTuples()))
+  {
+    const float* d = rows->GetPointer(12 * k);
+    for (int c = 0; c < 8; ++c)
+    {
+      const double p[3] = { rest[c & 1], rest[2 + ((c >> 1) & 1)], rest[4 + ((c >> 2) & 1)] };
+      for (int r = 0; r < 3; ++r)
+      {
+        const double x = d[4 * r] * p[0] + d[4 * r + 1] * p[1] + d[4 * r + 2] * p[2] + d[4 * r + 3];
+        if (!std::isfinite(x))
+        {
+          return; // damaged: nothing is drawn (CheckSkin)
+        }
+        b[2 * r] = std::min(b[2 * r], x);
+        b[2 * r + 1] = std::max(b[2 * r + 1], x);
+      }
+    }
+  }
+  if (b[0] <= b[1])
+  {
+    std::copy(b, b + 6, this->Bounds);
+  }
 }
 
 //------------------------------------------------------------------------------

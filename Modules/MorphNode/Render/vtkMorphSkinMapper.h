@@ -28,7 +28,7 @@
  * Errors and warnings are said once per change of the reason, not every frame.
  *
  * Vertex coordinates are never shifted and scaled (DISABLE_SHIFT_SCALE): the deltas apply
- * to the coordinates as stored. Bounds are the input's (the rest pose).
+ * to the coordinates as stored. Bounds are those of the posed part (ComputeBounds).
  *
  * No ParaView proxy: ParaView draws with its own representations (docs/paraview.md).
  *
@@ -41,8 +41,10 @@
 #include "vtkMorphNodeRenderModule.h" // For export macro
 #include "vtkOpenGLPolyDataMapper.h"
 
-#include <map>    // For std::map
-#include <string> // For std::string
+#include <map>     // For std::map
+#include <string>  // For std::string
+#include <utility> // For std::pair
+#include <vector>  // For std::vector
 
 class VTKMORPHNODERENDER_EXPORT vtkMorphSkinMapper : public vtkOpenGLPolyDataMapper
 {
@@ -83,6 +85,14 @@ protected:
   vtkMorphSkinMapper();
   ~vtkMorphSkinMapper() override;
 
+  /**
+   * The input's bounds, or with valid SkinJointDeltas the bounds of the posed part: the
+   * rest bounds' corners moved by every joint some point has a weight on (a blended point
+   * lies in the convex hull of its joints' images of it), so that culling and the camera's
+   * clipping range see where the part is drawn.
+   */
+  void ComputeBounds() override;
+
   void RenderPieceStart(vtkRenderer* ren, vtkActor* act) override;
   void RenderPieceDraw(vtkRenderer* ren, vtkActor* act) override;
   bool GetNeedToRebuildShaders(vtkOpenGLHelper& cellBO, vtkRenderer* ren, vtkActor* act) override;
@@ -102,6 +112,12 @@ private:
   /// The skin state of the current input (SkinState, NumberOfJoints, Deltas), said once.
   void CheckSkin();
   void Say(int state, const std::string& message);
+
+  /// The joints some point has a weight on (ComputeBounds), for these influence arrays.
+  const std::vector<vtkIdType>& UsedJoints(
+    vtkDataArray* joints, vtkDataArray* weights, vtkIdType count);
+  std::vector<vtkIdType> Used;
+  std::vector<std::pair<const void*, vtkMTimeType>> UsedKey;
 
   const float* Deltas = nullptr; ///< the current input's SkinJointDeltas (rows)
   int UniformJoints = -1;        ///< joints the vertex uniforms take (-1: not asked yet)
