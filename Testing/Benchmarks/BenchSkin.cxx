@@ -12,22 +12,46 @@
 // - VtkGltfReader: VTK 9.1's vtkGLTFReader on a copy of the avatar with the same frame as
 //   a glTF animation (the mesh weights and the Head/Neck/eye rotations), ApplyDeformations
 //   on (its CPU morph and skin), UpdateTimeStep per frame (goal: MorphAndSkin >= 20x faster).
+// - MorphAndPoseOnly: MorphAndSkin with the skin filter posing only (SkinPoints off): the
+//   CPU's share of a frame skinned in the vertex shader (vtkMorphSkinMapper);
+// - MorphOnlyHeld, MorphAndSkinHeld, MorphAndPoseOnlyHeld: the same three with each frame's
+//   parts shallow-copied into kept data sets, as a renderer's inputs hold them: the morph
+//   node (and the skin filter) then write new arrays instead of the last frame's in place;
+//   what a drawn frame's pipeline costs the CPU;
+// - DrawnMorphOnlyAtRest, DrawnMorphAndCpuSkin, DrawnMorphAndGpuSkin: a drawn frame (Update
+//   and an offscreen Render of every part, 640 x 640, framed on the face, GL finished) of
+//   (a) the morph alone at rest, (b) morph + CPU re-skin, (c) morph + pose only + the skin
+//   mapper. They need an X display (xvfb-run -a); the renderer string goes to stderr.
 // Times are per frame (real time, and CPU time of the whole process). The avatar is required;
 // without it the benchmarks skip.
 #include "vtkMorphNodeFilter.h"
 #include "vtkMorphSkinFilter.h"
 #include "vtkMorphTargetReader.h"
 
+#include "vtkMorphSkinMapper.h"
+
+#include "vtkActor.h"
+#include "vtkCamera.h"
+#include "vtkCompositeDataSet.h"
 #include "vtkGLTFReader.h"
 #include "vtkNew.h"
+#include "vtkPolyData.h"
+#include "vtkPolyDataMapper.h"
+#include "vtkProperty.h"
+#include "vtkRenderWindow.h"
+#include "vtkRenderer.h"
+#include "vtkRendererCollection.h"
+#include "vtkSmartPointer.h"
 
 #include <benchmark/benchmark.h>
 #include <nlohmann/json.hpp>
 
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <sstream>
 
 namespace
@@ -179,7 +203,8 @@ std::string AnimatedCopy()
   return out;
 }
 
-void Ours(benchmark::State& state, bool skin, bool headMoves = true)
+void Ours(benchmark::State& state, bool skin, bool headMoves = true, bool poseOnly = false,
+  bool held = false)
 {
   if (!std::filesystem::exists(Avatar))
   {
@@ -194,8 +219,13 @@ void Ours(benchmark::State& state, bool skin, bool headMoves = true)
   morph->SetWeightModeToRelative();
   vtkNew<vtkMorphSkinFilter> skinFilter;
   skinFilter->SetInputConnection(morph->GetOutputPort());
+  skinFilter->SetSkinPoints(!poseOnly);
   vtkAlgorithm* last =
     skin ? static_cast<vtkAlgorithm*>(skinFilter) : static_cast<vtkAlgorithm*>(morph);
+  // held: each frame's parts shallow-copied into kept data sets, as a renderer's inputs
+  // hold them (MorphAvatar's HeadActors): the filters then cannot write the last frame's
+  // arrays in place.
+  std::vector<vtkSmartPointer<vtkPolyData>> kept;
   int f = 0;
   for (auto _ : state)
   {
@@ -206,9 +236,25 @@ void Ours(benchmark::State& state, bool skin, bool headMoves = true)
     skinFilter->SetHeadYaw(headMoves ? HeadYaw(f % Keys) : 10.0);
     skinFilter->SetEyeYaw(EyeYaw(f % Keys));
     last->Update();
+    if (held)
+    {
+      const auto parts = vtkCompositeDataSet::GetDataSets<vtkPolyData>(
+        vtkCompositeDataSet::SafeDownCast(last->GetOutputDataObject(0)));
+      kept.resize(parts.size());
+      for (size_t i = 0; i < parts.size(); ++i)
+      {
+        if (!kept[i])
+        {
+          kept[i] = vtkSmartPointer<vtkPolyData>::New();
+        }
+        kept[i]->ShallowCopy(parts[i]);
+      }
+    }
     ++f;
   }
-  state.SetLabel(skin ? "morph + skin" : "morph only");
+  state.SetLabel(std::string(skin ? (poseOnly ? "morph + pose only (GPU skin)" : "morph + skin")
+                                  : "morph only") +
+    (held ? ", output held" : ""));
 }
 
 void MorphAndSkin(benchmark::State& state)
@@ -222,6 +268,161 @@ void MorphAndSkinHeadStill(benchmark::State& state)
 void MorphOnly(benchmark::State& state)
 {
   Ours(state, false);
+}
+void MorphAndPoseOnly(benchmark::State& state)
+{
+  Ours(state, true, true, true); // the skin filter poses only: a GPU-skinned frame's CPU cost
+}
+// The same three with the output held as a renderer holds it (a drawn frame's CPU share).
+void MorphOnlyHeld(benchmark::State& state)
+{
+  Ours(state, false, true, false, true);
+}
+void MorphAndSkinHeld(benchmark::State& state)
+{
+  Ours(state, true, true, false, true);
+}
+void MorphAndPoseOnlyHeld(benchmark::State& state)
+{
+  Ours(state, true, true, true, true);
+}
+
+enum class Drawn
+{
+  MorphOnlyAtRest, ///< (a) the morph alone, the skeleton at rest, plain mappers
+  CpuSkin,         ///< (b) morph + vtkMorphSkinFilter re-skinning, plain mappers
+  GpuSkin          ///< (c) morph + pose only + vtkMorphSkinMapper
+};
+
+/// A drawn frame: the pipeline's Update and an offscreen Render of every part (one actor
+/// each, as MorphAvatar), framed on the face, 640 x 640, waiting for the GL to finish.
+void DrawnFrame(benchmark::State& state, Drawn mode)
+{
+  if (!std::filesystem::exists(Avatar))
+  {
+    state.SkipWithError(("MakeHuman avatar not found: " + Avatar).c_str());
+    return;
+  }
+  if (!std::getenv("DISPLAY"))
+  {
+    state.SkipWithError("no X display: run under xvfb-run -a");
+    return;
+  }
+  vtkNew<vtkMorphTargetReader> reader;
+  reader->SetFileName(Avatar.c_str());
+  reader->Update();
+  vtkNew<vtkMorphNodeFilter> morph;
+  morph->SetInputConnection(reader->GetOutputPort());
+  morph->SetWeightModeToRelative();
+  vtkNew<vtkMorphSkinFilter> skinFilter;
+  skinFilter->SetInputConnection(morph->GetOutputPort());
+  skinFilter->SetSkinPoints(mode == Drawn::CpuSkin);
+  vtkAlgorithm* last = mode == Drawn::MorphOnlyAtRest ? static_cast<vtkAlgorithm*>(morph)
+                                                      : static_cast<vtkAlgorithm*>(skinFilter);
+  // One window for every drawn benchmark of the run (VTK 9.1 opens an X connection per
+  // window; opening many in a row now and then fails), a renderer of its own for each.
+  static vtkNew<vtkRenderWindow> window;
+  window->SetOffScreenRendering(1);
+  window->SetSize(640, 640);
+  while (window->GetRenderers()->GetNumberOfItems() > 0)
+  {
+    window->RemoveRenderer(window->GetRenderers()->GetFirstRenderer());
+  }
+  vtkNew<vtkRenderer> renderer;
+  window->AddRenderer(renderer);
+  // One actor per part; each frame the part's new data set is shallow-copied into the
+  // mapper's own (as MorphAvatar's HeadActors).
+  std::vector<vtkSmartPointer<vtkPolyData>> shown;
+  auto frame = [&](int f)
+  {
+    for (int a = 0; a < 5; ++a)
+    {
+      morph->SetWeightByName(Animated[a], Weight(a, f % Keys));
+    }
+    skinFilter->SetHeadYaw(HeadYaw(f % Keys));
+    skinFilter->SetEyeYaw(EyeYaw(f % Keys));
+    last->Update();
+    auto* composite = vtkCompositeDataSet::SafeDownCast(last->GetOutputDataObject(0));
+    const auto parts = vtkCompositeDataSet::GetDataSets<vtkPolyData>(composite);
+    for (size_t i = 0; i < parts.size(); ++i)
+    {
+      if (shown.size() <= i)
+      {
+        shown.push_back(vtkSmartPointer<vtkPolyData>::New());
+        vtkSmartPointer<vtkPolyDataMapper> mapper;
+        if (mode == Drawn::GpuSkin)
+        {
+          mapper = vtkSmartPointer<vtkMorphSkinMapper>::New();
+        }
+        else
+        {
+          mapper = vtkSmartPointer<vtkPolyDataMapper>::New();
+        }
+        mapper->ScalarVisibilityOff();
+        mapper->SetInputData(shown.back());
+        vtkNew<vtkActor> actor;
+        actor->SetMapper(mapper);
+        actor->GetProperty()->SetColor(0.86, 0.72, 0.62);
+        renderer->AddActor(actor);
+      }
+      shown[i]->ShallowCopy(parts[i]);
+    }
+    window->Render();
+    window->WaitForCompletion();
+  };
+  frame(0);
+  double b[6];
+  if (mode != Drawn::MorphOnlyAtRest)
+  {
+    skinFilter->GetHeadBounds(b);
+  }
+  else
+  {
+    vtkNew<vtkMorphSkinFilter> bounds; // the head's bounds only
+    bounds->SetInputConnection(reader->GetOutputPort());
+    bounds->Update();
+    bounds->GetHeadBounds(b);
+  }
+  vtkCamera* camera = renderer->GetActiveCamera();
+  const double h = b[3] - b[2];
+  camera->SetFocalPoint((b[0] + b[1]) / 2, (b[2] + b[3]) / 2, (b[4] + b[5]) / 2);
+  camera->SetPosition((b[0] + b[1]) / 2, (b[2] + b[3]) / 2, (b[4] + b[5]) / 2 + 2.6 * h);
+  camera->SetViewAngle(30);
+  renderer->ResetCameraClippingRange();
+  frame(1);
+  static bool said = false;
+  if (!said)
+  {
+    // The renderer string: llvmpipe is Mesa's software rasterizer, its "GPU" the CPU.
+    const std::string caps = window->ReportCapabilities();
+    const size_t at = caps.find("OpenGL renderer string:");
+    std::cerr << "BenchSkin: "
+              << caps.substr(at,
+                   caps.find('\n', at) == std::string::npos ? std::string::npos
+                                                            : caps.find('\n', at) - at)
+              << "\n";
+    said = true;
+  }
+  int f = 2;
+  for (auto _ : state)
+  {
+    frame(f++);
+  }
+  state.SetLabel(mode == Drawn::MorphOnlyAtRest ? "drawn: morph only, at rest"
+      : mode == Drawn::CpuSkin                  ? "drawn: morph + CPU skin"
+                                                : "drawn: morph + pose only + GPU skin");
+}
+void DrawnMorphOnlyAtRest(benchmark::State& state)
+{
+  DrawnFrame(state, Drawn::MorphOnlyAtRest);
+}
+void DrawnMorphAndCpuSkin(benchmark::State& state)
+{
+  DrawnFrame(state, Drawn::CpuSkin);
+}
+void DrawnMorphAndGpuSkin(benchmark::State& state)
+{
+  DrawnFrame(state, Drawn::GpuSkin);
 }
 
 void VtkGltfReader(benchmark::State& state)
@@ -258,5 +459,24 @@ BENCHMARK(MorphAndSkinHeadStill)
   ->UseRealTime()
   ->MeasureProcessCPUTime();
 BENCHMARK(MorphOnly)->Unit(benchmark::kMillisecond)->UseRealTime()->MeasureProcessCPUTime();
+BENCHMARK(MorphAndPoseOnly)->Unit(benchmark::kMillisecond)->UseRealTime()->MeasureProcessCPUTime();
+BENCHMARK(MorphOnlyHeld)->Unit(benchmark::kMillisecond)->UseRealTime()->MeasureProcessCPUTime();
+BENCHMARK(MorphAndSkinHeld)->Unit(benchmark::kMillisecond)->UseRealTime()->MeasureProcessCPUTime();
+BENCHMARK(MorphAndPoseOnlyHeld)
+  ->Unit(benchmark::kMillisecond)
+  ->UseRealTime()
+  ->MeasureProcessCPUTime();
+BENCHMARK(DrawnMorphOnlyAtRest)
+  ->Unit(benchmark::kMillisecond)
+  ->UseRealTime()
+  ->MeasureProcessCPUTime();
+BENCHMARK(DrawnMorphAndCpuSkin)
+  ->Unit(benchmark::kMillisecond)
+  ->UseRealTime()
+  ->MeasureProcessCPUTime();
+BENCHMARK(DrawnMorphAndGpuSkin)
+  ->Unit(benchmark::kMillisecond)
+  ->UseRealTime()
+  ->MeasureProcessCPUTime();
 BENCHMARK(VtkGltfReader)->Unit(benchmark::kMillisecond)->UseRealTime()->MeasureProcessCPUTime();
 BENCHMARK_MAIN();

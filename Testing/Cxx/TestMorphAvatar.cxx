@@ -729,6 +729,36 @@ TEST(MorphAvatar, ContentErrorsReadAsProgramLines)
   }
 }
 
+// The skinned avatar in MorphAvatar: by default the skin filter poses only and every part is
+// skinned in the vertex shader (vtkMorphSkinMapper); --cpu-skin re-skins on the CPU. The
+// greeting's frame at 1.33 s (the head turned to the user, eyes and mouth moving) must be
+// the same picture both ways (the threshold of the frame tests above); the control: the
+// frame at 0.5 s differs from it.
+TEST(MorphAvatar, SkinnedAvatarOnTheGpuLooksAsOnTheCpu)
+{
+  const std::string avatar = std::string(MORPHNODE_AVATAR_DIR) + "/makehuman_avatar.glb";
+  if (!vtksys::SystemTools::FileExists(avatar, true))
+  {
+    GTEST_SKIP() << "MakeHuman avatar not found: " << avatar;
+  }
+  const std::string frame = "--face '" + avatar + "' --script '" + Source +
+    "/Data/scripts/greeting.txt' --seed 2004 --size 320x320 ";
+  const std::string cpu = Output + "/MorphAvatarSkinCpu.png";
+  AvatarRun run = RunAvatar(frame + "--at 1.33 --cpu-skin --png '" + cpu + "'");
+  ASSERT_EQ(run.ExitCode, 0) << run.Text;
+  EXPECT_NE(run.Text.find("skin: 7 parts, re-skinned on the CPU"), std::string::npos) << run.Text;
+  run = RunAvatar(frame + "--at 1.33 --png '" + Output + "/MorphAvatarSkinGpu.png' --compare '" +
+    cpu + "' --compare-threshold 0.5");
+  EXPECT_EQ(run.ExitCode, 0) << run.Text;
+  EXPECT_NE(run.Text.find("skin: 7 parts, 7 skinned in the vertex shader"), std::string::npos)
+    << run.Text;
+  EXPECT_NE(run.Text.find("matches"), std::string::npos) << run.Text;
+  run = RunAvatar(frame + "--at 0.5 --quiet --png '" + Output +
+    "/MorphAvatarSkinGpuOther.png' --compare '" + cpu + "' --compare-threshold 0.5");
+  EXPECT_EQ(run.ExitCode, 1) << run.Text;
+  EXPECT_NE(run.Text.find("differs from"), std::string::npos) << run.Text;
+}
+
 // --gltf writes the face's own materials and images back (vtkMorphTargetReader's
 // MaterialIndex/MaterialSource, vtkMorphGltfWriter): the MakeHuman avatar's export re-read by
 // the core loader has the source's materials, in the same order on the same parts, and every

@@ -19,6 +19,7 @@
 #include "vtkDataArray.h"
 #include "vtkExecutive.h"
 #include "vtkFieldData.h"
+#include "vtkFloatArray.h"
 #include "vtkInformation.h"
 #include "vtkNew.h"
 #include "vtkPointData.h"
@@ -533,6 +534,149 @@ TEST(MorphSkinFilter, SkinnedQuadAndDamagedSkins)
   std::ostringstream os;
   skin->Print(os);
   EXPECT_NE(os.str().find("NeckShare: 0.4"), std::string::npos);
+}
+
+/// The parts' points and normals, copied.
+std::map<std::string, std::pair<std::vector<double>, std::vector<double>>> Copy(
+  const std::map<std::string, vtkSmartPointer<vtkPolyData>>& parts)
+{
+  std::map<std::string, std::pair<std::vector<double>, std::vector<double>>> out;
+  for (const auto& [name, poly] : parts)
+  {
+    for (vtkIdType i = 0; i < poly->GetNumberOfPoints(); ++i)
+    {
+      double q[3], n[3];
+      poly->GetPoint(i, q);
+      poly->GetPointData()->GetNormals()->GetTuple(i, n);
+      out[name].first.insert(out[name].first.end(), q, q + 3);
+      out[name].second.insert(out[name].second.end(), n, n + 3);
+    }
+  }
+  return out;
+}
+
+// Pose only (SkinPoints off): the skeleton is posed as before (every report the same) but no
+// point moves: each part passes the morph's arrays on (the same objects) with
+// SkinJointDeltas; blending those per point as a renderer does (linear blend skinning of the
+// first four influences, normals by the cofactor) gives the CPU's re-skin. Turned on again,
+// the filter re-skins as before. The skinned quad (two sets of influences) is re-skinned on
+// the CPU all the same, and reported.
+TEST(MorphSkinFilter, PoseOnlyKeepsThePointsAndItsDeltasGiveTheCpuSkin)
+{
+  SKIP_WITHOUT_AVATAR();
+  Pipeline p;
+  p.Morph->SetWeightByName("jawOpen", 0.6);
+  p.Skin->SetHeadYaw(25);
+  p.Skin->SetHeadPitch(-8);
+  p.Skin->SetEyeYaw(20);
+  p.Skin->SetRelaxArms(true);
+  const auto cpu = Copy(p.Run());
+  const std::string bones = p.Skin->GetBones();
+  double headBounds[6];
+  ASSERT_TRUE(p.Skin->GetHeadBounds(headBounds));
+  const int eyeParts = p.Skin->GetNumberOfEyeParts();
+  EXPECT_GT(p.Skin->GetNumberOfReskinnedPoints(), 0);
+
+  p.Skin->SkinPointsOff();
+  const auto posed = p.Run();
+  EXPECT_EQ(p.Skin->GetNumberOfSkinnedParts(), 7);
+  EXPECT_EQ(p.Skin->GetNumberOfPosedOnlyParts(), 7);
+  EXPECT_EQ(p.Skin->GetNumberOfCPUSkinnedParts(), 0);
+  EXPECT_EQ(p.Skin->GetNumberOfReskinnedPoints(), 0);
+  EXPECT_EQ(p.Skin->GetBones(), bones);
+  EXPECT_EQ(p.Skin->GetNumberOfEyeParts(), eyeParts);
+  double b[6];
+  ASSERT_TRUE(p.Skin->GetHeadBounds(b));
+  for (int k = 0; k < 6; ++k)
+  {
+    EXPECT_EQ(b[k], headBounds[k]);
+  }
+  const auto morphed = Parts(p.Morph->GetOutputDataObject(0));
+  ASSERT_EQ(posed.size(), 7u);
+  for (const auto& [name, poly] : posed)
+  {
+    SCOPED_TRACE(name);
+    // The morph's arrays, shared.
+    EXPECT_EQ(poly->GetPoints()->GetData(), morphed.at(name)->GetPoints()->GetData());
+    EXPECT_EQ(poly->GetPointData()->GetNormals(), morphed.at(name)->GetPointData()->GetNormals());
+    EXPECT_EQ(poly->GetFieldData()->GetArray("SkinPose")->GetComponent(0, 0), 25.0);
+    auto* deltas = vtkFloatArray::SafeDownCast(poly->GetFieldData()->GetArray("SkinJointDeltas"));
+    ASSERT_NE(deltas, nullptr);
+    ASSERT_EQ(deltas->GetNumberOfComponents(), 12);
+    ASSERT_EQ(deltas->GetNumberOfTuples(),
+      poly->GetFieldData()->GetArray("SkinJointIndices")->GetNumberOfTuples());
+    auto* joints = poly->GetPointData()->GetArray("SkinJoints");
+    auto* weights = poly->GetPointData()->GetArray("SkinWeights");
+    ASSERT_EQ(joints->GetNumberOfComponents(), 4);
+    const auto& [cpuPoints, cpuNormals] = cpu.at(name);
+    double worst = 0.0, worstNormal = 0.0;
+    for (vtkIdType i = 0; i < poly->GetNumberOfPoints(); ++i)
+    {
+      double m[12] = { 0 };
+      for (int k = 0; k < 4; ++k)
+      {
+        const double w = weights->GetComponent(i, k);
+        const auto j = static_cast<vtkIdType>(joints->GetComponent(i, k));
+        for (int e = 0; w != 0.0 && e < 12; ++e)
+        {
+          m[e] += w * deltas->GetComponent(j, e);
+        }
+      }
+      double q[3], n[3];
+      poly->GetPoint(i, q);
+      poly->GetPointData()->GetNormals()->GetTuple(i, n);
+      // Rows: m[4 r + c]; the cofactor's rows are the cross products of M's rows.
+      const Vec3 r0{ m[0], m[1], m[2] }, r1{ m[4], m[5], m[6] }, r2{ m[8], m[9], m[10] };
+      auto cross = [](const Vec3& a, const Vec3& c) {
+        return Vec3{ a[1] * c[2] - a[2] * c[1], a[2] * c[0] - a[0] * c[2],
+          a[0] * c[1] - a[1] * c[0] };
+      };
+      const Vec3 c0 = cross(r1, r2), c1 = cross(r2, r0), c2 = cross(r0, r1);
+      const Vec3 nn{ c0[0] * n[0] + c0[1] * n[1] + c0[2] * n[2],
+        c1[0] * n[0] + c1[1] * n[1] + c1[2] * n[2], c2[0] * n[0] + c2[1] * n[1] + c2[2] * n[2] };
+      const double len = std::sqrt(nn[0] * nn[0] + nn[1] * nn[1] + nn[2] * nn[2]);
+      for (int r = 0; r < 3; ++r)
+      {
+        const double x = m[4 * r] * q[0] + m[4 * r + 1] * q[1] + m[4 * r + 2] * q[2] + m[4 * r + 3];
+        worst = std::max(worst, std::abs(x - cpuPoints[static_cast<size_t>(3 * i + r)]));
+        worstNormal =
+          std::max(worstNormal, std::abs(nn[r] / len - cpuNormals[static_cast<size_t>(3 * i + r)]));
+      }
+    }
+    EXPECT_LT(worst, 2e-6);
+    EXPECT_LT(worstNormal, 1e-4);
+  }
+  // Points skinned again, as before.
+  p.Skin->SkinPointsOn();
+  const auto again = Copy(p.Run());
+  EXPECT_EQ(p.Skin->GetNumberOfPosedOnlyParts(), 0);
+  for (const auto& [name, arrays] : cpu)
+  {
+    EXPECT_EQ(again.at(name).first, arrays.first) << name;
+  }
+  EXPECT_EQ(
+    Parts(p.Skin->GetOutputDataObject(0)).at("Body")->GetFieldData()->GetArray("SkinJointDeltas"),
+    nullptr);
+
+  // Two sets of influences: re-skinned on the CPU, and said.
+  const std::string file = std::string(MORPHNODE_TEST_OUTPUT_DIR) + "/skin_filter_quad_pose.glb";
+  std::filesystem::create_directories(MORPHNODE_TEST_OUTPUT_DIR);
+  std::ofstream(file, std::ios::binary) << gltftest::SkinnedQuad().Glb();
+  vtkNew<vtkMorphTargetReader> reader;
+  reader->SetFileName(file.c_str());
+  vtkNew<vtkMorphSkinFilter> skin;
+  skin->SetInputConnection(reader->GetOutputPort());
+  skin->SkinPointsOff();
+  ASSERT_EQ(skin->GetExecutive()->Update(), 1);
+  EXPECT_EQ(skin->GetNumberOfPosedOnlyParts(), 0);
+  ASSERT_EQ(skin->GetNumberOfCPUSkinnedParts(), 1);
+  EXPECT_STREQ(skin->GetCPUSkinnedPart(0), "Mesh"); // the part (node) name
+  EXPECT_EQ(skin->GetCPUSkinnedPart(1), nullptr);
+  auto quad = Parts(skin->GetOutputDataObject(0));
+  EXPECT_EQ(quad.begin()->second->GetFieldData()->GetArray("SkinJointDeltas"), nullptr);
+  std::ostringstream os;
+  skin->Print(os);
+  EXPECT_NE(os.str().find("CPUSkinnedParts: Mesh"), std::string::npos) << os.str();
 }
 
 // The jaw joint: the avatar has a Jaw joint AND a jawOpen target, so by default (JAW_AUTO)

@@ -2,6 +2,7 @@
 #include "HeadActors.h"
 
 #include "vtkMorphPartData.h"
+#include "vtkMorphSkinMapper.h"
 
 #include "vtkActor.h"
 #include "vtkCamera.h"
@@ -316,7 +317,7 @@ bool ApplyMaterial(
 struct HeadActors::Part
 {
   vtkNew<vtkPolyData> Display;
-  vtkNew<vtkPolyDataMapper> Mapper;
+  vtkSmartPointer<vtkPolyDataMapper> Mapper; ///< plain, or vtkMorphSkinMapper (SkinOnGpu)
   vtkNew<vtkActor> Actor;
   vtkSmartPointer<vtkUnsignedCharArray> Colors; // COLOR_0 x BaseColor, or null
   vtkSmartPointer<vtkDataArray> Tangents;       // for a normal texture (PartTangents), or null
@@ -448,6 +449,9 @@ bool HeadActors::Build(vtkDataObject* head, vtkRenderer* renderer, vtkLinearTran
   for (vtkPolyData* input : parts)
   {
     auto part = std::make_unique<Part>();
+    part->Mapper = this->SkinOnGpu
+      ? vtkSmartPointer<vtkPolyDataMapper>(vtkSmartPointer<vtkMorphSkinMapper>::New())
+      : vtkSmartPointer<vtkPolyDataMapper>::New();
     const std::array<double, 4> color = PartColor(input);
     part->Colors = PointColors(input, color);
     part->Color = color;

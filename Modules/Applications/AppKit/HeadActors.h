@@ -72,6 +72,12 @@ public:
   /// range in `range`; false when no part has the array.
   bool ColorBy(const std::string& array, vtkScalarsToColors* lut, double range[2]);
 
+  /// Draw with vtkMorphSkinMapper (skinning in the vertex shader; parts without the skin
+  /// filter's SkinJointDeltas are drawn as given), for a vtkMorphSkinFilter that poses
+  /// only (SkinPoints off). Default off: plain mappers. Set before Build.
+  void SetSkinOnGpu(bool on) { this->SkinOnGpu = on; }
+  bool GetSkinOnGpu() const { return this->SkinOnGpu; }
+
   int GetNumberOfParts() const { return static_cast<int>(this->Parts.size()); }
   vtkActor* GetActor(int part) const;
   /// The part's name (field data PartName), or "part <i>".
@@ -98,6 +104,7 @@ private:
 
   struct Part;
   std::vector<std::unique_ptr<Part>> Parts;
+  bool SkinOnGpu = false;
 };
 } // namespace appkit
 } // namespace morphnode

@@ -241,6 +241,10 @@ bool Avatar::SetUpFace()
   // A skinned avatar: its bones follow the head pose and gaze (docs/avatars.md).
   this->Skin->SetTurnEyes(o.Gaze != "targets");
   this->Skin->SetRelaxArms(o.Pose == "relaxed");
+  // Drawn skinned in the vertex shader: the skin filter poses only (the points stay), unless
+  // asked otherwise or the points are written (--pvd; --gltf writes its own skin).
+  this->Skin->SetSkinPoints(o.CpuSkin || !o.Pvd.empty());
+  this->Head.SetSkinOnGpu(!this->Skin->GetSkinPoints());
   this->Reader->Update();
   if (!appkit::HeadBounds(this->Reader->GetOutputDataObject(0), this->Bounds))
   {
@@ -268,6 +272,28 @@ bool Avatar::SetUpFace()
     return false;
   }
   this->FrameView();
+  if (!o.Quiet && this->Skin->GetNumberOfSkinnedParts() > 0 && (o.Gltf.empty() || o.Offscreen))
+  {
+    // Where the skin is computed (docs/avatars.md, "Skinned on the GPU"); not said for
+    // --gltf alone, which draws nothing. With commands on stdin, stdout carries only their
+    // events.
+    std::ostream& log = o.CommandsStdin ? std::cerr : std::cout;
+    log << "MorphAvatar: skin: " << this->Skin->GetNumberOfSkinnedParts() << " parts, ";
+    if (this->Skin->GetSkinPoints())
+    {
+      log << "re-skinned on the CPU" << (o.CpuSkin ? "" : " (--pvd writes posed points)");
+    }
+    else
+    {
+      log << this->Skin->GetNumberOfPosedOnlyParts()
+          << " skinned in the vertex shader (--cpu-skin re-skins on the CPU)";
+      for (int i = 0; i < this->Skin->GetNumberOfCPUSkinnedParts(); ++i)
+      {
+        log << (i ? ", " : "; on the CPU: ") << this->Skin->GetCPUSkinnedPart(i);
+      }
+    }
+    log << "\n";
+  }
   if (o.Rig.empty() && o.Animation.empty() && o.Capture.empty())
   {
     // Without a rig the channels must name the face's targets.

@@ -290,6 +290,12 @@ Options ParseOptions(int argc, char* argv[])
     ->type_name("FILE")
     ->group(output);
   app
+    .add_flag("--cpu-skin", o.CpuSkin,
+      "a skinned avatar re-skinned on the CPU every frame (vtkMorphSkinFilter); by default the "
+      "window and frames skin it in the vertex shader (vtkMorphSkinMapper, docs/avatars.md). "
+      "--pvd always re-skins on the CPU (it writes the posed points)")
+    ->group(output);
+  app
     .add_option("--pvd", o.Pvd,
       "write the morphed head of every frame as a ParaView time series: FILE.pvd and "
       "FILE/face_00000.vtm ... (every part a block; one mesh: .vtp), with distance arrays "

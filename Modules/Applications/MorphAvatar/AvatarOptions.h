@@ -45,6 +45,7 @@ struct Options
   bool Offscreen = false;
   std::string FramesDir;
   std::string Video;
+  bool CpuSkin = false;      // skinned parts re-skinned on the CPU, not in the vertex shader
   std::string Pvd;           // a ParaView time series: FILE.pvd + FILE/face_*.vtp
   std::string Gltf;          // the performance as glTF: FILE.glb/.gltf and FILE.wav
   bool GltfOptimized = true; // --gltf-weights optimized (else raw)

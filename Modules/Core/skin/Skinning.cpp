@@ -218,6 +218,7 @@ RestSkin::RestSkin(
                  this->Rest[static_cast<size_t>(j)], this->Rest[static_cast<size_t>(first)]))
       {
         this->SharedRest[i] = 0;
+        this->AllShared = false;
       }
     }
     const glm::dmat4 b = BlendedMatrix(this->Influences, this->Rest, i);

@@ -117,6 +117,16 @@ public:
   };
   const std::vector<SkinRun>& GetRuns() const { return this->Runs; }
 
+  /// The per-joint products of the last SetPose (of the rest before the first), 12 floats
+  /// per joint of the skin: the 3x4 of J_k(pose) J_k(rest)^-1, column-major (column c, row r
+  /// at 3 c + r). Joints no point follows keep their rest product (identity). Where every
+  /// point's joints share one rest matrix (AllSharedRest), re-skinning a point is plain
+  /// linear blend skinning with these: sum_k w_k Delta_k, applied to the point and, by its
+  /// cofactor, to the normal, renormalized; what a renderer does per vertex.
+  const std::vector<float>& GetDeltas() const { return this->Delta; }
+  /// True when the joints of every point share one rest matrix (GetDeltas suffice).
+  bool AllSharedRest() const { return this->AllShared; }
+
   /// Re-skins points [begin, end) for the pose of the last SetPose. `normals`/`outNormals`
   /// may be null. In and out may be the same arrays.
   template <typename T>
@@ -161,6 +171,7 @@ private:
   std::vector<glm::dmat4> RestJointInverse; ///< per joint: J(rest)^-1, formed once
   std::vector<double> RestInverse;          ///< 12 per point: the 3x4 of B_v(rest)^-1, column-major
   std::vector<char> SharedRest;             ///< per point: its joints share one rest matrix
+  bool AllShared = true;                    ///< every point's SharedRest
   std::vector<float> Delta;                 ///< 12 per joint: J(pose) J(rest)^-1, column-major 3x4
   std::vector<glm::dmat4> Pose;
   std::vector<char> Moved;        ///< per joint

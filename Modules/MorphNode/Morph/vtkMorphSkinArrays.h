@@ -29,6 +29,17 @@
  * modification times of the points and normals arrays the morph node wrote): the ranges hold
  * only for those arrays (not after a filter that moved the points in between).
  *
+ * vtkMorphSkinFilter's "pose only" output (SkinPoints off) of a skinned part keeps the points
+ * (rest pose, morphed) and adds field data `SkinJointDeltas` (vtkFloatArray, 12 components,
+ * one tuple per joint of the skin, in SkinJointIndices' order): the 3x4 of
+ * J_k(pose) J_k(rest)^-1 by rows (row 0, row 1, row 2, each x y z translation), the products
+ * morphnode::RestSkin forms. A renderer skins each point as linear blend skinning does:
+ * M = sum_k w_k Delta_k over the point's first four SkinJoints/SkinWeights, p' = M p, the
+ * normal by M's cofactor, renormalized. It holds only where the joints of every point share
+ * one rest matrix (RestSkin::AllSharedRest) and a point has at most four influences; the
+ * filter re-skins other parts itself. vtkMorphSkinMapper draws it. (This output keeps the
+ * morph's MorphedPointRanges: its points are the input's.)
+ *
  * Functions throw morphnode::InputError for bad input; callers turn that into vtkErrorMacro.
  */
 
@@ -61,6 +72,7 @@ constexpr const char* HumanoidBonesArray = "HumanoidBones";
 constexpr const char* LookAtRangeMapsArray = "LookAtRangeMaps";
 constexpr const char* MorphedRangesArray = "MorphedPointRanges";
 constexpr const char* MorphedTimeArray = "MorphedArraysTime";
+constexpr const char* JointDeltasArray = "SkinJointDeltas";
 
 /// True when the data set carries `SkinWeights`.
 bool IsSkinned(vtkDataSet* data);

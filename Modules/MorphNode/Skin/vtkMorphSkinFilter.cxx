@@ -109,6 +109,11 @@ struct PoseSlot
     morphnode::SkinJoints Joints;
     unsigned long Execution = 0;
     std::vector<glm::dmat4> Matrices;
+    /// Pose only: SkinJointDeltas at World, formed once per execution and shared by the
+    /// parts of this skin (the same joints, inverse binds and skeleton rest: the same
+    /// products).
+    unsigned long DeltasExecution = 0;
+    vtkSmartPointer<vtkFloatArray> Deltas;
   };
   std::vector<SkinMatrices> Skins;
 
@@ -123,7 +128,7 @@ struct PoseSlot
         return k;
       }
     }
-    this->Skins.push_back(SkinMatrices{ joints, 0, {} });
+    this->Skins.push_back(SkinMatrices{ joints, 0, {}, 0, nullptr });
     return this->Skins.size() - 1;
   }
   /// The joint matrices of skin k at this execution's World.
@@ -181,8 +186,6 @@ public:
     vtkSmartPointer<vtkDataArray> OutPoints, OutNormals;
     vtkSmartPointer<vtkPointSet> OutLeaf;
     vtkSmartPointer<vtkPoints> OutPointsObject;
-    vtkSmartPointer<vtkFieldData> OutField;
-    vtkSmartPointer<vtkDoubleArray> OutPose;
     /// The last frame's input, to tell what can have changed: its arrays and the morph
     /// node's MorphedPointRanges (by address and modification time; never held, so that
     /// the morph node may write them in place).
@@ -199,6 +202,8 @@ public:
     std::vector<size_t> ChangedInput; ///< this frame's
     bool Valid = false;               ///< the kept arrays hold the last frame
     unsigned long Execution = 0;      ///< the last execution that used the entry
+    std::string Described;            ///< the roles as GetBones says them, for DescribedKey
+    int DescribedKey = -1;
     bool HeadKnown = false;
     bool EyePart = false; ///< every point's largest weight on an eye joint or below it
     double HeadBounds[6] = { 1, -1, 1, -1, 1, -1 }; ///< empty when min > max
@@ -248,6 +253,112 @@ public:
     entry.SlotSkin = entry.Slot->FindSkin(entry.Skin.Joints);
     return this->Cache[weights] = std::move(entry);
   }
+
+  /// The leaf posed only (SkinPoints off): a new data set sharing everything with the input
+  /// (points, normals, arrays), whose field data adds SkinJointDeltas (the skin's per-joint
+  /// products of this pose) and SkinPose. No per-point work.
+  vtkSmartPointer<vtkPointSet> PoseOnly(vtkMorphSkinFilter* self, Entry& entry, vtkPointSet* leaf,
+    const std::string& what, PoseSlot& slot, const morphnode::AvatarBonePose& angles,
+    const morphnode::AvatarBoneRoles& roles)
+  {
+    const size_t n = static_cast<size_t>(leaf->GetNumberOfPoints());
+    if (entry.Rest.GetNumberOfPoints() != n)
+    {
+      throw morphnode::InputError(what + ": the skin has " +
+        std::to_string(entry.Rest.GetNumberOfPoints()) + " points, the part " + std::to_string(n));
+    }
+    PoseSlot::SkinMatrices& skin = slot.Skins[entry.SlotSkin];
+    if (skin.DeltasExecution != this->Execution)
+    {
+      // Once per skin and execution: the products of the first part's RestSkin (every part
+      // of this skin has the same rest matrices). A new array: the last frame's may still be
+      // drawn or held downstream.
+      entry.Rest.SetPose(slot.Matrices(entry.SlotSkin));
+      skin.Deltas = vtkSmartPointer<vtkFloatArray>::New();
+      skin.Deltas->SetName(vtkMorphSkinArrays::JointDeltasArray);
+      skin.Deltas->SetNumberOfComponents(12);
+      // The core's products are column-major 3x4; the convention's are the three rows (what
+      // a shader takes as three vec4).
+      const std::vector<float>& deltas = entry.Rest.GetDeltas();
+      const size_t joints = entry.Rest.GetNumberOfJoints();
+      skin.Deltas->SetNumberOfTuples(static_cast<vtkIdType>(joints));
+      float* d = skin.Deltas->GetPointer(0);
+      for (size_t k = 0; k < joints; ++k)
+      {
+        for (size_t r = 0; r < 3; ++r)
+        {
+          for (size_t c = 0; c < 4; ++c)
+          {
+            d[12 * k + 4 * r + c] = deltas[12 * k + 3 * c + r];
+          }
+        }
+      }
+      skin.DeltasExecution = this->Execution;
+    }
+    auto free = [](vtkObjectBase* o) { return o && o->GetReferenceCount() == 1; };
+    if (!free(entry.OutLeaf) || !entry.OutLeaf->IsA(leaf->GetClassName()) ||
+      entry.Execution == this->Execution)
+    {
+      entry.OutLeaf.TakeReference(leaf->NewInstance());
+    }
+    entry.Execution = this->Execution;
+    entry.OutPointsObject = nullptr; // the CPU path's kept arrays no longer hold a frame
+    vtkSmartPointer<vtkPointSet> out = entry.OutLeaf;
+    CopyLeaf(out, leaf);
+    // The points are the input's: the morph's ranges (MorphedPointRanges) still hold.
+    this->SetField(out, angles, roles, false);
+    out->GetFieldData()->AddArray(skin.Deltas);
+    ++self->NumberOfPosedOnlyParts;
+    return out;
+  }
+
+  /// out->ShallowCopy(leaf), into field data only `out` holds: a shallow copy fills the data
+  /// set's own field data object with the input's arrays, and SetField adds to it.
+  static void CopyLeaf(vtkPointSet* out, vtkPointSet* leaf)
+  {
+    if (out->GetFieldData() && out->GetFieldData()->GetReferenceCount() != 1)
+    {
+      out->SetFieldData(vtkSmartPointer<vtkFieldData>::New());
+    }
+    out->ShallowCopy(leaf);
+    if (!out->GetFieldData())
+    {
+      out->SetFieldData(vtkSmartPointer<vtkFieldData>::New());
+    }
+  }
+
+  /// The output's field data (the input's arrays, CopyLeaf) with SkinPose, without the
+  /// morph's ranges when the points moved (they describe the input's arrays).
+  void SetField(vtkPointSet* out, const morphnode::AvatarBonePose& angles,
+    const morphnode::AvatarBoneRoles& roles, bool removeRanges = true)
+  {
+    vtkFieldData* field = out->GetFieldData();
+    if (removeRanges)
+    {
+      field->RemoveArray(vtkMorphSkinArrays::MorphedRangesArray);
+      field->RemoveArray(vtkMorphSkinArrays::MorphedTimeArray);
+    }
+    // One SkinPose array per execution (and jaw role), shared by the parts: the angles are
+    // the execution's.
+    const size_t jaw = roles.Jaw >= 0 ? 1 : 0;
+    if (this->PoseExecution[jaw] != this->Execution)
+    {
+      vtkNew<vtkDoubleArray> pose;
+      pose->SetName("SkinPose");
+      pose->SetNumberOfValues(6);
+      vtkIdType k = 0;
+      for (double v : { angles.HeadYaw, angles.HeadPitch, angles.HeadRoll, angles.EyeYaw,
+             angles.EyePitch, jaw ? angles.JawOpen : 0.0 })
+      {
+        pose->SetValue(k++, v);
+      }
+      this->Pose[jaw] = pose;
+      this->PoseExecution[jaw] = this->Execution;
+    }
+    field->AddArray(this->Pose[jaw]);
+  }
+  vtkSmartPointer<vtkDoubleArray> Pose[2]; ///< SkinPose without and with the jaw joint
+  unsigned long PoseExecution[2] = { 0, 0 };
 
   /// The leaf re-skinned at the pose `angles` asks (a new data set sharing all but points and
   /// normals), nullptr when it is not skinned or stays at rest; updates the filter's report
@@ -304,7 +415,14 @@ public:
     self->JawByBone = self->JawByBone || roles.Jaw >= 0;
     if (self->Bones.empty())
     {
-      self->Bones = roles.Describe(entry.Skin.Bones);
+      // Described once per skin and choice of eyes and jaw.
+      const int key = (self->TurnEyes ? 1 : 0) + (jawAllowed ? 2 : 0);
+      if (entry.DescribedKey != key)
+      {
+        entry.Described = roles.Describe(entry.Skin.Bones);
+        entry.DescribedKey = key;
+      }
+      self->Bones = entry.Described;
     }
     PoseSlot& slot = *entry.Slot;
     if (slot.Execution != this->Execution)
@@ -320,24 +438,37 @@ public:
     ++self->NumberOfSkinnedParts;
     const bool wasValid = entry.Valid;
     entry.Valid = false; // the pose moves on: the kept arrays hold this frame only when written
+    if (!self->SkinPoints)
+    {
+      // Pose only where a renderer can skin: one rest matrix per point's joints (the deltas
+      // suffice) and one set of four influences; else re-skinned here as with SkinPoints.
+      if (entry.Rest.AllSharedRest() && entry.Skin.Influences.PerPoint == 4)
+      {
+        return this->PoseOnly(self, entry, leaf, what, slot, angles, roles);
+      }
+      std::string name = vtkMorphPartData::GetPartName(leaf->GetFieldData(), partName);
+      name = name.empty() ? what : name;
+      if (std::find(self->CPUSkinnedParts.begin(), self->CPUSkinnedParts.end(), name) ==
+        self->CPUSkinnedParts.end())
+      {
+        self->CPUSkinnedParts.push_back(name);
+      }
+    }
     if (!entry.Rest.SetPose(slot.Matrices(entry.SlotSkin)))
     {
       return nullptr; // at rest
     }
-    // The output leaf, its points object, field data and SkinPose array of the last frame,
-    // filled again when nothing else holds them (the output composite let go of them), else
-    // new ones.
+    // The output leaf (with its field data) and its points object of the last frame, filled
+    // again when nothing else holds them (the output composite let go of them), else new ones.
     auto free = [](vtkObjectBase* o) { return o && o->GetReferenceCount() == 1; };
     if (!free(entry.OutLeaf) || !entry.OutLeaf->IsA(leaf->GetClassName()) ||
       entry.Execution == this->Execution)
     {
       entry.OutLeaf.TakeReference(leaf->NewInstance());
       entry.OutPointsObject = nullptr;
-      entry.OutField = nullptr;
-      entry.OutPose = nullptr;
     }
     vtkSmartPointer<vtkPointSet> out = entry.OutLeaf;
-    out->ShallowCopy(leaf);
+    CopyLeaf(out, leaf);
     vtkDataArray* points = leaf->GetPoints()->GetData();
     vtkDataArray* normals = leaf->GetPointData()->GetNormals();
     if (normals &&
@@ -460,29 +591,7 @@ public:
     {
       out->GetPointData()->SetNormals(newNormals);
     }
-    if (!free(entry.OutField))
-    {
-      entry.OutField = vtkSmartPointer<vtkFieldData>::New();
-    }
-    entry.OutField->ShallowCopy(leaf->GetFieldData());
-    // The morph's ranges describe the input, not this output.
-    entry.OutField->RemoveArray(vtkMorphSkinArrays::MorphedRangesArray);
-    entry.OutField->RemoveArray(vtkMorphSkinArrays::MorphedTimeArray);
-    if (!free(entry.OutPose))
-    {
-      entry.OutPose = vtkSmartPointer<vtkDoubleArray>::New();
-      entry.OutPose->SetName("SkinPose");
-      entry.OutPose->SetNumberOfValues(6);
-    }
-    vtkIdType k = 0;
-    for (double v : { angles.HeadYaw, angles.HeadPitch, angles.HeadRoll, angles.EyeYaw,
-           angles.EyePitch, roles.Jaw >= 0 ? angles.JawOpen : 0.0 })
-    {
-      entry.OutPose->SetValue(k++, v);
-    }
-    entry.OutPose->Modified();
-    entry.OutField->AddArray(entry.OutPose);
-    out->SetFieldData(entry.OutField);
+    this->SetField(out, angles, roles);
     return out;
   }
 };
@@ -510,6 +619,8 @@ int vtkMorphSkinFilter::RequestData(
   vtkDataObject* output = vtkDataObject::GetData(outputVector, 0);
   this->NumberOfSkinnedParts = 0;
   this->NumberOfReskinnedPoints = 0;
+  this->NumberOfPosedOnlyParts = 0;
+  this->CPUSkinnedParts.clear();
   ++this->Internals->Execution;
   this->HasEyeBones = false;
   this->EyeParts.clear();
@@ -647,6 +758,7 @@ int vtkMorphSkinFilter::RequestData(
     vtkErrorMacro(<< e.what());
     output->Initialize();
     this->NumberOfSkinnedParts = 0;
+    this->NumberOfPosedOnlyParts = 0;
     return 0;
   }
 }
@@ -658,6 +770,14 @@ const char* vtkMorphSkinFilter::GetEyePart(int i)
     ? this->EyeParts[static_cast<size_t>(i)].c_str()
     : nullptr;
 }
+//------------------------------------------------------------------------------
+const char* vtkMorphSkinFilter::GetCPUSkinnedPart(int i)
+{
+  return i >= 0 && i < static_cast<int>(this->CPUSkinnedParts.size())
+    ? this->CPUSkinnedParts[static_cast<size_t>(i)].c_str()
+    : nullptr;
+}
+
 //------------------------------------------------------------------------------
 bool vtkMorphSkinFilter::GetHeadBounds(double bounds[6])
 {
@@ -688,7 +808,15 @@ void vtkMorphSkinFilter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "RelaxArms: " << this->RelaxArms << "\n";
   os << indent << "ArmAngle: " << this->ArmAngle << "\n";
   os << indent << "NumberOfSkinnedParts: " << this->NumberOfSkinnedParts << "\n";
+  os << indent << "SkinPoints: " << this->SkinPoints << "\n";
   os << indent << "NumberOfReskinnedPoints: " << this->NumberOfReskinnedPoints << "\n";
+  os << indent << "NumberOfPosedOnlyParts: " << this->NumberOfPosedOnlyParts << "\n";
+  os << indent << "CPUSkinnedParts:";
+  for (const auto& part : this->CPUSkinnedParts)
+  {
+    os << " " << part;
+  }
+  os << "\n";
   os << indent << "HasEyeBones: " << this->HasEyeBones << "\n";
   os << indent << "EyeParts:";
   for (const auto& part : this->EyeParts)

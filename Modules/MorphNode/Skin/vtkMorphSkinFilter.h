@@ -31,7 +31,11 @@
  * port 0), its columns HeadYaw, HeadPitch, HeadRoll, EyeYaw, EyePitch and jawOpen (those
  * present, first row) replace the properties, and its time steps are the output's.
  *
- * Every re-skinned part gets field data `SkinPose` (HeadYaw, HeadPitch, HeadRoll, EyeYaw,
+ * With SkinPoints off the filter poses only: skinned parts keep their points and carry the
+ * pose's per-joint transforms (`SkinJointDeltas`) for a renderer that skins per vertex
+ * (vtkMorphSkinMapper).
+ *
+ * Every re-skinned or posed part gets field data `SkinPose` (HeadYaw, HeadPitch, HeadRoll, EyeYaw,
  * EyePitch and JawOpen as used; JawOpen 0 when the jaw joint stays). GetBones() reports the bones
  * found.
  *
@@ -39,7 +43,7 @@
  * skin convention (sizes, joint indices, singular or non-finite matrices).
  *
  * @sa vtkMorphTrackFilter vtkMorphTargetReader vtkMorphNodeFilter vtkEyeGazeFilter
- * morphnode::RestSkin
+ * morphnode::RestSkin vtkMorphSkinMapper
  */
 
 #ifndef vtkMorphSkinFilter_h
@@ -151,6 +155,34 @@ public:
    */
   void SetPoseConnection(vtkAlgorithmOutput* output);
 
+  ///@{
+  /**
+   * Move the points (default on): every skinned part re-skinned here. Off ("pose only"):
+   * the skeleton is posed exactly as with it on (every report the same), but the points
+   * stay: each skinned part whose points' joints share one rest matrix and that has one
+   * set of four influences passes through (shallow: points, normals and arrays shared with
+   * the input) with field data `SkinJointDeltas` (vtkMorphSkinArrays.h): the per-joint
+   * transforms a renderer blends per vertex (vtkMorphSkinMapper). Other skinned parts are
+   * re-skinned here as with it on (GetCPUSkinnedPart). For drawing only: writers and
+   * filters that read points want them on.
+   */
+  vtkSetMacro(SkinPoints, bool);
+  vtkGetMacro(SkinPoints, bool);
+  vtkBooleanMacro(SkinPoints, bool);
+  ///@}
+
+  /** Skinned parts the last execution passed posed only, with SkinJointDeltas (0 before). */
+  vtkGetMacro(NumberOfPosedOnlyParts, int);
+
+  ///@{
+  /**
+   * With SkinPoints off: the skinned parts the last execution re-skinned here all the same
+   * (a point's joints with different rest matrices, or more than four influences), by name.
+   */
+  int GetNumberOfCPUSkinnedParts() { return static_cast<int>(this->CPUSkinnedParts.size()); }
+  const char* GetCPUSkinnedPart(int i);
+  ///@}
+
   /** Skinned parts the last execution re-skinned or passed (0 before). */
   vtkGetMacro(NumberOfSkinnedParts, int);
 
@@ -213,7 +245,10 @@ protected:
   double MaxJawAngle = 25.0;
   int TurnJaw = JAW_AUTO;
   bool JawByBone = false;
+  bool SkinPoints = true;
   int NumberOfSkinnedParts = 0;
+  int NumberOfPosedOnlyParts = 0;
+  std::vector<std::string> CPUSkinnedParts;
   vtkIdType NumberOfReskinnedPoints = 0;
   bool HasEyeBones = false;
   std::vector<std::string> EyeParts;
