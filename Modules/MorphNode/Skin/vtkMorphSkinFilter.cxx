@@ -27,7 +27,6 @@
 #include "vtkSMPTools.h"
 #include "vtkSmartPointer.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
-#include "vtkTable.h"
 
 #include <algorithm>
 #include <atomic>
@@ -214,6 +213,73 @@ public:
   bool JawKnown = false;
   bool JawTarget = false;
   std::vector<std::pair<const void*, vtkMTimeType>> JawKey;
+
+  /// The pose: the filter's properties, the pose table's first row (port 1) where it has
+  /// a column.
+  static morphnode::AvatarBonePose Angles(vtkMorphSkinFilter* self, vtkInformationVector* track)
+  {
+    morphnode::AvatarBonePose angles;
+    angles.HeadYaw = self->HeadYaw;
+    angles.HeadPitch = self->HeadPitch;
+    angles.HeadRoll = self->HeadRoll;
+    angles.EyeYaw = self->EyeYaw;
+    angles.EyePitch = self->EyePitch;
+    angles.JawOpen = self->JawOpen;
+    angles.MaxJawAngle = self->MaxJawAngle;
+    vtkMorphTrackFilter::ReadTrackRow(track,
+      { { "HeadYaw", &angles.HeadYaw }, { "HeadPitch", &angles.HeadPitch },
+        { "HeadRoll", &angles.HeadRoll }, { "EyeYaw", &angles.EyeYaw },
+        { "EyePitch", &angles.EyePitch }, { "jawOpen", &angles.JawOpen } },
+      "the pose table", false);
+    if (!self->TurnHead)
+    {
+      angles.HeadYaw = angles.HeadPitch = angles.HeadRoll = 0.0;
+    }
+    angles.Vergence = self->Vergence;
+    angles.NeckShare = self->NeckShare;
+    angles.Limits.MaxYaw = self->MaxEyeYaw;
+    angles.Limits.MaxUp = self->MaxEyeUp;
+    angles.Limits.MaxDown = self->MaxEyeDown;
+    angles.RelaxArms = self->RelaxArms;
+    angles.ArmAngle = self->ArmAngle;
+    return angles;
+  }
+
+  /// Whether a part of the input has a jawOpen target (the mouth opened by it, not by the
+  /// jaw joint: JAW_AUTO); decided again only when the leaves' target names arrays change
+  /// (the morph node passes the model's one array on every frame).
+  bool HasJawTarget(vtkDataObject* input)
+  {
+    std::vector<std::pair<const void*, vtkMTimeType>> key;
+    auto note = [&key](vtkDataObject* leaf)
+    {
+      vtkAbstractArray* names = leaf && leaf->GetFieldData()
+        ? leaf->GetFieldData()->GetAbstractArray(vtkMorphTargetArrays::TargetNamesArray)
+        : nullptr;
+      key.emplace_back(names, names ? names->GetMTime() : 0);
+    };
+    if (auto* composite = vtkCompositeDataSet::SafeDownCast(input))
+    {
+      for (vtkDataObject* leaf :
+        vtk::Range(composite, vtk::CompositeDataSetOptions::SkipEmptyNodes))
+      {
+        note(leaf);
+      }
+    }
+    else
+    {
+      note(input);
+    }
+    if (!this->JawKnown || key != this->JawKey)
+    {
+      std::vector<std::string> names;
+      vtkMorphTargetArrays::GetFaceTargetNames(input, names);
+      this->JawTarget = morphnode::NamesJawOpenTarget(names);
+      this->JawKey = std::move(key);
+      this->JawKnown = true;
+    }
+    return this->JawTarget;
+  }
 
   Entry& Get(vtkPointSet* leaf, const std::string& what)
   {
@@ -617,18 +683,8 @@ int vtkMorphSkinFilter::RequestData(
 {
   vtkDataObject* input = vtkDataObject::GetData(inputVector[0], 0);
   vtkDataObject* output = vtkDataObject::GetData(outputVector, 0);
-  this->NumberOfSkinnedParts = 0;
-  this->NumberOfReskinnedPoints = 0;
-  this->NumberOfPosedOnlyParts = 0;
-  this->CPUSkinnedParts.clear();
+  this->ClearReports();
   ++this->Internals->Execution;
-  this->HasEyeBones = false;
-  this->EyeParts.clear();
-  this->HasHeadBones = false;
-  this->JawByBone = false;
-  this->HeadBounds[0] = this->HeadBounds[2] = this->HeadBounds[4] = 1.0;
-  this->HeadBounds[1] = this->HeadBounds[3] = this->HeadBounds[5] = -1.0;
-  this->Bones.clear();
   if (!input || !output)
   {
     vtkErrorMacro(<< "no input");
@@ -636,120 +692,15 @@ int vtkMorphSkinFilter::RequestData(
   }
   try
   {
-    morphnode::AvatarBonePose angles;
-    angles.HeadYaw = this->HeadYaw;
-    angles.HeadPitch = this->HeadPitch;
-    angles.HeadRoll = this->HeadRoll;
-    angles.EyeYaw = this->EyeYaw;
-    angles.EyePitch = this->EyePitch;
-    angles.JawOpen = this->JawOpen;
-    angles.MaxJawAngle = this->MaxJawAngle;
-    if (vtkTable* table = vtkTable::GetData(inputVector[1], 0))
-    {
-      if (table->GetNumberOfRows() < 1)
-      {
-        throw morphnode::InputError("the pose table has no rows");
-      }
-      for (auto [name, value] : { std::pair<const char*, double*>{ "HeadYaw", &angles.HeadYaw },
-             { "HeadPitch", &angles.HeadPitch }, { "HeadRoll", &angles.HeadRoll },
-             { "EyeYaw", &angles.EyeYaw }, { "EyePitch", &angles.EyePitch },
-             { "jawOpen", &angles.JawOpen } })
-      {
-        if (auto* column = vtkDataArray::SafeDownCast(table->GetColumnByName(name)))
-        {
-          *value = column->GetComponent(0, 0);
-        }
-      }
-    }
-    if (!this->TurnHead)
-    {
-      angles.HeadYaw = angles.HeadPitch = angles.HeadRoll = 0.0;
-    }
-    angles.Vergence = this->Vergence;
-    angles.NeckShare = this->NeckShare;
-    angles.Limits.MaxYaw = this->MaxEyeYaw;
-    angles.Limits.MaxUp = this->MaxEyeUp;
-    angles.Limits.MaxDown = this->MaxEyeDown;
-    angles.RelaxArms = this->RelaxArms;
-    angles.ArmAngle = this->ArmAngle;
-
-    // The jaw joint only where no jawOpen target opens the mouth (JAW_AUTO).
-    bool jawTarget = false;
-    if (this->TurnJaw == JAW_AUTO)
-    {
-      // Decided again only when the leaves' target names arrays change (the morph node
-      // passes the model's one array on every frame).
-      vtkInternals& internals = *this->Internals;
-      std::vector<std::pair<const void*, vtkMTimeType>> key;
-      auto note = [&key](vtkDataObject* leaf)
-      {
-        vtkAbstractArray* names = leaf && leaf->GetFieldData()
-          ? leaf->GetFieldData()->GetAbstractArray(vtkMorphTargetArrays::TargetNamesArray)
-          : nullptr;
-        key.emplace_back(names, names ? names->GetMTime() : 0);
-      };
-      if (auto* composite = vtkCompositeDataSet::SafeDownCast(input))
-      {
-        for (vtkDataObject* leaf :
-          vtk::Range(composite, vtk::CompositeDataSetOptions::SkipEmptyNodes))
-        {
-          note(leaf);
-        }
-      }
-      else
-      {
-        note(input);
-      }
-      if (!internals.JawKnown || key != internals.JawKey)
-      {
-        std::vector<std::string> names;
-        vtkMorphTargetArrays::GetFaceTargetNames(input, names);
-        internals.JawTarget = morphnode::NamesJawOpenTarget(names);
-        internals.JawKey = std::move(key);
-        internals.JawKnown = true;
-      }
-      jawTarget = internals.JawTarget;
-    }
-    const bool jawAllowed = this->TurnJaw == JAW_ON || (this->TurnJaw == JAW_AUTO && !jawTarget);
-
+    const morphnode::AvatarBonePose angles = this->Internals->Angles(this, inputVector[1]);
+    const bool jawAllowed = this->TurnJaw == JAW_ON ||
+      (this->TurnJaw == JAW_AUTO && !this->Internals->HasJawTarget(input));
     // One pose per skeleton; parts of one avatar share it (computed for the first part).
-    auto reskin = [&](vtkPointSet* leaf, const std::string& what, const std::string& partName)
-    { return this->Internals->Repose(this, leaf, what, angles, jawAllowed, partName); };
-
-    if (auto* composite = vtkCompositeDataSet::SafeDownCast(input))
-    {
-      auto* out = vtkCompositeDataSet::SafeDownCast(output);
-      out->ShallowCopy(composite);
-      for (auto node : vtk::Range(out, vtk::CompositeDataSetOptions::SkipEmptyNodes))
-      {
-        auto* leaf = vtkPointSet::SafeDownCast(node);
-        if (!leaf)
-        {
-          continue;
-        }
-        const bool named =
-          node.HasMetaData() && node.GetMetaData()->Has(vtkCompositeDataSet::NAME());
-        const std::string partName =
-          named ? node.GetMetaData()->Get(vtkCompositeDataSet::NAME()) : "";
-        const std::string name =
-          named ? "part '" + partName + "'" : "part " + std::to_string(node.GetFlatIndex());
-        if (auto posed = reskin(leaf, name, partName))
-        {
-          node = posed;
-        }
-      }
-    }
-    else if (auto* points = vtkPointSet::SafeDownCast(input))
-    {
-      auto* out = vtkPointSet::SafeDownCast(output);
-      out->Initialize(); // lets go of the last frame's arrays, for them to be written in place
-      auto posed = reskin(points, "the input", "");
-      out->ShallowCopy(posed ? posed.GetPointer() : points);
-    }
-    else
-    {
-      throw morphnode::InputError(std::string("cannot pose a ") + input->GetClassName());
-    }
+    vtkMorphTrackFilter::MoveParts(
+      input, output,
+      [&](vtkPointSet* part, const std::string& name, const std::string& description)
+      { return this->Internals->Repose(this, part, description, angles, jawAllowed, name); },
+      "pose");
     vtkMorphTrackFilter::StampTime(output, outputVector);
     return 1;
   }
@@ -761,6 +712,22 @@ int vtkMorphSkinFilter::RequestData(
     this->NumberOfPosedOnlyParts = 0;
     return 0;
   }
+}
+
+//------------------------------------------------------------------------------
+void vtkMorphSkinFilter::ClearReports()
+{
+  this->NumberOfSkinnedParts = 0;
+  this->NumberOfReskinnedPoints = 0;
+  this->NumberOfPosedOnlyParts = 0;
+  this->CPUSkinnedParts.clear();
+  this->HasEyeBones = false;
+  this->EyeParts.clear();
+  this->HasHeadBones = false;
+  this->JawByBone = false;
+  this->HeadBounds[0] = this->HeadBounds[2] = this->HeadBounds[4] = 1.0;
+  this->HeadBounds[1] = this->HeadBounds[3] = this->HeadBounds[5] = -1.0;
+  this->Bones.clear();
 }
 
 //------------------------------------------------------------------------------

@@ -226,6 +226,8 @@ protected:
 
   int RequestData(vtkInformation* request, vtkInformationVector** inputVector,
     vtkInformationVector* outputVector) override;
+  /// Resets what GetBones, GetEyePart, GetHeadBounds, ... report, before an execution.
+  void ClearReports();
 
   double HeadYaw = 0.0;
   double HeadPitch = 0.0;
