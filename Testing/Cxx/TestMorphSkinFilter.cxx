@@ -17,6 +17,7 @@
 
 #include "vtkCompositeDataSet.h"
 #include "vtkDataArray.h"
+#include "vtkDoubleArray.h"
 #include "vtkExecutive.h"
 #include "vtkFieldData.h"
 #include "vtkFloatArray.h"
@@ -27,6 +28,7 @@
 #include "vtkPolyData.h"
 #include "vtkSmartPointer.h"
 #include "vtkStringArray.h"
+#include "vtkTable.h"
 #include "vtkTransform.h"
 #include "vtkTransformFilter.h"
 #include "vtkUnsignedShortArray.h"
@@ -530,6 +532,20 @@ TEST(MorphSkinFilter, SkinnedQuadAndDamagedSkins)
   const std::string err = testing::internal::GetCapturedStderr();
   EXPECT_NE(err.find("bound to joint 7"), std::string::npos) << err;
   EXPECT_EQ(vtkPolyData::SafeDownCast(bad->GetOutputDataObject(0))->GetNumberOfPoints(), 0);
+
+  // A pose table without rows (and without any pose column): an error, nothing drawn.
+  vtkNew<vtkMorphSkinFilter> unposed;
+  unposed->SetInputData(parts.begin()->second);
+  vtkNew<vtkTable> empty;
+  vtkNew<vtkDoubleArray> other;
+  other->SetName("Other");
+  empty->AddColumn(other);
+  unposed->SetInputData(1, empty);
+  testing::internal::CaptureStderr();
+  EXPECT_EQ(unposed->GetExecutive()->Update(), 0);
+  const std::string rows = testing::internal::GetCapturedStderr();
+  EXPECT_NE(rows.find("the pose table has no rows"), std::string::npos) << rows;
+  EXPECT_EQ(vtkPolyData::SafeDownCast(unposed->GetOutputDataObject(0))->GetNumberOfPoints(), 0);
 
   std::ostringstream os;
   skin->Print(os);

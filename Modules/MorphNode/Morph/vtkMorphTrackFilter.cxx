@@ -84,17 +84,19 @@ bool vtkMorphTrackFilter::ReadTrackRow(vtkInformationVector* trackVector,
   }
   for (const TrackColumn& column : columns)
   {
-    auto* values = vtkDataArray::SafeDownCast(track->GetColumnByName(column.Name));
-    if (!values && requireAll)
+    if (requireAll && !vtkDataArray::SafeDownCast(track->GetColumnByName(column.Name)))
     {
       throw morphnode::InputError(
         std::string(table) + " has no numeric column '" + column.Name + "'");
     }
-    if (values && track->GetNumberOfRows() < 1)
-    {
-      throw morphnode::InputError(std::string(table) + " has no rows");
-    }
-    if (values)
+  }
+  if (track->GetNumberOfRows() < 1)
+  {
+    throw morphnode::InputError(std::string(table) + " has no rows");
+  }
+  for (const TrackColumn& column : columns)
+  {
+    if (auto* values = vtkDataArray::SafeDownCast(track->GetColumnByName(column.Name)))
     {
       *column.Value = values->GetComponent(0, 0);
     }
