@@ -361,21 +361,32 @@ public:
       }
       skin.DeltasExecution = this->Execution;
     }
-    auto free = [](vtkObjectBase* o) { return o && o->GetReferenceCount() == 1; };
-    if (!free(entry.OutLeaf) || !entry.OutLeaf->IsA(leaf->GetClassName()) ||
-      entry.Execution == this->Execution)
-    {
-      entry.OutLeaf.TakeReference(leaf->NewInstance());
-    }
+    vtkSmartPointer<vtkPointSet> out = this->KeptLeaf(entry, leaf);
     entry.Execution = this->Execution;
     entry.OutPointsObject = nullptr; // the CPU path's kept arrays no longer hold a frame
-    vtkSmartPointer<vtkPointSet> out = entry.OutLeaf;
-    CopyLeaf(out, leaf);
     // The points are the input's: the morph's ranges (MorphedPointRanges) still hold.
     this->SetField(out, angles, roles, false);
     out->GetFieldData()->AddArray(skin.Deltas);
     ++self->NumberOfPosedOnlyParts;
     return out;
+  }
+
+  /// True when nothing but this filter holds `o`.
+  static bool Free(vtkObjectBase* o) { return o && o->GetReferenceCount() == 1; }
+
+  /// The entry's output leaf of the last frame (with its field data and points object),
+  /// filled again with `leaf` (CopyLeaf) when nothing else holds it (the output composite
+  /// let go of it), else a new one, and its kept points object let go.
+  vtkSmartPointer<vtkPointSet> KeptLeaf(Entry& entry, vtkPointSet* leaf) const
+  {
+    if (!Free(entry.OutLeaf) || !entry.OutLeaf->IsA(leaf->GetClassName()) ||
+      entry.Execution == this->Execution)
+    {
+      entry.OutLeaf.TakeReference(leaf->NewInstance());
+      entry.OutPointsObject = nullptr;
+    }
+    CopyLeaf(entry.OutLeaf, leaf);
+    return entry.OutLeaf;
   }
 
   /// out->ShallowCopy(leaf), into field data only `out` holds: a shallow copy fills the data
@@ -524,17 +535,7 @@ public:
     {
       return nullptr; // at rest
     }
-    // The output leaf (with its field data) and its points object of the last frame, filled
-    // again when nothing else holds them (the output composite let go of them), else new ones.
-    auto free = [](vtkObjectBase* o) { return o && o->GetReferenceCount() == 1; };
-    if (!free(entry.OutLeaf) || !entry.OutLeaf->IsA(leaf->GetClassName()) ||
-      entry.Execution == this->Execution)
-    {
-      entry.OutLeaf.TakeReference(leaf->NewInstance());
-      entry.OutPointsObject = nullptr;
-    }
-    vtkSmartPointer<vtkPointSet> out = entry.OutLeaf;
-    CopyLeaf(out, leaf);
+    vtkSmartPointer<vtkPointSet> out = this->KeptLeaf(entry, leaf);
     vtkDataArray* points = leaf->GetPoints()->GetData();
     vtkDataArray* normals = leaf->GetPointData()->GetNormals();
     if (normals &&
@@ -557,7 +558,7 @@ public:
     // re-skinned.
     // (The points array is also held by the kept points object when that is free.)
     const int ownHolders =
-      free(entry.OutPointsObject) && entry.OutPointsObject->GetData() == entry.OutPoints ? 1 : 0;
+      Free(entry.OutPointsObject) && entry.OutPointsObject->GetData() == entry.OutPoints ? 1 : 0;
     auto kept = [&](vtkSmartPointer<vtkDataArray>& a, vtkDataArray* like)
     {
       const int holders = 1 + (a == entry.OutPoints ? ownHolders : 0);
@@ -647,7 +648,7 @@ public:
     {
       newNormals->Modified();
     }
-    if (!free(entry.OutPointsObject))
+    if (!Free(entry.OutPointsObject))
     {
       entry.OutPointsObject = vtkSmartPointer<vtkPoints>::New();
     }
