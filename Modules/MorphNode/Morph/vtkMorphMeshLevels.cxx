@@ -96,6 +96,7 @@ void BlendInto(
     }
   }
 }
+
 } // namespace
 
 std::shared_ptr<const morphnode::MorphLadder> BuildLadder(const morphnode::MorphMesh& model,
@@ -169,17 +170,7 @@ void Assembler::MakeLevel(
   }
   vtkPointData* inPD = input->GetPointData();
   made.Gathered = vtkSmartPointer<vtkPointData>::New();
-  made.Gathered->CopyAllocate(inPD, vn);
-  made.Gathered->SetNumberOfTuples(vn);
-  for (int a = 0; a < made.Gathered->GetNumberOfArrays(); ++a)
-  {
-    vtkAbstractArray* target = made.Gathered->GetAbstractArray(a);
-    if (vtkAbstractArray* source =
-          target->GetName() ? inPD->GetAbstractArray(target->GetName()) : nullptr)
-    {
-      source->GetTuples(from, target);
-    }
-  }
+  vtkMorphTargetArrays::GatherTuples(inPD, from, made.Gathered);
   vtkMorphTargetArrays::RemoveTargetArrays(made.Gathered);
   vtkNew<vtkIdTypeArray> original;
   original->SetName(OriginalPointIdArray);
@@ -217,17 +208,7 @@ void Assembler::MakeLevel(
       {
         cells->SetId(t, static_cast<vtkIdType>(shown.OriginalTriangleIds[static_cast<size_t>(t)]));
       }
-      made.Cells->CopyAllocate(inCD, nt);
-      made.Cells->SetNumberOfTuples(nt);
-      for (int a = 0; a < made.Cells->GetNumberOfArrays(); ++a)
-      {
-        vtkAbstractArray* target = made.Cells->GetAbstractArray(a);
-        if (vtkAbstractArray* source =
-              target->GetName() ? inCD->GetAbstractArray(target->GetName()) : nullptr)
-        {
-          source->GetTuples(cells, target);
-        }
-      }
+      vtkMorphTargetArrays::GatherTuples(inCD, cells, made.Cells);
     }
   }
 }

@@ -702,6 +702,22 @@ template vtkSmartPointer<vtkDataArray> NewArray<float>(
 template vtkSmartPointer<vtkDataArray> NewArray<double>(
   int, const char*, int, vtkIdType, const double*);
 //------------------------------------------------------------------------------
+void GatherTuples(vtkDataSetAttributes* in, vtkIdList* ids, vtkDataSetAttributes* out)
+{
+  const vtkIdType n = ids->GetNumberOfIds();
+  out->CopyAllocate(in, n);
+  out->SetNumberOfTuples(n);
+  for (int a = 0; a < out->GetNumberOfArrays(); ++a)
+  {
+    vtkAbstractArray* target = out->GetAbstractArray(a);
+    if (vtkAbstractArray* source =
+          target->GetName() ? in->GetAbstractArray(target->GetName()) : nullptr)
+    {
+      source->GetTuples(ids, target);
+    }
+  }
+}
+
 void ExtractPointSubset(vtkPolyData* input, const std::vector<uint32_t>& ids, vtkIdType numPoints,
   const std::vector<uint32_t>& triangles, vtkPolyData* output, vtkPoints* points)
 {
@@ -733,18 +749,8 @@ void ExtractPointSubset(vtkPolyData* input, const std::vector<uint32_t>& ids, vt
   output->SetPolys(polys);
   // Every point array (normals, texture coordinates, target deltas) comes unchanged from
   // the point each output point is.
-  vtkPointData* inPD = input->GetPointData();
   vtkPointData* outPD = output->GetPointData();
-  outPD->CopyAllocate(inPD, n);
-  outPD->SetNumberOfTuples(n);
-  for (int a = 0; a < outPD->GetNumberOfArrays(); ++a)
-  {
-    vtkAbstractArray* target = outPD->GetAbstractArray(a);
-    if (vtkAbstractArray* source = inPD->GetAbstractArray(target->GetName()))
-    {
-      source->GetTuples(from, target);
-    }
-  }
+  GatherTuples(input->GetPointData(), from, outPD);
   vtkNew<vtkIdTypeArray> original;
   original->SetName("OriginalPointId");
   original->SetNumberOfTuples(n);

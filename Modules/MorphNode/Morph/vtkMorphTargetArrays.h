@@ -32,7 +32,9 @@
 
 class vtkDataArray;
 class vtkDataObject;
+class vtkDataSetAttributes;
 class vtkFieldData;
+class vtkIdList;
 class vtkPointData;
 class vtkPointSet;
 class vtkPoints;
@@ -163,6 +165,11 @@ MeshFromVTK ToMorphMesh(vtkPointSet* input, const ReadOptions& options);
 /// names.
 void AddTargetArrays(
   const morphnode::MorphMesh& mesh, vtkPointData* pd, int positionType = -1, int normalType = -1);
+
+/// `out` allocated like `in` (vtkDataSetAttributes::CopyAllocate), holding the tuples
+/// `ids` of `in` in that order, array by array (vtkAbstractArray::GetTuples): a subset's
+/// or a level's points (or cells) taking the input's arrays.
+void GatherTuples(vtkDataSetAttributes* in, vtkIdList* ids, vtkDataSetAttributes* out);
 
 /// `output` becomes a subset of `input`'s points: the first `numPoints` of `ids` (input point
 /// ids), every point array gathered with them (vtkAbstractArray::GetTuples) plus
