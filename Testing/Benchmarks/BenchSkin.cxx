@@ -203,6 +203,36 @@ std::string AnimatedCopy()
   return out;
 }
 
+/// The avatar's pipeline as MorphAvatar runs it: the reader, the morph node (relative
+/// weights) and the skin filter, re-skinning the points (`skinPoints`) or posing only.
+struct AvatarPipeline
+{
+  vtkNew<vtkMorphTargetReader> Reader;
+  vtkNew<vtkMorphNodeFilter> Morph;
+  vtkNew<vtkMorphSkinFilter> Skin;
+
+  explicit AvatarPipeline(bool skinPoints)
+  {
+    this->Reader->SetFileName(Avatar.c_str());
+    this->Reader->Update();
+    this->Morph->SetInputConnection(this->Reader->GetOutputPort());
+    this->Morph->SetWeightModeToRelative();
+    this->Skin->SetInputConnection(this->Morph->GetOutputPort());
+    this->Skin->SetSkinPoints(skinPoints);
+  }
+
+  /// Frame f's weights and bones (the head held turned when it does not move).
+  void Animate(int f, bool headMoves = true)
+  {
+    for (int a = 0; a < 5; ++a)
+    {
+      this->Morph->SetWeightByName(Animated[a], Weight(a, f % Keys));
+    }
+    this->Skin->SetHeadYaw(headMoves ? HeadYaw(f % Keys) : 10.0);
+    this->Skin->SetEyeYaw(EyeYaw(f % Keys));
+  }
+};
+
 void Ours(benchmark::State& state, bool skin, bool headMoves = true, bool poseOnly = false,
   bool held = false)
 {
@@ -211,17 +241,9 @@ void Ours(benchmark::State& state, bool skin, bool headMoves = true, bool poseOn
     state.SkipWithError(("MakeHuman avatar not found: " + Avatar).c_str());
     return;
   }
-  vtkNew<vtkMorphTargetReader> reader;
-  reader->SetFileName(Avatar.c_str());
-  reader->Update();
-  vtkNew<vtkMorphNodeFilter> morph;
-  morph->SetInputConnection(reader->GetOutputPort());
-  morph->SetWeightModeToRelative();
-  vtkNew<vtkMorphSkinFilter> skinFilter;
-  skinFilter->SetInputConnection(morph->GetOutputPort());
-  skinFilter->SetSkinPoints(!poseOnly);
+  AvatarPipeline p(!poseOnly);
   vtkAlgorithm* last =
-    skin ? static_cast<vtkAlgorithm*>(skinFilter) : static_cast<vtkAlgorithm*>(morph);
+    skin ? static_cast<vtkAlgorithm*>(p.Skin) : static_cast<vtkAlgorithm*>(p.Morph);
   // held: each frame's parts shallow-copied into kept data sets, as a renderer's inputs
   // hold them (MorphAvatar's HeadActors): the filters then cannot write the last frame's
   // arrays in place.
@@ -229,12 +251,7 @@ void Ours(benchmark::State& state, bool skin, bool headMoves = true, bool poseOn
   int f = 0;
   for (auto _ : state)
   {
-    for (int a = 0; a < 5; ++a)
-    {
-      morph->SetWeightByName(Animated[a], Weight(a, f % Keys));
-    }
-    skinFilter->SetHeadYaw(headMoves ? HeadYaw(f % Keys) : 10.0);
-    skinFilter->SetEyeYaw(EyeYaw(f % Keys));
+    p.Animate(f, headMoves);
     last->Update();
     if (held)
     {
@@ -308,17 +325,9 @@ void DrawnFrame(benchmark::State& state, Drawn mode)
     state.SkipWithError("no X display: run under xvfb-run -a");
     return;
   }
-  vtkNew<vtkMorphTargetReader> reader;
-  reader->SetFileName(Avatar.c_str());
-  reader->Update();
-  vtkNew<vtkMorphNodeFilter> morph;
-  morph->SetInputConnection(reader->GetOutputPort());
-  morph->SetWeightModeToRelative();
-  vtkNew<vtkMorphSkinFilter> skinFilter;
-  skinFilter->SetInputConnection(morph->GetOutputPort());
-  skinFilter->SetSkinPoints(mode == Drawn::CpuSkin);
-  vtkAlgorithm* last = mode == Drawn::MorphOnlyAtRest ? static_cast<vtkAlgorithm*>(morph)
-                                                      : static_cast<vtkAlgorithm*>(skinFilter);
+  AvatarPipeline p(mode == Drawn::CpuSkin);
+  vtkAlgorithm* last = mode == Drawn::MorphOnlyAtRest ? static_cast<vtkAlgorithm*>(p.Morph)
+                                                      : static_cast<vtkAlgorithm*>(p.Skin);
   // One window for every drawn benchmark of the run (VTK 9.1 opens an X connection per
   // window; opening many in a row now and then fails), a renderer of its own for each.
   static vtkNew<vtkRenderWindow> window;
@@ -335,12 +344,7 @@ void DrawnFrame(benchmark::State& state, Drawn mode)
   std::vector<vtkSmartPointer<vtkPolyData>> shown;
   auto frame = [&](int f)
   {
-    for (int a = 0; a < 5; ++a)
-    {
-      morph->SetWeightByName(Animated[a], Weight(a, f % Keys));
-    }
-    skinFilter->SetHeadYaw(HeadYaw(f % Keys));
-    skinFilter->SetEyeYaw(EyeYaw(f % Keys));
+    p.Animate(f);
     last->Update();
     auto* composite = vtkCompositeDataSet::SafeDownCast(last->GetOutputDataObject(0));
     const auto parts = vtkCompositeDataSet::GetDataSets<vtkPolyData>(composite);
@@ -374,12 +378,12 @@ void DrawnFrame(benchmark::State& state, Drawn mode)
   double b[6];
   if (mode != Drawn::MorphOnlyAtRest)
   {
-    skinFilter->GetHeadBounds(b);
+    p.Skin->GetHeadBounds(b);
   }
   else
   {
     vtkNew<vtkMorphSkinFilter> bounds; // the head's bounds only
-    bounds->SetInputConnection(reader->GetOutputPort());
+    bounds->SetInputConnection(p.Reader->GetOutputPort());
     bounds->Update();
     bounds->GetHeadBounds(b);
   }

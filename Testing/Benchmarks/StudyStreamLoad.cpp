@@ -35,8 +35,10 @@
 #include <chrono>
 #include <cmath>
 #include <fstream>
+#include <functional>
 #include <iostream>
 #include <map>
+#include <memory>
 #include <mutex>
 #include <random>
 #include <sstream>
@@ -204,6 +206,26 @@ double ProcessCpuSeconds()
     1e-6 * static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
 }
 
+/// The server's sessions of the study: the avatar with the paper's adjusted threshold, the
+/// client's seed, and the synthesis pool when there is one.
+std::function<std::unique_ptr<StreamSession>(const SessionRequest&)> SessionMaker(
+  const StreamAvatar& avatar, const std::vector<std::string>& visemes,
+  LiveBehavior::Synthesizer synth, std::shared_ptr<SynthesisPool> pool)
+{
+  return [&avatar, &visemes, synth, pool](const SessionRequest& want)
+  {
+    StreamSettings s;
+    s.Optimizer = MakeOptimizerSettings(OptimizerPreset::Adjusted, 0.1, 0.0);
+    s.Seed = want.Seed;
+    auto session = std::make_unique<StreamSession>(avatar, visemes, synth, s);
+    if (pool)
+    {
+      session->SetSynthesisPool(pool);
+    }
+    return session;
+  };
+}
+
 Result Run(const StreamAvatar& avatar, const std::vector<std::string>& visemes,
   LiveBehavior::Synthesizer synth, size_t n, double seconds, int threads, int poolWorkers,
   bool continuous)
@@ -220,18 +242,7 @@ Result Run(const StreamAvatar& avatar, const std::vector<std::string>& visemes,
   settings.Threads = threads;
   settings.MaxSessions = n + 1;
   settings.MaxCommandsPerSecond = 5;
-  settings.MakeSession = [&avatar, &visemes, synth, pool](const SessionRequest& want)
-  {
-    StreamSettings s;
-    s.Optimizer = MakeOptimizerSettings(OptimizerPreset::Adjusted, 0.1, 0.0);
-    s.Seed = want.Seed;
-    auto session = std::make_unique<StreamSession>(avatar, visemes, synth, s);
-    if (pool)
-    {
-      session->SetSynthesisPool(pool);
-    }
-    return session;
-  };
+  settings.MakeSession = SessionMaker(avatar, visemes, synth, pool);
   StreamServer server(settings);
   const std::string bound = server.Start();
   const std::string port = bound.substr(bound.rfind(':') + 1);
@@ -296,15 +307,7 @@ std::pair<std::vector<double>, std::vector<double>> FirstMotion(const StreamAvat
   StreamServerSettings settings;
   settings.Threads = 1;
   settings.PickUpWhenSynthesized = pickUp;
-  settings.MakeSession = [&avatar, &visemes, synth, pool](const SessionRequest& want)
-  {
-    StreamSettings s;
-    s.Optimizer = MakeOptimizerSettings(OptimizerPreset::Adjusted, 0.1, 0.0);
-    s.Seed = want.Seed;
-    auto session = std::make_unique<StreamSession>(avatar, visemes, synth, s);
-    session->SetSynthesisPool(pool);
-    return session;
-  };
+  settings.MakeSession = SessionMaker(avatar, visemes, synth, pool);
   StreamServer server(settings);
   const std::string bound = server.Start();
   const std::string port = bound.substr(bound.rfind(':') + 1);

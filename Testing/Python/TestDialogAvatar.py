@@ -28,6 +28,21 @@ from dialog_client import AvatarClient, AvatarError  # noqa: E402
 EXE = None
 
 
+def write_take(target):
+    """The recording the external-speech tests hand over, as 16 kHz 16-bit WAV into a file
+    name or a file object: 1.5 s of silence, a 220 Hz tone from 0.3 s to 1.3 s, silence."""
+    import math
+    import struct
+    import wave
+    with wave.open(target, "wb") as w:
+        w.setnchannels(1)
+        w.setsampwidth(2)
+        w.setframerate(16000)
+        w.writeframes(b"".join(
+            struct.pack("<h", int(8000 * math.sin(2 * math.pi * 220 * i / 16000))
+                        if 0.3 * 16000 <= i < 1.3 * 16000 else 0) for i in range(24000)))
+
+
 class DialogAvatarTest(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
@@ -167,18 +182,9 @@ class DialogAvatarTest(unittest.TestCase):
         """A dialog system with its own voice hands over a recording and its timings: the
         avatar speaks the recording (its sound starts where the recording's does) for the
         recording's length, with the mouth timed by Rhubarb cues or Azure viseme IDs."""
-        import math
-        import struct
-        import wave
         c = self.client
         wav = os.path.join(self.tmp.name, "take.wav")
-        with wave.open(wav, "wb") as w:  # 1.5 s: silence, a tone from 0.3 s to 1.3 s, silence
-            w.setnchannels(1)
-            w.setsampwidth(2)
-            w.setframerate(16000)
-            w.writeframes(b"".join(
-                struct.pack("<h", int(8000 * math.sin(2 * math.pi * 220 * i / 16000))
-                            if 0.3 * 16000 <= i < 1.3 * 16000 else 0) for i in range(24000)))
+        write_take(wav)
         tsv = os.path.join(self.tmp.name, "take.tsv")
         with open(tsv, "w") as f:
             f.write("0.00\tX\n0.30\tA\n0.50\tD\n1.30\tX\n")
@@ -215,18 +221,9 @@ class DialogAvatarTest(unittest.TestCase):
         session goes on."""
         import base64
         import io
-        import math
-        import struct
-        import wave
         c = self.client
         data = io.BytesIO()
-        with wave.open(data, "wb") as w:  # 1.5 s: silence, a tone from 0.3 s to 1.3 s, silence
-            w.setnchannels(1)
-            w.setsampwidth(2)
-            w.setframerate(16000)
-            w.writeframes(b"".join(
-                struct.pack("<h", int(8000 * math.sin(2 * math.pi * 220 * i / 16000))
-                            if 0.3 * 16000 <= i < 1.3 * 16000 else 0) for i in range(24000)))
+        write_take(data)
         audio = base64.b64encode(data.getvalue()).decode("ascii")
         marks = [{"time": 0, "type": "viseme", "value": "sil"}, {"time": 300, "type": "viseme", "value": "p"},
                  {"time": 450, "type": "viseme", "value": "a"}, {"time": 1300, "type": "viseme", "value": "sil"}]
