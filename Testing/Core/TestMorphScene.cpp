@@ -529,6 +529,19 @@ TEST(MorphScene, BlendPlanCoversEveryPointOnce)
   {
     EXPECT_TRUE(std::all_of(part.begin(), part.end(), [](int n) { return n == 1; }));
   }
+  // Tasks of equal size, a multiple of the threads: 9,000 points on 2 threads are 4 tasks of
+  // 2,250 (not 2,048 x 4 and 808, which leaves one thread a task more than the other).
+  scene.PlanBlend({ 0, 1, 2 }, 2, plan);
+  ASSERT_EQ(plan.GetNumberOfTasks(), 4u);
+  for (size_t t = 0; t < plan.GetNumberOfTasks(); ++t)
+  {
+    size_t points = 0;
+    for (size_t r = plan.Tasks[t]; r < plan.Tasks[t + 1]; ++r)
+    {
+      points += plan.Ranges[r].End - plan.Ranges[r].Begin;
+    }
+    EXPECT_EQ(points, 2250u) << "task " << t;
+  }
   // Too little work for two tasks: serial however many threads.
   scene.PlanBlend({ 0 }, 8, plan);
   EXPECT_TRUE(plan.Serial);

@@ -378,9 +378,21 @@ void MorphScene::PlanBlend(const std::vector<size_t>& parts, int threads, BlendP
   plan.Ranges.clear();
   plan.Tasks.clear();
   plan.Serial = threads <= 1 || total < 2 * MinPointsPerBlendTask;
-  const size_t grain = plan.Serial
-    ? std::numeric_limits<size_t>::max()
-    : std::max(MinPointsPerBlendTask, total / (4 * static_cast<size_t>(threads)));
+  // Tasks of equal size (at least MinPointsPerBlendTask, at most four per thread), as many
+  // as a multiple of the threads where there are more than threads: a blend bound by
+  // streaming deltas takes as long as its slowest thread, and 11,248 points cut in tasks of
+  // 2,048 left one thread three and the other two and a half.
+  size_t grain = std::numeric_limits<size_t>::max();
+  if (!plan.Serial)
+  {
+    const size_t workers = static_cast<size_t>(threads);
+    size_t tasks = std::min(total / MinPointsPerBlendTask, 4 * workers);
+    if (tasks > workers)
+    {
+      tasks -= tasks % workers;
+    }
+    grain = (total + tasks - 1) / tasks;
+  }
   size_t filled = 0; // points in the current task
   for (size_t p : parts)
   {
