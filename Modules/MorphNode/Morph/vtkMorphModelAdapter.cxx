@@ -30,6 +30,7 @@
 #include <cmath>
 #include <sstream>
 #include <string>
+#include <utility>
 
 namespace vtkMorphModelAdapter
 {
@@ -314,20 +315,32 @@ vtkSmartPointer<vtkDataArray> MakeDoubleArray(
   return array;
 }
 
-vtkDataArray* ReuseOrNew(
-  vtkSmartPointer<vtkDataArray>& slot, vtkDataArray* prototype, vtkIdType numTuples, int holders)
+vtkDataArray* ReuseOrNew(vtkSmartPointer<vtkDataArray>& slot, vtkDataArray* prototype,
+  vtkIdType numTuples, int holders, vtkSmartPointer<vtkDataArray>* spare)
 {
-  const bool reusable = slot && slot->GetReferenceCount() == holders &&
-    slot->GetDataType() == prototype->GetDataType() &&
-    slot->GetNumberOfComponents() == prototype->GetNumberOfComponents() &&
-    slot->GetNumberOfTuples() == numTuples;
-  if (!reusable)
+  auto fits = [&](vtkDataArray* a, int refs)
   {
-    slot.TakeReference(prototype->NewInstance());
-    slot->SetName(prototype->GetName());
-    slot->SetNumberOfComponents(prototype->GetNumberOfComponents());
-    slot->SetNumberOfTuples(numTuples);
+    return a && a->GetReferenceCount() == refs && a->GetDataType() == prototype->GetDataType() &&
+      a->GetNumberOfComponents() == prototype->GetNumberOfComponents() &&
+      a->GetNumberOfTuples() == numTuples;
+  };
+  if (fits(slot, holders))
+  {
+    return slot;
   }
+  if (spare && fits(*spare, 1) && holders == 1)
+  {
+    std::swap(slot, *spare);
+    return slot;
+  }
+  if (spare && slot)
+  {
+    *spare = slot; // held downstream: the spare once let go
+  }
+  slot.TakeReference(prototype->NewInstance());
+  slot->SetName(prototype->GetName());
+  slot->SetNumberOfComponents(prototype->GetNumberOfComponents());
+  slot->SetNumberOfTuples(numTuples);
   return slot;
 }
 

@@ -79,13 +79,19 @@ struct BuiltModel
 
 /// The arrays a blend writes, kept from one execution to the next. An array is written
 /// again in place only when nothing but this cache holds it (the pipeline released the
-/// previous output); when anyone else still holds it, a new one is made, so a snapshot
-/// kept downstream never changes under its holder.
+/// previous output); when anyone else still holds it, the spare set is written instead
+/// (the one before it, which a renderer or a filter that holds one frame has let go of by
+/// then), else a new one is made, so a snapshot kept downstream never changes under its
+/// holder. The two sets alternate while a renderer holds each frame: no allocation, no
+/// first touch of new pages per frame.
 struct BlendOutputs
 {
   vtkSmartPointer<vtkPoints> Points;
   /// Parallel to the bindings after the points.
   std::vector<vtkSmartPointer<vtkDataArray>> Arrays;
+  /// The set before, held here while it may still be held downstream.
+  vtkSmartPointer<vtkPoints> SparePoints;
+  std::vector<vtkSmartPointer<vtkDataArray>> SpareArrays;
 };
 
 /// True if the point set carries glTF-style target arrays (vtkMorphTargetArrays::HasTargets).
@@ -118,10 +124,13 @@ vtkSmartPointer<vtkDataArray> MakeDoubleArray(
   const char* arrayName, const std::vector<double>& values);
 
 /// `slot` when it has the layout of `prototype` (type, components, `numTuples`) and
-/// `holders` references are all it has (nobody outside the cache holds it), else a new
-/// array of that layout in `slot` (see BlendOutputs).
-vtkDataArray* ReuseOrNew(
-  vtkSmartPointer<vtkDataArray>& slot, vtkDataArray* prototype, vtkIdType numTuples, int holders);
+/// `holders` references are all it has (nobody outside the cache holds it), else the
+/// `spare` array (swapped into `slot`) when it has that layout and only `spare` holds it,
+/// else a new array of that layout in `slot`, the held one kept as the spare (see
+/// BlendOutputs). Whichever is returned holds an earlier frame or nothing: the caller
+/// writes all of it.
+vtkDataArray* ReuseOrNew(vtkSmartPointer<vtkDataArray>& slot, vtkDataArray* prototype,
+  vtkIdType numTuples, int holders, vtkSmartPointer<vtkDataArray>* spare = nullptr);
 
 /// Fills `out` with the output's point arrays: the neutral's, each blended one in place of
 /// the array it replaces (same attribute role), target arrays left out.

@@ -27,6 +27,7 @@
 #include <algorithm>
 #include <cstring>
 #include <iterator>
+#include <utility>
 
 namespace adapter = vtkMorphModelAdapter;
 
@@ -94,6 +95,24 @@ void vtkMorphNodeOutput::PrepareArrays(Part& part)
   const vtkIdType numPoints = static_cast<vtkIdType>(mesh.GetNumberOfPoints());
   const size_t numAttributes = mesh.GetNumberOfAttributes();
   adapter::BlendOutputs& outputs = part.Outputs;
+  // The last frame's points when nothing else holds them, else the frame's before
+  // (BlendOutputs), else new ones with the held ones kept as the spare.
+  auto free = [](vtkPoints* p)
+  {
+    return p && p->GetReferenceCount() == 1 && p->GetData() &&
+      p->GetData()->GetReferenceCount() == 1;
+  };
+  if (outputs.Points && !free(outputs.Points))
+  {
+    if (free(outputs.SparePoints))
+    {
+      std::swap(outputs.Points, outputs.SparePoints);
+    }
+    else
+    {
+      outputs.SparePoints = outputs.Points;
+    }
+  }
   // The points' array is held by the vtkPoints and by `points` here.
   vtkSmartPointer<vtkDataArray> points = outputs.Points ? outputs.Points->GetData() : nullptr;
   const bool pointsFree = outputs.Points && outputs.Points->GetReferenceCount() == 1;
@@ -105,14 +124,15 @@ void vtkMorphNodeOutput::PrepareArrays(Part& part)
     outputs.Points->SetData(pointArray);
   }
   outputs.Arrays.resize(numAttributes - 1);
+  outputs.SpareArrays.resize(numAttributes - 1);
   part.Where.resize(numAttributes);
   part.FloatScratch.resize(numAttributes);
   part.DoubleScratch.resize(numAttributes);
   for (size_t a = 0; a < numAttributes; ++a)
   {
-    vtkDataArray* out = a == 0
-      ? pointArray
-      : adapter::ReuseOrNew(outputs.Arrays[a - 1], bindings[a].Prototype, numPoints, 1);
+    vtkDataArray* out = a == 0 ? pointArray
+                               : adapter::ReuseOrNew(outputs.Arrays[a - 1], bindings[a].Prototype,
+                                   numPoints, 1, &outputs.SpareArrays[a - 1]);
     const size_t values = static_cast<size_t>(numPoints) * out->GetNumberOfComponents();
     if (std::holds_alternative<morphnode::MorphAttribute<float>>(mesh.GetAttribute(a)))
     {
