@@ -100,10 +100,13 @@ public:
     return morphnode::MakeEyeRig(this->EyeNames, forward, up, limits);
   }
 
+  /// This execution's turned eyes (MoveParts hands them over by pointer).
+  std::vector<vtkSmartPointer<vtkPointSet>> TurnedEyes;
+
   /// The leaf turned when it is an eye (a new data set sharing everything but the turned
-  /// points and normals), else nullptr.
-  vtkSmartPointer<vtkPointSet> Turn(vtkPointSet* leaf, const std::string& blockName,
-    const morphnode::EyeRig& rig, const morphnode::GazeAngles& gaze, double vergence)
+  /// points and normals, held in TurnedEyes), else nullptr.
+  vtkPointSet* Turn(vtkPointSet* leaf, const std::string& blockName, const morphnode::EyeRig& rig,
+    const morphnode::GazeAngles& gaze, double vergence)
   {
     if (vtkMorphSkinArrays::IsSkinned(leaf))
     {
@@ -169,6 +172,7 @@ public:
     side->InsertNextValue(morphnode::EyeSideName(eye.Side));
     field->AddArray(side);
     out->SetFieldData(field);
+    this->TurnedEyes.push_back(out);
     return out;
   }
 };
@@ -255,6 +259,7 @@ int vtkEyeGazeFilter::RequestData(
     const morphnode::EyeRig rig = this->Internals->MakeRig(this);
     this->UpdateProgress(0.1);
 
+    this->Internals->TurnedEyes.clear();
     this->NumberOfEyeParts = vtkMorphTrackFilter::MoveParts(
       input, output,
       [&](vtkPointSet* part, const std::string& name, const std::string&)

@@ -17,8 +17,6 @@
 #include "vtkIdTypeArray.h"
 #include "vtkInformation.h"
 #include "vtkIntArray.h"
-#include "vtkPartitionedDataSet.h"
-#include "vtkPartitionedDataSetCollection.h"
 #include "vtkPointData.h"
 #include "vtkPointSet.h"
 #include "vtkPoints.h"
@@ -152,15 +150,7 @@ void vtkMorphNodeOutput::PrepareArrays(Part& part)
 //------------------------------------------------------------------------------
 void vtkMorphNodeOutput::ReleaseLeaves()
 {
-  // The partitioned data sets of the last output that only this helper holds let go of
-  // their leaves, which can then be kept.
-  for (auto& set : this->OutputSets)
-  {
-    if (set && set->GetReferenceCount() == 1)
-    {
-      set->Initialize();
-    }
-  }
+  this->Leaves.Release();
 }
 
 //------------------------------------------------------------------------------
@@ -522,80 +512,13 @@ void vtkMorphNodeOutput::AssembleComposite(vtkCompositeDataSet* input, vtkCompos
 //------------------------------------------------------------------------------
 void vtkMorphNodeOutput::PlaceLeaves(vtkCompositeDataSet* input, vtkCompositeDataSet* output)
 {
-  auto* collection = vtkPartitionedDataSetCollection::SafeDownCast(input);
-  auto* outCollection = vtkPartitionedDataSetCollection::SafeDownCast(output);
-  if (collection && outCollection)
+  std::vector<vtkDataObject*> leaves;
+  leaves.reserve(this->Parts.size());
+  for (const Part& part : this->Parts)
   {
-    this->AssembleCollection(collection, outCollection);
+    leaves.push_back(part.OutputLeaf);
   }
-  else
-  {
-    // The copied structure's leaves are all empty: walk both without skipping empty nodes
-    // (same structure, same order) and fill the output where the input has a leaf.
-    output->CopyStructure(input);
-    const auto outNodes = vtk::Range(output);
-    auto out = outNodes.begin();
-    size_t i = 0;
-    for (vtkDataObject* leaf : vtk::Range(input))
-    {
-      if (out == outNodes.end() || i == this->Parts.size())
-      {
-        break;
-      }
-      if (leaf)
-      {
-        *out = this->Parts[i++].OutputLeaf.Get();
-      }
-      ++out;
-    }
-  }
+  this->Leaves.Place(input, leaves, output);
   output->GetFieldData()->PassData(input->GetFieldData());
   output->GetFieldData()->AddArray(this->TargetNames);
-}
-
-//------------------------------------------------------------------------------
-void vtkMorphNodeOutput::AssembleCollection(
-  vtkPartitionedDataSetCollection* input, vtkPartitionedDataSetCollection* output)
-{
-  // The input's structure (partitioned data sets, their names and metadata, the data
-  // assembly, shared) holding the parts' output leaves, in the iterator's order
-  // (CopyStructure, made anew each step, cost as much as the blend of a small head).
-  const unsigned int numSets = input->GetNumberOfPartitionedDataSets();
-  output->SetNumberOfPartitionedDataSets(numSets);
-  this->OutputSets.resize(numSets);
-  size_t leaf = 0;
-  for (unsigned int d = 0; d < numSets; ++d)
-  {
-    vtkPartitionedDataSet* in = input->GetPartitionedDataSet(d);
-    vtkSmartPointer<vtkPartitionedDataSet>& out = this->OutputSets[d];
-    if (!in)
-    {
-      output->SetPartitionedDataSet(d, nullptr);
-      continue;
-    }
-    if (!out || out->GetReferenceCount() != 1)
-    {
-      out = vtkSmartPointer<vtkPartitionedDataSet>::New();
-    }
-    out->Initialize();
-    const unsigned int numPartitions = in->GetNumberOfPartitions();
-    out->SetNumberOfPartitions(numPartitions);
-    for (unsigned int i = 0; i < numPartitions; ++i)
-    {
-      if (in->GetPartitionAsDataObject(i) && leaf < this->Parts.size())
-      {
-        out->SetPartition(i, this->Parts[leaf++].OutputLeaf);
-      }
-      if (in->HasMetaData(i))
-      {
-        out->GetMetaData(i)->Copy(in->GetMetaData(i));
-      }
-    }
-    output->SetPartitionedDataSet(d, out);
-    if (input->HasMetaData(d))
-    {
-      output->GetMetaData(d)->Copy(input->GetMetaData(d));
-    }
-  }
-  output->SetDataAssembly(input->GetDataAssembly());
 }

@@ -20,6 +20,7 @@
 #ifndef vtkMorphNodeOutput_h
 #define vtkMorphNodeOutput_h
 
+#include "vtkMorphCompositeLeaves.h"
 #include "vtkMorphModelAdapter.h"
 
 #include "morph/MorphScene.h"
@@ -37,8 +38,6 @@ class vtkDataArray;
 class vtkDataObject;
 class vtkDoubleArray;
 class vtkFieldData;
-class vtkPartitionedDataSet;
-class vtkPartitionedDataSetCollection;
 class vtkPointSet;
 class vtkStringArray;
 
@@ -136,8 +135,6 @@ private:
     bool distances, const std::vector<vtkDataArray*>& fieldArrays, bool kept);
   void AssembleComposite(vtkCompositeDataSet* input, vtkCompositeDataSet* output,
     const morphnode::MorphScene* scene, bool distances);
-  void AssembleCollection(
-    vtkPartitionedDataSetCollection* input, vtkPartitionedDataSetCollection* output);
   static void PrepareArrays(Part& part);
 
   std::vector<std::string> Names;
@@ -147,8 +144,8 @@ private:
   vtkSmartPointer<vtkDoubleArray> DistNormOut;
   /// Per-execution field data, rewritten in place when no one else holds them.
   vtkSmartPointer<vtkDataArray> EffectiveWeightsOut, ActiveTargetCountOut, ErrorBoundOut;
-  /// The partitioned data sets of a collection's output, kept like the leaves.
-  std::vector<vtkSmartPointer<vtkPartitionedDataSet>> OutputSets;
+  /// The output's structure (a collection's partitioned data sets kept like the leaves).
+  vtkMorphCompositeLeaves Leaves;
   std::vector<const std::vector<morphnode::AttributeOutput>*> WhereByScenePart;
 };
 

@@ -11,12 +11,16 @@
 #include "vtkInformation.h"
 #include "vtkInformationDoubleVectorKey.h"
 #include "vtkInformationVector.h"
+#include "vtkMorphCompositeLeaves.h"
 #include "vtkPointSet.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkTable.h"
 
+#include <vector>
+
 //------------------------------------------------------------------------------
 vtkMorphTrackFilter::vtkMorphTrackFilter()
+  : Leaves(new vtkMorphCompositeLeaves)
 {
   this->SetNumberOfInputPorts(2);
 }
@@ -111,33 +115,34 @@ int vtkMorphTrackFilter::MoveParts(
   int moved = 0;
   if (auto* composite = vtkCompositeDataSet::SafeDownCast(input))
   {
-    auto* out = vtkCompositeDataSet::SafeDownCast(output);
-    out->ShallowCopy(composite);
-    for (auto node : vtk::Range(out, vtk::CompositeDataSetOptions::SkipEmptyNodes))
+    // The last output's leaves let go first (a mover may write its kept leaf again).
+    this->Leaves->Release();
+    std::vector<vtkDataObject*> leaves;
+    for (auto node : vtk::Range(composite, vtk::CompositeDataSetOptions::SkipEmptyNodes))
     {
-      auto* leaf = vtkPointSet::SafeDownCast(node);
-      if (!leaf)
+      vtkDataObject* leaf = node;
+      vtkPointSet* part = nullptr;
+      if (auto* points = vtkPointSet::SafeDownCast(leaf))
       {
-        continue;
+        const bool named =
+          node.HasMetaData() && node.GetMetaData()->Has(vtkCompositeDataSet::NAME());
+        const std::string name = named ? node.GetMetaData()->Get(vtkCompositeDataSet::NAME()) : "";
+        const std::string description =
+          named ? "part '" + name + "'" : "part " + std::to_string(node.GetFlatIndex());
+        part = move(points, name, description);
+        moved += part ? 1 : 0;
       }
-      const bool named = node.HasMetaData() && node.GetMetaData()->Has(vtkCompositeDataSet::NAME());
-      const std::string name = named ? node.GetMetaData()->Get(vtkCompositeDataSet::NAME()) : "";
-      const std::string description =
-        named ? "part '" + name + "'" : "part " + std::to_string(node.GetFlatIndex());
-      if (vtkSmartPointer<vtkPointSet> part = move(leaf, name, description))
-      {
-        node = part;
-        ++moved;
-      }
+      leaves.push_back(part ? part : leaf);
     }
+    this->Leaves->Place(composite, leaves, vtkCompositeDataSet::SafeDownCast(output));
     return moved;
   }
   if (auto* points = vtkPointSet::SafeDownCast(input))
   {
     auto* out = vtkPointSet::SafeDownCast(output);
     out->Initialize();
-    vtkSmartPointer<vtkPointSet> part = move(points, std::string(), "the input");
-    out->ShallowCopy(part ? part.GetPointer() : points);
+    vtkPointSet* part = move(points, std::string(), "the input");
+    out->ShallowCopy(part ? part : points);
     return part ? 1 : 0;
   }
   throw morphnode::InputError(

@@ -31,9 +31,12 @@
 
 #include <functional>       // For std::function
 #include <initializer_list> // For std::initializer_list
+#include <memory>           // For std::unique_ptr
 #include <string>           // For std::string
 
 class vtkPointSet;
+
+class vtkMorphCompositeLeaves;
 
 class VTKMORPHNODE_EXPORT vtkMorphTrackFilter : public vtkPassInputTypeAlgorithm
 {
@@ -78,9 +81,11 @@ protected:
   /**
    * Moves a part: the leaf, its block name ("" without one) and its description for
    * messages ("part 'Name'", "part 3", "the input"); returns the moved data set, or null
-   * to keep the leaf as it is.
+   * to keep the leaf as it is. The mover holds what it returns at least until MoveParts
+   * returns (the output then holds it): handing data sets over by smart pointers cost the
+   * garbage collector's check of each, three times a leaf and frame.
    */
-  using MovePart = std::function<vtkSmartPointer<vtkPointSet>(
+  using MovePart = std::function<vtkPointSet*(
     vtkPointSet* part, const std::string& name, const std::string& description)>;
 
   /**
@@ -91,10 +96,13 @@ protected:
    * number of parts moved. Throws morphnode::InputError for an input that is neither,
    * naming what could not be done (`what`, e.g. "turn eyes in").
    */
-  static int MoveParts(
+  int MoveParts(
     vtkDataObject* input, vtkDataObject* output, const MovePart& move, const char* what);
 
 private:
+  /// A composite output's structure, kept across executions (MoveParts).
+  std::unique_ptr<vtkMorphCompositeLeaves> Leaves;
+
   vtkMorphTrackFilter(const vtkMorphTrackFilter&) = delete;
   void operator=(const vtkMorphTrackFilter&) = delete;
 };

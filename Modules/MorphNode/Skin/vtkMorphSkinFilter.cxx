@@ -10,6 +10,7 @@
 #include "skin/AvatarBones.h"
 #include "skin/Skinning.h"
 
+#include "vtkCellData.h"
 #include "vtkCompositeDataSet.h"
 #include "vtkCompositeDataSetRange.h"
 #include "vtkDataArray.h"
@@ -24,6 +25,7 @@
 #include "vtkPointData.h"
 #include "vtkPointSet.h"
 #include "vtkPoints.h"
+#include "vtkPolyData.h"
 #include "vtkSMPTools.h"
 #include "vtkSmartPointer.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
@@ -31,6 +33,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <iterator>
 #include <map>
 #include <memory>
 
@@ -184,6 +187,9 @@ public:
     /// when nothing but this entry holds them: a snapshot kept downstream never changes).
     vtkSmartPointer<vtkDataArray> OutPoints, OutNormals;
     vtkSmartPointer<vtkPointSet> OutLeaf;
+    /// The input leaf OutLeaf was last filled from (compared, never dereferenced: it may
+    /// be gone).
+    const vtkPointSet* OutLeafFrom = nullptr;
     vtkSmartPointer<vtkPoints> OutPointsObject;
     /// The last frame's input, to tell what can have changed: its arrays and the morph
     /// node's MorphedPointRanges (by address and modification time; never held, so that
@@ -209,6 +215,8 @@ public:
   };
   std::map<vtkDataArray*, Entry> Cache;
   unsigned long Execution = 0;
+  /// Output leaves of this execution no entry holds any more (KeptLeaf).
+  std::vector<vtkSmartPointer<vtkPointSet>> Replaced;
   /// The input's jawOpen target (JAW_AUTO), known for these names arrays (address, MTime).
   bool JawKnown = false;
   bool JawTarget = false;
@@ -323,7 +331,7 @@ public:
   /// The leaf posed only (SkinPoints off): a new data set sharing everything with the input
   /// (points, normals, arrays), whose field data adds SkinJointDeltas (the skin's per-joint
   /// products of this pose) and SkinPose. No per-point work.
-  vtkSmartPointer<vtkPointSet> PoseOnly(vtkMorphSkinFilter* self, Entry& entry, vtkPointSet* leaf,
+  vtkPointSet* PoseOnly(vtkMorphSkinFilter* self, Entry& entry, vtkPointSet* leaf,
     const std::string& what, PoseSlot& slot, const morphnode::AvatarBonePose& angles,
     const morphnode::AvatarBoneRoles& roles)
   {
@@ -361,7 +369,7 @@ public:
       }
       skin.DeltasExecution = this->Execution;
     }
-    vtkSmartPointer<vtkPointSet> out = this->KeptLeaf(entry, leaf);
+    vtkPointSet* out = this->KeptLeaf(entry, leaf);
     entry.Execution = this->Execution;
     entry.OutPointsObject = nullptr; // the CPU path's kept arrays no longer hold a frame
     // The points are the input's: the morph's ranges (MorphedPointRanges) still hold.
@@ -377,31 +385,85 @@ public:
   /// The entry's output leaf of the last frame (with its field data and points object),
   /// filled again with `leaf` (CopyLeaf) when nothing else holds it (the output composite
   /// let go of it), else a new one, and its kept points object let go.
-  vtkSmartPointer<vtkPointSet> KeptLeaf(Entry& entry, vtkPointSet* leaf) const
+  vtkPointSet* KeptLeaf(Entry& entry, vtkPointSet* leaf)
   {
+    bool sameLeaf = entry.OutLeafFrom == leaf;
     if (!Free(entry.OutLeaf) || !entry.OutLeaf->IsA(leaf->GetClassName()) ||
       entry.Execution == this->Execution)
     {
+      if (entry.OutLeaf && entry.Execution == this->Execution)
+      {
+        // Handed over for another leaf this execution: held until it is placed.
+        this->Replaced.push_back(entry.OutLeaf);
+      }
       entry.OutLeaf.TakeReference(leaf->NewInstance());
       entry.OutPointsObject = nullptr;
+      sameLeaf = false;
     }
-    CopyLeaf(entry.OutLeaf, leaf);
+    CopyLeaf(entry.OutLeaf, leaf, sameLeaf);
+    entry.OutLeafFrom = leaf;
     return entry.OutLeaf;
   }
 
   /// out->ShallowCopy(leaf), into field data only `out` holds: a shallow copy fills the data
-  /// set's own field data object with the input's arrays, and SetField adds to it.
-  static void CopyLeaf(vtkPointSet* out, vtkPointSet* leaf)
+  /// set's own field data object with the input's arrays, and SetField adds to it. When
+  /// `out` is a polygonal leaf last filled from `leaf` itself (the morph node's kept output
+  /// leaf, frame after frame) and shares its cells, only the points and attribute arrays are
+  /// handed over: a full ShallowCopy (information keys, cells, links, garbage-collector
+  /// checks) of the avatar's seven leaves cost more than posing them.
+  static void CopyLeaf(vtkPointSet* out, vtkPointSet* leaf, bool sameLeaf)
   {
     if (out->GetFieldData() && out->GetFieldData()->GetReferenceCount() != 1)
     {
       out->SetFieldData(vtkSmartPointer<vtkFieldData>::New());
+    }
+    auto* outPolys = vtkPolyData::SafeDownCast(out);
+    auto* inPolys = vtkPolyData::SafeDownCast(leaf);
+    if (sameLeaf && outPolys && inPolys && out->GetFieldData() &&
+      outPolys->GetVerts() == inPolys->GetVerts() && outPolys->GetLines() == inPolys->GetLines() &&
+      outPolys->GetPolys() == inPolys->GetPolys() && outPolys->GetStrips() == inPolys->GetStrips())
+    {
+      if (out->GetPoints() != leaf->GetPoints())
+      {
+        out->SetPoints(leaf->GetPoints());
+      }
+      if (!SameArrays(out->GetPointData(), leaf->GetPointData()))
+      {
+        out->GetPointData()->ShallowCopy(leaf->GetPointData());
+      }
+      if (!SameArrays(out->GetCellData(), leaf->GetCellData()))
+      {
+        out->GetCellData()->ShallowCopy(leaf->GetCellData());
+      }
+      out->GetFieldData()->ShallowCopy(leaf->GetFieldData());
+      out->Modified();
+      return;
     }
     out->ShallowCopy(leaf);
     if (!out->GetFieldData())
     {
       out->SetFieldData(vtkSmartPointer<vtkFieldData>::New());
     }
+  }
+
+  /// The same arrays (objects, in order) and the same attribute choices.
+  static bool SameArrays(vtkDataSetAttributes* a, vtkDataSetAttributes* b)
+  {
+    if (a->GetNumberOfArrays() != b->GetNumberOfArrays())
+    {
+      return false;
+    }
+    for (int i = 0; i < a->GetNumberOfArrays(); ++i)
+    {
+      if (a->GetAbstractArray(i) != b->GetAbstractArray(i))
+      {
+        return false;
+      }
+    }
+    int ia[vtkDataSetAttributes::NUM_ATTRIBUTES], ib[vtkDataSetAttributes::NUM_ATTRIBUTES];
+    a->GetAttributeIndices(ia);
+    b->GetAttributeIndices(ib);
+    return std::equal(std::begin(ia), std::end(ia), std::begin(ib));
   }
 
   /// The output's field data (the input's arrays, CopyLeaf) with SkinPose, without the
@@ -440,9 +502,8 @@ public:
   /// The leaf re-skinned at the pose `angles` asks (a new data set sharing all but points and
   /// normals), nullptr when it is not skinned or stays at rest; updates the filter's report
   /// (skinned parts, eye and head bones, head bounds, bones).
-  vtkSmartPointer<vtkPointSet> Repose(vtkMorphSkinFilter* self, vtkPointSet* leaf,
-    const std::string& what, const morphnode::AvatarBonePose& angles, bool jawAllowed,
-    const std::string& partName)
+  vtkPointSet* Repose(vtkMorphSkinFilter* self, vtkPointSet* leaf, const std::string& what,
+    const morphnode::AvatarBonePose& angles, bool jawAllowed, const std::string& partName)
   {
     if (!vtkMorphSkinArrays::IsSkinned(leaf))
     {
@@ -535,7 +596,7 @@ public:
     {
       return nullptr; // at rest
     }
-    vtkSmartPointer<vtkPointSet> out = this->KeptLeaf(entry, leaf);
+    vtkPointSet* out = this->KeptLeaf(entry, leaf);
     vtkDataArray* points = leaf->GetPoints()->GetData();
     vtkDataArray* normals = leaf->GetPointData()->GetNormals();
     if (normals &&
@@ -686,6 +747,7 @@ int vtkMorphSkinFilter::RequestData(
   vtkDataObject* output = vtkDataObject::GetData(outputVector, 0);
   this->ClearReports();
   ++this->Internals->Execution;
+  this->Internals->Replaced.clear();
   if (!input || !output)
   {
     vtkErrorMacro(<< "no input");
