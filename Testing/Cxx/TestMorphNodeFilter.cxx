@@ -26,6 +26,7 @@
 #include "vtkTrivialProducer.h"
 #include "vtkUnsignedCharArray.h"
 #include "vtkUnstructuredGrid.h"
+#include "vtkWeakPointer.h"
 
 #include <gtest/gtest.h>
 
@@ -526,6 +527,69 @@ TEST(MorphNodeFilter, ReusesItsOutputArraysOnlyWhenNobodyHoldsThem)
   EXPECT_NEAR(out->GetPoint(1)[0], 2.0, 1e-6);
   EXPECT_NEAR(Field(snapshot, "EffectiveWeights", 1), 0.25, 1e-12);
   EXPECT_NEAR(Field(out, "EffectiveWeights", 1), 1.0, 1e-12);
+}
+
+// A renderer holds each frame's arrays until the next frame: the filter then writes the
+// set before (which the renderer has let go of) instead of new arrays every frame, and
+// never an array someone still holds, however long they hold it.
+TEST(MorphNodeFilter, HeldFramesAlternateBetweenTwoSetsAndHeldArraysNeverChange)
+{
+  Rig rig(ThreeQuads());
+  rig.Filter->SetWeightModeToRelative(); // point 1: x = 1 + w1
+  vtkNew<vtkPolyData> drawn;             // as a renderer's input holds the last frame
+  std::vector<vtkWeakPointer<vtkDataArray>> points, normals;
+  for (int frame = 0; frame < 6; ++frame)
+  {
+    rig.Filter->SetWeight(1, 0.1 * frame);
+    vtkPolyData* out = rig.Run();
+    ASSERT_NEAR(out->GetPoint(1)[0], 1.0 + 0.1 * frame, 1e-6) << "frame " << frame;
+    points.emplace_back(out->GetPoints()->GetData());
+    normals.emplace_back(out->GetPointData()->GetNormals());
+    drawn->ShallowCopy(out);
+  }
+  for (int frame = 2; frame < 6; ++frame)
+  {
+    // Frame f wrote frame f-2's arrays: the same objects, kept alive by the filter.
+    EXPECT_TRUE(points[frame - 2] && points[frame] == points[frame - 2]) << "frame " << frame;
+    EXPECT_TRUE(normals[frame - 2] && normals[frame] == normals[frame - 2]) << "frame " << frame;
+    EXPECT_NE(points[frame], points[frame - 1]) << "frame " << frame;
+  }
+
+  // Two frames held at once (the renderer's and a snapshot kept longer): neither changes,
+  // whatever the filter writes next (points, normals and every other blended array).
+  auto values = [](vtkPolyData* pd)
+  {
+    std::vector<double> v;
+    for (vtkIdType i = 0; i < pd->GetNumberOfPoints(); ++i)
+    {
+      v.insert(v.end(), pd->GetPoint(i), pd->GetPoint(i) + 3);
+    }
+    for (int a = 0; a < pd->GetPointData()->GetNumberOfArrays(); ++a)
+    {
+      vtkDataArray* array = pd->GetPointData()->GetArray(a);
+      for (vtkIdType t = 0; array && t < array->GetNumberOfTuples(); ++t)
+      {
+        for (int c = 0; c < array->GetNumberOfComponents(); ++c)
+        {
+          v.push_back(array->GetComponent(t, c));
+        }
+      }
+    }
+    return v;
+  };
+  vtkNew<vtkPolyData> kept;
+  kept->ShallowCopy(drawn); // frame 5
+  const std::vector<double> keptValues = values(kept);
+  for (int frame = 6; frame < 10; ++frame)
+  {
+    const std::vector<double> drawnValues = values(drawn);
+    rig.Filter->SetWeight(1, 0.1 * frame);
+    vtkPolyData* out = rig.Run();
+    EXPECT_NEAR(out->GetPoint(1)[0], 1.0 + 0.1 * frame, 1e-6) << "frame " << frame;
+    EXPECT_EQ(values(drawn), drawnValues) << "the renderer's frame changed at frame " << frame;
+    EXPECT_EQ(values(kept), keptValues) << "the kept frame changed at frame " << frame;
+    drawn->ShallowCopy(out);
+  }
 }
 
 TEST(MorphNodeFilter, OutputArraysKeepTheNeutralsOrderAndRoles)
