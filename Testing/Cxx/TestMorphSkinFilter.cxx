@@ -695,6 +695,46 @@ TEST(MorphSkinFilter, PoseOnlyKeepsThePointsAndItsDeltasGiveTheCpuSkin)
   EXPECT_NE(os.str().find("CPUSkinnedParts: Mesh"), std::string::npos) << os.str();
 }
 
+// Posing only frame after frame, the output held as a renderer holds it: each frame's
+// parts carry that frame's morph arrays, field data and pose, never an earlier frame's
+// (the kept output leaves are brought up to date, not copied anew), and nothing piles up.
+TEST(MorphSkinFilter, PoseOnlyFrameAfterFrameCarriesThatFrame)
+{
+  SKIP_WITHOUT_AVATAR();
+  Pipeline p;
+  p.Skin->SkinPointsOff();
+  std::vector<vtkSmartPointer<vtkPolyData>> held;
+  for (int frame = 0; frame < 5; ++frame)
+  {
+    SCOPED_TRACE("frame " + std::to_string(frame));
+    p.Morph->SetWeightByName("jawOpen", 0.1 * frame);
+    p.Skin->SetHeadYaw(5.0 * frame);
+    const auto posed = p.Run();
+    const auto morphed = Parts(p.Morph->GetOutputDataObject(0));
+    ASSERT_EQ(posed.size(), 7u);
+    held.clear();
+    for (const auto& [name, poly] : posed)
+    {
+      SCOPED_TRACE(name);
+      vtkPolyData* in = morphed.at(name);
+      EXPECT_EQ(poly->GetPoints(), in->GetPoints());
+      EXPECT_EQ(poly->GetPointData()->GetNormals(), in->GetPointData()->GetNormals());
+      vtkFieldData* fd = poly->GetFieldData();
+      vtkFieldData* inFd = in->GetFieldData();
+      ASSERT_EQ(fd->GetNumberOfArrays(), inFd->GetNumberOfArrays() + 2);
+      for (int a = 0; a < inFd->GetNumberOfArrays(); ++a)
+      {
+        EXPECT_EQ(fd->GetAbstractArray(a), inFd->GetAbstractArray(a)) << a;
+      }
+      EXPECT_EQ(fd->GetArray("SkinPose")->GetComponent(0, 0), 5.0 * frame);
+      ASSERT_NE(fd->GetArray("SkinJointDeltas"), nullptr);
+      auto copy = vtkSmartPointer<vtkPolyData>::New();
+      copy->ShallowCopy(poly);
+      held.push_back(copy);
+    }
+  }
+}
+
 // The jaw joint: the avatar has a Jaw joint AND a jawOpen target, so by default (JAW_AUTO)
 // JawOpen leaves the jaw joint alone (the target opens the mouth; never twice); forced on
 // (JAW_ON) the lower teeth, bound to the jaw, go down; the choice is reported.
