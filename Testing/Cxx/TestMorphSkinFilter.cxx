@@ -712,6 +712,11 @@ TEST(MorphSkinFilter, PoseOnlyFrameAfterFrameCarriesThatFrame)
     const auto posed = p.Run();
     const auto morphed = Parts(p.Morph->GetOutputDataObject(0));
     ASSERT_EQ(posed.size(), 7u);
+    // The head's own field data (the morph node's TargetNames), as the input has it.
+    EXPECT_EQ(p.Skin->GetOutputDataObject(0)->GetFieldData()->GetAbstractArray("TargetNames"),
+      p.Morph->GetOutputDataObject(0)->GetFieldData()->GetAbstractArray("TargetNames"));
+    EXPECT_NE(
+      p.Skin->GetOutputDataObject(0)->GetFieldData()->GetAbstractArray("TargetNames"), nullptr);
     held.clear();
     for (const auto& [name, poly] : posed)
     {

@@ -8,6 +8,7 @@
 #include "vtkCompositeDataSetRange.h"
 #include "vtkDataArray.h"
 #include "vtkDataObject.h"
+#include "vtkFieldData.h"
 #include "vtkInformation.h"
 #include "vtkInformationDoubleVectorKey.h"
 #include "vtkInformationVector.h"
@@ -134,7 +135,9 @@ int vtkMorphTrackFilter::MoveParts(
       }
       leaves.push_back(part ? part : leaf);
     }
-    this->Leaves->Place(composite, leaves, vtkCompositeDataSet::SafeDownCast(output));
+    auto* out = vtkCompositeDataSet::SafeDownCast(output);
+    this->Leaves->Place(composite, leaves, out);
+    out->GetFieldData()->ShallowCopy(composite->GetFieldData()); // the head's own (TargetNames)
     return moved;
   }
   if (auto* points = vtkPointSet::SafeDownCast(input))
