@@ -427,14 +427,8 @@ public:
       {
         out->SetPoints(leaf->GetPoints());
       }
-      if (!SameArrays(out->GetPointData(), leaf->GetPointData()))
-      {
-        out->GetPointData()->ShallowCopy(leaf->GetPointData());
-      }
-      if (!SameArrays(out->GetCellData(), leaf->GetCellData()))
-      {
-        out->GetCellData()->ShallowCopy(leaf->GetCellData());
-      }
+      PassArrays(out->GetPointData(), leaf->GetPointData());
+      PassArrays(out->GetCellData(), leaf->GetCellData());
       out->GetFieldData()->ShallowCopy(leaf->GetFieldData());
       out->Modified();
       return;
@@ -446,24 +440,36 @@ public:
     }
   }
 
-  /// The same arrays (objects, in order) and the same attribute choices.
-  static bool SameArrays(vtkDataSetAttributes* a, vtkDataSetAttributes* b)
+  /// `out` takes `in`'s arrays again: with the same names in the same order and the same
+  /// attribute choices (the morph node's arrays of the frame in place of the last frame's),
+  /// only the arrays replaced since, by name (a part has three or four); else a shallow copy.
+  static void PassArrays(vtkDataSetAttributes* out, vtkDataSetAttributes* in)
   {
-    if (a->GetNumberOfArrays() != b->GetNumberOfArrays())
+    const int n = in->GetNumberOfArrays();
+    int ia[vtkDataSetAttributes::NUM_ATTRIBUTES], ib[vtkDataSetAttributes::NUM_ATTRIBUTES];
+    in->GetAttributeIndices(ia);
+    out->GetAttributeIndices(ib);
+    bool same = out->GetNumberOfArrays() == n && std::equal(std::begin(ia), std::end(ia), ib);
+    std::vector<vtkAbstractArray*> replaced;
+    for (int i = 0; same && i < n; ++i)
     {
-      return false;
-    }
-    for (int i = 0; i < a->GetNumberOfArrays(); ++i)
-    {
-      if (a->GetAbstractArray(i) != b->GetAbstractArray(i))
+      vtkAbstractArray* a = in->GetAbstractArray(i);
+      vtkAbstractArray* b = out->GetAbstractArray(i);
+      if (a != b)
       {
-        return false;
+        same = a && b && a->GetName() && b->GetName() && std::string(a->GetName()) == b->GetName();
+        replaced.push_back(a);
       }
     }
-    int ia[vtkDataSetAttributes::NUM_ATTRIBUTES], ib[vtkDataSetAttributes::NUM_ATTRIBUTES];
-    a->GetAttributeIndices(ia);
-    b->GetAttributeIndices(ib);
-    return std::equal(std::begin(ia), std::end(ia), std::begin(ib));
+    if (!same)
+    {
+      out->ShallowCopy(in);
+      return;
+    }
+    for (vtkAbstractArray* a : replaced)
+    {
+      out->AddArray(a); // in place of the array of its name, its attribute choice kept
+    }
   }
 
   /// The output's field data (the input's arrays, CopyLeaf) with SkinPose, without the
