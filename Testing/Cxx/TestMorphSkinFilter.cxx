@@ -13,6 +13,7 @@
 #include "vtkMorphTargetReader.h"
 
 #include "Core/gltf/GltfSkinnedTestFiles.h"
+#include "MorphNodeTestScenes.h"
 #include "gltf/GltfSkin.h"
 
 #include "vtkCompositeDataSet.h"
@@ -39,7 +40,6 @@
 #include <array>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <sstream>
 
@@ -127,6 +127,20 @@ struct Pipeline
   {
     EXPECT_EQ(this->Skin->GetExecutive()->Update(), 1);
     return Parts(this->Skin->GetOutputDataObject(0));
+  }
+};
+
+/// A glTF file written to the test output folder (`name`), read and skinned; the filter is
+/// not updated yet.
+struct SkinnedFile
+{
+  vtkNew<vtkMorphTargetReader> Reader;
+  vtkNew<vtkMorphSkinFilter> Skin;
+  SkinnedFile(const std::string& name, const std::string& glb)
+  {
+    std::filesystem::create_directories(MORPHNODE_TEST_OUTPUT_DIR);
+    this->Reader->SetFileName(morphnode_test::scenes::WriteFile(name, glb).c_str());
+    this->Skin->SetInputConnection(this->Reader->GetOutputPort());
   }
 };
 } // namespace
@@ -495,13 +509,8 @@ TEST(MorphSkinFilter, RelaxedArmsHangDown)
 
 TEST(MorphSkinFilter, SkinnedQuadAndDamagedSkins)
 {
-  const std::string file = std::string(MORPHNODE_TEST_OUTPUT_DIR) + "/skin_filter_quad.glb";
-  std::filesystem::create_directories(MORPHNODE_TEST_OUTPUT_DIR);
-  std::ofstream(file, std::ios::binary) << gltftest::SkinnedQuad().Glb();
-  vtkNew<vtkMorphTargetReader> reader;
-  reader->SetFileName(file.c_str());
-  vtkNew<vtkMorphSkinFilter> skin;
-  skin->SetInputConnection(reader->GetOutputPort());
+  SkinnedFile quad("skin_filter_quad.glb", gltftest::SkinnedQuad().Glb());
+  vtkMorphSkinFilter* skin = quad.Skin;
   ASSERT_EQ(skin->GetExecutive()->Update(), 1);
   auto parts = Parts(skin->GetOutputDataObject(0));
   ASSERT_EQ(parts.size(), 1u);
@@ -675,13 +684,8 @@ TEST(MorphSkinFilter, PoseOnlyKeepsThePointsAndItsDeltasGiveTheCpuSkin)
     nullptr);
 
   // Two sets of influences: re-skinned on the CPU, and said.
-  const std::string file = std::string(MORPHNODE_TEST_OUTPUT_DIR) + "/skin_filter_quad_pose.glb";
-  std::filesystem::create_directories(MORPHNODE_TEST_OUTPUT_DIR);
-  std::ofstream(file, std::ios::binary) << gltftest::SkinnedQuad().Glb();
-  vtkNew<vtkMorphTargetReader> reader;
-  reader->SetFileName(file.c_str());
-  vtkNew<vtkMorphSkinFilter> skin;
-  skin->SetInputConnection(reader->GetOutputPort());
+  SkinnedFile twoSets("skin_filter_quad_pose.glb", gltftest::SkinnedQuad().Glb());
+  vtkMorphSkinFilter* skin = twoSets.Skin;
   skin->SkinPointsOff();
   ASSERT_EQ(skin->GetExecutive()->Update(), 1);
   EXPECT_EQ(skin->GetNumberOfPosedOnlyParts(), 0);
@@ -778,8 +782,6 @@ TEST(MorphSkinFilter, JawJointTurnsOnlyWhereNoJawOpenTargetOpensTheMouth)
 // the outer range map (45 of 90 degrees -> 6 of 12), not the eye limits' 40 degrees.
 TEST(MorphSkinFilter, VrmHumanoidBonesAndLookAtRangeMaps)
 {
-  const std::string file = std::string(MORPHNODE_TEST_OUTPUT_DIR) + "/skin_filter_vrm_quad.glb";
-  std::filesystem::create_directories(MORPHNODE_TEST_OUTPUT_DIR);
   gltftest::Builder b = gltftest::SkinnedQuad();
   b.Doc["extensions"]["VRMC_vrm"] = { { "specVersion", "1.0" },
     { "humanoid", { { "humanBones", { { "leftEye", { { "node", 2 } } } } } } },
@@ -787,11 +789,8 @@ TEST(MorphSkinFilter, VrmHumanoidBonesAndLookAtRangeMaps)
       { { "type", "bone" },
         { "rangeMapHorizontalOuter", { { "inputMaxValue", 90 }, { "outputScale", 12 } } } } } };
   b.Doc["extensionsUsed"] = { "VRMC_vrm" };
-  std::ofstream(file, std::ios::binary) << b.Glb();
-  vtkNew<vtkMorphTargetReader> reader;
-  reader->SetFileName(file.c_str());
-  vtkNew<vtkMorphSkinFilter> skin;
-  skin->SetInputConnection(reader->GetOutputPort());
+  SkinnedFile vrm("skin_filter_vrm_quad.glb", b.Glb());
+  vtkMorphSkinFilter* skin = vrm.Skin;
   skin->Update();
   EXPECT_TRUE(skin->GetHasEyeBones()) << skin->GetBones();
   const auto rest = Parts(skin->GetOutputDataObject(0));
