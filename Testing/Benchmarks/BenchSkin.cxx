@@ -60,6 +60,16 @@ namespace
 {
 using json = nlohmann::json;
 const std::string Avatar = std::string(MORPHNODE_AVATAR_DIR) + "/makehuman_avatar.glb";
+/// Without the avatar: the benchmark skipped, saying why.
+bool SkippedWithoutAvatar(benchmark::State& state)
+{
+  if (std::filesystem::exists(Avatar))
+  {
+    return false;
+  }
+  state.SkipWithError(("MakeHuman avatar not found: " + Avatar).c_str());
+  return true;
+}
 constexpr double Fps = 30.0;
 constexpr int Keys = 61; // 2 s of animation
 
@@ -238,9 +248,8 @@ struct AvatarPipeline
 void Ours(benchmark::State& state, bool skin, bool headMoves = true, bool poseOnly = false,
   bool held = false)
 {
-  if (!std::filesystem::exists(Avatar))
+  if (SkippedWithoutAvatar(state))
   {
-    state.SkipWithError(("MakeHuman avatar not found: " + Avatar).c_str());
     return;
   }
   AvatarPipeline p(!poseOnly);
@@ -309,9 +318,8 @@ void MorphAndPoseOnlyHeld(benchmark::State& state)
 // timing): what MorphAndPoseOnly adds to a frame.
 void PoseOnlyPass(benchmark::State& state)
 {
-  if (!std::filesystem::exists(Avatar))
+  if (SkippedWithoutAvatar(state))
   {
-    state.SkipWithError(("MakeHuman avatar not found: " + Avatar).c_str());
     return;
   }
   AvatarPipeline p(false);
@@ -338,9 +346,8 @@ enum class Drawn
 /// each, as MorphAvatar), framed on the face, 640 x 640, waiting for the GL to finish.
 void DrawnFrame(benchmark::State& state, Drawn mode)
 {
-  if (!std::filesystem::exists(Avatar))
+  if (SkippedWithoutAvatar(state))
   {
-    state.SkipWithError(("MakeHuman avatar not found: " + Avatar).c_str());
     return;
   }
   if (!std::getenv("DISPLAY"))
@@ -454,9 +461,8 @@ void DrawnMorphAndGpuSkin(benchmark::State& state)
 
 void VtkGltfReader(benchmark::State& state)
 {
-  if (!std::filesystem::exists(Avatar))
+  if (SkippedWithoutAvatar(state))
   {
-    state.SkipWithError(("MakeHuman avatar not found: " + Avatar).c_str());
     return;
   }
   static const std::string file = AnimatedCopy();
