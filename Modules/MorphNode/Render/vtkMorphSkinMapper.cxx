@@ -32,6 +32,78 @@ constexpr int ReservedComponents = 256;
 constexpr const char* JointsAttribute = "skinJoints";
 constexpr const char* WeightsAttribute = "skinWeights";
 constexpr const char* DeltasUniform = "skinDeltas";
+
+/// The skin convention's arrays on a part (vtkMorphSkinArrays.h).
+struct SkinArrays
+{
+  vtkFloatArray* Rows = nullptr; ///< SkinJointDeltas, three rows of four a joint
+  vtkDataArray* Joints = nullptr;
+  vtkDataArray* Weights = nullptr;
+};
+
+/// `poly`'s skin arrays when they are whole and finite (what both the drawing and the posed
+/// bounds need); else false, with `why` saying what is wrong (empty: the part has no
+/// SkinJointDeltas at all).
+bool ReadSkin(vtkPolyData* poly, SkinArrays& skin, std::string& why)
+{
+  why.clear();
+  vtkDataArray* deltas =
+    poly ? poly->GetFieldData()->GetArray(vtkMorphSkinArrays::JointDeltasArray) : nullptr;
+  if (!deltas)
+  {
+    return false;
+  }
+  auto* rows = vtkFloatArray::FastDownCast(deltas);
+  vtkDataArray* indices = poly->GetFieldData()->GetArray(vtkMorphSkinArrays::JointIndicesArray);
+  vtkDataArray* joints = poly->GetPointData()->GetArray(vtkMorphSkinArrays::JointsArray);
+  vtkDataArray* weights = poly->GetPointData()->GetArray(vtkMorphSkinArrays::WeightsArray);
+  const vtkIdType n = poly->GetNumberOfPoints();
+  const vtkIdType count = deltas->GetNumberOfTuples();
+  std::ostringstream message;
+  if (!rows || deltas->GetNumberOfComponents() != 12)
+  {
+    message << vtkMorphSkinArrays::JointDeltasArray << " must be a vtkFloatArray of 12 components";
+  }
+  else if (!indices || indices->GetNumberOfTuples() != count)
+  {
+    message << vtkMorphSkinArrays::JointDeltasArray << " has " << count << " joints, the skin ("
+            << vtkMorphSkinArrays::JointIndicesArray << ") "
+            << (indices ? indices->GetNumberOfTuples() : 0);
+  }
+  else if (count < 1)
+  {
+    message << vtkMorphSkinArrays::JointDeltasArray << " has no joints";
+  }
+  else if (!joints || !weights || joints->GetNumberOfComponents() != 4 ||
+    weights->GetNumberOfComponents() != 4 || joints->GetNumberOfTuples() != n ||
+    weights->GetNumberOfTuples() != n)
+  {
+    message << vtkMorphSkinArrays::JointsArray << " and " << vtkMorphSkinArrays::WeightsArray
+            << " must give 4 influences for each of the " << n << " points";
+  }
+  else
+  {
+    const float* d = rows->GetPointer(0);
+    for (vtkIdType i = 0; i < 12 * count; ++i)
+    {
+      if (!std::isfinite(d[i]))
+      {
+        message << vtkMorphSkinArrays::JointDeltasArray << " of joint " << i / 12
+                << " is not finite";
+        break;
+      }
+    }
+  }
+  why = message.str();
+  if (!why.empty())
+  {
+    return false;
+  }
+  skin.Rows = rows;
+  skin.Joints = joints;
+  skin.Weights = weights;
+  return true;
+}
 }
 
 //------------------------------------------------------------------------------
@@ -72,59 +144,15 @@ void vtkMorphSkinMapper::CheckSkin()
 {
   this->Deltas = nullptr;
   this->NumberOfJoints = 0;
-  vtkPolyData* poly = this->CurrentInput;
-  vtkDataArray* deltas =
-    poly ? poly->GetFieldData()->GetArray(vtkMorphSkinArrays::JointDeltasArray) : nullptr;
-  if (!deltas)
+  SkinArrays skin;
+  std::string why;
+  if (!ReadSkin(this->CurrentInput, skin, why))
   {
-    this->Say(SKIN_NONE, "");
+    this->Say(why.empty() ? SKIN_NONE : SKIN_DAMAGED,
+      why.empty() ? "" : "the skin convention is damaged: " + why + "; nothing drawn");
     return;
   }
-  auto* rows = vtkFloatArray::FastDownCast(deltas);
-  vtkDataArray* indices = poly->GetFieldData()->GetArray(vtkMorphSkinArrays::JointIndicesArray);
-  vtkDataArray* joints = poly->GetPointData()->GetArray(vtkMorphSkinArrays::JointsArray);
-  vtkDataArray* weights = poly->GetPointData()->GetArray(vtkMorphSkinArrays::WeightsArray);
-  const vtkIdType n = poly->GetNumberOfPoints();
-  const vtkIdType count = deltas->GetNumberOfTuples();
-  std::ostringstream why;
-  if (!rows || deltas->GetNumberOfComponents() != 12)
-  {
-    why << vtkMorphSkinArrays::JointDeltasArray << " must be a vtkFloatArray of 12 components";
-  }
-  else if (!indices || indices->GetNumberOfTuples() != count)
-  {
-    why << vtkMorphSkinArrays::JointDeltasArray << " has " << count << " joints, the skin ("
-        << vtkMorphSkinArrays::JointIndicesArray << ") "
-        << (indices ? indices->GetNumberOfTuples() : 0);
-  }
-  else if (count < 1)
-  {
-    why << vtkMorphSkinArrays::JointDeltasArray << " has no joints";
-  }
-  else if (!joints || !weights || joints->GetNumberOfComponents() != 4 ||
-    weights->GetNumberOfComponents() != 4 || joints->GetNumberOfTuples() != n ||
-    weights->GetNumberOfTuples() != n)
-  {
-    why << vtkMorphSkinArrays::JointsArray << " and " << vtkMorphSkinArrays::WeightsArray
-        << " must give 4 influences for each of the " << n << " points";
-  }
-  else
-  {
-    const float* d = rows->GetPointer(0);
-    for (vtkIdType i = 0; i < 12 * count; ++i)
-    {
-      if (!std::isfinite(d[i]))
-      {
-        why << vtkMorphSkinArrays::JointDeltasArray << " of joint " << i / 12 << " is not finite";
-        break;
-      }
-    }
-  }
-  if (!why.str().empty())
-  {
-    this->Say(SKIN_DAMAGED, "the skin convention is damaged: " + why.str() + "; nothing drawn");
-    return;
-  }
+  const vtkIdType count = skin.Rows->GetNumberOfTuples();
   if (this->UniformJoints < 0)
   {
     GLint components = 0;
@@ -142,7 +170,7 @@ void vtkMorphSkinMapper::CheckSkin()
     return;
   }
   this->NumberOfJoints = static_cast<int>(count);
-  this->Deltas = rows->GetPointer(0);
+  this->Deltas = skin.Rows->GetPointer(0);
   this->Say(SKIN_GPU, "");
 }
 
@@ -191,21 +219,17 @@ void vtkMorphSkinMapper::ComputeBounds()
   {
     return;
   }
-  auto* rows = vtkFloatArray::SafeDownCast(
-    poly->GetFieldData()->GetArray(vtkMorphSkinArrays::JointDeltasArray));
-  vtkDataArray* joints = poly->GetPointData()->GetArray(vtkMorphSkinArrays::JointsArray);
-  vtkDataArray* weights = poly->GetPointData()->GetArray(vtkMorphSkinArrays::WeightsArray);
-  const vtkIdType n = poly->GetNumberOfPoints();
-  if (!rows || rows->GetNumberOfComponents() != 12 || rows->GetNumberOfTuples() < 1 || !joints ||
-    !weights || joints->GetNumberOfComponents() != 4 || weights->GetNumberOfComponents() != 4 ||
-    joints->GetNumberOfTuples() != n || weights->GetNumberOfTuples() != n)
+  SkinArrays skin;
+  std::string why;
+  if (!ReadSkin(poly, skin, why))
   {
     return; // drawn as given, or not at all (CheckSkin says why)
   }
+  vtkFloatArray* rows = skin.Rows;
   double b[6] = { VTK_DOUBLE_MAX, VTK_DOUBLE_MIN, VTK_DOUBLE_MAX, VTK_DOUBLE_MIN, VTK_DOUBLE_MAX,
     VTK_DOUBLE_MIN };
   const double* rest = this->Bounds;
-  for (vtkIdType k : this->UsedJoints(joints, weights, rows->GetNumberOfTuples()))
+  for (vtkIdType k : this->UsedJoints(skin.Joints, skin.Weights, rows->GetNumberOfTuples()))
   {
     const float* d = rows->GetPointer(12 * k);
     for (int c = 0; c < 8; ++c)
