@@ -41,6 +41,7 @@
 #include <cmath>
 #include <filesystem>
 #include <map>
+#include <set>
 #include <sstream>
 
 namespace
@@ -813,4 +814,246 @@ TEST(MorphSkinFilter, VrmHumanoidBonesAndLookAtRangeMaps)
     std::acos(glm::clamp(glm::dot(glm::normalize(u), glm::normalize(v)), -1.0, 1.0)) * 180.0 /
     glm::pi<double>();
   EXPECT_NEAR(angle, 6.0, 0.01) << "the VRM range map was not used (the limits would give 40)";
+}
+
+namespace
+{
+/// Parts posed in a second pass (`a`) and in the morph node's (`b`) are the same: points
+/// and normals bit for bit, the field data's names, SkinPose and SkinJointDeltas values.
+void ExpectSameParts(const std::map<std::string, vtkSmartPointer<vtkPolyData>>& a,
+  const std::map<std::string, vtkSmartPointer<vtkPolyData>>& b)
+{
+  ASSERT_EQ(a.size(), b.size());
+  for (const auto& [name, pa] : a)
+  {
+    SCOPED_TRACE(name);
+    ASSERT_EQ(b.count(name), 1u);
+    vtkPolyData* pb = b.at(name);
+    ASSERT_EQ(pa->GetNumberOfPoints(), pb->GetNumberOfPoints());
+    for (vtkIdType i = 0; i < pa->GetNumberOfPoints(); ++i)
+    {
+      double p[3], q[3];
+      pa->GetPoint(i, p);
+      pb->GetPoint(i, q);
+      ASSERT_TRUE(p[0] == q[0] && p[1] == q[1] && p[2] == q[2]) << "point " << i;
+    }
+    vtkDataArray* na = pa->GetPointData()->GetNormals();
+    vtkDataArray* nb = pb->GetPointData()->GetNormals();
+    ASSERT_EQ(na == nullptr, nb == nullptr);
+    for (vtkIdType i = 0; na && i < na->GetNumberOfValues(); ++i)
+    {
+      ASSERT_EQ(na->GetComponent(i / 3, static_cast<int>(i % 3)),
+        nb->GetComponent(i / 3, static_cast<int>(i % 3)))
+        << "normal value " << i;
+    }
+    std::set<std::string> fa, fb;
+    for (int k = 0; k < pa->GetFieldData()->GetNumberOfArrays(); ++k)
+    {
+      fa.insert(pa->GetFieldData()->GetAbstractArray(k)->GetName());
+    }
+    for (int k = 0; k < pb->GetFieldData()->GetNumberOfArrays(); ++k)
+    {
+      fb.insert(pb->GetFieldData()->GetAbstractArray(k)->GetName());
+    }
+    EXPECT_EQ(fa, fb);
+    for (const char* array : { "SkinPose", "SkinJointDeltas" })
+    {
+      vtkDataArray* da = pa->GetFieldData()->GetArray(array);
+      vtkDataArray* db = pb->GetFieldData()->GetArray(array);
+      ASSERT_EQ(da == nullptr, db == nullptr) << array;
+      for (vtkIdType i = 0; da && i < da->GetNumberOfValues(); ++i)
+      {
+        const int nc = da->GetNumberOfComponents();
+        ASSERT_EQ(da->GetComponent(i / nc, static_cast<int>(i % nc)),
+          db->GetComponent(i / nc, static_cast<int>(i % nc)))
+          << array << " value " << i;
+      }
+    }
+  }
+}
+
+/// The reports of two skin filters agree.
+void ExpectSameReports(vtkMorphSkinFilter* a, vtkMorphSkinFilter* b)
+{
+  EXPECT_EQ(a->GetNumberOfSkinnedParts(), b->GetNumberOfSkinnedParts());
+  EXPECT_EQ(a->GetNumberOfPosedOnlyParts(), b->GetNumberOfPosedOnlyParts());
+  EXPECT_EQ(a->GetNumberOfCPUSkinnedParts(), b->GetNumberOfCPUSkinnedParts());
+  EXPECT_STREQ(a->GetBones(), b->GetBones());
+  EXPECT_EQ(a->GetNumberOfEyeParts(), b->GetNumberOfEyeParts());
+  EXPECT_EQ(a->GetHasHeadBones(), b->GetHasHeadBones());
+  EXPECT_EQ(a->GetJawByBone(), b->GetJawByBone());
+  double ba[6] = { 0 }, bb[6] = { 0 };
+  EXPECT_EQ(a->GetHeadBounds(ba), b->GetHeadBounds(bb));
+  for (int k = 0; k < 6; ++k)
+  {
+    EXPECT_EQ(ba[k], bb[k]);
+  }
+}
+} // namespace
+
+// The skin filter as the morph node's pose filter (vtkMorphNodeFilter::SetPoseFilter): the
+// skeleton posed in the morph node's own pass gives, frame after frame, what the same filter
+// gives downstream in a second pass: posed only (the GPU's deltas) with the output held as a
+// renderer holds it or not, re-skinned on the CPU, at rest; the same reports. Its settings
+// re-execute the morph node; a pose table on port 2 wins over the weights table; without
+// the pose filter the morph node's parts carry no pose any more.
+TEST(MorphSkinFilter, PosedInTheMorphNodesPassAsInASecondPass)
+{
+  SKIP_WITHOUT_AVATAR();
+  Pipeline two;
+  vtkNew<vtkMorphTargetReader> reader;
+  reader->SetFileName(Avatar.c_str());
+  vtkNew<vtkMorphNodeFilter> morph;
+  morph->SetInputConnection(reader->GetOutputPort());
+  morph->SetWeightModeToRelative();
+  vtkNew<vtkMorphSkinFilter> poser;
+  morph->SetPoseFilter(poser);
+  EXPECT_EQ(morph->GetPoseFilter(), poser.GetPointer());
+  auto fused = [&]
+  {
+    EXPECT_EQ(morph->GetExecutive()->Update(), 1);
+    return Parts(morph->GetOutputDataObject(0));
+  };
+  std::vector<vtkSmartPointer<vtkPolyData>> held;
+  for (const bool skinPoints : { false, true })
+  {
+    two.Skin->SetSkinPoints(skinPoints);
+    poser->SetSkinPoints(skinPoints);
+    for (int frame = 0; frame < 4; ++frame)
+    {
+      SCOPED_TRACE(
+        std::string(skinPoints ? "re-skinned" : "posed only") + ", frame " + std::to_string(frame));
+      for (vtkMorphNodeFilter* m : { two.Morph.GetPointer(), morph.GetPointer() })
+      {
+        m->SetWeightByName("jawOpen", 0.15 * frame);
+        m->SetWeightByName("viseme_O", 0.1 * (3 - frame));
+      }
+      for (vtkMorphSkinFilter* s : { two.Skin.GetPointer(), poser.GetPointer() })
+      {
+        s->SetHeadYaw(6.0 * frame);
+        s->SetHeadPitch(-2.0 * frame);
+        s->SetEyeYaw(-4.0 * frame);
+      }
+      const auto a = two.Run();
+      const auto b = fused();
+      ExpectSameParts(a, b);
+      ExpectSameReports(two.Skin, poser);
+      // (Both morph nodes executed: the weights changed.)
+      EXPECT_EQ(two.Skin->GetNumberOfReskinnedPoints(), poser->GetNumberOfReskinnedPoints());
+      if (frame > 0)
+      {
+        EXPECT_EQ(
+          b.at("Body")->GetFieldData()->GetArray("SkinPose")->GetComponent(0, 0), 6.0 * frame);
+      }
+      EXPECT_EQ(b.at("Body")->GetFieldData()->GetArray("SkinJointDeltas") != nullptr,
+        !skinPoints && frame > 0 ? true : !skinPoints);
+      if (frame % 2 == 1)
+      {
+        held.clear(); // every other frame, both outputs held as a renderer holds them
+        for (const auto* parts : { &a, &b })
+        {
+          for (const auto& [name, poly] : *parts)
+          {
+            auto copy = vtkSmartPointer<vtkPolyData>::New();
+            copy->ShallowCopy(poly);
+            held.push_back(copy);
+          }
+        }
+      }
+    }
+  }
+  EXPECT_EQ(poser->GetNumberOfSkinnedParts(), 7);
+  EXPECT_GT(poser->GetNumberOfReskinnedPoints(), 0);
+
+  // At rest, re-skinning: the parts pass as the morph gives them, without a pose.
+  poser->SetHeadYaw(0);
+  poser->SetHeadPitch(0);
+  poser->SetEyeYaw(0);
+  two.Skin->SetHeadYaw(0);
+  two.Skin->SetHeadPitch(0);
+  two.Skin->SetEyeYaw(0);
+  ExpectSameParts(two.Run(), fused());
+  EXPECT_EQ(fused().at("Body")->GetFieldData()->GetArray("SkinPose"), nullptr);
+
+  // The skin filter's settings re-execute the morph node; port 2's table wins.
+  poser->SkinPointsOff();
+  poser->SetHeadYaw(12);
+  EXPECT_EQ(fused().at("Body")->GetFieldData()->GetArray("SkinPose")->GetComponent(0, 0), 12.0);
+  vtkNew<vtkTable> pose;
+  vtkNew<vtkDoubleArray> yaw;
+  yaw->SetName("HeadYaw");
+  yaw->InsertNextValue(-7.0);
+  pose->AddColumn(yaw);
+  morph->SetInputData(2, pose);
+  EXPECT_EQ(fused().at("Body")->GetFieldData()->GetArray("SkinPose")->GetComponent(0, 0), -7.0);
+  std::ostringstream os;
+  morph->Print(os);
+  EXPECT_NE(os.str().find("PoseFilter: vtkMorphSkinFilter"), std::string::npos) << os.str();
+  EXPECT_NE(os.str().find("Pose: connected"), std::string::npos) << os.str();
+
+  // Without the pose filter: the morph's parts, no pose.
+  morph->SetPoseFilter(nullptr);
+  const auto plain = fused();
+  for (const auto& [name, poly] : plain)
+  {
+    SCOPED_TRACE(name);
+    EXPECT_EQ(poly->GetFieldData()->GetArray("SkinPose"), nullptr);
+    EXPECT_EQ(poly->GetFieldData()->GetArray("SkinJointDeltas"), nullptr);
+  }
+}
+
+// The same on the skinned quad of the VRM test (a humanoid left eye, two sets of influences:
+// re-skinned on the CPU even when posing only), morphed by its `Up` target and turned by the
+// eye: one pass gives the second pass's points. A track filter without a fused form
+// (vtkEyeGazeFilter) fails the morph node's update with an error and an empty output.
+TEST(MorphSkinFilter, PosedInTheMorphNodesPassOnTheSkinnedQuad)
+{
+  gltftest::Builder b = gltftest::SkinnedQuad();
+  b.Doc["extensions"]["VRMC_vrm"] = { { "specVersion", "1.0" },
+    { "humanoid", { { "humanBones", { { "leftEye", { { "node", 2 } } } } } } } };
+  b.Doc["extensionsUsed"] = { "VRMC_vrm" };
+  const std::string path = morphnode_test::scenes::WriteFile("skin_filter_fused_quad.glb", b.Glb());
+  vtkNew<vtkMorphTargetReader> reader;
+  reader->SetFileName(path.c_str());
+  vtkNew<vtkMorphNodeFilter> morph, fusedMorph;
+  vtkNew<vtkMorphSkinFilter> skin, poser;
+  for (vtkMorphNodeFilter* m : { morph.GetPointer(), fusedMorph.GetPointer() })
+  {
+    m->SetInputConnection(reader->GetOutputPort());
+    m->SetWeightModeToRelative();
+    m->SetWeightByName("Up", 1.0);
+  }
+  skin->SetInputConnection(morph->GetOutputPort());
+  fusedMorph->SetPoseFilter(poser);
+  for (const bool skinPoints : { true, false })
+  {
+    SCOPED_TRACE(skinPoints ? "re-skinned" : "posed only");
+    for (vtkMorphSkinFilter* s : { skin.GetPointer(), poser.GetPointer() })
+    {
+      s->SetSkinPoints(skinPoints);
+      s->SetEyeYaw(30.0);
+    }
+    ASSERT_EQ(skin->GetExecutive()->Update(), 1);
+    ASSERT_EQ(fusedMorph->GetExecutive()->Update(), 1);
+    const auto a = Parts(skin->GetOutputDataObject(0));
+    const auto c = Parts(fusedMorph->GetOutputDataObject(0));
+    ExpectSameParts(a, c);
+    ExpectSameReports(skin, poser);
+    EXPECT_EQ(poser->GetNumberOfCPUSkinnedParts(), skinPoints ? 0 : 1);
+    // p2, bound to the eye joint alone, moved; the morph node's own arrays were not written.
+    const auto morphed = Parts(morph->GetOutputDataObject(0));
+    double p[3], q[3];
+    morphed.begin()->second->GetPoint(2, p);
+    c.begin()->second->GetPoint(2, q);
+    EXPECT_GT(std::abs(p[0] - q[0]) + std::abs(p[2] - q[2]), 0.1);
+  }
+
+  vtkNew<vtkEyeGazeFilter> gaze;
+  fusedMorph->SetPoseFilter(gaze);
+  testing::internal::CaptureStderr();
+  EXPECT_EQ(fusedMorph->GetExecutive()->Update(), 0);
+  const std::string err = testing::internal::GetCapturedStderr();
+  EXPECT_NE(err.find("cannot move parts inside another filter's pass"), std::string::npos) << err;
+  EXPECT_NE(err.find("the pose filter (vtkEyeGazeFilter) failed"), std::string::npos) << err;
+  EXPECT_TRUE(Parts(fusedMorph->GetOutputDataObject(0)).empty());
 }

@@ -7,6 +7,7 @@
 #include "vtkMorphTargetArrays.h"
 #ifdef MORPHNODE_WITH_MESH_LEVELS
 #include "vtkMorphMeshLevels.h"
+#include "vtkMorphTrackFilter.h"
 #endif
 
 #include "base/Error.h"
@@ -21,6 +22,7 @@
 #include "vtkCompositeDataSetRange.h"
 #include "vtkDataObject.h"
 #include "vtkDoubleArray.h"
+#include "vtkGarbageCollector.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkMultiProcessController.h"
@@ -282,7 +284,7 @@ vtkMorphNodeFilter::vtkMorphNodeFilter()
   : SparseCoverage(morphnode::MorphMesh::DefaultSparseCoverage)
   , Internals(new vtkInternals)
 {
-  this->SetNumberOfInputPorts(2);
+  this->SetNumberOfInputPorts(3);
   this->SetController(vtkMultiProcessController::GetGlobalController());
 }
 
@@ -290,6 +292,7 @@ vtkMorphNodeFilter::vtkMorphNodeFilter()
 vtkMorphNodeFilter::~vtkMorphNodeFilter()
 {
   this->SetController(nullptr);
+  this->SetPoseFilter(nullptr);
   delete[] this->DeviceProfile;
 }
 
@@ -393,6 +396,55 @@ int vtkMorphNodeFilter::RequestDataObject(
 void vtkMorphNodeFilter::SetWeightsConnection(vtkAlgorithmOutput* output)
 {
   this->SetInputConnection(1, output);
+}
+
+//------------------------------------------------------------------------------
+void vtkMorphNodeFilter::SetPoseConnection(vtkAlgorithmOutput* output)
+{
+  this->SetInputConnection(2, output);
+}
+
+//------------------------------------------------------------------------------
+void vtkMorphNodeFilter::SetPoseFilter(vtkMorphTrackFilter* filter)
+{
+  if (filter == this->PoseFilter)
+  {
+    return;
+  }
+  if (this->PoseFilter)
+  {
+    // Kept output leaves hold the field data it added (SkinPose, ...): new leaves.
+    for (auto& part : this->Internals->Output.Parts)
+    {
+      part.OutputLeaf = nullptr;
+    }
+  }
+  vtkMorphTrackFilter* old = this->PoseFilter;
+  this->PoseFilter = filter;
+  if (filter)
+  {
+    filter->Register(this);
+  }
+  if (old)
+  {
+    old->UnRegister(this);
+  }
+  this->Modified();
+}
+
+//------------------------------------------------------------------------------
+vtkMTimeType vtkMorphNodeFilter::GetMTime()
+{
+  const vtkMTimeType own = this->Superclass::GetMTime();
+  return this->PoseFilter ? std::max(own, this->PoseFilter->GetMTime()) : own;
+}
+
+//------------------------------------------------------------------------------
+void vtkMorphNodeFilter::ReportReferences(vtkGarbageCollector* collector)
+{
+  this->Superclass::ReportReferences(collector);
+  // The pose filter may hold a pipeline that holds this filter.
+  vtkGarbageCollectorReport(collector, this->PoseFilter, "PoseFilter");
 }
 
 //------------------------------------------------------------------------------
@@ -715,6 +767,17 @@ int vtkMorphNodeFilter::RequestData(
       internals.Output.Assemble(output, internals.Model.CompositeInput,
         internals.Model.HasScene ? &internals.Model.Scene : nullptr, this->GenerateDistanceArrays);
     }
+    if (this->PoseFilter)
+    {
+      // 5. The skeleton posed (and the parts skinned) in this pass, on this output.
+      vtkInformationVector* pose =
+        this->GetNumberOfInputConnections(2) > 0 ? inputVector[2] : inputVector[1];
+      if (!this->PoseFilter->MoveInPlace(pose, output))
+      {
+        throw morphnode::InputError(
+          std::string("the pose filter (") + this->PoseFilter->GetClassName() + ") failed");
+      }
+    }
     vtkInformation* outInfo = outputVector->GetInformationObject(0);
     if (outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP()))
     {
@@ -778,6 +841,10 @@ void vtkMorphNodeFilter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "NumberOfTargets: " << internals.Names().size() << "\n";
   os << indent << "NumberOfParts: " << internals.Output.Parts.size() << "\n";
   os << indent << "Controller: " << this->Controller << "\n";
+  os << indent << "PoseFilter: " << (this->PoseFilter ? this->PoseFilter->GetClassName() : "(none)")
+     << "\n";
+  os << indent << "Pose: " << (this->GetNumberOfInputConnections(2) > 0 ? "connected" : "none")
+     << "\n";
   const std::string requested = internals.Requests.Describe();
   os << indent << "Weights (requested):" << (requested.empty() ? "" : " ") << requested << "\n";
   os << indent << "EffectiveWeights:";

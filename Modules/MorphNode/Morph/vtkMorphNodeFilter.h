@@ -97,6 +97,7 @@
 #include <memory> // For std::unique_ptr
 
 class vtkDoubleArray;
+class vtkMorphTrackFilter;
 class vtkMultiProcessController;
 #ifndef __VTK_WRAP__
 namespace morphnode
@@ -145,6 +146,32 @@ public:
    * Connect the weights (a vtkTable) to port 1.
    */
   void SetWeightsConnection(vtkAlgorithmOutput* output);
+
+  ///@{
+  /**
+   * A skinned avatar posed in this filter's pass: a vtkMorphSkinFilter (nullptr, the
+   * default: none) poses this filter's output itself, after the blend, as it would pose it
+   * downstream (vtkMorphTrackFilter::MoveInPlace): morph first, then skin, in one pass of
+   * VTK's executive instead of two, so that a frame skinned on the GPU (the skin filter's
+   * SkinPoints off) costs the CPU little more than the morph (docs/benchmarks.md). Its
+   * settings and reports stay the skin filter's (its changes re-execute this filter); it
+   * reads the pose table on port 2 (SetPoseConnection), else the weights table on port 1
+   * (columns naming no target are ignored here). A filter that cannot pose in place fails
+   * the update. The skin filter need not be connected to anything.
+   */
+  void SetPoseFilter(vtkMorphTrackFilter* filter);
+  vtkGetObjectMacro(PoseFilter, vtkMorphTrackFilter);
+  ///@}
+
+  /**
+   * Connect the pose table of the PoseFilter (a vtkTable: HeadYaw, EyeYaw, ... as
+   * vtkMorphSkinFilter reads them) to the optional port 2; without it the filter reads the
+   * weights table.
+   */
+  void SetPoseConnection(vtkAlgorithmOutput* output);
+
+  /** The MTime of this filter and of its PoseFilter. */
+  vtkMTimeType GetMTime() override;
 
   ///@{
   /**
@@ -449,6 +476,7 @@ protected:
   int RequestDataObject(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int ExecuteInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  void ReportReferences(vtkGarbageCollector*) override;
 
   int WeightMode = NORMALIZE;
   int OptimizerPreset = OPTIMIZER_CUSTOM;
@@ -474,6 +502,7 @@ protected:
   double FrameBudgetThreshold = -1.0;
   double MorphTime = 0.0;
   vtkMultiProcessController* Controller = nullptr;
+  vtkMorphTrackFilter* PoseFilter = nullptr;
 
 private:
   vtkMorphNodeFilter(const vtkMorphNodeFilter&) = delete;

@@ -19,6 +19,18 @@
 
 #include <vector>
 
+namespace
+{
+/// A composite leaf's block name ("" without one) and its description for messages.
+template <typename Node>
+void NameOf(const Node& node, std::string& name, std::string& description)
+{
+  const bool named = node.HasMetaData() && node.GetMetaData()->Has(vtkCompositeDataSet::NAME());
+  name = named ? node.GetMetaData()->Get(vtkCompositeDataSet::NAME()) : "";
+  description = named ? "part '" + name + "'" : "part " + std::to_string(node.GetFlatIndex());
+}
+} // namespace
+
 //------------------------------------------------------------------------------
 vtkMorphTrackFilter::vtkMorphTrackFilter()
   : Leaves(new vtkMorphCompositeLeaves)
@@ -110,6 +122,39 @@ bool vtkMorphTrackFilter::ReadTrackRow(vtkInformationVector* trackVector,
 }
 
 //------------------------------------------------------------------------------
+int vtkMorphTrackFilter::MovePartsInPlace(
+  vtkDataObject* data, const MovePart& move, const char* what)
+{
+  int moved = 0;
+  if (auto* composite = vtkCompositeDataSet::SafeDownCast(data))
+  {
+    for (auto node : vtk::Range(composite, vtk::CompositeDataSetOptions::SkipEmptyNodes))
+    {
+      if (auto* points = vtkPointSet::SafeDownCast(node))
+      {
+        std::string name, description;
+        NameOf(node, name, description);
+        moved += move(points, name, description) ? 1 : 0;
+      }
+    }
+    return moved;
+  }
+  if (auto* points = vtkPointSet::SafeDownCast(data))
+  {
+    return move(points, std::string(), "the input") ? 1 : 0;
+  }
+  throw morphnode::InputError(
+    std::string("cannot ") + what + " a " + (data ? data->GetClassName() : "null data set"));
+}
+
+//------------------------------------------------------------------------------
+bool vtkMorphTrackFilter::MoveInPlace(vtkInformationVector*, vtkDataObject*)
+{
+  vtkErrorMacro(<< this->GetClassName() << " cannot move parts inside another filter's pass");
+  return false;
+}
+
+//------------------------------------------------------------------------------
 int vtkMorphTrackFilter::MoveParts(
   vtkDataObject* input, vtkDataObject* output, const MovePart& move, const char* what)
 {
@@ -125,11 +170,8 @@ int vtkMorphTrackFilter::MoveParts(
       vtkPointSet* part = nullptr;
       if (auto* points = vtkPointSet::SafeDownCast(leaf))
       {
-        const bool named =
-          node.HasMetaData() && node.GetMetaData()->Has(vtkCompositeDataSet::NAME());
-        const std::string name = named ? node.GetMetaData()->Get(vtkCompositeDataSet::NAME()) : "";
-        const std::string description =
-          named ? "part '" + name + "'" : "part " + std::to_string(node.GetFlatIndex());
+        std::string name, description;
+        NameOf(node, name, description);
         part = move(points, name, description);
         moved += part ? 1 : 0;
       }

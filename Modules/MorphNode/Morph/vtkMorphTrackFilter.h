@@ -17,7 +17,10 @@
  *   the VTK way (MoveParts), so that a subclass's RequestData only moves a part.
  *
  * Subclasses implement RequestData and may name the track port after what it holds
- * (SetGazeConnection, SetPoseConnection).
+ * (SetGazeConnection, SetPoseConnection). A subclass that only adds field data to the parts
+ * it moves, or gives them points and arrays of its own, may also move them in place inside
+ * another filter's pass (MoveInPlace: vtkMorphSkinFilter within vtkMorphNodeFilter's, see
+ * vtkMorphNodeFilter::SetPoseFilter): one pass of VTK's executive instead of two.
  *
  * @sa vtkEyeGazeFilter vtkMorphSkinFilter vtkMorphTrackSource
  */
@@ -48,6 +51,16 @@ public:
    * The track (port 1): a one-row vtkTable at the requested time.
    */
   void SetTrackConnection(vtkAlgorithmOutput* output);
+
+  /**
+   * Moves the parts of `data` in place, inside another filter's pass: the fused form of
+   * this filter (vtkMorphNodeFilter::SetPoseFilter). `data` is that filter's own output: its
+   * leaves take new field data, and new points and point arrays in place of theirs (never
+   * written into). `track` is the information vector of the table this filter would read
+   * on its port 1 (null: none). Reports as an execution would. Returns false, with
+   * vtkErrorMacro, when it cannot; this class has no fused form and always returns false.
+   */
+  virtual bool MoveInPlace(vtkInformationVector* track, vtkDataObject* data);
 
 protected:
   vtkMorphTrackFilter();
@@ -98,6 +111,13 @@ protected:
    */
   int MoveParts(
     vtkDataObject* input, vtkDataObject* output, const MovePart& move, const char* what);
+
+  /**
+   * MoveParts' walk over the parts, for MoveInPlace: `move` changes each vtkPointSet leaf of
+   * `data` (a composite or one point set) in place; what it returns is not placed anywhere
+   * (it must be the leaf or null). Returns the number of parts moved; throws as MoveParts.
+   */
+  static int MovePartsInPlace(vtkDataObject* data, const MovePart& move, const char* what);
 
 private:
   /// A composite output's structure, kept across executions (MoveParts).

@@ -349,7 +349,7 @@ public:
   /// products of this pose) and SkinPose. No per-point work.
   vtkPointSet* PoseOnly(vtkMorphSkinFilter* self, Entry& entry, vtkPointSet* leaf,
     const std::string& what, PoseSlot& slot, const morphnode::AvatarBonePose& angles,
-    const morphnode::AvatarBoneRoles& roles)
+    const morphnode::AvatarBoneRoles& roles, bool inPlace)
   {
     const size_t n = static_cast<size_t>(leaf->GetNumberOfPoints());
     if (entry.Rest.GetNumberOfPoints() != n)
@@ -385,7 +385,7 @@ public:
       }
       skin.DeltasExecution = this->Execution;
     }
-    vtkPointSet* out = this->KeptLeaf(entry, leaf);
+    vtkPointSet* out = inPlace ? leaf : this->KeptLeaf(entry, leaf);
     entry.Execution = this->Execution;
     entry.OutPointsObject = nullptr; // the CPU path's kept arrays no longer hold a frame
     // The points are the input's: the morph's ranges (MorphedPointRanges) still hold.
@@ -522,10 +522,12 @@ public:
   unsigned long PoseExecution[2] = { 0, 0 };
 
   /// The leaf re-skinned at the pose `angles` asks (a new data set sharing all but points and
-  /// normals), nullptr when it is not skinned or stays at rest; updates the filter's report
-  /// (skinned parts, eye and head bones, head bounds, bones).
+  /// normals; `inPlace`: the leaf itself, given new points and normals), nullptr when it is
+  /// not skinned or stays at rest; updates the filter's report (skinned parts, eye and head
+  /// bones, head bounds, bones).
   vtkPointSet* Repose(vtkMorphSkinFilter* self, vtkPointSet* leaf, const std::string& what,
-    const morphnode::AvatarBonePose& angles, vtkDataObject* input, const std::string& partName)
+    const morphnode::AvatarBonePose& angles, vtkDataObject* input, const std::string& partName,
+    bool inPlace)
   {
     if (!vtkMorphSkinArrays::IsSkinned(leaf))
     {
@@ -604,7 +606,7 @@ public:
       // suffice) and one set of four influences; else re-skinned here as with SkinPoints.
       if (entry.Rest.AllSharedRest() && entry.Skin.Influences.PerPoint == 4)
       {
-        return this->PoseOnly(self, entry, leaf, what, slot, angles, roles);
+        return this->PoseOnly(self, entry, leaf, what, slot, angles, roles, inPlace);
       }
       std::string name = vtkMorphPartData::GetPartName(leaf->GetFieldData(), partName);
       name = name.empty() ? what : name;
@@ -616,9 +618,19 @@ public:
     }
     if (!entry.Rest.SetPose(slot.Matrices(entry.SlotSkin)))
     {
+      if (inPlace)
+      {
+        // At rest, as the input: what an earlier frame's pose left is not this frame's.
+        leaf->GetFieldData()->RemoveArray("SkinPose");
+        leaf->GetFieldData()->RemoveArray(vtkMorphSkinArrays::JointDeltasArray);
+      }
       return nullptr; // at rest
     }
-    vtkPointSet* out = this->KeptLeaf(entry, leaf);
+    vtkPointSet* out = inPlace ? leaf : this->KeptLeaf(entry, leaf);
+    if (inPlace)
+    {
+      out->GetFieldData()->RemoveArray(vtkMorphSkinArrays::JointDeltasArray); // posed only before
+    }
     vtkDataArray* points = leaf->GetPoints()->GetData();
     vtkDataArray* normals = leaf->GetPointData()->GetNormals();
     if (normals &&
@@ -782,7 +794,7 @@ int vtkMorphSkinFilter::RequestData(
     vtkMorphTrackFilter::MoveParts(
       input, output,
       [&](vtkPointSet* part, const std::string& name, const std::string& description)
-      { return this->Internals->Repose(this, part, description, angles, input, name); },
+      { return this->Internals->Repose(this, part, description, angles, input, name, false); },
       "pose");
     vtkMorphTrackFilter::StampTime(output, outputVector);
     return 1;
@@ -794,6 +806,31 @@ int vtkMorphSkinFilter::RequestData(
     this->NumberOfSkinnedParts = 0;
     this->NumberOfPosedOnlyParts = 0;
     return 0;
+  }
+}
+
+//------------------------------------------------------------------------------
+bool vtkMorphSkinFilter::MoveInPlace(vtkInformationVector* track, vtkDataObject* data)
+{
+  this->ClearReports();
+  ++this->Internals->Execution;
+  this->Internals->Replaced.clear();
+  try
+  {
+    const morphnode::AvatarBonePose angles = this->Internals->Angles(this, track);
+    vtkMorphTrackFilter::MovePartsInPlace(
+      data,
+      [&](vtkPointSet* part, const std::string& name, const std::string& description)
+      { return this->Internals->Repose(this, part, description, angles, data, name, true); },
+      "pose");
+    return true;
+  }
+  catch (const std::exception& e)
+  {
+    vtkErrorMacro(<< e.what());
+    this->NumberOfSkinnedParts = 0;
+    this->NumberOfPosedOnlyParts = 0;
+    return false;
   }
 }
 

@@ -39,6 +39,11 @@
  * EyePitch and JawOpen as used; JawOpen 0 when the jaw joint stays). GetBones() reports the bones
  * found.
  *
+ * In the morph node's pass (vtkMorphNodeFilter::SetPoseFilter, MoveInPlace) the filter poses
+ * the morph node's output itself, as it would pose its own: the same parts, arrays and
+ * reports, without a second pass of VTK's executive over the avatar (what a frame skinned on
+ * the GPU costs the CPU falls by about that pass; docs/benchmarks.md).
+ *
  * Errors (vtkErrorMacro, RequestData returns 0, empty output): non-finite angles, a damaged
  * skin convention (sizes, joint indices, singular or non-finite matrices).
  *
@@ -219,6 +224,15 @@ public:
    * False (bounds untouched) without a head joint. For framing a face.
    */
   bool GetHeadBounds(double bounds[6]);
+
+  /**
+   * Poses the parts of `data` (the morph node's output, inside its pass) in place: skinned
+   * parts take SkinPose and, posed only, SkinJointDeltas in their field data, or re-skinned
+   * points and normals of this filter's (never written into the leaf's). The pose table is
+   * `track` (null: the properties alone). Returns false with vtkErrorMacro on the errors of
+   * RequestData.
+   */
+  bool MoveInPlace(vtkInformationVector* track, vtkDataObject* data) override;
 
 protected:
   vtkMorphSkinFilter();
