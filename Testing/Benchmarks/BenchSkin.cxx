@@ -16,6 +16,9 @@
 //   CPU's share of a frame skinned in the vertex shader (vtkMorphSkinMapper);
 // - PoseOnlyPass: the skin filter's pass alone in MorphAndPoseOnly (the morph node updated
 //   outside the timing);
+// - MorphAndPoseInPass, MorphAndSkinInPass (and ...Held): MorphAndPoseOnly and MorphAndSkin
+//   with the skin filter as the morph node's pose filter (vtkMorphNodeFilter::SetPoseFilter):
+//   posed in the morph node's own pass, one pass instead of two (what MorphAvatar runs);
 // - MorphOnlyHeld, MorphAndSkinHeld, MorphAndPoseOnlyHeld: the same three with each frame's
 //   parts shallow-copied into kept data sets, as a renderer's inputs hold them: the morph
 //   node (and the skin filter) then write new arrays instead of the last frame's in place;
@@ -23,7 +26,8 @@
 // - DrawnMorphOnlyAtRest, DrawnMorphAndCpuSkin, DrawnMorphAndGpuSkin: a drawn frame (Update
 //   and an offscreen Render of every part, 640 x 640, framed on the face, GL finished) of
 //   (a) the morph alone at rest, (b) morph + CPU re-skin, (c) morph + pose only + the skin
-//   mapper. They need an X display (xvfb-run -a); the renderer string goes to stderr.
+//   mapper; (b) and (c) posed in the morph node's pass, as MorphAvatar runs them. They need
+//   an X display (xvfb-run -a); the renderer string goes to stderr.
 // Times are per frame (real time, and CPU time of the whole process). The avatar is required;
 // without it the benchmarks skip.
 #include "vtkMorphNodeFilter.h"
@@ -215,21 +219,30 @@ std::string AnimatedCopy()
   return out;
 }
 
-/// The avatar's pipeline as MorphAvatar runs it: the reader, the morph node (relative
-/// weights) and the skin filter, re-skinning the points (`skinPoints`) or posing only.
+/// The avatar's pipeline: the reader, the morph node (relative weights) and the skin filter,
+/// re-skinning the points (`skinPoints`) or posing only, downstream of the morph node (a
+/// second pass) or as its pose filter (`inPass`: in the morph node's pass, as MorphAvatar
+/// runs it).
 struct AvatarPipeline
 {
   vtkNew<vtkMorphTargetReader> Reader;
   vtkNew<vtkMorphNodeFilter> Morph;
   vtkNew<vtkMorphSkinFilter> Skin;
 
-  explicit AvatarPipeline(bool skinPoints)
+  explicit AvatarPipeline(bool skinPoints, bool inPass = false)
   {
     this->Reader->SetFileName(Avatar.c_str());
     this->Reader->Update();
     this->Morph->SetInputConnection(this->Reader->GetOutputPort());
     this->Morph->SetWeightModeToRelative();
-    this->Skin->SetInputConnection(this->Morph->GetOutputPort());
+    if (inPass)
+    {
+      this->Morph->SetPoseFilter(this->Skin);
+    }
+    else
+    {
+      this->Skin->SetInputConnection(this->Morph->GetOutputPort());
+    }
     this->Skin->SetSkinPoints(skinPoints);
   }
 
@@ -246,15 +259,15 @@ struct AvatarPipeline
 };
 
 void Ours(benchmark::State& state, bool skin, bool headMoves = true, bool poseOnly = false,
-  bool held = false)
+  bool held = false, bool inPass = false)
 {
   if (SkippedWithoutAvatar(state))
   {
     return;
   }
-  AvatarPipeline p(!poseOnly);
+  AvatarPipeline p(!poseOnly, skin && inPass);
   vtkAlgorithm* last =
-    skin ? static_cast<vtkAlgorithm*>(p.Skin) : static_cast<vtkAlgorithm*>(p.Morph);
+    skin && !inPass ? static_cast<vtkAlgorithm*>(p.Skin) : static_cast<vtkAlgorithm*>(p.Morph);
   // held: each frame's parts shallow-copied into kept data sets, as a renderer's inputs
   // hold them (MorphAvatar's HeadActors): the filters then cannot write the last frame's
   // arrays in place.
@@ -282,7 +295,7 @@ void Ours(benchmark::State& state, bool skin, bool headMoves = true, bool poseOn
   }
   state.SetLabel(std::string(skin ? (poseOnly ? "morph + pose only (GPU skin)" : "morph + skin")
                                   : "morph only") +
-    (held ? ", output held" : ""));
+    (skin && inPass ? ", in the morph node's pass" : "") + (held ? ", output held" : ""));
 }
 
 void MorphAndSkin(benchmark::State& state)
@@ -313,6 +326,23 @@ void MorphAndSkinHeld(benchmark::State& state)
 void MorphAndPoseOnlyHeld(benchmark::State& state)
 {
   Ours(state, true, true, true, true);
+}
+// The same with the skin filter as the morph node's pose filter: one pass (MorphAvatar's).
+void MorphAndPoseInPass(benchmark::State& state)
+{
+  Ours(state, true, true, true, false, true);
+}
+void MorphAndPoseInPassHeld(benchmark::State& state)
+{
+  Ours(state, true, true, true, true, true);
+}
+void MorphAndSkinInPass(benchmark::State& state)
+{
+  Ours(state, true, true, false, false, true);
+}
+void MorphAndSkinInPassHeld(benchmark::State& state)
+{
+  Ours(state, true, true, false, true, true);
 }
 // The skin filter's pass alone when it poses only (the morph node updated outside the
 // timing): what MorphAndPoseOnly adds to a frame.
@@ -355,9 +385,9 @@ void DrawnFrame(benchmark::State& state, Drawn mode)
     state.SkipWithError("no X display: run under xvfb-run -a");
     return;
   }
-  AvatarPipeline p(mode == Drawn::CpuSkin);
-  vtkAlgorithm* last = mode == Drawn::MorphOnlyAtRest ? static_cast<vtkAlgorithm*>(p.Morph)
-                                                      : static_cast<vtkAlgorithm*>(p.Skin);
+  // (b) and (c) posed in the morph node's pass, as MorphAvatar runs them.
+  AvatarPipeline p(mode == Drawn::CpuSkin, mode != Drawn::MorphOnlyAtRest);
+  vtkAlgorithm* last = p.Morph;
   // One window for every drawn benchmark of the run (VTK 9.1 opens an X connection per
   // window; opening many in a row now and then fails), a renderer of its own for each.
   static vtkNew<vtkRenderWindow> window;
@@ -494,9 +524,25 @@ BENCHMARK(MorphAndSkinHeadStill)
 BENCHMARK(MorphOnly)->Unit(benchmark::kMillisecond)->UseRealTime()->MeasureProcessCPUTime();
 BENCHMARK(MorphAndPoseOnly)->Unit(benchmark::kMillisecond)->UseRealTime()->MeasureProcessCPUTime();
 BENCHMARK(PoseOnlyPass)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(MorphAndPoseInPass)
+  ->Unit(benchmark::kMillisecond)
+  ->UseRealTime()
+  ->MeasureProcessCPUTime();
+BENCHMARK(MorphAndSkinInPass)
+  ->Unit(benchmark::kMillisecond)
+  ->UseRealTime()
+  ->MeasureProcessCPUTime();
 BENCHMARK(MorphOnlyHeld)->Unit(benchmark::kMillisecond)->UseRealTime()->MeasureProcessCPUTime();
 BENCHMARK(MorphAndSkinHeld)->Unit(benchmark::kMillisecond)->UseRealTime()->MeasureProcessCPUTime();
 BENCHMARK(MorphAndPoseOnlyHeld)
+  ->Unit(benchmark::kMillisecond)
+  ->UseRealTime()
+  ->MeasureProcessCPUTime();
+BENCHMARK(MorphAndPoseInPassHeld)
+  ->Unit(benchmark::kMillisecond)
+  ->UseRealTime()
+  ->MeasureProcessCPUTime();
+BENCHMARK(MorphAndSkinInPassHeld)
   ->Unit(benchmark::kMillisecond)
   ->UseRealTime()
   ->MeasureProcessCPUTime();

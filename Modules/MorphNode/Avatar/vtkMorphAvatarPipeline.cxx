@@ -99,11 +99,13 @@ void vtkMorphAvatarPipeline::Connect()
     this->Rig->SetFaceConnection(nullptr);
   }
   this->Rig->SetRigFileName(mapped ? this->RigFileName.c_str() : nullptr);
+  // The skin filter poses the skeleton in the morph node's pass (one pass instead of two):
+  // it reads the behaviour's head pose and gaze on the morph node's port 2.
+  this->Morph->SetPoseFilter(this->Skin);
+  this->Morph->SetPoseConnection(weights);
   this->Gaze->SetInputConnection(this->Morph->GetOutputPort());
   this->Gaze->SetGazeConnection(this->UseFaceAnimation ? nullptr : weights);
   this->Gaze->SetRigFileName(rig ? this->RigFileName.c_str() : nullptr);
-  this->Skin->SetInputConnection(this->Gaze->GetOutputPort());
-  this->Skin->SetPoseConnection(weights);
 }
 
 //------------------------------------------------------------------------------
@@ -202,12 +204,12 @@ vtkMorphSkinFilter* vtkMorphAvatarPipeline::GetSkin()
 
 vtkAlgorithmOutput* vtkMorphAvatarPipeline::GetOutputPort()
 {
-  return this->Skin->GetOutputPort();
+  return this->Gaze->GetOutputPort();
 }
 
 vtkDataObject* vtkMorphAvatarPipeline::GetOutputDataObject()
 {
-  return this->Skin->GetOutputDataObject(0);
+  return this->Gaze->GetOutputDataObject(0);
 }
 
 vtkTransform* vtkMorphAvatarPipeline::GetHeadPose()
@@ -224,7 +226,7 @@ void vtkMorphAvatarPipeline::GetHeadPivot(double pivot[3])
 //------------------------------------------------------------------------------
 bool vtkMorphAvatarPipeline::UpdateTimeStep(double t)
 {
-  if (!this->Skin->UpdateTimeStep(t))
+  if (!this->Gaze->UpdateTimeStep(t))
   {
     return false;
   }

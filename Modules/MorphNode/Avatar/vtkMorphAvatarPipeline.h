@@ -8,9 +8,10 @@
  * C++ and Python examples):
  *
  *   vtkMorphTargetReader (the whole scene) -> vtkMorphNodeFilter (RELATIVE weights from the
- *   weights connection [-> vtkMorphRigFilter]) -> vtkEyeGazeFilter (EyeYaw/EyePitch of the
- *   weights turn the eye parts) -> vtkMorphSkinFilter (a skinned avatar's head, neck and
- *   eye joints follow HeadYaw/Pitch/Roll and the gaze) -> output
+ *   weights connection [-> vtkMorphRigFilter]; with vtkMorphSkinFilter as its pose filter: a
+ *   skinned avatar's head, neck and eye joints follow HeadYaw/Pitch/Roll and the gaze of the
+ *   weights, posed in the morph node's own pass) -> vtkEyeGazeFilter (EyeYaw/EyePitch of
+ *   the weights turn the eye parts that are not skinned) -> output
  *
  * plus the head pose of a head without head joints: HeadYaw/HeadPitch/HeadRoll of the
  * weights as one vtkTransform about the top of the neck (behavior/HeadPose.h), for the
@@ -28,8 +29,9 @@
  * @endcode
  *
  * The filters are reachable for their own settings (GetReader, GetMorph for the optimizer,
- * GetRig, GetGaze, GetSkin); their connections are this class's. It is a helper that
- * connects filters, not an algorithm: ParaView users connect the same filters (each has a
+ * GetRig, GetGaze, GetSkin: the morph node's pose filter, with no input of its own, whose
+ * settings and reports are those of the pose); their connections are this class's. It is a helper
+ * that connects filters, not an algorithm: ParaView users connect the same filters (each has a
  * proxy), and the head pose there is the skin filter's (docs/paraview.md).
  *
  * @sa vtkMorphTargetReader vtkMorphNodeFilter vtkMorphRigFilter vtkEyeGazeFilter
