@@ -1,7 +1,8 @@
 # SPDX-License-Identifier: BSD-3-Clause
 """vtkMorphSkinFilter from Python on the shared MakeHuman avatar: the reader shows it at
 rest with its skin arrays, the gaze turns the eyeballs about their joints, the head pose
-moves the head and not the feet, the pose from a table, PrintSelf, a damaged skin refused."""
+moves the head and not the feet, the pose from a table, PrintSelf, a damaged skin refused;
+the skin filter as the morph node's pose filter (one pass) gives the second pass's parts."""
 import math
 import os
 import unittest
@@ -72,6 +73,32 @@ class TestMorphSkinFilter(unittest.TestCase):
         lowest = min(range(rest["Body"].GetNumberOfPoints()), key=lambda i: rest["Body"].GetPoint(i)[1])
         self.assertLess(math.dist(headed["Body"].GetPoint(lowest), rest["Body"].GetPoint(lowest)), 1e-6)
         del body0
+
+    def test_posed_in_the_morph_nodes_pass(self):
+        self.skin.SetHeadYaw(20)
+        self.skin.SetEyeYaw(-10)
+        self.skin.SkinPointsOff()
+        two = self.run_skin()
+        morph = vtkMorphNodeFilter()
+        morph.SetInputConnection(self.reader.GetOutputPort())
+        morph.SetWeightModeToRelative()
+        poser = vtkMorphSkinFilter()
+        poser.SetHeadYaw(20)
+        poser.SetEyeYaw(-10)
+        poser.SkinPointsOff()
+        morph.SetPoseFilter(poser)
+        self.assertIs(morph.GetPoseFilter(), poser)
+        morph.Update()
+        one = parts(morph.GetOutputDataObject(0))
+        self.assertEqual(poser.GetNumberOfPosedOnlyParts(), 7)
+        for name, part in two.items():
+            deltas = [one[name].GetFieldData().GetArray("SkinJointDeltas"),
+                      part.GetFieldData().GetArray("SkinJointDeltas")]
+            self.assertEqual(deltas[0].GetNumberOfTuples(), deltas[1].GetNumberOfTuples())
+            self.assertEqual([deltas[0].GetValue(i) for i in range(0, deltas[0].GetNumberOfValues(), 5)],
+                             [deltas[1].GetValue(i) for i in range(0, deltas[1].GetNumberOfValues(), 5)])
+            self.assertEqual(one[name].GetFieldData().GetArray("SkinPose").GetValue(0), 20.0)
+        self.assertIn("PoseFilter: vtkMorphSkinFilter", str(morph))
 
     def test_print_and_damage(self):
         self.assertIn("NeckShare: 0.4", str(self.skin))
