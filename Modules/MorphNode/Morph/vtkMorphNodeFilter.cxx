@@ -7,8 +7,8 @@
 #include "vtkMorphTargetArrays.h"
 #ifdef MORPHNODE_WITH_MESH_LEVELS
 #include "vtkMorphMeshLevels.h"
-#include "vtkMorphTrackFilter.h"
 #endif
+#include "vtkMorphTrackFilter.h"
 
 #include "base/Error.h"
 #include "budget/DeviceProfile.h"
