@@ -29,6 +29,8 @@
 #include "vtkUnsignedCharArray.h"
 #include "vtkWindowToImageFilter.h"
 
+#include "MorphNodeTestData.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -38,7 +40,7 @@
 namespace
 {
 namespace appkit = morphnode::appkit;
-const std::string Avatar = std::string(MORPHNODE_AVATAR_DIR) + "/makehuman_avatar.glb";
+const std::string Avatar = morphnode_test::AvatarFile();
 const std::string Output = MORPHNODE_TEST_OUTPUT_DIR;
 const std::string BaselineName = "TestAvatarRenderEyesLeftO.png";
 
@@ -141,10 +143,7 @@ double ErrorAgainstBaseline(vtkRenderWindow* window, const std::string& label)
 
 TEST(AvatarRender, FramedOnTheFaceSayingOWithTheEyesLeft)
 {
-  if (!std::filesystem::exists(Avatar))
-  {
-    GTEST_SKIP() << "MakeHuman avatar not found: " << Avatar;
-  }
+  MORPHNODE_SKIP_WITHOUT_AVATAR(Avatar);
   auto scene = Render(1.0, 30.0);
   const double error = ErrorAgainstBaseline(scene->Window, "avatar-eyes-left-O");
   EXPECT_GE(error, 0.0) << "no baseline " << BaselineName;

@@ -24,6 +24,8 @@
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
 
+#include "MorphNodeTestData.h"
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -38,7 +40,7 @@ using json = nlohmann::json;
 
 namespace
 {
-const std::string Avatar = std::string(MORPHNODE_AVATAR_DIR) + "/makehuman_avatar.glb";
+const std::string Avatar = morphnode_test::AvatarFile();
 constexpr double AvatarHeight = 1.666;
 
 std::string ReadBytes(const std::string& file)
@@ -135,10 +137,7 @@ glm::dquat Local(const Turn& t)
 
 TEST(GltfSkinCrossCheck, AvatarAtRestAgreesWithVtkGltfReader)
 {
-  if (!std::filesystem::exists(Avatar))
-  {
-    GTEST_SKIP() << "MakeHuman avatar not found: " << Avatar;
-  }
+  MORPHNODE_SKIP_WITHOUT_AVATAR(Avatar);
   const GltfScene scene = LoadGltfScene(Avatar);
   const double worst = Worst(Morphed(scene), morphnode_test::VtkGltfReaderParts(Avatar, true));
   std::cout << "avatar at rest: largest difference to vtkGLTFReader " << worst * 1e3 << " mm\n";
@@ -147,10 +146,7 @@ TEST(GltfSkinCrossCheck, AvatarAtRestAgreesWithVtkGltfReader)
 
 TEST(GltfSkinCrossCheck, AnimatedAvatarAgreesWithVtkGltfReader)
 {
-  if (!std::filesystem::exists(Avatar))
-  {
-    GTEST_SKIP() << "MakeHuman avatar not found: " << Avatar;
-  }
+  MORPHNODE_SKIP_WITHOUT_AVATAR(Avatar);
   json doc;
   std::vector<unsigned char> bin;
   SplitGlb(ReadBytes(Avatar), doc, bin);

@@ -26,6 +26,8 @@
 
 #include "MorphNodeMouthPixels.h"
 
+#include "MorphNodeTestData.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -736,11 +738,8 @@ TEST(MorphAvatar, ContentErrorsReadAsProgramLines)
 // frame at 0.5 s differs from it.
 TEST(MorphAvatar, SkinnedAvatarOnTheGpuLooksAsOnTheCpu)
 {
-  const std::string avatar = std::string(MORPHNODE_AVATAR_DIR) + "/makehuman_avatar.glb";
-  if (!vtksys::SystemTools::FileExists(avatar, true))
-  {
-    GTEST_SKIP() << "MakeHuman avatar not found: " << avatar;
-  }
+  const std::string avatar = morphnode_test::AvatarFile();
+  MORPHNODE_SKIP_WITHOUT_AVATAR(avatar);
   const std::string frame = "--face '" + avatar + "' --script '" + Source +
     "/Data/scripts/greeting.txt' --seed 2004 --size 320x320 ";
   const std::string cpu = Output + "/MorphAvatarSkinCpu.png";
@@ -766,11 +765,8 @@ TEST(MorphAvatar, SkinnedAvatarOnTheGpuLooksAsOnTheCpu)
 // them the export had one untextured material per base colour.
 TEST(MorphAvatar, GltfExportKeepsTheFacesMaterials)
 {
-  const std::string avatar = std::string(MORPHNODE_AVATAR_DIR) + "/makehuman_avatar.glb";
-  if (!vtksys::SystemTools::FileExists(avatar, true))
-  {
-    GTEST_SKIP() << "MakeHuman avatar not found: " << avatar;
-  }
+  const std::string avatar = morphnode_test::AvatarFile();
+  MORPHNODE_SKIP_WITHOUT_AVATAR(avatar);
   const std::string dir = Output + "/MorphAvatarGltfMaterials";
   vtksys::SystemTools::RemoveADirectory(dir);
   vtksys::SystemTools::MakeDirectory(dir);

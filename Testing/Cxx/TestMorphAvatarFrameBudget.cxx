@@ -15,6 +15,8 @@
 
 #include "vtksys/SystemTools.hxx"
 
+#include "MorphNodeTestData.h"
+
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -227,10 +229,7 @@ TEST(MorphAvatarFrameBudget, PhoneDrawsTheSkinnedAvatarCoarser)
 {
   // The MakeHuman avatar's skinned parts reduced: their gathered joints and weights still
   // skin them (vtkMorphSkinFilter downstream), so the face stays where the full one is.
-  const std::string avatar = std::string(MORPHNODE_AVATAR_DIR) + "/makehuman_avatar.glb";
-  if (!vtksys::SystemTools::FileExists(avatar, true))
-  {
-    GTEST_SKIP() << "MakeHuman avatar not found: " << avatar;
-  }
+  const std::string avatar = morphnode_test::AvatarFile();
+  MORPHNODE_SKIP_WITHOUT_AVATAR(avatar);
   PhoneAgainstFull(avatar, "phone_skinned");
 }

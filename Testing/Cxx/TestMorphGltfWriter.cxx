@@ -36,6 +36,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "MorphNodeTestData.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -53,7 +55,7 @@ namespace
 const std::string DefaultHead =
   std::string(MORPHNODE_SOURCE_DIR) + "/Data/DefaultFace/default_head.glb";
 const std::string IctHead = std::string(MORPHNODE_FACEKIT_DIR) + "/ict_head_full53.glb";
-const std::string Avatar = std::string(MORPHNODE_AVATAR_DIR) + "/makehuman_avatar.glb";
+const std::string Avatar = morphnode_test::AvatarFile();
 
 /// The validator test's folder (MORPHNODE_GLTF_EXPORT_DIR) when it runs this program, else
 /// the test output folder.
@@ -506,10 +508,7 @@ TEST(MorphGltfWriter, BadInput)
 // weights, then vtkMorphSkinFilter with the angles. GltfValidatorVtkExport validates it.
 TEST(MorphGltfWriter, EyeLookWeightsMoveTheLidsNotTheEyeballsTheJointsTurn)
 {
-  if (!std::filesystem::exists(Avatar))
-  {
-    GTEST_SKIP() << "MakeHuman avatar not found: " << Avatar;
-  }
+  MORPHNODE_SKIP_WITHOUT_AVATAR(Avatar);
   vtkNew<vtkMorphTargetReader> reader;
   reader->SetFileName(Avatar.c_str());
   // Eyes looking down by their joints, and the rig's eyeLookDown* weights for the lids.
@@ -566,10 +565,7 @@ TEST(MorphGltfWriter, EyeLookWeightsMoveTheLidsNotTheEyeballsTheJointsTurn)
 
 TEST(MorphGltfWriter, SkinnedAvatarKeepsItsSkeletonAndTurnsItsBones)
 {
-  if (!std::filesystem::exists(Avatar))
-  {
-    GTEST_SKIP() << "MakeHuman avatar not found: " << Avatar;
-  }
+  MORPHNODE_SKIP_WITHOUT_AVATAR(Avatar);
   vtkNew<vtkMorphTargetReader> reader;
   reader->SetFileName(Avatar.c_str());
   // The performance: 4 keys, a vowel, the head turned and the eyes looking left and down.
@@ -747,10 +743,7 @@ TEST(MorphGltfWriter, SkinnedAvatarKeepsItsSkeletonAndTurnsItsBones)
 // arms down, at the points vtkMorphSkinFilter's RelaxArms gives.
 TEST(MorphGltfWriter, SkinnedAvatarExportKeepsTheRelaxedArms)
 {
-  if (!std::filesystem::exists(Avatar))
-  {
-    GTEST_SKIP() << "MakeHuman avatar not found: " << Avatar;
-  }
+  MORPHNODE_SKIP_WITHOUT_AVATAR(Avatar);
   vtkNew<vtkMorphTargetReader> reader;
   reader->SetFileName(Avatar.c_str());
   const std::string out = OutputPath("makehuman_avatar_relaxed_arms.glb");

@@ -34,6 +34,8 @@
 #include "vtkTransformFilter.h"
 #include "vtkUnsignedShortArray.h"
 
+#include "MorphNodeTestData.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -47,11 +49,9 @@
 namespace
 {
 using Vec3 = std::array<double, 3>;
-const std::string Avatar = std::string(MORPHNODE_AVATAR_DIR) + "/makehuman_avatar.glb";
+const std::string Avatar = morphnode_test::AvatarFile();
 
-#define SKIP_WITHOUT_AVATAR()                                                                      \
-  if (!std::filesystem::exists(Avatar))                                                            \
-  GTEST_SKIP() << "MakeHuman avatar not found: " << Avatar
+#define SKIP_WITHOUT_AVATAR() MORPHNODE_SKIP_WITHOUT_AVATAR(Avatar)
 
 std::map<std::string, vtkSmartPointer<vtkPolyData>> Parts(vtkDataObject* data)
 {

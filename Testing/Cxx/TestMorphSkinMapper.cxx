@@ -42,6 +42,8 @@
 #include "vtkUnsignedShortArray.h"
 #include "vtkWindowToImageFilter.h"
 
+#include "MorphNodeTestData.h"
+
 #include <gtest/gtest.h>
 
 #include <array>
@@ -58,7 +60,7 @@
 
 namespace
 {
-const std::string Avatar = std::string(MORPHNODE_AVATAR_DIR) + "/makehuman_avatar.glb";
+const std::string Avatar = morphnode_test::AvatarFile();
 
 using Delta = std::array<float, 12>; // rows of a 3x4
 
@@ -479,10 +481,7 @@ vtkSmartPointer<vtkImageData> DrawAvatar(vtkMorphSkinFilter* skin, int* gpuParts
 
 TEST(MorphSkinMapper, AvatarOnTheGpuLooksAsReskinnedOnTheCpu)
 {
-  if (!std::filesystem::exists(Avatar))
-  {
-    GTEST_SKIP() << "MakeHuman avatar not found: " << Avatar;
-  }
+  MORPHNODE_SKIP_WITHOUT_AVATAR(Avatar);
   vtkNew<vtkMorphTargetReader> reader;
   reader->SetFileName(Avatar.c_str());
   vtkNew<vtkMorphNodeFilter> morph;

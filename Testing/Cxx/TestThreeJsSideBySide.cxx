@@ -33,6 +33,8 @@
 #include "vtkSmartPointer.h"
 #include "vtkWindowToImageFilter.h"
 
+#include "MorphNodeTestData.h"
+
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -43,7 +45,7 @@
 namespace
 {
 namespace appkit = morphnode::appkit;
-const std::string Avatar = std::string(MORPHNODE_AVATAR_DIR) + "/makehuman_avatar.glb";
+const std::string Avatar = morphnode_test::AvatarFile();
 const std::string Output = MORPHNODE_TEST_OUTPUT_DIR;
 const std::string NpmTools = std::string(MORPHNODE_SOURCE_DIR) + "/.ci/npm-tools";
 const std::string Script = std::string(MORPHNODE_SOURCE_DIR) + "/Testing/Browser/render_three.mjs";
@@ -178,10 +180,7 @@ constexpr double Threshold = 0.82;
 
 TEST(ThreeJsSideBySide, TexturedAvatarLooksLikeThreeJs)
 {
-  if (!std::filesystem::exists(Avatar))
-  {
-    GTEST_SKIP() << "MakeHuman avatar not found at " << Avatar << " (MORPHNODE_AVATAR_DIR)";
-  }
+  MORPHNODE_SKIP_WITHOUT_AVATAR(Avatar);
   std::string why;
   vtkSmartPointer<vtkImageData> three = RenderThree(why);
   if (!three)
@@ -213,10 +212,7 @@ TEST(ThreeJsSideBySide, TexturedAvatarLooksLikeThreeJs)
 // the test output (docs/images/materials_variants.png).
 TEST(ThreeJsSideBySide, VariantsLookLikeTheOriginal)
 {
-  if (!std::filesystem::exists(Avatar))
-  {
-    GTEST_SKIP() << "MakeHuman avatar not found at " << Avatar << " (MORPHNODE_AVATAR_DIR)";
-  }
+  MORPHNODE_SKIP_WITHOUT_AVATAR(Avatar);
   vtkSmartPointer<vtkImageData> original = RenderMorphNode(true);
   vtkNew<vtkImageAppend> sheet;
   sheet->SetAppendAxis(0);

@@ -17,6 +17,8 @@
 #include "MorphNodeTestErrors.h"
 #include "base/Error.h"
 
+#include "MorphNodeTestData.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -38,16 +40,9 @@ using morphnode::LoadGltfScene;
 
 namespace
 {
-const std::string Avatar = MORPHNODE_AVATAR_DIR;
+using morphnode_test::AvatarFile;
 
-std::string AvatarFile(const std::string& name)
-{
-  return Avatar + "/" + name;
-}
-
-#define SKIP_WITHOUT_AVATAR()                                                                      \
-  if (!std::filesystem::exists(AvatarFile("makehuman_avatar.glb")))                                \
-  GTEST_SKIP() << "MakeHuman avatar not found in " << Avatar << "; set MORPHNODE_AVATAR_DIR"
+#define SKIP_WITHOUT_AVATAR() MORPHNODE_SKIP_WITHOUT_AVATAR(AvatarFile())
 
 /// The largest differences of a decoded part from the original's: per vertex of the
 /// original, the decoded vertex nearest in position (welded duplicates share it; among

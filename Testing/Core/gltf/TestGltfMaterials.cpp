@@ -9,6 +9,8 @@
 #include "MorphNodeTestErrors.h"
 #include "base/Error.h"
 
+#include "MorphNodeTestData.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -24,11 +26,7 @@ using morphnode::LoadGltfScene;
 
 namespace
 {
-const std::string Avatar = MORPHNODE_AVATAR_DIR;
-
-#define SKIP_WITHOUT_AVATAR()                                                                      \
-  if (!std::filesystem::exists(Avatar + "/makehuman_avatar.glb"))                                  \
-  GTEST_SKIP() << "MakeHuman avatar not found in " << Avatar << "; set MORPHNODE_AVATAR_DIR"
+#define SKIP_WITHOUT_AVATAR() MORPHNODE_SKIP_WITHOUT_AVATAR(morphnode_test::AvatarFile())
 
 GltfScene Load(const std::string& bytes)
 {
@@ -91,7 +89,7 @@ Builder TexturedTriangle()
 TEST(GltfMaterials, AvatarMaterials)
 {
   SKIP_WITHOUT_AVATAR();
-  const GltfScene scene = LoadGltfScene(Avatar + "/makehuman_avatar.glb");
+  const GltfScene scene = LoadGltfScene(morphnode_test::AvatarFile());
   ASSERT_EQ(scene.Materials.size(), 6u);
   ASSERT_EQ(scene.Images.size(), 3u);
   for (const auto& image : scene.Images)
@@ -123,8 +121,8 @@ TEST(GltfMaterials, AvatarMaterials)
 TEST(GltfMaterials, WebpImagesEqualTheirPngTwins)
 {
   SKIP_WITHOUT_AVATAR();
-  const GltfScene png = LoadGltfScene(Avatar + "/makehuman_avatar.glb");
-  const GltfScene webp = LoadGltfScene(Avatar + "/makehuman_avatar_webp.glb");
+  const GltfScene png = LoadGltfScene(morphnode_test::AvatarFile());
+  const GltfScene webp = LoadGltfScene(morphnode_test::AvatarFile("makehuman_avatar_webp.glb"));
   ASSERT_EQ(webp.Images.size(), png.Images.size());
   for (size_t i = 0; i < png.Images.size(); ++i)
   {

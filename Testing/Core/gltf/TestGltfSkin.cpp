@@ -12,6 +12,8 @@
 #include "base/Error.h"
 #include "skin/AvatarBones.h"
 
+#include "MorphNodeTestData.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -155,11 +157,8 @@ TEST(GltfSkin, DamagedSkinsAreRefusedWithAClearError)
 
 TEST(GltfSkin, MakeHumanAvatarAtRestAndItsBones)
 {
-  const std::string file = std::string(MORPHNODE_AVATAR_DIR) + "/makehuman_avatar.glb";
-  if (!std::filesystem::exists(file))
-  {
-    GTEST_SKIP() << "MakeHuman avatar not found: " << file;
-  }
+  const std::string file = morphnode_test::AvatarFile();
+  MORPHNODE_SKIP_WITHOUT_AVATAR(file);
   const GltfScene scene = LoadGltfScene(file);
   const GltfScene bind = LoadGltfScene(file, GltfLoadOptions{ false });
   ASSERT_EQ(scene.Skins.size(), 1u);
@@ -192,10 +191,7 @@ TEST(GltfSkin, QuantizedAndMeshoptVariantsAreReadOrRefusedClearly)
   // Read, the avatar at rest has the plain avatar's bounds (within 1 mm); refused (until the
   // loader decodes the extensions), the message names the extension.
   const std::string dir = MORPHNODE_AVATAR_DIR;
-  if (!std::filesystem::exists(dir + "/makehuman_avatar.glb"))
-  {
-    GTEST_SKIP() << "MakeHuman avatar not found in " << dir;
-  }
+  MORPHNODE_SKIP_WITHOUT_AVATAR(dir + "/makehuman_avatar.glb");
   auto bounds = [](const GltfScene& scene)
   {
     std::array<double, 6> b{ 1e30, -1e30, 1e30, -1e30, 1e30, -1e30 };

@@ -11,7 +11,9 @@
 
 #include "base/Error.h"
 
+#include "MorphNodeTestData.h"
 #include <gtest/gtest-spi.h>
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -594,7 +596,6 @@ TEST(GltfWriter, BadInput)
 
 namespace
 {
-const std::string AvatarDir = MORPHNODE_AVATAR_DIR;
 
 /// The materials of `a`'s parts equal those of `b`'s parts of the same name: factors,
 /// alpha, sides, and each texture's sampler, texture coordinate set, transform and image
@@ -671,11 +672,8 @@ size_t ExpectSameMaterials(const GltfScene& a, const GltfScene& b)
 // (samplers, texture coordinate sets) and their images, PNG and JPEG byte for byte.
 TEST(GltfWriter, AvatarMaterialsRoundTrip)
 {
-  const std::string file = AvatarDir + "/makehuman_avatar.glb";
-  if (!std::filesystem::exists(file))
-  {
-    GTEST_SKIP() << "MakeHuman avatar not found: " << file;
-  }
+  const std::string file = morphnode_test::AvatarFile();
+  MORPHNODE_SKIP_WITHOUT_AVATAR(file);
   const GltfScene avatar = LoadGltfScene(file);
   ASSERT_FALSE(avatar.Materials.empty());
   ASSERT_FALSE(avatar.Images.empty());
@@ -718,11 +716,8 @@ TEST(GltfWriter, AvatarMaterialsRoundTrip)
 // pixels, so the file needs no extension and the pixels are the same.
 TEST(GltfWriter, AvatarWebpImagesAsPngRoundTrip)
 {
-  const std::string file = AvatarDir + "/makehuman_avatar_webp.glb";
-  if (!std::filesystem::exists(file))
-  {
-    GTEST_SKIP() << "MakeHuman WebP avatar not found: " << file;
-  }
+  const std::string file = morphnode_test::AvatarFile("makehuman_avatar_webp.glb");
+  MORPHNODE_SKIP_WITHOUT_AVATAR(file);
   const GltfScene avatar = LoadGltfScene(file);
   const std::vector<unsigned char> glb = WriteGltfSceneToMemory(avatar, nullptr);
   const nlohmann::json json = GlbJson(glb);
@@ -745,11 +740,8 @@ TEST(GltfWriter, AvatarWebpImagesAsPngRoundTrip)
 // (about their own origins); the file plays: GltfValidatorCoreExport checks it.
 TEST(GltfWriter, AvatarSkinRoundTrip)
 {
-  const std::string file = AvatarDir + "/makehuman_avatar.glb";
-  if (!std::filesystem::exists(file))
-  {
-    GTEST_SKIP() << "MakeHuman avatar not found: " << file;
-  }
+  const std::string file = morphnode_test::AvatarFile();
+  MORPHNODE_SKIP_WITHOUT_AVATAR(file);
   GltfLoadOptions nodeFrames;
   nodeFrames.ApplyTransforms = false;
   const GltfScene avatar = LoadGltfScene(file, nodeFrames);
@@ -880,11 +872,8 @@ TEST(GltfWriter, AvatarSkinRoundTrip)
 // rest pose. The avatar itself has one set.
 TEST(GltfWriter, SecondWeightSetRoundTrip)
 {
-  const std::string file = AvatarDir + "/makehuman_avatar.glb";
-  if (!std::filesystem::exists(file))
-  {
-    GTEST_SKIP() << "MakeHuman avatar not found: " << file;
-  }
+  const std::string file = morphnode_test::AvatarFile();
+  MORPHNODE_SKIP_WITHOUT_AVATAR(file);
   GltfLoadOptions nodeFrames;
   nodeFrames.ApplyTransforms = false;
   GltfScene avatar = LoadGltfScene(file, nodeFrames);
@@ -939,11 +928,8 @@ TEST(GltfWriter, SecondWeightSetRoundTrip)
 // Skins and texture coordinates that do not fit are refused with an InputError naming them.
 TEST(GltfWriter, BadSkinAndTexCoords)
 {
-  const std::string file = AvatarDir + "/makehuman_avatar.glb";
-  if (!std::filesystem::exists(file))
-  {
-    GTEST_SKIP() << "MakeHuman avatar not found: " << file;
-  }
+  const std::string file = morphnode_test::AvatarFile();
+  MORPHNODE_SKIP_WITHOUT_AVATAR(file);
   GltfLoadOptions nodeFrames;
   nodeFrames.ApplyTransforms = false;
   const GltfScene avatar = LoadGltfScene(file, nodeFrames);
