@@ -157,7 +157,8 @@ public:
    * settings and reports stay the skin filter's (its changes re-execute this filter); it
    * reads the pose table on port 2 (SetPoseConnection), else the weights table on port 1
    * (columns naming no target are ignored here). A filter that cannot pose in place fails
-   * the update. The skin filter need not be connected to anything.
+   * the update. The skin filter need not be connected to anything, and must not pose this
+   * output again downstream (re-skinned points would be skinned twice).
    */
   void SetPoseFilter(vtkMorphTrackFilter* filter);
   vtkGetObjectMacro(PoseFilter, vtkMorphTrackFilter);
