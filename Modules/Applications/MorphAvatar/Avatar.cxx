@@ -498,8 +498,9 @@ std::string Avatar::OverlayText(bool offscreen, int frame, int frames) const
   const int targets = std::max(0, this->Morph->GetNumberOfTargets() - 1);
   const double bound =
     this->DecidesPerShape() ? this->Rig->GetLastErrorBound() : this->Morph->GetErrorBound();
+  // (Short enough for a 640-pixel frame: a longer note ran past its right edge.)
   os << "active targets " << this->Morph->GetActiveTargetCount() << " / " << targets
-     << (this->DecidesPerShape() ? " (decided per rig shape)" : "") << "   error bound "
+     << (this->DecidesPerShape() ? " (per rig shape)" : "") << "   error bound "
      << std::setprecision(2) << 100.0 * bound / this->Diagonal << " %\n";
   if (this->Morph->GetPixelsPerUnit() > 0.0)
   {
