@@ -56,6 +56,9 @@ int main(int argc, char* argv[])
     morph->SetWeightByName(name.c_str(), weight);
   }
   vtkNew<vtkMorphSkinFilter> skin;
+  // Downstream of the morph node: a second pass. The same filter can pose in the morph
+  // node's own pass instead (morph->SetPoseFilter(skin), its output then the posed
+  // avatar; MorphAvatar does, docs/avatars.md): the same points, one pass fewer.
   skin->SetInputConnection(morph->GetOutputPort());
   skin->SetHeadYaw(headYaw);
   skin->SetEyeYaw(eyeYaw);

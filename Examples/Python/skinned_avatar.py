@@ -71,6 +71,9 @@ def main(argv=None):
     morph.SetInputConnection(reader.GetOutputPort())
     morph.SetWeightModeToRelative()
     skin = vtkMorphSkinFilter()
+    # Downstream of the morph node: a second pass. The same filter can pose in the morph
+    # node's own pass instead (morph.SetPoseFilter(skin), its output then the posed avatar;
+    # MorphAvatar does, docs/avatars.md): the same points, one pass fewer.
     skin.SetInputConnection(morph.GetOutputPort())
     skin.RelaxArmsOn()
 
