@@ -253,9 +253,6 @@ public:
     return angles;
   }
 
-  /// Whether a part of the input has a jawOpen target (the mouth opened by it, not by the
-  /// jaw joint: JAW_AUTO); decided again only when the leaves' target names arrays change
-  /// (the morph node passes the model's one array on every frame).
   /// Whether the jaw joint may turn (TurnJaw; JAW_AUTO: when no part of `input` has a
   /// jawOpen target), decided once per execution, and asked only for a skeleton with a jaw
   /// joint: the walk over the parts' target names cost a tenth of posing an avatar without.
@@ -272,6 +269,9 @@ public:
   unsigned long JawAllowedExecution = 0;
   bool JawAllowedValue = false;
 
+  /// Whether a part of the input has a jawOpen target (the mouth opened by it, not by the
+  /// jaw joint: JAW_AUTO); decided again only when the leaves' target names arrays change
+  /// (the morph node passes the model's one array on every frame).
   bool HasJawTarget(vtkDataObject* input)
   {
     std::vector<std::pair<const void*, vtkMTimeType>> key;
@@ -777,52 +777,51 @@ void vtkMorphSkinFilter::SetPoseConnection(vtkAlgorithmOutput* output)
 int vtkMorphSkinFilter::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
-  vtkDataObject* input = vtkDataObject::GetData(inputVector[0], 0);
   vtkDataObject* output = vtkDataObject::GetData(outputVector, 0);
-  this->ClearReports();
-  ++this->Internals->Execution;
-  this->Internals->Replaced.clear();
-  if (!input || !output)
+  if (!this->PoseParts(inputVector[1], vtkDataObject::GetData(inputVector[0], 0), output, false))
   {
-    vtkErrorMacro(<< "no input");
+    if (output)
+    {
+      output->Initialize();
+    }
     return 0;
   }
-  try
-  {
-    const morphnode::AvatarBonePose angles = this->Internals->Angles(this, inputVector[1]);
-    // One pose per skeleton; parts of one avatar share it (computed for the first part).
-    vtkMorphTrackFilter::MoveParts(
-      input, output,
-      [&](vtkPointSet* part, const std::string& name, const std::string& description)
-      { return this->Internals->Repose(this, part, description, angles, input, name, false); },
-      "pose");
-    vtkMorphTrackFilter::StampTime(output, outputVector);
-    return 1;
-  }
-  catch (const std::exception& e)
-  {
-    vtkErrorMacro(<< e.what());
-    output->Initialize();
-    this->NumberOfSkinnedParts = 0;
-    this->NumberOfPosedOnlyParts = 0;
-    return 0;
-  }
+  vtkMorphTrackFilter::StampTime(output, outputVector);
+  return 1;
 }
 
 //------------------------------------------------------------------------------
 bool vtkMorphSkinFilter::MoveInPlace(vtkInformationVector* track, vtkDataObject* data)
+{
+  return this->PoseParts(track, data, nullptr, true);
+}
+
+//------------------------------------------------------------------------------
+bool vtkMorphSkinFilter::PoseParts(
+  vtkInformationVector* track, vtkDataObject* input, vtkDataObject* output, bool inPlace)
 {
   this->ClearReports();
   ++this->Internals->Execution;
   this->Internals->Replaced.clear();
   try
   {
+    if (!input || (!inPlace && !output))
+    {
+      throw morphnode::InputError("no input");
+    }
     const morphnode::AvatarBonePose angles = this->Internals->Angles(this, track);
-    vtkMorphTrackFilter::MovePartsInPlace(
-      data,
+    // One pose per skeleton; parts of one avatar share it (computed for the first part).
+    const MovePart pose =
       [&](vtkPointSet* part, const std::string& name, const std::string& description)
-      { return this->Internals->Repose(this, part, description, angles, data, name, true); },
-      "pose");
+    { return this->Internals->Repose(this, part, description, angles, input, name, inPlace); };
+    if (inPlace)
+    {
+      vtkMorphTrackFilter::MovePartsInPlace(input, pose, "pose");
+    }
+    else
+    {
+      vtkMorphTrackFilter::MoveParts(input, output, pose, "pose");
+    }
     return true;
   }
   catch (const std::exception& e)

@@ -242,6 +242,12 @@ protected:
     vtkInformationVector* outputVector) override;
   /// Resets what GetBones, GetEyePart, GetHeadBounds, ... report, before an execution.
   void ClearReports();
+  /// One execution: the reports cleared, the pose read from `track` (the table of port 1, or
+  /// the morph node's), every part of `input` posed into `output` (MoveParts) or, `inPlace`,
+  /// in `input` itself (MovePartsInPlace). False, with vtkErrorMacro and no part counted, on
+  /// the errors RequestData reports.
+  bool PoseParts(
+    vtkInformationVector* track, vtkDataObject* input, vtkDataObject* output, bool inPlace);
 
   double HeadYaw = 0.0;
   double HeadPitch = 0.0;
