@@ -387,7 +387,6 @@ void DrawnFrame(benchmark::State& state, Drawn mode)
   }
   // (b) and (c) posed in the morph node's pass, as MorphAvatar runs them.
   AvatarPipeline p(mode == Drawn::CpuSkin, mode != Drawn::MorphOnlyAtRest);
-  vtkAlgorithm* last = p.Morph;
   // One window for every drawn benchmark of the run (VTK 9.1 opens an X connection per
   // window; opening many in a row now and then fails), a renderer of its own for each.
   static vtkNew<vtkRenderWindow> window;
@@ -405,8 +404,8 @@ void DrawnFrame(benchmark::State& state, Drawn mode)
   auto frame = [&](int f)
   {
     p.Animate(f);
-    last->Update();
-    auto* composite = vtkCompositeDataSet::SafeDownCast(last->GetOutputDataObject(0));
+    p.Morph->Update();
+    auto* composite = vtkCompositeDataSet::SafeDownCast(p.Morph->GetOutputDataObject(0));
     const auto parts = vtkCompositeDataSet::GetDataSets<vtkPolyData>(composite);
     for (size_t i = 0; i < parts.size(); ++i)
     {
@@ -512,51 +511,28 @@ void VtkGltfReader(benchmark::State& state)
   }
   state.SetLabel("vtkGLTFReader animation, CPU morph + skin");
 }
+/// A frame's settings: milliseconds, wall time, and the CPU time of the whole process
+/// (vtkSMPTools' worker threads included).
+void PerFrame(benchmark::internal::Benchmark* b)
+{
+  b->Unit(benchmark::kMillisecond)->UseRealTime()->MeasureProcessCPUTime();
+}
 } // namespace
 
-// CPU time of the whole process (vtkSMPTools' worker threads included), not only the
-// benchmark's thread: the morph and the skin hand work to other threads.
-BENCHMARK(MorphAndSkin)->Unit(benchmark::kMillisecond)->UseRealTime()->MeasureProcessCPUTime();
-BENCHMARK(MorphAndSkinHeadStill)
-  ->Unit(benchmark::kMillisecond)
-  ->UseRealTime()
-  ->MeasureProcessCPUTime();
-BENCHMARK(MorphOnly)->Unit(benchmark::kMillisecond)->UseRealTime()->MeasureProcessCPUTime();
-BENCHMARK(MorphAndPoseOnly)->Unit(benchmark::kMillisecond)->UseRealTime()->MeasureProcessCPUTime();
+BENCHMARK(MorphAndSkin)->Apply(PerFrame);
+BENCHMARK(MorphAndSkinHeadStill)->Apply(PerFrame);
+BENCHMARK(MorphOnly)->Apply(PerFrame);
+BENCHMARK(MorphAndPoseOnly)->Apply(PerFrame);
 BENCHMARK(PoseOnlyPass)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK(MorphAndPoseInPass)
-  ->Unit(benchmark::kMillisecond)
-  ->UseRealTime()
-  ->MeasureProcessCPUTime();
-BENCHMARK(MorphAndSkinInPass)
-  ->Unit(benchmark::kMillisecond)
-  ->UseRealTime()
-  ->MeasureProcessCPUTime();
-BENCHMARK(MorphOnlyHeld)->Unit(benchmark::kMillisecond)->UseRealTime()->MeasureProcessCPUTime();
-BENCHMARK(MorphAndSkinHeld)->Unit(benchmark::kMillisecond)->UseRealTime()->MeasureProcessCPUTime();
-BENCHMARK(MorphAndPoseOnlyHeld)
-  ->Unit(benchmark::kMillisecond)
-  ->UseRealTime()
-  ->MeasureProcessCPUTime();
-BENCHMARK(MorphAndPoseInPassHeld)
-  ->Unit(benchmark::kMillisecond)
-  ->UseRealTime()
-  ->MeasureProcessCPUTime();
-BENCHMARK(MorphAndSkinInPassHeld)
-  ->Unit(benchmark::kMillisecond)
-  ->UseRealTime()
-  ->MeasureProcessCPUTime();
-BENCHMARK(DrawnMorphOnlyAtRest)
-  ->Unit(benchmark::kMillisecond)
-  ->UseRealTime()
-  ->MeasureProcessCPUTime();
-BENCHMARK(DrawnMorphAndCpuSkin)
-  ->Unit(benchmark::kMillisecond)
-  ->UseRealTime()
-  ->MeasureProcessCPUTime();
-BENCHMARK(DrawnMorphAndGpuSkin)
-  ->Unit(benchmark::kMillisecond)
-  ->UseRealTime()
-  ->MeasureProcessCPUTime();
-BENCHMARK(VtkGltfReader)->Unit(benchmark::kMillisecond)->UseRealTime()->MeasureProcessCPUTime();
+BENCHMARK(MorphAndPoseInPass)->Apply(PerFrame);
+BENCHMARK(MorphAndSkinInPass)->Apply(PerFrame);
+BENCHMARK(MorphOnlyHeld)->Apply(PerFrame);
+BENCHMARK(MorphAndSkinHeld)->Apply(PerFrame);
+BENCHMARK(MorphAndPoseOnlyHeld)->Apply(PerFrame);
+BENCHMARK(MorphAndPoseInPassHeld)->Apply(PerFrame);
+BENCHMARK(MorphAndSkinInPassHeld)->Apply(PerFrame);
+BENCHMARK(DrawnMorphOnlyAtRest)->Apply(PerFrame);
+BENCHMARK(DrawnMorphAndCpuSkin)->Apply(PerFrame);
+BENCHMARK(DrawnMorphAndGpuSkin)->Apply(PerFrame);
+BENCHMARK(VtkGltfReader)->Apply(PerFrame);
 BENCHMARK_MAIN();
