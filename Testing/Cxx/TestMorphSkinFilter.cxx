@@ -818,6 +818,36 @@ TEST(MorphSkinFilter, VrmHumanoidBonesAndLookAtRangeMaps)
 
 namespace
 {
+/// `a` and `b` hold the same values exactly: both absent, or the same tuples and components.
+void ExpectSameValues(vtkDataArray* a, vtkDataArray* b, const std::string& what)
+{
+  ASSERT_EQ(a == nullptr, b == nullptr) << what;
+  if (!a)
+  {
+    return;
+  }
+  ASSERT_EQ(a->GetNumberOfTuples(), b->GetNumberOfTuples()) << what;
+  const int nc = a->GetNumberOfComponents();
+  ASSERT_EQ(nc, b->GetNumberOfComponents()) << what;
+  for (vtkIdType i = 0; i < a->GetNumberOfValues(); ++i)
+  {
+    ASSERT_EQ(a->GetComponent(i / nc, static_cast<int>(i % nc)),
+      b->GetComponent(i / nc, static_cast<int>(i % nc)))
+      << what << " value " << i;
+  }
+}
+
+/// The names of a field data's arrays.
+std::set<std::string> FieldNames(vtkFieldData* fd)
+{
+  std::set<std::string> names;
+  for (int k = 0; k < fd->GetNumberOfArrays(); ++k)
+  {
+    names.insert(fd->GetAbstractArray(k)->GetName());
+  }
+  return names;
+}
+
 /// Parts posed in a second pass (`a`) and in the morph node's (`b`) are the same: points
 /// and normals bit for bit, the field data's names, SkinPose and SkinJointDeltas values.
 void ExpectSameParts(const std::map<std::string, vtkSmartPointer<vtkPolyData>>& a,
@@ -829,45 +859,13 @@ void ExpectSameParts(const std::map<std::string, vtkSmartPointer<vtkPolyData>>& 
     SCOPED_TRACE(name);
     ASSERT_EQ(b.count(name), 1u);
     vtkPolyData* pb = b.at(name);
-    ASSERT_EQ(pa->GetNumberOfPoints(), pb->GetNumberOfPoints());
-    for (vtkIdType i = 0; i < pa->GetNumberOfPoints(); ++i)
-    {
-      double p[3], q[3];
-      pa->GetPoint(i, p);
-      pb->GetPoint(i, q);
-      ASSERT_TRUE(p[0] == q[0] && p[1] == q[1] && p[2] == q[2]) << "point " << i;
-    }
-    vtkDataArray* na = pa->GetPointData()->GetNormals();
-    vtkDataArray* nb = pb->GetPointData()->GetNormals();
-    ASSERT_EQ(na == nullptr, nb == nullptr);
-    for (vtkIdType i = 0; na && i < na->GetNumberOfValues(); ++i)
-    {
-      ASSERT_EQ(na->GetComponent(i / 3, static_cast<int>(i % 3)),
-        nb->GetComponent(i / 3, static_cast<int>(i % 3)))
-        << "normal value " << i;
-    }
-    std::set<std::string> fa, fb;
-    for (int k = 0; k < pa->GetFieldData()->GetNumberOfArrays(); ++k)
-    {
-      fa.insert(pa->GetFieldData()->GetAbstractArray(k)->GetName());
-    }
-    for (int k = 0; k < pb->GetFieldData()->GetNumberOfArrays(); ++k)
-    {
-      fb.insert(pb->GetFieldData()->GetAbstractArray(k)->GetName());
-    }
-    EXPECT_EQ(fa, fb);
+    ExpectSameValues(pa->GetPoints()->GetData(), pb->GetPoints()->GetData(), "points");
+    ExpectSameValues(pa->GetPointData()->GetNormals(), pb->GetPointData()->GetNormals(), "normals");
+    EXPECT_EQ(FieldNames(pa->GetFieldData()), FieldNames(pb->GetFieldData()));
     for (const char* array : { "SkinPose", "SkinJointDeltas" })
     {
-      vtkDataArray* da = pa->GetFieldData()->GetArray(array);
-      vtkDataArray* db = pb->GetFieldData()->GetArray(array);
-      ASSERT_EQ(da == nullptr, db == nullptr) << array;
-      for (vtkIdType i = 0; da && i < da->GetNumberOfValues(); ++i)
-      {
-        const int nc = da->GetNumberOfComponents();
-        ASSERT_EQ(da->GetComponent(i / nc, static_cast<int>(i % nc)),
-          db->GetComponent(i / nc, static_cast<int>(i % nc)))
-          << array << " value " << i;
-      }
+      ExpectSameValues(
+        pa->GetFieldData()->GetArray(array), pb->GetFieldData()->GetArray(array), array);
     }
   }
 }
