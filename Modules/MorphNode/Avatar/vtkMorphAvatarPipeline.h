@@ -30,9 +30,9 @@
  *
  * The filters are reachable for their own settings (GetReader, GetMorph for the optimizer,
  * GetRig, GetGaze, GetSkin: the morph node's pose filter, with no input of its own, whose
- * settings and reports are those of the pose); their connections are this class's. It is a helper
- * that connects filters, not an algorithm: ParaView users connect the same filters (each has a
- * proxy), and the head pose there is the skin filter's (docs/paraview.md).
+ * settings and reports are those of the pose); their connections are this class's. It is a
+ * helper that connects filters, not an algorithm: ParaView users connect the same filters
+ * (each has a proxy), and the head pose there is the skin filter's (docs/paraview.md).
  *
  * @sa vtkMorphTargetReader vtkMorphNodeFilter vtkMorphRigFilter vtkEyeGazeFilter
  * vtkMorphSkinFilter vtkBehaviorTimeSource vtkLiveBehaviorSource
